@@ -1,0 +1,25 @@
+#pragma once
+#include <stdexcept>
+#include <string>
+
+namespace granstack::formats {
+
+// A file that is not what it should be. what() names the file, and the line and frame where known.
+class FormatError : public std::runtime_error {
+ public:
+  FormatError(std::string file, long line, std::string message);
+  const std::string& file() const { return file_; }
+  long line() const { return line_; }  // 1-based; 0 when not about one line
+
+ private:
+  std::string file_;
+  long line_;
+};
+
+// The file ends inside a frame; the frames before it are complete.
+class TruncatedError : public FormatError {
+ public:
+  using FormatError::FormatError;
+};
+
+}  // namespace granstack::formats

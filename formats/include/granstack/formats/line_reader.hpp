@@ -1,0 +1,44 @@
+#pragma once
+// Reads a text file line by line through a large buffer, handing out string_views that stay
+// valid until the next call. Memory does not grow with the file.
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace granstack::formats {
+
+class LineReader {
+ public:
+  // Throws FormatError when the file cannot be opened.
+  explicit LineReader(const std::string& path, std::size_t buffer_bytes = std::size_t{1} << 22);
+  LineReader(const LineReader&) = delete;
+  LineReader& operator=(const LineReader&) = delete;
+
+  // The next line without its '\n' (and without a '\r' before it); false at the end of the file.
+  bool next(std::string_view& line);
+  long line_number() const { return line_number_; }
+  const std::string& path() const { return path_; }
+  // True when a NUL byte was seen: the file is binary, not text.
+  bool saw_nul() const { return saw_nul_; }
+
+ private:
+  bool refill();
+  std::string path_;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
+  std::vector<char> buffer_;
+  std::size_t begin_ = 0;
+  std::size_t end_ = 0;
+  bool eof_ = false;
+  bool saw_nul_ = false;
+  long line_number_ = 0;
+};
+
+// Splits on spaces and tabs.
+void split_words(std::string_view line, std::vector<std::string_view>& words);
+// Parses a whole word as a double (accepts what printf's %g writes, including inf and nan).
+bool parse_double(std::string_view word, double& value);
+bool parse_long(std::string_view word, long& value);
+
+}  // namespace granstack::formats

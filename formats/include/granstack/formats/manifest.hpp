@@ -1,0 +1,56 @@
+#pragma once
+// The case manifest (manifest.json): the spec, provenance, the files of the case, and the
+// derived values and id index the generator computed (informative: readers rebuild the
+// stack from the spec, which is deterministic).
+#include <granstack/model/spec.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace granstack::formats {
+
+inline constexpr int kManifestSchema = 1;
+
+struct CaseFiles {
+  std::string data = "data.stack";
+  std::string deck = "in.stack";
+  std::string dump = "dumps/dump.txt";
+  std::string series = "ke_series.txt";
+  std::string log = "log.liggghts";
+  std::string screen = "liggghts.out";
+  std::string run_record = "run.json";
+  std::vector<std::string> dump_columns;
+  std::vector<std::string> series_columns;
+  bool operator==(const CaseFiles&) const = default;
+};
+
+struct Manifest {
+  int schema = kManifestSchema;
+  std::string case_name;
+  model::StackSpec spec;
+  CaseFiles files;
+  std::string granstack_version;
+  std::string git_commit;
+  std::string created;                    // ISO 8601, UTC
+  std::vector<std::string> command_line;  // argv of the generating command
+  nlohmann::json derived;                 // informative
+  nlohmann::json layout;                  // informative
+};
+
+nlohmann::json spec_to_json(const model::StackSpec& spec);
+// Throws FormatError (with `source` as the file name) on a missing or mistyped field.
+model::StackSpec spec_from_json(const nlohmann::json& j, const std::string& source);
+
+nlohmann::json manifest_to_json(const Manifest& m);
+Manifest manifest_from_json(const nlohmann::json& j, const std::string& source);
+// Reads CASE/manifest.json. Throws FormatError.
+Manifest read_manifest(const std::string& case_dir);
+
+// The case directories named by DIRS: a case directory (with manifest.json) stands for itself,
+// a sweep directory (with sweep.json) for its cases in sweep order. Throws FormatError for a
+// directory that is neither.
+std::vector<std::string> expand_case_dirs(const std::vector<std::string>& dirs);
+
+}  // namespace granstack::formats

@@ -1,0 +1,84 @@
+#include <granstack/formats/error.hpp>
+#include <granstack/formats/line_reader.hpp>
+
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+
+namespace granstack::formats {
+
+LineReader::LineReader(const std::string& path, std::size_t buffer_bytes)
+    : path_(path), file_(std::fopen(path.c_str(), "rb"), &std::fclose), buffer_(buffer_bytes) {
+  if (!file_) throw FormatError(path, 0, std::string("cannot open: ") + std::strerror(errno));
+}
+
+bool LineReader::refill() {
+  if (eof_) return false;
+  // Keep the unfinished line; grow the buffer if one line fills it.
+  if (begin_ > 0) {
+    std::memmove(buffer_.data(), buffer_.data() + begin_, end_ - begin_);
+    end_ -= begin_;
+    begin_ = 0;
+  }
+  if (end_ == buffer_.size()) buffer_.resize(buffer_.size() * 2);
+  const std::size_t got = std::fread(buffer_.data() + end_, 1, buffer_.size() - end_, file_.get());
+  if (std::memchr(buffer_.data() + end_, '\0', got) != nullptr) saw_nul_ = true;
+  end_ += got;
+  if (got == 0) eof_ = true;
+  return got > 0;
+}
+
+bool LineReader::next(std::string_view& line) {
+  std::size_t scanned = begin_;
+  for (;;) {
+    const char* start = buffer_.data() + scanned;
+    const void* nl = std::memchr(start, '\n', end_ - scanned);
+    if (nl != nullptr) {
+      const std::size_t pos = static_cast<std::size_t>(static_cast<const char*>(nl) - buffer_.data());
+      std::size_t len = pos - begin_;
+      if (len > 0 && buffer_[begin_ + len - 1] == '\r') --len;
+      line = std::string_view(buffer_.data() + begin_, len);
+      begin_ = pos + 1;
+      ++line_number_;
+      return true;
+    }
+    const std::size_t offset = end_ - begin_;
+    if (!refill()) {
+      if (end_ > begin_) {  // last line without '\n'
+        line = std::string_view(buffer_.data() + begin_, end_ - begin_);
+        begin_ = end_;
+        ++line_number_;
+        return true;
+      }
+      return false;
+    }
+    scanned = begin_ + offset;
+  }
+}
+
+void split_words(std::string_view line, std::vector<std::string_view>& words) {
+  words.clear();
+  std::size_t i = 0;
+  const std::size_t n = line.size();
+  while (i < n) {
+    while (i < n && (line[i] == ' ' || line[i] == '\t')) ++i;
+    const std::size_t start = i;
+    while (i < n && line[i] != ' ' && line[i] != '\t') ++i;
+    if (i > start) words.push_back(line.substr(start, i - start));
+  }
+}
+
+bool parse_double(std::string_view word, double& value) {
+  if (word.empty()) return false;
+  const char* first = word.data();
+  if (*first == '+') ++first;  // from_chars rejects a leading '+', printf-style output may have one
+  auto [ptr, ec] = std::from_chars(first, word.data() + word.size(), value);
+  return ec == std::errc() && ptr == word.data() + word.size();
+}
+
+bool parse_long(std::string_view word, long& value) {
+  auto [ptr, ec] = std::from_chars(word.data(), word.data() + word.size(), value);
+  return !word.empty() && ec == std::errc() && ptr == word.data() + word.size();
+}
+
+}  // namespace granstack::formats

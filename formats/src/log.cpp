@@ -1,0 +1,64 @@
+#include <granstack/formats/line_reader.hpp>
+#include <granstack/formats/log.hpp>
+
+#include <regex>
+
+namespace granstack::formats {
+
+void LogScanner::add_text(std::string_view text) {
+  while (!text.empty()) {
+    auto nl = text.find('\n');
+    add_line(text.substr(0, nl));
+    if (nl == std::string_view::npos) break;
+    text.remove_prefix(nl + 1);
+  }
+}
+
+void LogScanner::add_line(std::string_view line) {
+  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  static const std::string_view banner = "LIGGGHTS (Version ";
+  if (line.substr(0, banner.size()) == banner) {
+    auto rest = line.substr(banner.size());
+    if (auto close = rest.rfind(')'); close != std::string_view::npos) rest = rest.substr(0, close);
+    version_ = std::string(rest);
+    return;
+  }
+  if (line.substr(0, 5) == "ERROR" || line.find("MPI_ABORT was invoked") != std::string_view::npos) {
+    errors_.emplace_back(line);
+  } else if (line.substr(0, 7) == "WARNING") {
+    warnings_.emplace_back(line);
+  }
+  if (line.find("Lost atoms") != std::string_view::npos) lost_atoms_ = true;
+
+  static const std::regex loop_re(R"(^Loop time of (\S+) on (\d+) procs.* for (\d+) steps with (\d+) atoms)");
+  if (line.substr(0, 13) == "Loop time of ") {
+    std::match_results<std::string_view::const_iterator> m;
+    if (std::regex_search(line.begin(), line.end(), m, loop_re)) {
+      LoopTime t;
+      t.seconds = std::stod(m[1].str());
+      t.procs = std::stoi(m[2].str());
+      t.steps = std::stol(m[3].str());
+      t.atoms = std::stol(m[4].str());
+      loop_ = t;
+    }
+    in_thermo_ = false;
+    return;
+  }
+  // Thermo block: a header line starting with "Step", then rows of numbers.
+  std::vector<std::string_view> words;
+  split_words(line, words);
+  if (!words.empty() && words[0] == "Step") {
+    in_thermo_ = true;
+    return;
+  }
+  if (in_thermo_ && !words.empty()) {
+    long step = 0;
+    if (parse_long(words[0], step)) {
+      last_step_ = step;
+    } else {
+      in_thermo_ = false;
+    }
+  }
+}
+
+}  // namespace granstack::formats

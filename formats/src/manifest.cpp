@@ -1,0 +1,199 @@
+#include <granstack/formats/error.hpp>
+#include <granstack/formats/manifest.hpp>
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace granstack::formats {
+
+using nlohmann::json;
+
+namespace {
+json pairs_to_json(const model::PairTable& t) {
+  json out = json::object();
+  for (const auto& [key, v] : t.pairs) out[key.first + ":" + key.second] = v;
+  return out;
+}
+
+template <typename T>
+T get(const json& j, const char* key, const std::string& source) {
+  if (!j.contains(key)) throw FormatError(source, 0, fmt::format("missing field '{}'", key));
+  try {
+    return j.at(key).get<T>();
+  } catch (const json::exception& e) {
+    throw FormatError(source, 0, fmt::format("field '{}': {}", key, e.what()));
+  }
+}
+
+model::PairTable pairs_from_json(double value, const json& j, const std::string& source, const char* field) {
+  model::PairTable t{value, {}};
+  for (const auto& [key, v] : j.items()) {
+    auto colon = key.find(':');
+    if (colon == std::string::npos || !v.is_number()) {
+      throw FormatError(source, 0, fmt::format("{}: entries are \"a:b\": number", field));
+    }
+    t.set(key.substr(0, colon), key.substr(colon + 1), v.get<double>());
+  }
+  return t;
+}
+}  // namespace
+
+json spec_to_json(const model::StackSpec& s) {
+  json mats = json::object();
+  for (const auto& m : s.custom_materials) {
+    mats[m.name] = {{"density", m.density}, {"youngs_modulus", m.youngs_modulus}, {"poisson_ratio", m.poisson_ratio}};
+  }
+  auto opt = [](const auto& o) -> json { return o ? json(*o) : json("auto"); };
+  return {{"blocks", s.blocks},
+          {"rows", s.rows},
+          {"top_columns", s.top_columns},
+          {"bottom_radius", s.bottom_radius},
+          {"radius_ratio", s.radius_ratio},
+          {"materials", s.materials},
+          {"custom_materials", mats},
+          {"restitution", s.restitution.value},
+          {"restitution_pairs", pairs_to_json(s.restitution)},
+          {"friction", s.friction.value},
+          {"friction_pairs", pairs_to_json(s.friction)},
+          {"striker_speed", s.striker_speed},
+          {"bottom", model::to_string(s.bottom)},
+          {"sides", model::to_string(s.sides)},
+          {"wall_material", s.wall_material},
+          {"gravity", s.gravity},
+          {"dt", opt(s.dt)},
+          {"duration", opt(s.duration)},
+          {"dump_every", opt(s.dump_every)},
+          {"series_every", opt(s.series_every)},
+          {"dump_format", model::to_string(s.dump_format)}};
+}
+
+model::StackSpec spec_from_json(const json& j, const std::string& source) {
+  model::StackSpec s;
+  s.blocks = get<int>(j, "blocks", source);
+  s.rows = get<int>(j, "rows", source);
+  s.top_columns = get<int>(j, "top_columns", source);
+  s.bottom_radius = get<double>(j, "bottom_radius", source);
+  s.radius_ratio = get<int>(j, "radius_ratio", source);
+  s.materials = get<std::vector<std::string>>(j, "materials", source);
+  const auto custom = get<json>(j, "custom_materials", source);
+  for (const auto& [name, m] : custom.items()) {
+    s.custom_materials.push_back({name, get<double>(m, "density", source), get<double>(m, "youngs_modulus", source),
+                                  get<double>(m, "poisson_ratio", source)});
+  }
+  const auto restitution_pairs = get<json>(j, "restitution_pairs", source);
+  const auto friction_pairs = get<json>(j, "friction_pairs", source);
+  s.restitution = pairs_from_json(get<double>(j, "restitution", source), restitution_pairs, source, "restitution_pairs");
+  s.friction = pairs_from_json(get<double>(j, "friction", source), friction_pairs, source, "friction_pairs");
+  s.striker_speed = get<double>(j, "striker_speed", source);
+  auto boundary = [&](const char* key) {
+    auto b = model::parse_boundary(get<std::string>(j, key, source));
+    if (!b) throw FormatError(source, 0, fmt::format("field '{}' is 'free' or 'wall'", key));
+    return *b;
+  };
+  s.bottom = boundary("bottom");
+  s.sides = boundary("sides");
+  s.wall_material = get<std::string>(j, "wall_material", source);
+  s.gravity = get<double>(j, "gravity", source);
+  auto opt_double = [&](const char* key) -> std::optional<double> {
+    const auto v = get<json>(j, key, source);
+    if (v.is_string() && v.get<std::string>() == "auto") return std::nullopt;
+    return get<double>(j, key, source);
+  };
+  auto opt_int = [&](const char* key) -> std::optional<int> {
+    const auto v = get<json>(j, key, source);
+    if (v.is_string() && v.get<std::string>() == "auto") return std::nullopt;
+    return get<int>(j, key, source);
+  };
+  s.dt = opt_double("dt");
+  s.duration = opt_double("duration");
+  s.dump_every = opt_int("dump_every");
+  s.series_every = opt_int("series_every");
+  auto format = model::parse_dump_format(get<std::string>(j, "dump_format", source));
+  if (!format) throw FormatError(source, 0, "field 'dump_format' is 'text' or 'binary'");
+  s.dump_format = *format;
+  return s;
+}
+
+json manifest_to_json(const Manifest& m) {
+  return {{"schema", m.schema},
+          {"case", m.case_name},
+          {"granstack", {{"version", m.granstack_version}, {"git_commit", m.git_commit}, {"created", m.created},
+                         {"command_line", m.command_line}}},
+          {"spec", spec_to_json(m.spec)},
+          {"files",
+           {{"data", m.files.data}, {"deck", m.files.deck}, {"dump", m.files.dump}, {"series", m.files.series},
+            {"log", m.files.log}, {"screen", m.files.screen}, {"run_record", m.files.run_record},
+            {"dump_columns", m.files.dump_columns}, {"series_columns", m.files.series_columns}}},
+          {"derived", m.derived},
+          {"layout", m.layout}};
+}
+
+Manifest manifest_from_json(const json& j, const std::string& source) {
+  Manifest m;
+  m.schema = get<int>(j, "schema", source);
+  if (m.schema != kManifestSchema) {
+    throw FormatError(source, 0, fmt::format("manifest schema {} is not {}: regenerate the case with this granstack",
+                                             m.schema, kManifestSchema));
+  }
+  m.case_name = get<std::string>(j, "case", source);
+  const auto g = get<json>(j, "granstack", source);
+  m.granstack_version = get<std::string>(g, "version", source);
+  m.git_commit = get<std::string>(g, "git_commit", source);
+  m.created = get<std::string>(g, "created", source);
+  m.command_line = get<std::vector<std::string>>(g, "command_line", source);
+  m.spec = spec_from_json(get<json>(j, "spec", source), source);
+  const auto f = get<json>(j, "files", source);
+  m.files.data = get<std::string>(f, "data", source);
+  m.files.deck = get<std::string>(f, "deck", source);
+  m.files.dump = get<std::string>(f, "dump", source);
+  m.files.series = get<std::string>(f, "series", source);
+  m.files.log = get<std::string>(f, "log", source);
+  m.files.screen = get<std::string>(f, "screen", source);
+  m.files.run_record = get<std::string>(f, "run_record", source);
+  m.files.dump_columns = get<std::vector<std::string>>(f, "dump_columns", source);
+  m.files.series_columns = get<std::vector<std::string>>(f, "series_columns", source);
+  m.derived = j.value("derived", json::object());
+  m.layout = j.value("layout", json::object());
+  return m;
+}
+
+Manifest read_manifest(const std::string& case_dir) {
+  const std::string path = case_dir + "/manifest.json";
+  std::ifstream in(path);
+  if (!in) throw FormatError(path, 0, "cannot open: is this a case directory made by 'granstack generate'?");
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw FormatError(path, 0, fmt::format("not valid JSON: {}", e.what()));
+  }
+  return manifest_from_json(j, path);
+}
+
+std::vector<std::string> expand_case_dirs(const std::vector<std::string>& dirs) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> out;
+  for (const auto& d : dirs) {
+    if (fs::exists(fs::path(d) / "manifest.json")) {
+      out.push_back(d);
+      continue;
+    }
+    const auto sweep_path = (fs::path(d) / "sweep.json").string();
+    std::ifstream in(sweep_path);
+    if (!in) {
+      throw FormatError(d, 0, "not a case directory (no manifest.json) nor a sweep directory (no sweep.json); "
+                              "make one with 'granstack generate -o DIR'");
+    }
+    try {
+      const auto j = json::parse(in);
+      for (const auto& c : j.at("cases")) out.push_back((fs::path(d) / c.at("dir").get<std::string>()).string());
+    } catch (const json::exception& e) {
+      throw FormatError(sweep_path, 0, fmt::format("not a valid sweep index: {}", e.what()));
+    }
+  }
+  return out;
+}
+
+}  // namespace granstack::formats

@@ -1,0 +1,49 @@
+#pragma once
+// Writes case directories: the LIGGGHTS data file, the input deck and the manifest.
+#include <granstack/formats/data_file.hpp>
+#include <granstack/formats/manifest.hpp>
+#include <granstack/generator/spec_input.hpp>
+#include <granstack/generator/template.hpp>
+#include <granstack/model/resolution.hpp>
+#include <granstack/model/stack.hpp>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace granstack::generator {
+
+struct GenerateOptions {
+  std::filesystem::path output;          // the case directory, or the sweep directory
+  bool force = false;                    // replace an existing directory
+  std::optional<std::string> deck_template_path;  // a user's template instead of the default
+  std::vector<std::string> command_line;
+};
+
+// Thrown when the output exists and force is off: nothing is written.
+class ExistsError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The names of everything the generated deck writes and the columns of each file.
+formats::CaseFiles case_files(const model::Stack& stack);
+// The variables the deck template is rendered with.
+TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& res, const formats::CaseFiles& files,
+                            const std::string& case_name);
+formats::DataFile data_file(const model::Stack& stack, const std::string& case_name);
+nlohmann::json derived_json(const model::Stack& stack, const model::Resolution& res);
+nlohmann::json layout_json(const model::Stack& stack);
+
+struct GenerateResult {
+  std::vector<std::filesystem::path> case_dirs;
+  bool sweep = false;  // true: output holds one subdirectory per case and sweep.json
+};
+
+// One case is written into `output`; several into `output/NAME/` plus `output/sweep.json`.
+// Everything is written into a temporary sibling directory first and renamed into place, so
+// an error leaves nothing half-written. Throws ExistsError, SpecError or std::runtime_error.
+GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOptions& options);
+
+}  // namespace granstack::generator

@@ -1,0 +1,332 @@
+#include <granstack/formats/data_file.hpp>
+#include <granstack/generator/case_writer.hpp>
+#include <granstack/model/contact.hpp>
+#include <granstack/model/version.hpp>
+
+#include <fmt/chrono.h>
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+namespace granstack::generator {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+const std::vector<std::string> kDumpColumns{"id", "type", "radius", "mass", "x", "y", "z", "vx", "vy", "vz",
+                                            "omegax", "omegay", "omegaz", "fx", "fy", "fz"};
+
+// The groups whose energies the series records: (group, short tag, column suffix).
+struct EnergyGroup {
+  std::string group;
+  std::string tag;
+  std::string column;
+};
+
+std::vector<EnergyGroup> energy_groups(const model::Stack& stack) {
+  std::vector<EnergyGroup> g;
+  for (const auto& b : stack.blocks()) {
+    g.push_back({fmt::format("block{}", b.index), std::to_string(b.index), fmt::format("block{}", b.index)});
+  }
+  g.push_back({"striker", "s", "striker"});
+  g.push_back({"output_sphere", "o", "output_sphere"});
+  g.push_back({"bottom_row", "b", "bottom_row"});
+  return g;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the template", p.string()));
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_text(const fs::path& p, std::string_view text) {
+  std::ofstream out(p, std::ios::binary);
+  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  out.close();
+  if (!out) throw std::runtime_error(fmt::format("{}: cannot write", p.string()));
+}
+
+std::string utc_now() {
+  return fmt::format("{:%Y-%m-%dT%H:%M:%SZ}", fmt::gmtime(std::chrono::system_clock::to_time_t(std::chrono::system_clock::now())));
+}
+}  // namespace
+
+formats::CaseFiles case_files(const model::Stack& stack) {
+  formats::CaseFiles f;
+  f.dump = stack.spec().dump_format == model::DumpFormat::binary ? "dumps/dump.bin" : "dumps/dump.txt";
+  f.dump_columns = kDumpColumns;
+  f.series_columns = {"step"};
+  for (const auto& g : energy_groups(stack)) {
+    f.series_columns.push_back("ke_trans_" + g.column);
+    f.series_columns.push_back("ke_rot_" + g.column);
+  }
+  return f;
+}
+
+TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& res, const formats::CaseFiles& files,
+                            const std::string& case_name) {
+  const auto& spec = stack.spec();
+  const auto lib = spec.material_library();
+  const auto types = stack.type_materials();
+  const int nt = static_cast<int>(types.size());
+  TemplateVars v;
+  v["case_name"] = case_name;
+  v["granstack_version"] = std::string(version());
+  v["git_commit"] = std::string(git_commit());
+  v["data_file"] = files.data;
+
+  // LIGGGHTS refuses Y > 1e9 Pa without hard_particles and Y < 5e6 Pa without soft_particles
+  // (global_properties.cpp:361-374).
+  bool hard = false, soft = false;
+  for (const auto& name : types) {
+    const double y = lib.at(name).youngs_modulus;
+    hard = hard || y > 1e9;
+    soft = soft || y < 5e6;
+  }
+  std::string hardness;
+  if (hard) hardness += "hard_particles  yes\n";
+  if (soft) hardness += "soft_particles  yes\n";
+  if (hardness.empty()) hardness = "# every Young's modulus is within 5e6..1e9 Pa: no hard/soft_particles needed\n";
+  hardness.pop_back();
+  v["particle_hardness"] = hardness;
+
+  v["skin"] = fmt::format("{}", res.skin);
+  std::string y_list, nu_list, e_matrix, mu_matrix;
+  for (const auto& name : types) {
+    y_list += fmt::format(" {}", lib.at(name).youngs_modulus);
+    nu_list += fmt::format(" {}", lib.at(name).poisson_ratio);
+  }
+  for (const auto& a : types) {
+    for (const auto& b : types) {
+      e_matrix += fmt::format(" {}", spec.restitution.get(a, b));
+      mu_matrix += fmt::format(" {}", spec.friction.get(a, b));
+    }
+  }
+  v["material_fixes"] = fmt::format(
+      "fix             m1 all property/global youngsModulus peratomtype{}\n"
+      "fix             m2 all property/global poissonsRatio peratomtype{}\n"
+      "fix             m3 all property/global coefficientRestitution peratomtypepair {}{}\n"
+      "fix             m4 all property/global coefficientFriction peratomtypepair {}{}",
+      y_list, nu_list, nt, e_matrix, nt, mu_matrix);
+
+  std::string walls;
+  const std::string wall_fix = "all wall/gran model hertz tangential history primitive type";
+  if (spec.bottom == model::Boundary::wall) {
+    walls += fmt::format("fix             wall_bottom {} {} zplane 0\n", wall_fix, stack.wall_type());
+  }
+  if (spec.sides == model::Boundary::wall) {
+    walls += fmt::format("fix             wall_left {} {} xplane {}\n", wall_fix, stack.wall_type(), -stack.half_width());
+    walls += fmt::format("fix             wall_right {} {} xplane {}\n", wall_fix, stack.wall_type(), stack.half_width());
+  }
+  v["walls"] = walls.empty() ? "# free bottom and free sides: no walls" : walls.substr(0, walls.size() - 1);
+  v["gravity"] = spec.gravity > 0.0 ? fmt::format("fix             gravity all gravity {} vector 0 0 -1", spec.gravity)
+                                    : std::string("# no gravity");
+  v["dt"] = fmt::format("{}", res.dt);
+  v["steps"] = std::to_string(res.steps);
+  v["thermo_every"] = std::to_string(res.thermo_every);
+  v["dump_every"] = std::to_string(res.dump_every);
+  v["dump_file"] = files.dump;
+  v["dump_columns"] = fmt::format("{}", fmt::join(files.dump_columns, " "));
+  if (spec.dump_format == model::DumpFormat::binary) {
+    v["dump_modify"] = "dump_modify     stack sort id";
+  } else {
+    std::string format;
+    for (const auto& c : files.dump_columns) format += (format.empty() ? "" : " ") + std::string(c == "id" || c == "type" ? "%d" : "%.17g");
+    v["dump_modify"] = fmt::format("dump_modify     stack sort id format \"{}\"", format);
+  }
+
+  std::string groups;
+  for (const auto& b : stack.blocks()) groups += fmt::format("group           block{} type {}\n", b.index, b.atom_type);
+  groups += fmt::format("group           striker type {}\n", stack.striker_type());
+  groups += fmt::format("group           output_sphere id {}\n", stack.output_sphere_id());
+  const auto bottom = stack.bottom_row_ids();
+  groups += fmt::format("group           bottom_row id <> {} {}", bottom.front(), bottom.back());
+  v["groups"] = groups;
+
+  std::string computes, values;
+  for (const auto& g : energy_groups(stack)) {
+    computes += fmt::format("compute         kt{} {} ke\ncompute         kr{} {} erotate/sphere\n", g.tag, g.group, g.tag,
+                            g.group);
+    values += fmt::format(" $(c_kt{}) $(c_kr{})", g.tag, g.tag);
+  }
+  v["energy_series"] = fmt::format(
+      "{}fix             energy all print {} \"$(step){}\" file {} screen no title \"# {}\"", computes,
+      res.series_every, values, files.series, fmt::join(files.series_columns, " "));
+  return v;
+}
+
+formats::DataFile data_file(const model::Stack& stack, const std::string& case_name) {
+  const auto& spec = stack.spec();
+  const auto lib = spec.material_library();
+  const auto types = stack.type_materials();
+  formats::DataFile d;
+  d.title = fmt::format("granstack {} case {}: LIGGGHTS data file for atom_style granular, SI units", version(), case_name);
+  d.atom_types = stack.atom_types();
+  const double r1 = stack.block(1).radius;
+  d.box = {-stack.half_width() - r1, stack.half_width() + r1, -r1, r1, -r1, stack.top_z() + r1};
+  for (const auto& s : stack.spheres()) {
+    formats::DataAtom a;
+    a.id = s.id;
+    a.type = s.atom_type;
+    a.diameter = 2.0 * s.radius;
+    a.density = lib.at(types[static_cast<std::size_t>(s.atom_type - 1)]).density;
+    a.x = s.x;
+    a.z = s.z;
+    if (s.id == model::Stack::striker_id()) a.vz = -spec.striker_speed;
+    d.atoms.push_back(a);
+  }
+  return d;
+}
+
+json derived_json(const model::Stack& stack, const model::Resolution& r) {
+  return {{"sphere_count", stack.spheres().size()},
+          {"striker_mass", stack.striker_mass()},
+          {"e_in", stack.incident_energy()},
+          {"dt", r.dt},
+          {"dt_auto", r.dt_auto},
+          {"dt_rule", fmt::format("dt = (shortest Hertz contact time at the striker speed) / {}", model::kStepsPerContact)},
+          {"duration", r.duration},
+          {"duration_auto", r.duration_auto},
+          {"duration_rule", fmt::format("duration = {} x sum over blocks of rows x {} x (equal-pair Hertz contact time of "
+                                        "the block at the striker speed)",
+                                        model::kDurationPerArrival, model::kRowTransitPerContact)},
+          {"steps", r.steps},
+          {"dump_every", r.dump_every},
+          {"series_every", r.series_every},
+          {"thermo_every", r.thermo_every},
+          {"min_contact_time", r.min_contact_time},
+          {"min_contact_pair", r.min_contact_pair},
+          {"dt_over_min_contact_time", r.dt / r.min_contact_time},
+          {"min_rayleigh_time", r.min_rayleigh_time},
+          {"dt_over_min_rayleigh_time", r.dt / r.min_rayleigh_time},
+          {"arrival_estimate", r.arrival_estimate},
+          {"skin", r.skin}};
+}
+
+json layout_json(const model::Stack& stack) {
+  json blocks = json::array();
+  for (const auto& b : stack.blocks()) {
+    blocks.push_back({{"block", b.index}, {"material", b.material}, {"radius", b.radius}, {"rows", b.rows},
+                      {"columns", b.columns}, {"first_id", b.first_id}, {"last_id", b.last_id()},
+                      {"atom_type", b.atom_type}, {"sphere_mass", b.sphere_mass}});
+  }
+  json types = json::array();
+  const auto mats = stack.type_materials();
+  for (std::size_t i = 0; i < mats.size(); ++i) {
+    const int t = static_cast<int>(i) + 1;
+    const char* role = t == stack.striker_type() ? "striker" : t == stack.wall_type() ? "wall" : "block";
+    types.push_back({{"type", t}, {"material", mats[i]}, {"role", role}});
+  }
+  const auto& striker = stack.sphere(model::Stack::striker_id());
+  const auto bottom = stack.bottom_row_ids();
+  return {{"id_order", "id 1 = striker; then blocks top to bottom, rows top to bottom, columns by increasing x: "
+                       "id = first_id + (row - 1) * columns + (column - 1)"},
+          {"striker", {{"id", striker.id}, {"atom_type", striker.atom_type}, {"radius", striker.radius},
+                       {"mass", stack.striker_mass()}, {"x", striker.x}, {"z", striker.z}}},
+          {"output_sphere_id", stack.output_sphere_id()},
+          {"bottom_row_ids", {bottom.front(), bottom.back()}},
+          {"blocks", blocks},
+          {"atom_types", types},
+          {"wall_type", stack.wall_type()},
+          {"half_width", stack.half_width()}};
+}
+
+namespace {
+struct PreparedCase {
+  std::string name;
+  std::string deck;
+  std::string data;
+  std::string manifest;
+  formats::CaseFiles files;
+};
+
+void write_case(const fs::path& dir, const PreparedCase& c) {
+  fs::create_directories(dir / "dumps");
+  write_text(dir / c.files.data, c.data);
+  write_text(dir / c.files.deck, c.deck);
+  write_text(dir / "manifest.json", c.manifest);
+}
+}  // namespace
+
+GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOptions& options) {
+  if (cases.empty()) throw std::runtime_error("no case to generate");
+  const std::string tmpl = options.deck_template_path ? read_text(*options.deck_template_path)
+                                                      : std::string(default_deck_template());
+  const std::string tmpl_name = options.deck_template_path.value_or("templates/in.granstack.tmpl");
+
+  // Everything is rendered in memory first: a bad spec or template writes nothing.
+  const fs::path out = fs::absolute(options.output).lexically_normal();
+  const fs::path target = out.filename().empty() ? out.parent_path() : out;
+  std::vector<PreparedCase> prepared;
+  const auto created = utc_now();
+  for (const auto& sc : cases) {
+    // A single case is named after its directory; a sweep's cases after their swept values.
+    CaseSpec c = sc;
+    if (cases.size() == 1) c.name = target.filename().string();
+    const auto stack = model::Stack::build(c.spec);
+    const auto res = model::resolve(stack);
+    PreparedCase p;
+    p.name = c.name;
+    p.files = case_files(stack);
+    p.deck = render_template(tmpl, deck_variables(stack, res, p.files, c.name), tmpl_name);
+    p.data = formats::format_data_file(data_file(stack, c.name));
+    formats::Manifest m;
+    m.case_name = c.name;
+    m.spec = c.spec;
+    m.files = p.files;
+    m.granstack_version = std::string(version());
+    m.git_commit = std::string(git_commit());
+    m.created = created;
+    m.command_line = options.command_line;
+    m.derived = derived_json(stack, res);
+    m.layout = layout_json(stack);
+    p.manifest = formats::manifest_to_json(m).dump(2) + "\n";
+    prepared.push_back(std::move(p));
+  }
+
+  if (fs::exists(target) && !options.force) {
+    throw ExistsError(fmt::format("{} exists; pass --force to replace it (its runs and results would be lost)",
+                                  options.output.string()));
+  }
+  fs::create_directories(target.parent_path());
+  const auto stamp = fmt::format("{}", ::getpid());
+  const fs::path tmp = target.parent_path() / fmt::format(".{}.tmp-{}", target.filename().string(), stamp);
+  const fs::path old = target.parent_path() / fmt::format(".{}.old-{}", target.filename().string(), stamp);
+  GenerateResult result;
+  result.sweep = prepared.size() > 1;
+  try {
+    fs::remove_all(tmp);
+    if (!result.sweep) {
+      write_case(tmp, prepared.front());
+      result.case_dirs.push_back(target);
+    } else {
+      json index = {{"schema", formats::kManifestSchema}, {"created", created},
+                    {"command_line", options.command_line}, {"cases", json::array()}};
+      for (std::size_t i = 0; i < prepared.size(); ++i) {
+        write_case(tmp / prepared[i].name, prepared[i]);
+        index["cases"].push_back({{"dir", prepared[i].name}, {"spec", formats::spec_to_json(cases[i].spec)}});
+        result.case_dirs.push_back(target / prepared[i].name);
+      }
+      write_text(tmp / "sweep.json", index.dump(2) + "\n");
+    }
+    if (fs::exists(target)) fs::rename(target, old);
+    fs::rename(tmp, target);
+    fs::remove_all(old);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove_all(tmp, ec);
+    if (fs::exists(old, ec) && !fs::exists(target, ec)) fs::rename(old, target, ec);
+    throw;
+  }
+  return result;
+}
+
+}  // namespace granstack::generator

@@ -1,0 +1,42 @@
+#pragma once
+// Time step, duration and output cadences of a case: the automatic rules and what they are
+// derived from (physics.md section 6). The constants are justified by the convergence study
+// in docs/timestep.md.
+#include <granstack/model/stack.hpp>
+
+#include <string>
+
+namespace granstack::model {
+
+// dt = (shortest Hertz contact time of any contact in the stack at the striker speed) / this.
+inline constexpr double kStepsPerContact = 50.0;
+// Time for the pulse to cross one row of block k, in units of that block's equal-pair contact
+// time at the striker speed (fitted to physics.md section 6's arrival times, rounded up).
+inline constexpr double kRowTransitPerContact = 0.65;
+// Duration = this many times the estimated arrival time at the bottom face.
+inline constexpr double kDurationPerArrival = 2.0;
+// Automatic output: about this many dump frames and in-situ energy samples per run.
+inline constexpr long kAutoDumpFrames = 250;
+inline constexpr long kAutoSeriesSamples = 20000;
+inline constexpr long kAutoThermoLines = 200;
+
+struct Resolution {
+  double dt = 0.0;        // s
+  double duration = 0.0;  // s (steps * dt)
+  long steps = 0;
+  int dump_every = 0;     // steps
+  int series_every = 0;   // steps
+  int thermo_every = 0;   // steps
+  bool dt_auto = true;
+  bool duration_auto = true;
+  double min_contact_time = 0.0;    // s, shortest Hertz contact time at the striker speed
+  std::string min_contact_pair;     // which contact gives it, e.g. "block 4 - block 4"
+  double min_rayleigh_time = 0.0;   // s, of the smallest sphere (any block)
+  double arrival_estimate = 0.0;    // s, estimated arrival of the pulse at the bottom face
+  double skin = 0.0;                // m, neighbour-list skin
+};
+
+// Applies the spec's explicit values and the automatic rules for the rest.
+Resolution resolve(const Stack& stack);
+
+}  // namespace granstack::model

@@ -1,0 +1,89 @@
+#pragma once
+// The specification of one nested-stack case (physics.md section 1), with its validation.
+#include <granstack/model/material.hpp>
+
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace granstack::model {
+
+enum class Boundary { free_surface, wall };
+enum class DumpFormat { text, binary };
+
+std::string_view to_string(Boundary b);       // "free" | "wall"
+std::string_view to_string(DumpFormat f);     // "text" | "binary"
+std::optional<Boundary> parse_boundary(std::string_view s);
+std::optional<DumpFormat> parse_dump_format(std::string_view s);
+
+// A coefficient that has one value for every material pair, optionally overridden for
+// particular (unordered) pairs, e.g. restitution 0.9 but 0.8 between steel and teflon.
+struct PairTable {
+  double value = 0.0;
+  std::map<std::pair<std::string, std::string>, double> pairs;  // keys stored with first <= second
+
+  double get(const std::string& a, const std::string& b) const;
+  void set(const std::string& a, const std::string& b, double v);
+  bool operator==(const PairTable&) const = default;
+};
+
+struct StackSpec {
+  int blocks = 4;                              // N_B; block 1 is the top (impacted) block
+  int rows = 8;                                // spheres per column, the same in every block
+  int top_columns = 2;                         // columns of block 1 (even); block k has top_columns * ratio^(k-1)
+  double bottom_radius = 1e-3;                 // m, radius of the bottom block's spheres
+  int radius_ratio = 2;                        // R_k / R_{k+1}
+  std::vector<std::string> materials{"steel"}; // per block, top first; one name means every block
+  std::vector<Material> custom_materials;      // defined by the spec
+  PairTable restitution{1.0, {}};              // e, 0.05 < e <= 1
+  PairTable friction{0.0, {}};                 // Coulomb mu >= 0
+  double striker_speed = 1.0;                  // m/s, along -z
+  Boundary bottom = Boundary::free_surface;
+  Boundary sides = Boundary::free_surface;
+  std::string wall_material;                   // empty: the bottom block's material
+  double gravity = 0.0;                        // m/s^2 along -z; 0 = off
+  std::optional<double> dt;                    // s; nullopt = automatic rule
+  std::optional<double> duration;              // s; nullopt = automatic rule
+  std::optional<int> dump_every;               // steps; nullopt = automatic
+  std::optional<int> series_every;             // steps between in-situ energy samples; nullopt = automatic
+  DumpFormat dump_format = DumpFormat::text;
+
+  // The material name of block k (1 = top).
+  const std::string& block_material(int k) const;
+  // The wall's material name (wall_material, or the bottom block's).
+  const std::string& effective_wall_material() const;
+  // Built-in materials plus custom_materials.
+  MaterialLibrary material_library() const;
+  bool operator==(const StackSpec&) const = default;
+};
+
+// One problem with a spec: the field (as named in spec files and flags) and what is wrong,
+// including the allowed range.
+struct SpecIssue {
+  std::string field;
+  std::string message;
+};
+
+class SpecError : public std::runtime_error {
+ public:
+  explicit SpecError(std::vector<SpecIssue> issues);
+  const std::vector<SpecIssue>& issues() const { return issues_; }
+
+ private:
+  std::vector<SpecIssue> issues_;
+};
+
+// Every problem of the spec, empty when it is valid.
+std::vector<SpecIssue> validate(const StackSpec& spec);
+// Throws SpecError when validate() finds anything.
+void require_valid(const StackSpec& spec);
+
+// The most spheres granstack will lay out in one case (a guard against typos such as 40 blocks).
+inline constexpr long kMaxSpheres = 4'000'000;
+// Spheres of the stack including the striker (8 C (2^N_B - 1) + 1 for the study's stacks).
+long sphere_count(const StackSpec& spec);
+
+}  // namespace granstack::model

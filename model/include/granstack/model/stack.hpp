@@ -1,0 +1,85 @@
+#pragma once
+// The nested-stack geometry of physics.md section 1, laid out in double precision with
+// exactly touching spheres, and the index of which ids form each block, row and column.
+//
+// Coordinates: x horizontal, z vertical (the striker moves along -z), y = 0 for every centre.
+// The lattice is centred on x = 0; the bottom face of the bottom block is the plane z = 0.
+//
+// Id order (documented, stable): id 1 is the striker; then block 1 (top) to block N_B; within
+// a block row 1 (its top row) to its bottom row; within a row column 1 (smallest x) upwards:
+//   id(block k, row i, column j) = first_id(k) + (i - 1) * columns(k) + (j - 1).
+// LIGGGHTS atom types: block k has type k, the striker N_B + 1, a wall (if any) N_B + 2.
+#include <granstack/model/spec.hpp>
+
+#include <string>
+#include <vector>
+
+namespace granstack::model {
+
+struct Sphere {
+  int id = 0;
+  int block = 0;   // 1 = top; 0 for the striker
+  int row = 0;     // 1 = top row of its block; 0 for the striker
+  int column = 0;  // 1 = smallest x; 0 for the striker
+  int atom_type = 0;
+  double radius = 0.0;  // m
+  double x = 0.0;       // m
+  double z = 0.0;       // m
+};
+
+struct Block {
+  int index = 0;  // 1 = top
+  std::string material;
+  double radius = 0.0;       // m
+  int rows = 0;
+  int columns = 0;
+  int first_id = 0;
+  int atom_type = 0;
+  double sphere_mass = 0.0;  // kg
+  int count() const { return rows * columns; }
+  int last_id() const { return first_id + count() - 1; }
+};
+
+class Stack {
+ public:
+  // Throws SpecError when the spec is invalid.
+  static Stack build(const StackSpec& spec);
+
+  const StackSpec& spec() const { return spec_; }
+  const std::vector<Sphere>& spheres() const { return spheres_; }  // ordered by id
+  const Sphere& sphere(int id) const { return spheres_.at(static_cast<std::size_t>(id - 1)); }
+  const std::vector<Block>& blocks() const { return blocks_; }     // top first
+  const Block& block(int k) const { return blocks_.at(static_cast<std::size_t>(k - 1)); }
+
+  int id_of(int block, int row, int column) const;
+  static constexpr int striker_id() { return 1; }
+  // The bottom sphere of the central column just right of the impact axis (physics.md section 4).
+  int output_sphere_id() const;
+  std::vector<int> bottom_row_ids() const;
+
+  int striker_type() const { return static_cast<int>(blocks_.size()) + 1; }
+  // 0 when the spec has no wall.
+  int wall_type() const { return has_walls() ? striker_type() + 1 : 0; }
+  bool has_walls() const;
+  int atom_types() const { return has_walls() ? striker_type() + 1 : striker_type(); }
+  // The material of each LIGGGHTS atom type, index 0 = type 1.
+  std::vector<std::string> type_materials() const;
+
+  double half_width() const;       // m: the lattice spans -half_width..half_width in x (C R_1)
+  double top_z() const;            // m: the top of the striker
+  double striker_mass() const;     // kg
+  double incident_energy() const;  // E_in = 1/2 m_s v^2, J
+
+ private:
+  StackSpec spec_;
+  std::vector<Sphere> spheres_;
+  std::vector<Block> blocks_;
+};
+
+// The vertical distance between the centre of a sphere of radius R_k and the centres it rests
+// on in the block below (radius R_k / n): with n even it rests on two spheres at +-R_{k+1}
+// (sqrt((n+1)^2 - 1) R_{k+1}, 2 sqrt(2) R_{k+1} for the study's n = 2), with n odd on the one
+// directly below ((n+1) R_{k+1}).
+double interface_height(double lower_radius, int radius_ratio);
+
+}  // namespace granstack::model

@@ -1,0 +1,51 @@
+#include <granstack/model/contact.hpp>
+
+#include <cmath>
+
+namespace granstack::model {
+
+double sphere_mass(double radius, double density) { return 4.0 * kPi / 3.0 * radius * radius * radius * density; }
+
+double effective_youngs_modulus(const Material& a, const Material& b) {
+  return 1.0 / ((1.0 - a.poisson_ratio * a.poisson_ratio) / a.youngs_modulus +
+                (1.0 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus);
+}
+
+double effective_shear_modulus(const Material& a, const Material& b) {
+  return 1.0 / (2.0 * (2.0 - a.poisson_ratio) * (1.0 + a.poisson_ratio) / a.youngs_modulus +
+                2.0 * (2.0 - b.poisson_ratio) * (1.0 + b.poisson_ratio) / b.youngs_modulus);
+}
+
+ContactPair sphere_sphere(const Material& a, double radius_a, const Material& b, double radius_b) {
+  const double ma = sphere_mass(radius_a, a.density);
+  const double mb = sphere_mass(radius_b, b.density);
+  return {effective_youngs_modulus(a, b), effective_shear_modulus(a, b), radius_a * radius_b / (radius_a + radius_b),
+          ma * mb / (ma + mb)};
+}
+
+ContactPair sphere_wall(const Material& sphere, double radius, const Material& wall) {
+  return {effective_youngs_modulus(sphere, wall), effective_shear_modulus(sphere, wall), radius,
+          sphere_mass(radius, sphere.density)};
+}
+
+double hertz_max_overlap(const ContactPair& c, double v) {
+  return std::pow(15.0 * c.m_star * v * v / (16.0 * c.y_star * std::sqrt(c.r_star)), 0.4);
+}
+
+double hertz_contact_time(const ContactPair& c, double v) { return 2.9432 * hertz_max_overlap(c, v) / v; }
+
+double hertz_elastic_energy(double y_star, double r_star, double overlap) {
+  return 8.0 / 15.0 * y_star * std::sqrt(r_star) * overlap * overlap * std::sqrt(overlap);
+}
+
+double rayleigh_time(const Material& m, double radius) {
+  const double shear = m.youngs_modulus / (2.0 * (1.0 + m.poisson_ratio));
+  return kPi * radius * std::sqrt(m.density / shear) / (0.1631 * m.poisson_ratio + 0.8766);
+}
+
+double restitution_beta(double e) {
+  const double l = std::log(e);
+  return l / std::sqrt(l * l + kPi * kPi);
+}
+
+}  // namespace granstack::model

@@ -1,0 +1,163 @@
+#include <granstack/model/spec.hpp>
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <regex>
+
+namespace granstack::model {
+
+std::string_view to_string(Boundary b) { return b == Boundary::wall ? "wall" : "free"; }
+std::string_view to_string(DumpFormat f) { return f == DumpFormat::binary ? "binary" : "text"; }
+
+std::optional<Boundary> parse_boundary(std::string_view s) {
+  if (s == "free") return Boundary::free_surface;
+  if (s == "wall") return Boundary::wall;
+  return std::nullopt;
+}
+
+std::optional<DumpFormat> parse_dump_format(std::string_view s) {
+  if (s == "text") return DumpFormat::text;
+  if (s == "binary") return DumpFormat::binary;
+  return std::nullopt;
+}
+
+namespace {
+std::pair<std::string, std::string> ordered(const std::string& a, const std::string& b) {
+  return a <= b ? std::make_pair(a, b) : std::make_pair(b, a);
+}
+}  // namespace
+
+double PairTable::get(const std::string& a, const std::string& b) const {
+  auto it = pairs.find(ordered(a, b));
+  return it == pairs.end() ? value : it->second;
+}
+
+void PairTable::set(const std::string& a, const std::string& b, double v) { pairs[ordered(a, b)] = v; }
+
+const std::string& StackSpec::block_material(int k) const {
+  return materials.size() == 1 ? materials.front() : materials.at(static_cast<std::size_t>(k - 1));
+}
+
+const std::string& StackSpec::effective_wall_material() const {
+  return wall_material.empty() ? block_material(blocks) : wall_material;
+}
+
+MaterialLibrary StackSpec::material_library() const {
+  auto lib = MaterialLibrary::builtin();
+  for (const auto& m : custom_materials) lib.add(m);
+  return lib;
+}
+
+namespace {
+std::string join_issues(const std::vector<SpecIssue>& issues) {
+  std::string out = "invalid spec:";
+  for (const auto& i : issues) out += fmt::format("\n  {}: {}", i.field, i.message);
+  return out;
+}
+}  // namespace
+
+SpecError::SpecError(std::vector<SpecIssue> issues) : std::runtime_error(join_issues(issues)), issues_(std::move(issues)) {}
+
+long sphere_count(const StackSpec& spec) {
+  long total = 1;
+  long columns = spec.top_columns;
+  for (int k = 1; k <= spec.blocks; ++k) {
+    total += columns * spec.rows;
+    if (total > kMaxSpheres || columns > kMaxSpheres) return kMaxSpheres + 1;
+    columns *= spec.radius_ratio;
+  }
+  return total;
+}
+
+std::vector<SpecIssue> validate(const StackSpec& s) {
+  std::vector<SpecIssue> issues;
+  auto bad = [&](std::string field, std::string message) { issues.push_back({std::move(field), std::move(message)}); };
+  auto finite_positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+
+  static const std::regex name_re("[a-z][a-z0-9_]*");
+  for (const auto& m : s.custom_materials) {
+    const auto field = fmt::format("materials.{}", m.name);
+    if (!std::regex_match(m.name, name_re)) {
+      bad(field, "a material name is lower-case letters, digits and '_', starting with a letter");
+    }
+    if (!finite_positive(m.density)) bad(field + ".density", fmt::format("{} must be > 0 (kg/m^3)", m.density));
+    if (!finite_positive(m.youngs_modulus)) {
+      bad(field + ".youngs_modulus", fmt::format("{} must be > 0 (Pa)", m.youngs_modulus));
+    }
+    if (!(m.poisson_ratio >= 0.0 && m.poisson_ratio < 0.5)) {
+      bad(field + ".poisson_ratio", fmt::format("{} must be in [0, 0.5)", m.poisson_ratio));
+    }
+  }
+
+  if (s.blocks < 1 || s.blocks > 16) bad("blocks", fmt::format("{} must be a whole number from 1 to 16", s.blocks));
+  if (s.rows < 1 || s.rows > 4096) bad("rows", fmt::format("{} must be a whole number from 1 to 4096", s.rows));
+  if (s.top_columns < 2 || s.top_columns % 2 != 0 || s.top_columns > 4096) {
+    bad("top_columns", fmt::format("{} must be an even number from 2 to 4096 (the striker hits between the two "
+                                   "central columns)",
+                                   s.top_columns));
+  }
+  if (!finite_positive(s.bottom_radius)) bad("bottom_radius", fmt::format("{} must be > 0 (m)", s.bottom_radius));
+  if (s.radius_ratio < 1 || s.radius_ratio > 16) {
+    bad("radius_ratio", fmt::format("{} must be a whole number from 1 to 16 (each block's columns tile the block "
+                                    "below exactly only for whole ratios)",
+                                    s.radius_ratio));
+  }
+  if (issues.empty() && sphere_count(s) > kMaxSpheres) {
+    bad("blocks", fmt::format("this stack would have more than {} spheres; use fewer blocks, rows or columns",
+                              kMaxSpheres));
+  }
+
+  const auto lib = s.material_library();
+  auto known = [&](const std::string& name) { return lib.find(name) != nullptr; };
+  const auto known_list = fmt::format("{}", fmt::join(lib.names(), ", "));
+  if (s.materials.empty()) {
+    bad("materials", "give one material for every block, or one for all (known: " + known_list + ")");
+  } else if (s.materials.size() != 1 && s.blocks >= 1 && s.materials.size() != static_cast<std::size_t>(s.blocks)) {
+    bad("materials", fmt::format("{} materials listed for {} blocks: list one per block (top block first) or a "
+                                 "single one for all",
+                                 s.materials.size(), s.blocks));
+  }
+  for (const auto& name : s.materials) {
+    if (!known(name)) bad("materials", fmt::format("unknown material '{}' (known: {})", name, known_list));
+  }
+  if (!s.wall_material.empty() && !known(s.wall_material)) {
+    bad("wall_material", fmt::format("unknown material '{}' (known: {})", s.wall_material, known_list));
+  }
+
+  auto check_pairs = [&](const PairTable& t, const std::string& field, auto&& value_ok, const std::string& range) {
+    if (!value_ok(t.value)) bad(field, fmt::format("{} must be {}", t.value, range));
+    for (const auto& [key, v] : t.pairs) {
+      const auto pf = fmt::format("{}_pairs.\"{}:{}\"", field, key.first, key.second);
+      if (!known(key.first) || !known(key.second)) {
+        bad(pf, fmt::format("names an unknown material (known: {})", known_list));
+      }
+      if (!value_ok(v)) bad(pf, fmt::format("{} must be {}", v, range));
+    }
+  };
+  // LIGGGHTS refuses e <= 0.05 (global_properties.cpp:488-489; liggghts-3.8.md section 1).
+  check_pairs(s.restitution, "restitution", [](double e) { return e > 0.05 && e <= 1.0; }, "in (0.05, 1]");
+  check_pairs(s.friction, "friction", [](double mu) { return std::isfinite(mu) && mu >= 0.0; }, ">= 0");
+
+  if (!finite_positive(s.striker_speed)) bad("striker_speed", fmt::format("{} must be > 0 (m/s)", s.striker_speed));
+  if (!(std::isfinite(s.gravity) && s.gravity >= 0.0)) {
+    bad("gravity", fmt::format("{} must be >= 0 (m/s^2, acting along -z; 0 turns it off)", s.gravity));
+  }
+  if (s.dt && !finite_positive(*s.dt)) bad("dt", fmt::format("{} must be > 0 (s) or 'auto'", *s.dt));
+  if (s.duration && !finite_positive(*s.duration)) {
+    bad("duration", fmt::format("{} must be > 0 (s) or 'auto'", *s.duration));
+  }
+  if (s.dt && s.duration && finite_positive(*s.dt) && *s.dt >= *s.duration) {
+    bad("dt", fmt::format("{} must be smaller than the duration {}", *s.dt, *s.duration));
+  }
+  if (s.dump_every && *s.dump_every < 1) bad("dump_every", fmt::format("{} must be >= 1 step", *s.dump_every));
+  if (s.series_every && *s.series_every < 1) bad("series_every", fmt::format("{} must be >= 1 step", *s.series_every));
+  return issues;
+}
+
+void require_valid(const StackSpec& spec) {
+  auto issues = validate(spec);
+  if (!issues.empty()) throw SpecError(std::move(issues));
+}
+
+}  // namespace granstack::model

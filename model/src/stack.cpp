@@ -1,0 +1,102 @@
+#include <granstack/model/contact.hpp>
+#include <granstack/model/stack.hpp>
+
+#include <cmath>
+
+namespace granstack::model {
+
+double interface_height(double lower_radius, int n) {
+  if (n % 2 == 0) return lower_radius * std::sqrt(static_cast<double>(n * n + 2 * n));
+  return static_cast<double>(n + 1) * lower_radius;
+}
+
+Stack Stack::build(const StackSpec& spec) {
+  require_valid(spec);
+  Stack s;
+  s.spec_ = spec;
+  const auto lib = spec.material_library();
+  const int nb = spec.blocks;
+  const int n = spec.radius_ratio;
+
+  // Radii and columns, top block first: R_k = r n^(N_B - k), C_k = C n^(k-1).
+  int first_id = 2;
+  int columns = spec.top_columns;
+  for (int k = 1; k <= nb; ++k) {
+    Block b;
+    b.index = k;
+    b.material = spec.block_material(k);
+    b.radius = spec.bottom_radius * std::pow(static_cast<double>(n), nb - k);
+    b.rows = spec.rows;
+    b.columns = columns;
+    b.first_id = first_id;
+    b.atom_type = k;
+    b.sphere_mass = sphere_mass(b.radius, lib.at(b.material).density);
+    first_id += b.count();
+    columns *= n;
+    s.blocks_.push_back(b);
+  }
+
+  // Row-centre heights, from the bottom face (z = 0) up.
+  std::vector<double> bottom_row_z(static_cast<std::size_t>(nb + 1));
+  bottom_row_z[static_cast<std::size_t>(nb)] = s.block(nb).radius;
+  for (int k = nb - 1; k >= 1; --k) {
+    const auto& below = s.block(k + 1);
+    const double top_row_below = bottom_row_z[static_cast<std::size_t>(k + 1)] + 2.0 * below.radius * (below.rows - 1);
+    bottom_row_z[static_cast<std::size_t>(k)] = top_row_below + interface_height(below.radius, n);
+  }
+
+  s.spheres_.reserve(static_cast<std::size_t>(first_id - 1));
+  const auto& top = s.block(1);
+  const double top_row_z = bottom_row_z[1] + 2.0 * top.radius * (top.rows - 1);
+  // The striker rests on the two central top spheres (at x = -+R_1): sqrt(3) R_1 above their row.
+  s.spheres_.push_back({1, 0, 0, 0, s.striker_type(), top.radius, 0.0, top_row_z + std::sqrt(3.0) * top.radius});
+  for (const auto& b : s.blocks_) {
+    for (int i = 1; i <= b.rows; ++i) {
+      const double z = bottom_row_z[static_cast<std::size_t>(b.index)] + 2.0 * b.radius * (b.rows - i);
+      for (int j = 1; j <= b.columns; ++j) {
+        const double x = static_cast<double>(2 * j - 1 - b.columns) * b.radius;
+        s.spheres_.push_back({b.first_id + (i - 1) * b.columns + (j - 1), b.index, i, j, b.atom_type, b.radius, x, z});
+      }
+    }
+  }
+  return s;
+}
+
+int Stack::id_of(int block_index, int row, int column) const {
+  const auto& b = block(block_index);
+  if (row < 1 || row > b.rows || column < 1 || column > b.columns) {
+    throw std::out_of_range("row or column outside the block");
+  }
+  return b.first_id + (row - 1) * b.columns + (column - 1);
+}
+
+int Stack::output_sphere_id() const {
+  const auto& b = blocks_.back();
+  return id_of(b.index, b.rows, b.columns / 2 + 1);
+}
+
+std::vector<int> Stack::bottom_row_ids() const {
+  const auto& b = blocks_.back();
+  std::vector<int> ids;
+  for (int j = 1; j <= b.columns; ++j) ids.push_back(id_of(b.index, b.rows, j));
+  return ids;
+}
+
+bool Stack::has_walls() const {
+  return spec_.bottom == Boundary::wall || spec_.sides == Boundary::wall;
+}
+
+std::vector<std::string> Stack::type_materials() const {
+  std::vector<std::string> out;
+  for (const auto& b : blocks_) out.push_back(b.material);
+  out.push_back(block(1).material);  // the striker is made of the top block's material
+  if (has_walls()) out.push_back(spec_.effective_wall_material());
+  return out;
+}
+
+double Stack::half_width() const { return spec_.top_columns * block(1).radius; }
+double Stack::top_z() const { return spheres_.front().z + spheres_.front().radius; }
+double Stack::striker_mass() const { return block(1).sphere_mass; }
+double Stack::incident_energy() const { return 0.5 * striker_mass() * spec_.striker_speed * spec_.striker_speed; }
+
+}  // namespace granstack::model

@@ -1,0 +1,47 @@
+#pragma once
+// Energies of one dump frame, grouped as the study measures them (physics.md section 4).
+#include <granstack/formats/dump.hpp>
+#include <granstack/model/stack.hpp>
+
+#include <vector>
+
+namespace granstack::postproc {
+
+struct FrameEnergy {
+  long step = 0;
+  std::vector<double> block_ke;  // translational + rotational, index 0 = block 1 (top)
+  double striker_ke = 0.0;
+  double output_sphere_ke = 0.0;
+  double bottom_row_ke = 0.0;
+  double kinetic = 0.0;          // everything
+  double elastic = 0.0;          // Hertz energy of every overlapping pair (and sphere-wall contact)
+};
+
+// Maps the frame's rows to sphere ids and checks them against the stack: every id present
+// exactly once. Throws FormatError naming the frame otherwise.
+class FrameView {
+ public:
+  FrameView(const model::Stack& stack, const std::string& path);
+  // Binds a frame; returns the row of each id (index id - 1).
+  void bind(const formats::DumpFrame& frame);
+  long row(int id) const { return rows_[static_cast<std::size_t>(id - 1)]; }
+
+  double kinetic_energy(const formats::DumpFrame& f, long row) const;
+
+ private:
+  const model::Stack& stack_;
+  std::string path_;
+  std::vector<long> rows_;
+  int c_id_ = -1, c_mass_ = -1, c_radius_ = -1, c_vx_ = -1, c_vy_ = -1, c_vz_ = -1, c_wx_ = -1, c_wy_ = -1, c_wz_ = -1;
+  int c_x_ = -1, c_y_ = -1, c_z_ = -1;
+  friend FrameEnergy frame_energy(const formats::DumpFrame&, const FrameView&, const model::Stack&);
+};
+
+// Kinetic energy 1/2 m v^2 + 1/2 (2/5 m R^2) w^2 per group, and the elastic energy
+// 8/15 Y* sqrt(R*) d^(5/2) of every overlap (physics.md sections 2 and 4).
+FrameEnergy frame_energy(const formats::DumpFrame& frame, const FrameView& view, const model::Stack& stack);
+
+// True when the sphere overlaps no other sphere and no wall in this frame.
+bool is_free(const formats::DumpFrame& frame, const FrameView& view, const model::Stack& stack, int id);
+
+}  // namespace granstack::postproc

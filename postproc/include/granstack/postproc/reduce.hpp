@@ -1,0 +1,56 @@
+#pragma once
+// `granstack reduce`: a case's dumps and in-situ series -> per-block energy table, peaks and
+// the output fractions of physics.md section 4.
+#include <granstack/model/spec.hpp>
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace granstack::postproc {
+
+struct BlockPeak {
+  int block = 0;           // 1 = top
+  double peak_ke = 0.0;    // J, translational + rotational
+  double peak_time = 0.0;  // s
+  double normalised = 0.0; // peak_ke / peak_ke of block 1
+};
+
+struct CaseReduction {
+  std::string case_dir;
+  std::string case_name;
+  model::StackSpec spec;
+  double e_in = 0.0;                   // J
+  double output_fraction = 0.0;        // output sphere's KE after separation / E_in
+  double output_fraction_bottom_row = 0.0;             // whole bottom row's final KE / E_in
+  double output_fraction_bottom_row_per_sphere = 0.0;  // the same per bottom-row sphere
+  std::string output_definition;       // how output_fraction was taken
+  bool output_separated = false;       // the output sphere touches nothing at the last frame
+  double output_peak_fraction = 0.0;   // the output sphere's peak KE / E_in
+  std::vector<BlockPeak> blocks;       // top first
+  std::string peak_source;             // "series" (in-situ, every series_every steps) or "dump"
+  long frames = 0;
+  double final_time = 0.0;             // s, of the last dump frame
+  double energy_drift = 0.0;           // max |KE + elastic - E_in| / E_in over frames (e = 1, mu = 0 meaningful)
+  std::vector<std::string> warnings;
+  std::string csv_path;                // the per-block energy table written
+};
+
+struct ReduceOptions {
+  bool write_files = true;  // CASE/reduce/block_ke.csv and CASE/reduce/summary.json
+  // Called after every frame read (frames so far, bytes read so far, bytes in the dump).
+  std::function<void(long frames)> on_frame;
+};
+
+// Throws formats::FormatError for unreadable or inconsistent files, std::runtime_error for a
+// case that has not (successfully) run.
+CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& options = {});
+
+// The JSON object `reduce --json` prints for a case (one line per case).
+nlohmann::json to_json(const CaseReduction& r);
+
+// The readable tables: a row per case, then (for a single case) a row per block.
+std::string format_table(const std::vector<CaseReduction>& reductions);
+
+}  // namespace granstack::postproc

@@ -1,0 +1,250 @@
+#include <granstack/formats/dump.hpp>
+#include <granstack/formats/error.hpp>
+#include <granstack/formats/manifest.hpp>
+#include <granstack/formats/series.hpp>
+#include <granstack/model/resolution.hpp>
+#include <granstack/model/stack.hpp>
+#include <granstack/postproc/energy.hpp>
+#include <granstack/postproc/reduce.hpp>
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace granstack::postproc {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+void require_successful_run(const fs::path& dir, const formats::CaseFiles& files) {
+  const auto record_path = dir / files.run_record;
+  std::ifstream in(record_path);
+  if (!in) {
+    throw std::runtime_error(fmt::format("{}: the case has not been run; run 'granstack run {}' first", dir.string(),
+                                         dir.string()));
+  }
+  json record;
+  try {
+    record = json::parse(in);
+  } catch (const json::exception& e) {
+    throw formats::FormatError(record_path.string(), 0, fmt::format("not valid JSON: {}", e.what()));
+  }
+  const auto status = record.value("status", "");
+  if (status == "failed") {
+    throw std::runtime_error(fmt::format("{}: the run failed ({}); fix it and run again with 'granstack run --force'",
+                                         dir.string(), record.value("error", "no message")));
+  }
+  if (status != "done") {
+    throw std::runtime_error(fmt::format("{}: the run did not finish (status '{}'); run 'granstack run --force {}'",
+                                         dir.string(), status, dir.string()));
+  }
+}
+
+void write_atomically(const fs::path& path, const std::string& text) {
+  const auto tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    if (!out) throw std::runtime_error(fmt::format("{}: cannot write", tmp));
+  }
+  fs::rename(tmp, path);
+}
+
+}  // namespace
+
+CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& options) {
+  const fs::path dir(case_dir);
+  const auto manifest = formats::read_manifest(case_dir);
+  require_successful_run(dir, manifest.files);
+  const auto stack = model::Stack::build(manifest.spec);
+  const auto res = model::resolve(stack);
+  const auto& spec = stack.spec();
+  const int nb = spec.blocks;
+
+  CaseReduction r;
+  r.case_dir = case_dir;
+  r.case_name = manifest.case_name;
+  r.spec = spec;
+  r.e_in = stack.incident_energy();
+  if (spec.dump_format == model::DumpFormat::binary) {
+    throw std::runtime_error(fmt::format("{}: reduce reads text dumps; this case was generated with dump_format = binary, "
+                                         "which this version cannot reduce: regenerate with --dump-format text",
+                                         case_dir));
+  }
+
+  const auto dump_path = (dir / manifest.files.dump).string();
+  formats::TextDumpReader reader(dump_path);
+  FrameView view(stack, dump_path);
+  formats::DumpFrame frame, last;
+  FrameEnergy last_energy;
+  std::vector<BlockPeak> dump_peaks(static_cast<std::size_t>(nb));
+  fmt::memory_buffer csv;
+  auto out = std::back_inserter(csv);
+  fmt::format_to(out, "step,time_s");
+  for (int k = 1; k <= nb; ++k) fmt::format_to(out, ",ke_block{}_J", k);
+  fmt::format_to(out, ",ke_striker_J,ke_output_sphere_J,ke_bottom_row_J,ke_total_J,elastic_J,energy_total_J\n");
+  for (;;) {
+    try {
+      if (!reader.next(frame)) break;
+    } catch (const formats::TruncatedError& e) {
+      r.warnings.push_back(fmt::format("{}; the {} complete frames before it are used", e.what(), r.frames));
+      break;
+    }
+    view.bind(frame);
+    const auto e = frame_energy(frame, view, stack);
+    const double t = static_cast<double>(frame.step) * res.dt;
+    fmt::format_to(out, "{},{}", frame.step, t);
+    for (int k = 0; k < nb; ++k) {
+      const double ke = e.block_ke[static_cast<std::size_t>(k)];
+      fmt::format_to(out, ",{}", ke);
+      auto& p = dump_peaks[static_cast<std::size_t>(k)];
+      if (ke > p.peak_ke) p = {k + 1, ke, t, 0.0};
+    }
+    fmt::format_to(out, ",{},{},{},{},{},{}\n", e.striker_ke, e.output_sphere_ke, e.bottom_row_ke, e.kinetic, e.elastic,
+                   e.kinetic + e.elastic);
+    r.energy_drift = std::max(r.energy_drift, std::fabs(e.kinetic + e.elastic - r.e_in) / r.e_in);
+    r.output_peak_fraction = std::max(r.output_peak_fraction, e.output_sphere_ke / r.e_in);
+    ++r.frames;
+    if (options.on_frame) options.on_frame(r.frames);
+    std::swap(last, frame);
+    last_energy = e;
+  }
+  if (r.frames == 0) throw formats::FormatError(dump_path, 0, "no complete frame");
+  r.final_time = static_cast<double>(last.step) * res.dt;
+  view.bind(last);
+  r.output_separated = is_free(last, view, stack, stack.output_sphere_id());
+
+  // Peaks from the in-situ series when there is one: it is sampled far more often than the dumps.
+  r.blocks = dump_peaks;
+  r.peak_source = "dump";
+  const auto series_path = (dir / manifest.files.series).string();
+  if (fs::exists(series_path)) {
+    const auto series = formats::read_series(series_path);
+    std::vector<int> trans, rot;
+    for (int k = 1; k <= nb; ++k) {
+      trans.push_back(series.column(fmt::format("ke_trans_block{}", k)));
+      rot.push_back(series.column(fmt::format("ke_rot_block{}", k)));
+    }
+    const int c_step = series.column("step");
+    const int c_out_t = series.column("ke_trans_output_sphere"), c_out_r = series.column("ke_rot_output_sphere");
+    const bool complete = c_step >= 0 && c_out_t >= 0 && c_out_r >= 0 &&
+                          std::find(trans.begin(), trans.end(), -1) == trans.end() &&
+                          std::find(rot.begin(), rot.end(), -1) == rot.end();
+    if (complete && !series.rows.empty()) {
+      std::vector<BlockPeak> peaks(static_cast<std::size_t>(nb));
+      for (const auto& row : series.rows) {
+        const double t = row[static_cast<std::size_t>(c_step)] * res.dt;
+        for (int k = 0; k < nb; ++k) {
+          const double ke = row[static_cast<std::size_t>(trans[static_cast<std::size_t>(k)])] +
+                            row[static_cast<std::size_t>(rot[static_cast<std::size_t>(k)])];
+          auto& p = peaks[static_cast<std::size_t>(k)];
+          if (ke > p.peak_ke) p = {k + 1, ke, t, 0.0};
+        }
+        r.output_peak_fraction = std::max(
+            r.output_peak_fraction,
+            (row[static_cast<std::size_t>(c_out_t)] + row[static_cast<std::size_t>(c_out_r)]) / r.e_in);
+      }
+      r.blocks = peaks;
+      r.peak_source = "series";
+    } else if (!complete) {
+      r.warnings.push_back(fmt::format("{} lacks the per-block columns; peaks are taken from the dump frames",
+                                       series_path));
+    }
+  }
+  for (auto& b : r.blocks) b.normalised = r.blocks.front().peak_ke > 0 ? b.peak_ke / r.blocks.front().peak_ke : 0.0;
+
+  const auto bottom = stack.bottom_row_ids();
+  r.output_fraction_bottom_row = last_energy.bottom_row_ke / r.e_in;
+  r.output_fraction_bottom_row_per_sphere = r.output_fraction_bottom_row / static_cast<double>(bottom.size());
+  if (spec.bottom == model::Boundary::wall) {
+    // Against a wall the output sphere never leaves: its peak is the only defined output.
+    r.output_fraction = r.output_peak_fraction;
+    r.output_definition = "peak kinetic energy of the output sphere (bottom wall) / E_in";
+  } else {
+    r.output_fraction = last_energy.output_sphere_ke / r.e_in;
+    r.output_definition = "kinetic energy of the output sphere after it left the free bottom face / E_in";
+    if (!r.output_separated) {
+      r.warnings.push_back(fmt::format(
+          "the output sphere (id {}) still touches a neighbour at the last frame (t = {:.4g} s): it has not reached its "
+          "final energy; generate the case again with a longer --duration",
+          stack.output_sphere_id(), r.final_time));
+    }
+  }
+
+  if (options.write_files) {
+    const auto rdir = dir / "reduce";
+    fs::create_directories(rdir);
+    r.csv_path = (rdir / "block_ke.csv").string();
+    write_atomically(r.csv_path, fmt::to_string(csv));
+    write_atomically(rdir / "summary.json", to_json(r).dump(2) + "\n");
+  }
+  return r;
+}
+
+json to_json(const CaseReduction& r) {
+  json peaks = json::array(), norm = json::array(), times = json::array();
+  for (const auto& b : r.blocks) {
+    peaks.push_back(b.peak_ke);
+    norm.push_back(b.normalised);
+    times.push_back(b.peak_time);
+  }
+  return {{"case", r.case_name},
+          {"case_dir", r.case_dir},
+          {"blocks", r.spec.blocks},
+          {"restitution", r.spec.restitution.value},
+          {"friction", r.spec.friction.value},
+          {"striker_speed", r.spec.striker_speed},
+          {"materials", r.spec.materials},
+          {"e_in", r.e_in},
+          {"output_fraction", r.output_fraction},
+          {"output_fraction_bottom_row", r.output_fraction_bottom_row},
+          {"output_fraction_bottom_row_per_sphere", r.output_fraction_bottom_row_per_sphere},
+          {"output_definition", r.output_definition},
+          {"output_separated", r.output_separated},
+          {"output_peak_fraction", r.output_peak_fraction},
+          {"block_peak_ke", peaks},
+          {"block_peak_ke_normalised", norm},
+          {"block_peak_time", times},
+          {"peak_source", r.peak_source},
+          {"frames", r.frames},
+          {"final_time", r.final_time},
+          {"energy_drift", r.energy_drift},
+          {"warnings", r.warnings}};
+}
+
+std::string format_table(const std::vector<CaseReduction>& rs) {
+  fmt::memory_buffer b;
+  auto out = std::back_inserter(b);
+  std::size_t w = 4;
+  for (const auto& r : rs) w = std::max(w, r.case_name.size());
+  fmt::format_to(out, "{:<{}}  {:>3}  {:>6}  {:>6}  {:>7}  {:>11}  {:>12}  {:>12}  {:>12}\n", "case", w, "N_B", "e", "mu",
+                 "v(m/s)", "E_in (J)", "output", "bottom row", "per sphere");
+  for (const auto& r : rs) {
+    fmt::format_to(out, "{:<{}}  {:>3}  {:>6}  {:>6}  {:>7}  {:>11.5g}  {:>12.6g}  {:>12.6g}  {:>12.6g}{}\n", r.case_name, w,
+                   r.spec.blocks, r.spec.restitution.value, r.spec.friction.value, r.spec.striker_speed, r.e_in,
+                   r.output_fraction, r.output_fraction_bottom_row, r.output_fraction_bottom_row_per_sphere,
+                   r.output_separated || r.spec.bottom == model::Boundary::wall ? "" : "  (not separated)");
+  }
+  if (rs.size() == 1) {
+    const auto& r = rs.front();
+    fmt::format_to(out, "\nper block ({}; peaks from the {}):\n", r.case_name,
+                   r.peak_source == "series" ? "in-situ series" : "dump frames");
+    fmt::format_to(out, "{:>5}  {:>8}  {:>14}  {:>10}  {:>13}\n", "block", "material", "peak KE (J)", "peak/top",
+                   "t_peak (us)");
+    for (const auto& bp : r.blocks) {
+      fmt::format_to(out, "{:>5}  {:>8}  {:>14.6e}  {:>10.6f}  {:>13.3f}\n", bp.block, r.spec.block_material(bp.block),
+                     bp.peak_ke, bp.normalised, bp.peak_time * 1e6);
+    }
+    fmt::format_to(out, "output fraction: {:.6g} ({})\n", r.output_fraction, r.output_definition);
+  }
+  for (const auto& r : rs) {
+    for (const auto& warn : r.warnings) fmt::format_to(out, "warning: {}: {}\n", r.case_name, warn);
+  }
+  return fmt::to_string(b);
+}
+
+}  // namespace granstack::postproc

@@ -1,0 +1,55 @@
+#pragma once
+// Runs LIGGGHTS on generated case directories, several at once, with a progress display,
+// failure detection and a run record (run.json) in each case directory.
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace granstack::runner {
+
+struct CaseProgress {
+  std::string name;
+  long step = 0;          // last thermo step seen
+  long total_steps = 0;
+  double elapsed = 0.0;   // s
+};
+
+struct ProgressSnapshot {
+  int finished = 0;  // cases done, skipped or failed
+  int total = 0;
+  std::vector<CaseProgress> running;
+};
+
+struct RunOptions {
+  int jobs = 1;           // cases run at the same time
+  int ranks = 1;          // MPI ranks per case (mpirun when > 1)
+  bool force = false;     // rerun cases that finished
+  std::string liggghts = "liggghts";
+  std::string mpirun = "mpirun";
+  // Called about twice a second while cases run, and once at the end.
+  std::function<void(const ProgressSnapshot&)> on_progress;
+};
+
+enum class RunStatus { done, skipped, failed };
+
+struct RunOutcome {
+  std::string case_dir;
+  RunStatus status = RunStatus::failed;
+  std::string message;  // why it failed or was skipped; LIGGGHTS's own error line when there is one
+  double wall_seconds = 0.0;
+  double loop_seconds = 0.0;
+  double particle_steps_per_second = 0.0;
+};
+
+// Runs every case (already expanded from sweep directories). Never throws for a failing case:
+// the failure is in its outcome and its run.json.
+std::vector<RunOutcome> run_cases(const std::vector<std::string>& case_dirs, const RunOptions& options);
+
+// The status recorded in CASE/run.json: "done", "failed", "running" (interrupted), or "" when never run.
+std::string recorded_status(const std::string& case_dir);
+
+// The directory of PATH that holds `program`, or nullopt.
+std::optional<std::string> find_program(const std::string& program);
+
+}  // namespace granstack::runner

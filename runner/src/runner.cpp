@@ -1,0 +1,325 @@
+#include <granstack/formats/log.hpp>
+#include <granstack/formats/manifest.hpp>
+#include <granstack/runner/runner.hpp>
+
+#include <fmt/chrono.h>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <fcntl.h>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+extern char** environ;
+
+namespace granstack::runner {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+std::optional<std::string> find_program(const std::string& program) {
+  if (program.find('/') != std::string::npos) {
+    return ::access(program.c_str(), X_OK) == 0 ? std::optional<std::string>(program) : std::nullopt;
+  }
+  const char* path = std::getenv("PATH");
+  std::string dirs = path != nullptr ? path : "/usr/local/bin:/usr/bin:/bin";
+  std::size_t start = 0;
+  while (start <= dirs.size()) {
+    const auto end = std::min(dirs.find(':', start), dirs.size());
+    const auto candidate = fs::path(dirs.substr(start, end - start)) / program;
+    if (::access(candidate.c_str(), X_OK) == 0) return candidate.string();
+    start = end + 1;
+  }
+  return std::nullopt;
+}
+
+std::string recorded_status(const std::string& case_dir) {
+  std::ifstream in(fs::path(case_dir) / "run.json");
+  if (!in) return "";
+  try {
+    return json::parse(in).value("status", "");
+  } catch (const json::exception&) {
+    return "";
+  }
+}
+
+namespace {
+
+std::string utc_now() {
+  return fmt::format("{:%Y-%m-%dT%H:%M:%SZ}",
+                     fmt::gmtime(std::chrono::system_clock::to_time_t(std::chrono::system_clock::now())));
+}
+
+void write_record(const fs::path& path, const json& record) {
+  const auto tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << record.dump(2) << "\n";
+  }
+  fs::rename(tmp, path);
+}
+
+class Monitor {
+ public:
+  explicit Monitor(int total) { snapshot_.total = total; }
+  std::size_t start(const std::string& name, long total_steps) {
+    std::lock_guard lock(mutex_);
+    slots_.push_back({name, 0, total_steps, 0.0});
+    starts_.push_back(Clock::now());
+    return slots_.size() - 1;
+  }
+  void update(std::size_t slot, long step) {
+    std::lock_guard lock(mutex_);
+    slots_[slot].step = step;
+  }
+  void finish(std::size_t slot) {
+    std::lock_guard lock(mutex_);
+    slots_[slot].total_steps = -1;  // marks the slot finished
+    ++snapshot_.finished;
+  }
+  void skipped() {
+    std::lock_guard lock(mutex_);
+    ++snapshot_.finished;
+  }
+  ProgressSnapshot snapshot() {
+    std::lock_guard lock(mutex_);
+    ProgressSnapshot s = snapshot_;
+    const auto now = Clock::now();
+    for (std::size_t i = 0; i < slots_.size(); ++i) {
+      if (slots_[i].total_steps < 0) continue;
+      auto p = slots_[i];
+      p.elapsed = std::chrono::duration<double>(now - starts_[i]).count();
+      s.running.push_back(p);
+    }
+    return s;
+  }
+
+ private:
+  std::mutex mutex_;
+  ProgressSnapshot snapshot_;
+  std::vector<CaseProgress> slots_;
+  std::vector<Clock::time_point> starts_;
+};
+
+struct Spawned {
+  pid_t pid = -1;
+  std::string error;
+};
+
+Spawned spawn(const std::vector<std::string>& argv, const fs::path& cwd, const fs::path& output) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addchdir_np(&actions, cwd.c_str());
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, output.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  Spawned s;
+  const int rc = posix_spawnp(&s.pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) {
+    s.pid = -1;
+    s.error = fmt::format("cannot start {}: {}", argv[0], std::strerror(rc));
+  }
+  return s;
+}
+
+// Reads what the process has appended to its output since the last call.
+class Tail {
+ public:
+  explicit Tail(fs::path path) : path_(std::move(path)) {}
+  void poll(formats::LogScanner& scanner) {
+    std::ifstream in(path_, std::ios::binary);
+    if (!in) return;
+    in.seekg(static_cast<std::streamoff>(offset_));
+    std::string chunk((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    offset_ += chunk.size();
+    partial_ += chunk;
+    std::size_t nl;
+    while ((nl = partial_.find('\n')) != std::string::npos) {
+      scanner.add_line(std::string_view(partial_).substr(0, nl));
+      partial_.erase(0, nl + 1);
+    }
+  }
+  void flush(formats::LogScanner& scanner) {
+    poll(scanner);
+    if (!partial_.empty()) scanner.add_line(partial_);
+    partial_.clear();
+  }
+
+ private:
+  fs::path path_;
+  std::size_t offset_ = 0;
+  std::string partial_;
+};
+
+RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& monitor) {
+  RunOutcome outcome;
+  outcome.case_dir = case_dir;
+  const fs::path dir(case_dir);
+  formats::Manifest manifest;
+  try {
+    manifest = formats::read_manifest(case_dir);
+  } catch (const std::exception& e) {
+    outcome.message = e.what();
+    monitor.skipped();
+    return outcome;
+  }
+  const auto& files = manifest.files;
+  if (recorded_status(case_dir) == "done" && !o.force) {
+    outcome.status = RunStatus::skipped;
+    outcome.message = "already run (run.json says done); pass --force to run it again";
+    monitor.skipped();
+    return outcome;
+  }
+
+  std::vector<std::string> argv;
+  const auto liggghts = find_program(o.liggghts);
+  if (!liggghts) {
+    outcome.message = fmt::format("LIGGGHTS ('{}') is not on PATH: install it with scripts/setup.sh (Debian package "
+                                  "'liggghts') or pass --liggghts PATH",
+                                  o.liggghts);
+  }
+  if (o.ranks > 1) {
+    if (!find_program(o.mpirun)) {
+      outcome.message = fmt::format("'{}' is not on PATH: it comes with the Debian package 'liggghts' (Open MPI)", o.mpirun);
+    }
+    argv = {o.mpirun, "-np", std::to_string(o.ranks)};
+    if (::geteuid() == 0) argv.push_back("--allow-run-as-root");
+    if (o.ranks > static_cast<int>(std::thread::hardware_concurrency())) argv.push_back("--oversubscribe");
+  }
+  // Unbuffered, so an MPI_Abort cannot swallow LIGGGHTS's error message (liggghts-3.8.md section 9).
+  const auto stdbuf = find_program("stdbuf");
+  if (stdbuf) argv.insert(argv.end(), {*stdbuf, "-o0", "-e0"});
+  argv.insert(argv.end(), {liggghts.value_or(o.liggghts), "-in", files.deck, "-log", files.log});
+
+  json record = {{"status", "running"},
+                 {"engine", "liggghts"},
+                 {"command", argv},
+                 {"ranks", o.ranks},
+                 {"started", utc_now()},
+                 {"host_threads", std::thread::hardware_concurrency()}};
+  if (!outcome.message.empty()) {
+    record["status"] = "failed";
+    record["error"] = outcome.message;
+    write_record(dir / files.run_record, record);
+    monitor.skipped();
+    return outcome;
+  }
+  // Stale outputs of an earlier attempt must not be mistaken for this run's.
+  for (const auto& f : {files.dump, files.series, files.log, files.screen}) fs::remove(dir / f);
+  fs::create_directories((dir / files.dump).parent_path());
+  write_record(dir / files.run_record, record);
+
+  const long total_steps = manifest.derived.value("steps", 0L);
+  const auto slot = monitor.start(manifest.case_name, total_steps);
+  const auto t0 = Clock::now();
+  const auto child = spawn(argv, fs::absolute(dir), fs::absolute(dir / files.screen));
+  formats::LogScanner scanner;
+  int exit_code = -1;
+  std::string signal_text;
+  if (child.pid < 0) {
+    outcome.message = child.error;
+  } else {
+    Tail tail(dir / files.screen);
+    for (;;) {
+      int status = 0;
+      const pid_t r = ::waitpid(child.pid, &status, WNOHANG);
+      if (r == child.pid) {
+        if (WIFEXITED(status)) exit_code = WEXITSTATUS(status);
+        if (WIFSIGNALED(status)) signal_text = fmt::format("killed by signal {}", WTERMSIG(status));
+        break;
+      }
+      if (r < 0 && errno != EINTR) {
+        outcome.message = fmt::format("waitpid failed: {}", std::strerror(errno));
+        break;
+      }
+      tail.poll(scanner);
+      if (auto s = scanner.last_step()) monitor.update(slot, *s);
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+    tail.flush(scanner);
+  }
+  outcome.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  monitor.finish(slot);
+
+  const auto& loop = scanner.loop_time();
+  if (outcome.message.empty()) {
+    if (!scanner.errors().empty()) {
+      outcome.message = scanner.errors().front();
+    } else if (scanner.lost_atoms()) {
+      outcome.message = "LIGGGHTS lost atoms (see " + files.screen + ")";
+    } else if (!signal_text.empty()) {
+      outcome.message = "LIGGGHTS was " + signal_text;
+    } else if (exit_code != 0) {
+      outcome.message = fmt::format("LIGGGHTS exited with code {} (see {})", exit_code, files.screen);
+    } else if (!loop || loop->steps != total_steps) {
+      outcome.message = fmt::format("LIGGGHTS ended without finishing the run of {} steps (see {})", total_steps,
+                                    files.screen);
+    }
+  }
+  outcome.status = outcome.message.empty() ? RunStatus::done : RunStatus::failed;
+  record["status"] = outcome.status == RunStatus::done ? "done" : "failed";
+  record["finished"] = utc_now();
+  record["wall_seconds"] = outcome.wall_seconds;
+  record["exit_code"] = exit_code;
+  record["liggghts_version"] = scanner.version();
+  if (!outcome.message.empty()) record["error"] = outcome.message;
+  if (!scanner.warnings().empty()) record["warnings"] = scanner.warnings();
+  if (loop) {
+    outcome.loop_seconds = loop->seconds;
+    outcome.particle_steps_per_second =
+        loop->seconds > 0 ? static_cast<double>(loop->atoms) * static_cast<double>(loop->steps) / loop->seconds : 0.0;
+    record["loop_seconds"] = loop->seconds;
+    record["steps"] = loop->steps;
+    record["atoms"] = loop->atoms;
+    record["procs"] = loop->procs;
+    record["particle_steps_per_second"] = outcome.particle_steps_per_second;
+  }
+  write_record(dir / files.run_record, record);
+  return outcome;
+}
+
+}  // namespace
+
+std::vector<RunOutcome> run_cases(const std::vector<std::string>& case_dirs, const RunOptions& options) {
+  std::vector<RunOutcome> outcomes(case_dirs.size());
+  Monitor monitor(static_cast<int>(case_dirs.size()));
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> all_done{false};
+  auto worker = [&] {
+    for (std::size_t i = next++; i < case_dirs.size(); i = next++) outcomes[i] = run_one(case_dirs[i], options, monitor);
+  };
+  std::thread reporter;
+  if (options.on_progress) {
+    reporter = std::thread([&] {
+      while (!all_done) {
+        options.on_progress(monitor.snapshot());
+        for (int i = 0; i < 5 && !all_done; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      }
+    });
+  }
+  const int jobs = std::max(1, std::min<int>(options.jobs, static_cast<int>(case_dirs.size())));
+  std::vector<std::thread> workers;
+  for (int j = 1; j < jobs; ++j) workers.emplace_back(worker);
+  worker();
+  for (auto& w : workers) w.join();
+  all_done = true;
+  if (reporter.joinable()) reporter.join();
+  if (options.on_progress) options.on_progress(monitor.snapshot());
+  return outcomes;
+}
+
+}  // namespace granstack::runner
