@@ -82,14 +82,25 @@ bool TextDumpReader::next(DumpFrame& f) {
                            fmt::format("file ends inside the frame at step {}: {} of {} atom lines", f.step, a, f.atoms));
     }
     split_words(line, words_);
+    // A bad last line of the file is a run killed while writing: truncation, not corruption.
+    auto bad_row = [&](const std::string& msg) {
+      FormatError error = fail(msg);
+      std::string_view rest;
+      if (!reader_.next(rest)) {
+        throw TruncatedError(path, error.line(),
+                             fmt::format("file ends inside the frame at step {}: atom line {} of {} is cut short",
+                                         f.step, a + 1, f.atoms));
+      }
+      throw error;
+    };
     if (words_.size() != ncol) {
-      throw fail(fmt::format("atom line {} of the frame at step {} has {} values, the header names {} columns", a + 1,
-                             f.step, words_.size(), ncol));
+      bad_row(fmt::format("atom line {} of the frame at step {} has {} values, the header names {} columns", a + 1,
+                          f.step, words_.size(), ncol));
     }
     for (std::size_t c = 0; c < ncol; ++c) {
       if (!parse_double(words_[c], *out++)) {
-        throw fail(fmt::format("'{}' in column '{}' (frame at step {}) is not a number", words_[c].substr(0, 40),
-                               f.columns[c], f.step));
+        bad_row(fmt::format("'{}' in column '{}' (frame at step {}) is not a number", words_[c].substr(0, 40),
+                            f.columns[c], f.step));
       }
     }
   }

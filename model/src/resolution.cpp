@@ -61,8 +61,11 @@ Resolution resolve(const Stack& stack) {
   r.dt = spec.dt.value_or(r.min_contact_time / kStepsPerContact);
   const double wanted = spec.duration.value_or(kDurationPerArrival * arrival);
   r.steps = std::max<long>(1, std::lround(std::ceil(wanted / r.dt - 1e-9)));
-  r.duration = static_cast<double>(r.steps) * r.dt;
   r.dump_every = spec.dump_every.value_or(cadence(r.steps, kAutoDumpFrames));
+  if (spec.dump_every && *spec.dump_every > r.steps) r.dump_every = static_cast<int>(r.steps);
+  // The last step is always dumped, so reduce sees the final state.
+  r.steps = (r.steps + r.dump_every - 1) / r.dump_every * r.dump_every;
+  r.duration = static_cast<double>(r.steps) * r.dt;
   r.series_every = spec.series_every.value_or(cadence(r.steps, kAutoSeriesSamples));
   r.thermo_every = cadence(r.steps, kAutoThermoLines);
   r.skin = 0.25 * blocks.back().radius;

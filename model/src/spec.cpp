@@ -77,7 +77,7 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
 
   static const std::regex name_re("[a-z][a-z0-9_]*");
   for (const auto& m : s.custom_materials) {
-    const auto field = fmt::format("materials.{}", m.name);
+    const auto field = fmt::format("custom_materials.{}", m.name);
     if (!std::regex_match(m.name, name_re)) {
       bad(field, "a material name is lower-case letters, digits and '_', starting with a letter");
     }

@@ -36,7 +36,9 @@ struct Resolution {
   double skin = 0.0;                // m, neighbour-list skin
 };
 
-// Applies the spec's explicit values and the automatic rules for the rest.
+// Applies the spec's explicit values and the automatic rules for the rest. The number of steps
+// is rounded up to a multiple of dump_every (a dump_every larger than the run becomes the whole
+// run), so the final state is always in the dump.
 Resolution resolve(const Stack& stack);
 
 }  // namespace granstack::model

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# The main job: install, build, then the study's default stack (4 steel blocks, 8 rows, 2 top
+# columns, r = 1 mm, v = 1 m/s, e = 1, mu = 0, free bottom, no gravity) generated, run with
+# LIGGGHTS and reduced. The case lives in runs/quickstart; an existing one is reused, never
+# overwritten (delete the directory for a fresh run).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/build.sh release
+gs=build/release/app/granstack
+case_dir=runs/quickstart
+if [ -d "$case_dir" ]; then
+  echo "quickstart: reusing $case_dir (delete it for a fresh run)"
+else
+  "$gs" generate -o "$case_dir"
+fi
+"$gs" run "$case_dir"
+echo
+"$gs" reduce "$case_dir"

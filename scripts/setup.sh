@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs everything granstack needs from Debian packages (idempotent: installs only what is
+# missing, so a second call is quick and needs no network). Debian 12 or newer, as root or
+# with sudo.
+set -euo pipefail
+packages=(
+  liggghts            # the DEM code (LIGGGHTS-PUBLIC 3.8.0, with Open MPI's mpirun)
+  g++ cmake ninja-build pkg-config git
+  libfmt-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libeigen3-dev libgtest-dev
+  coreutils           # stdbuf, so LIGGGHTS's error lines survive an MPI abort
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#packages[@]} packages are installed"
+  exit 0
+fi
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "setup: run as root (or install sudo) to install: ${missing[*]}" >&2; exit 1; }
+  sudo="sudo"
+fi
+echo "setup: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+# --no-install-recommends: liggghts recommends paraview (about 1 GB) that granstack does not need.
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "setup: done"

@@ -1,0 +1,86 @@
+// Contact parameters and analytic formulas against the numbers of physics.md and
+// liggghts-3.8.md section 10.1 (steel, d = 2 mm, relative speed 1 m/s).
+#include <granstack/model/contact.hpp>
+#include <granstack/model/resolution.hpp>
+#include <granstack/model/stack.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace granstack::model;
+
+namespace {
+
+Material steel() { return *MaterialLibrary::builtin().find("steel"); }
+
+TEST(Contact, SteelHeadOnMatchesTheLiggghtsFactsSheet) {
+  const auto c = sphere_sphere(steel(), 1e-3, steel(), 1e-3);
+  EXPECT_NEAR(c.m_star, 1.675516e-5, 1e-11);
+  EXPECT_DOUBLE_EQ(c.r_star, 5e-4);
+  EXPECT_NEAR(c.y_star / 1.060440e11, 1.0, 1e-6);
+  EXPECT_DOUBLE_EQ(c.y_star, 193e9 / (2.0 * (1.0 - 0.09)));  // equal materials: Y / (2 (1 - nu^2))
+  EXPECT_DOUBLE_EQ(c.g_star, 193e9 / (4.0 * 1.7 * 1.3));     // equal materials: Y / (4 (2 - nu)(1 + nu))
+  EXPECT_NEAR(hertz_max_overlap(c, 1.0) / 2.130392289e-6, 1.0, 1e-9);
+  EXPECT_NEAR(hertz_contact_time(c, 1.0) / 6.2697e-6, 1.0, 1e-4);
+  EXPECT_NEAR(rayleigh_time(steel(), 1e-3) / 1.1143e-6, 1.0, 1e-4);
+}
+
+TEST(Contact, ElasticEnergyIsTheIntegralOfTheHertzForce) {
+  // F = 4/3 Y* sqrt(R*) d^(3/2); integrate numerically (Simpson) and compare with 8/15 Y* sqrt(R*) d^(5/2).
+  const double y = 1e11, r = 5e-4, dmax = 2e-6;
+  const int n = 2000;
+  double sum = 0.0;
+  for (int i = 0; i <= n; ++i) {
+    const double d = dmax * i / n;
+    const double w = (i == 0 || i == n) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+    sum += w * 4.0 / 3.0 * y * std::sqrt(r) * std::pow(d, 1.5);
+  }
+  EXPECT_NEAR(sum * dmax / n / 3.0 / hertz_elastic_energy(y, r, dmax), 1.0, 1e-6);
+}
+
+TEST(Contact, RestitutionBetaFollowsTheLiggghtsFormula) {
+  EXPECT_EQ(restitution_beta(1.0), 0.0);
+  EXPECT_NEAR(restitution_beta(0.9), std::log(0.9) / std::sqrt(std::log(0.9) * std::log(0.9) + M_PI * M_PI), 1e-16);
+  EXPECT_LT(restitution_beta(0.5), 0.0);
+}
+
+TEST(Resolution, AutomaticTimeStepIsAFixedFractionOfTheShortestContact) {
+  StackSpec s;
+  const auto stack = Stack::build(s);
+  const auto r = resolve(stack);
+  // The shortest contact is between two bottom spheres (the smallest, lightest pair).
+  EXPECT_EQ(r.min_contact_pair, "block 4 - block 4");
+  EXPECT_DOUBLE_EQ(r.min_contact_time, hertz_contact_time(sphere_sphere(steel(), 1e-3, steel(), 1e-3), 1.0));
+  EXPECT_DOUBLE_EQ(r.dt, r.min_contact_time / kStepsPerContact);
+  EXPECT_EQ(r.steps % r.dump_every, 0);  // the final state is dumped
+  EXPECT_GE(r.duration, kDurationPerArrival * r.arrival_estimate);
+  // physics.md section 6: the output sphere of the 4-block stack has its final energy by ~390 us.
+  EXPECT_GT(r.duration, 390e-6);
+}
+
+TEST(Resolution, TimeStepScalesAsSpeedToTheMinusOneFifth) {
+  StackSpec slow, fast;
+  slow.striker_speed = 0.1;
+  const double ratio = resolve(Stack::build(slow)).dt / resolve(Stack::build(fast)).dt;
+  EXPECT_NEAR(ratio, std::pow(10.0, 0.2), 1e-12);
+}
+
+TEST(Resolution, ExplicitValuesAreHonoured) {
+  StackSpec s;
+  s.blocks = 1;
+  s.dt = 1e-8;
+  s.duration = 1e-5;
+  s.dump_every = 100;
+  s.series_every = 7;
+  const auto r = resolve(Stack::build(s));
+  EXPECT_EQ(r.dt, 1e-8);
+  EXPECT_EQ(r.steps, 1000);
+  EXPECT_EQ(r.dump_every, 100);
+  EXPECT_EQ(r.series_every, 7);
+  EXPECT_FALSE(r.dt_auto);
+  s.dump_every = 300;  // not a divisor: the run is lengthened to the next dump
+  EXPECT_EQ(resolve(Stack::build(s)).steps, 1200);
+}
+
+}  // namespace

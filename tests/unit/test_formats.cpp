@@ -1,0 +1,205 @@
+// File formats: the data file and the manifest round-trip exactly; the dump, series and log
+// readers accept what LIGGGHTS writes and name the problem in what it does not.
+#include <granstack/formats/data_file.hpp>
+#include <granstack/formats/dump.hpp>
+#include <granstack/formats/error.hpp>
+#include <granstack/formats/log.hpp>
+#include <granstack/formats/manifest.hpp>
+#include <granstack/formats/series.hpp>
+#include <granstack/generator/case_writer.hpp>
+#include <granstack/model/stack.hpp>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace granstack;
+namespace fs = std::filesystem;
+
+namespace {
+
+class TempDir : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("granstack_test_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+            std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    const auto p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p.string();
+  }
+  fs::path dir_;
+};
+
+using DataFileTest = TempDir;
+
+TEST_F(DataFileTest, RoundTripsEveryDoubleExactly) {
+  model::StackSpec s;
+  s.blocks = 3;
+  s.top_columns = 4;
+  s.bottom_radius = 0.7e-3;  // not a power of two: coordinates have long decimal expansions
+  s.striker_speed = 0.3;
+  s.materials = {"steel", "teflon", "steel"};
+  const auto stack = model::Stack::build(s);
+  const auto data = generator::data_file(stack, "roundtrip");
+  const auto path = write("data.stack", formats::format_data_file(data));
+  const auto back = formats::parse_data_file(path);
+  EXPECT_EQ(back, data);
+  ASSERT_EQ(back.atoms.size(), stack.spheres().size());
+  EXPECT_EQ(back.atoms[0].vz, -0.3);
+  EXPECT_EQ(back.atoms[5].density, 8000.0);
+  EXPECT_EQ(back.atom_types, 4);
+}
+
+TEST_F(DataFileTest, MalformedFilesAreRejectedWithTheLine) {
+  const auto path = write("bad.data", "title\n\n2 atoms\n1 atom types\n\nAtoms\n\n1 1 0.002 8000 0 0 0\n2 1 0.002 x 0 0 0\n");
+  try {
+    formats::parse_data_file(path);
+    FAIL();
+  } catch (const formats::FormatError& e) {
+    EXPECT_EQ(e.line(), 9);
+    EXPECT_NE(std::string(e.what()).find("'x' is not a number"), std::string::npos);
+  }
+  EXPECT_THROW(formats::parse_data_file(write("short.data", "t\n\n3 atoms\n1 atom types\n\nAtoms\n\n1 1 1 1 0 0 0\n")),
+               formats::FormatError);
+  EXPECT_THROW(formats::parse_data_file(write("empty.data", "")), formats::FormatError);
+}
+
+TEST(Manifest, SpecRoundTripsThroughJson) {
+  model::StackSpec s;
+  s.blocks = 3;
+  s.materials = {"steel", "foam", "teflon"};
+  s.custom_materials = {{"foam", 30.0, 2e6, 0.1}};
+  s.restitution = {0.9, {}};
+  s.restitution.set("steel", "teflon", 0.8);
+  s.friction.set("foam", "steel", 0.3);
+  s.bottom = model::Boundary::wall;
+  s.wall_material = "steel";
+  s.gravity = 9.81;
+  s.dt = 1e-8;
+  s.dump_every = 10;
+  s.dump_format = model::DumpFormat::binary;
+  const auto j = formats::spec_to_json(s);
+  EXPECT_EQ(formats::spec_from_json(nlohmann::json::parse(j.dump()), "test"), s);
+  auto broken = j;
+  broken.erase("rows");
+  EXPECT_THROW(formats::spec_from_json(broken, "test"), formats::FormatError);
+}
+
+using DumpTest = TempDir;
+
+const char* kFrame0 =
+    "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS mm mm mm\n-1 1\n-1 1\n-1 1\n"
+    "ITEM: ATOMS vx id type x \n0.5 2 1 1e-3 \n-0.25 1 1 -1e-3 \n";
+const char* kFrame1 =
+    "ITEM: TIMESTEP\n10\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS mm mm mm\n-1 1\n-1 1\n-1 1\n"
+    "ITEM: ATOMS vx id type x \nnan 2 1 1e-3 \n-inf 1 1 -1e-3 \n";
+
+TEST_F(DumpTest, ReadsFramesWithColumnsInAnyOrder) {
+  formats::TextDumpReader reader(write("d.txt", std::string(kFrame0) + kFrame1));
+  formats::DumpFrame f;
+  ASSERT_TRUE(reader.next(f));
+  EXPECT_EQ(f.step, 0);
+  EXPECT_EQ(f.box_flags, "mm mm mm");
+  ASSERT_EQ(f.column("id"), 1);
+  EXPECT_EQ(f.at(1, f.column("vx")), -0.25);
+  EXPECT_EQ(f.at(0, f.column("x")), 1e-3);
+  ASSERT_TRUE(reader.next(f));
+  EXPECT_EQ(f.step, 10);
+  EXPECT_TRUE(std::isnan(f.at(0, 0)));  // what LIGGGHTS writes when a run blows up
+  EXPECT_TRUE(std::isinf(f.at(1, 0)));
+  EXPECT_FALSE(reader.next(f));
+  EXPECT_EQ(reader.frames_read(), 2);
+}
+
+TEST_F(DumpTest, TruncatedLastFrameIsReportedApartFromTheCompleteOnes) {
+  std::string text = std::string(kFrame0) + kFrame1;
+  text.resize(text.size() - 12);
+  formats::TextDumpReader reader(write("d.txt", text));
+  formats::DumpFrame f;
+  ASSERT_TRUE(reader.next(f));
+  try {
+    reader.next(f);
+    FAIL();
+  } catch (const formats::TruncatedError& e) {
+    EXPECT_NE(std::string(e.what()).find("step 10"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(DumpTest, MalformedInputNamesFileLineAndProblem) {
+  auto expect_error = [&](const std::string& text, const std::string& words) {
+    const auto path = write("bad.txt", text);
+    try {
+      formats::TextDumpReader reader(path);
+      formats::DumpFrame f;
+      while (reader.next(f)) {
+      }
+      ADD_FAILURE() << "no error for: " << words;
+    } catch (const formats::FormatError& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  };
+  expect_error("", "empty file");
+  expect_error(std::string(kFrame1) + kFrame0, "timesteps go backwards");
+  std::string bad_number = kFrame0;
+  bad_number.replace(bad_number.find("0.5"), 3, "0.x");
+  expect_error(bad_number, "'0.x' in column 'vx'");
+  std::string short_row = kFrame0;
+  short_row.replace(short_row.find("0.5 2"), 5, "2");
+  expect_error(short_row, "has 3 values, the header names 4 columns");
+  expect_error(std::string("\x01\x02\0\0garbage\n", 12), "expected 'ITEM: TIMESTEP'");
+}
+
+TEST_F(DumpTest, MissingColumnNamesTheDumpKeyword) {
+  formats::TextDumpReader reader(write("d.txt", kFrame0));
+  formats::DumpFrame f;
+  ASSERT_TRUE(reader.next(f));
+  try {
+    formats::require_columns(f, {"id", "omegax", "radius"}, "d.txt");
+    FAIL();
+  } catch (const formats::FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("add the keyword(s) 'omegax radius'"), std::string::npos) << e.what();
+  }
+}
+
+using SeriesTest = TempDir;
+
+TEST_F(SeriesTest, ReadsNamedColumnsAndDropsACutLastRow) {
+  const auto s = formats::read_series(write("s.txt", "# step ke_a ke_b\n1 1.5 2\n2 3 4.25\n3 7"));
+  ASSERT_EQ(s.rows.size(), 2u);
+  EXPECT_EQ(s.column("ke_b"), 2);
+  EXPECT_EQ(s.rows[1][2], 4.25);
+  EXPECT_THROW(formats::read_series(write("t.txt", "# step a\n1 2 3\n2 3\n")), formats::FormatError);
+}
+
+TEST(LogScanner, FindsVersionProgressErrorsAndLoopTime) {
+  formats::LogScanner log;
+  log.add_text(
+      "LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0, compiled 2022-01-26-19:42:32 by buildd, git commit unknown)\n"
+      "    Step    Atoms         KinEng            CPU \n       0        3 1.675e-05 0 \n    1000        3 1.6e-05 0.1 \n"
+      "WARNING: time-step is 17.9 % of rayleigh time (./src/fix_check_timestep_gran.cpp:200)\n"
+      "Loop time of 1.7712 on 2 procs for 20000 steps with 1024 atoms, finish time Sat Nov 21 23:29:31 2026\n"
+      "ERROR: Pair granular with shear history requires newton pair off (./src/pair_gran.cpp:260)\n");
+  EXPECT_EQ(log.version(), "LIGGGHTS-PUBLIC 3.8.0, compiled 2022-01-26-19:42:32 by buildd, git commit unknown");
+  EXPECT_EQ(log.last_step(), 1000);
+  ASSERT_EQ(log.warnings().size(), 1u);
+  ASSERT_EQ(log.errors().size(), 1u);
+  EXPECT_NE(log.errors()[0].find("newton pair off"), std::string::npos);
+  ASSERT_TRUE(log.loop_time());
+  EXPECT_EQ(log.loop_time()->seconds, 1.7712);
+  EXPECT_EQ(log.loop_time()->procs, 2);
+  EXPECT_EQ(log.loop_time()->steps, 20000);
+  EXPECT_EQ(log.loop_time()->atoms, 1024);
+  EXPECT_FALSE(log.lost_atoms());
+  log.add_line("ERROR: Lost atoms: original 241 current 240 (./src/thermo.cpp:442)");
+  EXPECT_TRUE(log.lost_atoms());
+}
+
+}  // namespace

@@ -1,0 +1,172 @@
+// The nested-stack geometry against physics.md section 1: exact touching, no overlap, counts,
+// mirror symmetry, the striker's seat and the interface angle.
+#include <granstack/model/stack.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <tuple>
+
+using granstack::model::Stack;
+using granstack::model::StackSpec;
+
+namespace {
+
+// Relative tolerance for "exactly touching" in double precision (issue #2): coordinates are
+// sums of a few exactly representable multiples of R and one sqrt, so round-off is ~1e-16.
+constexpr double kTouchTolerance = 1e-12;
+
+struct Layout {
+  int blocks;
+  int top_columns;
+  int rows;
+  int ratio;
+};
+
+class GeometryTest : public ::testing::TestWithParam<Layout> {
+ protected:
+  Stack build() const {
+    StackSpec s;
+    s.blocks = GetParam().blocks;
+    s.top_columns = GetParam().top_columns;
+    s.rows = GetParam().rows;
+    s.radius_ratio = GetParam().ratio;
+    return Stack::build(s);
+  }
+};
+
+double gap(const granstack::model::Sphere& a, const granstack::model::Sphere& b) {
+  return std::hypot(a.x - b.x, a.z - b.z) - (a.radius + b.radius);
+}
+
+bool touching(const granstack::model::Sphere& a, const granstack::model::Sphere& b) {
+  return std::fabs(gap(a, b)) <= kTouchTolerance * (a.radius + b.radius);
+}
+
+TEST_P(GeometryTest, EveryDesignedContactTouchesExactlyAndNothingElseTouchesOrOverlaps) {
+  const auto stack = build();
+  const auto& p = GetParam();
+  long designed = 0;
+  auto expect_touch = [&](int a, int b) {
+    EXPECT_TRUE(touching(stack.sphere(a), stack.sphere(b)))
+        << "ids " << a << " and " << b << " gap " << gap(stack.sphere(a), stack.sphere(b));
+    ++designed;
+  };
+  for (const auto& b : stack.blocks()) {
+    for (int i = 1; i <= b.rows; ++i) {
+      for (int j = 1; j <= b.columns; ++j) {
+        if (j < b.columns) expect_touch(stack.id_of(b.index, i, j), stack.id_of(b.index, i, j + 1));  // horizontal
+        if (i < b.rows) expect_touch(stack.id_of(b.index, i, j), stack.id_of(b.index, i + 1, j));     // vertical
+      }
+    }
+    if (b.index < p.blocks) {  // interface: each bottom sphere on the sphere(s) below its centre
+      const auto& below = stack.block(b.index + 1);
+      for (int j = 1; j <= b.columns; ++j) {
+        const int first = (j - 1) * p.ratio;  // columns of the lower block under column j: first+1 .. first+ratio
+        const int top = stack.id_of(b.index, b.rows, j);
+        if (p.ratio % 2 == 0) {
+          expect_touch(top, stack.id_of(below.index, 1, first + p.ratio / 2));
+          expect_touch(top, stack.id_of(below.index, 1, first + p.ratio / 2 + 1));
+        } else {
+          expect_touch(top, stack.id_of(below.index, 1, first + (p.ratio + 1) / 2));
+        }
+      }
+    }
+  }
+  const int c = stack.block(1).columns;
+  expect_touch(Stack::striker_id(), stack.id_of(1, 1, c / 2));
+  expect_touch(Stack::striker_id(), stack.id_of(1, 1, c / 2 + 1));
+
+  long touching_pairs = 0;
+  const auto& s = stack.spheres();
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    for (std::size_t j = i + 1; j < s.size(); ++j) {
+      if (touching(s[i], s[j])) {
+        ++touching_pairs;
+      } else {
+        ASSERT_GT(gap(s[i], s[j]), 0.0) << "ids " << s[i].id << " and " << s[j].id << " overlap";
+      }
+    }
+  }
+  EXPECT_EQ(touching_pairs, designed);
+}
+
+TEST_P(GeometryTest, CountsIdsAndLayoutFollowTheDocumentedOrder) {
+  const auto stack = build();
+  const auto& p = GetParam();
+  long expected = 1;
+  long columns = p.top_columns;
+  for (int k = 1; k <= p.blocks; ++k, columns *= p.ratio) expected += columns * p.rows;
+  ASSERT_EQ(static_cast<long>(stack.spheres().size()), expected);
+  if (p.rows == 8 && p.ratio == 2) {
+    EXPECT_EQ(expected, 8L * p.top_columns * ((1L << p.blocks) - 1) + 1);  // physics.md section 6
+  }
+  for (std::size_t i = 0; i < stack.spheres().size(); ++i) {
+    const auto& sp = stack.spheres()[i];
+    EXPECT_EQ(sp.id, static_cast<int>(i) + 1);
+    EXPECT_EQ(sp.atom_type, sp.block == 0 ? p.blocks + 1 : sp.block);
+    if (sp.block > 0) {
+      EXPECT_EQ(stack.id_of(sp.block, sp.row, sp.column), sp.id);
+    }
+  }
+  // Every block spans the same width, 2 C R_1, centred on x = 0.
+  for (const auto& b : stack.blocks()) {
+    EXPECT_NEAR(b.columns * 2.0 * b.radius, 2.0 * stack.half_width(), 1e-15);
+    EXPECT_DOUBLE_EQ(b.radius, 1e-3 * std::pow(p.ratio, p.blocks - b.index));
+  }
+  // The bottom face is z = 0; the output sphere is right of the axis, in the bottom row.
+  const auto& out = stack.sphere(stack.output_sphere_id());
+  EXPECT_EQ(out.block, p.blocks);
+  EXPECT_EQ(out.row, p.rows);
+  EXPECT_DOUBLE_EQ(out.x, out.radius);
+  EXPECT_DOUBLE_EQ(out.z - out.radius, 0.0);
+}
+
+TEST_P(GeometryTest, MirrorSymmetricAboutTheImpactAxis) {
+  const auto stack = build();
+  for (const auto& sp : stack.spheres()) {
+    if (sp.block == 0) {
+      EXPECT_EQ(sp.x, 0.0);
+      continue;
+    }
+    const auto& twin = stack.sphere(stack.id_of(sp.block, sp.row, stack.block(sp.block).columns + 1 - sp.column));
+    EXPECT_EQ(twin.x, -sp.x);
+    EXPECT_EQ(twin.z, sp.z);
+    EXPECT_EQ(twin.radius, sp.radius);
+  }
+}
+
+std::string layout_name(const ::testing::TestParamInfo<Layout>& info) {
+  const auto& p = info.param;
+  return "nb" + std::to_string(p.blocks) + "_c" + std::to_string(p.top_columns) + "_rows" + std::to_string(p.rows) +
+         "_ratio" + std::to_string(p.ratio);
+}
+
+std::vector<Layout> layouts() {
+  std::vector<Layout> out;
+  for (int nb = 1; nb <= 5; ++nb) {
+    for (int c : {2, 4, 6}) out.push_back({nb, c, 8, 2});
+  }
+  // The general radius ratio: even ratios rest on two spheres, odd ones on the one below.
+  for (int ratio : {1, 3, 4}) out.push_back({3, 2, 5, ratio});
+  out.push_back({2, 8, 3, 2});
+  return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Stacks, GeometryTest, ::testing::ValuesIn(layouts()), layout_name);
+
+TEST(Geometry, InterfaceAndStrikerAnglesAreThoseOfPhysicsMd) {
+  StackSpec s;
+  s.blocks = 2;
+  const auto stack = Stack::build(s);
+  // Bottom-left sphere of block 1 and the first sphere of block 2's top row below it.
+  const auto& upper = stack.sphere(stack.id_of(1, 8, 1));
+  const auto& lower = stack.sphere(stack.id_of(2, 1, 1));
+  const double cos_theta = (upper.z - lower.z) / (upper.radius + lower.radius);
+  EXPECT_NEAR(cos_theta, 2.0 * std::sqrt(2.0) / 3.0, 1e-14);
+  const auto& striker = stack.sphere(Stack::striker_id());
+  const auto& right = stack.sphere(stack.id_of(1, 1, 2));
+  EXPECT_NEAR((striker.z - right.z) / (2.0 * right.radius), std::cos(M_PI / 6.0), 1e-14);  // 30 degrees
+}
+
+}  // namespace

@@ -1,0 +1,173 @@
+// Spec validation (every field's error names the field and its range), spec files, flags and
+// sweep expansion.
+#include <granstack/generator/spec_input.hpp>
+#include <granstack/model/spec.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+using namespace granstack;
+using model::StackSpec;
+
+namespace {
+
+struct BadCase {
+  const char* name;
+  std::function<void(StackSpec&)> spoil;
+  const char* field;
+  const char* words;  // a fragment of the message: the allowed range or the fix
+};
+
+class SpecValidation : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(SpecValidation, NamesTheFieldAndTheAllowedRange) {
+  StackSpec s;
+  GetParam().spoil(s);
+  const auto issues = model::validate(s);
+  ASSERT_FALSE(issues.empty());
+  bool found = false;
+  for (const auto& i : issues) {
+    if (i.field == GetParam().field && i.message.find(GetParam().words) != std::string::npos) found = true;
+  }
+  EXPECT_TRUE(found) << "first issue: " << issues.front().field << ": " << issues.front().message;
+  EXPECT_THROW(model::require_valid(s), model::SpecError);
+}
+
+const BadCase kBadCases[] = {
+    {"blocks_zero", [](StackSpec& s) { s.blocks = 0; }, "blocks", "from 1 to 16"},
+    {"rows_zero", [](StackSpec& s) { s.rows = 0; }, "rows", "from 1 to 4096"},
+    {"odd_columns", [](StackSpec& s) { s.top_columns = 3; }, "top_columns", "even"},
+    {"negative_radius", [](StackSpec& s) { s.bottom_radius = -1e-3; }, "bottom_radius", "> 0"},
+    {"nan_radius", [](StackSpec& s) { s.bottom_radius = std::nan(""); }, "bottom_radius", "> 0"},
+    {"ratio_zero", [](StackSpec& s) { s.radius_ratio = 0; }, "radius_ratio", "whole number"},
+    {"too_many_spheres", [](StackSpec& s) { s.blocks = 16; s.top_columns = 64; }, "blocks", "more than"},
+    {"unknown_material", [](StackSpec& s) { s.materials = {"unobtainium"}; }, "materials", "known: steel, teflon"},
+    {"material_count", [](StackSpec& s) { s.materials = {"steel", "teflon"}; }, "materials", "one per block"},
+    {"restitution_zero", [](StackSpec& s) { s.restitution.value = 0.0; }, "restitution", "(0.05, 1]"},
+    {"restitution_above_one", [](StackSpec& s) { s.restitution.value = 1.2; }, "restitution", "(0.05, 1]"},
+    {"restitution_pair", [](StackSpec& s) { s.restitution.set("steel", "teflon", 0.01); },
+     "restitution_pairs.\"steel:teflon\"", "(0.05, 1]"},
+    {"restitution_pair_material", [](StackSpec& s) { s.restitution.set("steel", "glass", 0.5); },
+     "restitution_pairs.\"glass:steel\"", "unknown material"},
+    {"friction_negative", [](StackSpec& s) { s.friction.value = -0.1; }, "friction", ">= 0"},
+    {"speed_zero", [](StackSpec& s) { s.striker_speed = 0.0; }, "striker_speed", "> 0"},
+    {"gravity_negative", [](StackSpec& s) { s.gravity = -9.8; }, "gravity", ">= 0"},
+    {"dt_negative", [](StackSpec& s) { s.dt = -1.0; }, "dt", "> 0"},
+    {"dt_longer_than_run", [](StackSpec& s) { s.dt = 1e-3; s.duration = 1e-4; }, "dt", "smaller than the duration"},
+    {"duration_zero", [](StackSpec& s) { s.duration = 0.0; }, "duration", "> 0"},
+    {"dump_every_zero", [](StackSpec& s) { s.dump_every = 0; }, "dump_every", ">= 1"},
+    {"series_every_zero", [](StackSpec& s) { s.series_every = 0; }, "series_every", ">= 1"},
+    {"wall_material", [](StackSpec& s) { s.wall_material = "wood"; }, "wall_material", "unknown material"},
+    {"material_density", [](StackSpec& s) { s.custom_materials.push_back({"foam", 0.0, 1e6, 0.3}); },
+     "custom_materials.foam.density", "> 0"},
+    {"material_modulus", [](StackSpec& s) { s.custom_materials.push_back({"foam", 100.0, -1.0, 0.3}); },
+     "custom_materials.foam.youngs_modulus", "> 0"},
+    {"material_poisson", [](StackSpec& s) { s.custom_materials.push_back({"foam", 100.0, 1e6, 0.5}); },
+     "custom_materials.foam.poisson_ratio", "[0, 0.5)"},
+    {"material_name", [](StackSpec& s) { s.custom_materials.push_back({"Foam!", 100.0, 1e6, 0.3}); },
+     "custom_materials.Foam!", "lower-case"},
+};
+
+INSTANTIATE_TEST_SUITE_P(Fields, SpecValidation, ::testing::ValuesIn(kBadCases),
+                         [](const auto& param_info) { return std::string(param_info.param.name); });
+
+TEST(SpecValidation, TheDefaultIsTheStudysStackAndValid) {
+  StackSpec s;
+  EXPECT_TRUE(model::validate(s).empty());
+  EXPECT_EQ(s.blocks, 4);
+  EXPECT_EQ(s.rows, 8);
+  EXPECT_EQ(s.top_columns, 2);
+  EXPECT_EQ(s.bottom_radius, 1e-3);
+  EXPECT_EQ(s.striker_speed, 1.0);
+  EXPECT_EQ(s.restitution.value, 1.0);
+  EXPECT_EQ(s.friction.value, 0.0);
+  EXPECT_EQ(model::sphere_count(s), 241);
+}
+
+TEST(SpecInput, TomlFileWithSweepsPairsAndCustomMaterials) {
+  const auto raw = generator::parse_spec_toml(R"(
+blocks = [1, 2, 3]
+restitution = [1.0, 0.9]
+materials = ["steel", "rubbery"]
+friction = 0.25
+striker_speed = 2
+bottom = "wall"
+dt = "auto"
+duration = 1e-4
+[restitution_pairs]
+"steel:rubbery" = 0.8
+[custom_materials.rubbery]
+density = 1100
+youngs_modulus = 1e7
+poisson_ratio = 0.45
+)",
+                                              "test.toml");
+  auto sweep = generator::build_sweep(raw);
+  ASSERT_EQ(sweep.axes.size(), 2u);
+  EXPECT_EQ(sweep.base.friction.value, 0.25);
+  EXPECT_EQ(sweep.base.striker_speed, 2.0);
+  EXPECT_EQ(sweep.base.bottom, model::Boundary::wall);
+  EXPECT_FALSE(sweep.base.dt.has_value());
+  EXPECT_EQ(sweep.base.duration.value(), 1e-4);
+  EXPECT_EQ(sweep.base.restitution.get("rubbery", "steel"), 0.8);
+  ASSERT_EQ(sweep.base.custom_materials.size(), 1u);
+  EXPECT_EQ(sweep.base.custom_materials[0].youngs_modulus, 1e7);
+  // Two materials for one block is invalid, so the expansion names the failing case.
+  try {
+    generator::expand(sweep);
+    FAIL() << "expected a SpecError";
+  } catch (const model::SpecError& e) {
+    EXPECT_NE(std::string(e.what()).find("nb1_e1"), std::string::npos) << e.what();
+  }
+  sweep.base.materials = {"steel"};
+  const auto cases = generator::expand(sweep);
+  ASSERT_EQ(cases.size(), 6u);
+  EXPECT_EQ(cases[0].name, "nb1_e1");
+  EXPECT_EQ(cases[1].name, "nb1_e0.9");
+  EXPECT_EQ(cases[5].name, "nb3_e0.9");
+  EXPECT_EQ(cases[5].spec.blocks, 3);
+  EXPECT_EQ(cases[5].spec.restitution.value, 0.9);
+  EXPECT_EQ(cases[5].spec.restitution.get("steel", "rubbery"), 0.8);  // pairs survive the sweep
+}
+
+TEST(SpecInput, NumbersSurviveTheTextRoundTripExactly) {
+  const auto raw = generator::parse_spec_toml("bottom_radius = 0.1\nstriker_speed = 0.30000000000000004\n", "t");
+  const auto sweep = generator::build_sweep(raw);
+  EXPECT_EQ(sweep.base.bottom_radius, 0.1);
+  EXPECT_EQ(sweep.base.striker_speed, 0.30000000000000004);
+}
+
+TEST(SpecInput, UnknownKeysAndWrongTypesAreNamed) {
+  try {
+    generator::parse_spec_toml("blokcs = 3\n", "spec.toml");
+    FAIL();
+  } catch (const model::SpecError& e) {
+    ASSERT_EQ(e.issues().size(), 1u);
+    EXPECT_EQ(e.issues()[0].field, "blokcs");
+    EXPECT_NE(e.issues()[0].message.find("known fields: blocks"), std::string::npos);
+  }
+  try {
+    generator::build_sweep(generator::parse_spec_toml("blocks = 2.5\nbottom = \"floor\"\n", "spec.toml"));
+    FAIL();
+  } catch (const model::SpecError& e) {
+    ASSERT_EQ(e.issues().size(), 2u);
+    EXPECT_EQ(e.issues()[0].field, "blocks");
+    EXPECT_NE(e.issues()[0].message.find("whole number"), std::string::npos);
+    EXPECT_EQ(e.issues()[1].field, "bottom");
+  }
+  EXPECT_THROW(generator::parse_spec_toml("blocks = [1, \n", "spec.toml"), std::runtime_error);
+}
+
+TEST(SpecInput, FlagListsSplitOnCommasAndDuplicatesAreRejected) {
+  EXPECT_EQ(generator::split_list("1, 2,3"), (std::vector<std::string>{"1", "2", "3"}));
+  generator::RawSpec raw{{"blocks", {"1", "2", "1"}}};
+  EXPECT_THROW(generator::build_sweep(raw), model::SpecError);
+  raw = {{"gravity", {"true"}}, {"custom_materials", {"foam:30:1e6:0.1"}}, {"materials", {"foam"}}};
+  const auto sweep = generator::build_sweep(raw);
+  EXPECT_EQ(sweep.base.gravity, 9.80665);
+  EXPECT_EQ(sweep.base.custom_materials.at(0).density, 30.0);
+}
+
+}  // namespace
