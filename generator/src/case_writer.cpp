@@ -195,9 +195,10 @@ json derived_json(const model::Stack& stack, const model::Resolution& r) {
           {"dt_rule", fmt::format("dt = (shortest Hertz contact time at the striker speed) / {}", model::kStepsPerContact)},
           {"duration", r.duration},
           {"duration_auto", r.duration_auto},
-          {"duration_rule", fmt::format("duration = {} x sum over blocks of rows x {} x (equal-pair Hertz contact time of "
-                                        "the block at the striker speed)",
-                                        model::kDurationPerArrival, model::kRowTransitPerContact)},
+          {"duration_rule", fmt::format("duration = {} x sum over blocks of ({} rows + {}) x (equal-pair Hertz contact "
+                                        "time of the block at the striker speed)",
+                                        model::kDurationPerArrival, model::kRowTransitPerContact,
+                                        model::kBlockEntryPerContact)},
           {"steps", r.steps},
           {"dump_every", r.dump_every},
           {"series_every", r.series_every},

@@ -48,11 +48,12 @@ Resolution resolve(const Stack& stack) {
   }
   r.min_rayleigh_time = min_rayleigh;
 
-  // Arrival at the bottom face: rows times a fraction of each block's own contact time.
+  // Arrival at the bottom face: each block's rows, plus its entry, in its own contact time.
   double arrival = 0.0;
   for (const auto& b : blocks) {
     const auto& m = lib.at(b.material);
-    arrival += b.rows * kRowTransitPerContact * hertz_contact_time(sphere_sphere(m, b.radius, m, b.radius), v);
+    arrival += (kRowTransitPerContact * b.rows + kBlockEntryPerContact) *
+               hertz_contact_time(sphere_sphere(m, b.radius, m, b.radius), v);
   }
   r.arrival_estimate = arrival;
 

@@ -70,6 +70,17 @@ long sphere_count(const StackSpec& spec) {
   return total;
 }
 
+bool is_conservative(const StackSpec& s) {
+  auto all = [](const PairTable& t, double v) {
+    if (t.value != v) return false;
+    for (const auto& [key, value] : t.pairs) {
+      if (value != v) return false;
+    }
+    return true;
+  };
+  return all(s.restitution, 1.0) && all(s.friction, 0.0) && s.gravity == 0.0;
+}
+
 std::vector<SpecIssue> validate(const StackSpec& s) {
   std::vector<SpecIssue> issues;
   auto bad = [&](std::string field, std::string message) { issues.push_back({std::move(field), std::move(message)}); };

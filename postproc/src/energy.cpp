@@ -133,25 +133,46 @@ FrameEnergy frame_energy(const formats::DumpFrame& f, const FrameView& v, const 
   return e;
 }
 
-bool is_free(const formats::DumpFrame& f, const FrameView& v, const model::Stack& stack, int id) {
+double contact_energy(const formats::DumpFrame& f, const FrameView& v, const model::Stack& stack, int id) {
+  const auto& spec = stack.spec();
+  const auto lib = spec.material_library();
+  const auto types = stack.type_materials();
+  auto material = [&](const model::Sphere& s) -> const model::Material& {
+    return lib.at(types[static_cast<std::size_t>(s.atom_type - 1)]);
+  };
   const auto& me = stack.sphere(id);
   const long row = v.row(id);
   const int cx = f.column("x"), cy = f.column("y"), cz = f.column("z");
   const double x = f.at(row, cx), y = f.at(row, cy), z = f.at(row, cz);
+  double energy = 0.0;
   for (const auto& s : stack.spheres()) {
     if (s.id == id) continue;
     const long r = v.row(s.id);
     const double dx = f.at(r, cx) - x, dy = f.at(r, cy) - y, dz = f.at(r, cz) - z;
     const double sum = me.radius + s.radius;
-    if (dx * dx + dy * dy + dz * dz < sum * sum) return false;
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    if (d2 < sum * sum) {
+      energy += model::hertz_elastic_energy(model::effective_youngs_modulus(material(me), material(s)),
+                                            me.radius * s.radius / sum, sum - std::sqrt(d2));
+    }
   }
-  const auto& spec = stack.spec();
-  if (spec.bottom == model::Boundary::wall && std::fabs(z) < me.radius) return false;
-  if (spec.sides == model::Boundary::wall &&
-      (std::fabs(x + stack.half_width()) < me.radius || std::fabs(x - stack.half_width()) < me.radius)) {
-    return false;
+  if (stack.has_walls()) {
+    const double y_star = model::effective_youngs_modulus(material(me), lib.at(spec.effective_wall_material()));
+    auto add = [&](double gap) {
+      if (gap < me.radius) energy += model::hertz_elastic_energy(y_star, me.radius, me.radius - gap);
+    };
+    if (spec.bottom == model::Boundary::wall) add(std::fabs(z));
+    if (spec.sides == model::Boundary::wall) {
+      add(std::fabs(x + stack.half_width()));
+      add(std::fabs(x - stack.half_width()));
+    }
   }
-  return true;
+  return energy;
+}
+
+bool has_separated(const formats::DumpFrame& f, const FrameView& v, const model::Stack& stack, int id) {
+  const double ke = v.kinetic_energy(f, v.row(id));
+  return ke > 0.0 && contact_energy(f, v, stack, id) <= kSeparatedContactEnergy * ke;
 }
 
 }  // namespace granstack::postproc

@@ -83,6 +83,10 @@ void require_valid(const StackSpec& spec);
 
 // The most spheres granstack will lay out in one case (a guard against typos such as 40 blocks).
 inline constexpr long kMaxSpheres = 4'000'000;
+// True when nothing dissipates or adds energy: restitution 1 and friction 0 for every material
+// pair, and no gravity. Then kinetic plus Hertz elastic energy must stay at E_in.
+bool is_conservative(const StackSpec& spec);
+
 // Spheres of the stack including the striker (8 C (2^N_B - 1) + 1 for the study's stacks).
 long sphere_count(const StackSpec& spec);
 

@@ -41,7 +41,14 @@ class FrameView {
 // 8/15 Y* sqrt(R*) d^(5/2) of every overlap (physics.md sections 2 and 4).
 FrameEnergy frame_energy(const formats::DumpFrame& frame, const FrameView& view, const model::Stack& stack);
 
-// True when the sphere overlaps no other sphere and no wall in this frame.
-bool is_free(const formats::DumpFrame& frame, const FrameView& view, const model::Stack& stack, int id);
+// Elastic energy stored in the contacts of one sphere (with spheres and walls) in this frame.
+double contact_energy(const formats::DumpFrame& frame, const FrameView& view, const model::Stack& stack, int id);
+
+// A sphere has separated when the elastic energy left in its contacts can change its kinetic
+// energy by less than this fraction. (Exactly touching neighbours that leave together keep a
+// round-off overlap of ~1e-14 m, whose energy is ~1e-21 J: a count of overlaps would call them
+// touching forever.)
+inline constexpr double kSeparatedContactEnergy = 1e-6;
+bool has_separated(const formats::DumpFrame& frame, const FrameView& view, const model::Stack& stack, int id);
 
 }  // namespace granstack::postproc

@@ -4,6 +4,7 @@
 #include <granstack/model/spec.hpp>
 
 #include <functional>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -32,7 +33,9 @@ struct CaseReduction {
   std::string peak_source;             // "series" (in-situ, every series_every steps) or "dump"
   long frames = 0;
   double final_time = 0.0;             // s, of the last dump frame
-  double energy_drift = 0.0;           // max |KE + elastic - E_in| / E_in over frames (e = 1, mu = 0 meaningful)
+  // max |KE + elastic - E_in| / E_in over the frames; only for a conservative case
+  // (model::is_conservative), where it measures the integration error.
+  std::optional<double> energy_drift;
   std::vector<std::string> warnings;
   std::string csv_path;                // the per-block energy table written
 };

@@ -1,0 +1,169 @@
+// The granstack program as a user meets it: exit codes, messages that name the problem and
+// the fix, nothing written or lost on bad input, and bad dump files on real LIGGGHTS output.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string output;  // stdout and stderr
+};
+
+Result granstack(const std::string& args) {
+  const std::string cmd = std::string(GRANSTACK_EXE) + " " + args + " 2>&1";
+  Result r;
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return r;
+  std::array<char, 4096> buf{};
+  std::size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
+  const int status = ::pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::path(GRANSTACK_TEST_WORKDIR) / ("cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+void expect_contains(const Result& r, const std::string& words) {
+  EXPECT_NE(r.output.find(words), std::string::npos) << "missing '" << words << "' in:\n" << r.output;
+}
+
+TEST_F(Cli, InvalidSpecsExitWith2NameTheFieldAndWriteNothing) {
+  struct Bad {
+    std::string flags;
+    std::string words;
+  };
+  const Bad cases[] = {
+      {"--blocks 0", "blocks: 0 must be a whole number from 1 to 16"},
+      {"--restitution 1.5", "restitution: 1.5 must be in (0.05, 1]"},
+      {"--restitution 1,0.01", "restitution: 0.01 must be in (0.05, 1] (in the sweep case e0.01)"},
+      {"--top-columns 3", "top_columns: 3 must be an even number"},
+      {"--materials steel,wood --blocks 2", "unknown material 'wood'"},
+      {"--bottom floor", "bottom: 'floor' is not 'free' or 'wall'"},
+      {"--dt -1", "dt: -1 must be > 0"},
+      {"--blocks two", "blocks: 'two' is not a number"},
+      {"--custom-material foam:1:2", "is not NAME:DENSITY:YOUNGS_MODULUS:POISSON_RATIO"},
+      {"--restitution-pair steel=0.5", "is not MATERIAL_A:MATERIAL_B=VALUE"},
+  };
+  for (const auto& c : cases) {
+    const auto r = granstack("generate -o " + path("case") + " " + c.flags);
+    EXPECT_EQ(r.code, 2) << c.flags << "\n" << r.output;
+    expect_contains(r, c.words);
+    EXPECT_FALSE(fs::exists(path("case"))) << c.flags;
+  }
+  EXPECT_TRUE(fs::is_empty(dir_));  // not even a temporary directory is left
+}
+
+TEST_F(Cli, SpecFileErrorsNameFileLineAndField) {
+  std::ofstream(path("typo.toml")) << "blocks = 2\nrestitushun = 0.9\n";
+  auto r = granstack("generate -o " + path("case") + " --config " + path("typo.toml"));
+  EXPECT_EQ(r.code, 2);
+  expect_contains(r, "restitushun: unknown field");
+  expect_contains(r, "line 2");
+  std::ofstream(path("syntax.toml")) << "blocks = [1, 2\n";
+  r = granstack("generate -o " + path("case") + " --config " + path("syntax.toml"));
+  EXPECT_EQ(r.code, 2);
+  expect_contains(r, "syntax.toml:");
+  expect_contains(r, "TOML syntax error");
+  EXPECT_FALSE(fs::exists(path("case")));
+}
+
+TEST_F(Cli, FlagsOverrideTheSpecFile) {
+  std::ofstream(path("spec.toml")) << "blocks = 3\nrestitution = 0.9\n";
+  const auto r = granstack("generate -o " + path("case") + " --config " + path("spec.toml") + " --blocks 1");
+  ASSERT_EQ(r.code, 0) << r.output;
+  expect_contains(r, "17 spheres");
+  std::ifstream manifest(path("case/manifest.json"));
+  const std::string text((std::istreambuf_iterator<char>(manifest)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("\"restitution\": 0.9"), std::string::npos);
+  EXPECT_NE(text.find("\"--blocks\""), std::string::npos);  // the exact command line is recorded
+}
+
+TEST_F(Cli, AnExistingCaseIsKeptUnlessForced) {
+  ASSERT_EQ(granstack("generate -o " + path("case") + " --blocks 1").code, 0);
+  std::ofstream(path("case/notes.txt")) << "mine";
+  const auto r = granstack("generate -o " + path("case") + " --blocks 2");
+  EXPECT_EQ(r.code, 3);
+  expect_contains(r, "pass --force");
+  EXPECT_TRUE(fs::exists(path("case/notes.txt")));
+  EXPECT_EQ(granstack("generate -o " + path("case") + " --blocks 2 --force").code, 0);
+  EXPECT_FALSE(fs::exists(path("case/notes.txt")));
+}
+
+TEST_F(Cli, ReduceAndRunRefuseWhatIsNotACaseOrNotRun) {
+  auto r = granstack("reduce " + dir_.string());
+  EXPECT_EQ(r.code, 4);
+  expect_contains(r, "not a case directory");
+  ASSERT_EQ(granstack("generate -o " + path("case") + " --blocks 1").code, 0);
+  r = granstack("reduce " + path("case"));
+  EXPECT_EQ(r.code, 1);
+  expect_contains(r, "has not been run; run 'granstack run");
+  r = granstack("run " + path("case") + " --liggghts /nonexistent/liggghts");
+  EXPECT_EQ(r.code, 1);
+  expect_contains(r, "scripts/setup.sh");
+  r = granstack("run --np 0 " + path("case"));
+  EXPECT_EQ(r.code, 2);
+  r = granstack("--version");
+  EXPECT_EQ(r.code, 0);
+  expect_contains(r, "granstack 0.1.0");
+}
+
+// Bad dump files, made from a real LIGGGHTS run.
+TEST_F(Cli, BadDumpFilesGiveClearErrorsAndATruncatedFrameAWarning) {
+  ASSERT_EQ(granstack("generate -o " + path("case") + " --blocks 1").code, 0);
+  ASSERT_EQ(granstack("run " + path("case")).code, 0);
+  const auto dump = path("case/dumps/dump.txt");
+  std::string text;
+  {
+    std::ifstream in(dump, std::ios::binary);
+    text.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  }
+  auto with_dump = [&](const std::string& content) {
+    std::ofstream(dump, std::ios::binary) << content;
+    return granstack("reduce " + path("case"));
+  };
+  // Cut in the middle of the last frame: the complete frames are used, with a warning.
+  auto r = with_dump(text.substr(0, text.size() - 700));
+  EXPECT_EQ(r.code, 0) << r.output;
+  expect_contains(r, "warning: case: ");
+  expect_contains(r, "file ends inside the frame at step");
+  // An atom missing from a frame (lost, or another case's dump).
+  const auto atoms_line = text.find("ITEM: NUMBER OF ATOMS\n17\n");
+  ASSERT_NE(atoms_line, std::string::npos);
+  std::string fewer = text;
+  fewer.replace(atoms_line, 25, "ITEM: NUMBER OF ATOMS\n16\n");
+  fewer.erase(fewer.find("\n17 ", atoms_line) + 1, fewer.find('\n', fewer.find("\n17 ", atoms_line) + 1) - fewer.find("\n17 ", atoms_line));
+  r = with_dump(fewer);
+  EXPECT_EQ(r.code, 4) << r.output;
+  expect_contains(r, "has 16 atoms, the case has 17 spheres");
+  // Random bytes, an empty file, and a NaN.
+  r = with_dump(std::string("\x7f\x45\x4c\x46\x02\x01\x01\0\0\0garbage", 17));
+  EXPECT_EQ(r.code, 4);
+  expect_contains(r, "binary data where a text dump was expected");
+  r = with_dump("");
+  EXPECT_EQ(r.code, 4);
+  expect_contains(r, "empty file");
+  fs::remove(dump);
+  r = granstack("reduce " + path("case"));
+  EXPECT_EQ(r.code, 4);
+  expect_contains(r, "cannot open");
+}
+
+}  // namespace

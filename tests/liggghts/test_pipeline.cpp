@@ -1,0 +1,268 @@
+// The real LIGGGHTS on small cases: generate -> run -> reduce, checked against physics
+// (energy conservation, scale freedom) and against LIGGGHTS's own in-situ energies.
+#include <granstack/formats/dump.hpp>
+#include <granstack/formats/manifest.hpp>
+#include <granstack/formats/series.hpp>
+#include <granstack/generator/case_writer.hpp>
+#include <granstack/model/resolution.hpp>
+#include <granstack/model/stack.hpp>
+#include <granstack/postproc/energy.hpp>
+#include <granstack/postproc/reduce.hpp>
+#include <granstack/runner/runner.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+using namespace granstack;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Velocity Verlet's energy error is O(dt^2): measured 1.0e-4 of E_in for one block at the
+// automatic dt (t_c/100) and smaller for deeper stacks (energy spreads over more, slower
+// contacts). 3e-4 leaves room for platform round-off without hiding an O(dt) bug, which would
+// be ~100x larger; the dt/2 test below checks the order itself.
+constexpr double kEnergyTolerance = 3e-4;
+// The in-situ series (fix print, %.20g) and the dump (%.17g) hold the same doubles; only the
+// summation order differs.
+constexpr double kSeriesTolerance = 1e-9;
+
+fs::path work_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  auto name = std::string(info->test_suite_name()) + "." + info->name();
+  std::replace(name.begin(), name.end(), '/', '_');
+  return fs::path(GRANSTACK_TEST_WORKDIR) / name;
+}
+
+// Generates and runs one case with the real LIGGGHTS; fails the test if the run fails.
+std::string run_case(const std::string& name, const model::StackSpec& spec, int ranks = 1) {
+  generator::GenerateOptions o;
+  o.output = work_dir() / name;
+  o.force = true;
+  generator::generate({{name, spec}}, o);
+  runner::RunOptions ro;
+  ro.ranks = ranks;
+  const auto outcome = runner::run_cases({o.output.string()}, ro);
+  EXPECT_EQ(outcome.at(0).status, runner::RunStatus::done) << outcome.at(0).message;
+  return o.output.string();
+}
+
+struct Energies {
+  std::map<long, postproc::FrameEnergy> by_step;
+  double max_drift = 0.0;  // max |KE + elastic - E_in| / E_in
+};
+
+Energies dump_energies(const std::string& dir) {
+  const auto m = formats::read_manifest(dir);
+  const auto stack = model::Stack::build(m.spec);
+  const auto path = (fs::path(dir) / m.files.dump).string();
+  formats::TextDumpReader reader(path);
+  postproc::FrameView view(stack, path);
+  formats::DumpFrame f;
+  Energies out;
+  while (reader.next(f)) {
+    view.bind(f);  // throws if an atom is missing: none may be lost
+    const auto e = postproc::frame_energy(f, view, stack);
+    out.max_drift = std::max(out.max_drift, std::fabs(e.kinetic + e.elastic - stack.incident_energy()) /
+                                                stack.incident_energy());
+    out.by_step[f.step] = e;
+  }
+  return out;
+}
+
+model::StackSpec blocks(int n) {
+  model::StackSpec s;
+  s.blocks = n;
+  return s;
+}
+
+class SmallStacks : public ::testing::TestWithParam<int> {};
+
+TEST_P(SmallStacks, RunsReducesConservesEnergyAndAgreesWithInSituSeries) {
+  const auto dir = run_case("stack", blocks(GetParam()));
+  const auto m = formats::read_manifest(dir);
+  const auto stack = model::Stack::build(m.spec);
+  const auto res = model::resolve(stack);
+
+  // LIGGGHTS accepted the deck without warnings and finished every step.
+  std::ifstream record_file(fs::path(dir) / "run.json");
+  const auto record = nlohmann::json::parse(record_file);
+  EXPECT_EQ(record.at("steps"), res.steps);
+  EXPECT_EQ(record.at("atoms"), static_cast<long>(stack.spheres().size()));
+  EXPECT_FALSE(record.contains("warnings")) << record.dump(2);
+
+  const auto energies = dump_energies(dir);
+  EXPECT_EQ(static_cast<long>(energies.by_step.size()), res.steps / res.dump_every + 1);
+  EXPECT_LT(energies.max_drift, kEnergyTolerance);
+
+  // The in-situ per-group energies equal those computed from the dump at the same steps.
+  const auto series = formats::read_series((fs::path(dir) / m.files.series).string());
+  long compared = 0;
+  auto col = [&](const std::string& name) { return static_cast<std::size_t>(series.column(name)); };
+  for (const auto& row : series.rows) {
+    const auto it = energies.by_step.find(static_cast<long>(row[0]));
+    if (it == energies.by_step.end()) continue;
+    const auto& e = it->second;
+    auto expect_same = [&](double in_situ, double from_dump, const std::string& what) {
+      EXPECT_LE(std::fabs(in_situ - from_dump), kSeriesTolerance * std::fabs(from_dump))
+          << what << " at step " << row[0] << ": series " << in_situ << " dump " << from_dump;
+    };
+    for (int k = 1; k <= GetParam(); ++k) {
+      const auto b = "block" + std::to_string(k);
+      expect_same(row[col("ke_trans_" + b)] + row[col("ke_rot_" + b)], e.block_ke[static_cast<std::size_t>(k - 1)], b);
+    }
+    expect_same(row[col("ke_trans_striker")] + row[col("ke_rot_striker")], e.striker_ke, "striker");
+    expect_same(row[col("ke_trans_output_sphere")] + row[col("ke_rot_output_sphere")], e.output_sphere_ke, "output");
+    expect_same(row[col("ke_trans_bottom_row")] + row[col("ke_rot_bottom_row")], e.bottom_row_ke, "bottom row");
+    ++compared;
+  }
+  EXPECT_GE(compared, res.steps / res.dump_every);
+
+  const auto r = postproc::reduce_case(dir);
+  EXPECT_TRUE(r.output_separated);
+  EXPECT_TRUE(r.warnings.empty());
+  EXPECT_EQ(r.peak_source, "series");
+  // e = 1: after separation the output sphere keeps its energy, so its final KE is its peak.
+  EXPECT_NEAR(r.output_fraction / r.output_peak_fraction, 1.0, 1e-6);
+  EXPECT_GT(r.output_fraction, 0.0);
+  EXPECT_LT(r.output_fraction_bottom_row, 1.0);
+  EXPECT_GE(r.output_fraction_bottom_row, r.output_fraction);
+  EXPECT_EQ(r.blocks.front().normalised, 1.0);
+  EXPECT_TRUE(fs::exists(fs::path(dir) / "reduce" / "block_ke.csv"));
+}
+
+INSTANTIATE_TEST_SUITE_P(Blocks, SmallStacks, ::testing::Values(1, 2),
+                         [](const auto& param_info) { return "nb" + std::to_string(param_info.param); });
+
+TEST(Physics, EnergyErrorIsSecondOrderInTheTimeStep) {
+  auto spec = blocks(1);
+  const auto auto_dt = model::resolve(model::Stack::build(spec)).dt;
+  spec.dt = auto_dt * 2;
+  const double coarse = dump_energies(run_case("coarse", spec)).max_drift;
+  spec.dt = auto_dt;
+  const double fine = dump_energies(run_case("fine", spec)).max_drift;
+  // An O(dt^2) error shrinks 4x when dt halves; allow for the sampling of the error's peak.
+  EXPECT_GT(coarse / fine, 3.0) << coarse << " " << fine;
+  EXPECT_LT(coarse / fine, 5.0) << coarse << " " << fine;
+}
+
+TEST(Physics, OutputFractionDoesNotDependOnStrikerSpeed) {
+  // physics.md section 5: with e = 1, mu = 0 and no gravity Hertz dynamics has no scale. The
+  // same dt is used at both speeds, so this is not just the self-similarity of the dt rule.
+  auto spec = blocks(2);
+  const auto dt = model::resolve(model::Stack::build(spec)).dt;
+  spec.dt = dt;
+  const auto fast = postproc::reduce_case(run_case("v1", spec));
+  spec.striker_speed = 0.1;
+  const auto slow = postproc::reduce_case(run_case("v0.1", spec));
+  EXPECT_TRUE(fast.output_separated && slow.output_separated);
+  EXPECT_NEAR(slow.output_fraction / fast.output_fraction, 1.0, 0.005);
+  EXPECT_NEAR(slow.output_fraction_bottom_row / fast.output_fraction_bottom_row, 1.0, 0.005);
+}
+
+TEST(Physics, MixedMaterialsConserveEnergy) {
+  auto spec = blocks(2);
+  spec.materials = {"steel", "teflon"};
+  const auto dir = run_case("steel_on_teflon", spec);
+  EXPECT_LT(dump_energies(dir).max_drift, kEnergyTolerance);
+  const auto r = postproc::reduce_case(dir);
+  EXPECT_TRUE(r.output_separated);
+  EXPECT_GT(r.output_fraction, 0.0);
+}
+
+TEST(Physics, WallsConserveEnergyWithTheirElasticEnergyCounted) {
+  auto spec = blocks(1);
+  spec.bottom = model::Boundary::wall;
+  spec.sides = model::Boundary::wall;
+  const auto dir = run_case("walls", spec);
+  EXPECT_LT(dump_energies(dir).max_drift, kEnergyTolerance);
+  const auto r = postproc::reduce_case(dir);
+  EXPECT_EQ(r.output_fraction, r.output_peak_fraction);  // a wall keeps the output sphere: its peak is the output
+  EXPECT_GT(r.output_fraction, 0.0);
+}
+
+TEST(Physics, DampingAndFrictionOnlyRemoveEnergy) {
+  auto spec = blocks(2);
+  spec.restitution.value = 0.9;
+  spec.friction.value = 0.25;
+  spec.top_columns = 4;
+  const auto dir = run_case("damped", spec);
+  const auto energies = dump_energies(dir);
+  const double e_in = model::Stack::build(spec).incident_energy();
+  const auto& last = energies.by_step.rbegin()->second;
+  EXPECT_LT(last.kinetic + last.elastic, 0.99 * e_in);
+  for (const auto& [step, e] : energies.by_step) EXPECT_LT(e.kinetic + e.elastic, e_in * (1 + kEnergyTolerance)) << step;
+}
+
+TEST(Runner, FailuresCarryLiggghtsOwnErrorLineAndAreNeverTakenForDone) {
+  const auto tmpl = work_dir() / "newton_on.tmpl";
+  fs::create_directories(work_dir());
+  {
+    std::string text(generator::default_deck_template());
+    text.replace(text.find("newton          off"), 19, "newton          on");
+    std::ofstream(tmpl) << text;
+  }
+  generator::GenerateOptions o;
+  o.output = work_dir() / "case";
+  o.force = true;
+  o.deck_template_path = tmpl.string();
+  generator::generate({{"case", blocks(1)}}, o);
+  const auto outcome = runner::run_cases({o.output.string()}, {}).at(0);
+  EXPECT_EQ(outcome.status, runner::RunStatus::failed);
+  EXPECT_NE(outcome.message.find("ERROR"), std::string::npos) << outcome.message;
+  EXPECT_NE(outcome.message.find("newton pair off"), std::string::npos) << outcome.message;
+  EXPECT_EQ(runner::recorded_status(o.output.string()), "failed");
+  EXPECT_THROW(postproc::reduce_case(o.output.string()), std::runtime_error);
+
+  runner::RunOptions missing;
+  missing.liggghts = "no-such-liggghts-binary";
+  const auto not_found = runner::run_cases({o.output.string()}, missing).at(0);
+  EXPECT_EQ(not_found.status, runner::RunStatus::failed);
+  EXPECT_NE(not_found.message.find("scripts/setup.sh"), std::string::npos) << not_found.message;
+}
+
+TEST(Runner, AFinishedCaseIsRerunOnlyWhenForced) {
+  const auto dir = run_case("case", blocks(1));
+  EXPECT_EQ(runner::run_cases({dir}, {}).at(0).status, runner::RunStatus::skipped);
+  runner::RunOptions force;
+  force.force = true;
+  const auto again = runner::run_cases({dir}, force).at(0);
+  EXPECT_EQ(again.status, runner::RunStatus::done);
+  EXPECT_GT(again.particle_steps_per_second, 0.0);
+}
+
+TEST(Runner, TwoMpiRanksGiveTheSameResultAsOne) {
+  const auto serial = postproc::reduce_case(run_case("np1", blocks(2)));
+  const auto parallel = postproc::reduce_case(run_case("np2", blocks(2), 2));
+  // Only the per-atom summation order changes across ranks (liggghts-3.8.md section 3).
+  EXPECT_NEAR(parallel.output_fraction / serial.output_fraction, 1.0, 1e-9);
+  EXPECT_NEAR(parallel.blocks.back().peak_ke / serial.blocks.back().peak_ke, 1.0, 1e-9);
+}
+
+TEST(Runner, SeveralCasesRunAtOnce) {
+  generator::Sweep sweep;
+  sweep.base.blocks = 1;
+  sweep.axes = {{"restitution", {1.0, 0.95, 0.9}}};
+  generator::GenerateOptions o;
+  o.output = work_dir() / "sweep";
+  o.force = true;
+  generator::generate(generator::expand(sweep), o);
+  runner::RunOptions ro;
+  ro.jobs = 2;
+  const auto outcomes = runner::run_cases(formats::expand_case_dirs({o.output.string()}), ro);
+  ASSERT_EQ(outcomes.size(), 3u);
+  double previous = 1.0;
+  for (const auto& out : outcomes) {
+    ASSERT_EQ(out.status, runner::RunStatus::done) << out.message;
+    const auto r = postproc::reduce_case(out.case_dir);
+    EXPECT_LT(r.output_fraction, previous);  // more damping, less output
+    previous = r.output_fraction;
+  }
+}
+
+}  // namespace
