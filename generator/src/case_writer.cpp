@@ -1,15 +1,13 @@
 #include <granstack/formats/data_file.hpp>
+#include <granstack/formats/files.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/contact.hpp>
 #include <granstack/model/version.hpp>
 
-#include <fmt/chrono.h>
 #include <fmt/format.h>
 
 #include <chrono>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <unistd.h>
 
 namespace granstack::generator {
@@ -39,24 +37,6 @@ std::vector<EnergyGroup> energy_groups(const model::Stack& stack) {
   return g;
 }
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the template", p.string()));
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write_text(const fs::path& p, std::string_view text) {
-  std::ofstream out(p, std::ios::binary);
-  out.write(text.data(), static_cast<std::streamsize>(text.size()));
-  out.close();
-  if (!out) throw std::runtime_error(fmt::format("{}: cannot write", p.string()));
-}
-
-std::string utc_now() {
-  return fmt::format("{:%Y-%m-%dT%H:%M:%SZ}", fmt::gmtime(std::chrono::system_clock::to_time_t(std::chrono::system_clock::now())));
-}
 }  // namespace
 
 formats::CaseFiles case_files(const model::Stack& stack) {
@@ -251,15 +231,15 @@ struct PreparedCase {
 
 void write_case(const fs::path& dir, const PreparedCase& c) {
   fs::create_directories(dir / "dumps");
-  write_text(dir / c.files.data, c.data);
-  write_text(dir / c.files.deck, c.deck);
-  write_text(dir / "manifest.json", c.manifest);
+  formats::write_file_atomically(dir / c.files.data, c.data);
+  formats::write_file_atomically(dir / c.files.deck, c.deck);
+  formats::write_file_atomically(dir / "manifest.json", c.manifest);
 }
 }  // namespace
 
 GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOptions& options) {
   if (cases.empty()) throw std::runtime_error("no case to generate");
-  const std::string tmpl = options.deck_template_path ? read_text(*options.deck_template_path)
+  const std::string tmpl = options.deck_template_path ? formats::read_file(*options.deck_template_path)
                                                       : std::string(default_deck_template());
   const std::string tmpl_name = options.deck_template_path.value_or("templates/in.granstack.tmpl");
 
@@ -267,7 +247,7 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
   const fs::path out = fs::absolute(options.output).lexically_normal();
   const fs::path target = out.filename().empty() ? out.parent_path() : out;
   std::vector<PreparedCase> prepared;
-  const auto created = utc_now();
+  const auto created = formats::utc_timestamp();
   for (const auto& sc : cases) {
     // A single case is named after its directory; a sweep's cases after their swept values.
     CaseSpec c = sc;
@@ -316,7 +296,7 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
         index["cases"].push_back({{"dir", prepared[i].name}, {"spec", formats::spec_to_json(cases[i].spec)}});
         result.case_dirs.push_back(target / prepared[i].name);
       }
-      write_text(tmp / "sweep.json", index.dump(2) + "\n");
+      formats::write_file_atomically(tmp / "sweep.json", index.dump(2) + "\n");
     }
     if (fs::exists(target)) fs::rename(target, old);
     fs::rename(tmp, target);

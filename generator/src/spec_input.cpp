@@ -1,3 +1,4 @@
+#include <granstack/formats/files.hpp>
 #include <granstack/formats/line_reader.hpp>
 #include <granstack/generator/spec_input.hpp>
 
@@ -5,8 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <toml++/toml.h>
 
 namespace granstack::generator {
@@ -155,13 +154,7 @@ RawSpec parse_spec_toml(std::string_view text, const std::string& source) {
   return raw;
 }
 
-RawSpec read_spec_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the spec file", path));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_spec_toml(text.str(), path);
-}
+RawSpec read_spec_file(const std::string& path) { return parse_spec_toml(formats::read_file(path), path); }
 
 namespace {
 

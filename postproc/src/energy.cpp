@@ -59,29 +59,57 @@ double FrameView::kinetic_energy(const formats::DumpFrame& f, long r) const {
 }
 
 namespace {
-// Calls fn(i, j, overlap) for every overlapping pair of spheres, by id.
-template <typename Fn>
-void for_each_overlap(const formats::DumpFrame& f, const FrameView& v, const model::Stack& stack, int cx, int cy, int cz,
-                      Fn&& fn) {
-  const auto& spheres = stack.spheres();
-  const std::size_t n = spheres.size();
-  std::vector<double> x(n), y(n), z(n), r(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const long row = v.row(static_cast<int>(i) + 1);
-    x[i] = f.at(row, cx);
-    y[i] = f.at(row, cy);
-    z[i] = f.at(row, cz);
-    r[i] = spheres[i].radius;
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t j = i + 1; j < n; ++j) {
-      const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
-      const double sum = r[i] + r[j];
-      const double d2 = dx * dx + dy * dy + dz * dz;
-      if (d2 < sum * sum) fn(i, j, sum - std::sqrt(d2));
+
+// Hertz parameters of every atom-type pair and of every type against the walls, computed once.
+class ContactEnergy {
+ public:
+  explicit ContactEnergy(const model::Stack& stack) : stack_(stack) {
+    const auto& spec = stack.spec();
+    const auto lib = spec.material_library();
+    const auto types = stack.type_materials();
+    ntypes_ = types.size();
+    y_star_.resize(ntypes_ * ntypes_);
+    for (std::size_t a = 0; a < ntypes_; ++a) {
+      for (std::size_t b = 0; b < ntypes_; ++b) {
+        y_star_[a * ntypes_ + b] = model::effective_youngs_modulus(lib.at(types[a]), lib.at(types[b]));
+      }
+    }
+    if (stack.has_walls()) {
+      wall_y_star_.resize(ntypes_);
+      const auto& wall = lib.at(spec.effective_wall_material());
+      for (std::size_t a = 0; a < ntypes_; ++a) wall_y_star_[a] = model::effective_youngs_modulus(lib.at(types[a]), wall);
     }
   }
-}
+
+  double pair(const model::Sphere& a, const model::Sphere& b, double overlap) const {
+    const double y = y_star_[static_cast<std::size_t>(a.atom_type - 1) * ntypes_ + static_cast<std::size_t>(b.atom_type - 1)];
+    return model::hertz_elastic_energy(y, a.radius * b.radius / (a.radius + b.radius), overlap);
+  }
+
+  // Against every wall the spec has (planes z = 0 and x = -+half_width; a wall has R* = R_i).
+  double walls(const model::Sphere& s, double x, double z) const {
+    if (wall_y_star_.empty()) return 0.0;
+    const auto& spec = stack_.spec();
+    const double y = wall_y_star_[static_cast<std::size_t>(s.atom_type - 1)];
+    double energy = 0.0;
+    auto add = [&](double distance) {
+      if (distance < s.radius) energy += model::hertz_elastic_energy(y, s.radius, s.radius - distance);
+    };
+    if (spec.bottom == model::Boundary::wall) add(std::fabs(z));
+    if (spec.sides == model::Boundary::wall) {
+      add(std::fabs(x + stack_.half_width()));
+      add(std::fabs(x - stack_.half_width()));
+    }
+    return energy;
+  }
+
+ private:
+  const model::Stack& stack_;
+  std::size_t ntypes_ = 0;
+  std::vector<double> y_star_;
+  std::vector<double> wall_y_star_;
+};
+
 }  // namespace
 
 FrameEnergy frame_energy(const formats::DumpFrame& f, const FrameView& v, const model::Stack& stack) {
@@ -90,8 +118,16 @@ FrameEnergy frame_energy(const formats::DumpFrame& f, const FrameView& v, const 
   e.block_ke.assign(stack.blocks().size(), 0.0);
   const int out_id = stack.output_sphere_id();
   const int bottom_first = stack.bottom_row_ids().front();
-  for (const auto& s : stack.spheres()) {
-    const double ke = v.kinetic_energy(f, v.row(s.id));
+  const auto& spheres = stack.spheres();
+  const std::size_t n = spheres.size();
+  std::vector<double> x(n), y(n), z(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& s = spheres[i];
+    const long row = v.row(s.id);
+    x[i] = f.at(row, v.c_x_);
+    y[i] = f.at(row, v.c_y_);
+    z[i] = f.at(row, v.c_z_);
+    const double ke = v.kinetic_energy(f, row);
     e.kinetic += ke;
     if (s.block == 0) {
       e.striker_ke += ke;
@@ -101,71 +137,32 @@ FrameEnergy frame_energy(const formats::DumpFrame& f, const FrameView& v, const 
     if (s.id == out_id) e.output_sphere_ke = ke;
     if (s.id >= bottom_first) e.bottom_row_ke += ke;
   }
-
-  const auto& spec = stack.spec();
-  const auto lib = spec.material_library();
-  const auto types = stack.type_materials();
-  std::vector<const model::Material*> mat;
-  for (const auto& t : types) mat.push_back(&lib.at(t));
-  auto material_of = [&](std::size_t i) { return mat[static_cast<std::size_t>(stack.spheres()[i].atom_type - 1)]; };
-  for_each_overlap(f, v, stack, v.c_x_, v.c_y_, v.c_z_, [&](std::size_t i, std::size_t j, double d) {
-    const auto& si = stack.spheres()[i];
-    const auto& sj = stack.spheres()[j];
-    const double y_star = model::effective_youngs_modulus(*material_of(i), *material_of(j));
-    e.elastic += model::hertz_elastic_energy(y_star, si.radius * sj.radius / (si.radius + sj.radius), d);
-  });
-  if (stack.has_walls()) {
-    const auto& wall = lib.at(spec.effective_wall_material());
-    for (std::size_t i = 0; i < stack.spheres().size(); ++i) {
-      const auto& s = stack.spheres()[i];
-      const long row = v.row(s.id);
-      const double y_star = model::effective_youngs_modulus(*material_of(i), wall);
-      auto add = [&](double gap) {
-        if (gap < s.radius) e.elastic += model::hertz_elastic_energy(y_star, s.radius, s.radius - gap);
-      };
-      if (spec.bottom == model::Boundary::wall) add(std::fabs(f.at(row, v.c_z_)));
-      if (spec.sides == model::Boundary::wall) {
-        add(std::fabs(f.at(row, v.c_x_) + stack.half_width()));
-        add(std::fabs(f.at(row, v.c_x_) - stack.half_width()));
-      }
+  const ContactEnergy contacts(stack);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i + 1; j < n; ++j) {
+      const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
+      const double sum = spheres[i].radius + spheres[j].radius;
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      if (d2 < sum * sum) e.elastic += contacts.pair(spheres[i], spheres[j], sum - std::sqrt(d2));
     }
+    e.elastic += contacts.walls(spheres[i], x[i], z[i]);
   }
   return e;
 }
 
 double contact_energy(const formats::DumpFrame& f, const FrameView& v, const model::Stack& stack, int id) {
-  const auto& spec = stack.spec();
-  const auto lib = spec.material_library();
-  const auto types = stack.type_materials();
-  auto material = [&](const model::Sphere& s) -> const model::Material& {
-    return lib.at(types[static_cast<std::size_t>(s.atom_type - 1)]);
-  };
+  const ContactEnergy contacts(stack);
   const auto& me = stack.sphere(id);
   const long row = v.row(id);
-  const int cx = f.column("x"), cy = f.column("y"), cz = f.column("z");
-  const double x = f.at(row, cx), y = f.at(row, cy), z = f.at(row, cz);
-  double energy = 0.0;
+  const double x = f.at(row, v.c_x_), y = f.at(row, v.c_y_), z = f.at(row, v.c_z_);
+  double energy = contacts.walls(me, x, z);
   for (const auto& s : stack.spheres()) {
     if (s.id == id) continue;
     const long r = v.row(s.id);
-    const double dx = f.at(r, cx) - x, dy = f.at(r, cy) - y, dz = f.at(r, cz) - z;
+    const double dx = f.at(r, v.c_x_) - x, dy = f.at(r, v.c_y_) - y, dz = f.at(r, v.c_z_) - z;
     const double sum = me.radius + s.radius;
     const double d2 = dx * dx + dy * dy + dz * dz;
-    if (d2 < sum * sum) {
-      energy += model::hertz_elastic_energy(model::effective_youngs_modulus(material(me), material(s)),
-                                            me.radius * s.radius / sum, sum - std::sqrt(d2));
-    }
-  }
-  if (stack.has_walls()) {
-    const double y_star = model::effective_youngs_modulus(material(me), lib.at(spec.effective_wall_material()));
-    auto add = [&](double gap) {
-      if (gap < me.radius) energy += model::hertz_elastic_energy(y_star, me.radius, me.radius - gap);
-    };
-    if (spec.bottom == model::Boundary::wall) add(std::fabs(z));
-    if (spec.sides == model::Boundary::wall) {
-      add(std::fabs(x + stack.half_width()));
-      add(std::fabs(x - stack.half_width()));
-    }
+    if (d2 < sum * sum) energy += contacts.pair(me, s, sum - std::sqrt(d2));
   }
   return energy;
 }

@@ -1,5 +1,6 @@
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/error.hpp>
+#include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/series.hpp>
 #include <granstack/model/resolution.hpp>
@@ -42,16 +43,6 @@ void require_successful_run(const fs::path& dir, const formats::CaseFiles& files
     throw std::runtime_error(fmt::format("{}: the run did not finish (status '{}'); run 'granstack run --force {}'",
                                          dir.string(), status, dir.string()));
   }
-}
-
-void write_atomically(const fs::path& path, const std::string& text) {
-  const auto tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    if (!out) throw std::runtime_error(fmt::format("{}: cannot write", tmp));
-  }
-  fs::rename(tmp, path);
 }
 
 }  // namespace
@@ -182,8 +173,8 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     const auto rdir = dir / "reduce";
     fs::create_directories(rdir);
     r.csv_path = (rdir / "block_ke.csv").string();
-    write_atomically(r.csv_path, fmt::to_string(csv));
-    write_atomically(rdir / "summary.json", to_json(r).dump(2) + "\n");
+    formats::write_file_atomically(r.csv_path, fmt::to_string(csv));
+    formats::write_file_atomically(rdir / "summary.json", to_json(r).dump(2) + "\n");
   }
   return r;
 }

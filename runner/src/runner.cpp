@@ -1,8 +1,8 @@
+#include <granstack/formats/files.hpp>
 #include <granstack/formats/log.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/runner/runner.hpp>
 
-#include <fmt/chrono.h>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -55,18 +55,8 @@ std::string recorded_status(const std::string& case_dir) {
 
 namespace {
 
-std::string utc_now() {
-  return fmt::format("{:%Y-%m-%dT%H:%M:%SZ}",
-                     fmt::gmtime(std::chrono::system_clock::to_time_t(std::chrono::system_clock::now())));
-}
-
 void write_record(const fs::path& path, const json& record) {
-  const auto tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << record.dump(2) << "\n";
-  }
-  fs::rename(tmp, path);
+  formats::write_file_atomically(path, record.dump(2) + "\n");
 }
 
 class Monitor {
@@ -209,7 +199,7 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
                  {"engine", "liggghts"},
                  {"command", argv},
                  {"ranks", o.ranks},
-                 {"started", utc_now()},
+                 {"started", formats::utc_timestamp()},
                  {"host_threads", std::thread::hardware_concurrency()}};
   if (!outcome.message.empty()) {
     record["status"] = "failed";
@@ -272,7 +262,7 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
   }
   outcome.status = outcome.message.empty() ? RunStatus::done : RunStatus::failed;
   record["status"] = outcome.status == RunStatus::done ? "done" : "failed";
-  record["finished"] = utc_now();
+  record["finished"] = formats::utc_timestamp();
   record["wall_seconds"] = outcome.wall_seconds;
   record["exit_code"] = exit_code;
   record["liggghts_version"] = scanner.version();

@@ -35,6 +35,7 @@ class FrameView {
   int c_id_ = -1, c_mass_ = -1, c_radius_ = -1, c_vx_ = -1, c_vy_ = -1, c_vz_ = -1, c_wx_ = -1, c_wy_ = -1, c_wz_ = -1;
   int c_x_ = -1, c_y_ = -1, c_z_ = -1;
   friend FrameEnergy frame_energy(const formats::DumpFrame&, const FrameView&, const model::Stack&);
+  friend double contact_energy(const formats::DumpFrame&, const FrameView&, const model::Stack&, int);
 };
 
 // Kinetic energy 1/2 m v^2 + 1/2 (2/5 m R^2) w^2 per group, and the elastic energy

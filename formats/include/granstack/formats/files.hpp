@@ -1,0 +1,17 @@
+#pragma once
+// Small file utilities shared by the stages.
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace granstack::formats {
+
+// Writes `text` to a temporary file beside `path` and renames it over `path`, so a reader never
+// sees a half-written file. Throws std::runtime_error naming the path.
+void write_file_atomically(const std::filesystem::path& path, std::string_view text);
+// Reads a whole file. Throws std::runtime_error naming the path.
+std::string read_file(const std::filesystem::path& path);
+// The current time as ISO 8601 UTC, e.g. "2026-11-22T00:35:28Z".
+std::string utc_timestamp();
+
+}  // namespace granstack::formats
