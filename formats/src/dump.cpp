@@ -3,7 +3,10 @@
 
 #include <fmt/format.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace granstack::formats {
 
@@ -107,6 +110,110 @@ bool TextDumpReader::next(DumpFrame& f) {
   last_step_ = f.step;
   ++frames_;
   return true;
+}
+
+BinaryDumpReader::BinaryDumpReader(const std::string& path, std::vector<std::string> columns)
+    : path_(path), columns_(std::move(columns)), file_(std::fopen(path.c_str(), "rb"), &std::fclose) {
+  if (!file_) throw FormatError(path, 0, std::string("cannot open: ") + std::strerror(errno));
+}
+
+namespace {
+// The header of one binary frame, as LIGGGHTS writes it (dump_custom.cpp header_binary).
+#pragma pack(push, 1)
+struct BinaryHeader {
+  std::int64_t step;
+  std::int64_t atoms;
+  std::int32_t triclinic;
+  std::int32_t boundary[6];
+};
+#pragma pack(pop)
+static_assert(sizeof(BinaryHeader) == 44);
+}  // namespace
+
+bool BinaryDumpReader::next(DumpFrame& f) {
+  std::FILE* in = file_.get();
+  const long frame_offset = offset_;
+  const long frame_index = frames_ + 1;
+  auto where = [&] { return fmt::format("frame {} (at byte {})", frame_index, frame_offset); };
+  auto read = [&](void* dst, std::size_t bytes, const char* what) {
+    const std::size_t got = std::fread(dst, 1, bytes, in);
+    offset_ += static_cast<long>(got);
+    if (got != bytes) {
+      throw TruncatedError(path_, 0, fmt::format("file ends inside {} ({}): the run was cut short", where(), what));
+    }
+  };
+  BinaryHeader h{};
+  const std::size_t got = std::fread(&h, 1, sizeof h, in);
+  offset_ += static_cast<long>(got);
+  if (got == 0) {
+    if (frames_ == 0) throw FormatError(path_, 0, "empty file: no frame");
+    return false;
+  }
+  if (got >= 8 && std::string_view(reinterpret_cast<const char*>(&h), 8) == "ITEM: TI") {
+    throw FormatError(path_, 0, "this is a text dump, not a binary one: generate the case with --dump-format text");
+  }
+  if (got != sizeof h) throw TruncatedError(path_, 0, fmt::format("file ends inside the header of {}", where()));
+  bool boundary_ok = true;
+  for (const auto b : h.boundary) boundary_ok = boundary_ok && b >= 0 && b <= 3;
+  if (h.step < 0 || h.atoms < 0 || h.atoms > (std::int64_t{1} << 40) || (h.triclinic != 0 && h.triclinic != 1) ||
+      !boundary_ok) {
+    throw FormatError(path_, 0, fmt::format("{} has an impossible header (step {}, {} atoms): not a LIGGGHTS binary "
+                                            "dump, or corrupted",
+                                            where(), h.step, h.atoms));
+  }
+  if (h.step < last_step_) {
+    throw FormatError(path_, 0, fmt::format("{}: timestep {} comes after {}: timesteps go backwards", where(), h.step,
+                                            last_step_));
+  }
+  double box[9];
+  read(box, sizeof(double) * (h.triclinic ? 9 : 6), "the box");
+  std::int32_t size_one = 0, chunks = 0;
+  read(&size_one, sizeof size_one, "the column count");
+  read(&chunks, sizeof chunks, "the chunk count");
+  if (size_one != static_cast<std::int32_t>(columns_.size())) {
+    throw FormatError(path_, 0, fmt::format("{} has {} columns per atom, the deck's dump line names {} ({})", where(),
+                                            size_one, columns_.size(), fmt::join(columns_, " ")));
+  }
+  if (chunks < 1 || chunks > (1 << 24)) {
+    throw FormatError(path_, 0, fmt::format("{} claims {} chunks: corrupted", where(), chunks));
+  }
+  f.step = h.step;
+  f.atoms = h.atoms;
+  f.first_line = 0;
+  static constexpr char kBoundary[] = {'p', 'f', 's', 'm'};
+  f.box_flags.clear();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (axis > 0) f.box_flags += ' ';
+    f.box_flags += kBoundary[h.boundary[2 * axis]];
+    f.box_flags += kBoundary[h.boundary[2 * axis + 1]];
+  }
+  std::copy(box, box + 6, f.box.begin());
+  f.columns = columns_;
+  const std::size_t total = static_cast<std::size_t>(h.atoms) * columns_.size();
+  f.values.resize(total);
+  std::size_t filled = 0;
+  for (std::int32_t c = 0; c < chunks; ++c) {
+    std::int32_t n = 0;
+    read(&n, sizeof n, "a chunk length");
+    if (n < 0 || static_cast<std::size_t>(n) > total - filled || n % size_one != 0) {
+      throw FormatError(path_, 0, fmt::format("{}: chunk {} holds {} values, which does not fit {} atoms of {} columns",
+                                              where(), c + 1, n, h.atoms, size_one));
+    }
+    read(f.values.data() + filled, sizeof(double) * static_cast<std::size_t>(n), "atom data");
+    filled += static_cast<std::size_t>(n);
+  }
+  if (filled != total) {
+    throw FormatError(path_, 0, fmt::format("{} holds {} values for {} atoms of {} columns", where(), filled, h.atoms,
+                                            size_one));
+  }
+  last_step_ = f.step;
+  ++frames_;
+  return true;
+}
+
+std::unique_ptr<DumpReader> open_dump(const std::string& path, bool binary, const std::vector<std::string>& columns) {
+  if (binary) return std::make_unique<BinaryDumpReader>(path, columns);
+  return std::make_unique<TextDumpReader>(path);
 }
 
 void require_columns(const DumpFrame& frame, const std::vector<std::string>& names, const std::string& path) {

@@ -61,15 +61,10 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   r.case_name = manifest.case_name;
   r.spec = spec;
   r.e_in = stack.incident_energy();
-  if (spec.dump_format == model::DumpFormat::binary) {
-    throw std::runtime_error(fmt::format("{}: reduce reads text dumps; this case was generated with dump_format = binary, "
-                                         "which this version cannot reduce: regenerate with --dump-format text",
-                                         case_dir));
-  }
-
   const bool conservative = model::is_conservative(spec);
   const auto dump_path = (dir / manifest.files.dump).string();
-  formats::TextDumpReader reader(dump_path);
+  const auto reader = formats::open_dump(dump_path, spec.dump_format == model::DumpFormat::binary,
+                                         manifest.files.dump_columns);
   FrameView view(stack, dump_path);
   formats::DumpFrame frame, last;
   FrameEnergy last_energy;
@@ -81,7 +76,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   fmt::format_to(out, ",ke_striker_J,ke_output_sphere_J,ke_bottom_row_J,ke_total_J,elastic_J,energy_total_J\n");
   for (;;) {
     try {
-      if (!reader.next(frame)) break;
+      if (!reader->next(frame)) break;
     } catch (const formats::TruncatedError& e) {
       r.warnings.push_back(fmt::format("{}; the {} complete frames before it are used", e.what(), r.frames));
       break;

@@ -166,4 +166,33 @@ TEST_F(Cli, BadDumpFilesGiveClearErrorsAndATruncatedFrameAWarning) {
   expect_contains(r, "cannot open");
 }
 
+TEST_F(Cli, BadBinaryDumpsGiveClearErrorsAndATruncatedFrameAWarning) {
+  ASSERT_EQ(granstack("generate -o " + path("case") + " --blocks 1 --dump-format binary").code, 0);
+  ASSERT_EQ(granstack("run " + path("case")).code, 0);
+  const auto dump = path("case/dumps/dump.bin");
+  std::string bytes;
+  {
+    std::ifstream in(dump, std::ios::binary);
+    bytes.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  }
+  auto with_dump = [&](const std::string& content) {
+    std::ofstream(dump, std::ios::binary) << content;
+    return granstack("reduce " + path("case"));
+  };
+  auto r = with_dump(bytes.substr(0, bytes.size() - 1000));
+  EXPECT_EQ(r.code, 0) << r.output;
+  expect_contains(r, "file ends inside frame");
+  r = with_dump("ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n17\n");
+  EXPECT_EQ(r.code, 4);
+  expect_contains(r, "this is a text dump, not a binary one");
+  std::string corrupt = bytes;
+  corrupt[9] = '\x7f';  // the atom count's high bytes
+  corrupt[13] = '\x7f';
+  r = with_dump(corrupt);
+  EXPECT_EQ(r.code, 4);
+  expect_contains(r, "impossible header");
+  r = with_dump(std::string(40, '\xff'));
+  EXPECT_EQ(r.code, 4);
+}
+
 }  // namespace

@@ -199,6 +199,26 @@ TEST(Physics, DampingAndFrictionOnlyRemoveEnergy) {
   for (const auto& [step, e] : energies.by_step) EXPECT_LT(e.kinetic + e.elastic, e_in * (1 + kEnergyTolerance)) << step;
 }
 
+TEST(Reduce, BinaryDumpsGiveExactlyTheTextDumpsResult) {
+  // Both hold the same doubles (%.17g round-trips), so the reductions must agree to the bit.
+  auto spec = blocks(2);
+  spec.restitution.value = 0.95;
+  const auto text_dir = run_case("text", spec);
+  spec.dump_format = model::DumpFormat::binary;
+  const auto binary_dir = run_case("binary", spec);
+  ASSERT_TRUE(fs::exists(fs::path(binary_dir) / "dumps" / "dump.bin"));
+  const auto t = postproc::reduce_case(text_dir);
+  const auto b = postproc::reduce_case(binary_dir);
+  EXPECT_EQ(b.frames, t.frames);
+  EXPECT_EQ(b.output_fraction, t.output_fraction);
+  EXPECT_EQ(b.output_fraction_bottom_row, t.output_fraction_bottom_row);
+  auto slurp = [](const std::string& p) {
+    std::ifstream in(p);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  EXPECT_EQ(slurp(b.csv_path), slurp(t.csv_path));
+}
+
 TEST(Runner, FailuresCarryLiggghtsOwnErrorLineAndAreNeverTakenForDone) {
   const auto tmpl = work_dir() / "newton_on.tmpl";
   fs::create_directories(work_dir());

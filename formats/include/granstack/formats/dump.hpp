@@ -4,6 +4,8 @@
 #include <granstack/formats/line_reader.hpp>
 
 #include <array>
+#include <cstdio>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -26,21 +28,51 @@ struct DumpFrame {
   }
 };
 
-class TextDumpReader {
+// A dump read one frame at a time.
+class DumpReader {
+ public:
+  virtual ~DumpReader() = default;
+  // Reads the next frame; false at the end of the file. Throws FormatError for a malformed
+  // frame (naming file, frame and line or byte offset) and TruncatedError when the file ends
+  // inside a frame (the frames before it are complete).
+  virtual bool next(DumpFrame& frame) = 0;
+  virtual const std::string& path() const = 0;
+  long frames_read() const { return frames_; }
+
+ protected:
+  long frames_ = 0;
+};
+
+class TextDumpReader final : public DumpReader {
  public:
   explicit TextDumpReader(const std::string& path);
-  // Reads the next frame; false at the end of the file. Throws FormatError for a malformed
-  // frame (naming file, line and step) and TruncatedError when the file ends inside a frame.
-  bool next(DumpFrame& frame);
-  const std::string& path() const { return reader_.path(); }
-  long frames_read() const { return frames_; }
+  bool next(DumpFrame& frame) override;
+  const std::string& path() const override { return reader_.path(); }
 
  private:
   LineReader reader_;
   std::vector<std::string_view> words_;
-  long frames_ = 0;
   long last_step_ = -1;
 };
+
+// LIGGGHTS's binary `dump custom` (.bin, liggghts-3.8.md section 6): little-endian, full double
+// precision, no column names, so they come from the deck (the manifest's dump_columns).
+class BinaryDumpReader final : public DumpReader {
+ public:
+  BinaryDumpReader(const std::string& path, std::vector<std::string> columns);
+  bool next(DumpFrame& frame) override;
+  const std::string& path() const override { return path_; }
+
+ private:
+  std::string path_;
+  std::vector<std::string> columns_;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
+  long offset_ = 0;
+  long last_step_ = -1;
+};
+
+// A text or binary reader for `path`; `columns` names the binary dump's columns.
+std::unique_ptr<DumpReader> open_dump(const std::string& path, bool binary, const std::vector<std::string>& columns);
 
 // Throws FormatError naming each missing column and the `dump custom` keyword that adds it.
 void require_columns(const DumpFrame& frame, const std::vector<std::string>& names, const std::string& path);
