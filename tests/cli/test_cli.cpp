@@ -17,8 +17,9 @@ struct Result {
   std::string output;  // stdout and stderr
 };
 
-Result granstack(const std::string& args) {
-  const std::string cmd = std::string(GRANSTACK_EXE) + " " + args + " 2>&1";
+// Runs a shell command, capturing stdout and stderr.
+Result shell(const std::string& command) {
+  const std::string cmd = command + " 2>&1";
   Result r;
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (pipe == nullptr) return r;
@@ -29,6 +30,8 @@ Result granstack(const std::string& args) {
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
 }
+
+Result granstack(const std::string& args) { return shell(std::string(GRANSTACK_EXE) + " " + args); }
 
 class Cli : public ::testing::Test {
  protected:
@@ -164,6 +167,20 @@ TEST_F(Cli, BadDumpFilesGiveClearErrorsAndATruncatedFrameAWarning) {
   r = granstack("reduce " + path("case"));
   EXPECT_EQ(r.code, 4);
   expect_contains(r, "cannot open");
+}
+
+TEST_F(Cli, ProgressShowsOnATerminalAndStaysQuietOtherwise) {
+  // A run long enough for several progress updates (about a second).
+  ASSERT_EQ(granstack("generate -o " + path("case") + " --blocks 4 --dt 2e-8").code, 0);
+  // script(1) gives the program a terminal.
+  const auto tty = shell("script -qec '" + std::string(GRANSTACK_EXE) + " run " + path("case") + "' /dev/null");
+  EXPECT_EQ(tty.code, 0) << tty.output;
+  expect_contains(tty, "run: 0/1 cases finished | case step ");
+  expect_contains(tty, "ETA");
+  const auto piped = granstack("run --force " + path("case"));
+  EXPECT_EQ(piped.code, 0);
+  EXPECT_EQ(piped.output.find("ETA"), std::string::npos) << piped.output;
+  EXPECT_EQ(piped.output.find('\r'), std::string::npos);
 }
 
 TEST_F(Cli, BadBinaryDumpsGiveClearErrorsAndATruncatedFrameAWarning) {
