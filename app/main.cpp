@@ -120,6 +120,7 @@ int do_generate(CLI::App& cmd, const GenerateFlags& g, const std::vector<std::st
 
 struct RunFlags {
   std::vector<std::string> cases;
+  std::string engine = "liggghts";
   int jobs = 1;
   int ranks = 1;
   bool force = false;
@@ -133,6 +134,7 @@ int do_run(const RunFlags& f) {
   o.ranks = f.ranks;
   o.force = f.force;
   o.liggghts = f.liggghts;
+  o.engine = f.engine == "refsim" ? runner::Engine::refsim : runner::Engine::liggghts;
   app::StatusLine status;
   if (status.active()) {
     o.on_progress = [&status](const runner::ProgressSnapshot& s) {
@@ -231,6 +233,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("-j,--jobs", run.jobs, "Cases run at the same time")->check(CLI::Range(1, 256));
   run_cmd->add_option("--np", run.ranks, "MPI ranks per case (mpirun when > 1)")->check(CLI::Range(1, 4096));
   run_cmd->add_option("--liggghts", run.liggghts, "The LIGGGHTS executable");
+  run_cmd->add_option("--engine", run.engine, "liggghts (the real DEM code) or refsim (the in-house reference integrator)")
+      ->check(CLI::IsMember({"liggghts", "refsim"}));
   run_cmd->add_flag("--force", run.force, "Run cases again even if they finished");
 
   ReduceFlags red;

@@ -211,6 +211,61 @@ bool BinaryDumpReader::next(DumpFrame& f) {
   return true;
 }
 
+DumpWriter::DumpWriter(const std::string& path, bool binary)
+    : path_(path), binary_(binary), file_(std::fopen(path.c_str(), "wb"), &std::fclose) {
+  if (!file_) throw std::runtime_error(fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
+}
+
+void DumpWriter::write(const DumpFrame& f) {
+  buffer_.clear();
+  auto out = std::back_inserter(buffer_);
+  const std::size_t ncol = f.columns.size();
+  if (binary_) {
+    auto put = [&](const auto& value) {
+      const char* bytes = reinterpret_cast<const char*>(&value);
+      buffer_.append(bytes, sizeof value);
+    };
+    put(static_cast<std::int64_t>(f.step));
+    put(static_cast<std::int64_t>(f.atoms));
+    put(std::int32_t{0});
+    for (std::size_t k = 0; k < 6; ++k) {
+      const char c = f.box_flags.size() > k + k / 2 ? f.box_flags[k + k / 2] : 'm';
+      put(std::int32_t{c == 'p' ? 0 : c == 'f' ? 1 : c == 's' ? 2 : 3});
+    }
+    for (const double b : f.box) put(b);
+    put(static_cast<std::int32_t>(ncol));
+    put(std::int32_t{1});
+    put(static_cast<std::int32_t>(f.values.size()));
+    buffer_.append(reinterpret_cast<const char*>(f.values.data()), f.values.size() * sizeof(double));
+  } else {
+    fmt::format_to(out, "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\nITEM: BOX BOUNDS {}\n{:g} {:g}\n{:g} {:g}\n{:g} {:g}\n",
+                   f.step, f.atoms, f.box_flags, f.box[0], f.box[1], f.box[2], f.box[3], f.box[4], f.box[5]);
+    fmt::format_to(out, "ITEM: ATOMS");
+    std::vector<bool> integer(ncol);
+    for (std::size_t c = 0; c < ncol; ++c) {
+      fmt::format_to(out, " {}", f.columns[c]);
+      integer[c] = f.columns[c] == "id" || f.columns[c] == "type";
+    }
+    buffer_ += " \n";
+    for (long a = 0; a < f.atoms; ++a) {
+      for (std::size_t c = 0; c < ncol; ++c) {
+        const double v = f.at(a, static_cast<int>(c));
+        if (integer[c]) {
+          fmt::format_to(out, "{} ", static_cast<long>(v));
+        } else {
+          fmt::format_to(out, "{:.17g} ", v);
+        }
+      }
+      buffer_ += '\n';
+    }
+  }
+  if (std::fwrite(buffer_.data(), 1, buffer_.size(), file_.get()) != buffer_.size()) {
+    throw std::runtime_error(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
+  }
+}
+
+void DumpWriter::flush() { std::fflush(file_.get()); }
+
 std::unique_ptr<DumpReader> open_dump(const std::string& path, bool binary, const std::vector<std::string>& columns) {
   if (binary) return std::make_unique<BinaryDumpReader>(path, columns);
   return std::make_unique<TextDumpReader>(path);

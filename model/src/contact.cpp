@@ -6,14 +6,16 @@ namespace granstack::model {
 
 double sphere_mass(double radius, double density) { return 4.0 * kPi / 3.0 * radius * radius * radius * density; }
 
+// The mixing rules are written in LIGGGHTS's operation order (global_properties.cpp:432, 463,
+// 516-539), so the reference integrator gets the same doubles.
 double effective_youngs_modulus(const Material& a, const Material& b) {
-  return 1.0 / ((1.0 - a.poisson_ratio * a.poisson_ratio) / a.youngs_modulus +
-                (1.0 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus);
+  return 1. / ((1. - std::pow(a.poisson_ratio, 2.)) / a.youngs_modulus +
+               (1. - std::pow(b.poisson_ratio, 2.)) / b.youngs_modulus);
 }
 
 double effective_shear_modulus(const Material& a, const Material& b) {
-  return 1.0 / (2.0 * (2.0 - a.poisson_ratio) * (1.0 + a.poisson_ratio) / a.youngs_modulus +
-                2.0 * (2.0 - b.poisson_ratio) * (1.0 + b.poisson_ratio) / b.youngs_modulus);
+  return 1. / (2. * (2. - a.poisson_ratio) * (1. + a.poisson_ratio) / a.youngs_modulus +
+               2. * (2. - b.poisson_ratio) * (1. + b.poisson_ratio) / b.youngs_modulus);
 }
 
 ContactPair sphere_sphere(const Material& a, double radius_a, const Material& b, double radius_b) {
@@ -45,7 +47,7 @@ double rayleigh_time(const Material& m, double radius) {
 
 double restitution_beta(double e) {
   const double l = std::log(e);
-  return l / std::sqrt(l * l + kPi * kPi);
+  return l / std::sqrt(std::pow(l, 2.) + std::pow(kPi, 2.));
 }
 
 }  // namespace granstack::model

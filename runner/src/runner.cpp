@@ -1,6 +1,8 @@
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/log.hpp>
 #include <granstack/formats/manifest.hpp>
+#include <granstack/model/version.hpp>
+#include <granstack/refsim/case_run.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include <fmt/format.h>
@@ -155,6 +157,117 @@ class Tail {
   std::string partial_;
 };
 
+// What one engine run produced: an error message (empty on success) and the figures for run.json.
+struct EngineResult {
+  std::string error;
+  nlohmann::json record;
+  double loop_seconds = 0.0;
+  double particle_steps_per_second = 0.0;
+};
+
+EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest, const RunOptions& o,
+                          const std::function<void(long)>& on_step) {
+  EngineResult result;
+  const auto& files = manifest.files;
+  std::vector<std::string> argv;
+  const auto liggghts = find_program(o.liggghts);
+  if (!liggghts) {
+    result.error = fmt::format("LIGGGHTS ('{}') is not on PATH: install it with scripts/setup.sh (Debian package "
+                               "'liggghts') or pass --liggghts PATH",
+                               o.liggghts);
+    return result;
+  }
+  if (o.ranks > 1) {
+    if (!find_program(o.mpirun)) {
+      result.error = fmt::format("'{}' is not on PATH: it comes with the Debian package 'liggghts' (Open MPI)", o.mpirun);
+      return result;
+    }
+    argv = {o.mpirun, "-np", std::to_string(o.ranks)};
+    if (::geteuid() == 0) argv.push_back("--allow-run-as-root");
+    if (o.ranks > static_cast<int>(std::thread::hardware_concurrency())) argv.push_back("--oversubscribe");
+  }
+  // Unbuffered, so an MPI_Abort cannot swallow LIGGGHTS's error message (liggghts-3.8.md section 9).
+  const auto stdbuf = find_program("stdbuf");
+  if (stdbuf) argv.insert(argv.end(), {*stdbuf, "-o0", "-e0"});
+  argv.insert(argv.end(), {*liggghts, "-in", files.deck, "-log", files.log});
+  result.record["command"] = argv;
+  result.record["ranks"] = o.ranks;
+
+  const long total_steps = manifest.derived.value("steps", 0L);
+  const auto child = spawn(argv, fs::absolute(dir), fs::absolute(dir / files.screen));
+  formats::LogScanner scanner;
+  int exit_code = -1;
+  std::string signal_text;
+  if (child.pid < 0) {
+    result.error = child.error;
+    return result;
+  }
+  Tail tail(dir / files.screen);
+  for (;;) {
+    int status = 0;
+    const pid_t r = ::waitpid(child.pid, &status, WNOHANG);
+    if (r == child.pid) {
+      if (WIFEXITED(status)) exit_code = WEXITSTATUS(status);
+      if (WIFSIGNALED(status)) signal_text = fmt::format("killed by signal {}", WTERMSIG(status));
+      break;
+    }
+    if (r < 0 && errno != EINTR) {
+      result.error = fmt::format("waitpid failed: {}", std::strerror(errno));
+      break;
+    }
+    tail.poll(scanner);
+    if (auto step = scanner.last_step()) on_step(*step);
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  tail.flush(scanner);
+
+  const auto& loop = scanner.loop_time();
+  if (result.error.empty()) {
+    if (!scanner.errors().empty()) {
+      result.error = scanner.errors().front();
+    } else if (scanner.lost_atoms()) {
+      result.error = "LIGGGHTS lost atoms (see " + files.screen + ")";
+    } else if (!signal_text.empty()) {
+      result.error = "LIGGGHTS was " + signal_text;
+    } else if (exit_code != 0) {
+      result.error = fmt::format("LIGGGHTS exited with code {} (see {})", exit_code, files.screen);
+    } else if (!loop || loop->steps != total_steps) {
+      result.error = fmt::format("LIGGGHTS ended without finishing the run of {} steps (see {})", total_steps,
+                                 files.screen);
+    }
+  }
+  result.record["exit_code"] = exit_code;
+  result.record["liggghts_version"] = scanner.version();
+  if (!scanner.warnings().empty()) result.record["warnings"] = scanner.warnings();
+  if (loop) {
+    result.loop_seconds = loop->seconds;
+    result.particle_steps_per_second =
+        loop->seconds > 0 ? static_cast<double>(loop->atoms) * static_cast<double>(loop->steps) / loop->seconds : 0.0;
+    result.record["steps"] = loop->steps;
+    result.record["atoms"] = loop->atoms;
+    result.record["procs"] = loop->procs;
+  }
+  return result;
+}
+
+EngineResult run_refsim(const fs::path& dir, const std::function<void(long)>& on_step) {
+  EngineResult result;
+  try {
+    refsim::RunOptions ro;
+    ro.on_progress = [&](long step, long) { on_step(step); };
+    const auto stats = refsim::run_case(dir.string(), ro);
+    result.loop_seconds = stats.loop_seconds;
+    result.particle_steps_per_second = stats.particle_steps_per_second;
+    result.record["steps"] = stats.steps;
+    result.record["atoms"] = stats.atoms;
+    result.record["threads"] = 1;
+    result.record["neighbor_builds"] = stats.neighbor_builds;
+  } catch (const std::exception& e) {
+    result.error = std::string("refsim: ") + e.what();
+  }
+  return result;
+}
+
 RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& monitor) {
   RunOutcome outcome;
   outcome.case_dir = case_dir;
@@ -174,109 +287,36 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
     monitor.skipped();
     return outcome;
   }
-
-  std::vector<std::string> argv;
-  const auto liggghts = find_program(o.liggghts);
-  if (!liggghts) {
-    outcome.message = fmt::format("LIGGGHTS ('{}') is not on PATH: install it with scripts/setup.sh (Debian package "
-                                  "'liggghts') or pass --liggghts PATH",
-                                  o.liggghts);
-  }
-  if (o.ranks > 1) {
-    if (!find_program(o.mpirun)) {
-      outcome.message = fmt::format("'{}' is not on PATH: it comes with the Debian package 'liggghts' (Open MPI)", o.mpirun);
-    }
-    argv = {o.mpirun, "-np", std::to_string(o.ranks)};
-    if (::geteuid() == 0) argv.push_back("--allow-run-as-root");
-    if (o.ranks > static_cast<int>(std::thread::hardware_concurrency())) argv.push_back("--oversubscribe");
-  }
-  // Unbuffered, so an MPI_Abort cannot swallow LIGGGHTS's error message (liggghts-3.8.md section 9).
-  const auto stdbuf = find_program("stdbuf");
-  if (stdbuf) argv.insert(argv.end(), {*stdbuf, "-o0", "-e0"});
-  argv.insert(argv.end(), {liggghts.value_or(o.liggghts), "-in", files.deck, "-log", files.log});
-
+  const bool refsim_engine = o.engine == Engine::refsim;
   json record = {{"status", "running"},
-                 {"engine", "liggghts"},
-                 {"command", argv},
-                 {"ranks", o.ranks},
+                 {"engine", refsim_engine ? "refsim" : "liggghts"},
                  {"started", formats::utc_timestamp()},
-                 {"host_threads", std::thread::hardware_concurrency()}};
-  if (!outcome.message.empty()) {
-    record["status"] = "failed";
-    record["error"] = outcome.message;
-    write_record(dir / files.run_record, record);
-    monitor.skipped();
-    return outcome;
-  }
+                 {"host_threads", std::thread::hardware_concurrency()},
+                 {"granstack_version", std::string(version())}};
   // Stale outputs of an earlier attempt must not be mistaken for this run's.
   for (const auto& f : {files.dump, files.series, files.log, files.screen}) fs::remove(dir / f);
   fs::create_directories((dir / files.dump).parent_path());
   write_record(dir / files.run_record, record);
 
-  const long total_steps = manifest.derived.value("steps", 0L);
-  const auto slot = monitor.start(manifest.case_name, total_steps);
+  const auto slot = monitor.start(manifest.case_name, manifest.derived.value("steps", 0L));
+  const auto on_step = [&](long step) { monitor.update(slot, step); };
   const auto t0 = Clock::now();
-  const auto child = spawn(argv, fs::absolute(dir), fs::absolute(dir / files.screen));
-  formats::LogScanner scanner;
-  int exit_code = -1;
-  std::string signal_text;
-  if (child.pid < 0) {
-    outcome.message = child.error;
-  } else {
-    Tail tail(dir / files.screen);
-    for (;;) {
-      int status = 0;
-      const pid_t r = ::waitpid(child.pid, &status, WNOHANG);
-      if (r == child.pid) {
-        if (WIFEXITED(status)) exit_code = WEXITSTATUS(status);
-        if (WIFSIGNALED(status)) signal_text = fmt::format("killed by signal {}", WTERMSIG(status));
-        break;
-      }
-      if (r < 0 && errno != EINTR) {
-        outcome.message = fmt::format("waitpid failed: {}", std::strerror(errno));
-        break;
-      }
-      tail.poll(scanner);
-      if (auto s = scanner.last_step()) monitor.update(slot, *s);
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    }
-    tail.flush(scanner);
-  }
+  auto result = refsim_engine ? run_refsim(dir, on_step) : run_liggghts(dir, manifest, o, on_step);
   outcome.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   monitor.finish(slot);
 
-  const auto& loop = scanner.loop_time();
-  if (outcome.message.empty()) {
-    if (!scanner.errors().empty()) {
-      outcome.message = scanner.errors().front();
-    } else if (scanner.lost_atoms()) {
-      outcome.message = "LIGGGHTS lost atoms (see " + files.screen + ")";
-    } else if (!signal_text.empty()) {
-      outcome.message = "LIGGGHTS was " + signal_text;
-    } else if (exit_code != 0) {
-      outcome.message = fmt::format("LIGGGHTS exited with code {} (see {})", exit_code, files.screen);
-    } else if (!loop || loop->steps != total_steps) {
-      outcome.message = fmt::format("LIGGGHTS ended without finishing the run of {} steps (see {})", total_steps,
-                                    files.screen);
-    }
-  }
-  outcome.status = outcome.message.empty() ? RunStatus::done : RunStatus::failed;
+  outcome.message = result.error;
+  outcome.loop_seconds = result.loop_seconds;
+  outcome.particle_steps_per_second = result.particle_steps_per_second;
+  outcome.status = result.error.empty() ? RunStatus::done : RunStatus::failed;
+  record.update(result.record);
   record["status"] = outcome.status == RunStatus::done ? "done" : "failed";
   record["finished"] = formats::utc_timestamp();
   record["wall_seconds"] = outcome.wall_seconds;
-  record["exit_code"] = exit_code;
-  record["liggghts_version"] = scanner.version();
-  if (!outcome.message.empty()) record["error"] = outcome.message;
-  if (!scanner.warnings().empty()) record["warnings"] = scanner.warnings();
-  if (loop) {
-    outcome.loop_seconds = loop->seconds;
-    outcome.particle_steps_per_second =
-        loop->seconds > 0 ? static_cast<double>(loop->atoms) * static_cast<double>(loop->steps) / loop->seconds : 0.0;
-    record["loop_seconds"] = loop->seconds;
-    record["steps"] = loop->steps;
-    record["atoms"] = loop->atoms;
-    record["procs"] = loop->procs;
-    record["particle_steps_per_second"] = outcome.particle_steps_per_second;
+  if (!result.error.empty()) record["error"] = result.error;
+  if (result.loop_seconds > 0) {
+    record["loop_seconds"] = result.loop_seconds;
+    record["particle_steps_per_second"] = result.particle_steps_per_second;
   }
   write_record(dir / files.run_record, record);
   return outcome;

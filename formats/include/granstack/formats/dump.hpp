@@ -71,6 +71,21 @@ class BinaryDumpReader final : public DumpReader {
   long last_step_ = -1;
 };
 
+// Writes frames in LIGGGHTS's `dump custom` layouts: text as the generated decks ask for it
+// (ids and types as integers, every other column %.17g, each line ending in a space), or binary.
+class DumpWriter {
+ public:
+  DumpWriter(const std::string& path, bool binary);  // throws std::runtime_error
+  void write(const DumpFrame& frame);
+  void flush();
+
+ private:
+  std::string path_;
+  bool binary_;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
+  std::string buffer_;
+};
+
 // A text or binary reader for `path`; `columns` names the binary dump's columns.
 std::unique_ptr<DumpReader> open_dump(const std::string& path, bool binary, const std::vector<std::string>& columns);
 

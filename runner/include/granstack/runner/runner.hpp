@@ -21,9 +21,15 @@ struct ProgressSnapshot {
   std::vector<CaseProgress> running;
 };
 
+enum class Engine {
+  liggghts,  // the real DEM code, as a separate process
+  refsim     // the in-house reference integrator, in this process
+};
+
 struct RunOptions {
+  Engine engine = Engine::liggghts;
   int jobs = 1;           // cases run at the same time
-  int ranks = 1;          // MPI ranks per case (mpirun when > 1)
+  int ranks = 1;          // MPI ranks per case (mpirun when > 1; LIGGGHTS only)
   bool force = false;     // rerun cases that finished
   std::string liggghts = "liggghts";
   std::string mpirun = "mpirun";

@@ -1,0 +1,40 @@
+#pragma once
+// Runs a generated case directory with the reference integrator, writing the dump and the
+// in-situ series in exactly the formats the generated deck makes LIGGGHTS write, so
+// `granstack reduce` treats both engines the same.
+#include <granstack/refsim/system.hpp>
+
+#include <functional>
+#include <string>
+
+namespace granstack::model {
+class Stack;
+}
+namespace granstack::formats {
+struct DataFile;
+}
+
+namespace granstack::refsim {
+
+struct RunOptions {
+  std::function<void(long step, long total)> on_progress;  // called every few hundred steps
+};
+
+struct RunStats {
+  long steps = 0;
+  long atoms = 0;
+  double loop_seconds = 0.0;               // wall time of the step loop, as LIGGGHTS's "Loop time"
+  double particle_steps_per_second = 0.0;
+  long neighbor_builds = 0;
+};
+
+// The parameters a case's deck gives LIGGGHTS: time step, skin, property tables per atom
+// type, walls and gravity.
+Parameters case_parameters(const model::Stack& stack);
+// The particles of a data file, with LIGGGHTS's masses (4/3 pi r^3 rho, r = diameter / 2).
+std::vector<Particle> particles_from(const formats::DataFile& data);
+
+// Throws formats::FormatError or std::runtime_error for an unreadable case.
+RunStats run_case(const std::string& case_dir, const RunOptions& options = {});
+
+}  // namespace granstack::refsim

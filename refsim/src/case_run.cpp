@@ -1,0 +1,201 @@
+#include <granstack/formats/data_file.hpp>
+#include <granstack/formats/dump.hpp>
+#include <granstack/formats/manifest.hpp>
+#include <granstack/model/contact.hpp>
+#include <granstack/model/resolution.hpp>
+#include <granstack/model/stack.hpp>
+#include <granstack/refsim/case_run.hpp>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+
+namespace granstack::refsim {
+
+namespace fs = std::filesystem;
+
+Parameters case_parameters(const model::Stack& stack) {
+  const auto& spec = stack.spec();
+  const auto res = model::resolve(stack);
+  const auto lib = spec.material_library();
+  const auto types = stack.type_materials();
+  Parameters p;
+  p.dt = res.dt;
+  p.skin = res.skin;
+  p.types = static_cast<int>(types.size());
+  for (const auto& a : types) {
+    for (const auto& b : types) {
+      p.y_star.push_back(model::effective_youngs_modulus(lib.at(a), lib.at(b)));
+      p.g_star.push_back(model::effective_shear_modulus(lib.at(a), lib.at(b)));
+      p.beta.push_back(model::restitution_beta(spec.restitution.get(a, b)));
+      p.friction.push_back(spec.friction.get(a, b));
+    }
+  }
+  // The deck's walls, in its order: bottom, then left and right.
+  if (spec.bottom == model::Boundary::wall) p.walls.push_back({2, 0.0, stack.wall_type()});
+  if (spec.sides == model::Boundary::wall) {
+    p.walls.push_back({0, -stack.half_width(), stack.wall_type()});
+    p.walls.push_back({0, stack.half_width(), stack.wall_type()});
+  }
+  // fix gravity ... vector 0 0 -1: acceleration = magnitude * unit vector.
+  if (spec.gravity > 0.0) p.gravity = {spec.gravity * 0.0, spec.gravity * 0.0, spec.gravity * -1.0};
+  return p;
+}
+
+std::vector<Particle> particles_from(const formats::DataFile& data) {
+  std::vector<Particle> out;
+  std::vector<long> ids;
+  for (const auto& a : data.atoms) {
+    Particle p;
+    p.type = a.type;
+    p.radius = 0.5 * a.diameter;
+    p.mass = model::sphere_mass(p.radius, a.density);
+    p.x = {a.x, a.y, a.z};
+    p.v = {a.vx, a.vy, a.vz};
+    p.omega = {a.wx, a.wy, a.wz};
+    out.push_back(p);
+    ids.push_back(a.id);
+  }
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    if (ids[i] != static_cast<long>(i) + 1) {
+      throw std::runtime_error("refsim: the data file's atom ids must be 1..N in order (as granstack writes them)");
+    }
+  }
+  return out;
+}
+
+namespace {
+
+// The in-situ series of the generated deck: `fix print` of per-group ke and erotate/sphere,
+// summed in atom order and formatted %.20g, as compute_ke.cpp and compute_erotate_sphere.cpp.
+class SeriesWriter {
+ public:
+  SeriesWriter(const std::string& path, const model::Stack& stack, const std::vector<std::string>& columns)
+      : file_(std::fopen(path.c_str(), "w"), &std::fclose) {
+    if (!file_) throw std::runtime_error(fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
+    std::fprintf(file_.get(), "# %s\n", fmt::format("{}", fmt::join(columns, " ")).c_str());
+    for (const auto& b : stack.blocks()) {
+      std::vector<std::size_t> g;
+      for (int id = b.first_id; id <= b.last_id(); ++id) g.push_back(static_cast<std::size_t>(id - 1));
+      groups_.push_back(std::move(g));
+    }
+    groups_.push_back({static_cast<std::size_t>(model::Stack::striker_id() - 1)});
+    groups_.push_back({static_cast<std::size_t>(stack.output_sphere_id() - 1)});
+    std::vector<std::size_t> bottom;
+    for (int id : stack.bottom_row_ids()) bottom.push_back(static_cast<std::size_t>(id - 1));
+    groups_.push_back(std::move(bottom));
+    if (columns.size() != 1 + 2 * groups_.size()) {
+      throw std::runtime_error("refsim: the manifest's series columns do not match the stack's groups");
+    }
+  }
+
+  void write(const System& s) {
+    line_ = fmt::format("{:.20g}", static_cast<double>(s.step_count()));
+    for (const auto& g : groups_) {
+      double ke = 0.0, rot = 0.0;
+      for (const std::size_t i : g) {
+        const auto v = s.v(i);
+        const auto w = s.omega(i);
+        ke += s.mass(i) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        rot += (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) * s.radius(i) * s.radius(i) * s.mass(i);
+      }
+      fmt::format_to(std::back_inserter(line_), " {:.20g} {:.20g}", ke * (0.5 * 1.0), rot * (0.5 * 1.0 * 0.4));
+    }
+    line_ += '\n';
+    std::fwrite(line_.data(), 1, line_.size(), file_.get());
+  }
+
+ private:
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
+  std::vector<std::vector<std::size_t>> groups_;
+  std::string line_;
+};
+
+void fill_frame(const System& s, const std::vector<std::string>& columns, const std::array<double, 6>& box0,
+                formats::DumpFrame& f) {
+  const std::size_t n = s.size();
+  f.step = s.step_count();
+  f.atoms = static_cast<long>(n);
+  f.box_flags = "mm mm mm";
+  f.columns = columns;
+  f.values.resize(n * columns.size());
+  // Shrink-wrapped with a minimum: the data file's box, grown to hold every sphere.
+  f.box = box0;
+  double* out = f.values.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto x = s.x(i), v = s.v(i), w = s.omega(i), fo = s.force(i);
+    for (int d = 0; d < 3; ++d) {
+      f.box[static_cast<std::size_t>(2 * d)] = std::min(f.box[static_cast<std::size_t>(2 * d)], x[d]);
+      f.box[static_cast<std::size_t>(2 * d + 1)] = std::max(f.box[static_cast<std::size_t>(2 * d + 1)], x[d]);
+    }
+    for (const auto& c : columns) {
+      double value = 0.0;
+      if (c == "id") value = static_cast<double>(i + 1);
+      else if (c == "type") value = s.type(i);
+      else if (c == "radius") value = s.radius(i);
+      else if (c == "mass") value = s.mass(i);
+      else if (c == "x") value = x[0];
+      else if (c == "y") value = x[1];
+      else if (c == "z") value = x[2];
+      else if (c == "vx") value = v[0];
+      else if (c == "vy") value = v[1];
+      else if (c == "vz") value = v[2];
+      else if (c == "omegax") value = w[0];
+      else if (c == "omegay") value = w[1];
+      else if (c == "omegaz") value = w[2];
+      else if (c == "fx") value = fo[0];
+      else if (c == "fy") value = fo[1];
+      else if (c == "fz") value = fo[2];
+      else if (c == "tqx") value = s.torque(i)[0];
+      else if (c == "tqy") value = s.torque(i)[1];
+      else if (c == "tqz") value = s.torque(i)[2];
+      else throw std::runtime_error(fmt::format("refsim cannot write the dump column '{}'", c));
+      *out++ = value;
+    }
+  }
+}
+
+}  // namespace
+
+RunStats run_case(const std::string& case_dir, const RunOptions& options) {
+  const fs::path dir(case_dir);
+  const auto manifest = formats::read_manifest(case_dir);
+  const auto stack = model::Stack::build(manifest.spec);
+  const auto res = model::resolve(stack);
+  const auto data = formats::parse_data_file((dir / manifest.files.data).string());
+  System system(particles_from(data), case_parameters(stack));
+
+  fs::create_directories((dir / manifest.files.dump).parent_path());
+  formats::DumpWriter dump((dir / manifest.files.dump).string(), manifest.spec.dump_format == model::DumpFormat::binary);
+  SeriesWriter series((dir / manifest.files.series).string(), stack, manifest.files.series_columns);
+  formats::DumpFrame frame;
+
+  const auto t0 = std::chrono::steady_clock::now();
+  system.setup();
+  fill_frame(system, manifest.files.dump_columns, data.box, frame);
+  dump.write(frame);
+  for (long step = 1; step <= res.steps; ++step) {
+    system.step();
+    if (step % res.series_every == 0) series.write(system);
+    if (step % res.dump_every == 0) {
+      fill_frame(system, manifest.files.dump_columns, data.box, frame);
+      dump.write(frame);
+    }
+    if (options.on_progress && (step % 256 == 0 || step == res.steps)) options.on_progress(step, res.steps);
+  }
+  RunStats stats;
+  stats.loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  stats.steps = res.steps;
+  stats.atoms = static_cast<long>(system.size());
+  stats.particle_steps_per_second =
+      stats.loop_seconds > 0 ? static_cast<double>(stats.steps) * static_cast<double>(stats.atoms) / stats.loop_seconds : 0.0;
+  stats.neighbor_builds = system.neighbor_builds();
+  return stats;
+}
+
+}  // namespace granstack::refsim

@@ -1,0 +1,355 @@
+#include <granstack/refsim/system.hpp>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace granstack::refsim {
+
+namespace {
+// sqrt(5/6), with the digits LIGGGHTS hard-codes (normal_model_hertz.h).
+constexpr double kSqrtFiveOverSix = 0.91287092917527685576161630466800355658790782499663875;
+// I = 0.4 m R^2 for solid spheres (fix_nve_sphere.cpp).
+constexpr double kInertia = 0.4;
+}  // namespace
+
+System::System(std::vector<Particle> particles, Parameters params) : n_(particles.size()), p_(std::move(params)) {
+  const std::size_t tt = static_cast<std::size_t>(p_.types) * static_cast<std::size_t>(p_.types);
+  if (p_.y_star.size() != tt || p_.g_star.size() != tt || p_.beta.size() != tt || p_.friction.size() != tt) {
+    throw std::invalid_argument("refsim: every property table needs types x types entries");
+  }
+  type_.resize(n_);
+  radius_.resize(n_);
+  mass_.resize(n_);
+  x_.resize(3 * n_);
+  v_.resize(3 * n_);
+  w_.resize(3 * n_);
+  f_.assign(3 * n_, 0.0);
+  t_.assign(3 * n_, 0.0);
+  for (std::size_t i = 0; i < n_; ++i) {
+    const auto& pa = particles[i];
+    if (pa.type < 1 || pa.type > p_.types) throw std::invalid_argument("refsim: particle type outside the tables");
+    type_[i] = pa.type;
+    radius_[i] = pa.radius;
+    mass_[i] = pa.mass;
+    for (int d = 0; d < 3; ++d) {
+      x_[3 * i + d] = pa.x[d];
+      v_[3 * i + d] = pa.v[d];
+      w_[3 * i + d] = pa.omega[d];
+    }
+  }
+  wall_history_.assign(3 * n_ * p_.walls.size(), 0.0);
+  build_pairs();
+}
+
+void System::build_pairs() {
+  // Candidates: (R_i + R_j) * cdf + skin, as neigh_gran.cpp. A pair keeps its history across
+  // the rebuild only if it was flagged as touching and is within the contact distance now.
+  std::vector<std::size_t> old_i, old_j;
+  std::vector<double> old_history;
+  std::vector<unsigned char> old_flag;
+  old_i.swap(pair_i_);
+  old_j.swap(pair_j_);
+  old_history.swap(pair_history_);
+  old_flag.swap(pair_flag_);
+  std::size_t old = 0;  // old pairs are sorted by (i, j): merge as we go
+  const double cdf = p_.contact_distance_factor;
+  for (std::size_t i = 0; i < n_; ++i) {
+    const double xi = x_[3 * i], yi = x_[3 * i + 1], zi = x_[3 * i + 2];
+    for (std::size_t j = i + 1; j < n_; ++j) {
+      const double delx = xi - x_[3 * j];
+      const double dely = yi - x_[3 * j + 1];
+      const double delz = zi - x_[3 * j + 2];
+      const double rsq = delx * delx + dely * dely + delz * delz;
+      const double radsum = (radius_[i] + radius_[j]) * cdf;
+      const double cut = radsum + p_.skin;
+      if (rsq > cut * cut) continue;
+      while (old < old_i.size() && (old_i[old] < i || (old_i[old] == i && old_j[old] < j))) ++old;
+      const bool had = old < old_i.size() && old_i[old] == i && old_j[old] == j;
+      pair_i_.push_back(i);
+      pair_j_.push_back(j);
+      if (had && old_flag[old] && rsq < radsum * radsum) {
+        pair_flag_.push_back(1);
+        pair_history_.insert(pair_history_.end(), old_history.begin() + 3 * old, old_history.begin() + 3 * old + 3);
+      } else {
+        pair_flag_.push_back(0);
+        pair_history_.insert(pair_history_.end(), {0.0, 0.0, 0.0});
+      }
+    }
+  }
+  x_at_build_ = x_;
+  ++builds_;
+}
+
+bool System::needs_rebuild() const {
+  const double half = 0.5 * p_.skin;
+  const double trigger = half * half;
+  for (std::size_t i = 0; i < n_; ++i) {
+    const double dx = x_[3 * i] - x_at_build_[3 * i];
+    const double dy = x_[3 * i + 1] - x_at_build_[3 * i + 1];
+    const double dz = x_[3 * i + 2] - x_at_build_[3 * i + 2];
+    if (dx * dx + dy * dy + dz * dz > trigger) return true;
+  }
+  return false;
+}
+
+void System::pair_force(std::size_t p, bool update_history) {
+  const std::size_t i = pair_i_[p], j = pair_j_[p];
+  const double* xi = &x_[3 * i];
+  const double* xj = &x_[3 * j];
+  const double delx = xi[0] - xj[0];
+  const double dely = xi[1] - xj[1];
+  const double delz = xi[2] - xj[2];
+  const double rsq = delx * delx + dely * dely + delz * delz;
+  const double radi = radius_[i], radj = radius_[j];
+  const double radsum = radi + radj;
+  double* shear = &pair_history_[3 * p];
+  if (!(rsq < radsum * radsum)) {
+    // Close but not touching: the history is reset (surfacesClose); farther: left alone.
+    const double cdf = p_.contact_distance_factor;
+    if (rsq < cdf * cdf * radsum * radsum) {
+      pair_flag_[p] = 0;
+      shear[0] = shear[1] = shear[2] = 0.0;
+    }
+    return;
+  }
+  pair_flag_[p] = 1;
+  const double r = std::sqrt(rsq);
+  const double rinv = 1.0 / r;
+  const double enx = delx * rinv, eny = dely * rinv, enz = delz * rinv;
+  const double mi = mass_[i], mj = mass_[j];
+  const double meff = mi * mj / (mi + mj);
+
+  // Relative velocity at the contact point; lever arms shortened by half the overlap.
+  const double* vi = &v_[3 * i];
+  const double* vj = &v_[3 * j];
+  const double* wi = &w_[3 * i];
+  const double* wj = &w_[3 * j];
+  const double vr1 = vi[0] - vj[0], vr2 = vi[1] - vj[1], vr3 = vi[2] - vj[2];
+  const double vn = vr1 * enx + vr2 * eny + vr3 * enz;
+  const double vt1 = vr1 - vn * enx, vt2 = vr2 - vn * eny, vt3 = vr3 - vn * enz;
+  const double deltan = radsum - r;
+  const double cri = radi - 0.5 * deltan;
+  const double crj = radj - 0.5 * deltan;
+  const double wr1 = (cri * wi[0] + crj * wj[0]) * rinv;
+  const double wr2 = (cri * wi[1] + crj * wj[1]) * rinv;
+  const double wr3 = (cri * wi[2] + crj * wj[2]) * rinv;
+  const double vtr1 = vt1 - (delz * wr2 - dely * wr3);
+  const double vtr2 = vt2 - (delx * wr3 - delz * wr1);
+  const double vtr3 = vt3 - (dely * wr1 - delx * wr2);
+
+  // Hertz normal force with restitution damping.
+  const std::size_t tp = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
+                         static_cast<std::size_t>(type_[j] - 1);
+  const double y = p_.y_star[tp], g = p_.g_star[tp], beta = p_.beta[tp];
+  const double reff = radi * radj / (radi + radj);
+  const double sqrtval = std::sqrt(reff * deltan);
+  const double sn = 2. * y * sqrtval;
+  const double st = 8. * g * sqrtval;
+  const double kn = 4. / 3. * y * sqrtval;
+  const double kt = st;
+  const double gamman = -2. * kSqrtFiveOverSix * beta * std::sqrt(sn * meff);
+  const double gammat = p_.tangential_damping ? -2. * kSqrtFiveOverSix * beta * std::sqrt(st * meff) : 0.0;
+  const double fn = -gamman * vn + kn * deltan;
+  // Contributions are summed onto zeroed accumulators, as LIGGGHTS's ForceData (0 + x turns a
+  // -0 into +0, which a %.17g dump shows).
+  double dfi[3] = {0.0 + fn * enx, 0.0 + fn * eny, 0.0 + fn * enz};
+  double dfj[3] = {0.0 + -dfi[0], 0.0 + -dfi[1], 0.0 + -dfi[2]};
+
+  // Tangential spring: increment, project on the tangent plane, Coulomb-truncate.
+  if (update_history) {
+    const double dt = p_.dt;
+    shear[0] += vtr1 * dt;
+    shear[1] += vtr2 * dt;
+    shear[2] += vtr3 * dt;
+    const double rsht = shear[0] * enx + shear[1] * eny + shear[2] * enz;
+    shear[0] -= rsht * enx;
+    shear[1] -= rsht * eny;
+    shear[2] -= rsht * enz;
+  }
+  const double shrmag = std::sqrt(shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]);
+  double ft1 = -(kt * shear[0]), ft2 = -(kt * shear[1]), ft3 = -(kt * shear[2]);
+  const double ft_shear = kt * shrmag;
+  const double ft_friction = p_.friction[tp] * std::fabs(fn);
+  if (ft_shear > ft_friction) {
+    if (shrmag != 0.0) {
+      const double ratio = ft_friction / ft_shear;
+      ft1 *= ratio;
+      ft2 *= ratio;
+      ft3 *= ratio;
+      if (update_history) {
+        shear[0] = -ft1 / kt;
+        shear[1] = -ft2 / kt;
+        shear[2] = -ft3 / kt;
+      }
+    } else {
+      ft1 = ft2 = ft3 = 0.0;
+    }
+  } else {
+    ft1 -= gammat * vtr1;
+    ft2 -= gammat * vtr2;
+    ft3 -= gammat * vtr3;
+  }
+  const double tor1 = eny * ft3 - enz * ft2;
+  const double tor2 = enz * ft1 - enx * ft3;
+  const double tor3 = enx * ft2 - eny * ft1;
+  dfi[0] += ft1;
+  dfi[1] += ft2;
+  dfi[2] += ft3;
+  dfj[0] += -ft1;
+  dfj[1] += -ft2;
+  dfj[2] += -ft3;
+  double* fi = &f_[3 * i];
+  double* fj = &f_[3 * j];
+  double* ti = &t_[3 * i];
+  double* tj = &t_[3 * j];
+  fi[0] += dfi[0];
+  fi[1] += dfi[1];
+  fi[2] += dfi[2];
+  ti[0] += 0.0 + -cri * tor1;
+  ti[1] += 0.0 + -cri * tor2;
+  ti[2] += 0.0 + -cri * tor3;
+  fj[0] += dfj[0];
+  fj[1] += dfj[1];
+  fj[2] += dfj[2];
+  tj[0] += 0.0 + -crj * tor1;
+  tj[1] += 0.0 + -crj * tor2;
+  tj[2] += 0.0 + -crj * tor3;
+}
+
+void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
+  const Wall& wall = p_.walls[wi];
+  const int a = wall.axis;
+  const double radi = radius_[i];
+  const double pos = x_[3 * i + a];
+  double* shear = &wall_history_[3 * (wi * n_ + i)];
+  // Vector from the centre to the plane, and the gap (primitive_wall_definitions.h).
+  double delta[3] = {0., 0., 0.};
+  delta[a] = wall.position - pos;
+  const double gap = pos > wall.position ? pos - wall.position - radi : wall.position - pos - radi;
+  if (!(gap <= 0.0)) {  // not touching: a wall's history never survives a separation
+    shear[0] = shear[1] = shear[2] = 0.0;
+    return;
+  }
+  const double overlap_in = -gap;
+  const double dx = -delta[0], dy = -delta[1], dz = -delta[2];  // from the wall to the centre
+  const double r = radi - overlap_in;
+  const double rinv = 1.0 / r;
+  const double enx = dx * rinv, eny = dy * rinv, enz = dz * rinv;
+  const double meff = mass_[i];
+
+  const double* v = &v_[3 * i];
+  const double* w = &w_[3 * i];
+  const double vr1 = v[0] - 0.0, vr2 = v[1] - 0.0, vr3 = v[2] - 0.0;
+  const double vn = vr1 * enx + vr2 * eny + vr3 * enz;
+  const double vt1 = vr1 - vn * enx, vt2 = vr2 - vn * eny, vt3 = vr3 - vn * enz;
+  const double deltan = radi - r;
+  const double cr = radi - 0.5 * overlap_in;
+  const double wr1 = cr * w[0] * rinv, wr2 = cr * w[1] * rinv, wr3 = cr * w[2] * rinv;
+  const double vtr1 = vt1 - (dz * wr2 - dy * wr3);
+  const double vtr2 = vt2 - (dx * wr3 - dz * wr1);
+  const double vtr3 = vt3 - (dy * wr1 - dx * wr2);
+
+  const std::size_t tp = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
+                         static_cast<std::size_t>(wall.type - 1);
+  const double y = p_.y_star[tp], g = p_.g_star[tp], beta = p_.beta[tp];
+  const double sqrtval = std::sqrt(radi * deltan);
+  const double sn = 2. * y * sqrtval;
+  const double st = 8. * g * sqrtval;
+  const double kn = 4. / 3. * y * sqrtval;
+  const double kt = st;
+  const double gamman = -2. * kSqrtFiveOverSix * beta * std::sqrt(sn * meff);
+  const double gammat = p_.tangential_damping ? -2. * kSqrtFiveOverSix * beta * std::sqrt(st * meff) : 0.0;
+  const double fn = -gamman * vn + kn * deltan;
+  double df[3] = {0.0 + fn * 1. * enx, 0.0 + fn * 1. * eny, 0.0 + fn * 1. * enz};
+
+  if (update_history) {
+    const double dt = p_.dt;
+    shear[0] += vtr1 * dt;
+    shear[1] += vtr2 * dt;
+    shear[2] += vtr3 * dt;
+    const double rsht = shear[0] * enx + shear[1] * eny + shear[2] * enz;
+    shear[0] -= rsht * enx;
+    shear[1] -= rsht * eny;
+    shear[2] -= rsht * enz;
+  }
+  const double shrmag = std::sqrt(shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]);
+  double ft1 = -(kt * shear[0]), ft2 = -(kt * shear[1]), ft3 = -(kt * shear[2]);
+  const double ft_shear = kt * shrmag;
+  const double ft_friction = p_.friction[tp] * std::fabs(fn);
+  if (ft_shear > ft_friction) {
+    if (shrmag != 0.0) {
+      const double ratio = ft_friction / ft_shear;
+      ft1 *= ratio;
+      ft2 *= ratio;
+      ft3 *= ratio;
+      if (update_history) {
+        shear[0] = -ft1 / kt;
+        shear[1] = -ft2 / kt;
+        shear[2] = -ft3 / kt;
+      }
+    } else {
+      ft1 = ft2 = ft3 = 0.0;
+    }
+  } else {
+    ft1 -= gammat * vtr1;
+    ft2 -= gammat * vtr2;
+    ft3 -= gammat * vtr3;
+  }
+  const double tor1 = eny * ft3 - enz * ft2;
+  const double tor2 = enz * ft1 - enx * ft3;
+  const double tor3 = enx * ft2 - eny * ft1;
+  df[0] += ft1 * 1.;
+  df[1] += ft2 * 1.;
+  df[2] += ft3 * 1.;
+  double* f = &f_[3 * i];
+  double* t = &t_[3 * i];
+  f[0] += df[0];
+  f[1] += df[1];
+  f[2] += df[2];
+  t[0] += 0.0 + -cr * tor1 * 1.;
+  t[1] += 0.0 + -cr * tor2 * 1.;
+  t[2] += 0.0 + -cr * tor3 * 1.;
+}
+
+void System::compute_forces(bool update_history) {
+  std::fill(f_.begin(), f_.end(), 0.0);
+  std::fill(t_.begin(), t_.end(), 0.0);
+  for (std::size_t p = 0; p < pair_i_.size(); ++p) pair_force(p, update_history);
+  for (std::size_t w = 0; w < p_.walls.size(); ++w) {
+    for (std::size_t i = 0; i < n_; ++i) wall_force(i, w, update_history);
+  }
+  if (p_.gravity[0] != 0.0 || p_.gravity[1] != 0.0 || p_.gravity[2] != 0.0) {
+    for (std::size_t i = 0; i < n_; ++i) {
+      const double m = mass_[i] * 1.;
+      for (int d = 0; d < 3; ++d) f_[3 * i + d] += m * p_.gravity[d];
+    }
+  }
+}
+
+void System::setup() { compute_forces(false); }
+
+void System::step() {
+  const double dtf = 0.5 * p_.dt * 1.0;
+  const double dtv = p_.dt;
+  const double dtfrotate = dtf / kInertia;
+  for (std::size_t i = 0; i < n_; ++i) {
+    const double dtfm = dtf / (mass_[i] * 1.0);
+    const double dtirotate = dtfrotate / (radius_[i] * radius_[i] * mass_[i]);
+    for (int d = 0; d < 3; ++d) {
+      v_[3 * i + d] += dtfm * f_[3 * i + d];
+      x_[3 * i + d] += dtv * v_[3 * i + d];
+    }
+    for (int d = 0; d < 3; ++d) w_[3 * i + d] += dtirotate * t_[3 * i + d];
+  }
+  if (needs_rebuild()) build_pairs();
+  compute_forces(true);
+  for (std::size_t i = 0; i < n_; ++i) {
+    const double dtfm = dtf / (mass_[i] * 1.0);
+    const double dtirotate = dtfrotate / (radius_[i] * radius_[i] * mass_[i]);
+    for (int d = 0; d < 3; ++d) v_[3 * i + d] += dtfm * f_[3 * i + d];
+    for (int d = 0; d < 3; ++d) w_[3 * i + d] += dtirotate * t_[3 * i + d];
+  }
+  ++step_;
+}
+
+}  // namespace granstack::refsim
