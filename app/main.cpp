@@ -7,6 +7,7 @@
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/generator/spec_input.hpp>
 #include <granstack/model/version.hpp>
+#include <granstack/postproc/compare.hpp>
 #include <granstack/postproc/reduce.hpp>
 #include <granstack/runner/runner.hpp>
 
@@ -24,6 +25,7 @@ constexpr int kCaseFailed = 1;   // a run failed, or a case could not be reduced
 constexpr int kBadInput = 2;     // invalid spec, flag or value
 constexpr int kExists = 3;       // output exists and --force was not given
 constexpr int kBadFile = 4;      // an input file is missing, malformed or inconsistent
+constexpr int kDisagree = 5;     // validate: the engines differ by more than the tolerance
 
 using namespace granstack;
 
@@ -216,6 +218,48 @@ int do_reduce(const ReduceFlags& f) {
   return rc;
 }
 
+struct ValidateFlags {
+  std::vector<std::string> cases;
+  double tolerance = 1e-6;
+  int jobs = 1;
+  std::string liggghts = "liggghts";
+};
+
+// Runs LIGGGHTS and refsim on copies of each case (CASE/validate/liggghts, CASE/validate/refsim)
+// and compares them.
+int do_validate(const ValidateFlags& f) {
+  const auto dirs = formats::expand_case_dirs(f.cases);
+  std::vector<std::string> liggghts_dirs, refsim_dirs;
+  for (const auto& d : dirs) {
+    liggghts_dirs.push_back(d + "/validate/liggghts");
+    refsim_dirs.push_back(d + "/validate/refsim");
+    runner::clone_case_inputs(d, liggghts_dirs.back());
+    runner::clone_case_inputs(d, refsim_dirs.back());
+  }
+  runner::RunOptions o;
+  o.jobs = f.jobs;
+  o.force = true;
+  o.liggghts = f.liggghts;
+  int rc = kOk;
+  for (const auto engine : {runner::Engine::liggghts, runner::Engine::refsim}) {
+    o.engine = engine;
+    for (const auto& r : runner::run_cases(engine == runner::Engine::liggghts ? liggghts_dirs : refsim_dirs, o)) {
+      if (r.status == runner::RunStatus::failed) {
+        fmt::print(stderr, "FAILED   {}  {}\n", r.case_dir, r.message);
+        rc = kCaseFailed;
+      }
+    }
+  }
+  if (rc != kOk) return rc;
+  for (std::size_t i = 0; i < dirs.size(); ++i) {
+    const auto c = postproc::compare_runs(liggghts_dirs[i], refsim_dirs[i]);
+    fmt::print("{}{}\n", postproc::format_comparison(c, "liggghts", "refsim", f.tolerance),
+               c.worst() <= f.tolerance ? "agree" : "DISAGREE");
+    if (c.worst() > f.tolerance) rc = kDisagree;
+  }
+  return rc;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -242,6 +286,16 @@ int main(int argc, char** argv) {
   red_cmd->add_option("cases", red.cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
   red_cmd->add_flag("--json", red.json, "One JSON object per case per line");
 
+  ValidateFlags val;
+  auto* val_cmd = app.add_subcommand("validate", "Run LIGGGHTS and refsim on the same cases and compare them");
+  val_cmd->add_option("cases", val.cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
+  val_cmd->add_option("--tolerance", val.tolerance,
+                      "Largest accepted relative difference (per-block KE over time / peak, output fraction, "
+                      "positions / smallest radius, velocities / striker speed)")
+      ->check(CLI::PositiveNumber);
+  val_cmd->add_option("-j,--jobs", val.jobs, "Cases run at the same time")->check(CLI::Range(1, 256));
+  val_cmd->add_option("--liggghts", val.liggghts, "The LIGGGHTS executable");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -257,6 +311,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("generate")) return do_generate(*app.get_subcommand("generate"), gen, args);
     if (app.got_subcommand("run")) return do_run(run);
     if (app.got_subcommand("reduce")) return do_reduce(red);
+    if (app.got_subcommand("validate")) return do_validate(val);
   } catch (const model::SpecError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kBadInput;

@@ -45,6 +45,15 @@ std::optional<std::string> find_program(const std::string& program) {
   return std::nullopt;
 }
 
+void clone_case_inputs(const std::string& case_dir, const std::string& target) {
+  const auto m = formats::read_manifest(case_dir);
+  fs::remove_all(target);
+  fs::create_directories(fs::path(target) / fs::path(m.files.dump).parent_path());
+  for (const auto& f : {std::string("manifest.json"), m.files.data, m.files.deck}) {
+    fs::copy_file(fs::path(case_dir) / f, fs::path(target) / f);
+  }
+}
+
 std::string recorded_status(const std::string& case_dir) {
   std::ifstream in(fs::path(case_dir) / "run.json");
   if (!in) return "";

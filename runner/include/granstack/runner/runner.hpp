@@ -55,6 +55,10 @@ std::vector<RunOutcome> run_cases(const std::vector<std::string>& case_dirs, con
 // The status recorded in CASE/run.json: "done", "failed", "running" (interrupted), or "" when never run.
 std::string recorded_status(const std::string& case_dir);
 
+// Copies the inputs of a case (manifest, data file, deck) into a new directory `target`
+// (replaced if it exists), so the same case can be run again elsewhere, e.g. by the other engine.
+void clone_case_inputs(const std::string& case_dir, const std::string& target);
+
 // The directory of PATH that holds `program`, or nullopt.
 std::optional<std::string> find_program(const std::string& program);
 
