@@ -19,23 +19,44 @@ namespace granstack::refsim {
 
 namespace fs = std::filesystem;
 
+namespace {
+// The property tables of types made of `materials`, with restitution and friction per type pair.
+template <typename Restitution, typename Friction>
+Parameters tables(const std::vector<model::Material>& materials, Restitution&& restitution, Friction&& friction) {
+  Parameters p;
+  p.types = static_cast<int>(materials.size());
+  for (const auto& a : materials) {
+    for (const auto& b : materials) {
+      p.y_star.push_back(model::effective_youngs_modulus(a, b));
+      p.g_star.push_back(model::effective_shear_modulus(a, b));
+      p.beta.push_back(model::restitution_beta(restitution(a, b)));
+      p.friction.push_back(friction(a, b));
+    }
+  }
+  return p;
+}
+}  // namespace
+
+Parameters uniform_parameters(const std::vector<model::Material>& materials, double restitution, double friction,
+                              double dt, double skin) {
+  auto p = tables(materials, [&](const auto&, const auto&) { return restitution; },
+                  [&](const auto&, const auto&) { return friction; });
+  p.dt = dt;
+  p.skin = skin;
+  return p;
+}
+
 Parameters case_parameters(const model::Stack& stack) {
   const auto& spec = stack.spec();
   const auto res = model::resolve(stack);
   const auto lib = spec.material_library();
-  const auto types = stack.type_materials();
-  Parameters p;
+  std::vector<model::Material> materials;
+  for (const auto& name : stack.type_materials()) materials.push_back(lib.at(name));
+  auto p = tables(
+      materials, [&](const model::Material& a, const model::Material& b) { return spec.restitution.get(a.name, b.name); },
+      [&](const model::Material& a, const model::Material& b) { return spec.friction.get(a.name, b.name); });
   p.dt = res.dt;
   p.skin = res.skin;
-  p.types = static_cast<int>(types.size());
-  for (const auto& a : types) {
-    for (const auto& b : types) {
-      p.y_star.push_back(model::effective_youngs_modulus(lib.at(a), lib.at(b)));
-      p.g_star.push_back(model::effective_shear_modulus(lib.at(a), lib.at(b)));
-      p.beta.push_back(model::restitution_beta(spec.restitution.get(a, b)));
-      p.friction.push_back(spec.friction.get(a, b));
-    }
-  }
   // The deck's walls, in its order: bottom, then left and right.
   if (spec.bottom == model::Boundary::wall) p.walls.push_back({2, 0.0, stack.wall_type()});
   if (spec.sides == model::Boundary::wall) {

@@ -9,6 +9,7 @@
 
 namespace granstack::model {
 class Stack;
+struct Material;
 }
 namespace granstack::formats {
 struct DataFile;
@@ -31,6 +32,11 @@ struct RunStats {
 // The parameters a case's deck gives LIGGGHTS: time step, skin, property tables per atom
 // type, walls and gravity.
 Parameters case_parameters(const model::Stack& stack);
+// Property tables for types 1..N made of `materials` (type k = materials[k - 1]), with one
+// restitution and one friction coefficient for every pair.
+Parameters uniform_parameters(const std::vector<model::Material>& materials, double restitution, double friction,
+                              double dt, double skin);
+
 // The particles of a data file, with LIGGGHTS's masses (4/3 pi r^3 rho, r = diameter / 2).
 std::vector<Particle> particles_from(const formats::DataFile& data);
 

@@ -1,0 +1,175 @@
+// refsim against the real LIGGGHTS on two-body cases (tests/data/twobody/cases.toml): the same
+// data file and settings, and every dumped value compared.
+#include <granstack/formats/data_file.hpp>
+#include <granstack/formats/dump.hpp>
+#include <granstack/formats/files.hpp>
+#include <granstack/generator/template.hpp>
+#include <granstack/model/contact.hpp>
+#include <granstack/model/material.hpp>
+#include <granstack/refsim/case_run.hpp>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <filesystem>
+
+using namespace granstack;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Bitwise agreement is achievable for two bodies (liggghts-3.8.md); 1e-12 is the bar.
+constexpr double kTwoBodyTolerance = 1e-12;
+
+const std::vector<std::string> kColumns{"id", "type", "radius", "mass", "x", "y", "z", "vx", "vy", "vz",
+                                        "omegax", "omegay", "omegaz", "fx", "fy", "fz", "tqx", "tqy", "tqz"};
+
+struct TwoBodyCase {
+  std::string name;
+  std::vector<model::Material> materials;
+  double restitution = 1.0, friction = 0.0, dt = 0.0;
+  long steps = 0, dump_every = 0;
+  std::vector<refsim::Particle> particles;
+  std::vector<refsim::Wall> walls;
+};
+
+std::vector<TwoBodyCase> load_cases() {
+  const auto root = toml::parse_file(GRANSTACK_TWOBODY_DIR "/cases.toml");
+  const auto lib = model::MaterialLibrary::builtin();
+  std::vector<TwoBodyCase> out;
+  for (const auto& node : *root["case"].as_array()) {
+    const auto& t = *node.as_table();
+    TwoBodyCase c;
+    c.name = t["name"].value_or(std::string());
+    for (const auto& m : *t["materials"].as_array()) c.materials.push_back(lib.at(m.value_or(std::string())));
+    c.restitution = t["restitution"].value_or(1.0);
+    c.friction = t["friction"].value_or(0.0);
+    c.dt = t["dt"].value_or(0.0);
+    c.steps = t["steps"].value_or(0L);
+    c.dump_every = t["dump_every"].value_or(1L);
+    for (const auto& pn : *t["particles"].as_array()) {
+      const auto& a = *pn.as_array();
+      auto num = [&](std::size_t k) { return a[k].value<double>().value(); };
+      refsim::Particle p;
+      p.type = static_cast<int>(num(0));
+      p.radius = num(1);
+      p.mass = model::sphere_mass(p.radius, c.materials.at(static_cast<std::size_t>(p.type - 1)).density);
+      p.x = {num(2), num(3), num(4)};
+      p.v = {num(5), num(6), num(7)};
+      p.omega = {num(8), num(9), num(10)};
+      c.particles.push_back(p);
+    }
+    if (const auto* walls = t["walls"].as_array()) {
+      for (const auto& wn : *walls) {
+        const auto& w = *wn.as_array();
+        const auto axis = w[0].value_or(std::string("z"));
+        c.walls.push_back({axis == "x" ? 0 : axis == "y" ? 1 : 2, w[1].value<double>().value(),
+                           static_cast<int>(w[2].value<double>().value())});
+      }
+    }
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+// Runs LIGGGHTS on the case in `dir` and returns its dump path.
+std::string run_liggghts(const TwoBodyCase& c, const fs::path& dir, double skin) {
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  formats::DataFile data;
+  data.title = "granstack two-body agreement case " + c.name;
+  data.atom_types = static_cast<int>(c.materials.size());
+  data.box = {-0.02, 0.02, -0.02, 0.02, -0.02, 0.02};
+  long id = 1;
+  for (const auto& p : c.particles) {
+    data.atoms.push_back({id++, p.type, 2.0 * p.radius,
+                          c.materials[static_cast<std::size_t>(p.type - 1)].density, p.x[0], p.x[1], p.x[2], p.v[0],
+                          p.v[1], p.v[2], p.omega[0], p.omega[1], p.omega[2]});
+  }
+  formats::write_file_atomically(dir / "data.twobody", formats::format_data_file(data));
+  generator::TemplateVars vars;
+  std::string youngs, poisson, e, mu, walls, format;
+  for (const auto& m : c.materials) {
+    youngs += fmt::format(" {}", m.youngs_modulus);
+    poisson += fmt::format(" {}", m.poisson_ratio);
+    for (std::size_t k = 0; k < c.materials.size(); ++k) {
+      e += fmt::format(" {}", c.restitution);
+      mu += fmt::format(" {}", c.friction);
+    }
+  }
+  int n = 0;
+  for (const auto& w : c.walls) {
+    walls += fmt::format("fix w{} all wall/gran model hertz tangential history primitive type {} {}plane {}\n", n++,
+                         w.type, "xyz"[w.axis], w.position);
+  }
+  for (const auto& col : kColumns) {
+    if (!format.empty()) format += ' ';
+    format += col == "id" || col == "type" ? "%d" : "%.17g";
+  }
+  vars = {{"name", c.name}, {"skin", fmt::format("{}", skin)}, {"youngs", youngs}, {"poisson", poisson},
+          {"types", std::to_string(c.materials.size())}, {"restitution", e}, {"friction", mu}, {"walls", walls},
+          {"dt", fmt::format("{}", c.dt)}, {"dump_every", std::to_string(c.dump_every)},
+          {"columns", fmt::format("{}", fmt::join(kColumns, " "))}, {"format", format},
+          {"steps", std::to_string(c.steps)}};
+  const auto deck = generator::render_template(formats::read_file(GRANSTACK_TWOBODY_DIR "/in.twobody.tmpl"), vars,
+                                               "in.twobody.tmpl");
+  formats::write_file_atomically(dir / "in.twobody", deck);
+  const auto cmd = fmt::format("cd '{}' && liggghts -in in.twobody -log log.liggghts > screen.txt 2>&1", dir.string());
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << formats::read_file(dir / "screen.txt");
+  return (dir / "dump.txt").string();
+}
+
+void PrintTo(const TwoBodyCase& c, std::ostream* os) { *os << c.name; }
+
+class TwoBody : public ::testing::TestWithParam<TwoBodyCase> {};
+
+TEST_P(TwoBody, RefsimReproducesLiggghtsDumps) {
+  const auto& c = GetParam();
+  const double skin = 2e-4;
+  const auto dump = run_liggghts(c, fs::path(GRANSTACK_TEST_WORKDIR) / ("twobody_" + c.name), skin);
+
+  auto params = refsim::uniform_parameters(c.materials, c.restitution, c.friction, c.dt, skin);
+  params.walls = c.walls;
+  refsim::System sys(c.particles, params);
+  sys.setup();
+  formats::TextDumpReader reader(dump);
+  formats::DumpFrame f;
+  long frames = 0, exact = 0;
+  double worst = 0.0;
+  bool touched = false;
+  while (reader.next(f)) {
+    while (sys.step_count() < f.step) sys.step();
+    ASSERT_EQ(sys.step_count(), f.step);
+    bool frame_exact = true;
+    for (std::size_t col = 4; col < kColumns.size(); ++col) {
+      const int k = f.column(kColumns[col]);
+      ASSERT_GE(k, 0);
+      double scale = 0.0;
+      for (long a = 0; a < f.atoms; ++a) scale = std::max(scale, std::fabs(f.at(a, k)));
+      for (long a = 0; a < f.atoms; ++a) {
+        const std::size_t i = static_cast<std::size_t>(a);
+        const std::size_t d = (col - 4) % 3;
+        const double mine = col < 7 ? sys.x(i)[d] : col < 10 ? sys.v(i)[d] : col < 13 ? sys.omega(i)[d]
+                          : col < 16 ? sys.force(i)[d] : sys.torque(i)[d];
+        const double theirs = f.at(a, k);
+        if (mine != theirs) frame_exact = false;
+        if (scale > 0) worst = std::max(worst, std::fabs(mine - theirs) / scale);
+        if (col >= 13 && col < 16 && theirs != 0.0) touched = true;  // a contact force
+      }
+    }
+    exact += frame_exact ? 1 : 0;
+    ++frames;
+  }
+  EXPECT_TRUE(touched) << "no contact force in any frame: the case tests nothing";
+  EXPECT_EQ(frames, c.steps / c.dump_every + 1);
+  EXPECT_LE(worst, kTwoBodyTolerance) << exact << " of " << frames << " frames bit for bit";
+  RecordProperty("frames_bit_for_bit", std::to_string(exact) + "/" + std::to_string(frames));
+  std::printf("%s: %ld of %ld frames bit for bit, worst relative difference %.3g\n", c.name.c_str(), exact, frames, worst);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, TwoBody, ::testing::ValuesIn(load_cases()),
+                         [](const auto& param_info) { return param_info.param.name; });
+
+}  // namespace
