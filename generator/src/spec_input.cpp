@@ -319,6 +319,11 @@ Sweep build_sweep(const RawSpec& raw) {
     }
   }
   if (!issues.empty()) throw SpecError(std::move(issues));
+  // Case names list the swept fields in the documented order (blocks first, then e, mu, ...).
+  auto rank = [](const SweepAxis& a) {
+    return std::find(spec_fields().begin(), spec_fields().end(), a.field) - spec_fields().begin();
+  };
+  std::sort(sweep.axes.begin(), sweep.axes.end(), [&](const auto& a, const auto& b) { return rank(a) < rank(b); });
   // Checks that do not depend on the swept values are reported once, here.
   if (sweep.axes.empty()) model::require_valid(s);
   return sweep;
