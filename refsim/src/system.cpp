@@ -38,6 +38,16 @@ System::System(std::vector<Particle> particles, Parameters params) : n_(particle
     }
   }
   wall_history_.assign(3 * n_ * p_.walls.size(), 0.0);
+  const double dtf = 0.5 * p_.dt * 1.0;
+  const double dtfrotate = dtf / kInertia;
+  for (std::size_t i = 0; i < n_; ++i) {
+    kick_.push_back(dtf / (mass_[i] * 1.0));
+    spin_kick_.push_back(dtfrotate / (radius_[i] * radius_[i] * mass_[i]));
+  }
+  for (std::size_t k = 0; k < tt; ++k) {
+    type_constants_.push_back({4. / 3. * p_.y_star[k], 2. * p_.y_star[k], 8. * p_.g_star[k], -2. * kSqrtFiveOverSix * p_.beta[k],
+                               p_.friction[k], p_.beta[k] != 0.0});
+  }
   build_pairs();
 }
 
@@ -51,6 +61,9 @@ void System::build_pairs() {
   old_j.swap(pair_j_);
   old_history.swap(pair_history_);
   old_flag.swap(pair_flag_);
+  pair_reff_.clear();
+  pair_meff_.clear();
+  pair_constants_.clear();
   std::size_t old = 0;  // old pairs are sorted by (i, j): merge as we go
   const double cdf = p_.contact_distance_factor;
   for (std::size_t i = 0; i < n_; ++i) {
@@ -67,6 +80,10 @@ void System::build_pairs() {
       const bool had = old < old_i.size() && old_i[old] == i && old_j[old] == j;
       pair_i_.push_back(i);
       pair_j_.push_back(j);
+      pair_reff_.push_back(radius_[i] * radius_[j] / (radius_[i] + radius_[j]));
+      pair_meff_.push_back(mass_[i] * mass_[j] / (mass_[i] + mass_[j]));
+      pair_constants_.push_back(&type_constants_[static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
+                                                 static_cast<std::size_t>(type_[j] - 1)]);
       if (had && old_flag[old] && rsq < radsum * radsum) {
         pair_flag_.push_back(1);
         pair_history_.insert(pair_history_.end(), old_history.begin() + 3 * old, old_history.begin() + 3 * old + 3);
@@ -116,8 +133,7 @@ void System::pair_force(std::size_t p, bool update_history) {
   const double r = std::sqrt(rsq);
   const double rinv = 1.0 / r;
   const double enx = delx * rinv, eny = dely * rinv, enz = delz * rinv;
-  const double mi = mass_[i], mj = mass_[j];
-  const double meff = mi * mj / (mi + mj);
+  const double meff = pair_meff_[p];
 
   // Relative velocity at the contact point; lever arms shortened by half the overlap.
   const double* vi = &v_[3 * i];
@@ -137,18 +153,14 @@ void System::pair_force(std::size_t p, bool update_history) {
   const double vtr2 = vt2 - (delx * wr3 - delz * wr1);
   const double vtr3 = vt3 - (dely * wr1 - delx * wr2);
 
-  // Hertz normal force with restitution damping.
-  const std::size_t tp = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
-                         static_cast<std::size_t>(type_[j] - 1);
-  const double y = p_.y_star[tp], g = p_.g_star[tp], beta = p_.beta[tp];
-  const double reff = radi * radj / (radi + radj);
-  const double sqrtval = std::sqrt(reff * deltan);
-  const double sn = 2. * y * sqrtval;
-  const double st = 8. * g * sqrtval;
-  const double kn = 4. / 3. * y * sqrtval;
-  const double kt = st;
-  const double gamman = -2. * kSqrtFiveOverSix * beta * std::sqrt(sn * meff);
-  const double gammat = p_.tangential_damping ? -2. * kSqrtFiveOverSix * beta * std::sqrt(st * meff) : 0.0;
+  // Hertz normal force with restitution damping. With beta = 0 (e = 1) the damping
+  // coefficients are -0.0 whatever the square root, so it is not taken.
+  const PairConstants& k = *pair_constants_[p];
+  const double sqrtval = std::sqrt(pair_reff_[p] * deltan);
+  const double kt = k.st_factor * sqrtval;
+  const double kn = k.kn_factor * sqrtval;
+  const double gamman = k.damped ? k.damping_factor * std::sqrt(k.sn_factor * sqrtval * meff) : k.damping_factor;
+  const double gammat = !p_.tangential_damping ? 0.0 : k.damped ? k.damping_factor * std::sqrt(kt * meff) : k.damping_factor;
   const double fn = -gamman * vn + kn * deltan;
   // Contributions are summed onto zeroed accumulators, as LIGGGHTS's ForceData (0 + x turns a
   // -0 into +0, which a %.17g dump shows).
@@ -166,28 +178,36 @@ void System::pair_force(std::size_t p, bool update_history) {
     shear[1] -= rsht * eny;
     shear[2] -= rsht * enz;
   }
-  const double shrmag = std::sqrt(shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]);
+  const double shear_sq = shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2];
   double ft1 = -(kt * shear[0]), ft2 = -(kt * shear[1]), ft3 = -(kt * shear[2]);
-  const double ft_shear = kt * shrmag;
-  const double ft_friction = p_.friction[tp] * std::fabs(fn);
-  if (ft_shear > ft_friction) {
-    if (shrmag != 0.0) {
-      const double ratio = ft_friction / ft_shear;
-      ft1 *= ratio;
-      ft2 *= ratio;
-      ft3 *= ratio;
-      if (update_history) {
-        shear[0] = -ft1 / kt;
-        shear[1] = -ft2 / kt;
-        shear[2] = -ft3 / kt;
+  if (k.friction == 0.0 && kt > 0.0 && shear_sq > 0.0) {
+    // Frictionless: LIGGGHTS slides with ratio 0 / (kt |xi|), leaving a zero force and a zero
+    // history; the same without the square root and the four divisions (only signs of zero differ).
+    ft1 = ft2 = ft3 = 0.0;
+    if (update_history) shear[0] = shear[1] = shear[2] = 0.0;
+  } else {
+    const double shrmag = std::sqrt(shear_sq);
+    const double ft_shear = kt * shrmag;
+    const double ft_friction = k.friction * std::fabs(fn);
+    if (ft_shear > ft_friction) {
+      if (shrmag != 0.0) {
+        const double ratio = ft_friction / ft_shear;
+        ft1 *= ratio;
+        ft2 *= ratio;
+        ft3 *= ratio;
+        if (update_history) {
+          shear[0] = -ft1 / kt;
+          shear[1] = -ft2 / kt;
+          shear[2] = -ft3 / kt;
+        }
+      } else {
+        ft1 = ft2 = ft3 = 0.0;
       }
     } else {
-      ft1 = ft2 = ft3 = 0.0;
+      ft1 -= gammat * vtr1;
+      ft2 -= gammat * vtr2;
+      ft3 -= gammat * vtr3;
     }
-  } else {
-    ft1 -= gammat * vtr1;
-    ft2 -= gammat * vtr2;
-    ft3 -= gammat * vtr3;
   }
   const double tor1 = eny * ft3 - enz * ft2;
   const double tor2 = enz * ft1 - enx * ft3;
@@ -329,12 +349,9 @@ void System::compute_forces(bool update_history) {
 void System::setup() { compute_forces(false); }
 
 void System::step() {
-  const double dtf = 0.5 * p_.dt * 1.0;
   const double dtv = p_.dt;
-  const double dtfrotate = dtf / kInertia;
   for (std::size_t i = 0; i < n_; ++i) {
-    const double dtfm = dtf / (mass_[i] * 1.0);
-    const double dtirotate = dtfrotate / (radius_[i] * radius_[i] * mass_[i]);
+    const double dtfm = kick_[i], dtirotate = spin_kick_[i];
     for (int d = 0; d < 3; ++d) {
       v_[3 * i + d] += dtfm * f_[3 * i + d];
       x_[3 * i + d] += dtv * v_[3 * i + d];
@@ -344,8 +361,7 @@ void System::step() {
   if (needs_rebuild()) build_pairs();
   compute_forces(true);
   for (std::size_t i = 0; i < n_; ++i) {
-    const double dtfm = dtf / (mass_[i] * 1.0);
-    const double dtirotate = dtfrotate / (radius_[i] * radius_[i] * mass_[i]);
+    const double dtfm = kick_[i], dtirotate = spin_kick_[i];
     for (int d = 0; d < 3; ++d) v_[3 * i + d] += dtfm * f_[3 * i + d];
     for (int d = 0; d < 3; ++d) w_[3 * i + d] += dtirotate * t_[3 * i + d];
   }

@@ -69,11 +69,24 @@ class System {
   Parameters p_;
   std::vector<int> type_;
   std::vector<double> radius_, mass_;
+  std::vector<double> kick_, spin_kick_;  // dtf / m and dtfrotate / (r^2 m), as fix nve/sphere forms them
   // Structure of arrays, xyz interleaved per particle (the access pattern of the pair loop).
   std::vector<double> x_, v_, w_, f_, t_, x_at_build_;
 
-  // Candidate pairs (i < j), rebuilt when a particle has moved more than half the skin.
+  // Per type pair, the left-most factors of LIGGGHTS's expressions, evaluated once: the same
+  // doubles it computes in every contact (4./3.*Y, 2.*Y, 8.*G, -2.*sqrt(5/6)*beta), so hoisting
+  // them changes no bit.
+  struct PairConstants {
+    double kn_factor, sn_factor, st_factor, damping_factor, friction;
+    bool damped;
+  };
+  std::vector<PairConstants> type_constants_;
+
+  // Candidate pairs (i < j), rebuilt when a particle has moved more than half the skin, with
+  // what does not change between rebuilds.
   std::vector<std::size_t> pair_i_, pair_j_;
+  std::vector<double> pair_reff_, pair_meff_;
+  std::vector<const PairConstants*> pair_constants_;
   std::vector<double> pair_history_;    // 3 per pair: the tangential displacement
   std::vector<unsigned char> pair_flag_; // touching at its last evaluation (kept across rebuilds)
   std::vector<double> wall_history_;    // 3 per particle and wall
