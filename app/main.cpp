@@ -125,6 +125,7 @@ struct RunFlags {
   std::string engine = "liggghts";
   int jobs = 1;
   int ranks = 1;
+  int threads = 1;
   bool force = false;
   std::string liggghts = "liggghts";
 };
@@ -134,6 +135,7 @@ int do_run(const RunFlags& f) {
   runner::RunOptions o;
   o.jobs = f.jobs;
   o.ranks = f.ranks;
+  o.threads = f.threads;
   o.force = f.force;
   o.liggghts = f.liggghts;
   o.engine = f.engine == "refsim" ? runner::Engine::refsim : runner::Engine::liggghts;
@@ -276,6 +278,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("cases", run.cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
   run_cmd->add_option("-j,--jobs", run.jobs, "Cases run at the same time")->check(CLI::Range(1, 256));
   run_cmd->add_option("--np", run.ranks, "MPI ranks per case (mpirun when > 1)")->check(CLI::Range(1, 4096));
+  run_cmd->add_option("--threads", run.threads, "Threads per case for --engine refsim (results do not depend on it)")
+      ->check(CLI::Range(1, 256));
   run_cmd->add_option("--liggghts", run.liggghts, "The LIGGGHTS executable");
   run_cmd->add_option("--engine", run.engine, "liggghts (the real DEM code) or refsim (the in-house reference integrator)")
       ->check(CLI::IsMember({"liggghts", "refsim"}));

@@ -3,7 +3,7 @@
 # the 4-block stack with 8 top columns (961 spheres), the automatic dt, 2e-4 s (3190 steps),
 # no dumps or series in the loop (one frame at each end). Runs the engines alternately REPEATS
 # times and reports the median particle-steps per second of each and their ratio, for
-# 1 LIGGGHTS rank against 1 refsim thread, and 2 ranks against 1 thread.
+# 1 LIGGGHTS rank against 1 refsim thread, and 2 ranks against 2 threads.
 # Usage: bench/refsim_vs_liggghts.sh [REPEATS]   (about a minute)
 set -euo pipefail
 repeats=${1:-7}
@@ -13,7 +13,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$gs" generate -o "$work/case" --blocks 4 --top-columns 8 --duration 2e-4 --dump-every 1000000000 \
   --series-every 1000000000 >/dev/null
-for engine in liggghts liggghts2 refsim; do cp -r "$work/case" "$work/$engine"; done
+for engine in liggghts liggghts2 refsim refsim2; do cp -r "$work/case" "$work/$engine"; done
 rate() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['particle_steps_per_second'])" "$1/run.json"; }
 declare -A rates
 for ((k = 1; k <= repeats; k++)); do
@@ -23,14 +23,16 @@ for ((k = 1; k <= repeats; k++)); do
   rates[refsim]+="$(rate "$work/refsim") "
   "$gs" run --force --np 2 "$work/liggghts2" >/dev/null
   rates[liggghts2]+="$(rate "$work/liggghts2") "
+  "$gs" run --force --engine refsim --threads 2 "$work/refsim2" >/dev/null
+  rates[refsim2]+="$(rate "$work/refsim2") "
 done
-python3 - "${rates[liggghts]}" "${rates[refsim]}" "${rates[liggghts2]}" <<'PY'
+python3 - "${rates[liggghts]}" "${rates[refsim]}" "${rates[liggghts2]}" "${rates[refsim2]}" <<'PY'
 import statistics, sys
-l1, r1, l2 = ([float(x) for x in a.split()] for a in sys.argv[1:4])
+l1, r1, l2, r2 = ([float(x) for x in a.split()] for a in sys.argv[1:5])
 m = lambda xs: statistics.median(xs)
 print(f"961 spheres, 3190 steps, {len(l1)} alternating runs each (median; min..max)")
-for name, xs in (("LIGGGHTS, 1 rank", l1), ("LIGGGHTS, 2 ranks", l2), ("refsim, 1 thread", r1)):
+for name, xs in (("LIGGGHTS, 1 rank", l1), ("LIGGGHTS, 2 ranks", l2), ("refsim, 1 thread", r1), ("refsim, 2 threads", r2)):
     print(f"  {name:18s} {m(xs):.3e} particle-steps/s  ({min(xs):.3e}..{max(xs):.3e})")
 print(f"ratio refsim 1 thread / LIGGGHTS 1 rank:  {m(r1) / m(l1):.2f}")
-print(f"ratio refsim 1 thread / LIGGGHTS 2 ranks: {m(r1) / m(l2):.2f}")
+print(f"ratio refsim 2 threads / LIGGGHTS 2 ranks: {m(r2) / m(l2):.2f}")
 PY

@@ -189,7 +189,9 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   const auto stack = model::Stack::build(manifest.spec);
   const auto res = model::resolve(stack);
   const auto data = formats::parse_data_file((dir / manifest.files.data).string());
-  System system(particles_from(data), case_parameters(stack));
+  auto params = case_parameters(stack);
+  params.threads = options.threads;
+  System system(particles_from(data), params);
 
   fs::create_directories((dir / manifest.files.dump).parent_path());
   formats::DumpWriter dump((dir / manifest.files.dump).string(), manifest.spec.dump_format == model::DumpFormat::binary);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <thread>
 
 namespace granstack::refsim {
 
@@ -49,6 +50,52 @@ System::System(std::vector<Particle> particles, Parameters params) : n_(particle
                                p_.friction[k], p_.beta[k] != 0.0});
   }
   build_pairs();
+  threads_ = std::max(1, p_.threads);
+  for (int t = 1; t < threads_; ++t) workers_.emplace_back([this, t] { worker(t); });
+}
+
+System::~System() {
+  stop_ = true;
+  generation_.fetch_add(1, std::memory_order_release);
+  for (auto& w : workers_) w.join();
+}
+
+namespace {
+void relax_cpu(long spins) {
+  if (spins < 2000) {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+  } else {
+    std::this_thread::yield();  // oversubscribed: let the other work run
+  }
+}
+}  // namespace
+
+void System::worker(int index) {
+  long seen = 0;
+  for (;;) {
+    long g, spins = 0;
+    while ((g = generation_.load(std::memory_order_acquire)) == seen) relax_cpu(spins++);
+    seen = g;
+    if (stop_) return;
+    job_(index);
+    finished_.fetch_add(1, std::memory_order_release);
+  }
+}
+
+void System::parallel(const std::function<void(int)>& job) {
+  job_ = job;
+  finished_.store(0, std::memory_order_relaxed);
+  generation_.fetch_add(1, std::memory_order_release);
+  job(0);
+  long spins = 0;
+  while (finished_.load(std::memory_order_acquire) < threads_ - 1) relax_cpu(spins++);
+}
+
+std::pair<std::size_t, std::size_t> System::share(std::size_t count, int index) const {
+  const std::size_t t = static_cast<std::size_t>(threads_), k = static_cast<std::size_t>(index);
+  return {count * k / t, count * (k + 1) / t};
 }
 
 void System::build_pairs() {
@@ -93,6 +140,19 @@ void System::build_pairs() {
       }
     }
   }
+  atom_pair_offsets_.assign(n_ + 1, 0);
+  for (std::size_t q = 0; q < pair_i_.size(); ++q) {
+    ++atom_pair_offsets_[pair_i_[q] + 1];
+    ++atom_pair_offsets_[pair_j_[q] + 1];
+  }
+  for (std::size_t i = 0; i < n_; ++i) atom_pair_offsets_[i + 1] += atom_pair_offsets_[i];
+  atom_pairs_.resize(2 * pair_i_.size());
+  std::vector<std::size_t> fill(atom_pair_offsets_.begin(), atom_pair_offsets_.end() - 1);
+  for (std::size_t q = 0; q < pair_i_.size(); ++q) {
+    atom_pairs_[fill[pair_i_[q]]++] = 2 * q;
+    atom_pairs_[fill[pair_j_[q]]++] = 2 * q + 1;
+  }
+  contributions_.resize(pair_i_.size());
   x_at_build_ = x_;
   ++builds_;
 }
@@ -109,7 +169,8 @@ bool System::needs_rebuild() const {
   return false;
 }
 
-void System::pair_force(std::size_t p, bool update_history) {
+void System::pair_force(std::size_t p, bool update_history, Contribution& c) {
+  c.touching = false;
   const std::size_t i = pair_i_[p], j = pair_j_[p];
   const double* xi = &x_[3 * i];
   const double* xj = &x_[3 * j];
@@ -130,6 +191,7 @@ void System::pair_force(std::size_t p, bool update_history) {
     return;
   }
   pair_flag_[p] = 1;
+  c.touching = true;
   const double r = std::sqrt(rsq);
   const double rinv = 1.0 / r;
   const double enx = delx * rinv, eny = dely * rinv, enz = delz * rinv;
@@ -212,28 +274,18 @@ void System::pair_force(std::size_t p, bool update_history) {
   const double tor1 = eny * ft3 - enz * ft2;
   const double tor2 = enz * ft1 - enx * ft3;
   const double tor3 = enx * ft2 - eny * ft1;
-  dfi[0] += ft1;
-  dfi[1] += ft2;
-  dfi[2] += ft3;
-  dfj[0] += -ft1;
-  dfj[1] += -ft2;
-  dfj[2] += -ft3;
-  double* fi = &f_[3 * i];
-  double* fj = &f_[3 * j];
-  double* ti = &t_[3 * i];
-  double* tj = &t_[3 * j];
-  fi[0] += dfi[0];
-  fi[1] += dfi[1];
-  fi[2] += dfi[2];
-  ti[0] += 0.0 + -cri * tor1;
-  ti[1] += 0.0 + -cri * tor2;
-  ti[2] += 0.0 + -cri * tor3;
-  fj[0] += dfj[0];
-  fj[1] += dfj[1];
-  fj[2] += dfj[2];
-  tj[0] += 0.0 + -crj * tor1;
-  tj[1] += 0.0 + -crj * tor2;
-  tj[2] += 0.0 + -crj * tor3;
+  c.fi[0] = dfi[0] + ft1;
+  c.fi[1] = dfi[1] + ft2;
+  c.fi[2] = dfi[2] + ft3;
+  c.fj[0] = dfj[0] + -ft1;
+  c.fj[1] = dfj[1] + -ft2;
+  c.fj[2] = dfj[2] + -ft3;
+  c.ti[0] = 0.0 + -cri * tor1;
+  c.ti[1] = 0.0 + -cri * tor2;
+  c.ti[2] = 0.0 + -cri * tor3;
+  c.tj[0] = 0.0 + -crj * tor1;
+  c.tj[1] = 0.0 + -crj * tor2;
+  c.tj[2] = 0.0 + -crj * tor3;
 }
 
 void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
@@ -331,10 +383,37 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
   t[2] += 0.0 + -cr * tor3 * 1.;
 }
 
+void System::external_forces(std::size_t i, bool update_history) {
+  for (std::size_t w = 0; w < p_.walls.size(); ++w) wall_force(i, w, update_history);
+  if (p_.gravity[0] != 0.0 || p_.gravity[1] != 0.0 || p_.gravity[2] != 0.0) {
+    const double m = mass_[i] * 1.;
+    for (int d = 0; d < 3; ++d) f_[3 * i + d] += m * p_.gravity[d];
+  }
+}
+
 void System::compute_forces(bool update_history) {
+  if (threads_ > 1) {
+    threaded_forces(update_history);
+    return;
+  }
   std::fill(f_.begin(), f_.end(), 0.0);
   std::fill(t_.begin(), t_.end(), 0.0);
-  for (std::size_t p = 0; p < pair_i_.size(); ++p) pair_force(p, update_history);
+  Contribution c;
+  for (std::size_t p = 0; p < pair_i_.size(); ++p) {
+    pair_force(p, update_history, c);
+    if (!c.touching) continue;
+    double* fi = &f_[3 * pair_i_[p]];
+    double* fj = &f_[3 * pair_j_[p]];
+    double* ti = &t_[3 * pair_i_[p]];
+    double* tj = &t_[3 * pair_j_[p]];
+    for (int d = 0; d < 3; ++d) {
+      fi[d] += c.fi[d];
+      ti[d] += c.ti[d];
+      fj[d] += c.fj[d];
+      tj[d] += c.tj[d];
+    }
+  }
+  // Walls, then gravity: the post_force fixes after the pair style.
   for (std::size_t w = 0; w < p_.walls.size(); ++w) {
     for (std::size_t i = 0; i < n_; ++i) wall_force(i, w, update_history);
   }
@@ -346,11 +425,38 @@ void System::compute_forces(bool update_history) {
   }
 }
 
+// Contacts in parallel into their own slots, then each particle's slots added in pair order by
+// the thread that owns the particle: the same sums, in the same order, as one thread.
+void System::threaded_forces(bool update_history) {
+  parallel([&](int t) {
+    const auto [begin, end] = share(pair_i_.size(), t);
+    for (std::size_t p = begin; p < end; ++p) pair_force(p, update_history, contributions_[p]);
+  });
+  parallel([&](int t) {
+    const auto [begin, end] = share(n_, t);
+    for (std::size_t i = begin; i < end; ++i) {
+      double* f = &f_[3 * i];
+      double* tq = &t_[3 * i];
+      f[0] = f[1] = f[2] = tq[0] = tq[1] = tq[2] = 0.0;
+      for (std::size_t k = atom_pair_offsets_[i]; k < atom_pair_offsets_[i + 1]; ++k) {
+        const auto& c = contributions_[atom_pairs_[k] / 2];
+        if (!c.touching) continue;
+        const bool side_j = atom_pairs_[k] % 2 == 1;
+        for (int d = 0; d < 3; ++d) {
+          f[d] += side_j ? c.fj[d] : c.fi[d];
+          tq[d] += side_j ? c.tj[d] : c.ti[d];
+        }
+      }
+      external_forces(i, update_history);
+    }
+  });
+}
+
 void System::setup() { compute_forces(false); }
 
-void System::step() {
+void System::first_half(std::size_t begin, std::size_t end) {
   const double dtv = p_.dt;
-  for (std::size_t i = 0; i < n_; ++i) {
+  for (std::size_t i = begin; i < end; ++i) {
     const double dtfm = kick_[i], dtirotate = spin_kick_[i];
     for (int d = 0; d < 3; ++d) {
       v_[3 * i + d] += dtfm * f_[3 * i + d];
@@ -358,12 +464,34 @@ void System::step() {
     }
     for (int d = 0; d < 3; ++d) w_[3 * i + d] += dtirotate * t_[3 * i + d];
   }
-  if (needs_rebuild()) build_pairs();
-  compute_forces(true);
-  for (std::size_t i = 0; i < n_; ++i) {
+}
+
+void System::second_half(std::size_t begin, std::size_t end) {
+  for (std::size_t i = begin; i < end; ++i) {
     const double dtfm = kick_[i], dtirotate = spin_kick_[i];
     for (int d = 0; d < 3; ++d) v_[3 * i + d] += dtfm * f_[3 * i + d];
     for (int d = 0; d < 3; ++d) w_[3 * i + d] += dtirotate * t_[3 * i + d];
+  }
+}
+
+void System::step() {
+  if (threads_ > 1) {
+    parallel([&](int t) {
+      const auto [begin, end] = share(n_, t);
+      first_half(begin, end);
+    });
+  } else {
+    first_half(0, n_);
+  }
+  if (needs_rebuild()) build_pairs();
+  compute_forces(true);
+  if (threads_ > 1) {
+    parallel([&](int t) {
+      const auto [begin, end] = share(n_, t);
+      second_half(begin, end);
+    });
+  } else {
+    second_half(0, n_);
   }
   ++step_;
 }

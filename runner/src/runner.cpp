@@ -169,7 +169,7 @@ class Tail {
 // What one engine run produced: an error message (empty on success) and the figures for run.json.
 struct EngineResult {
   std::string error;
-  nlohmann::json record;
+  nlohmann::json record = nlohmann::json::object();
   double loop_seconds = 0.0;
   double particle_steps_per_second = 0.0;
 };
@@ -259,17 +259,18 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
   return result;
 }
 
-EngineResult run_refsim(const fs::path& dir, const std::function<void(long)>& on_step) {
+EngineResult run_refsim(const fs::path& dir, int threads, const std::function<void(long)>& on_step) {
   EngineResult result;
   try {
     refsim::RunOptions ro;
+    ro.threads = threads;
     ro.on_progress = [&](long step, long) { on_step(step); };
     const auto stats = refsim::run_case(dir.string(), ro);
     result.loop_seconds = stats.loop_seconds;
     result.particle_steps_per_second = stats.particle_steps_per_second;
     result.record["steps"] = stats.steps;
     result.record["atoms"] = stats.atoms;
-    result.record["threads"] = 1;
+    result.record["threads"] = threads;
     result.record["neighbor_builds"] = stats.neighbor_builds;
   } catch (const std::exception& e) {
     result.error = std::string("refsim: ") + e.what();
@@ -310,7 +311,7 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
   const auto slot = monitor.start(manifest.case_name, manifest.derived.value("steps", 0L));
   const auto on_step = [&](long step) { monitor.update(slot, step); };
   const auto t0 = Clock::now();
-  auto result = refsim_engine ? run_refsim(dir, on_step) : run_liggghts(dir, manifest, o, on_step);
+  auto result = refsim_engine ? run_refsim(dir, o.threads, on_step) : run_liggghts(dir, manifest, o, on_step);
   outcome.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   monitor.finish(slot);
 
@@ -339,7 +340,15 @@ std::vector<RunOutcome> run_cases(const std::vector<std::string>& case_dirs, con
   std::atomic<std::size_t> next{0};
   std::atomic<bool> all_done{false};
   auto worker = [&] {
-    for (std::size_t i = next++; i < case_dirs.size(); i = next++) outcomes[i] = run_one(case_dirs[i], options, monitor);
+    for (std::size_t i = next++; i < case_dirs.size(); i = next++) {
+      try {
+        outcomes[i] = run_one(case_dirs[i], options, monitor);
+      } catch (const std::exception& e) {  // e.g. a disk error: this case fails, the others go on
+        outcomes[i].case_dir = case_dirs[i];
+        outcomes[i].status = RunStatus::failed;
+        outcomes[i].message = e.what();
+      }
+    }
   };
   std::thread reporter;
   if (options.on_progress) {

@@ -268,3 +268,38 @@ TEST(Chain, SolitaryWaveSpeedAndWidthFollowNesterenko) {
 }
 
 }  // namespace
+
+namespace {
+
+// Threads change who computes what, never the order of any sum: two threads give one
+// thread's result to the bit (damped, frictional stack with a wall, so every path is taken).
+TEST(Threads, TwoThreadsGiveExactlyTheOneThreadResult) {
+  model::StackSpec spec;
+  spec.blocks = 3;
+  spec.top_columns = 4;
+  spec.restitution.value = 0.9;
+  spec.friction.value = 0.25;
+  spec.bottom = model::Boundary::wall;
+  const auto stack = model::Stack::build(spec);
+  const auto particles = refsim::particles_from(generator::data_file(stack, "threads"));
+  auto run = [&](int threads) {
+    auto params = refsim::case_parameters(stack);
+    params.threads = threads;
+    auto s = std::make_unique<System>(particles, params);
+    s->setup();
+    for (int k = 0; k < 3000; ++k) s->step();
+    return s;
+  };
+  const auto one = run(1);
+  const auto two = run(2);
+  EXPECT_GT(one->neighbor_builds(), 0);
+  for (std::size_t i = 0; i < one->size(); ++i) {
+    EXPECT_EQ(one->x(i), two->x(i)) << i;
+    EXPECT_EQ(one->v(i), two->v(i)) << i;
+    EXPECT_EQ(one->omega(i), two->omega(i)) << i;
+    EXPECT_EQ(one->force(i), two->force(i)) << i;
+  }
+  EXPECT_NE(one->v(stack.output_sphere_id() - 1), (refsim::Vec3{0, 0, 0}));  // the pulse got there
+}
+
+}  // namespace

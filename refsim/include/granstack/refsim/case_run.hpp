@@ -18,6 +18,7 @@ struct DataFile;
 namespace granstack::refsim {
 
 struct RunOptions {
+  int threads = 1;
   std::function<void(long step, long total)> on_progress;  // called every few hundred steps
 };
 

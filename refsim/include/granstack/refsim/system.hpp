@@ -3,6 +3,10 @@
 // integrated with nve/sphere velocity Verlet, following LIGGGHTS 3.8.0 operation by operation
 // (liggghts-3.8.md sections 1 to 3) so that two-body cases reproduce its dumps to round-off.
 #include <array>
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <thread>
 #include <vector>
 
 namespace granstack::refsim {
@@ -27,6 +31,9 @@ struct Parameters {
   std::vector<double> y_star, g_star, beta, friction;
   std::vector<Wall> walls;               // applied after the pair forces, in this order
   bool tangential_damping = true;
+  // Threads for the force and integration loops. Every per-particle sum keeps the pair order
+  // of one thread, so the result does not depend on the thread count, to the bit.
+  int threads = 1;
 };
 
 struct Particle {
@@ -39,6 +46,9 @@ struct Particle {
 class System {
  public:
   System(std::vector<Particle> particles, Parameters params);
+  ~System();
+  System(const System&) = delete;
+  System& operator=(const System&) = delete;
 
   // The force call at the start of a run: forces and torques without advancing the
   // tangential history (LIGGGHTS's setup, shearupdate = 0).
@@ -59,11 +69,26 @@ class System {
   long neighbor_builds() const { return builds_; }
 
  private:
+  // What one contact adds to its two particles, and whether it touches at all.
+  struct Contribution {
+    double fi[3], ti[3], fj[3], tj[3];
+    bool touching;
+  };
+
   void build_pairs();
   bool needs_rebuild() const;
   void compute_forces(bool update_history);
-  void pair_force(std::size_t p, bool update_history);
+  void pair_force(std::size_t p, bool update_history, Contribution& c);
   void wall_force(std::size_t i, std::size_t w, bool update_history);
+  void external_forces(std::size_t i, bool update_history);  // walls then gravity, in the deck's order
+  void first_half(std::size_t begin, std::size_t end);
+  void second_half(std::size_t begin, std::size_t end);
+
+  // Threads: workers wait for a job and run it on their share; the caller runs share 0.
+  void parallel(const std::function<void(int)>& job);
+  void worker(int index);
+  std::pair<std::size_t, std::size_t> share(std::size_t count, int index) const;
+  void threaded_forces(bool update_history);
 
   std::size_t n_ = 0;
   Parameters p_;
@@ -93,6 +118,16 @@ class System {
 
   long step_ = 0;
   long builds_ = 0;
+
+  int threads_ = 1;
+  std::vector<std::thread> workers_;
+  std::function<void(int)> job_;
+  std::atomic<long> generation_{0};
+  std::atomic<int> finished_{0};
+  std::atomic<bool> stop_{false};
+  std::vector<Contribution> contributions_;  // per pair, threaded runs only
+  // Per particle, the pairs it belongs to, in pair order (2 p for side i, 2 p + 1 for side j).
+  std::vector<std::size_t> atom_pair_offsets_, atom_pairs_;
 };
 
 }  // namespace granstack::refsim

@@ -30,6 +30,7 @@ struct RunOptions {
   Engine engine = Engine::liggghts;
   int jobs = 1;           // cases run at the same time
   int ranks = 1;          // MPI ranks per case (mpirun when > 1; LIGGGHTS only)
+  int threads = 1;        // threads per case (refsim only)
   bool force = false;     // rerun cases that finished
   std::string liggghts = "liggghts";
   std::string mpirun = "mpirun";
