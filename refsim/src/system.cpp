@@ -169,6 +169,70 @@ bool System::needs_rebuild() const {
   return false;
 }
 
+namespace {
+
+struct Normal {
+  double fn, kt, gammat;
+};
+
+// Hertz normal force with restitution damping, and the tangential stiffness and damping
+// (normal_model_hertz.h). With beta = 0 (e = 1) the damping coefficients are -0.0 whatever the
+// square root, so it is not taken.
+template <typename Constants>
+Normal hertz_normal(const Constants& k, double reff, double meff, double deltan, double vn, bool tangential_damping) {
+  const double sqrtval = std::sqrt(reff * deltan);
+  const double kt = k.st_factor * sqrtval;
+  const double kn = k.kn_factor * sqrtval;
+  const double gamman = k.damped ? k.damping_factor * std::sqrt(k.sn_factor * sqrtval * meff) : k.damping_factor;
+  const double gammat = !tangential_damping ? 0.0 : k.damped ? k.damping_factor * std::sqrt(kt * meff) : k.damping_factor;
+  return {-gamman * vn + kn * deltan, kt, gammat};
+}
+
+// The tangential history spring (tangential_model_history.h): increment by the sliding
+// velocity, project on the tangent plane, Coulomb-truncate (no damping while sliding).
+void tangential_history(double* shear, const double en[3], const double vtr[3], const Normal& n, double mu,
+                        bool update_history, double dt, double ft[3]) {
+  if (update_history) {
+    shear[0] += vtr[0] * dt;
+    shear[1] += vtr[1] * dt;
+    shear[2] += vtr[2] * dt;
+    const double rsht = shear[0] * en[0] + shear[1] * en[1] + shear[2] * en[2];
+    shear[0] -= rsht * en[0];
+    shear[1] -= rsht * en[1];
+    shear[2] -= rsht * en[2];
+  }
+  const double kt = n.kt;
+  const double shear_sq = shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2];
+  ft[0] = -(kt * shear[0]);
+  ft[1] = -(kt * shear[1]);
+  ft[2] = -(kt * shear[2]);
+  if (mu == 0.0 && kt > 0.0 && shear_sq > 0.0) {
+    // Frictionless: LIGGGHTS slides with ratio 0 / (kt |xi|), leaving a zero force and a zero
+    // history; the same without the square root and the four divisions (only signs of zero differ).
+    ft[0] = ft[1] = ft[2] = 0.0;
+    if (update_history) shear[0] = shear[1] = shear[2] = 0.0;
+    return;
+  }
+  const double shrmag = std::sqrt(shear_sq);
+  const double ft_shear = kt * shrmag;
+  const double ft_friction = mu * std::fabs(n.fn);
+  if (ft_shear > ft_friction) {
+    if (shrmag != 0.0) {
+      const double ratio = ft_friction / ft_shear;
+      for (int d = 0; d < 3; ++d) ft[d] *= ratio;
+      if (update_history) {
+        for (int d = 0; d < 3; ++d) shear[d] = -ft[d] / kt;
+      }
+    } else {
+      ft[0] = ft[1] = ft[2] = 0.0;
+    }
+  } else {
+    for (int d = 0; d < 3; ++d) ft[d] -= n.gammat * vtr[d];
+  }
+}
+
+}  // namespace
+
 void System::pair_force(std::size_t p, bool update_history, Contribution& c) {
   c.touching = false;
   const std::size_t i = pair_i_[p], j = pair_j_[p];
@@ -215,62 +279,18 @@ void System::pair_force(std::size_t p, bool update_history, Contribution& c) {
   const double vtr2 = vt2 - (delx * wr3 - delz * wr1);
   const double vtr3 = vt3 - (dely * wr1 - delx * wr2);
 
-  // Hertz normal force with restitution damping. With beta = 0 (e = 1) the damping
-  // coefficients are -0.0 whatever the square root, so it is not taken.
   const PairConstants& k = *pair_constants_[p];
-  const double sqrtval = std::sqrt(pair_reff_[p] * deltan);
-  const double kt = k.st_factor * sqrtval;
-  const double kn = k.kn_factor * sqrtval;
-  const double gamman = k.damped ? k.damping_factor * std::sqrt(k.sn_factor * sqrtval * meff) : k.damping_factor;
-  const double gammat = !p_.tangential_damping ? 0.0 : k.damped ? k.damping_factor * std::sqrt(kt * meff) : k.damping_factor;
-  const double fn = -gamman * vn + kn * deltan;
+  const Normal n = hertz_normal(k, pair_reff_[p], meff, deltan, vn, p_.tangential_damping);
+  const double fn = n.fn;
   // Contributions are summed onto zeroed accumulators, as LIGGGHTS's ForceData (0 + x turns a
   // -0 into +0, which a %.17g dump shows).
   double dfi[3] = {0.0 + fn * enx, 0.0 + fn * eny, 0.0 + fn * enz};
   double dfj[3] = {0.0 + -dfi[0], 0.0 + -dfi[1], 0.0 + -dfi[2]};
-
-  // Tangential spring: increment, project on the tangent plane, Coulomb-truncate.
-  if (update_history) {
-    const double dt = p_.dt;
-    shear[0] += vtr1 * dt;
-    shear[1] += vtr2 * dt;
-    shear[2] += vtr3 * dt;
-    const double rsht = shear[0] * enx + shear[1] * eny + shear[2] * enz;
-    shear[0] -= rsht * enx;
-    shear[1] -= rsht * eny;
-    shear[2] -= rsht * enz;
-  }
-  const double shear_sq = shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2];
-  double ft1 = -(kt * shear[0]), ft2 = -(kt * shear[1]), ft3 = -(kt * shear[2]);
-  if (k.friction == 0.0 && kt > 0.0 && shear_sq > 0.0) {
-    // Frictionless: LIGGGHTS slides with ratio 0 / (kt |xi|), leaving a zero force and a zero
-    // history; the same without the square root and the four divisions (only signs of zero differ).
-    ft1 = ft2 = ft3 = 0.0;
-    if (update_history) shear[0] = shear[1] = shear[2] = 0.0;
-  } else {
-    const double shrmag = std::sqrt(shear_sq);
-    const double ft_shear = kt * shrmag;
-    const double ft_friction = k.friction * std::fabs(fn);
-    if (ft_shear > ft_friction) {
-      if (shrmag != 0.0) {
-        const double ratio = ft_friction / ft_shear;
-        ft1 *= ratio;
-        ft2 *= ratio;
-        ft3 *= ratio;
-        if (update_history) {
-          shear[0] = -ft1 / kt;
-          shear[1] = -ft2 / kt;
-          shear[2] = -ft3 / kt;
-        }
-      } else {
-        ft1 = ft2 = ft3 = 0.0;
-      }
-    } else {
-      ft1 -= gammat * vtr1;
-      ft2 -= gammat * vtr2;
-      ft3 -= gammat * vtr3;
-    }
-  }
+  const double en[3] = {enx, eny, enz};
+  const double vtr[3] = {vtr1, vtr2, vtr3};
+  double ft[3];
+  tangential_history(shear, en, vtr, n, k.friction, update_history, p_.dt, ft);
+  const double ft1 = ft[0], ft2 = ft[1], ft3 = ft[2];
   const double tor1 = eny * ft3 - enz * ft2;
   const double tor2 = enz * ft1 - enx * ft3;
   const double tor3 = enx * ft2 - eny * ft1;
@@ -321,52 +341,16 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
   const double vtr2 = vt2 - (dx * wr3 - dz * wr1);
   const double vtr3 = vt3 - (dy * wr1 - dx * wr2);
 
-  const std::size_t tp = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
-                         static_cast<std::size_t>(wall.type - 1);
-  const double y = p_.y_star[tp], g = p_.g_star[tp], beta = p_.beta[tp];
-  const double sqrtval = std::sqrt(radi * deltan);
-  const double sn = 2. * y * sqrtval;
-  const double st = 8. * g * sqrtval;
-  const double kn = 4. / 3. * y * sqrtval;
-  const double kt = st;
-  const double gamman = -2. * kSqrtFiveOverSix * beta * std::sqrt(sn * meff);
-  const double gammat = p_.tangential_damping ? -2. * kSqrtFiveOverSix * beta * std::sqrt(st * meff) : 0.0;
-  const double fn = -gamman * vn + kn * deltan;
-  double df[3] = {0.0 + fn * 1. * enx, 0.0 + fn * 1. * eny, 0.0 + fn * 1. * enz};
-
-  if (update_history) {
-    const double dt = p_.dt;
-    shear[0] += vtr1 * dt;
-    shear[1] += vtr2 * dt;
-    shear[2] += vtr3 * dt;
-    const double rsht = shear[0] * enx + shear[1] * eny + shear[2] * enz;
-    shear[0] -= rsht * enx;
-    shear[1] -= rsht * eny;
-    shear[2] -= rsht * enz;
-  }
-  const double shrmag = std::sqrt(shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]);
-  double ft1 = -(kt * shear[0]), ft2 = -(kt * shear[1]), ft3 = -(kt * shear[2]);
-  const double ft_shear = kt * shrmag;
-  const double ft_friction = p_.friction[tp] * std::fabs(fn);
-  if (ft_shear > ft_friction) {
-    if (shrmag != 0.0) {
-      const double ratio = ft_friction / ft_shear;
-      ft1 *= ratio;
-      ft2 *= ratio;
-      ft3 *= ratio;
-      if (update_history) {
-        shear[0] = -ft1 / kt;
-        shear[1] = -ft2 / kt;
-        shear[2] = -ft3 / kt;
-      }
-    } else {
-      ft1 = ft2 = ft3 = 0.0;
-    }
-  } else {
-    ft1 -= gammat * vtr1;
-    ft2 -= gammat * vtr2;
-    ft3 -= gammat * vtr3;
-  }
+  const PairConstants& k = type_constants_[static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
+                                           static_cast<std::size_t>(wall.type - 1)];
+  const Normal n = hertz_normal(k, radi, meff, deltan, vn, p_.tangential_damping);  // a wall has R* = R_i
+  const double fn = n.fn;
+  double df[3] = {0.0 + fn * 1. * enx, 0.0 + fn * 1. * eny, 0.0 + fn * 1. * enz};  // * area_ratio (1)
+  const double en[3] = {enx, eny, enz};
+  const double vtr[3] = {vtr1, vtr2, vtr3};
+  double ft[3];
+  tangential_history(shear, en, vtr, n, k.friction, update_history, p_.dt, ft);
+  const double ft1 = ft[0], ft2 = ft[1], ft3 = ft[2];
   const double tor1 = eny * ft3 - enz * ft2;
   const double tor2 = enz * ft1 - enx * ft3;
   const double tor3 = enx * ft2 - eny * ft1;
