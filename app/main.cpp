@@ -7,7 +7,10 @@
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/generator/spec_input.hpp>
 #include <granstack/model/version.hpp>
+#include <granstack/formats/files.hpp>
 #include <granstack/postproc/compare.hpp>
+#include <granstack/postproc/plot.hpp>
+#include <granstack/postproc/table.hpp>
 #include <granstack/postproc/reduce.hpp>
 #include <granstack/runner/runner.hpp>
 
@@ -220,6 +223,74 @@ int do_reduce(const ReduceFlags& f) {
   return rc;
 }
 
+// Reduces every case (a failure is reported and the case left out); returns the exit code so far.
+int reduce_all(const std::vector<std::string>& dirs, std::vector<postproc::CaseReduction>& results) {
+  int rc = kOk;
+  app::StatusLine status;
+  for (std::size_t i = 0; i < dirs.size(); ++i) {
+    status.show(fmt::format("reduce: case {}/{} {}", i + 1, dirs.size(), dirs[i]));
+    try {
+      results.push_back(postproc::reduce_case(dirs[i]));
+    } catch (const formats::FormatError& e) {
+      status.clear();
+      fmt::print(stderr, "error: {}\n", e.what());
+      rc = kBadFile;
+    } catch (const std::runtime_error& e) {
+      status.clear();
+      fmt::print(stderr, "error: {}\n", e.what());
+      rc = std::max(rc, kCaseFailed);
+    }
+  }
+  return rc;
+}
+
+struct TableFlags {
+  std::vector<std::string> cases;
+  std::string output;
+  bool json = false;
+};
+
+int do_table(const TableFlags& f) {
+  std::vector<postproc::CaseReduction> results;
+  int rc = reduce_all(formats::expand_case_dirs(f.cases), results);
+  if (results.empty()) return rc;
+  const auto table = postproc::build_table(results);
+  if (f.json) {
+    fmt::print("{}\n", postproc::table_json(table).dump());
+  } else {
+    fmt::print("{}", postproc::table_markdown(table));
+  }
+  if (!f.output.empty()) {
+    std::filesystem::create_directories(f.output);
+    formats::write_file_atomically(std::filesystem::path(f.output) / "table.md", postproc::table_markdown(table));
+    formats::write_file_atomically(std::filesystem::path(f.output) / "table.csv", postproc::table_csv(table));
+    formats::write_file_atomically(std::filesystem::path(f.output) / "fits.csv", postproc::fits_csv(table));
+    fmt::print(stderr, "wrote {0}/table.md, {0}/table.csv and {0}/fits.csv\n", f.output);
+  }
+  return rc;
+}
+
+struct PlotFlags {
+  std::vector<std::string> cases;
+  std::string output;
+  std::string format = "png";
+};
+
+int do_plot(const PlotFlags& f) {
+  const auto dirs = formats::expand_case_dirs(f.cases);
+  std::vector<postproc::CaseReduction> results;
+  int rc = reduce_all(dirs, results);
+  postproc::PlotOptions o;
+  o.format = f.format;
+  for (const auto& r : results) fmt::print("{}\n", postproc::plot_block_energy(r.case_dir, f.output, o));
+  if (!results.empty()) {
+    const auto table = postproc::build_table(results);
+    const bool any_fit = std::any_of(table.groups.begin(), table.groups.end(), [](const auto& g) { return g.cases.size() > 1; });
+    if (any_fit) fmt::print("{}\n", postproc::plot_decay(table, f.output, o));
+  }
+  return rc;
+}
+
 struct ValidateFlags {
   std::vector<std::string> cases;
   double tolerance = 1e-6;
@@ -290,6 +361,18 @@ int main(int argc, char** argv) {
   red_cmd->add_option("cases", red.cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
   red_cmd->add_flag("--json", red.json, "One JSON object per case per line");
 
+  TableFlags tab;
+  auto* tab_cmd = app.add_subcommand("table", "Output fraction against N_B per group of cases, with exponential fits");
+  tab_cmd->add_option("cases", tab.cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
+  tab_cmd->add_option("-o,--output", tab.output, "Also write table.md, table.csv and fits.csv into this directory");
+  tab_cmd->add_flag("--json", tab.json, "Print the table and fits as one JSON object");
+
+  PlotFlags plt;
+  auto* plt_cmd = app.add_subcommand("plot", "Figures with gnuplot: per-block energy of each case, output fraction against N_B");
+  plt_cmd->add_option("cases", plt.cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
+  plt_cmd->add_option("-o,--output", plt.output, "Directory for the images, their data and gnuplot scripts")->required();
+  plt_cmd->add_option("--format", plt.format, "png or svg")->check(CLI::IsMember({"png", "svg"}));
+
   ValidateFlags val;
   auto* val_cmd = app.add_subcommand("validate", "Run LIGGGHTS and refsim on the same cases and compare them");
   val_cmd->add_option("cases", val.cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
@@ -316,6 +399,8 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("run")) return do_run(run);
     if (app.got_subcommand("reduce")) return do_reduce(red);
     if (app.got_subcommand("validate")) return do_validate(val);
+    if (app.got_subcommand("table")) return do_table(tab);
+    if (app.got_subcommand("plot")) return do_plot(plt);
   } catch (const model::SpecError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kBadInput;

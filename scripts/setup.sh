@@ -8,6 +8,7 @@ packages=(
   g++ cmake ninja-build pkg-config git
   libfmt-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libeigen3-dev libgtest-dev
   coreutils           # stdbuf, so LIGGGHTS's error lines survive an MPI abort
+  gnuplot-nox         # granstack plot (PNG and SVG without X)
 )
 missing=()
 for p in "${packages[@]}"; do

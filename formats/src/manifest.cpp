@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -175,9 +176,16 @@ Manifest read_manifest(const std::string& case_dir) {
 std::vector<std::string> expand_case_dirs(const std::vector<std::string>& dirs) {
   namespace fs = std::filesystem;
   std::vector<std::string> out;
+  std::vector<fs::path> seen;  // a case named twice (directly and through its sweep) counts once
+  auto add = [&](const std::string& dir) {
+    const auto canonical = fs::weakly_canonical(dir);
+    if (std::find(seen.begin(), seen.end(), canonical) != seen.end()) return;
+    seen.push_back(canonical);
+    out.push_back(dir);
+  };
   for (const auto& d : dirs) {
     if (fs::exists(fs::path(d) / "manifest.json")) {
-      out.push_back(d);
+      add(d);
       continue;
     }
     const auto sweep_path = (fs::path(d) / "sweep.json").string();
@@ -188,7 +196,7 @@ std::vector<std::string> expand_case_dirs(const std::vector<std::string>& dirs) 
     }
     try {
       const auto j = json::parse(in);
-      for (const auto& c : j.at("cases")) out.push_back((fs::path(d) / c.at("dir").get<std::string>()).string());
+      for (const auto& c : j.at("cases")) add((fs::path(d) / c.at("dir").get<std::string>()).string());
     } catch (const json::exception& e) {
       throw FormatError(sweep_path, 0, fmt::format("not a valid sweep index: {}", e.what()));
     }

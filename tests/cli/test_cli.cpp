@@ -185,6 +185,32 @@ TEST_F(Cli, ValidateFindsLiggghtsAndRefsimAgreeOnSmallStacks) {
   expect_contains(strict, "DISAGREE");
 }
 
+TEST_F(Cli, TableAndPlotsFromARealSweep) {
+  ASSERT_EQ(granstack("generate -o " + path("sweep") + " --blocks 1,2,3 --restitution 1,0.9 --rows 4").code, 0);
+  ASSERT_EQ(granstack("run -j 2 " + path("sweep")).code, 0);
+  auto r = granstack("table " + path("sweep") + " -o " + path("table"));
+  EXPECT_EQ(r.code, 0) << r.output;
+  expect_contains(r, "| N_B | e=1 | e=0.9 |");
+  expect_contains(r, "| e=0.9 | 3 |");
+  for (const char* f : {"table/table.md", "table/table.csv", "table/fits.csv"}) EXPECT_TRUE(fs::exists(path(f))) << f;
+  for (const char* format : {"png", "svg"}) {
+    r = granstack(std::string("plot ") + path("sweep") + " -o " + path(format) + " --format " + format);
+    ASSERT_EQ(r.code, 0) << r.output;
+    for (const std::string& name : {std::string("decay"), std::string("energy_nb3_e0.9")}) {
+      for (const std::string& ext : {std::string(".") + format, std::string(".gp"), std::string(".dat")}) {
+        EXPECT_TRUE(fs::exists(path(format) + "/" + name + ext)) << name << ext;
+      }
+    }
+  }
+  std::ifstream png(path("png/decay.png"), std::ios::binary);
+  std::string magic(8, '\0');
+  png.read(magic.data(), 8);
+  EXPECT_EQ(magic, std::string("\x89PNG\r\n\x1a\n", 8));
+  std::ifstream svg(path("svg/decay.svg"));
+  const std::string text((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("<svg"), std::string::npos);
+}
+
 TEST_F(Cli, ProgressShowsOnATerminalAndStaysQuietOtherwise) {
   // A run long enough for several progress updates (about a second).
   ASSERT_EQ(granstack("generate -o " + path("case") + " --blocks 4 --dt 2e-8").code, 0);

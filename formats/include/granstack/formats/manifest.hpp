@@ -49,8 +49,8 @@ Manifest manifest_from_json(const nlohmann::json& j, const std::string& source);
 Manifest read_manifest(const std::string& case_dir);
 
 // The case directories named by DIRS: a case directory (with manifest.json) stands for itself,
-// a sweep directory (with sweep.json) for its cases in sweep order. Throws FormatError for a
-// directory that is neither.
+// a sweep directory (with sweep.json) for its cases in sweep order; a case named twice counts
+// once. Throws FormatError for a directory that is neither.
 std::vector<std::string> expand_case_dirs(const std::vector<std::string>& dirs);
 
 }  // namespace granstack::formats

@@ -1,0 +1,144 @@
+#include <granstack/formats/files.hpp>
+#include <granstack/formats/manifest.hpp>
+#include <granstack/formats/series.hpp>
+#include <granstack/model/resolution.hpp>
+#include <granstack/model/stack.hpp>
+#include <granstack/postproc/plot.hpp>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <stdexcept>
+
+namespace granstack::postproc {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string terminal(const PlotOptions& o) {
+  if (o.format == "svg") return "set terminal svg size 1600,1000 dynamic enhanced font 'Sans,26' linewidth 2";
+  if (o.format == "png") return "set terminal pngcairo size 1600,1000 enhanced font 'Sans,26' linewidth 3";
+  throw std::invalid_argument(fmt::format("plot format '{}' is not png or svg", o.format));
+}
+
+// Writes NAME.dat and NAME.gp into `dir` and runs gnuplot there. Returns the image path.
+std::string render(const fs::path& dir, const std::string& name, const std::string& data, const std::string& script,
+                   const PlotOptions& o) {
+  fs::create_directories(dir);
+  formats::write_file_atomically(dir / (name + ".dat"), data);
+  formats::write_file_atomically(dir / (name + ".gp"), script);
+  const auto image = dir / (name + "." + o.format);
+  const auto log = dir / (name + ".gnuplot.log");
+  const auto cmd = fmt::format("cd '{}' && '{}' '{}.gp' > '{}' 2>&1", dir.string(), o.gnuplot, name, log.filename().string());
+  const int rc = std::system(cmd.c_str());
+  if (rc != 0 || !fs::exists(image) || fs::file_size(image) == 0) {
+    std::string what;
+    try {
+      what = formats::read_file(log);
+    } catch (const std::exception&) {
+    }
+    throw std::runtime_error(fmt::format("gnuplot failed on {} ({}); it comes with scripts/setup.sh (Debian package "
+                                         "gnuplot-nox). Its output: {}",
+                                         (dir / (name + ".gp")).string(), rc, what.substr(0, 400)));
+  }
+  fs::remove(log);
+  return image.string();
+}
+
+std::string safe_name(std::string s) {
+  for (auto& c : s) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '_' && c != '-') c = '_';
+  }
+  return s;
+}
+
+}  // namespace
+
+std::string plot_block_energy(const std::string& case_dir, const std::string& out_dir, const PlotOptions& o) {
+  const auto m = formats::read_manifest(case_dir);
+  const auto stack = model::Stack::build(m.spec);
+  const double dt = model::resolve(stack).dt;
+  const auto series = formats::read_series((fs::path(case_dir) / m.files.series).string());
+  const int nb = m.spec.blocks;
+  std::vector<int> trans, rot;
+  for (int k = 1; k <= nb; ++k) {
+    trans.push_back(series.column(fmt::format("ke_trans_block{}", k)));
+    rot.push_back(series.column(fmt::format("ke_rot_block{}", k)));
+    if (trans.back() < 0 || rot.back() < 0) {
+      throw std::runtime_error(fmt::format("{}: the series has no columns for block {}", case_dir, k));
+    }
+  }
+  if (series.rows.empty()) throw std::runtime_error(fmt::format("{}: the in-situ series is empty: run the case first", case_dir));
+  double peak1 = 0.0;
+  for (const auto& row : series.rows) {
+    peak1 = std::max(peak1, row[static_cast<std::size_t>(trans[0])] + row[static_cast<std::size_t>(rot[0])]);
+  }
+  // At most about 4000 points per curve: enough for the eye, light for the plotter.
+  const std::size_t stride = std::max<std::size_t>(1, series.rows.size() / 4000);
+  fmt::memory_buffer data;
+  auto out = std::back_inserter(data);
+  fmt::format_to(out, "# case {}: time (us), then each block's KE / peak KE of block 1 ({:.6g} J)\n", m.case_name, peak1);
+  for (std::size_t r = 0; r < series.rows.size(); r += stride) {
+    const auto& row = series.rows[r];
+    fmt::format_to(out, "{:.6g}", row[0] * dt * 1e6);
+    for (int k = 0; k < nb; ++k) {
+      fmt::format_to(out, " {:.6g}",
+                     (row[static_cast<std::size_t>(trans[static_cast<std::size_t>(k)])] +
+                      row[static_cast<std::size_t>(rot[static_cast<std::size_t>(k)])]) / peak1);
+    }
+    fmt::format_to(out, "\n");
+  }
+  const auto name = "energy_" + safe_name(m.case_name);
+  const auto script = fmt::format(
+      "# granstack: kinetic energy of each block of case {} (translational + rotational), normalised by the\n"
+      "# peak of block 1 (physics.md section 4). Data: {}.dat (time in us, then block 1 = top, ...).\n"
+      "# Restyle at will, then run: gnuplot {}.gp\n"
+      "{}\nset output '{}.{}'\n"
+      "set title 'Kinetic energy per block: {} blocks, e = {}, {{/Symbol m}} = {}, v = {} m/s'\n"
+      "set xlabel 'time t (µs)'\nset ylabel 'E_k / max E_k of block 1'\n"
+      "set grid\nset key top right\nset yrange [0:*]\nset autoscale xfix\n"
+      "plot for [k=1:{}] '{}.dat' using 1:(column(k+1)) with lines title sprintf('block %d', k)\n",
+      m.case_name, name, name, terminal(o), name, o.format, nb, m.spec.restitution.value, m.spec.friction.value,
+      m.spec.striker_speed, nb, name);
+  return render(out_dir, name, fmt::to_string(data), script, o);
+}
+
+std::string plot_decay(const OutputTable& t, const std::string& out_dir, const PlotOptions& o) {
+  fmt::memory_buffer data;
+  auto out = std::back_inserter(data);
+  std::string plots, functions;
+  int index = 0;
+  for (const auto& g : t.groups) {
+    fmt::format_to(out, "# group {}: N_B, output fraction\n", g.label);
+    for (const auto* c : g.cases) fmt::format_to(out, "{} {:.10g}\n", c->spec.blocks, c->output_fraction);
+    fmt::format_to(out, "\n\n");
+    const int lt = index + 1;
+    plots += fmt::format("{}'decay.dat' index {} using 1:2 with points pointtype 7 pointsize 2 linecolor {} title '{}'",
+                         plots.empty() ? "" : ", \\\n     ", index, lt, g.label);
+    if (g.fit) {
+      functions += fmt::format("f{}(x) = {:.10g} * exp(-{:.10g} * x)  # fit of {}\n", index, g.fit->prefactor, g.fit->alpha,
+                               g.label);
+      plots += fmt::format(", \\\n     f{}(x) with lines linecolor {} dashtype 2 title sprintf('fit: {{/Symbol a}} = %.3f', {:.6g})",
+                           index, lt, g.fit->alpha);
+    }
+    ++index;
+  }
+  const int lo = t.blocks.empty() ? 1 : t.blocks.front();
+  const int hi = t.blocks.empty() ? 1 : t.blocks.back();
+  const auto script = fmt::format(
+      "# granstack: output fraction E_out/E_in against the number of blocks, with the fits\n"
+      "# E_out/E_in = A exp(-alpha N_B) (least squares on the logarithm). Data: decay.dat (one index per group).\n"
+      "# Restyle at will, then run: gnuplot decay.gp\n"
+      "{}\nset output 'decay.{}'\n"
+      "set title 'Output fraction against depth'\n"
+      "set xlabel 'number of blocks N_B'\nset ylabel 'E_{{out}} / E_{{in}}'\n"
+      "set logscale y\nset format y '10^{{%L}}'\nset grid\nset key top right\n"
+      "set xrange [{}:{}]\nset xtics 1\nset samples 200\n{}plot {}\n",
+      terminal(o), o.format, lo - 0.3, hi + 0.3, functions, plots);
+  return render(out_dir, "decay", fmt::to_string(data), script, o);
+}
+
+}  // namespace granstack::postproc

@@ -1,0 +1,178 @@
+#include <granstack/formats/manifest.hpp>
+#include <granstack/postproc/table.hpp>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+namespace granstack::postproc {
+
+using nlohmann::json;
+
+namespace {
+std::string short_name(const std::string& field) {
+  static const std::map<std::string, std::string> names{{"restitution", "e"},   {"friction", "mu"},
+                                                        {"striker_speed", "v"}, {"top_columns", "cols"},
+                                                        {"bottom_radius", "r"}, {"radius_ratio", "ratio"}};
+  const auto it = names.find(field);
+  return it == names.end() ? field : it->second;
+}
+
+std::string value_text(const json& v) {
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_array()) {
+    std::vector<std::string> parts;
+    for (const auto& e : v) parts.push_back(value_text(e));
+    return fmt::format("{}", fmt::join(parts, "/"));
+  }
+  if (v.is_number_float()) return fmt::format("{}", v.get<double>());
+  return v.dump();
+}
+
+std::string with_error(double value, const std::optional<double>& error) {
+  return error ? fmt::format("{:.4g} ± {:.2g}", value, *error) : fmt::format("{:.4g}", value);
+}
+}  // namespace
+
+OutputTable build_table(const std::vector<CaseReduction>& reductions) {
+  std::map<std::string, std::vector<const CaseReduction*>> by_key;
+  std::map<std::string, json> keys;
+  for (const auto& r : reductions) {
+    auto key = formats::spec_to_json(r.spec);
+    key.erase("blocks");
+    const auto text = key.dump();
+    by_key[text].push_back(&r);
+    keys[text] = key;
+  }
+  // The fields whose values differ between groups name them.
+  std::set<std::string> differing;
+  for (const auto& [text, key] : keys) {
+    for (const auto& [field, value] : key.items()) {
+      if (keys.begin()->second.value(field, json()) != value) differing.insert(field);
+    }
+  }
+  OutputTable t;
+  std::set<int> all_blocks;
+  for (auto& [text, cases] : by_key) {
+    std::sort(cases.begin(), cases.end(), [](auto* a, auto* b) { return a->spec.blocks < b->spec.blocks; });
+    TableGroup g;
+    g.cases = cases;
+    g.restitution = cases.front()->spec.restitution.value;
+    std::vector<std::string> parts;
+    for (const auto& field : differing) parts.push_back(short_name(field) + "=" + value_text(keys[text][field]));
+    g.label = parts.empty() ? fmt::format("e={}", g.restitution) : fmt::format("{}", fmt::join(parts, ", "));
+    std::vector<int> nb;
+    std::vector<double> f;
+    for (const auto* c : cases) {
+      if (!nb.empty() && nb.back() == c->spec.blocks) {
+        throw std::invalid_argument(fmt::format("cases {} and {} differ in nothing but their directory: give each "
+                                                "(group, N_B) once",
+                                                g.cases[nb.size() - 1]->case_dir, c->case_dir));
+      }
+      nb.push_back(c->spec.blocks);
+      f.push_back(c->output_fraction);
+      all_blocks.insert(c->spec.blocks);
+    }
+    try {
+      g.fit = fit_decay(nb, f);
+    } catch (const std::invalid_argument& e) {
+      g.fit_note = nb.size() < 2 ? "one N_B only" : e.what();
+    }
+    t.groups.push_back(std::move(g));
+  }
+  std::sort(t.groups.begin(), t.groups.end(), [](const auto& a, const auto& b) { return a.restitution > b.restitution; });
+  t.blocks.assign(all_blocks.begin(), all_blocks.end());
+  return t;
+}
+
+std::string table_markdown(const OutputTable& t) {
+  fmt::memory_buffer b;
+  auto out = std::back_inserter(b);
+  fmt::format_to(out, "Output fraction E_out/E_in (the output sphere) against the number of blocks\n\n| N_B |");
+  for (const auto& g : t.groups) fmt::format_to(out, " {} |", g.label);
+  fmt::format_to(out, "\n|---|");
+  for (std::size_t k = 0; k < t.groups.size(); ++k) fmt::format_to(out, "---|");
+  fmt::format_to(out, "\n");
+  for (const int nb : t.blocks) {
+    fmt::format_to(out, "| {} |", nb);
+    for (const auto& g : t.groups) {
+      const auto it = std::find_if(g.cases.begin(), g.cases.end(), [&](auto* c) { return c->spec.blocks == nb; });
+      if (it == g.cases.end()) {
+        fmt::format_to(out, "  |");
+      } else {
+        fmt::format_to(out, " {:.6g}{} |", (*it)->output_fraction, (*it)->output_separated ? "" : " (not separated)");
+      }
+    }
+    fmt::format_to(out, "\n");
+  }
+  fmt::format_to(out, "\nFit E_out/E_in = A exp(-alpha N_B), least squares on the logarithm (± standard error)\n\n");
+  fmt::format_to(out, "| group | points | A | alpha | alpha with A = 1 | alpha * e |\n|---|---|---|---|---|---|\n");
+  for (const auto& g : t.groups) {
+    if (!g.fit) {
+      fmt::format_to(out, "| {} | {} | no fit: {} | | | |\n", g.label, g.cases.size(), g.fit_note);
+      continue;
+    }
+    const auto& f = *g.fit;
+    fmt::format_to(out, "| {} | {} | {} | {} | {} | {} |\n", g.label, f.points, with_error(f.prefactor, f.prefactor_error),
+                   with_error(f.alpha, f.alpha_error), with_error(f.alpha_origin, f.alpha_origin_error),
+                   with_error(f.alpha * g.restitution,
+                              f.alpha_error ? std::optional<double>(*f.alpha_error * g.restitution) : std::nullopt));
+  }
+  return fmt::to_string(b);
+}
+
+std::string table_csv(const OutputTable& t) {
+  fmt::memory_buffer b;
+  auto out = std::back_inserter(b);
+  fmt::format_to(out, "group,restitution,friction,striker_speed,blocks,output_fraction,output_fraction_bottom_row,"
+                      "output_fraction_bottom_row_per_sphere,output_separated,case_dir\n");
+  for (const auto& g : t.groups) {
+    for (const auto* c : g.cases) {
+      fmt::format_to(out, "\"{}\",{},{},{},{},{},{},{},{},\"{}\"\n", g.label, c->spec.restitution.value, c->spec.friction.value,
+                     c->spec.striker_speed, c->spec.blocks, c->output_fraction, c->output_fraction_bottom_row,
+                     c->output_fraction_bottom_row_per_sphere, c->output_separated ? 1 : 0, c->case_dir);
+    }
+  }
+  return fmt::to_string(b);
+}
+
+std::string fits_csv(const OutputTable& t) {
+  fmt::memory_buffer b;
+  auto out = std::back_inserter(b);
+  auto opt = [](const std::optional<double>& v) { return v ? fmt::format("{}", *v) : std::string(); };
+  fmt::format_to(out, "group,restitution,points,prefactor,prefactor_error,alpha,alpha_error,alpha_origin,"
+                      "alpha_origin_error,alpha_times_e\n");
+  for (const auto& g : t.groups) {
+    if (!g.fit) continue;
+    const auto& f = *g.fit;
+    fmt::format_to(out, "\"{}\",{},{},{},{},{},{},{},{},{}\n", g.label, g.restitution, f.points, f.prefactor,
+                   opt(f.prefactor_error), f.alpha, opt(f.alpha_error), f.alpha_origin, opt(f.alpha_origin_error),
+                   f.alpha * g.restitution);
+  }
+  return fmt::to_string(b);
+}
+
+json table_json(const OutputTable& t) {
+  json groups = json::array();
+  auto opt = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+  for (const auto& g : t.groups) {
+    json cases = json::array();
+    for (const auto* c : g.cases) {
+      cases.push_back({{"blocks", c->spec.blocks}, {"output_fraction", c->output_fraction}, {"case_dir", c->case_dir}});
+    }
+    json fit = nullptr;
+    if (g.fit) {
+      fit = {{"points", g.fit->points},         {"prefactor", g.fit->prefactor},
+             {"prefactor_error", opt(g.fit->prefactor_error)}, {"alpha", g.fit->alpha},
+             {"alpha_error", opt(g.fit->alpha_error)}, {"alpha_origin", g.fit->alpha_origin},
+             {"alpha_origin_error", opt(g.fit->alpha_origin_error)}, {"alpha_times_e", g.fit->alpha * g.restitution}};
+    }
+    groups.push_back({{"group", g.label}, {"restitution", g.restitution}, {"cases", cases}, {"fit", fit}});
+  }
+  return {{"groups", groups}};
+}
+
+}  // namespace granstack::postproc

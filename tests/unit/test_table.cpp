@@ -1,0 +1,73 @@
+// The decay fit against hand-computed least squares, and the output-fraction table's grouping.
+#include <granstack/postproc/fit.hpp>
+#include <granstack/postproc/table.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace granstack;
+
+namespace {
+
+TEST(DecayFit, RecoversAnExactExponential) {
+  const std::vector<int> nb{1, 2, 3, 4};
+  std::vector<double> f;
+  for (int n : nb) f.push_back(0.8 * std::exp(-1.3 * n));
+  const auto fit = postproc::fit_decay(nb, f);
+  EXPECT_NEAR(fit.alpha, 1.3, 1e-12);
+  EXPECT_NEAR(fit.prefactor, 0.8, 1e-12);
+  EXPECT_NEAR(*fit.alpha_error, 0.0, 1e-12);
+  EXPECT_EQ(fit.points, 4);
+}
+
+TEST(DecayFit, MatchesLeastSquaresWorkedByHand) {
+  // ln f = -1, -2.5, -3 at N = 1, 2, 3: slope -1, intercept -1/6, residuals 1/6, -1/3, 1/6,
+  // s^2 = 1/6 (one degree of freedom), se(alpha) = sqrt(s^2 / 2); through the origin
+  // alpha = 15/14 with residual sum (1/14)^2 + (5/14)^2 + (3/14)^2 = 35/196 over 2 dof.
+  const auto fit = postproc::fit_decay({1, 2, 3}, {std::exp(-1.0), std::exp(-2.5), std::exp(-3.0)});
+  EXPECT_NEAR(fit.alpha, 1.0, 1e-12);
+  EXPECT_NEAR(fit.prefactor, std::exp(-1.0 / 6.0), 1e-12);
+  EXPECT_NEAR(*fit.alpha_error, std::sqrt(1.0 / 12.0), 1e-12);
+  EXPECT_NEAR(*fit.prefactor_error, fit.prefactor * std::sqrt(1.0 / 6.0 * (1.0 / 3.0 + 4.0 / 2.0)), 1e-12);
+  EXPECT_NEAR(fit.alpha_origin, 15.0 / 14.0, 1e-12);
+  EXPECT_NEAR(*fit.alpha_origin_error, std::sqrt(35.0 / 196.0 / 2.0 / 14.0), 1e-12);
+}
+
+TEST(DecayFit, RefusesWhatCannotBeFitted) {
+  EXPECT_THROW(postproc::fit_decay({2, 2}, {0.1, 0.2}), std::invalid_argument);
+  EXPECT_THROW(postproc::fit_decay({1, 2}, {0.1, 0.0}), std::invalid_argument);
+  EXPECT_FALSE(postproc::fit_decay({1, 2}, {0.3, 0.1}).alpha_error.has_value());  // no degree of freedom left
+}
+
+postproc::CaseReduction reduction(int blocks, double e, double fraction) {
+  postproc::CaseReduction r;
+  r.spec.blocks = blocks;
+  r.spec.restitution.value = e;
+  r.output_fraction = fraction;
+  r.output_separated = true;
+  r.case_dir = "nb" + std::to_string(blocks) + "_e" + std::to_string(e);
+  return r;
+}
+
+TEST(OutputTable, GroupsByEverythingButBlocksAndFitsEachGroup) {
+  std::vector<postproc::CaseReduction> rs;
+  for (double e : {0.9, 1.0}) {
+    for (int nb = 1; nb <= 3; ++nb) rs.push_back(reduction(nb, e, std::exp(-(1.1 / e) * nb)));
+  }
+  const auto t = postproc::build_table(rs);
+  ASSERT_EQ(t.groups.size(), 2u);
+  EXPECT_EQ(t.groups[0].label, "e=1");  // highest restitution first
+  EXPECT_EQ(t.groups[1].label, "e=0.9");
+  EXPECT_EQ(t.blocks, (std::vector<int>{1, 2, 3}));
+  ASSERT_TRUE(t.groups[1].fit);
+  EXPECT_NEAR(t.groups[1].fit->alpha * 0.9, 1.1, 1e-12);  // the study's alpha/e form
+  const auto md = postproc::table_markdown(t);
+  EXPECT_NE(md.find("| N_B | e=1 | e=0.9 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| e=0.9 | 3 |"), std::string::npos) << md;
+  EXPECT_NE(postproc::fits_csv(t).find("\"e=0.9\",0.9,3,"), std::string::npos);
+  rs.push_back(reduction(2, 1.0, 0.1));  // the same group and N_B twice
+  EXPECT_THROW(postproc::build_table(rs), std::invalid_argument);
+}
+
+}  // namespace
