@@ -50,12 +50,17 @@ void FrameView::bind(const formats::DumpFrame& f) {
   }
 }
 
-double FrameView::kinetic_energy(const formats::DumpFrame& f, long r) const {
+double FrameView::rotational_energy(const formats::DumpFrame& f, long r) const {
   const double m = f.at(r, c_mass_);
   const double rad = f.at(r, c_radius_);
-  const double vx = f.at(r, c_vx_), vy = f.at(r, c_vy_), vz = f.at(r, c_vz_);
   const double wx = f.at(r, c_wx_), wy = f.at(r, c_wy_), wz = f.at(r, c_wz_);
-  return 0.5 * m * (vx * vx + vy * vy + vz * vz) + 0.5 * (0.4 * m * rad * rad) * (wx * wx + wy * wy + wz * wz);
+  return 0.5 * (0.4 * m * rad * rad) * (wx * wx + wy * wy + wz * wz);
+}
+
+double FrameView::kinetic_energy(const formats::DumpFrame& f, long r) const {
+  const double m = f.at(r, c_mass_);
+  const double vx = f.at(r, c_vx_), vy = f.at(r, c_vy_), vz = f.at(r, c_vz_);
+  return 0.5 * m * (vx * vx + vy * vy + vz * vz) + rotational_energy(f, r);
 }
 
 namespace {
@@ -115,7 +120,17 @@ class ContactEnergy {
 FrameEnergy frame_energy(const formats::DumpFrame& f, const FrameView& v, const model::Stack& stack) {
   FrameEnergy e;
   e.step = f.step;
-  e.block_ke.assign(stack.blocks().size(), 0.0);
+  const std::size_t nb = stack.blocks().size();
+  e.block_ke.assign(nb, 0.0);
+  e.block_ke_sideways.assign(nb, 0.0);
+  e.block_ke_downward.assign(nb, 0.0);
+  e.block_ke_rotational.assign(nb, 0.0);
+  e.row_ke.resize(nb);
+  e.column_ke.resize(nb);
+  for (std::size_t k = 0; k < nb; ++k) {
+    e.row_ke[k].assign(static_cast<std::size_t>(stack.blocks()[k].rows), 0.0);
+    e.column_ke[k].assign(static_cast<std::size_t>(stack.blocks()[k].columns), 0.0);
+  }
   const int out_id = stack.output_sphere_id();
   const int bottom_first = stack.bottom_row_ids().front();
   const auto& spheres = stack.spheres();
@@ -132,7 +147,20 @@ FrameEnergy frame_energy(const formats::DumpFrame& f, const FrameView& v, const 
     if (s.block == 0) {
       e.striker_ke += ke;
     } else {
-      e.block_ke[static_cast<std::size_t>(s.block - 1)] += ke;
+      const auto k = static_cast<std::size_t>(s.block - 1);
+      const double m = f.at(row, v.c_mass_);
+      const double vx = f.at(row, v.c_vx_), vy = f.at(row, v.c_vy_), vz = f.at(row, v.c_vz_);
+      const double sideways = 0.5 * m * (vx * vx + vy * vy), downward = 0.5 * m * vz * vz;
+      e.block_ke[k] += ke;
+      e.block_ke_sideways[k] += sideways;
+      e.block_ke_downward[k] += downward;
+      e.block_ke_rotational[k] += v.rotational_energy(f, row);
+      e.row_ke[k][static_cast<std::size_t>(s.row - 1)] += ke;
+      e.column_ke[k][static_cast<std::size_t>(s.column - 1)] += ke;
+      if (s.block == 1 && s.row == 1) {
+        e.top_row_sideways += sideways;
+        e.top_row_downward += downward;
+      }
     }
     if (s.id == out_id) e.output_sphere_ke = ke;
     if (s.id >= bottom_first) e.bottom_row_ke += ke;

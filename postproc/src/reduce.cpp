@@ -74,6 +74,22 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   fmt::format_to(out, "step,time_s");
   for (int k = 1; k <= nb; ++k) fmt::format_to(out, ",ke_block{}_J", k);
   fmt::format_to(out, ",ke_striker_J,ke_output_sphere_J,ke_bottom_row_J,ke_total_J,elastic_J,energy_total_J\n");
+  // The parts, per row and per column: the same frames, one table each.
+  fmt::memory_buffer parts_csv, rows_csv, columns_csv;
+  auto parts = std::back_inserter(parts_csv);
+  auto rows = std::back_inserter(rows_csv);
+  auto columns = std::back_inserter(columns_csv);
+  fmt::format_to(parts, "step,time_s");
+  fmt::format_to(rows, "step,time_s");
+  fmt::format_to(columns, "step,time_s");
+  for (const auto& b : stack.blocks()) {
+    fmt::format_to(parts, ",ke_sideways_block{0}_J,ke_downward_block{0}_J,ke_rotational_block{0}_J", b.index);
+    for (int i = 1; i <= b.rows; ++i) fmt::format_to(rows, ",ke_block{}_row{}_J", b.index, i);
+    for (int j = 1; j <= b.columns; ++j) fmt::format_to(columns, ",ke_block{}_column{}_J", b.index, j);
+  }
+  fmt::format_to(parts, ",top_row_sideways_J,top_row_downward_J,dissipated_J\n");
+  fmt::format_to(rows, "\n");
+  fmt::format_to(columns, "\n");
   for (;;) {
     try {
       if (!reader->next(frame)) break;
@@ -97,6 +113,19 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
       r.energy_drift = std::max(r.energy_drift.value_or(0.0), std::fabs(e.kinetic + e.elastic - r.e_in) / r.e_in);
     }
     r.output_peak_fraction = std::max(r.output_peak_fraction, e.output_sphere_ke / r.e_in);
+    r.top_row_sideways_peak = std::max(r.top_row_sideways_peak, e.top_row_sideways);
+    r.top_row_downward_peak = std::max(r.top_row_downward_peak, e.top_row_downward);
+    fmt::format_to(parts, "{},{}", frame.step, t);
+    fmt::format_to(rows, "{},{}", frame.step, t);
+    fmt::format_to(columns, "{},{}", frame.step, t);
+    for (std::size_t k = 0; k < e.block_ke.size(); ++k) {
+      fmt::format_to(parts, ",{},{},{}", e.block_ke_sideways[k], e.block_ke_downward[k], e.block_ke_rotational[k]);
+      for (const double x : e.row_ke[k]) fmt::format_to(rows, ",{}", x);
+      for (const double x : e.column_ke[k]) fmt::format_to(columns, ",{}", x);
+    }
+    fmt::format_to(parts, ",{},{},{}\n", e.top_row_sideways, e.top_row_downward, r.e_in - e.kinetic - e.elastic);
+    fmt::format_to(rows, "\n");
+    fmt::format_to(columns, "\n");
     ++r.frames;
     if (options.on_frame) options.on_frame(r.frames);
     std::swap(last, frame);
@@ -146,6 +175,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   }
   for (auto& b : r.blocks) b.normalised = r.blocks.front().peak_ke > 0 ? b.peak_ke / r.blocks.front().peak_ke : 0.0;
 
+  if (spec.gravity == 0.0) r.dissipated_fraction = (r.e_in - last_energy.kinetic - last_energy.elastic) / r.e_in;
   const auto bottom = stack.bottom_row_ids();
   r.output_fraction_bottom_row = last_energy.bottom_row_ke / r.e_in;
   r.output_fraction_bottom_row_per_sphere = r.output_fraction_bottom_row / static_cast<double>(bottom.size());
@@ -169,6 +199,9 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     fs::create_directories(rdir);
     r.csv_path = (rdir / "block_ke.csv").string();
     formats::write_file_atomically(r.csv_path, fmt::to_string(csv));
+    formats::write_file_atomically(rdir / "energy_parts.csv", fmt::to_string(parts_csv));
+    formats::write_file_atomically(rdir / "row_ke.csv", fmt::to_string(rows_csv));
+    formats::write_file_atomically(rdir / "column_ke.csv", fmt::to_string(columns_csv));
     formats::write_file_atomically(rdir / "summary.json", to_json(r).dump(2) + "\n");
   }
   return r;
@@ -202,6 +235,9 @@ json to_json(const CaseReduction& r) {
           {"frames", r.frames},
           {"final_time", r.final_time},
           {"energy_drift", r.energy_drift ? json(*r.energy_drift) : json(nullptr)},
+          {"dissipated_fraction", r.dissipated_fraction ? json(*r.dissipated_fraction) : json(nullptr)},
+          {"top_row_sideways_peak", r.top_row_sideways_peak},
+          {"top_row_downward_peak", r.top_row_downward_peak},
           {"warnings", r.warnings}};
 }
 

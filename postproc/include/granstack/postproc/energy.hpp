@@ -10,6 +10,13 @@ namespace granstack::postproc {
 struct FrameEnergy {
   long step = 0;
   std::vector<double> block_ke;  // translational + rotational, index 0 = block 1 (top)
+  // Its parts: translational sideways (x, y), translational downward (z), rotational.
+  std::vector<double> block_ke_sideways, block_ke_downward, block_ke_rotational;
+  // Per row and per column of each block (translational + rotational), [block - 1][row - 1].
+  std::vector<std::vector<double>> row_ke, column_ke;
+  // The friction study's quantities: the top row of the top block, 1/2 m vx^2 (+ vy^2) against
+  // 1/2 m vz^2 (physics.md section 4).
+  double top_row_sideways = 0.0, top_row_downward = 0.0;
   double striker_ke = 0.0;
   double output_sphere_ke = 0.0;
   double bottom_row_ke = 0.0;
@@ -26,7 +33,9 @@ class FrameView {
   void bind(const formats::DumpFrame& frame);
   long row(int id) const { return rows_[static_cast<std::size_t>(id - 1)]; }
 
+  // 1/2 m v^2 + 1/2 (2/5 m R^2) w^2, and the rotational part alone.
   double kinetic_energy(const formats::DumpFrame& f, long row) const;
+  double rotational_energy(const formats::DumpFrame& f, long row) const;
 
  private:
   const model::Stack& stack_;

@@ -36,12 +36,20 @@ struct CaseReduction {
   // max |KE + elastic - E_in| / E_in over the frames; only for a conservative case
   // (model::is_conservative), where it measures the integration error.
   std::optional<double> energy_drift;
+  // The friction study (physics.md section 4): peaks over the dump frames of the top row's
+  // sideways (1/2 m vx^2 + vy^2) and downward (1/2 m vz^2) kinetic energy, in J.
+  double top_row_sideways_peak = 0.0;
+  double top_row_downward_peak = 0.0;
+  // E_in - kinetic - elastic at the last frame, / E_in: what damping and friction took. Not
+  // defined with gravity (its potential energy is not counted).
+  std::optional<double> dissipated_fraction;
   std::vector<std::string> warnings;
-  std::string csv_path;                // the per-block energy table written
+  std::string csv_path;                // the per-block energy table written (reduce/block_ke.csv)
 };
 
 struct ReduceOptions {
-  bool write_files = true;  // CASE/reduce/block_ke.csv and CASE/reduce/summary.json
+  // CASE/reduce/: block_ke.csv, energy_parts.csv, row_ke.csv, column_ke.csv, summary.json
+  bool write_files = true;
   // Called after every frame read (frames so far, bytes read so far, bytes in the dump).
   std::function<void(long frames)> on_frame;
 };
