@@ -194,6 +194,8 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     }
   }
 
+  r.waves = analyse_waves(case_dir);
+
   if (options.write_files) {
     const auto rdir = dir / "reduce";
     fs::create_directories(rdir);
@@ -206,6 +208,27 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   }
   return r;
 }
+
+namespace {
+json waves_json(const std::vector<BlockWaves>& waves) {
+  auto opt = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+  json out = json::array();
+  for (const auto& w : waves) {
+    out.push_back({{"block", w.block},
+                   {"peaks", w.peaks},
+                   {"column", w.column},
+                   {"rows_timed", w.rows_used},
+                   {"leading_speed", opt(w.speed)},
+                   {"peak_force", w.peak_force},
+                   {"nesterenko_speed", opt(w.nesterenko_speed)},
+                   {"speed_over_nesterenko", w.speed && w.nesterenko_speed ? json(*w.speed / *w.nesterenko_speed)
+                                                                            : json(nullptr)},
+                   {"width_diameters", opt(w.width)},
+                   {"note", w.note}});
+  }
+  return out;
+}
+}  // namespace
 
 json to_json(const CaseReduction& r) {
   json peaks = json::array(), norm = json::array(), times = json::array();
@@ -238,6 +261,7 @@ json to_json(const CaseReduction& r) {
           {"dissipated_fraction", r.dissipated_fraction ? json(*r.dissipated_fraction) : json(nullptr)},
           {"top_row_sideways_peak", r.top_row_sideways_peak},
           {"top_row_downward_peak", r.top_row_downward_peak},
+          {"waves", waves_json(r.waves)},
           {"warnings", r.warnings}};
 }
 
@@ -258,11 +282,20 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
     const auto& r = rs.front();
     fmt::format_to(out, "\nper block ({}; peaks from the {}):\n", r.case_name,
                    r.peak_source == "series" ? "in-situ series" : "dump frames");
-    fmt::format_to(out, "{:>5}  {:>8}  {:>14}  {:>10}  {:>13}\n", "block", "material", "peak KE (J)", "peak/top",
-                   "t_peak (us)");
+    fmt::format_to(out, "{:>5}  {:>8}  {:>14}  {:>10}  {:>13}  {:>5}  {:>12}  {:>10}\n", "block", "material", "peak KE (J)",
+                   "peak/top", "t_peak (us)", "peaks", "wave (m/s)", "/Nesterenko");
     for (const auto& bp : r.blocks) {
-      fmt::format_to(out, "{:>5}  {:>8}  {:>14.6e}  {:>10.6f}  {:>13.3f}\n", bp.block, r.spec.block_material(bp.block),
-                     bp.peak_ke, bp.normalised, bp.peak_time * 1e6);
+      const BlockWaves* wave =
+          static_cast<std::size_t>(bp.block) <= r.waves.size() ? &r.waves[static_cast<std::size_t>(bp.block - 1)] : nullptr;
+      const std::string speed = wave && wave->speed ? fmt::format("{:.1f}", *wave->speed) : "-";
+      const std::string ratio =
+          wave && wave->speed && wave->nesterenko_speed ? fmt::format("{:.3f}", *wave->speed / *wave->nesterenko_speed) : "-";
+      fmt::format_to(out, "{:>5}  {:>8}  {:>14.6e}  {:>10.6f}  {:>13.3f}  {:>5}  {:>12}  {:>10}\n", bp.block,
+                     r.spec.block_material(bp.block), bp.peak_ke, bp.normalised, bp.peak_time * 1e6, wave ? wave->peaks : 0,
+                     speed, ratio);
+    }
+    for (const auto& wave : r.waves) {
+      if (!wave.note.empty()) fmt::format_to(out, "note: block {}: {}\n", wave.block, wave.note);
     }
     fmt::format_to(out, "output fraction: {:.6g} ({})\n", r.output_fraction, r.output_definition);
   }

@@ -217,6 +217,24 @@ TEST(Physics, FrictionCutsTheTopRowsSidewaysEnergyNotItsDownwardEnergy) {
   EXPECT_LT(std::fabs(*smooth.dissipated_fraction), kEnergyTolerance);
 }
 
+// physics.md section 5: down a 30-row column the pulse is a solitary wave moving at
+// Nesterenko's speed for its peak force (3 %, as for a chain), about 5 diameters wide, and the
+// block's energy curve has a single peak.
+TEST(Physics, LeadingWaveFollowsNesterenko) {
+  auto spec = blocks(1);
+  spec.rows = 30;
+  spec.dump_every = 4;
+  const auto r = postproc::reduce_case(run_case("column", spec));
+  ASSERT_EQ(r.waves.size(), 1u);
+  const auto& w = r.waves[0];
+  ASSERT_TRUE(w.speed && w.nesterenko_speed) << w.note;
+  EXPECT_NEAR(*w.speed / *w.nesterenko_speed, 1.0, 0.03) << *w.speed << " against " << *w.nesterenko_speed;
+  ASSERT_TRUE(w.width);
+  EXPECT_NEAR(*w.width, 5.0, 0.5);
+  EXPECT_EQ(w.peaks, 1);
+  EXPECT_GE(w.rows_used, 25);
+}
+
 TEST(Physics, DampingAndFrictionOnlyRemoveEnergy) {
   auto spec = blocks(2);
   spec.restitution.value = 0.9;

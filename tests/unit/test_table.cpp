@@ -1,6 +1,7 @@
 // The decay fit against hand-computed least squares, and the output-fraction table's grouping.
 #include <granstack/postproc/fit.hpp>
 #include <granstack/postproc/table.hpp>
+#include <granstack/postproc/waves.hpp>
 
 #include <gtest/gtest.h>
 
@@ -68,6 +69,14 @@ TEST(OutputTable, GroupsByEverythingButBlocksAndFitsEachGroup) {
   EXPECT_NE(postproc::fits_csv(t).find("\"e=0.9\",0.9,3,"), std::string::npos);
   rs.push_back(reduction(2, 1.0, 0.1));  // the same group and N_B twice
   EXPECT_THROW(postproc::build_table(rs), std::invalid_argument);
+}
+
+TEST(Peaks, ProminenceRuleKeepsDistinctPeaksAndDropsRipples) {
+  // Two clear peaks (1.0 and 0.6) separated by a dip to 0.2, with a ripple of 0.02 on the first.
+  const std::vector<double> y{0.0, 0.5, 0.98, 0.96, 1.0, 0.7, 0.2, 0.4, 0.6, 0.3, 0.0};
+  EXPECT_EQ(postproc::prominent_peaks(y, 0.05), (std::vector<std::size_t>{4, 8}));
+  EXPECT_EQ(postproc::prominent_peaks(y, 0.01), (std::vector<std::size_t>{2, 4, 8}));
+  EXPECT_TRUE(postproc::prominent_peaks({1.0, 1.0, 1.0}, 0.05).empty());
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // `granstack reduce`: a case's dumps and in-situ series -> per-block energy table, peaks and
 // the output fractions of physics.md section 4.
 #include <granstack/model/spec.hpp>
+#include <granstack/postproc/waves.hpp>
 
 #include <functional>
 #include <optional>
@@ -43,6 +44,7 @@ struct CaseReduction {
   // E_in - kinetic - elastic at the last frame, / E_in: what damping and friction took. Not
   // defined with gravity (its potential energy is not counted).
   std::optional<double> dissipated_fraction;
+  std::vector<BlockWaves> waves;        // top block first
   std::vector<std::string> warnings;
   std::string csv_path;                // the per-block energy table written (reduce/block_ke.csv)
 };

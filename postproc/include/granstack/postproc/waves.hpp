@@ -1,0 +1,37 @@
+#pragma once
+// Solitary waves in each block (physics.md sections 4 and 5): how many distinct peaks the
+// block's energy curve has, and the leading wave's speed, peak force and width down a central
+// column, against Nesterenko's law.
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace granstack::postproc {
+
+// A local maximum counts as a peak when its prominence (its height above the higher of the
+// lowest points between it and a higher point on either side) is at least this fraction of
+// the curve's maximum.
+inline constexpr double kPeakProminence = 0.05;
+
+// Local maxima of `y` with prominence >= min_prominence, by index.
+std::vector<std::size_t> prominent_peaks(const std::vector<double>& y, double min_prominence);
+
+struct BlockWaves {
+  int block = 0;                   // 1 = top
+  int peaks = 0;                   // of the block's KE curve (in-situ series), kPeakProminence rule
+  int column = 0;                  // the central column followed (just right of the axis)
+  int rows_used = 0;               // rows whose leading maximum was timed
+  std::optional<double> speed;     // m/s, least squares of arrival time against depth; none when
+                                   // the dumps sample a row crossing less than twice
+  double peak_force = 0.0;         // N, largest Hertz force between vertical neighbours of the column
+  std::optional<double> nesterenko_speed;  // m/s, for that force (physics.md section 5)
+  std::optional<double> width;     // diameters: the cos^4 support with the same RMS width as the
+                                   // column's overlaps when the wave is at its middle row
+  std::string note;                // why a value is missing
+};
+
+// Needs a case that has run; the dumps set the time resolution of the speed (a few frames per
+// row crossing: see --dump-every). Throws like reduce_case.
+std::vector<BlockWaves> analyse_waves(const std::string& case_dir);
+
+}  // namespace granstack::postproc
