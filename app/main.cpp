@@ -63,7 +63,7 @@ void add_generate(CLI::App& app, GenerateFlags& g) {
       {"--wall-material", "wall_material", "Material of the walls [the bottom block's]"},
       {"--dt", "dt", "Time step, s, or auto [auto]"},
       {"--duration", "duration", "Simulated time, s, or auto [auto]"},
-      {"--dump-every", "dump_every", "Steps between dump frames, or auto [auto: about 250 frames]"},
+      {"--dump-every", "dump_every", "Steps between dump frames, or auto [auto: 250 frames, at least every 0.2 t_c]"},
       {"--series-every", "series_every", "Steps between in-situ energy samples, or auto [auto]"},
       {"--dump-format", "dump_format", "Dump format: text | binary [text]"},
   };

@@ -62,7 +62,8 @@ Resolution resolve(const Stack& stack) {
   r.dt = spec.dt.value_or(r.min_contact_time / kStepsPerContact);
   const double wanted = spec.duration.value_or(kDurationPerArrival * arrival);
   r.steps = std::max<long>(1, std::lround(std::ceil(wanted / r.dt - 1e-9)));
-  r.dump_every = spec.dump_every.value_or(cadence(r.steps, kAutoDumpFrames));
+  const int wave_cadence = static_cast<int>(std::max(1.0, std::floor(kDumpPerContact * r.min_contact_time / r.dt)));
+  r.dump_every = spec.dump_every.value_or(std::min(cadence(r.steps, kAutoDumpFrames), wave_cadence));
   if (spec.dump_every && *spec.dump_every > r.steps) r.dump_every = static_cast<int>(r.steps);
   // The last step is always dumped, so reduce sees the final state.
   r.steps = (r.steps + r.dump_every - 1) / r.dump_every * r.dump_every;

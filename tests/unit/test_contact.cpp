@@ -54,7 +54,7 @@ TEST(Resolution, AutomaticTimeStepIsAFixedFractionOfTheShortestContact) {
   EXPECT_DOUBLE_EQ(r.min_contact_time, hertz_contact_time(sphere_sphere(steel(), 1e-3, steel(), 1e-3), 1.0));
   EXPECT_DOUBLE_EQ(r.dt, r.min_contact_time / kStepsPerContact);
   EXPECT_EQ(r.steps % r.dump_every, 0);  // the final state is dumped
-  EXPECT_GE(r.duration, kDurationPerArrival * r.arrival_estimate);
+  EXPECT_GE(r.duration, kDurationPerArrival * r.arrival_estimate * (1 - 1e-12));  // steps round to 1e-9 of a step
   // physics.md section 6: the output sphere of the 4-block stack has its final energy by ~390 us.
   EXPECT_GT(r.duration, 390e-6);
 }

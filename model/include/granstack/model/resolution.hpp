@@ -18,8 +18,11 @@ inline constexpr double kRowTransitPerContact = 0.6;
 inline constexpr double kBlockEntryPerContact = 0.6;
 // Duration = this many times the estimated arrival time at the bottom face.
 inline constexpr double kDurationPerArrival = 2.0;
-// Automatic output: about this many dump frames and in-situ energy samples per run.
+// Automatic output: about this many dump frames and in-situ energy samples per run, and dump
+// frames at least this often in units of the shortest contact time, so that the solitary wave
+// crossing a row of the smallest spheres (about 0.45 t_c) is sampled at least twice.
 inline constexpr long kAutoDumpFrames = 250;
+inline constexpr double kDumpPerContact = 0.2;
 inline constexpr long kAutoSeriesSamples = 20000;
 inline constexpr long kAutoThermoLines = 200;
 
