@@ -9,6 +9,8 @@ packages=(
   libfmt-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libeigen3-dev libgtest-dev
   coreutils           # stdbuf, so LIGGGHTS's error lines survive an MPI abort
   gnuplot-nox         # granstack plot (PNG and SVG without X)
+  zlib1g-dev libzstd-dev   # reading dumps users compressed with gzip or zstd
+  clang libclang-rt-dev    # the fuzz targets (libFuzzer)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -113,9 +113,7 @@ bool TextDumpReader::next(DumpFrame& f) {
 }
 
 BinaryDumpReader::BinaryDumpReader(const std::string& path, std::vector<std::string> columns)
-    : path_(path), columns_(std::move(columns)), file_(std::fopen(path.c_str(), "rb"), &std::fclose) {
-  if (!file_) throw FormatError(path, 0, std::string("cannot open: ") + std::strerror(errno));
-}
+    : path_(path), columns_(std::move(columns)), source_(open_bytes(path)) {}
 
 namespace {
 // The header of one binary frame, as LIGGGHTS writes it (dump_custom.cpp header_binary).
@@ -131,19 +129,28 @@ static_assert(sizeof(BinaryHeader) == 44);
 }  // namespace
 
 bool BinaryDumpReader::next(DumpFrame& f) {
-  std::FILE* in = file_.get();
+  // Reads exactly `bytes` unless the data end first; returns what it got.
+  auto fill = [&](void* dst, std::size_t bytes) {
+    std::size_t got = 0;
+    while (got < bytes) {
+      const std::size_t k = source_->read(static_cast<char*>(dst) + got, bytes - got);
+      if (k == 0) break;
+      got += k;
+    }
+    return got;
+  };
   const long frame_offset = offset_;
   const long frame_index = frames_ + 1;
   auto where = [&] { return fmt::format("frame {} (at byte {})", frame_index, frame_offset); };
   auto read = [&](void* dst, std::size_t bytes, const char* what) {
-    const std::size_t got = std::fread(dst, 1, bytes, in);
+    const std::size_t got = fill(dst, bytes);
     offset_ += static_cast<long>(got);
     if (got != bytes) {
       throw TruncatedError(path_, 0, fmt::format("file ends inside {} ({}): the run was cut short", where(), what));
     }
   };
   BinaryHeader h{};
-  const std::size_t got = std::fread(&h, 1, sizeof h, in);
+  const std::size_t got = fill(&h, sizeof h);
   offset_ += static_cast<long>(got);
   if (got == 0) {
     if (frames_ == 0) throw FormatError(path_, 0, "empty file: no frame");

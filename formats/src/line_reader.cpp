@@ -8,9 +8,7 @@
 namespace granstack::formats {
 
 LineReader::LineReader(const std::string& path, std::size_t buffer_bytes)
-    : path_(path), file_(std::fopen(path.c_str(), "rb"), &std::fclose), buffer_(buffer_bytes) {
-  if (!file_) throw FormatError(path, 0, std::string("cannot open: ") + std::strerror(errno));
-}
+    : path_(path), source_(open_bytes(path)), buffer_(buffer_bytes) {}
 
 bool LineReader::refill() {
   if (eof_) return false;
@@ -21,7 +19,7 @@ bool LineReader::refill() {
     begin_ = 0;
   }
   if (end_ == buffer_.size()) buffer_.resize(buffer_.size() * 2);
-  const std::size_t got = std::fread(buffer_.data() + end_, 1, buffer_.size() - end_, file_.get());
+  const std::size_t got = source_->read(buffer_.data() + end_, buffer_.size() - end_);
   if (std::memchr(buffer_.data() + end_, '\0', got) != nullptr) saw_nul_ = true;
   end_ += got;
   if (got == 0) eof_ = true;

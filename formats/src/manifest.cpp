@@ -173,6 +173,16 @@ Manifest read_manifest(const std::string& case_dir) {
   return manifest_from_json(j, path);
 }
 
+std::string find_dump(const std::string& case_dir, const std::string& name) {
+  namespace fs = std::filesystem;
+  const auto plain = fs::path(case_dir) / name;
+  for (const char* suffix : {"", ".gz", ".zst"}) {
+    const auto p = plain.string() + suffix;
+    if (fs::exists(p)) return p;
+  }
+  return plain.string();
+}
+
 std::vector<std::string> expand_case_dirs(const std::vector<std::string>& dirs) {
   namespace fs = std::filesystem;
   std::vector<std::string> out;

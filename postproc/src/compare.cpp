@@ -74,9 +74,9 @@ RunComparison compare_runs(const std::string& dir_a, const std::string& dir_b) {
   c.velocity_scale = spec.striker_speed;
   const auto ma = formats::read_manifest(dir_a);
   const auto mb = formats::read_manifest(dir_b);
-  const auto ra = formats::open_dump((fs::path(dir_a) / ma.files.dump).string(),
+  const auto ra = formats::open_dump(formats::find_dump(dir_a, ma.files.dump),
                                      ma.spec.dump_format == model::DumpFormat::binary, ma.files.dump_columns);
-  const auto rb = formats::open_dump((fs::path(dir_b) / mb.files.dump).string(),
+  const auto rb = formats::open_dump(formats::find_dump(dir_b, mb.files.dump),
                                      mb.spec.dump_format == model::DumpFormat::binary, mb.files.dump_columns);
   formats::DumpFrame fa, fb;
   FrameView va(stack, ra->path()), vb(stack, rb->path());

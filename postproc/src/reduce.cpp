@@ -62,7 +62,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   r.spec = spec;
   r.e_in = stack.incident_energy();
   const bool conservative = model::is_conservative(spec);
-  const auto dump_path = (dir / manifest.files.dump).string();
+  const auto dump_path = formats::find_dump(case_dir, manifest.files.dump);
   const auto reader = formats::open_dump(dump_path, spec.dump_format == model::DumpFormat::binary,
                                          manifest.files.dump_columns);
   FrameView view(stack, dump_path);

@@ -80,7 +80,7 @@ std::vector<BlockWaves> analyse_waves(const std::string& case_dir) {
     c.overlap.resize(c.ids.size() > 0 ? c.ids.size() - 1 : 0);
   }
   std::vector<double> times;
-  const auto dump_path = (fs::path(case_dir) / m.files.dump).string();
+  const auto dump_path = formats::find_dump(case_dir, m.files.dump);
   const auto reader = formats::open_dump(dump_path, m.spec.dump_format == model::DumpFormat::binary, m.files.dump_columns);
   FrameView view(stack, dump_path);
   formats::DumpFrame f;

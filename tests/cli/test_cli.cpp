@@ -225,6 +225,43 @@ TEST_F(Cli, ProgressShowsOnATerminalAndStaysQuietOtherwise) {
   EXPECT_EQ(piped.output.find('\r'), std::string::npos);
 }
 
+// Users compress dumps with gzip or zstd; reduce reads them (found as dump.txt.gz / .zst) and
+// gives exactly the uncompressed result.
+TEST_F(Cli, CompressedDumpsReduceToTheSameResult) {
+  for (const std::string format : {"text", "binary"}) {
+    const auto dir = path("case_" + format);
+    ASSERT_EQ(granstack("generate -o " + dir + " --blocks 2 --dump-format " + format).code, 0);
+    ASSERT_EQ(granstack("run " + dir).code, 0);
+    const auto plain = granstack("reduce --json " + dir);
+    ASSERT_EQ(plain.code, 0) << plain.output;
+    const auto dump = dir + (format == "text" ? "/dumps/dump.txt" : "/dumps/dump.bin");
+    for (const std::string tool : {"gzip", "zstd -q"}) {
+      ASSERT_EQ(shell(tool + " -k " + dump).code, 0);
+      fs::rename(dump, dump + ".orig");
+      const auto packed = granstack("reduce --json " + dir);
+      EXPECT_EQ(packed.code, 0) << packed.output;
+      EXPECT_EQ(packed.output, plain.output) << tool;
+      fs::rename(dump + ".orig", dump);
+      fs::remove(dump + ".gz");
+      fs::remove(dump + ".zst");
+    }
+  }
+  // A gzip file cut short: the complete frames are used, with a warning naming the cut frame.
+  const auto dump = path("case_text/dumps/dump.txt");
+  ASSERT_EQ(shell("gzip -c " + dump + " | head -c 100000 > " + dump + ".gz").code, 0);
+  fs::rename(dump, dump + ".orig");
+  auto r = granstack("reduce " + path("case_text"));
+  EXPECT_EQ(r.code, 0) << r.output;
+  expect_contains(r, "file ends inside the frame at step");
+  // Damaged compressed data: a clear error.
+  ASSERT_EQ(shell("gzip -c " + dump + ".orig > " + dump + ".gz && printf 'garbage!garbage!' | dd of=" + dump +
+                  ".gz bs=1 seek=5000 conv=notrunc status=none").code,
+            0);
+  r = granstack("reduce " + path("case_text"));
+  EXPECT_EQ(r.code, 4) << r.output;
+  expect_contains(r, "corrupt gzip data");
+}
+
 TEST_F(Cli, BadBinaryDumpsGiveClearErrorsAndATruncatedFrameAWarning) {
   ASSERT_EQ(granstack("generate -o " + path("case") + " --blocks 1 --dump-format binary").code, 0);
   ASSERT_EQ(granstack("run " + path("case")).code, 0);

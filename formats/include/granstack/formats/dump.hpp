@@ -1,6 +1,7 @@
 #pragma once
 // LIGGGHTS `dump custom` text files (liggghts-3.8.md section 6), read one frame at a time so
 // memory does not grow with the number of frames. Columns are found by name, in any order.
+#include <granstack/formats/byte_source.hpp>
 #include <granstack/formats/line_reader.hpp>
 
 #include <array>
@@ -66,7 +67,7 @@ class BinaryDumpReader final : public DumpReader {
  private:
   std::string path_;
   std::vector<std::string> columns_;
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
+  std::unique_ptr<ByteSource> source_;
   long offset_ = 0;
   long last_step_ = -1;
 };

@@ -1,6 +1,8 @@
 #pragma once
-// Reads a text file line by line through a large buffer, handing out string_views that stay
-// valid until the next call. Memory does not grow with the file.
+// Reads a text file (plain, gzip or zstd) line by line through a large buffer, handing out
+// string_views that stay valid until the next call. Memory does not grow with the file.
+#include <granstack/formats/byte_source.hpp>
+
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -26,7 +28,7 @@ class LineReader {
  private:
   bool refill();
   std::string path_;
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
+  std::unique_ptr<ByteSource> source_;
   std::vector<char> buffer_;
   std::size_t begin_ = 0;
   std::size_t end_ = 0;

@@ -48,6 +48,10 @@ Manifest manifest_from_json(const nlohmann::json& j, const std::string& source);
 // Reads CASE/manifest.json. Throws FormatError.
 Manifest read_manifest(const std::string& case_dir);
 
+// The path of a case's dump: `name` itself, or the same compressed afterwards with gzip
+// (name.gz) or zstd (name.zst). Returns `name` (under `case_dir`) when none exists.
+std::string find_dump(const std::string& case_dir, const std::string& name);
+
 // The case directories named by DIRS: a case directory (with manifest.json) stands for itself,
 // a sweep directory (with sweep.json) for its cases in sweep order; a case named twice counts
 // once. Throws FormatError for a directory that is neither.

@@ -1,0 +1,100 @@
+#include <granstack/formats/byte_source.hpp>
+#include <granstack/formats/error.hpp>
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+#include <zlib.h>
+#include <zstd.h>
+
+namespace granstack::formats {
+
+namespace {
+
+using File = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
+
+class PlainSource final : public ByteSource {
+ public:
+  explicit PlainSource(File file) : file_(std::move(file)) {}
+  std::size_t read(char* buffer, std::size_t n) override { return std::fread(buffer, 1, n, file_.get()); }
+  const char* kind() const override { return "plain"; }
+
+ private:
+  File file_;
+};
+
+class GzipSource final : public ByteSource {
+ public:
+  GzipSource(const std::string& path) : path_(path), file_(gzopen(path.c_str(), "rb")) {
+    if (file_ == nullptr) throw FormatError(path, 0, "cannot open as gzip");
+    gzbuffer(file_, 1 << 20);
+  }
+  ~GzipSource() override { gzclose(file_); }
+  std::size_t read(char* buffer, std::size_t n) override {
+    const int got = gzread(file_, buffer, static_cast<unsigned>(std::min<std::size_t>(n, 1u << 30)));
+    if (got < 0) {
+      int code = 0;
+      const char* msg = gzerror(file_, &code);
+      // Cut short (a run killed while compressing): the end of the data, which the dump
+      // readers report as a truncated frame with its context.
+      if (code == Z_BUF_ERROR) return 0;
+      throw FormatError(path_, 0, fmt::format("corrupt gzip data: {}", msg != nullptr ? msg : "unknown error"));
+    }
+    return static_cast<std::size_t>(got);
+  }
+  const char* kind() const override { return "gzip"; }
+
+ private:
+  std::string path_;
+  gzFile file_;
+};
+
+class ZstdSource final : public ByteSource {
+ public:
+  ZstdSource(const std::string& path, File file)
+      : path_(path), file_(std::move(file)), stream_(ZSTD_createDStream()), in_(ZSTD_DStreamInSize()) {
+    ZSTD_initDStream(stream_);
+  }
+  ~ZstdSource() override { ZSTD_freeDStream(stream_); }
+  std::size_t read(char* buffer, std::size_t n) override {
+    ZSTD_outBuffer out{buffer, n, 0};
+    while (out.pos == 0) {
+      if (input_.pos == input_.size) {
+        const std::size_t got = std::fread(in_.data(), 1, in_.size(), file_.get());
+        if (got == 0) return 0;  // the end, or cut short: the dump readers report a truncated frame
+        input_ = {in_.data(), got, 0};
+      }
+      const std::size_t rc = ZSTD_decompressStream(stream_, &out, &input_);
+      if (ZSTD_isError(rc)) throw FormatError(path_, 0, fmt::format("corrupt zstd data: {}", ZSTD_getErrorName(rc)));
+    }
+    return out.pos;
+  }
+  const char* kind() const override { return "zstd"; }
+
+ private:
+  std::string path_;
+  File file_;
+  ZSTD_DStream* stream_;
+  std::vector<char> in_;
+  ZSTD_inBuffer input_{nullptr, 0, 0};
+};
+
+}  // namespace
+
+std::unique_ptr<ByteSource> open_bytes(const std::string& path) {
+  File file(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!file) throw FormatError(path, 0, std::string("cannot open: ") + std::strerror(errno));
+  unsigned char magic[4] = {0, 0, 0, 0};
+  const std::size_t got = std::fread(magic, 1, 4, file.get());
+  std::rewind(file.get());
+  if (got >= 2 && magic[0] == 0x1f && magic[1] == 0x8b) return std::make_unique<GzipSource>(path);
+  if (got == 4 && magic[0] == 0x28 && magic[1] == 0xb5 && magic[2] == 0x2f && magic[3] == 0xfd) {
+    return std::make_unique<ZstdSource>(path, std::move(file));
+  }
+  return std::make_unique<PlainSource>(std::move(file));
+}
+
+}  // namespace granstack::formats
