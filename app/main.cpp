@@ -66,6 +66,7 @@ void add_generate(CLI::App& app, GenerateFlags& g) {
       {"--dump-every", "dump_every", "Steps between dump frames, or auto [auto: 250 frames, at least every 0.2 t_c]"},
       {"--series-every", "series_every", "Steps between in-situ energy samples, or auto [auto]"},
       {"--dump-format", "dump_format", "Dump format: text | binary [text]"},
+      {"--dump-files", "dump_files", "single | per_step (LIGGGHTS '*') | per_rank (LIGGGHTS '%', with --np) [single]"},
   };
   for (const auto& f : flags) cmd->add_option(f.name, g.values[f.field], f.help);
   cmd->add_option("--gravity", g.values["gravity"], "Gravity along -z, m/s^2; the bare flag means 9.80665 [off]")

@@ -67,7 +67,8 @@ json spec_to_json(const model::StackSpec& s) {
           {"duration", opt(s.duration)},
           {"dump_every", opt(s.dump_every)},
           {"series_every", opt(s.series_every)},
-          {"dump_format", model::to_string(s.dump_format)}};
+          {"dump_format", model::to_string(s.dump_format)},
+          {"dump_files", model::to_string(s.dump_files)}};
 }
 
 model::StackSpec spec_from_json(const json& j, const std::string& source) {
@@ -114,6 +115,9 @@ model::StackSpec spec_from_json(const json& j, const std::string& source) {
   auto format = model::parse_dump_format(get<std::string>(j, "dump_format", source));
   if (!format) throw FormatError(source, 0, "field 'dump_format' is 'text' or 'binary'");
   s.dump_format = *format;
+  auto files = model::parse_dump_files(j.value("dump_files", std::string("single")));
+  if (!files) throw FormatError(source, 0, "field 'dump_files' is 'single', 'per_step' or 'per_rank'");
+  s.dump_files = *files;
   return s;
 }
 
@@ -176,6 +180,7 @@ Manifest read_manifest(const std::string& case_dir) {
 std::string find_dump(const std::string& case_dir, const std::string& name) {
   namespace fs = std::filesystem;
   const auto plain = fs::path(case_dir) / name;
+  if (name.find_first_of("*%") != std::string::npos) return plain.string();  // the reader globs the pieces
   for (const char* suffix : {"", ".gz", ".zst"}) {
     const auto p = plain.string() + suffix;
     if (fs::exists(p)) return p;

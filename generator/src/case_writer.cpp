@@ -41,7 +41,12 @@ std::vector<EnergyGroup> energy_groups(const model::Stack& stack) {
 
 formats::CaseFiles case_files(const model::Stack& stack) {
   formats::CaseFiles f;
-  f.dump = stack.spec().dump_format == model::DumpFormat::binary ? "dumps/dump.bin" : "dumps/dump.txt";
+  // LIGGGHTS puts the step number in place of '*' and the rank in place of '%'.
+  const auto& spec = stack.spec();
+  const std::string stem = spec.dump_files == model::DumpFiles::per_step   ? "dumps/dump.*"
+                           : spec.dump_files == model::DumpFiles::per_rank ? "dumps/dump.%"
+                                                                            : "dumps/dump";
+  f.dump = stem + (spec.dump_format == model::DumpFormat::binary ? ".bin" : ".txt");
   f.dump_columns = kDumpColumns;
   f.series_columns = {"step"};
   for (const auto& g : energy_groups(stack)) {
@@ -115,12 +120,19 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
   v["dump_every"] = std::to_string(res.dump_every);
   v["dump_file"] = files.dump;
   v["dump_columns"] = fmt::format("{}", fmt::join(files.dump_columns, " "));
+  // Sorted by id, except per rank: LIGGGHTS 3.8 then writes each rank's own atom count in its
+  // header but the atoms the sort handed it (measured: 36 announced, 25 written), so the pieces
+  // are left unsorted and the reader maps the ids.
+  const std::string sort = spec.dump_files == model::DumpFiles::per_rank ? "" : " sort id";
   if (spec.dump_format == model::DumpFormat::binary) {
-    v["dump_modify"] = "dump_modify     stack sort id";
+    v["dump_modify"] = sort.empty() ? "# binary dump: no dump_modify needed" : "dump_modify     stack" + sort;
   } else {
     std::string format;
-    for (const auto& c : files.dump_columns) format += (format.empty() ? "" : " ") + std::string(c == "id" || c == "type" ? "%d" : "%.17g");
-    v["dump_modify"] = fmt::format("dump_modify     stack sort id format \"{}\"", format);
+    for (const auto& c : files.dump_columns) {
+      if (!format.empty()) format += ' ';
+      format += c == "id" || c == "type" ? "%d" : "%.17g";
+    }
+    v["dump_modify"] = fmt::format("dump_modify     stack{} format \"{}\"", sort, format);
   }
 
   std::string groups;

@@ -18,8 +18,8 @@ const std::vector<std::string>& spec_fields() {
       "blocks",        "rows",          "top_columns",     "bottom_radius",     "radius_ratio",
       "materials",     "restitution",   "friction",        "striker_speed",     "bottom",
       "sides",         "wall_material", "gravity",         "dt",                "duration",
-      "dump_every",    "series_every",  "dump_format",     "restitution_pairs", "friction_pairs",
-      "custom_materials"};
+      "dump_every",    "series_every",  "dump_format",     "dump_files",        "restitution_pairs",
+      "friction_pairs", "custom_materials"};
   return fields;
 }
 
@@ -284,6 +284,12 @@ Sweep build_sweep(const RawSpec& raw) {
         auto f = model::parse_dump_format(*t);
         if (!f) p.bad(field, fmt::format("'{}' is not 'text' or 'binary'", *t));
         else s.dump_format = *f;
+      }
+    } else if (field == "dump_files") {
+      if (const auto* t = single()) {
+        auto f = model::parse_dump_files(*t);
+        if (!f) p.bad(field, fmt::format("'{}' is not 'single', 'per_step' or 'per_rank'", *t));
+        else s.dump_files = *f;
       }
     } else if (field == "restitution_pairs" || field == "friction_pairs") {
       auto& table = field == "restitution_pairs" ? s.restitution : s.friction;

@@ -22,6 +22,17 @@ std::optional<DumpFormat> parse_dump_format(std::string_view s) {
   return std::nullopt;
 }
 
+std::string_view to_string(DumpFiles f) {
+  return f == DumpFiles::per_step ? "per_step" : f == DumpFiles::per_rank ? "per_rank" : "single";
+}
+
+std::optional<DumpFiles> parse_dump_files(std::string_view s) {
+  if (s == "single") return DumpFiles::single;
+  if (s == "per_step") return DumpFiles::per_step;
+  if (s == "per_rank") return DumpFiles::per_rank;
+  return std::nullopt;
+}
+
 namespace {
 std::pair<std::string, std::string> ordered(const std::string& a, const std::string& b) {
   return a <= b ? std::make_pair(a, b) : std::make_pair(b, a);

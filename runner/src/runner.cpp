@@ -1,3 +1,4 @@
+#include <granstack/formats/dump.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/log.hpp>
 #include <granstack/formats/manifest.hpp>
@@ -303,8 +304,12 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
                  {"started", formats::utc_timestamp()},
                  {"host_threads", std::thread::hardware_concurrency()},
                  {"granstack_version", std::string(version())}};
-  // Stale outputs of an earlier attempt must not be mistaken for this run's.
-  for (const auto& f : {files.dump, files.series, files.log, files.screen}) fs::remove(dir / f);
+  // Stale outputs of an earlier attempt must not be mistaken for this run's: every piece of an
+  // earlier dump (per step, per rank, compressed) goes, and nothing else.
+  for (const auto& f : {files.series, files.log, files.screen}) fs::remove(dir / f);
+  for (const auto& piece : formats::dump_files_matching((dir / files.dump).string())) {
+    for (const char* suffix : {"", ".gz", ".zst"}) fs::remove(piece + suffix);
+  }
   fs::create_directories((dir / files.dump).parent_path());
   write_record(dir / files.run_record, record);
 

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sys/wait.h>
 
 namespace fs = std::filesystem;
@@ -260,6 +261,36 @@ TEST_F(Cli, CompressedDumpsReduceToTheSameResult) {
   r = granstack("reduce " + path("case_text"));
   EXPECT_EQ(r.code, 4) << r.output;
   expect_contains(r, "corrupt gzip data");
+}
+
+// LIGGGHTS's '*' (a file per step) and '%' (a file per MPI rank) dumps, from real runs on two
+// ranks, reduce to exactly the single file's result; refsim writes the same layouts.
+TEST_F(Cli, PerStepAndPerRankDumpsReduceToTheSingleFilesResult) {
+  std::map<std::string, std::string> fraction;
+  for (const std::string files : {"single", "per_step", "per_rank"}) {
+    const auto dir = path(files);
+    ASSERT_EQ(granstack("generate -o " + dir + " --blocks 2 --dump-files " + files).code, 0);
+    const auto run = granstack("run --np 2 " + dir);
+    ASSERT_EQ(run.code, 0) << run.output;
+    const auto r = granstack("reduce --json " + dir);
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("\"warnings\":[]"), std::string::npos) << files << r.output.substr(0, 400);
+    const auto at = r.output.find("\"output_fraction\":");
+    fraction[files] = r.output.substr(at, r.output.find(',', at) - at);
+  }
+  EXPECT_EQ(fraction["per_step"], fraction["single"]);
+  EXPECT_EQ(fraction["per_rank"], fraction["single"]);
+  EXPECT_GT(std::distance(fs::directory_iterator(path("per_step/dumps")), fs::directory_iterator()), 100);
+  EXPECT_TRUE(fs::exists(path("per_rank/dumps/dump.1.txt")));
+  const auto v = granstack("validate " + path("per_step"));
+  EXPECT_EQ(v.code, 0) << v.output;
+  // A rank's file missing its last piece: the complete steps are used, with a warning.
+  ASSERT_EQ(shell("head -n -30 " + path("per_rank/dumps/dump.1.txt") + " > " + path("cut.txt") + " && mv " + path("cut.txt") +
+                  " " + path("per_rank/dumps/dump.1.txt")).code,
+            0);
+  const auto cut = granstack("reduce " + path("per_rank"));
+  EXPECT_EQ(cut.code, 0) << cut.output;
+  expect_contains(cut, "warning:");
 }
 
 TEST_F(Cli, BadBinaryDumpsGiveClearErrorsAndATruncatedFrameAWarning) {

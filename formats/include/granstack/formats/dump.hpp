@@ -72,17 +72,47 @@ class BinaryDumpReader final : public DumpReader {
   long last_step_ = -1;
 };
 
+// A dump split over files as LIGGGHTS splits it: `*` in the name stands for the step (a file
+// per dumped step, read in step order), `%` for the MPI rank (a file per rank, whose pieces of
+// each step are merged into one frame). Each piece may be plain, gzip or zstd.
+class MultiFileDumpReader final : public DumpReader {
+ public:
+  // Throws FormatError when no file matches the pattern.
+  MultiFileDumpReader(const std::string& pattern, bool binary, std::vector<std::string> columns);
+  bool next(DumpFrame& frame) override;
+  const std::string& path() const override { return pattern_; }
+  const std::vector<std::string>& files() const { return files_; }
+
+ private:
+  std::string pattern_;
+  bool binary_;
+  bool per_rank_;
+  std::vector<std::string> columns_;
+  std::vector<std::string> files_;                 // step or rank order
+  std::vector<std::unique_ptr<DumpReader>> open_;  // per rank: all; per step: the current one
+  std::size_t current_ = 0;
+  DumpFrame piece_;
+  long last_step_ = -1;
+};
+
+// The files matching a LIGGGHTS dump name with '*' or '%', ordered by the number standing in
+// for it (compressed copies, name.gz or name.zst, count too).
+std::vector<std::string> dump_files_matching(const std::string& pattern);
+
 // Writes frames in LIGGGHTS's `dump custom` layouts: text as the generated decks ask for it
 // (ids and types as integers, every other column %.17g, each line ending in a space), or binary.
 class DumpWriter {
  public:
+  // A '*' in `path` writes a file per frame (the step in its place); a '%' stands for rank 0.
   DumpWriter(const std::string& path, bool binary);  // throws std::runtime_error
   void write(const DumpFrame& frame);
   void flush();
 
  private:
+  void open(const std::string& path);
   std::string path_;
   bool binary_;
+  bool per_step_ = false;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
   std::string buffer_;
 };

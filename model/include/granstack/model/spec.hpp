@@ -13,11 +13,15 @@ namespace granstack::model {
 
 enum class Boundary { free_surface, wall };
 enum class DumpFormat { text, binary };
+// One dump file; one per dumped step (LIGGGHTS's '*'); one per MPI rank (its '%').
+enum class DumpFiles { single, per_step, per_rank };
 
 std::string_view to_string(Boundary b);       // "free" | "wall"
 std::string_view to_string(DumpFormat f);     // "text" | "binary"
 std::optional<Boundary> parse_boundary(std::string_view s);
 std::optional<DumpFormat> parse_dump_format(std::string_view s);
+std::string_view to_string(DumpFiles f);      // "single" | "per_step" | "per_rank"
+std::optional<DumpFiles> parse_dump_files(std::string_view s);
 
 // A coefficient that has one value for every material pair, optionally overridden for
 // particular (unordered) pairs, e.g. restitution 0.9 but 0.8 between steel and teflon.
@@ -50,6 +54,7 @@ struct StackSpec {
   std::optional<int> dump_every;               // steps; nullopt = automatic
   std::optional<int> series_every;             // steps between in-situ energy samples; nullopt = automatic
   DumpFormat dump_format = DumpFormat::text;
+  DumpFiles dump_files = DumpFiles::single;
 
   // The material name of block k (1 = top).
   const std::string& block_material(int k) const;
