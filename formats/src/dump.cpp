@@ -79,8 +79,9 @@ bool TextDumpReader::next(DumpFrame& f) {
     f.columns.assign(words_.begin(), words_.end());
   }
   const std::size_t ncol = f.columns.size();
-  f.values.resize(static_cast<std::size_t>(f.atoms) * ncol);
-  double* out = f.values.data();
+  // The header's count is not trusted with memory: the frame grows as its lines arrive.
+  f.values.clear();
+  f.values.reserve(std::min<std::size_t>(static_cast<std::size_t>(f.atoms), std::size_t{1} << 20) * ncol);
   for (long a = 0; a < f.atoms; ++a) {
     if (!reader_.next(line)) {
       throw TruncatedError(path, reader_.line_number(),
@@ -102,6 +103,9 @@ bool TextDumpReader::next(DumpFrame& f) {
       bad_row(fmt::format("atom line {} of the frame at step {} has {} values, the header names {} columns", a + 1,
                           f.step, words_.size(), ncol));
     }
+    const std::size_t base = f.values.size();
+    f.values.resize(base + ncol);
+    double* out = f.values.data() + base;
     for (std::size_t c = 0; c < ncol; ++c) {
       if (!parse_double(words_[c], *out++)) {
         bad_row(fmt::format("'{}' in column '{}' (frame at step {}) is not a number", words_[c].substr(0, 40),
@@ -199,7 +203,8 @@ bool BinaryDumpReader::next(DumpFrame& f) {
   std::copy(box, box + 6, f.box.begin());
   f.columns = columns_;
   const std::size_t total = static_cast<std::size_t>(h.atoms) * columns_.size();
-  f.values.resize(total);
+  // The header's count is not trusted with memory: the frame grows as its chunks arrive.
+  f.values.clear();
   std::size_t filled = 0;
   for (std::int32_t c = 0; c < chunks; ++c) {
     std::int32_t n = 0;
@@ -208,8 +213,13 @@ bool BinaryDumpReader::next(DumpFrame& f) {
       throw FormatError(path_, 0, fmt::format("{}: chunk {} holds {} values, which does not fit {} atoms of {} columns",
                                               where(), c + 1, n, h.atoms, size_one));
     }
-    read(f.values.data() + filled, sizeof(double) * static_cast<std::size_t>(n), "atom data");
-    filled += static_cast<std::size_t>(n);
+    for (std::size_t done = 0; done < static_cast<std::size_t>(n);) {
+      const std::size_t part = std::min<std::size_t>(static_cast<std::size_t>(n) - done, std::size_t{1} << 20);
+      f.values.resize(filled + part);
+      read(f.values.data() + filled, sizeof(double) * part, "atom data");
+      filled += part;
+      done += part;
+    }
   }
   if (filled != total) {
     throw FormatError(path_, 0, fmt::format("{} holds {} values for {} atoms of {} columns", where(), filled, h.atoms,

@@ -169,6 +169,23 @@ TEST_F(DumpTest, MissingColumnNamesTheDumpKeyword) {
   }
 }
 
+// Regression inputs of the fuzz target (tests/fuzz/regressions): a header announcing a huge
+// frame must not be trusted with memory.
+TEST(DumpRegressions, HugeAtomCountsInHeadersAreRefusedWithoutAllocatingThem) {
+  formats::DumpFrame f;
+  try {
+    formats::TextDumpReader text(GRANSTACK_FUZZ_REGRESSIONS "/huge_atom_count.txt");
+    while (text.next(f)) {
+    }
+    FAIL();
+  } catch (const formats::TruncatedError& e) {
+    EXPECT_NE(std::string(e.what()).find("1 of 99999999999 atom lines"), std::string::npos) << e.what();
+  }
+  const std::vector<std::string> columns(16, "c");
+  formats::BinaryDumpReader binary(GRANSTACK_FUZZ_REGRESSIONS "/huge_atom_count.bin", columns);
+  EXPECT_THROW(while (binary.next(f)) {}, formats::FormatError);
+}
+
 using SeriesTest = TempDir;
 
 TEST_F(SeriesTest, ReadsNamedColumnsAndDropsACutLastRow) {

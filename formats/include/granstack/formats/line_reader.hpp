@@ -14,7 +14,7 @@ namespace granstack::formats {
 class LineReader {
  public:
   // Throws FormatError when the file cannot be opened.
-  explicit LineReader(const std::string& path, std::size_t buffer_bytes = std::size_t{1} << 22);
+  explicit LineReader(const std::string& path, std::size_t buffer_bytes = std::size_t{1} << 18);
   LineReader(const LineReader&) = delete;
   LineReader& operator=(const LineReader&) = delete;
 

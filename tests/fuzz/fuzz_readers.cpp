@@ -1,0 +1,49 @@
+// libFuzzer target: every reader of LIGGGHTS output (text and binary dumps, in-situ series,
+// data files) on arbitrary bytes. Each may refuse the input with a FormatError; any other
+// exception, a crash, a hang or a sanitizer report is a bug.
+#include <granstack/formats/data_file.hpp>
+#include <granstack/formats/dump.hpp>
+#include <granstack/formats/error.hpp>
+#include <granstack/formats/series.hpp>
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <unistd.h>
+
+namespace {
+const std::vector<std::string> kColumns{"id", "type", "radius", "mass", "x", "y", "z", "vx", "vy", "vz",
+                                        "omegax", "omegay", "omegaz", "fx", "fy", "fz"};
+
+template <typename Fn>
+void expect_clean(Fn&& fn) {
+  try {
+    fn();
+  } catch (const granstack::formats::FormatError&) {
+    // A refusal with a message: what bad input must get.
+  }
+}
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static const std::string path = "/tmp/granstack-fuzz-" + std::to_string(::getpid());
+  if (std::FILE* f = std::fopen(path.c_str(), "wb")) {
+    std::fwrite(data, 1, size, f);
+    std::fclose(f);
+  }
+  using namespace granstack::formats;
+  DumpFrame frame;
+  expect_clean([&] {
+    TextDumpReader reader(path);
+    while (reader.next(frame)) {
+    }
+  });
+  expect_clean([&] {
+    BinaryDumpReader reader(path, kColumns);
+    while (reader.next(frame)) {
+    }
+  });
+  expect_clean([&] { read_series(path); });
+  expect_clean([&] { parse_data_file(path); });
+  return 0;
+}
