@@ -10,6 +10,7 @@ packages=(
   coreutils           # stdbuf, so LIGGGHTS's error lines survive an MPI abort
   gnuplot-nox         # granstack plot (PNG and SVG without X)
   zlib1g-dev libzstd-dev   # reading dumps users compressed with gzip or zstd
+  libfast-float-dev        # number parsing at the speed the dumps need
   clang libclang-rt-dev    # the fuzz targets (libFuzzer)
 )
 missing=()

@@ -87,7 +87,6 @@ bool TextDumpReader::next(DumpFrame& f) {
       throw TruncatedError(path, reader_.line_number(),
                            fmt::format("file ends inside the frame at step {}: {} of {} atom lines", f.step, a, f.atoms));
     }
-    split_words(line, words_);
     // A bad last line of the file is a run killed while writing: truncation, not corruption.
     auto bad_row = [&](const std::string& msg) {
       FormatError error = fail(msg);
@@ -99,18 +98,29 @@ bool TextDumpReader::next(DumpFrame& f) {
       }
       throw error;
     };
-    if (words_.size() != ncol) {
-      bad_row(fmt::format("atom line {} of the frame at step {} has {} values, the header names {} columns", a + 1,
-                          f.step, words_.size(), ncol));
-    }
+    // The numbers are parsed in place; the words are split only to explain a bad line.
     const std::size_t base = f.values.size();
     f.values.resize(base + ncol);
     double* out = f.values.data() + base;
-    for (std::size_t c = 0; c < ncol; ++c) {
-      if (!parse_double(words_[c], *out++)) {
-        bad_row(fmt::format("'{}' in column '{}' (frame at step {}) is not a number", words_[c].substr(0, 40),
-                            f.columns[c], f.step));
+    const char* p = line.data();
+    const char* end = line.data() + line.size();
+    std::size_t c = 0;
+    for (; c < ncol && p != nullptr; ++c) p = parse_next_double(p, end, out[c]);
+    while (p != nullptr && p < end && (*p == ' ' || *p == '\t')) ++p;
+    if (p == nullptr || p != end) {
+      split_words(line, words_);
+      if (words_.size() != ncol) {
+        bad_row(fmt::format("atom line {} of the frame at step {} has {} values, the header names {} columns", a + 1,
+                            f.step, words_.size(), ncol));
       }
+      for (std::size_t k = 0; k < ncol; ++k) {
+        double ignored = 0.0;
+        if (!parse_double(words_[k], ignored)) {
+          bad_row(fmt::format("'{}' in column '{}' (frame at step {}) is not a number", words_[k].substr(0, 40),
+                              f.columns[k], f.step));
+        }
+      }
+      bad_row(fmt::format("atom line {} of the frame at step {} is not a row of numbers", a + 1, f.step));
     }
   }
   last_step_ = f.step;

@@ -4,7 +4,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 namespace granstack::postproc {
 
@@ -64,6 +67,90 @@ double FrameView::kinetic_energy(const formats::DumpFrame& f, long r) const {
 }
 
 namespace {
+
+// Calls fn(i, j), i < j, for every pair of spheres whose centres are closer in the x-z plane
+// than the sum of their radii (a superset of the touching pairs; y is checked by the caller).
+// One grid per sphere size, with cells of that size's diameter, so a large sphere looks
+// through the few cells it covers of each finer grid instead of at every sphere.
+template <typename Fn>
+void for_each_close_pair(const model::Stack& stack, const std::vector<double>& x, const std::vector<double>& z,
+                         Fn&& fn) {
+  const auto& spheres = stack.spheres();
+  const std::size_t n = spheres.size();
+  struct Grid {
+    double radius = 0.0, cell = 0.0;
+    std::int64_t x0 = 0, z0 = 0, nx = 0, nz = 0;   // dense cell range
+    std::vector<std::size_t> start, members;       // counting-sorted cell lists
+    std::vector<std::size_t> spheres;
+  };
+  std::vector<Grid> grids;
+  std::vector<std::size_t> level(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::size_t g = 0;
+    while (g < grids.size() && grids[g].radius != spheres[i].radius) ++g;
+    if (g == grids.size()) grids.push_back({spheres[i].radius, 2.0 * spheres[i].radius, 0, 0, 0, 0, {}, {}, {}});
+    level[i] = g;
+    if (std::isfinite(x[i]) && std::isfinite(z[i])) grids[g].spheres.push_back(i);  // a blown-up sphere touches nothing
+  }
+  auto cell_of = [](double v, double cell) { return static_cast<std::int64_t>(std::floor(v / cell)); };
+  for (auto& g : grids) {
+    if (g.spheres.empty()) continue;
+    std::int64_t x1 = 0, z1 = 0;
+    g.x0 = g.z0 = std::numeric_limits<std::int64_t>::max();
+    x1 = z1 = std::numeric_limits<std::int64_t>::min();
+    for (const auto i : g.spheres) {
+      g.x0 = std::min(g.x0, cell_of(x[i], g.cell));
+      g.z0 = std::min(g.z0, cell_of(z[i], g.cell));
+      x1 = std::max(x1, cell_of(x[i], g.cell));
+      z1 = std::max(z1, cell_of(z[i], g.cell));
+    }
+    g.nx = x1 - g.x0 + 1;
+    g.nz = z1 - g.z0 + 1;
+    // Spheres scattered far apart (long after the impact): coarsen the cells so the dense grid
+    // stays about as large as the number of spheres; fewer cells only means more candidates.
+    while (static_cast<double>(g.nx) * static_cast<double>(g.nz) > 4.0 * static_cast<double>(g.spheres.size()) + 64.0) {
+      g.cell *= 2.0;
+      g.x0 = g.z0 = std::numeric_limits<std::int64_t>::max();
+      x1 = z1 = std::numeric_limits<std::int64_t>::min();
+      for (const auto i : g.spheres) {
+        g.x0 = std::min(g.x0, cell_of(x[i], g.cell));
+        g.z0 = std::min(g.z0, cell_of(z[i], g.cell));
+        x1 = std::max(x1, cell_of(x[i], g.cell));
+        z1 = std::max(z1, cell_of(z[i], g.cell));
+      }
+      g.nx = x1 - g.x0 + 1;
+      g.nz = z1 - g.z0 + 1;
+    }
+    const auto cells = static_cast<std::size_t>(g.nx * g.nz);
+    g.start.assign(cells + 1, 0);
+    auto index = [&](std::size_t i) {
+      return static_cast<std::size_t>((cell_of(x[i], g.cell) - g.x0) * g.nz + (cell_of(z[i], g.cell) - g.z0));
+    };
+    for (const auto i : g.spheres) ++g.start[index(i) + 1];
+    for (std::size_t c = 0; c < cells; ++c) g.start[c + 1] += g.start[c];
+    g.members.resize(g.spheres.size());
+    std::vector<std::size_t> fill(g.start.begin(), g.start.end() - 1);
+    for (const auto i : g.spheres) g.members[fill[index(i)]++] = i;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(x[i]) || !std::isfinite(z[i])) continue;
+    for (const auto& g : grids) {
+      if (g.spheres.empty()) continue;
+      const double reach = spheres[i].radius + g.radius;
+      const auto cx0 = std::max(g.x0, cell_of(x[i] - reach, g.cell)), cx1 = std::min(g.x0 + g.nx - 1, cell_of(x[i] + reach, g.cell));
+      const auto cz0 = std::max(g.z0, cell_of(z[i] - reach, g.cell)), cz1 = std::min(g.z0 + g.nz - 1, cell_of(z[i] + reach, g.cell));
+      for (auto cx = cx0; cx <= cx1; ++cx) {
+        for (auto cz = cz0; cz <= cz1; ++cz) {
+          const auto c = static_cast<std::size_t>((cx - g.x0) * g.nz + (cz - g.z0));
+          for (std::size_t k = g.start[c]; k < g.start[c + 1]; ++k) {
+            if (g.members[k] > i) fn(i, g.members[k]);
+          }
+        }
+      }
+    }
+  }
+  (void)level;
+}
 
 // Hertz parameters of every atom-type pair and of every type against the walls, computed once.
 class ContactEnergy {
@@ -166,15 +253,13 @@ FrameEnergy frame_energy(const formats::DumpFrame& f, const FrameView& v, const 
     if (s.id >= bottom_first) e.bottom_row_ke += ke;
   }
   const ContactEnergy contacts(stack);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t j = i + 1; j < n; ++j) {
-      const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
-      const double sum = spheres[i].radius + spheres[j].radius;
-      const double d2 = dx * dx + dy * dy + dz * dz;
-      if (d2 < sum * sum) e.elastic += contacts.pair(spheres[i], spheres[j], sum - std::sqrt(d2));
-    }
-    e.elastic += contacts.walls(spheres[i], x[i], z[i]);
-  }
+  for_each_close_pair(stack, x, z, [&](std::size_t i, std::size_t j) {
+    const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
+    const double sum = spheres[i].radius + spheres[j].radius;
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    if (d2 < sum * sum) e.elastic += contacts.pair(spheres[i], spheres[j], sum - std::sqrt(d2));
+  });
+  for (std::size_t i = 0; i < n; ++i) e.elastic += contacts.walls(spheres[i], x[i], z[i]);
   return e;
 }
 

@@ -45,6 +45,53 @@ void require_successful_run(const fs::path& dir, const formats::CaseFiles& files
   }
 }
 
+// A CSV table written as it grows: rows collect in a buffer that goes to a temporary file
+// beside the target whenever it passes a megabyte, and the file is renamed into place at the
+// end, so memory does not grow with the number of frames and no reader sees half a table.
+class StreamedTable {
+ public:
+  StreamedTable(fs::path target, bool write) : target_(std::move(target)), write_(write) {}
+  ~StreamedTable() {
+    if (file_ != nullptr) {
+      std::fclose(file_);
+      std::error_code ec;
+      fs::remove(temporary(), ec);
+    }
+  }
+  std::back_insert_iterator<fmt::memory_buffer> out() { return std::back_inserter(buffer_); }
+  void row_done() {
+    if (buffer_.size() > (1u << 20)) flush();
+  }
+  void finish() {
+    flush();
+    if (file_ == nullptr) return;
+    const bool ok = std::fclose(file_) == 0;
+    file_ = nullptr;
+    if (!ok) throw std::runtime_error(fmt::format("{}: cannot write", temporary().string()));
+    fs::rename(temporary(), target_);
+  }
+
+ private:
+  fs::path temporary() const { return target_.string() + ".tmp"; }
+  void flush() {
+    if (write_) {
+      if (file_ == nullptr) {
+        fs::create_directories(target_.parent_path());
+        file_ = std::fopen(temporary().c_str(), "wb");
+        if (file_ == nullptr) throw std::runtime_error(fmt::format("{}: cannot write", temporary().string()));
+      }
+      if (std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size()) {
+        throw std::runtime_error(fmt::format("{}: cannot write", temporary().string()));
+      }
+    }
+    buffer_.clear();
+  }
+  fs::path target_;
+  bool write_;
+  std::FILE* file_ = nullptr;
+  fmt::memory_buffer buffer_;
+};
+
 }  // namespace
 
 CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& options) {
@@ -66,19 +113,23 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   const auto reader = formats::open_dump(dump_path, spec.dump_format == model::DumpFormat::binary,
                                          manifest.files.dump_columns);
   FrameView view(stack, dump_path);
+  WaveTracker waves(stack, res.dt);
   formats::DumpFrame frame, last;
   FrameEnergy last_energy;
   std::vector<BlockPeak> dump_peaks(static_cast<std::size_t>(nb));
-  fmt::memory_buffer csv;
-  auto out = std::back_inserter(csv);
+  const auto rdir = dir / "reduce";
+  StreamedTable block_table(rdir / "block_ke.csv", options.write_files);
+  auto out = block_table.out();
   fmt::format_to(out, "step,time_s");
   for (int k = 1; k <= nb; ++k) fmt::format_to(out, ",ke_block{}_J", k);
   fmt::format_to(out, ",ke_striker_J,ke_output_sphere_J,ke_bottom_row_J,ke_total_J,elastic_J,energy_total_J\n");
   // The parts, per row and per column: the same frames, one table each.
-  fmt::memory_buffer parts_csv, rows_csv, columns_csv;
-  auto parts = std::back_inserter(parts_csv);
-  auto rows = std::back_inserter(rows_csv);
-  auto columns = std::back_inserter(columns_csv);
+  StreamedTable parts_table(rdir / "energy_parts.csv", options.write_files);
+  StreamedTable rows_table(rdir / "row_ke.csv", options.write_files);
+  StreamedTable columns_table(rdir / "column_ke.csv", options.write_files);
+  auto parts = parts_table.out();
+  auto rows = rows_table.out();
+  auto columns = columns_table.out();
   fmt::format_to(parts, "step,time_s");
   fmt::format_to(rows, "step,time_s");
   fmt::format_to(columns, "step,time_s");
@@ -98,6 +149,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
       break;
     }
     view.bind(frame);
+    waves.add(frame, view);
     const auto e = frame_energy(frame, view, stack);
     const double t = static_cast<double>(frame.step) * res.dt;
     fmt::format_to(out, "{},{}", frame.step, t);
@@ -126,6 +178,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     fmt::format_to(parts, ",{},{},{}\n", e.top_row_sideways, e.top_row_downward, r.e_in - e.kinetic - e.elastic);
     fmt::format_to(rows, "\n");
     fmt::format_to(columns, "\n");
+    for (auto* table : {&block_table, &parts_table, &rows_table, &columns_table}) table->row_done();
     ++r.frames;
     if (options.on_frame) options.on_frame(r.frames);
     std::swap(last, frame);
@@ -194,16 +247,13 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     }
   }
 
-  r.waves = analyse_waves(case_dir);
+  const auto series_for_waves = fs::exists(series_path) ? formats::read_series(series_path) : formats::Series{};
+  r.waves = waves.finish(series_for_waves);
 
+  for (auto* table : {&block_table, &parts_table, &rows_table, &columns_table}) table->finish();
   if (options.write_files) {
-    const auto rdir = dir / "reduce";
     fs::create_directories(rdir);
     r.csv_path = (rdir / "block_ke.csv").string();
-    formats::write_file_atomically(r.csv_path, fmt::to_string(csv));
-    formats::write_file_atomically(rdir / "energy_parts.csv", fmt::to_string(parts_csv));
-    formats::write_file_atomically(rdir / "row_ke.csv", fmt::to_string(rows_csv));
-    formats::write_file_atomically(rdir / "column_ke.csv", fmt::to_string(columns_csv));
     formats::write_file_atomically(rdir / "summary.json", to_json(r).dump(2) + "\n");
   }
   return r;

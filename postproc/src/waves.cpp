@@ -44,42 +44,39 @@ double refined_peak_time(const std::vector<double>& t, const std::vector<double>
 }
 }  // namespace
 
-std::vector<BlockWaves> analyse_waves(const std::string& case_dir) {
-  const auto m = formats::read_manifest(case_dir);
-  const auto stack = model::Stack::build(m.spec);
-  const double dt = model::resolve(stack).dt;
-  const auto lib = m.spec.material_library();
-  const int nb = m.spec.blocks;
-  std::vector<BlockWaves> out(static_cast<std::size_t>(nb));
-
-  // Peaks of each block's KE curve, from the in-situ series.
-  const auto series = formats::read_series((fs::path(case_dir) / m.files.series).string());
-  for (int k = 1; k <= nb; ++k) {
-    auto& w = out[static_cast<std::size_t>(k - 1)];
-    w.block = k;
-    const int ct = series.column(fmt::format("ke_trans_block{}", k)), cr = series.column(fmt::format("ke_rot_block{}", k));
-    if (ct < 0 || cr < 0) continue;
-    std::vector<double> ke;
-    for (const auto& row : series.rows) ke.push_back(row[static_cast<std::size_t>(ct)] + row[static_cast<std::size_t>(cr)]);
-    const double top = ke.empty() ? 0.0 : *std::max_element(ke.begin(), ke.end());
-    w.peaks = static_cast<int>(prominent_peaks(ke, kPeakProminence * top).size());
-  }
-
-  // Per block, the central column's speeds and vertical overlaps over the dump frames.
-  struct Column {
-    std::vector<int> ids;                        // rows top to bottom
-    std::vector<std::vector<double>> speed;      // [row][frame]
-    std::vector<std::vector<double>> overlap;    // [contact row i with i + 1][frame]
-  };
-  std::vector<Column> columns(static_cast<std::size_t>(nb));
+WaveTracker::WaveTracker(const model::Stack& stack, double dt) : stack_(stack), dt_(dt) {
   for (const auto& b : stack.blocks()) {
-    auto& c = columns[static_cast<std::size_t>(b.index - 1)];
-    out[static_cast<std::size_t>(b.index - 1)].column = b.columns / 2 + 1;
+    Column c;
     for (int i = 1; i <= b.rows; ++i) c.ids.push_back(stack.id_of(b.index, i, b.columns / 2 + 1));
     c.speed.resize(c.ids.size());
     c.overlap.resize(c.ids.size() > 0 ? c.ids.size() - 1 : 0);
+    columns_.push_back(std::move(c));
   }
-  std::vector<double> times;
+}
+
+void WaveTracker::add(const formats::DumpFrame& f, const FrameView& view) {
+  times_.push_back(static_cast<double>(f.step) * dt_);
+  const int cx = f.column("x"), cy = f.column("y"), cz = f.column("z");
+  const int cvx = f.column("vx"), cvy = f.column("vy"), cvz = f.column("vz");
+  for (auto& c : columns_) {
+    for (std::size_t r = 0; r < c.ids.size(); ++r) {
+      const long row = view.row(c.ids[r]);
+      c.speed[r].push_back(std::hypot(f.at(row, cvx), f.at(row, cvy), f.at(row, cvz)));
+      if (r + 1 < c.ids.size()) {
+        const long below = view.row(c.ids[r + 1]);
+        const double d = std::hypot(f.at(row, cx) - f.at(below, cx), f.at(row, cy) - f.at(below, cy),
+                                    f.at(row, cz) - f.at(below, cz));
+        const double sum = stack_.sphere(c.ids[r]).radius + stack_.sphere(c.ids[r + 1]).radius;
+        c.overlap[r].push_back(std::max(0.0, sum - d));
+      }
+    }
+  }
+}
+
+std::vector<BlockWaves> analyse_waves(const std::string& case_dir) {
+  const auto m = formats::read_manifest(case_dir);
+  const auto stack = model::Stack::build(m.spec);
+  WaveTracker tracker(stack, model::resolve(stack).dt);
   const auto dump_path = formats::find_dump(case_dir, m.files.dump);
   const auto reader = formats::open_dump(dump_path, m.spec.dump_format == model::DumpFormat::binary, m.files.dump_columns);
   FrameView view(stack, dump_path);
@@ -92,24 +89,30 @@ std::vector<BlockWaves> analyse_waves(const std::string& case_dir) {
       break;  // reduce reports it; the complete frames serve here too
     }
     view.bind(f);
-    times.push_back(static_cast<double>(f.step) * dt);
-    const int cx = f.column("x"), cy = f.column("y"), cz = f.column("z");
-    const int cvx = f.column("vx"), cvy = f.column("vy"), cvz = f.column("vz");
-    for (auto& c : columns) {
-      for (std::size_t r = 0; r < c.ids.size(); ++r) {
-        const long row = view.row(c.ids[r]);
-        c.speed[r].push_back(std::hypot(f.at(row, cvx), f.at(row, cvy), f.at(row, cvz)));
-        if (r + 1 < c.ids.size()) {
-          const long below = view.row(c.ids[r + 1]);
-          const double d = std::hypot(f.at(row, cx) - f.at(below, cx), f.at(row, cy) - f.at(below, cy),
-                                      f.at(row, cz) - f.at(below, cz));
-          const double sum = stack.sphere(c.ids[r]).radius + stack.sphere(c.ids[r + 1]).radius;
-          c.overlap[r].push_back(std::max(0.0, sum - d));
-        }
-      }
-    }
+    tracker.add(f, view);
   }
+  return tracker.finish(formats::read_series((fs::path(case_dir) / m.files.series).string()));
+}
 
+std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const {
+  const auto& stack = stack_;
+  const double dt = dt_;
+  const auto& times = times_;
+  const auto& columns = columns_;
+  const auto lib = stack.spec().material_library();
+  const int nb = stack.spec().blocks;
+  std::vector<BlockWaves> out(static_cast<std::size_t>(nb));
+  for (int k = 1; k <= nb; ++k) {
+    auto& w = out[static_cast<std::size_t>(k - 1)];
+    w.block = k;
+    w.column = stack.block(k).columns / 2 + 1;
+    const int ct = series.column(fmt::format("ke_trans_block{}", k)), cr = series.column(fmt::format("ke_rot_block{}", k));
+    if (ct < 0 || cr < 0) continue;
+    std::vector<double> ke;
+    for (const auto& row : series.rows) ke.push_back(row[static_cast<std::size_t>(ct)] + row[static_cast<std::size_t>(cr)]);
+    const double top = ke.empty() ? 0.0 : *std::max_element(ke.begin(), ke.end());
+    w.peaks = static_cast<int>(prominent_peaks(ke, kPeakProminence * top).size());
+  }
   for (const auto& b : stack.blocks()) {
     auto& w = out[static_cast<std::size_t>(b.index - 1)];
     const auto& c = columns[static_cast<std::size_t>(b.index - 1)];

@@ -42,5 +42,8 @@ void split_words(std::string_view line, std::vector<std::string_view>& words);
 // Parses a whole word as a double (accepts what printf's %g writes, including inf and nan).
 bool parse_double(std::string_view word, double& value);
 bool parse_long(std::string_view word, long& value);
+// Parses the next blank-separated number of [p, end) into `value` and returns where it ended;
+// nullptr when there is no number there (or it runs into other characters).
+const char* parse_next_double(const char* p, const char* end, double& value);
 
 }  // namespace granstack::formats

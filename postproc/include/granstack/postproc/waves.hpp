@@ -2,6 +2,11 @@
 // Solitary waves in each block (physics.md sections 4 and 5): how many distinct peaks the
 // block's energy curve has, and the leading wave's speed, peak force and width down a central
 // column, against Nesterenko's law.
+#include <granstack/formats/dump.hpp>
+#include <granstack/formats/series.hpp>
+#include <granstack/model/stack.hpp>
+#include <granstack/postproc/energy.hpp>
+
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,5 +38,25 @@ struct BlockWaves {
 // Needs a case that has run; the dumps set the time resolution of the speed (a few frames per
 // row crossing: see --dump-every). Throws like reduce_case.
 std::vector<BlockWaves> analyse_waves(const std::string& case_dir);
+
+// The same, fed one frame at a time, so reduce reads the dump once.
+class WaveTracker {
+ public:
+  WaveTracker(const model::Stack& stack, double dt);
+  void add(const formats::DumpFrame& frame, const FrameView& view);
+  // `series` gives the peaks of each block's energy curve.
+  std::vector<BlockWaves> finish(const formats::Series& series) const;
+
+ private:
+  struct Column {
+    std::vector<int> ids;                      // rows top to bottom
+    std::vector<std::vector<double>> speed;    // [row][frame]
+    std::vector<std::vector<double>> overlap;  // [contact of row i with i + 1][frame]
+  };
+  const model::Stack& stack_;
+  double dt_;
+  std::vector<Column> columns_;
+  std::vector<double> times_;
+};
 
 }  // namespace granstack::postproc
