@@ -181,9 +181,9 @@ struct ReduceFlags {
   bool json = false;
 };
 
-int do_reduce(const ReduceFlags& f) {
-  const auto dirs = formats::expand_case_dirs(f.cases);
-  std::vector<postproc::CaseReduction> results;
+// Reduces every case, with frame progress on a terminal; a failure is reported and the case
+// left out. Returns the exit code so far.
+int reduce_all(const std::vector<std::string>& dirs, std::vector<postproc::CaseReduction>& results) {
   app::StatusLine status;
   int rc = kOk;
   for (std::size_t i = 0; i < dirs.size(); ++i) {
@@ -216,31 +216,16 @@ int do_reduce(const ReduceFlags& f) {
     }
   }
   status.clear();
+  return rc;
+}
+
+int do_reduce(const ReduceFlags& f) {
+  std::vector<postproc::CaseReduction> results;
+  const int rc = reduce_all(formats::expand_case_dirs(f.cases), results);
   if (f.json) {
     for (const auto& r : results) fmt::print("{}\n", postproc::to_json(r).dump());
   } else if (!results.empty()) {
     fmt::print("{}", postproc::format_table(results));
-  }
-  return rc;
-}
-
-// Reduces every case (a failure is reported and the case left out); returns the exit code so far.
-int reduce_all(const std::vector<std::string>& dirs, std::vector<postproc::CaseReduction>& results) {
-  int rc = kOk;
-  app::StatusLine status;
-  for (std::size_t i = 0; i < dirs.size(); ++i) {
-    status.show(fmt::format("reduce: case {}/{} {}", i + 1, dirs.size(), dirs[i]));
-    try {
-      results.push_back(postproc::reduce_case(dirs[i]));
-    } catch (const formats::FormatError& e) {
-      status.clear();
-      fmt::print(stderr, "error: {}\n", e.what());
-      rc = kBadFile;
-    } catch (const std::runtime_error& e) {
-      status.clear();
-      fmt::print(stderr, "error: {}\n", e.what());
-      rc = std::max(rc, kCaseFailed);
-    }
   }
   return rc;
 }

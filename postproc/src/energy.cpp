@@ -95,23 +95,9 @@ void for_each_close_pair(const model::Stack& stack, const std::vector<double>& x
   auto cell_of = [](double v, double cell) { return static_cast<std::int64_t>(std::floor(v / cell)); };
   for (auto& g : grids) {
     if (g.spheres.empty()) continue;
-    std::int64_t x1 = 0, z1 = 0;
-    g.x0 = g.z0 = std::numeric_limits<std::int64_t>::max();
-    x1 = z1 = std::numeric_limits<std::int64_t>::min();
-    for (const auto i : g.spheres) {
-      g.x0 = std::min(g.x0, cell_of(x[i], g.cell));
-      g.z0 = std::min(g.z0, cell_of(z[i], g.cell));
-      x1 = std::max(x1, cell_of(x[i], g.cell));
-      z1 = std::max(z1, cell_of(z[i], g.cell));
-    }
-    g.nx = x1 - g.x0 + 1;
-    g.nz = z1 - g.z0 + 1;
-    // Spheres scattered far apart (long after the impact): coarsen the cells so the dense grid
-    // stays about as large as the number of spheres; fewer cells only means more candidates.
-    while (static_cast<double>(g.nx) * static_cast<double>(g.nz) > 4.0 * static_cast<double>(g.spheres.size()) + 64.0) {
-      g.cell *= 2.0;
+    auto bound = [&] {
+      std::int64_t x1 = std::numeric_limits<std::int64_t>::min(), z1 = x1;
       g.x0 = g.z0 = std::numeric_limits<std::int64_t>::max();
-      x1 = z1 = std::numeric_limits<std::int64_t>::min();
       for (const auto i : g.spheres) {
         g.x0 = std::min(g.x0, cell_of(x[i], g.cell));
         g.z0 = std::min(g.z0, cell_of(z[i], g.cell));
@@ -120,6 +106,13 @@ void for_each_close_pair(const model::Stack& stack, const std::vector<double>& x
       }
       g.nx = x1 - g.x0 + 1;
       g.nz = z1 - g.z0 + 1;
+    };
+    bound();
+    // Spheres scattered far apart (long after the impact): coarsen the cells so the dense grid
+    // stays about as large as the number of spheres; fewer cells only means more candidates.
+    while (static_cast<double>(g.nx) * static_cast<double>(g.nz) > 4.0 * static_cast<double>(g.spheres.size()) + 64.0) {
+      g.cell *= 2.0;
+      bound();
     }
     const auto cells = static_cast<std::size_t>(g.nx * g.nz);
     g.start.assign(cells + 1, 0);
