@@ -9,7 +9,8 @@ packages=(
   libfmt-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libeigen3-dev libgtest-dev
   coreutils           # stdbuf, so LIGGGHTS's error lines survive an MPI abort
   gnuplot-nox         # granstack plot (PNG and SVG without X)
-  zlib1g-dev libzstd-dev   # reading dumps users compressed with gzip or zstd
+  zlib1g-dev libzstd-dev zstd   # reading (and, in the tests, making) dumps compressed with gzip or zstd
+  time                     # peak memory in bench/
   libfast-float-dev        # number parsing at the speed the dumps need
   clang libclang-rt-dev    # the fuzz targets (libFuzzer)
 )
