@@ -49,16 +49,29 @@ void LogScanner::add_line(std::string_view line) {
   split_words(line, words);
   if (!words.empty() && words[0] == "Step") {
     in_thermo_ = true;
+    thermo_.push_back({std::vector<std::string>(words.begin(), words.end()), {}});
     return;
   }
   if (in_thermo_ && !words.empty()) {
     long step = 0;
-    if (parse_long(words[0], step)) {
+    std::vector<double> row(words.size());
+    bool numbers = parse_long(words[0], step) && words.size() == thermo_.back().columns.size();
+    for (std::size_t k = 0; numbers && k < words.size(); ++k) numbers = parse_double(words[k], row[k]);
+    if (numbers) {
       last_step_ = step;
+      thermo_.back().rows.push_back(std::move(row));
     } else {
-      in_thermo_ = false;
+      in_thermo_ = false;  // a warning or the end of the block
     }
   }
+}
+
+LogScanner read_log(const std::string& path) {
+  LineReader reader(path);
+  LogScanner scanner;
+  std::string_view line;
+  while (reader.next(line)) scanner.add_line(line);
+  return scanner;
 }
 
 }  // namespace granstack::formats

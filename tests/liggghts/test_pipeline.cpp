@@ -1,6 +1,7 @@
 // The real LIGGGHTS on small cases: generate -> run -> reduce, checked against physics
 // (energy conservation, scale freedom) and against LIGGGHTS's own in-situ energies.
 #include <granstack/formats/dump.hpp>
+#include <granstack/formats/log.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/series.hpp>
 #include <granstack/generator/case_writer.hpp>
@@ -96,6 +97,20 @@ TEST_P(SmallStacks, RunsReducesConservesEnergyAndAgreesWithInSituSeries) {
   EXPECT_EQ(record.at("steps"), res.steps);
   EXPECT_EQ(record.at("atoms"), static_cast<long>(stack.spheres().size()));
   EXPECT_FALSE(record.contains("warnings")) << record.dump(2);
+
+  // The log LIGGGHTS wrote: its thermo block, every row to the last step, and the loop time.
+  const auto log = formats::read_log((fs::path(dir) / m.files.log).string());
+  ASSERT_EQ(log.thermo().size(), 1u);
+  const auto& thermo = log.thermo().front();
+  EXPECT_EQ(thermo.columns, (std::vector<std::string>{"Step", "Atoms", "KinEng", "CPU"}));
+  // A row every thermo_every steps from step 0, and always one for the last step.
+  ASSERT_EQ(static_cast<long>(thermo.rows.size()), res.steps / res.thermo_every + 1 + (res.steps % res.thermo_every != 0));
+  EXPECT_EQ(thermo.rows.back()[0], static_cast<double>(res.steps));
+  EXPECT_EQ(thermo.rows.back()[1], static_cast<double>(stack.spheres().size()));
+  EXPECT_NEAR(thermo.rows.front()[2], stack.incident_energy(), 1e-12 * stack.incident_energy());  // all in the striker
+  ASSERT_TRUE(log.loop_time());
+  EXPECT_EQ(log.loop_time()->steps, res.steps);
+  EXPECT_TRUE(log.errors().empty());
 
   const auto energies = dump_energies(dir);
   EXPECT_EQ(static_cast<long>(energies.by_step.size()), res.steps / res.dump_every + 1);

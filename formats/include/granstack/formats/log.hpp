@@ -8,6 +8,12 @@
 
 namespace granstack::formats {
 
+// One thermo block: the header line's column names and the rows of numbers under it.
+struct ThermoBlock {
+  std::vector<std::string> columns;  // e.g. Step Atoms KinEng CPU
+  std::vector<std::vector<double>> rows;
+};
+
 struct LoopTime {
   double seconds = 0.0;
   int procs = 0;
@@ -27,6 +33,8 @@ class LogScanner {
   bool lost_atoms() const { return lost_atoms_; }
   std::optional<long> last_step() const { return last_step_; }  // of the last thermo row seen
   const std::optional<LoopTime>& loop_time() const { return loop_; }
+  // Every thermo block, one per run command.
+  const std::vector<ThermoBlock>& thermo() const { return thermo_; }
 
  private:
   std::string version_;
@@ -36,6 +44,10 @@ class LogScanner {
   bool in_thermo_ = false;
   std::optional<long> last_step_;
   std::optional<LoopTime> loop_;
+  std::vector<ThermoBlock> thermo_;
 };
+
+// Reads a LIGGGHTS log or screen file. Throws FormatError when it cannot be opened.
+LogScanner read_log(const std::string& path);
 
 }  // namespace granstack::formats
