@@ -143,6 +143,12 @@ int do_run(const RunFlags& f) {
   o.force = f.force;
   o.liggghts = f.liggghts;
   o.engine = f.engine == "refsim" ? runner::Engine::refsim : runner::Engine::liggghts;
+  if (o.engine == runner::Engine::refsim && f.ranks > 1) {
+    fmt::print(stderr, "note: refsim runs in this process and does not use MPI ranks (--np); use --threads {}\n", f.ranks);
+  }
+  if (o.engine == runner::Engine::liggghts && f.threads > 1) {
+    fmt::print(stderr, "note: --threads is for --engine refsim; LIGGGHTS runs in parallel with --np\n");
+  }
   app::StatusLine status;
   if (status.active()) {
     o.on_progress = [&status](const runner::ProgressSnapshot& s) {
