@@ -193,8 +193,9 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   r.blocks = dump_peaks;
   r.peak_source = "dump";
   const auto series_path = (dir / manifest.files.series).string();
+  // Read once: the peaks here and the wave analysis below both use it.
+  const auto series = fs::exists(series_path) ? formats::read_series(series_path) : formats::Series{};
   if (fs::exists(series_path)) {
-    const auto series = formats::read_series(series_path);
     std::vector<int> trans, rot;
     for (int k = 1; k <= nb; ++k) {
       trans.push_back(series.column(fmt::format("ke_trans_block{}", k)));
@@ -247,8 +248,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     }
   }
 
-  const auto series_for_waves = fs::exists(series_path) ? formats::read_series(series_path) : formats::Series{};
-  r.waves = waves.finish(series_for_waves);
+  r.waves = waves.finish(series);
 
   for (auto* table : {&block_table, &parts_table, &rows_table, &columns_table}) table->finish();
   if (options.write_files) {
