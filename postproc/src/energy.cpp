@@ -69,12 +69,12 @@ double FrameView::kinetic_energy(const formats::DumpFrame& f, long r) const {
 namespace {
 
 // Calls fn(i, j), i < j, for every pair of spheres whose centres are closer in the x-z plane
-// than the sum of their radii (a superset of the touching pairs; y is checked by the caller).
+// than the sum of their radii plus `skin` (and some farther ones: the caller checks distances).
 // One grid per sphere size, with cells of that size's diameter, so a large sphere looks
 // through the few cells it covers of each finer grid instead of at every sphere.
 template <typename Fn>
 void for_each_close_pair(const model::Stack& stack, const std::vector<double>& x, const std::vector<double>& z,
-                         Fn&& fn) {
+                         double skin, Fn&& fn) {
   const auto& spheres = stack.spheres();
   const std::size_t n = spheres.size();
   struct Grid {
@@ -129,7 +129,7 @@ void for_each_close_pair(const model::Stack& stack, const std::vector<double>& x
     if (!std::isfinite(x[i]) || !std::isfinite(z[i])) continue;
     for (const auto& g : grids) {
       if (g.spheres.empty()) continue;
-      const double reach = spheres[i].radius + g.radius;
+      const double reach = spheres[i].radius + g.radius + skin;
       const auto cx0 = std::max(g.x0, cell_of(x[i] - reach, g.cell)), cx1 = std::min(g.x0 + g.nx - 1, cell_of(x[i] + reach, g.cell));
       const auto cz0 = std::max(g.z0, cell_of(z[i] - reach, g.cell)), cz1 = std::min(g.z0 + g.nz - 1, cell_of(z[i] + reach, g.cell));
       for (auto cx = cx0; cx <= cx1; ++cx) {
@@ -197,7 +197,34 @@ class ContactEnergy {
 
 }  // namespace
 
-FrameEnergy frame_energy(const formats::DumpFrame& f, const FrameView& v, const model::Stack& stack) {
+ContactCandidates::ContactCandidates(const model::Stack& stack)
+    : stack_(stack), skin_(0.5 * stack.blocks().back().radius) {}
+
+const std::vector<std::pair<std::size_t, std::size_t>>& ContactCandidates::pairs(const std::vector<double>& x,
+                                                                                 const std::vector<double>& z) {
+  bool rebuild = x_at_build_.size() != x.size();
+  const double limit = 0.25 * skin_ * skin_;  // moved more than half the skin
+  for (std::size_t i = 0; !rebuild && i < x.size(); ++i) {
+    const double dx = x[i] - x_at_build_[i], dz = z[i] - z_at_build_[i];
+    rebuild = !(dx * dx + dz * dz <= limit);  // also true for a non-finite position
+  }
+  if (rebuild) {
+    pairs_.clear();
+    const auto& spheres = stack_.spheres();
+    for_each_close_pair(stack_, x, z, skin_, [&](std::size_t i, std::size_t j) {
+      const double dx = x[i] - x[j], dz = z[i] - z[j];
+      const double reach = spheres[i].radius + spheres[j].radius + skin_;
+      if (dx * dx + dz * dz < reach * reach) pairs_.emplace_back(i, j);
+    });
+    x_at_build_ = x;
+    z_at_build_ = z;
+    ++builds_;
+  }
+  return pairs_;
+}
+
+FrameEnergy frame_energy(const formats::DumpFrame& f, const FrameView& v, const model::Stack& stack,
+                         ContactCandidates* candidates) {
   FrameEnergy e;
   e.step = f.step;
   const std::size_t nb = stack.blocks().size();
@@ -246,12 +273,17 @@ FrameEnergy frame_energy(const formats::DumpFrame& f, const FrameView& v, const 
     if (s.id >= bottom_first) e.bottom_row_ke += ke;
   }
   const ContactEnergy contacts(stack);
-  for_each_close_pair(stack, x, z, [&](std::size_t i, std::size_t j) {
+  auto add_pair = [&](std::size_t i, std::size_t j) {
     const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
     const double sum = spheres[i].radius + spheres[j].radius;
     const double d2 = dx * dx + dy * dy + dz * dz;
     if (d2 < sum * sum) e.elastic += contacts.pair(spheres[i], spheres[j], sum - std::sqrt(d2));
-  });
+  };
+  if (candidates != nullptr) {
+    for (const auto& [i, j] : candidates->pairs(x, z)) add_pair(i, j);
+  } else {
+    for_each_close_pair(stack, x, z, 0.0, add_pair);
+  }
   for (std::size_t i = 0; i < n; ++i) e.elastic += contacts.walls(spheres[i], x[i], z[i]);
   return e;
 }

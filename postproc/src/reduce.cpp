@@ -114,6 +114,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
                                          manifest.files.dump_columns);
   FrameView view(stack, dump_path);
   WaveTracker waves(stack, res.dt);
+  ContactCandidates candidates(stack);
   formats::DumpFrame frame, last;
   FrameEnergy last_energy;
   std::vector<BlockPeak> dump_peaks(static_cast<std::size_t>(nb));
@@ -150,7 +151,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     }
     view.bind(frame);
     waves.add(frame, view);
-    const auto e = frame_energy(frame, view, stack);
+    const auto e = frame_energy(frame, view, stack, &candidates);
     const double t = static_cast<double>(frame.step) * res.dt;
     fmt::format_to(out, "{},{}", frame.step, t);
     for (int k = 0; k < nb; ++k) {

@@ -43,13 +43,34 @@ class FrameView {
   std::vector<long> rows_;
   int c_id_ = -1, c_mass_ = -1, c_radius_ = -1, c_vx_ = -1, c_vy_ = -1, c_vz_ = -1, c_wx_ = -1, c_wy_ = -1, c_wz_ = -1;
   int c_x_ = -1, c_y_ = -1, c_z_ = -1;
-  friend FrameEnergy frame_energy(const formats::DumpFrame&, const FrameView&, const model::Stack&);
+  friend FrameEnergy frame_energy(const formats::DumpFrame&, const FrameView&, const model::Stack&, class ContactCandidates*);
   friend double contact_energy(const formats::DumpFrame&, const FrameView&, const model::Stack&, int);
 };
 
+// The pairs of spheres close enough to touch, kept from frame to frame: rebuilt (from a cell
+// grid) only when some sphere has moved more than half the skin since the last build, as an
+// MD neighbour list. Frames of one run barely move the spheres, so most frames reuse it.
+class ContactCandidates {
+ public:
+  explicit ContactCandidates(const model::Stack& stack);
+  // Pairs (i, j), i < j by index, that may overlap at positions x, z (y plays no part: the
+  // caller checks full distances).
+  const std::vector<std::pair<std::size_t, std::size_t>>& pairs(const std::vector<double>& x, const std::vector<double>& z);
+  long builds() const { return builds_; }
+
+ private:
+  const model::Stack& stack_;
+  double skin_;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs_;
+  std::vector<double> x_at_build_, z_at_build_;
+  long builds_ = 0;
+};
+
 // Kinetic energy 1/2 m v^2 + 1/2 (2/5 m R^2) w^2 per group, and the elastic energy
-// 8/15 Y* sqrt(R*) d^(5/2) of every overlap (physics.md sections 2 and 4).
-FrameEnergy frame_energy(const formats::DumpFrame& frame, const FrameView& view, const model::Stack& stack);
+// 8/15 Y* sqrt(R*) d^(5/2) of every overlap (physics.md sections 2 and 4). Pass the same
+// `candidates` for the frames of one run to reuse its pair list.
+FrameEnergy frame_energy(const formats::DumpFrame& frame, const FrameView& view, const model::Stack& stack,
+                         ContactCandidates* candidates = nullptr);
 
 // Elastic energy stored in the contacts of one sphere (with spheres and walls) in this frame.
 double contact_energy(const formats::DumpFrame& frame, const FrameView& view, const model::Stack& stack, int id);
