@@ -401,6 +401,57 @@ bool MultiFileDumpReader::next(DumpFrame& f) {
   return true;
 }
 
+PrefetchDumpReader::PrefetchDumpReader(std::unique_ptr<DumpReader> inner)
+    : inner_(std::move(inner)), path_(inner_->path()), thread_([this] { produce(); }) {}
+
+PrefetchDumpReader::~PrefetchDumpReader() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  changed_.notify_all();
+  thread_.join();
+}
+
+void PrefetchDumpReader::produce() {
+  DumpFrame frame;
+  for (;;) {
+    bool got = false;
+    std::exception_ptr error;
+    try {
+      got = inner_->next(frame);
+    } catch (...) {
+      error = std::current_exception();
+    }
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [&] { return !full_ || stop_; });
+    if (stop_) return;
+    if (!got) {
+      error_ = error;
+      done_ = true;
+      changed_.notify_all();
+      return;
+    }
+    std::swap(slot_, frame);  // hands the frame over and takes back a used buffer
+    full_ = true;
+    changed_.notify_all();
+  }
+}
+
+bool PrefetchDumpReader::next(DumpFrame& frame) {
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [&] { return full_ || done_; });
+  if (full_) {
+    std::swap(frame, slot_);
+    full_ = false;
+    ++frames_;
+    changed_.notify_all();
+    return true;
+  }
+  if (error_) std::rethrow_exception(error_);
+  return false;
+}
+
 std::unique_ptr<DumpReader> open_dump(const std::string& path, bool binary, const std::vector<std::string>& columns) {
   if (std::filesystem::path(path).filename().string().find_first_of("*%") != std::string::npos) {
     return std::make_unique<MultiFileDumpReader>(path, binary, columns);

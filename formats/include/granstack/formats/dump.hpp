@@ -5,6 +5,10 @@
 #include <granstack/formats/line_reader.hpp>
 
 #include <array>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <thread>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -93,6 +97,30 @@ class MultiFileDumpReader final : public DumpReader {
   std::size_t current_ = 0;
   DumpFrame piece_;
   long last_step_ = -1;
+};
+
+// Reads the next frame on a second thread while the caller works on the current one: the same
+// frames, in the same order, with the same errors (raised after every complete frame before
+// them), in about the time of the slower of parsing and the caller's work.
+class PrefetchDumpReader final : public DumpReader {
+ public:
+  explicit PrefetchDumpReader(std::unique_ptr<DumpReader> inner);
+  ~PrefetchDumpReader() override;
+  PrefetchDumpReader(const PrefetchDumpReader&) = delete;
+  PrefetchDumpReader& operator=(const PrefetchDumpReader&) = delete;
+  bool next(DumpFrame& frame) override;
+  const std::string& path() const override { return path_; }
+
+ private:
+  void produce();
+  std::unique_ptr<DumpReader> inner_;
+  std::string path_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  DumpFrame slot_;
+  bool full_ = false, done_ = false, stop_ = false;
+  std::exception_ptr error_;
+  std::thread thread_;
 };
 
 // The files matching a LIGGGHTS dump name with '*' or '%', ordered by the number standing in
