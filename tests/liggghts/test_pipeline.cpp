@@ -287,6 +287,39 @@ TEST(Reduce, BinaryDumpsGiveExactlyTheTextDumpsResult) {
   EXPECT_EQ(slurp(b.csv_path), slurp(t.csv_path));
 }
 
+// A user's template adding `fix ave/time` (whose file has two '#' header lines and %g values):
+// the series reader takes the last header's names, and the values match the full-precision
+// in-situ series to the 6 digits ave/time writes.
+TEST(Reduce, FixAveTimeFilesFromAUserTemplateAreRead) {
+  const auto tmpl = work_dir() / "ave_time.tmpl";
+  fs::create_directories(work_dir());
+  {
+    std::string text(generator::default_deck_template());
+    const auto run = text.rfind("run ");
+    text.insert(run, "fix             kt all ave/time 10 1 10 c_kt1 c_kr1 file ave_time.txt\n");
+    std::ofstream(tmpl) << text;
+  }
+  generator::GenerateOptions o;
+  o.output = work_dir() / "case";
+  o.force = true;
+  o.deck_template_path = tmpl.string();
+  generator::generate({{"case", blocks(1)}}, o);
+  ASSERT_EQ(runner::run_cases({o.output.string()}, {}).at(0).status, runner::RunStatus::done);
+  const auto ave = formats::read_series((o.output / "ave_time.txt").string());
+  EXPECT_EQ(ave.columns, (std::vector<std::string>{"TimeStep", "c_kt1", "c_kr1"}));
+  const auto series = formats::read_series((o.output / "ke_series.txt").string());
+  std::map<long, double> exact;
+  for (const auto& row : series.rows) exact[static_cast<long>(row[0])] = row[1];
+  long compared = 0;
+  for (const auto& row : ave.rows) {
+    const auto it = exact.find(static_cast<long>(row[0]));
+    if (it == exact.end()) continue;
+    EXPECT_NEAR(row[1], it->second, 1e-5 * std::fabs(it->second) + 1e-300) << "step " << row[0];
+    ++compared;
+  }
+  EXPECT_GT(compared, 10);
+}
+
 TEST(Runner, FailuresCarryLiggghtsOwnErrorLineAndAreNeverTakenForDone) {
   const auto tmpl = work_dir() / "newton_on.tmpl";
   fs::create_directories(work_dir());
