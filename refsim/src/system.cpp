@@ -188,8 +188,26 @@ Normal hertz_normal(const Constants& k, double reff, double meff, double deltan,
   return {-gamman * vn + kn * deltan, kt, gammat};
 }
 
+struct Tangential {
+  double ft[3];   // the tangential force on i
+  double tor[3];  // n x Ft: the torque on each sphere is -(its lever arm) times this
+};
+
 // The tangential history spring (tangential_model_history.h): increment by the sliding
 // velocity, project on the tangent plane, Coulomb-truncate (no damping while sliding).
+void tangential_history(double* shear, const double en[3], const double vtr[3], const Normal& n, double mu,
+                        bool update_history, double dt, double ft[3]);
+
+Tangential tangential_force(double* shear, const double en[3], const double vtr[3], const Normal& n, double mu,
+                            bool update_history, double dt) {
+  Tangential t;
+  tangential_history(shear, en, vtr, n, mu, update_history, dt, t.ft);
+  t.tor[0] = en[1] * t.ft[2] - en[2] * t.ft[1];
+  t.tor[1] = en[2] * t.ft[0] - en[0] * t.ft[2];
+  t.tor[2] = en[0] * t.ft[1] - en[1] * t.ft[0];
+  return t;
+}
+
 void tangential_history(double* shear, const double en[3], const double vtr[3], const Normal& n, double mu,
                         bool update_history, double dt, double ft[3]) {
   if (update_history) {
@@ -286,14 +304,10 @@ void System::pair_force(std::size_t p, bool update_history, Contribution& c) {
   // -0 into +0, which a %.17g dump shows).
   double dfi[3] = {0.0 + fn * enx, 0.0 + fn * eny, 0.0 + fn * enz};
   double dfj[3] = {0.0 + -dfi[0], 0.0 + -dfi[1], 0.0 + -dfi[2]};
-  const double en[3] = {enx, eny, enz};
-  const double vtr[3] = {vtr1, vtr2, vtr3};
-  double ft[3];
-  tangential_history(shear, en, vtr, n, k.friction, update_history, p_.dt, ft);
-  const double ft1 = ft[0], ft2 = ft[1], ft3 = ft[2];
-  const double tor1 = eny * ft3 - enz * ft2;
-  const double tor2 = enz * ft1 - enx * ft3;
-  const double tor3 = enx * ft2 - eny * ft1;
+  const double en[3] = {enx, eny, enz}, vtr[3] = {vtr1, vtr2, vtr3};
+  const auto tan = tangential_force(shear, en, vtr, n, k.friction, update_history, p_.dt);
+  const double ft1 = tan.ft[0], ft2 = tan.ft[1], ft3 = tan.ft[2];
+  const double tor1 = tan.tor[0], tor2 = tan.tor[1], tor3 = tan.tor[2];
   c.fi[0] = dfi[0] + ft1;
   c.fi[1] = dfi[1] + ft2;
   c.fi[2] = dfi[2] + ft3;
@@ -346,14 +360,10 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
   const Normal n = hertz_normal(k, radi, meff, deltan, vn, p_.tangential_damping);  // a wall has R* = R_i
   const double fn = n.fn;
   double df[3] = {0.0 + fn * 1. * enx, 0.0 + fn * 1. * eny, 0.0 + fn * 1. * enz};  // * area_ratio (1)
-  const double en[3] = {enx, eny, enz};
-  const double vtr[3] = {vtr1, vtr2, vtr3};
-  double ft[3];
-  tangential_history(shear, en, vtr, n, k.friction, update_history, p_.dt, ft);
-  const double ft1 = ft[0], ft2 = ft[1], ft3 = ft[2];
-  const double tor1 = eny * ft3 - enz * ft2;
-  const double tor2 = enz * ft1 - enx * ft3;
-  const double tor3 = enx * ft2 - eny * ft1;
+  const double en[3] = {enx, eny, enz}, vtr[3] = {vtr1, vtr2, vtr3};
+  const auto tan = tangential_force(shear, en, vtr, n, k.friction, update_history, p_.dt);
+  const double ft1 = tan.ft[0], ft2 = tan.ft[1], ft3 = tan.ft[2];
+  const double tor1 = tan.tor[0], tor2 = tan.tor[1], tor3 = tan.tor[2];
   df[0] += ft1 * 1.;
   df[1] += ft2 * 1.;
   df[2] += ft3 * 1.;

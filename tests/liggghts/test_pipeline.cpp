@@ -17,6 +17,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <map>
 
@@ -75,6 +76,24 @@ Energies dump_energies(const std::string& dir) {
     out.by_step[f.step] = e;
   }
   return out;
+}
+
+// Generates a one-block case from the default deck template after `edit` changed it, as a
+// user's own template would; returns the case directory.
+std::string generate_with_template(const std::function<void(std::string&)>& edit) {
+  fs::create_directories(work_dir());
+  const auto tmpl = work_dir() / "deck.tmpl";
+  std::string text(generator::default_deck_template());
+  edit(text);
+  std::ofstream(tmpl) << text;
+  generator::GenerateOptions o;
+  o.output = work_dir() / "case";
+  o.force = true;
+  o.deck_template_path = tmpl.string();
+  model::StackSpec spec;
+  spec.blocks = 1;
+  generator::generate({{"case", spec}}, o);
+  return o.output.string();
 }
 
 model::StackSpec blocks(int n) {
@@ -291,23 +310,13 @@ TEST(Reduce, BinaryDumpsGiveExactlyTheTextDumpsResult) {
 // the series reader takes the last header's names, and the values match the full-precision
 // in-situ series to the 6 digits ave/time writes.
 TEST(Reduce, FixAveTimeFilesFromAUserTemplateAreRead) {
-  const auto tmpl = work_dir() / "ave_time.tmpl";
-  fs::create_directories(work_dir());
-  {
-    std::string text(generator::default_deck_template());
-    const auto run = text.rfind("run ");
-    text.insert(run, "fix             kt all ave/time 10 1 10 c_kt1 c_kr1 file ave_time.txt\n");
-    std::ofstream(tmpl) << text;
-  }
-  generator::GenerateOptions o;
-  o.output = work_dir() / "case";
-  o.force = true;
-  o.deck_template_path = tmpl.string();
-  generator::generate({{"case", blocks(1)}}, o);
-  ASSERT_EQ(runner::run_cases({o.output.string()}, {}).at(0).status, runner::RunStatus::done);
-  const auto ave = formats::read_series((o.output / "ave_time.txt").string());
+  const fs::path dir = generate_with_template([](std::string& text) {
+    text.insert(text.rfind("run "), "fix             kt all ave/time 10 1 10 c_kt1 c_kr1 file ave_time.txt\n");
+  });
+  ASSERT_EQ(runner::run_cases({dir.string()}, {}).at(0).status, runner::RunStatus::done);
+  const auto ave = formats::read_series((dir / "ave_time.txt").string());
   EXPECT_EQ(ave.columns, (std::vector<std::string>{"TimeStep", "c_kt1", "c_kr1"}));
-  const auto series = formats::read_series((o.output / "ke_series.txt").string());
+  const auto series = formats::read_series((dir / "ke_series.txt").string());
   std::map<long, double> exact;
   for (const auto& row : series.rows) exact[static_cast<long>(row[0])] = row[1];
   long compared = 0;
@@ -321,28 +330,18 @@ TEST(Reduce, FixAveTimeFilesFromAUserTemplateAreRead) {
 }
 
 TEST(Runner, FailuresCarryLiggghtsOwnErrorLineAndAreNeverTakenForDone) {
-  const auto tmpl = work_dir() / "newton_on.tmpl";
-  fs::create_directories(work_dir());
-  {
-    std::string text(generator::default_deck_template());
-    text.replace(text.find("newton          off"), 19, "newton          on");
-    std::ofstream(tmpl) << text;
-  }
-  generator::GenerateOptions o;
-  o.output = work_dir() / "case";
-  o.force = true;
-  o.deck_template_path = tmpl.string();
-  generator::generate({{"case", blocks(1)}}, o);
-  const auto outcome = runner::run_cases({o.output.string()}, {}).at(0);
+  const auto dir = generate_with_template(
+      [](std::string& text) { text.replace(text.find("newton          off"), 19, "newton          on"); });
+  const auto outcome = runner::run_cases({dir}, {}).at(0);
   EXPECT_EQ(outcome.status, runner::RunStatus::failed);
   EXPECT_NE(outcome.message.find("ERROR"), std::string::npos) << outcome.message;
   EXPECT_NE(outcome.message.find("newton pair off"), std::string::npos) << outcome.message;
-  EXPECT_EQ(runner::recorded_status(o.output.string()), "failed");
-  EXPECT_THROW(postproc::reduce_case(o.output.string()), std::runtime_error);
+  EXPECT_EQ(runner::recorded_status(dir), "failed");
+  EXPECT_THROW(postproc::reduce_case(dir), std::runtime_error);
 
   runner::RunOptions missing;
   missing.liggghts = "no-such-liggghts-binary";
-  const auto not_found = runner::run_cases({o.output.string()}, missing).at(0);
+  const auto not_found = runner::run_cases({dir}, missing).at(0);
   EXPECT_EQ(not_found.status, runner::RunStatus::failed);
   EXPECT_NE(not_found.message.find("scripts/setup.sh"), std::string::npos) << not_found.message;
 }
