@@ -14,8 +14,23 @@ void LogScanner::add_text(std::string_view text) {
   }
 }
 
+std::vector<std::string> LogScanner::tail() const {
+  std::vector<std::string> out;
+  for (std::size_t k = 0; k < tail_.size(); ++k) out.push_back(tail_[(tail_next_ + k) % tail_.size()]);
+  return out;
+}
+
 void LogScanner::add_line(std::string_view line) {
   if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  if (line.find_first_not_of(" \t-") != std::string_view::npos) {
+    if (head_.size() < kQuoteLines) head_.emplace_back(line);
+    if (tail_.size() < kQuoteLines) {
+      tail_.emplace_back(line);
+    } else {
+      tail_[tail_next_] = std::string(line);
+      tail_next_ = (tail_next_ + 1) % kQuoteLines;
+    }
+  }
   static const std::string_view banner = "LIGGGHTS (Version ";
   if (line.substr(0, banner.size()) == banner) {
     auto rest = line.substr(banner.size());

@@ -12,6 +12,7 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
@@ -118,7 +119,8 @@ struct Spawned {
   std::string error;
 };
 
-Spawned spawn(const std::vector<std::string>& argv, const fs::path& cwd, const fs::path& output) {
+Spawned spawn(const std::vector<std::string>& argv, const fs::path& cwd, const fs::path& output,
+              const std::vector<std::string>& extra_env) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addchdir_np(&actions, cwd.c_str());
@@ -128,14 +130,53 @@ Spawned spawn(const std::vector<std::string>& argv, const fs::path& cwd, const f
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  std::vector<char*> env;
+  for (char** e = environ; *e != nullptr; ++e) env.push_back(*e);
+  for (const auto& e : extra_env) env.push_back(const_cast<char*>(e.c_str()));
+  env.push_back(nullptr);
   Spawned s;
-  const int rc = posix_spawnp(&s.pid, args[0], &actions, nullptr, args.data(), environ);
+  const int rc = posix_spawnp(&s.pid, args[0], &actions, nullptr, args.data(), env.data());
   posix_spawn_file_actions_destroy(&actions);
   if (rc != 0) {
     s.pid = -1;
     s.error = fmt::format("cannot start {}: {}", argv[0], std::strerror(rc));
   }
   return s;
+}
+
+// A private directory for Open MPI's session files, removed with everything in it at the end.
+// Open MPI processes started at the same time share /tmp/ompi.HOST.UID by default, and one that
+// ends can remove it while another is still creating its own part: the second then fails in
+// orte_init and exits with code 1 before LIGGGHTS prints anything (open-mpi/ompi#3818). A
+// directory per run removes the race.
+class PrivateTmpDir {
+ public:
+  PrivateTmpDir() {
+    auto pattern = (fs::temp_directory_path() / "granstack-mpi-XXXXXX").string();
+    if (::mkdtemp(pattern.data()) != nullptr) path_ = pattern;
+  }
+  ~PrivateTmpDir() {
+    std::error_code ec;
+    if (!path_.empty()) fs::remove_all(path_, ec);
+  }
+  PrivateTmpDir(const PrivateTmpDir&) = delete;
+  PrivateTmpDir& operator=(const PrivateTmpDir&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+// Environment added for one LIGGGHTS start; a variable the user has set is left as it is.
+std::vector<std::string> mpi_environment(const std::string& tmpdir, int ranks) {
+  std::vector<std::string> env;
+  const auto add = [&](const char* name, const std::string& value) {
+    if (std::getenv(name) == nullptr && !value.empty()) env.push_back(std::string(name) + "=" + value);
+  };
+  add("OMPI_MCA_orte_tmpdir_base", tmpdir);
+  // A single rank started without mpirun need not launch Open MPI's daemon (0.1 s per start).
+  if (ranks == 1) add("OMPI_MCA_ess_singleton_isolated", "1");
+  return env;
 }
 
 // Reads what the process has appended to its output since the last call.
@@ -204,32 +245,47 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
   result.record["ranks"] = o.ranks;
 
   const long total_steps = manifest.derived.value("steps", 0L);
-  const auto child = spawn(argv, fs::absolute(dir), fs::absolute(dir / files.screen));
   formats::LogScanner scanner;
   int exit_code = -1;
   std::string signal_text;
-  if (child.pid < 0) {
-    result.error = child.error;
-    return result;
-  }
-  Tail tail(dir / files.screen);
-  for (;;) {
-    int status = 0;
-    const pid_t r = ::waitpid(child.pid, &status, WNOHANG);
-    if (r == child.pid) {
-      if (WIFEXITED(status)) exit_code = WEXITSTATUS(status);
-      if (WIFSIGNALED(status)) signal_text = fmt::format("killed by signal {}", WTERMSIG(status));
-      break;
+  // A start that fails before LIGGGHTS prints its banner (MPI could not start) is tried again,
+  // at most kStarts times in all; a failure after the banner is LIGGGHTS's own and final.
+  constexpr int kStarts = 3;
+  int starts = 0;
+  for (; starts < kStarts; ++starts) {
+    const PrivateTmpDir tmpdir;
+    const auto child = spawn(argv, fs::absolute(dir), fs::absolute(dir / files.screen),
+                             mpi_environment(tmpdir.path(), o.ranks));
+    if (child.pid < 0) {
+      result.error = child.error;
+      return result;
     }
-    if (r < 0 && errno != EINTR) {
-      result.error = fmt::format("waitpid failed: {}", std::strerror(errno));
-      break;
+    scanner = formats::LogScanner();
+    exit_code = -1;
+    signal_text.clear();
+    Tail tail(dir / files.screen);
+    for (;;) {
+      int status = 0;
+      const pid_t r = ::waitpid(child.pid, &status, WNOHANG);
+      if (r == child.pid) {
+        if (WIFEXITED(status)) exit_code = WEXITSTATUS(status);
+        if (WIFSIGNALED(status)) signal_text = fmt::format("killed by signal {}", WTERMSIG(status));
+        break;
+      }
+      if (r < 0 && errno != EINTR) {
+        result.error = fmt::format("waitpid failed: {}", std::strerror(errno));
+        break;
+      }
+      tail.poll(scanner);
+      if (auto step = scanner.last_step()) on_step(*step);
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
     }
-    tail.poll(scanner);
-    if (auto step = scanner.last_step()) on_step(*step);
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    tail.flush(scanner);
+    const bool failed_to_start = exit_code != 0 && scanner.version().empty() && result.error.empty();
+    if (!failed_to_start || starts + 1 == kStarts) break;
+    result.record["failed_starts"].push_back(scanner.head());
   }
-  tail.flush(scanner);
+  result.record["starts"] = starts + 1;
 
   const auto& loop = scanner.loop_time();
   if (result.error.empty()) {
@@ -240,7 +296,13 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
     } else if (!signal_text.empty()) {
       result.error = "LIGGGHTS was " + signal_text;
     } else if (exit_code != 0) {
-      result.error = fmt::format("LIGGGHTS exited with code {} (see {})", exit_code, files.screen);
+      const bool started = !scanner.version().empty();
+      const auto quote = started ? scanner.tail() : scanner.head();
+      result.error = fmt::format("LIGGGHTS exited with code {}{}; {} ({}){}", exit_code,
+                                 started ? "" : " before it started (could MPI not start?)",
+                                 quote.empty() ? "it printed nothing" : started ? "its last lines" : "its first lines",
+                                 files.screen, quote.empty() ? "" : ":");
+      for (const auto& line : quote) result.error += "\n    " + line;
     } else if (!loop || loop->steps != total_steps) {
       result.error = fmt::format("LIGGGHTS ended without finishing the run of {} steps (see {})", total_steps,
                                  files.screen);

@@ -346,6 +346,35 @@ TEST(Runner, FailuresCarryLiggghtsOwnErrorLineAndAreNeverTakenForDone) {
   EXPECT_NE(not_found.message.find("scripts/setup.sh"), std::string::npos) << not_found.message;
 }
 
+// Open MPI cannot start when its session directory cannot be made: LIGGGHTS then exits with
+// code 1 before its banner and prints no ERROR line. Such a start is tried three times, and the
+// failure quotes what Open MPI said first. (A user's own OMPI_MCA_orte_tmpdir_base is kept.)
+TEST(Runner, AnMpiStartUpFailureIsRetriedAndQuoted) {
+  const auto dir = generate_with_template([](std::string&) {});
+  ::setenv("OMPI_MCA_orte_tmpdir_base", "/proc/no-such-dir", 1);
+  const auto outcome = runner::run_cases({dir}, {}).at(0);
+  ::unsetenv("OMPI_MCA_orte_tmpdir_base");
+  EXPECT_EQ(outcome.status, runner::RunStatus::failed);
+  EXPECT_NE(outcome.message.find("before it started"), std::string::npos) << outcome.message;
+  EXPECT_NE(outcome.message.find("/proc/no-such-dir"), std::string::npos) << outcome.message;
+  std::ifstream in(fs::path(dir) / "run.json");
+  const auto record = nlohmann::json::parse(in);
+  EXPECT_EQ(record.at("starts"), 3);
+  EXPECT_EQ(record.at("failed_starts").size(), 2u);
+  // Without it, the same case runs, and leaves no session directory behind in TMPDIR.
+  const auto tmp = work_dir() / "tmp";
+  fs::create_directories(tmp);
+  const char* old_tmpdir = std::getenv("TMPDIR");
+  const std::string saved = old_tmpdir != nullptr ? old_tmpdir : "";
+  ::setenv("TMPDIR", tmp.c_str(), 1);
+  runner::RunOptions force;
+  force.force = true;
+  const auto again = runner::run_cases({dir}, force).at(0);
+  if (old_tmpdir != nullptr) ::setenv("TMPDIR", saved.c_str(), 1); else ::unsetenv("TMPDIR");
+  EXPECT_EQ(again.status, runner::RunStatus::done) << again.message;
+  EXPECT_TRUE(fs::is_empty(tmp));
+}
+
 TEST(Runner, AFinishedCaseIsRerunOnlyWhenForced) {
   const auto dir = run_case("case", blocks(1));
   EXPECT_EQ(runner::run_cases({dir}, {}).at(0).status, runner::RunStatus::skipped);

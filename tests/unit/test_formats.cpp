@@ -9,6 +9,7 @@
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/stack.hpp>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -217,6 +218,20 @@ TEST(LogScanner, FindsVersionProgressErrorsAndLoopTime) {
   EXPECT_FALSE(log.lost_atoms());
   log.add_line("ERROR: Lost atoms: original 241 current 240 (./src/thermo.cpp:442)");
   EXPECT_TRUE(log.lost_atoms());
+}
+
+TEST(LogScanner, QuotesTheFirstAndLastLinesOfTextWithoutBlanksOrRules) {
+  formats::LogScanner log;
+  log.add_text("-----------\nA call to mkdir was unable\n\n  Directory: /x\n");
+  EXPECT_EQ(log.head(), (std::vector<std::string>{"A call to mkdir was unable", "  Directory: /x"}));
+  EXPECT_EQ(log.tail(), log.head());
+  for (int k = 0; k < 20; ++k) log.add_line(fmt::format("line {}", k));
+  ASSERT_EQ(log.head().size(), formats::LogScanner::kQuoteLines);
+  EXPECT_EQ(log.head()[1], "  Directory: /x");
+  const auto tail = log.tail();
+  ASSERT_EQ(tail.size(), formats::LogScanner::kQuoteLines);
+  EXPECT_EQ(tail.front(), fmt::format("line {}", 20 - formats::LogScanner::kQuoteLines));
+  EXPECT_EQ(tail.back(), "line 19");
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #pragma once
 // What granstack needs from LIGGGHTS's screen output and log file (liggghts-3.8.md section 9):
 // the version banner, thermo progress, errors, warnings, lost atoms and the loop time.
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -35,6 +36,12 @@ class LogScanner {
   const std::optional<LoopTime>& loop_time() const { return loop_; }
   // Every thermo block, one per run command.
   const std::vector<ThermoBlock>& thermo() const { return thermo_; }
+  // The first and the last few lines of text seen (at most kQuoteLines each; blank lines and
+  // rules of dashes left out), oldest first: what to quote for a failure that printed no ERROR
+  // line. An MPI start-up failure says what went wrong first; a crash says it last.
+  static constexpr std::size_t kQuoteLines = 6;
+  const std::vector<std::string>& head() const { return head_; }
+  std::vector<std::string> tail() const;
 
  private:
   std::string version_;
@@ -45,6 +52,9 @@ class LogScanner {
   std::optional<long> last_step_;
   std::optional<LoopTime> loop_;
   std::vector<ThermoBlock> thermo_;
+  std::vector<std::string> head_;
+  std::vector<std::string> tail_;  // ring of kQuoteLines entries
+  std::size_t tail_next_ = 0;
 };
 
 // Reads a LIGGGHTS log or screen file. Throws FormatError when it cannot be opened.
