@@ -185,15 +185,17 @@ int do_run(const RunFlags& f) {
 struct ReduceFlags {
   std::vector<std::string> cases;
   bool json = false;
+  int threads = 0;
 };
 
 // Reduces every case, with frame progress on a terminal; a failure is reported and the case
 // left out. Returns the exit code so far.
-int reduce_all(const std::vector<std::string>& dirs, std::vector<postproc::CaseReduction>& results) {
+int reduce_all(const std::vector<std::string>& dirs, std::vector<postproc::CaseReduction>& results, int threads = 0) {
   app::StatusLine status;
   int rc = kOk;
   for (std::size_t i = 0; i < dirs.size(); ++i) {
     postproc::ReduceOptions o;
+    o.threads = threads;
     if (status.active()) {
       long total = 0;
       try {
@@ -227,7 +229,7 @@ int reduce_all(const std::vector<std::string>& dirs, std::vector<postproc::CaseR
 
 int do_reduce(const ReduceFlags& f) {
   std::vector<postproc::CaseReduction> results;
-  const int rc = reduce_all(formats::expand_case_dirs(f.cases), results);
+  const int rc = reduce_all(formats::expand_case_dirs(f.cases), results, f.threads);
   if (f.json) {
     for (const auto& r : results) fmt::print("{}\n", postproc::to_json(r).dump());
   } else if (!results.empty()) {
@@ -352,6 +354,8 @@ int main(int argc, char** argv) {
   auto* red_cmd = app.add_subcommand("reduce", "Per-block energies and output fractions of run cases");
   red_cmd->add_option("cases", red.cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
   red_cmd->add_flag("--json", red.json, "One JSON object per case per line");
+  red_cmd->add_option("--threads", red.threads, "Threads that parse and analyse the dump frames (default: one per core)")
+      ->check(CLI::Range(1, 256));
 
   TableFlags tab;
   auto* tab_cmd = app.add_subcommand("table", "Output fraction against N_B per group of cases, with exponential fits");

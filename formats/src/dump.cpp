@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <cstdint>
 #include <cstring>
 
@@ -21,19 +22,52 @@ int DumpFrame::column(std::string_view name) const {
 
 TextDumpReader::TextDumpReader(const std::string& path) : reader_(path) {}
 
+TextDumpReader::TextDumpReader(std::string piece, const std::string& path, bool first,
+                               std::optional<std::string> next_line)
+    : reader_(std::move(piece), path), first_(first), last_(!next_line), next_line_(next_line.value_or("")) {}
+
+TextDumpReader::TextDumpReader(std::unique_ptr<ByteSource> source, const std::string& path, bool first)
+    : reader_(std::move(source), path), first_(first) {}
+
+void TextDumpReader::convert_only(std::vector<std::string> columns) {
+  wanted_ = std::move(columns);
+  convert_.clear();  // worked out again from the next header
+}
+
+namespace {
+// Skips the next blank-separated word of [p, end); nullptr when there is none.
+const char* skip_word(const char* p, const char* end) {
+  while (p < end && (*p == ' ' || *p == '\t')) ++p;
+  if (p == end) return nullptr;
+  while (p < end && *p != ' ' && *p != '\t') ++p;
+  return p;
+}
+}  // namespace
+
 bool TextDumpReader::next(DumpFrame& f) {
   std::string_view line;
   const auto& path = reader_.path();
+  step_read_ = -1;
   auto fail = [&](const std::string& msg) {
     if (reader_.saw_nul()) {
-      return FormatError(path, reader_.line_number(), "binary data where a text dump was expected (" + msg + ")");
+      return FormatError(path, line_number(), "binary data where a text dump was expected (" + msg + ")");
     }
-    return FormatError(path, reader_.line_number(), msg);
+    return FormatError(path, line_number(), msg);
   };
   auto step_text = [&] { return fmt::format("frame at step {}", f.step); };
+  // A line inside a frame. A piece of a file that is not its end is followed by the next
+  // frame's 'ITEM: TIMESTEP' line: a frame that runs into it meets that line here, and fails as
+  // it would reading the whole file.
+  auto in_frame = [&](std::string_view& l) {
+    if (reader_.next(l)) return true;
+    if (last_ || next_frame_seen_) return false;
+    next_frame_seen_ = true;
+    l = next_line_;
+    return true;
+  };
   auto expect_item = [&](std::string_view item) {
-    if (!reader_.next(line)) {
-      throw TruncatedError(path, reader_.line_number(), fmt::format("file ends inside the {} (no '{}')", step_text(), item));
+    if (!in_frame(line)) {
+      throw TruncatedError(path, line_number(), fmt::format("file ends inside the {} (no '{}')", step_text(), item));
     }
     if (line.substr(0, item.size()) != item) {
       throw fail(fmt::format("expected '{}' in the {}, found '{}'", item, step_text(), line.substr(0, 60)));
@@ -43,7 +77,7 @@ bool TextDumpReader::next(DumpFrame& f) {
   // Skip blank lines between frames; a clean end of file ends the dump.
   do {
     if (!reader_.next(line)) {
-      if (frames_ == 0) throw fail("empty file: no frame (a dump starts with 'ITEM: TIMESTEP')");
+      if (frames_ == 0 && first_) throw fail("empty file: no frame (a dump starts with 'ITEM: TIMESTEP')");
       return false;
     }
   } while (line.find_first_not_of(" \t") == std::string_view::npos);
@@ -51,20 +85,21 @@ bool TextDumpReader::next(DumpFrame& f) {
     throw fail(fmt::format("expected 'ITEM: TIMESTEP', found '{}'", line.substr(0, 60)));
   }
   f.first_line = reader_.line_number();
-  if (!reader_.next(line)) throw TruncatedError(path, reader_.line_number(), "file ends after 'ITEM: TIMESTEP'");
+  if (!in_frame(line)) throw TruncatedError(path, line_number(), "file ends after 'ITEM: TIMESTEP'");
   if (!parse_long(line, f.step) || f.step < 0) throw fail(fmt::format("'{}' is not a timestep", line.substr(0, 60)));
+  step_read_ = f.step;
   if (f.step < last_step_) {
     throw fail(fmt::format("timestep {} comes after {}: timesteps go backwards (two runs appended to one file?)", f.step,
                            last_step_));
   }
   expect_item("ITEM: NUMBER OF ATOMS");
-  if (!reader_.next(line)) throw TruncatedError(path, reader_.line_number(), "file ends in the frame header");
+  if (!in_frame(line)) throw TruncatedError(path, line_number(), "file ends in the frame header");
   if (!parse_long(line, f.atoms) || f.atoms < 0) throw fail(fmt::format("'{}' is not an atom count", line.substr(0, 60)));
   expect_item("ITEM: BOX BOUNDS");
   f.box_flags = std::string(line.substr(16));
   while (!f.box_flags.empty() && f.box_flags.front() == ' ') f.box_flags.erase(0, 1);
   for (int axis = 0; axis < 3; ++axis) {
-    if (!reader_.next(line)) throw TruncatedError(path, reader_.line_number(), "file ends in the box bounds");
+    if (!in_frame(line)) throw TruncatedError(path, line_number(), "file ends in the box bounds");
     split_words(line, words_);
     if (words_.size() < 2 || !parse_double(words_[0], f.box[static_cast<std::size_t>(2 * axis)]) ||
         !parse_double(words_[1], f.box[static_cast<std::size_t>(2 * axis + 1)])) {
@@ -77,21 +112,32 @@ bool TextDumpReader::next(DumpFrame& f) {
   if (frames_ == 0 || words_.size() != f.columns.size() ||
       !std::equal(words_.begin(), words_.end(), f.columns.begin())) {
     f.columns.assign(words_.begin(), words_.end());
+    convert_.clear();
   }
   const std::size_t ncol = f.columns.size();
-  // The header's count is not trusted with memory: the frame grows as its lines arrive.
-  f.values.clear();
-  f.values.reserve(std::min<std::size_t>(static_cast<std::size_t>(f.atoms), std::size_t{1} << 20) * ncol);
+  if (convert_.size() != ncol) {
+    convert_.assign(ncol, 1);
+    if (!wanted_.empty()) {
+      for (std::size_t c = 0; c < ncol; ++c) {
+        convert_[c] = std::find(wanted_.begin(), wanted_.end(), f.columns[c]) != wanted_.end() ? 1 : 0;
+      }
+    }
+  }
+  const bool convert_all = std::find(convert_.begin(), convert_.end(), 0) == convert_.end();
+  // The header's count is not trusted with memory: the frame grows as its lines arrive (and the
+  // storage of the previous frame is reused without clearing it).
+  const std::size_t expected = static_cast<std::size_t>(f.atoms) * ncol;
+  if (f.values.size() > expected) f.values.resize(expected);
   for (long a = 0; a < f.atoms; ++a) {
-    if (!reader_.next(line)) {
-      throw TruncatedError(path, reader_.line_number(),
+    if (!in_frame(line)) {
+      throw TruncatedError(path, line_number(),
                            fmt::format("file ends inside the frame at step {}: {} of {} atom lines", f.step, a, f.atoms));
     }
     // A bad last line of the file is a run killed while writing: truncation, not corruption.
     auto bad_row = [&](const std::string& msg) {
       FormatError error = fail(msg);
       std::string_view rest;
-      if (!reader_.next(rest)) {
+      if (last_ && !reader_.next(rest)) {
         throw TruncatedError(path, error.line(),
                              fmt::format("file ends inside the frame at step {}: atom line {} of {} is cut short",
                                          f.step, a + 1, f.atoms));
@@ -99,13 +145,24 @@ bool TextDumpReader::next(DumpFrame& f) {
       throw error;
     };
     // The numbers are parsed in place; the words are split only to explain a bad line.
-    const std::size_t base = f.values.size();
-    f.values.resize(base + ncol);
+    const std::size_t base = static_cast<std::size_t>(a) * ncol;
+    if (f.values.size() < base + ncol) f.values.resize(std::min(expected, std::max(base + ncol, 2 * f.values.size())));
     double* out = f.values.data() + base;
     const char* p = line.data();
     const char* end = line.data() + line.size();
     std::size_t c = 0;
-    for (; c < ncol && p != nullptr; ++c) p = parse_next_double(p, end, out[c]);
+    if (convert_all) {
+      for (; c < ncol && p != nullptr; ++c) p = parse_next_double(p, end, out[c]);
+    } else {
+      for (; c < ncol && p != nullptr; ++c) {
+        if (convert_[c] != 0) {
+          p = parse_next_double(p, end, out[c]);
+        } else {
+          p = skip_word(p, end);
+          out[c] = std::numeric_limits<double>::quiet_NaN();
+        }
+      }
+    }
     while (p != nullptr && p < end && (*p == ' ' || *p == '\t')) ++p;
     if (p == nullptr || p != end) {
       split_words(line, words_);
@@ -213,8 +270,9 @@ bool BinaryDumpReader::next(DumpFrame& f) {
   std::copy(box, box + 6, f.box.begin());
   f.columns = columns_;
   const std::size_t total = static_cast<std::size_t>(h.atoms) * columns_.size();
-  // The header's count is not trusted with memory: the frame grows as its chunks arrive.
-  f.values.clear();
+  // The header's count is not trusted with memory: the frame grows as its chunks arrive (and the
+  // storage of the previous frame is reused without clearing it).
+  if (f.values.size() > total) f.values.resize(total);
   std::size_t filled = 0;
   for (std::int32_t c = 0; c < chunks; ++c) {
     std::int32_t n = 0;
@@ -225,7 +283,7 @@ bool BinaryDumpReader::next(DumpFrame& f) {
     }
     for (std::size_t done = 0; done < static_cast<std::size_t>(n);) {
       const std::size_t part = std::min<std::size_t>(static_cast<std::size_t>(n) - done, std::size_t{1} << 20);
-      f.values.resize(filled + part);
+      if (f.values.size() < filled + part) f.values.resize(filled + part);
       read(f.values.data() + filled, sizeof(double) * part, "atom data");
       filled += part;
       done += part;
@@ -399,57 +457,6 @@ bool MultiFileDumpReader::next(DumpFrame& f) {
   }
   ++frames_;
   return true;
-}
-
-PrefetchDumpReader::PrefetchDumpReader(std::unique_ptr<DumpReader> inner)
-    : inner_(std::move(inner)), path_(inner_->path()), thread_([this] { produce(); }) {}
-
-PrefetchDumpReader::~PrefetchDumpReader() {
-  {
-    std::lock_guard lock(mutex_);
-    stop_ = true;
-  }
-  changed_.notify_all();
-  thread_.join();
-}
-
-void PrefetchDumpReader::produce() {
-  DumpFrame frame;
-  for (;;) {
-    bool got = false;
-    std::exception_ptr error;
-    try {
-      got = inner_->next(frame);
-    } catch (...) {
-      error = std::current_exception();
-    }
-    std::unique_lock lock(mutex_);
-    changed_.wait(lock, [&] { return !full_ || stop_; });
-    if (stop_) return;
-    if (!got) {
-      error_ = error;
-      done_ = true;
-      changed_.notify_all();
-      return;
-    }
-    std::swap(slot_, frame);  // hands the frame over and takes back a used buffer
-    full_ = true;
-    changed_.notify_all();
-  }
-}
-
-bool PrefetchDumpReader::next(DumpFrame& frame) {
-  std::unique_lock lock(mutex_);
-  changed_.wait(lock, [&] { return full_ || done_; });
-  if (full_) {
-    std::swap(frame, slot_);
-    full_ = false;
-    ++frames_;
-    changed_.notify_all();
-    return true;
-  }
-  if (error_) std::rethrow_exception(error_);
-  return false;
 }
 
 std::unique_ptr<DumpReader> open_dump(const std::string& path, bool binary, const std::vector<std::string>& columns) {

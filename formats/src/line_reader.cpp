@@ -9,7 +9,17 @@
 namespace granstack::formats {
 
 LineReader::LineReader(const std::string& path, std::size_t buffer_bytes)
-    : path_(path), source_(open_bytes(path)), buffer_(buffer_bytes) {}
+    : path_(path), source_(open_bytes(path)), buffer_(buffer_bytes, '\0') {}
+
+LineReader::LineReader(std::unique_ptr<ByteSource> source, const std::string& path, std::size_t buffer_bytes)
+    : path_(path), source_(std::move(source)), buffer_(buffer_bytes, '\0') {}
+
+LineReader::LineReader(std::string text, const std::string& path)
+    : path_(path), buffer_(std::move(text)), end_(buffer_.size()), eof_(true) {
+  if (const void* nul = std::memchr(buffer_.data(), '\0', buffer_.size())) {
+    first_nul_ = static_cast<long>(static_cast<const char*>(nul) - buffer_.data());
+  }
+}
 
 bool LineReader::refill() {
   if (eof_) return false;
@@ -17,11 +27,16 @@ bool LineReader::refill() {
   if (begin_ > 0) {
     std::memmove(buffer_.data(), buffer_.data() + begin_, end_ - begin_);
     end_ -= begin_;
+    base_ += static_cast<long>(begin_);
     begin_ = 0;
   }
-  if (end_ == buffer_.size()) buffer_.resize(buffer_.size() * 2);
+  if (end_ == buffer_.size()) buffer_.resize(buffer_.size() * 2, '\0');
   const std::size_t got = source_->read(buffer_.data() + end_, buffer_.size() - end_);
-  if (std::memchr(buffer_.data() + end_, '\0', got) != nullptr) saw_nul_ = true;
+  if (first_nul_ < 0) {
+    if (const void* nul = std::memchr(buffer_.data() + end_, '\0', got)) {
+      first_nul_ = base_ + static_cast<long>(static_cast<const char*>(nul) - buffer_.data());
+    }
+  }
   end_ += got;
   if (got == 0) eof_ = true;
   return got > 0;

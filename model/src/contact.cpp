@@ -36,10 +36,6 @@ double hertz_max_overlap(const ContactPair& c, double v) {
 
 double hertz_contact_time(const ContactPair& c, double v) { return 2.9432 * hertz_max_overlap(c, v) / v; }
 
-double hertz_elastic_energy(double y_star, double r_star, double overlap) {
-  return 8.0 / 15.0 * y_star * std::sqrt(r_star) * overlap * overlap * std::sqrt(overlap);
-}
-
 double rayleigh_time(const Material& m, double radius) {
   const double shear = m.youngs_modulus / (2.0 * (1.0 + m.poisson_ratio));
   return kPi * radius * std::sqrt(m.density / shear) / (0.1631 * m.poisson_ratio + 0.8766);

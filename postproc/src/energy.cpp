@@ -16,6 +16,8 @@ const std::vector<std::string> kNeededColumns{"id", "mass", "radius", "x", "y", 
                                               "omegax", "omegay", "omegaz"};
 }  // namespace
 
+const std::vector<std::string>& FrameView::needed_columns() { return kNeededColumns; }
+
 FrameView::FrameView(const model::Stack& stack, const std::string& path)
     : stack_(stack), path_(path), rows_(stack.spheres().size(), -1) {}
 
@@ -145,6 +147,10 @@ void for_each_close_pair(const model::Stack& stack, const std::vector<double>& x
   (void)level;
 }
 
+struct FrameViewColumns {
+  int x, y, z;
+};
+
 // Hertz parameters of every atom-type pair and of every type against the walls, computed once.
 class ContactEnergy {
  public:
@@ -223,91 +229,144 @@ const std::vector<std::pair<std::size_t, std::size_t>>& ContactCandidates::pairs
   return pairs_;
 }
 
-FrameEnergy frame_energy(const formats::DumpFrame& f, const FrameView& v, const model::Stack& stack,
-                         ContactCandidates* candidates) {
-  FrameEnergy e;
+struct FrameAnalyser::Constants {
+  explicit Constants(const model::Stack& stack) : contacts(stack) {}
+  ContactEnergy contacts;
+  // Per sphere, in the stack's order: its block (index 0 = block 1; -1 for the striker), its
+  // row and column (index 0 = 1), and whether it is in the top row of block 1.
+  std::vector<int> block, row, column;
+  std::vector<char> top_row;
+  std::vector<double> radius;
+};
+
+FrameAnalyser::FrameAnalyser(const model::Stack& stack, const std::string& path)
+    : stack_(stack), view_(stack, path), candidates_(stack), constants_(std::make_unique<Constants>(stack)) {
+  auto& c = *constants_;
+  for (const auto& s : stack.spheres()) {
+    c.block.push_back(s.block - 1);
+    c.row.push_back(s.row - 1);
+    c.column.push_back(s.column - 1);
+    c.top_row.push_back(s.block == 1 && s.row == 1 ? 1 : 0);
+    c.radius.push_back(s.radius);
+  }
+}
+
+FrameAnalyser::~FrameAnalyser() = default;
+
+void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
+  view_.bind(f);
+  const auto& v = view_;
+  const auto& c = *constants_;
+  const auto& stack = stack_;
   e.step = f.step;
   const std::size_t nb = stack.blocks().size();
-  e.block_ke.assign(nb, 0.0);
-  e.block_ke_sideways.assign(nb, 0.0);
-  e.block_ke_downward.assign(nb, 0.0);
-  e.block_ke_rotational.assign(nb, 0.0);
+  for (auto* parts : {&e.block_ke, &e.block_ke_sideways, &e.block_ke_downward, &e.block_ke_rotational}) {
+    parts->assign(nb, 0.0);
+  }
   e.row_ke.resize(nb);
   e.column_ke.resize(nb);
   for (std::size_t k = 0; k < nb; ++k) {
     e.row_ke[k].assign(static_cast<std::size_t>(stack.blocks()[k].rows), 0.0);
     e.column_ke[k].assign(static_cast<std::size_t>(stack.blocks()[k].columns), 0.0);
   }
-  const int out_id = stack.output_sphere_id();
-  const int bottom_first = stack.bottom_row_ids().front();
+  e.top_row_sideways = e.top_row_downward = e.striker_ke = e.output_sphere_ke = e.bottom_row_ke = 0.0;
+  e.kinetic = e.elastic = 0.0;
+  const auto out_index = static_cast<std::size_t>(stack.output_sphere_id() - 1);
+  const auto bottom_first = static_cast<std::size_t>(stack.bottom_row_ids().front() - 1);
   const auto& spheres = stack.spheres();
   const std::size_t n = spheres.size();
-  std::vector<double> x(n), y(n), z(n);
+  x_.resize(n);
+  y_.resize(n);
+  z_.resize(n);
+  const std::size_t stride = f.columns.size();
+  const double* values = f.values.data();
+  const auto col = [](int index) { return static_cast<std::size_t>(index); };
+  const std::size_t cx = col(v.c_x_), cy = col(v.c_y_), cz = col(v.c_z_), cm = col(v.c_mass_), cr = col(v.c_radius_);
+  const std::size_t cvx = col(v.c_vx_), cvy = col(v.c_vy_), cvz = col(v.c_vz_);
+  const std::size_t cwx = col(v.c_wx_), cwy = col(v.c_wy_), cwz = col(v.c_wz_);
+  // Sphere by sphere in the stack's order (ids 1..n), so every sum keeps one order whatever the
+  // order of the dump's lines; the same expressions as FrameView::kinetic_energy.
   for (std::size_t i = 0; i < n; ++i) {
-    const auto& s = spheres[i];
-    const long row = v.row(s.id);
-    x[i] = f.at(row, v.c_x_);
-    y[i] = f.at(row, v.c_y_);
-    z[i] = f.at(row, v.c_z_);
-    const double ke = v.kinetic_energy(f, row);
+    const double* a = values + static_cast<std::size_t>(v.rows_[i]) * stride;
+    x_[i] = a[cx];
+    y_[i] = a[cy];
+    z_[i] = a[cz];
+    const double m = a[cm], rad = a[cr];
+    const double vx = a[cvx], vy = a[cvy], vz = a[cvz];
+    const double wx = a[cwx], wy = a[cwy], wz = a[cwz];
+    const double rot = 0.5 * (0.4 * m * rad * rad) * (wx * wx + wy * wy + wz * wz);
+    const double ke = 0.5 * m * (vx * vx + vy * vy + vz * vz) + rot;
     e.kinetic += ke;
-    if (s.block == 0) {
+    const int b = c.block[i];
+    if (b < 0) {
       e.striker_ke += ke;
     } else {
-      const auto k = static_cast<std::size_t>(s.block - 1);
-      const double m = f.at(row, v.c_mass_);
-      const double vx = f.at(row, v.c_vx_), vy = f.at(row, v.c_vy_), vz = f.at(row, v.c_vz_);
+      const auto k = static_cast<std::size_t>(b);
       const double sideways = 0.5 * m * (vx * vx + vy * vy), downward = 0.5 * m * vz * vz;
       e.block_ke[k] += ke;
       e.block_ke_sideways[k] += sideways;
       e.block_ke_downward[k] += downward;
-      e.block_ke_rotational[k] += v.rotational_energy(f, row);
-      e.row_ke[k][static_cast<std::size_t>(s.row - 1)] += ke;
-      e.column_ke[k][static_cast<std::size_t>(s.column - 1)] += ke;
-      if (s.block == 1 && s.row == 1) {
+      e.block_ke_rotational[k] += rot;
+      e.row_ke[k][static_cast<std::size_t>(c.row[i])] += ke;
+      e.column_ke[k][static_cast<std::size_t>(c.column[i])] += ke;
+      if (c.top_row[i] != 0) {
         e.top_row_sideways += sideways;
         e.top_row_downward += downward;
       }
     }
-    if (s.id == out_id) e.output_sphere_ke = ke;
-    if (s.id >= bottom_first) e.bottom_row_ke += ke;
+    if (i == out_index) e.output_sphere_ke = ke;
+    if (i >= bottom_first) e.bottom_row_ke += ke;
   }
-  const ContactEnergy contacts(stack);
-  auto add_pair = [&](std::size_t i, std::size_t j) {
-    const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
-    const double sum = spheres[i].radius + spheres[j].radius;
+  for (const auto& [i, j] : candidates_.pairs(x_, z_)) {
+    const double dx = x_[i] - x_[j], dy = y_[i] - y_[j], dz = z_[i] - z_[j];
+    const double sum = c.radius[i] + c.radius[j];
     const double d2 = dx * dx + dy * dy + dz * dz;
-    if (d2 < sum * sum) e.elastic += contacts.pair(spheres[i], spheres[j], sum - std::sqrt(d2));
-  };
-  if (candidates != nullptr) {
-    for (const auto& [i, j] : candidates->pairs(x, z)) add_pair(i, j);
-  } else {
-    for_each_close_pair(stack, x, z, 0.0, add_pair);
+    if (d2 < sum * sum) e.elastic += c.contacts.pair(spheres[i], spheres[j], sum - std::sqrt(d2));
   }
-  for (std::size_t i = 0; i < n; ++i) e.elastic += contacts.walls(spheres[i], x[i], z[i]);
+  if (stack.has_walls()) {
+    for (std::size_t i = 0; i < n; ++i) e.elastic += c.contacts.walls(spheres[i], x_[i], z_[i]);
+  }
+}
+
+FrameEnergy frame_energy(const formats::DumpFrame& frame, const FrameView&, const model::Stack& stack) {
+  FrameAnalyser analyser(stack, "");
+  FrameEnergy e;
+  analyser.analyse(frame, e);
   return e;
 }
 
-double contact_energy(const formats::DumpFrame& f, const FrameView& v, const model::Stack& stack, int id) {
-  const ContactEnergy contacts(stack);
+namespace {
+double contact_energy_with(const ContactEnergy& contacts, const formats::DumpFrame& f, const FrameView& v,
+                           const model::Stack& stack, int id, const FrameViewColumns& c) {
   const auto& me = stack.sphere(id);
   const long row = v.row(id);
-  const double x = f.at(row, v.c_x_), y = f.at(row, v.c_y_), z = f.at(row, v.c_z_);
+  const double x = f.at(row, c.x), y = f.at(row, c.y), z = f.at(row, c.z);
   double energy = contacts.walls(me, x, z);
   for (const auto& s : stack.spheres()) {
     if (s.id == id) continue;
     const long r = v.row(s.id);
-    const double dx = f.at(r, v.c_x_) - x, dy = f.at(r, v.c_y_) - y, dz = f.at(r, v.c_z_) - z;
+    const double dx = f.at(r, c.x) - x, dy = f.at(r, c.y) - y, dz = f.at(r, c.z) - z;
     const double sum = me.radius + s.radius;
     const double d2 = dx * dx + dy * dy + dz * dz;
     if (d2 < sum * sum) energy += contacts.pair(me, s, sum - std::sqrt(d2));
   }
   return energy;
 }
+}  // namespace
+
+double contact_energy(const formats::DumpFrame& f, const FrameView& v, const model::Stack& stack, int id) {
+  return contact_energy_with(ContactEnergy(stack), f, v, stack, id, {v.c_x_, v.c_y_, v.c_z_});
+}
 
 bool has_separated(const formats::DumpFrame& f, const FrameView& v, const model::Stack& stack, int id) {
   const double ke = v.kinetic_energy(f, v.row(id));
   return ke > 0.0 && contact_energy(f, v, stack, id) <= kSeparatedContactEnergy * ke;
+}
+
+bool FrameAnalyser::has_separated(const formats::DumpFrame& f, int id) const {
+  const double ke = view_.kinetic_energy(f, view_.row(id));
+  return ke > 0.0 && contact_energy_with(constants_->contacts, f, view_, stack_, id, {view_.c_x_, view_.c_y_, view_.c_z_}) <=
+                         kSeparatedContactEnergy * ke;
 }
 
 }  // namespace granstack::postproc

@@ -32,45 +32,78 @@ std::vector<std::size_t> prominent_peaks(const std::vector<double>& y, double mi
   return out;
 }
 
-namespace {
-// The time of a sampled maximum, refined by the parabola through it and its neighbours.
-double refined_peak_time(const std::vector<double>& t, const std::vector<double>& y, std::size_t i) {
-  if (i == 0 || i + 1 >= y.size()) return t[i];
-  const double a = y[i - 1], b = y[i], c = y[i + 1];
-  const double denom = a - 2 * b + c;
-  if (denom == 0.0) return t[i];
-  const double shift = 0.5 * (a - c) / denom;  // in samples, within (-1/2, 1/2) for a true maximum
-  return t[i] + shift * (t[i + 1] - t[i - 1]) / 2.0;
-}
-}  // namespace
 
 WaveTracker::WaveTracker(const model::Stack& stack, double dt) : stack_(stack), dt_(dt) {
   for (const auto& b : stack.blocks()) {
     Column c;
     for (int i = 1; i <= b.rows; ++i) c.ids.push_back(stack.id_of(b.index, i, b.columns / 2 + 1));
-    c.speed.resize(c.ids.size());
-    c.overlap.resize(c.ids.size() > 0 ? c.ids.size() - 1 : 0);
+    for (std::size_t r = 0; r + 1 < c.ids.size(); ++r) {
+      c.radius_sum.push_back(stack.sphere(c.ids[r]).radius + stack.sphere(c.ids[r + 1]).radius);
+    }
+    c.offset = samples_per_frame_;
+    samples_per_frame_ += c.ids.size() + c.radius_sum.size();
+    c.rows.resize(c.ids.size());
     columns_.push_back(std::move(c));
   }
 }
 
-void WaveTracker::add(const formats::DumpFrame& f, const FrameView& view) {
-  times_.push_back(static_cast<double>(f.step) * dt_);
+void WaveTracker::sample(const formats::DumpFrame& f, const FrameView& view, std::vector<double>& out) const {
+  out.resize(samples_per_frame_);
   const int cx = f.column("x"), cy = f.column("y"), cz = f.column("z");
   const int cvx = f.column("vx"), cvy = f.column("vy"), cvz = f.column("vz");
-  for (auto& c : columns_) {
+  for (const auto& c : columns_) {
+    double* speed = out.data() + c.offset;
+    double* overlap = speed + c.ids.size();
     for (std::size_t r = 0; r < c.ids.size(); ++r) {
       const long row = view.row(c.ids[r]);
-      c.speed[r].push_back(std::hypot(f.at(row, cvx), f.at(row, cvy), f.at(row, cvz)));
+      speed[r] = std::hypot(f.at(row, cvx), f.at(row, cvy), f.at(row, cvz));
       if (r + 1 < c.ids.size()) {
         const long below = view.row(c.ids[r + 1]);
         const double d = std::hypot(f.at(row, cx) - f.at(below, cx), f.at(row, cy) - f.at(below, cy),
                                     f.at(row, cz) - f.at(below, cz));
-        const double sum = stack_.sphere(c.ids[r]).radius + stack_.sphere(c.ids[r + 1]).radius;
-        c.overlap[r].push_back(std::max(0.0, sum - d));
+        overlap[r] = std::max(0.0, c.radius_sum[r] - d);
       }
     }
   }
+}
+
+void WaveTracker::add(const formats::DumpFrame& f, const FrameView& view) {
+  sample(f, view, scratch_);
+  add(f.step, scratch_);
+}
+
+void WaveTracker::add(long step, const std::vector<double>& samples) {
+  times_[0] = times_[1];
+  times_[1] = times_[2];
+  times_[2] = static_cast<double>(step) * dt_;
+  if (frames_ == 1) first_interval_ = times_[2] - times_[1];
+  for (auto& c : columns_) {
+    const double* speed = samples.data() + c.offset;
+    const double* overlap = speed + c.ids.size();
+    std::swap(c.overlaps_before, c.overlaps);
+    c.overlaps.assign(overlap, overlap + c.radius_sum.size());
+    for (const double o : c.overlaps) c.max_overlap = std::max(c.max_overlap, o);
+    for (std::size_t r = 0; r < c.rows.size(); ++r) {
+      auto& row = c.rows[r];
+      const double s = speed[r];
+      // Is the previous frame a local maximum (higher than the one before it, not lower than this)?
+      if (frames_ >= 2 && row.last > row.before && row.last >= s &&
+          (row.records.empty() || row.last > row.records.back().speed)) {
+        Maximum m;
+        m.speed = row.last;
+        // Its time refined by the parabola through it and its neighbours.
+        m.time = times_[1];
+        const double denom = row.before - 2 * row.last + s;
+        if (denom != 0.0) m.time += 0.5 * (row.before - s) / denom * (times_[2] - times_[0]) / 2.0;
+        if (r == c.rows.size() / 2) m.overlaps = c.overlaps_before;
+        row.records.push_back(std::move(m));
+      }
+      row.top = frames_ == 0 ? s : std::max(row.top, s);
+      row.before = row.last;
+      row.last = s;
+    }
+  }
+  ++frames_;
 }
 
 std::vector<BlockWaves> analyse_waves(const std::string& case_dir) {
@@ -97,7 +130,6 @@ std::vector<BlockWaves> analyse_waves(const std::string& case_dir) {
 std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const {
   const auto& stack = stack_;
   const double dt = dt_;
-  const auto& times = times_;
   const auto& columns = columns_;
   const auto lib = stack.spec().material_library();
   const int nb = stack.spec().blocks;
@@ -121,17 +153,15 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
     // Arrival of the leading maximum at each row: the first local maximum of the sphere's
     // speed reaching half its largest speed. The first and last rows (the interfaces) are left out.
     std::vector<double> depth, arrival;
-    std::size_t middle_frame = 0;
-    for (std::size_t r = 1; r + 1 < c.ids.size(); ++r) {
-      const auto& s = c.speed[r];
-      if (s.size() < 3) break;
-      const double top = *std::max_element(s.begin(), s.end());
-      if (top <= 0.0) continue;
-      for (std::size_t i = 1; i + 1 < s.size(); ++i) {
-        if (s[i] >= 0.5 * top && s[i] > s[i - 1] && s[i] >= s[i + 1]) {
+    const std::vector<double>* middle_overlaps = nullptr;
+    for (std::size_t r = 1; r + 1 < c.ids.size() && frames_ >= 3; ++r) {
+      const auto& row = c.rows[r];
+      if (row.top <= 0.0) continue;
+      for (const auto& m : row.records) {
+        if (m.speed >= 0.5 * row.top) {
           depth.push_back(diameter * static_cast<double>(r));
-          arrival.push_back(refined_peak_time(times, s, i));
-          if (r == c.ids.size() / 2) middle_frame = i;
+          arrival.push_back(m.time);
+          if (r == c.ids.size() / 2) middle_overlaps = &m.overlaps;
           break;
         }
       }
@@ -159,10 +189,7 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
     }
     // Peak force between vertical neighbours of the column, Hertz's elastic part.
     const auto pair = model::sphere_sphere(mat, b.radius, mat, b.radius);
-    double max_overlap = 0.0;
-    for (const auto& o : c.overlap) {
-      for (const double d : o) max_overlap = std::max(max_overlap, d);
-    }
+    const double max_overlap = c.max_overlap;
     w.peak_force = 4.0 / 3.0 * pair.y_star * std::sqrt(pair.r_star) * std::pow(max_overlap, 1.5);
     if (w.peak_force > 0.0) {
       w.nesterenko_speed = 0.6802 *
@@ -172,8 +199,8 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
     }
     // The arrival times are only as good as the sampling: at least two frames per row crossing
     // (estimated at Nesterenko's speed, so the check does not depend on the result).
-    if (w.speed && w.nesterenko_speed && times.size() > 1) {
-      const double frame_interval = times[1] - times[0];
+    if (w.speed && w.nesterenko_speed && frames_ > 1) {
+      const double frame_interval = first_interval_;
       const double crossing = diameter / *w.nesterenko_speed;
       if (frame_interval > 0.5 * crossing) {
         w.speed.reset();
@@ -185,10 +212,10 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
     }
     // Width when the leading maximum is at the middle row: RMS width of the column's overlaps,
     // as the support of the cos^4 profile with the same RMS width (sigma = 0.1414482 L).
-    if (middle_frame > 0 && !c.overlap.empty()) {
+    if (middle_overlaps != nullptr && !middle_overlaps->empty()) {
       double w0 = 0, w1 = 0, w2 = 0;
-      for (std::size_t r = 0; r < c.overlap.size(); ++r) {
-        const double o = c.overlap[r][middle_frame];
+      for (std::size_t r = 0; r < middle_overlaps->size(); ++r) {
+        const double o = (*middle_overlaps)[r];
         w0 += o;
         w1 += o * static_cast<double>(r);
         w2 += o * static_cast<double>(r) * static_cast<double>(r);

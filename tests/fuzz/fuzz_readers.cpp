@@ -6,8 +6,11 @@
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/series.hpp>
 
+#include "../support/read_both_ways.hpp"
+
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <unistd.h>
 
@@ -38,6 +41,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     while (reader.next(frame)) {
     }
   });
+  // Read in batches (cut every few bytes, parsed apart), the same frames and the same error.
+  const auto whole = granstack::test_support::read_whole(path);
+  for (const std::size_t batch : {std::size_t{7}, std::size_t{97}, std::size_t{4096}}) {
+    const auto diff = granstack::test_support::difference(whole, granstack::test_support::read_in_batches(path, batch));
+    if (!diff.empty()) {
+      std::fprintf(stderr, "batched reading (%zu bytes) differs: %s\n", batch, diff.c_str());
+      std::abort();
+    }
+  }
   expect_clean([&] {
     BinaryDumpReader reader(path, kColumns);
     while (reader.next(frame)) {

@@ -306,6 +306,33 @@ TEST(Reduce, BinaryDumpsGiveExactlyTheTextDumpsResult) {
   EXPECT_EQ(slurp(b.csv_path), slurp(t.csv_path));
 }
 
+// Frames are parsed and analysed on several threads and their results put back in order: the
+// tables and the summary must not depend on how many threads did it, to the byte.
+TEST(Reduce, TheNumberOfThreadsChangesNoByteOfTheResult) {
+  const auto dir = run_case("case", blocks(3));
+  auto slurp = [](const fs::path& p) {
+    std::ifstream in(p);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const std::vector<std::string> files{"block_ke.csv", "energy_parts.csv", "row_ke.csv", "column_ke.csv", "summary.json"};
+  std::vector<std::string> one_thread;
+  postproc::ReduceOptions o;
+  o.threads = 1;
+  const auto reference = postproc::reduce_case(dir, o);
+  ASSERT_GT(fs::file_size(formats::find_dump(dir, "dumps/dump.txt")), 3u << 20) << "a dump of several batches";
+  for (const auto& f : files) one_thread.push_back(slurp(fs::path(dir) / "reduce" / f));
+  for (const int threads : {2, 3, 8}) {
+    o.threads = threads;
+    long frames_seen = 0;
+    o.on_frame = [&](long frames) { EXPECT_EQ(frames, ++frames_seen); };
+    const auto r = postproc::reduce_case(dir, o);
+    EXPECT_EQ(postproc::to_json(r), postproc::to_json(reference)) << threads << " threads";
+    for (std::size_t k = 0; k < files.size(); ++k) {
+      EXPECT_EQ(slurp(fs::path(dir) / "reduce" / files[k]), one_thread[k]) << files[k] << ", " << threads << " threads";
+    }
+  }
+}
+
 // A user's template adding `fix ave/time` (whose file has two '#' header lines and %g values):
 // the series reader takes the last header's names, and the values match the full-precision
 // in-situ series to the 6 digits ave/time writes.

@@ -1,5 +1,6 @@
 // File formats: the data file and the manifest round-trip exactly; the dump, series and log
 // readers accept what LIGGGHTS writes and name the problem in what it does not.
+#include <granstack/formats/batches.hpp>
 #include <granstack/formats/data_file.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/error.hpp>
@@ -12,8 +13,12 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+
+#include "../support/read_both_ways.hpp"
 
 using namespace granstack;
 namespace fs = std::filesystem;
@@ -185,6 +190,97 @@ TEST(DumpRegressions, HugeAtomCountsInHeadersAreRefusedWithoutAllocatingThem) {
   const std::vector<std::string> columns(16, "c");
   formats::BinaryDumpReader binary(GRANSTACK_FUZZ_REGRESSIONS "/huge_atom_count.bin", columns);
   EXPECT_THROW(while (binary.next(f)) {}, formats::FormatError);
+}
+
+// A dump of `frames` frames of `atoms` atoms as DumpWriter (and LIGGGHTS) writes it.
+std::string dump_text(int frames, int atoms) {
+  formats::DumpFrame f;
+  f.atoms = atoms;
+  f.box_flags = "mm mm mm";
+  f.box = {-1, 1, -1, 1, -1, 1};
+  f.columns = {"id", "type", "x", "z", "vx", "vz", "fx"};
+  std::string text;
+  for (int k = 0; k < frames; ++k) {
+    f.step = 10L * k;
+    f.values.clear();
+    for (int a = 0; a < atoms; ++a) {
+      for (double v : {a + 1.0, 1.0, 0.1 * a + 1e-17 * k, -0.3 * k, std::sin(a + k), 0.0, 1.0 / (a + k + 3.0)}) {
+        f.values.push_back(v);
+      }
+    }
+    const auto path = fs::temp_directory_path() / ("granstack_dump_text_" + std::to_string(::getpid()));
+    {
+      formats::DumpWriter w(path.string(), false);
+      w.write(f);
+    }
+    std::ifstream in(path, std::ios::binary);
+    text += std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    fs::remove(path);
+  }
+  return text;
+}
+
+using BatchTest = TempDir;
+
+// Pieces cut at frame boundaries and parsed apart give what reading the whole file gives, for
+// any piece size, including the line numbers and words of every error.
+TEST_F(BatchTest, BatchesGiveTheSameFramesAndErrorsAsReadingTheWholeFile) {
+  const std::string good = dump_text(40, 17);
+  auto check = [&](const std::string& name, const std::string& text, const std::string& expected_error) {
+    const auto path = write(name, text);
+    const auto whole = test_support::read_whole(path);
+    if (expected_error.empty()) {
+      EXPECT_EQ(whole.error, "") << name;
+      EXPECT_EQ(whole.frames.size(), 40u) << name;
+    } else {
+      EXPECT_NE(whole.error.find(expected_error), std::string::npos) << name << ": " << whole.error;
+    }
+    for (const std::size_t bytes : {std::size_t{1}, std::size_t{500}, std::size_t{3000}, std::size_t{1} << 20}) {
+      EXPECT_EQ(test_support::difference(whole, test_support::read_in_batches(path, bytes)), "") << name << ", " << bytes << " bytes";
+    }
+  };
+  check("good.txt", good, "");
+  std::string crlf;
+  for (const char c : good) {
+    if (c == '\n') crlf += '\r';
+    crlf += c;
+  }
+  check("crlf.txt", crlf, "");
+  // Frame 21 of 40 loses its last atom line: the next frame's header is read as one.
+  const auto frame21 = good.find("ITEM: TIMESTEP\n210\n");
+  std::string short_frame = good;
+  const auto cut_end = short_frame.rfind('\n', frame21 - 1);
+  short_frame.erase(short_frame.rfind('\n', cut_end - 1) + 1, cut_end - short_frame.rfind('\n', cut_end - 1));
+  check("short_frame.txt", short_frame, "atom line 17 of the frame at step 200 has 2 values");
+  std::string bad_number = good;
+  bad_number.replace(good.find("\n5 1 ", frame21), 5, "\n5 x ");
+  check("bad_number.txt", bad_number, "'x' in column 'type'");
+  check("truncated.txt", good.substr(0, good.size() - 30), "file ends inside the frame at step 390");
+  check("backwards.txt", good + dump_text(3, 17), "timestep 0 comes after 390");
+  check("empty.txt", "", "empty file");
+  check("blank.txt", "\n \n", "empty file");
+  check("binary.txt", good.substr(0, 900) + std::string(3, '\0') + good.substr(900), "binary data where a text dump");
+}
+
+TEST_F(BatchTest, ACompressedDumpIsCutAndParsedTheSameWay) {
+  const auto plain = write("dump.txt", dump_text(40, 17));
+  ASSERT_EQ(std::system(("gzip -k " + plain).c_str()), 0);
+  const auto whole = test_support::read_whole(plain);
+  EXPECT_EQ(test_support::difference(whole, test_support::read_in_batches(plain + ".gz", 700)), "");
+}
+
+// Only the named columns are converted; the others are checked to be there and left NaN.
+TEST_F(BatchTest, ColumnsNotAskedForAreLeftUnparsed) {
+  formats::FrameBatchSource source(write("dump.txt", dump_text(3, 5)), false, {}, {"id", "x"});
+  formats::FrameBatch batch;
+  ASSERT_TRUE(source.take(batch));
+  source.parse(batch);
+  ASSERT_FALSE(batch.error);
+  ASSERT_EQ(batch.frames.size(), 3u);
+  const auto& f = batch.frames[2];
+  EXPECT_EQ(f.at(4, f.column("id")), 5.0);
+  EXPECT_DOUBLE_EQ(f.at(4, f.column("x")), 0.4);
+  EXPECT_TRUE(std::isnan(f.at(4, f.column("vx"))));
 }
 
 using SeriesTest = TempDir;

@@ -5,10 +5,7 @@
 #include <granstack/formats/line_reader.hpp>
 
 #include <array>
-#include <condition_variable>
-#include <exception>
-#include <mutex>
-#include <thread>
+#include <optional>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -51,11 +48,30 @@ class DumpReader {
 class TextDumpReader final : public DumpReader {
  public:
   explicit TextDumpReader(const std::string& path);
+  // Whole frames of `path` already in memory (FrameBatchSource): line numbers count from the
+  // piece's start. `first`: the piece starts the file (so no frame at all is an empty file).
+  // `next_line`: the file's line after the piece (a frame cut short by it fails as it would when
+  // reading the whole file); none when the piece ends the file (a frame cut short is truncated).
+  TextDumpReader(std::string piece, const std::string& path, bool first, std::optional<std::string> next_line);
+  // The rest of a file from an open source; `first` as above.
+  TextDumpReader(std::unique_ptr<ByteSource> source, const std::string& path, bool first);
   bool next(DumpFrame& frame) override;
   const std::string& path() const override { return reader_.path(); }
+  long line_number() const { return reader_.line_number() + (next_frame_seen_ ? 1 : 0); }
+  // The step of the frame the last next() was reading, once its step line was read; else -1.
+  long step_read() const { return step_read_; }
+  // Only these columns are converted to numbers; the others are checked to be there and left
+  // NaN (LIGGGHTS dumps often carry columns an analysis does not need). Empty: every column.
+  void convert_only(std::vector<std::string> columns);
 
  private:
   LineReader reader_;
+  bool first_ = true, last_ = true;
+  std::string next_line_;
+  bool next_frame_seen_ = false;
+  long step_read_ = -1;
+  std::vector<std::string> wanted_;
+  std::vector<char> convert_;  // per column of the current header
   std::vector<std::string_view> words_;
   long last_step_ = -1;
 };
@@ -97,30 +113,6 @@ class MultiFileDumpReader final : public DumpReader {
   std::size_t current_ = 0;
   DumpFrame piece_;
   long last_step_ = -1;
-};
-
-// Reads the next frame on a second thread while the caller works on the current one: the same
-// frames, in the same order, with the same errors (raised after every complete frame before
-// them), in about the time of the slower of parsing and the caller's work.
-class PrefetchDumpReader final : public DumpReader {
- public:
-  explicit PrefetchDumpReader(std::unique_ptr<DumpReader> inner);
-  ~PrefetchDumpReader() override;
-  PrefetchDumpReader(const PrefetchDumpReader&) = delete;
-  PrefetchDumpReader& operator=(const PrefetchDumpReader&) = delete;
-  bool next(DumpFrame& frame) override;
-  const std::string& path() const override { return path_; }
-
- private:
-  void produce();
-  std::unique_ptr<DumpReader> inner_;
-  std::string path_;
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  DumpFrame slot_;
-  bool full_ = false, done_ = false, stop_ = false;
-  std::exception_ptr error_;
-  std::thread thread_;
 };
 
 // The files matching a LIGGGHTS dump name with '*' or '%', ordered by the number standing in

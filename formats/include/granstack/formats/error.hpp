@@ -1,4 +1,5 @@
 #pragma once
+#include <exception>
 #include <stdexcept>
 #include <string>
 
@@ -10,10 +11,12 @@ class FormatError : public std::runtime_error {
   FormatError(std::string file, long line, std::string message);
   const std::string& file() const { return file_; }
   long line() const { return line_; }  // 1-based; 0 when not about one line
+  const std::string& message() const { return message_; }  // without the file and line
 
  private:
   std::string file_;
   long line_;
+  std::string message_;
 };
 
 // The file ends inside a frame; the frames before it are complete.
@@ -21,5 +24,9 @@ class TruncatedError : public FormatError {
  public:
   using FormatError::FormatError;
 };
+
+// The same error (FormatError or TruncatedError) with `delta` added to its line number, when it
+// has one; any other exception unchanged.
+std::exception_ptr shift_line(std::exception_ptr error, long delta);
 
 }  // namespace granstack::formats

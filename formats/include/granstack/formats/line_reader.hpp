@@ -15,6 +15,11 @@ class LineReader {
  public:
   // Throws FormatError when the file cannot be opened.
   explicit LineReader(const std::string& path, std::size_t buffer_bytes = std::size_t{1} << 18);
+  // Lines of `text`, a piece of the file `path` already in memory; line numbers count from the
+  // piece's first line.
+  LineReader(std::string text, const std::string& path);
+  // Lines of an open source (named `path` in messages).
+  LineReader(std::unique_ptr<ByteSource> source, const std::string& path, std::size_t buffer_bytes = std::size_t{1} << 18);
   LineReader(const LineReader&) = delete;
   LineReader& operator=(const LineReader&) = delete;
 
@@ -22,18 +27,20 @@ class LineReader {
   bool next(std::string_view& line);
   long line_number() const { return line_number_; }
   const std::string& path() const { return path_; }
-  // True when a NUL byte was seen: the file is binary, not text.
-  bool saw_nul() const { return saw_nul_; }
+  // True when a NUL byte came before the end of the last line read: the file is binary, not
+  // text. (Only what was read counts, whatever the buffer holds beyond it.)
+  bool saw_nul() const { return first_nul_ >= 0 && first_nul_ < base_ + static_cast<long>(begin_); }
 
  private:
   bool refill();
   std::string path_;
   std::unique_ptr<ByteSource> source_;
-  std::vector<char> buffer_;
+  std::string buffer_;
   std::size_t begin_ = 0;
   std::size_t end_ = 0;
   bool eof_ = false;
-  bool saw_nul_ = false;
+  long base_ = 0;        // offset in the file of buffer_[0]
+  long first_nul_ = -1;  // offset in the file of the first NUL byte read, or -1
   long line_number_ = 0;
 };
 

@@ -2,6 +2,8 @@
 // Hertz contact parameters and the analytic formulas of physics.md sections 2 and 5.
 #include <granstack/model/material.hpp>
 
+#include <cmath>
+
 namespace granstack::model {
 
 inline constexpr double kPi = 3.14159265358979323846;
@@ -29,7 +31,9 @@ double hertz_max_overlap(const ContactPair& c, double relative_speed);
 // Contact time t_c = 2.9432 d_max / v (the exact coefficient of the Hertz collision integral).
 double hertz_contact_time(const ContactPair& c, double relative_speed);
 // Elastic energy stored in an overlap d: 8/15 Y* sqrt(R*) d^(5/2).
-double hertz_elastic_energy(double y_star, double r_star, double overlap);
+inline double hertz_elastic_energy(double y_star, double r_star, double overlap) {
+  return 8.0 / 15.0 * y_star * std::sqrt(r_star) * overlap * overlap * std::sqrt(overlap);
+}
 // Rayleigh time pi R sqrt(rho/G) / (0.1631 nu + 0.8766), G = Y / (2 (1 + nu)).
 double rayleigh_time(const Material& m, double radius);
 

@@ -3,6 +3,7 @@
 #include <granstack/formats/dump.hpp>
 #include <granstack/model/stack.hpp>
 
+#include <memory>
 #include <vector>
 
 namespace granstack::postproc {
@@ -29,6 +30,8 @@ struct FrameEnergy {
 class FrameView {
  public:
   FrameView(const model::Stack& stack, const std::string& path);
+  // The dump columns the energies need (a reader may leave the others unparsed).
+  static const std::vector<std::string>& needed_columns();
   // Binds a frame; returns the row of each id (index id - 1).
   void bind(const formats::DumpFrame& frame);
   long row(int id) const { return rows_[static_cast<std::size_t>(id - 1)]; }
@@ -43,7 +46,7 @@ class FrameView {
   std::vector<long> rows_;
   int c_id_ = -1, c_mass_ = -1, c_radius_ = -1, c_vx_ = -1, c_vy_ = -1, c_vz_ = -1, c_wx_ = -1, c_wy_ = -1, c_wz_ = -1;
   int c_x_ = -1, c_y_ = -1, c_z_ = -1;
-  friend FrameEnergy frame_energy(const formats::DumpFrame&, const FrameView&, const model::Stack&, class ContactCandidates*);
+  friend class FrameAnalyser;
   friend double contact_energy(const formats::DumpFrame&, const FrameView&, const model::Stack&, int);
 };
 
@@ -66,11 +69,36 @@ class ContactCandidates {
   long builds_ = 0;
 };
 
+// The energies of the frames of one case, frame after frame: what stays the same (Hertz
+// parameters, the group of every sphere) is worked out once, and the contact candidates are
+// kept between frames. Not thread-safe: one per thread.
+class FrameAnalyser {
+ public:
+  FrameAnalyser(const model::Stack& stack, const std::string& path);
+  FrameAnalyser(const FrameAnalyser&) = delete;
+  FrameAnalyser& operator=(const FrameAnalyser&) = delete;
+  ~FrameAnalyser();
+  // Binds the frame (checking its ids; FormatError otherwise) and fills `e`, reusing its storage.
+  void analyse(const formats::DumpFrame& frame, FrameEnergy& e);
+  // The view of the frame last analysed.
+  const FrameView& view() const { return view_; }
+  // has_separated() for the frame last analysed.
+  bool has_separated(const formats::DumpFrame& frame, int id) const;
+  long candidate_builds() const { return candidates_.builds(); }
+
+ private:
+  struct Constants;
+  const model::Stack& stack_;
+  FrameView view_;
+  ContactCandidates candidates_;
+  std::unique_ptr<Constants> constants_;
+  std::vector<double> x_, y_, z_;
+};
+
 // Kinetic energy 1/2 m v^2 + 1/2 (2/5 m R^2) w^2 per group, and the elastic energy
-// 8/15 Y* sqrt(R*) d^(5/2) of every overlap (physics.md sections 2 and 4). Pass the same
-// `candidates` for the frames of one run to reuse its pair list.
-FrameEnergy frame_energy(const formats::DumpFrame& frame, const FrameView& view, const model::Stack& stack,
-                         ContactCandidates* candidates = nullptr);
+// 8/15 Y* sqrt(R*) d^(5/2) of every overlap (physics.md sections 2 and 4), of one bound frame.
+// A FrameAnalyser does the same for a run of frames, faster.
+FrameEnergy frame_energy(const formats::DumpFrame& frame, const FrameView& view, const model::Stack& stack);
 
 // Elastic energy stored in the contacts of one sphere (with spheres and walls) in this frame.
 double contact_energy(const formats::DumpFrame& frame, const FrameView& view, const model::Stack& stack, int id);

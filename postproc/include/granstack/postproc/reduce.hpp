@@ -52,8 +52,10 @@ struct CaseReduction {
 struct ReduceOptions {
   // CASE/reduce/: block_ke.csv, energy_parts.csv, row_ke.csv, column_ke.csv, summary.json
   bool write_files = true;
-  // Called after every frame read (frames so far, bytes read so far, bytes in the dump).
+  // Called after every frame read (frames so far), on the calling thread.
   std::function<void(long frames)> on_frame;
+  // Threads that parse and analyse frames; 0 = one per core.
+  int threads = 0;
 };
 
 // Throws formats::FormatError for unreadable or inconsistent files, std::runtime_error for a

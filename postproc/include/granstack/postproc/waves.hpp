@@ -39,24 +39,48 @@ struct BlockWaves {
 // row crossing: see --dump-every). Throws like reduce_case.
 std::vector<BlockWaves> analyse_waves(const std::string& case_dir);
 
-// The same, fed one frame at a time, so reduce reads the dump once.
+// The same, fed one frame at a time, so reduce reads the dump once. Memory does not grow with
+// the number of frames: of each row's speed curve it keeps the running maximum and the local
+// maxima that are higher than every earlier one (only those can be the first to reach half the
+// final maximum), with the column's overlaps at each of the middle row's.
 class WaveTracker {
  public:
   WaveTracker(const model::Stack& stack, double dt);
+  // What add() needs of one bound frame: the speed of each sphere of the followed columns and the
+  // overlap of each pair of vertical neighbours. Const, so worker threads can call it.
+  void sample(const formats::DumpFrame& frame, const FrameView& view, std::vector<double>& samples) const;
+  // The frames' samples, in frame order.
+  void add(long step, const std::vector<double>& samples);
   void add(const formats::DumpFrame& frame, const FrameView& view);
   // `series` gives the peaks of each block's energy curve.
   std::vector<BlockWaves> finish(const formats::Series& series) const;
 
  private:
+  struct Maximum {
+    double speed = 0.0, time = 0.0;
+    std::vector<double> overlaps;  // the column's, at this frame (middle row only)
+  };
+  struct Row {
+    double top = 0.0;              // largest speed so far
+    double before = 0.0, last = 0.0;  // the speeds of the last two frames
+    std::vector<Maximum> records;  // local maxima, each higher than every earlier one
+  };
   struct Column {
-    std::vector<int> ids;                      // rows top to bottom
-    std::vector<std::vector<double>> speed;    // [row][frame]
-    std::vector<std::vector<double>> overlap;  // [contact of row i with i + 1][frame]
+    std::vector<int> ids;         // rows top to bottom
+    std::vector<double> radius_sum;  // of rows i and i + 1
+    std::size_t offset = 0;       // of its speeds in a frame's samples; its overlaps follow
+    std::vector<Row> rows;
+    std::vector<double> overlaps, overlaps_before;  // the last two frames'
+    double max_overlap = 0.0;
   };
   const model::Stack& stack_;
   double dt_;
   std::vector<Column> columns_;
-  std::vector<double> times_;
+  std::size_t samples_per_frame_ = 0;
+  long frames_ = 0;
+  double times_[3] = {0.0, 0.0, 0.0};  // of the last three frames, the newest last
+  double first_interval_ = 0.0;        // between the first two frames
+  std::vector<double> scratch_;
 };
 
 }  // namespace granstack::postproc

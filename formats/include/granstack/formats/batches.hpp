@@ -1,0 +1,79 @@
+#pragma once
+// A dump handed out in batches of whole frames to several threads at once, so that parsing (and
+// whatever the caller does with the frames) runs in parallel. A single text file, plain or
+// compressed, is cut at frame boundaries under a lock and each piece is parsed by the thread that
+// took it; any other dump (binary, or split over files) is read a few frames at a time under
+// the lock. Memory is a few batches per thread, whatever the number of frames.
+#include <granstack/formats/dump.hpp>
+
+#include <cstddef>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace granstack::formats {
+
+struct FrameBatch {
+  long index = 0;                 // 0, 1, 2, ... in file order
+  std::vector<DumpFrame> frames;  // complete frames, in order
+  // What ended the dump after these frames (FormatError, TruncatedError), or null. Line numbers
+  // in it and in the frames' first_line count from the batch's start until settle() rebases them.
+  std::exception_ptr error;
+  // The step of the frame the error is in, and the line of that step, when it was read (else -1):
+  // a step that goes backwards is reported before anything else wrong in its frame.
+  long error_step = -1, error_step_line = 0;
+  bool last = false;              // nothing comes after this batch
+  std::string text;               // the raw piece, before parse()
+  bool raw = false;               // parse() has yet to turn `text` into frames
+  std::string next_line;          // the line after the piece (the next frame's first), unless `last`
+  long lines = 0;                 // text lines the batch spans
+  bool relative_lines = false;    // line numbers count from the batch's start
+  bool first = false;
+};
+
+class FrameBatchSource {
+ public:
+  // `convert` as TextDumpReader::convert_only; `batch_bytes` is the size a batch aims at.
+  FrameBatchSource(const std::string& path, bool binary, std::vector<std::string> binary_columns,
+                   std::vector<std::string> convert = {}, std::size_t batch_bytes = std::size_t{1} << 20);
+  ~FrameBatchSource();
+  FrameBatchSource(const FrameBatchSource&) = delete;
+  FrameBatchSource& operator=(const FrameBatchSource&) = delete;
+
+  // Thread-safe. Takes the next batch (its frames perhaps still to be parsed by parse(), on the
+  // calling thread, outside any lock). False when nothing is left; a batch may be empty.
+  bool take(FrameBatch& batch);
+  // Parses what take() left raw. Never throws: a bad frame ends the batch with `error`.
+  void parse(FrameBatch& batch) const;
+  // Call for the batches in index order, one at a time: rebases line numbers to the file's and
+  // checks that timesteps do not go backwards from one batch to the next (cutting the batch
+  // short with an error if they do).
+  void settle(FrameBatch& batch);
+  const std::string& path() const { return path_; }
+  long bytes_read() const;
+
+ private:
+  bool take_piece(FrameBatch& batch);
+  bool take_frames(FrameBatch& batch);
+  std::string path_;
+  std::vector<std::string> convert_;
+  std::size_t batch_bytes_;
+  mutable std::mutex mutex_;
+  long next_index_ = 0;
+  bool finished_ = false;
+  // A single text file cut into pieces: bytes read but not yet handed out.
+  std::unique_ptr<ByteSource> bytes_;
+  std::string carry_;
+  long bytes_read_ = 0;
+  // Anything else (or a text file whose frames are too large to cut): frames read in turn.
+  std::unique_ptr<DumpReader> reader_;
+  TextDumpReader* text_reader_ = nullptr;  // reader_, when it reads text
+  bool reader_lines_relative_ = false;
+  // settle()'s state
+  long settled_lines_ = 0;
+  long last_step_ = -1;
+};
+
+}  // namespace granstack::formats

@@ -1,0 +1,235 @@
+#include <granstack/formats/batches.hpp>
+#include <granstack/formats/error.hpp>
+
+#include <fmt/format.h>
+
+#include <cstring>
+#include <filesystem>
+#include <optional>
+
+namespace granstack::formats {
+
+namespace {
+
+// Bytes already read, then the rest of a source.
+class PrefixedSource final : public ByteSource {
+ public:
+  PrefixedSource(std::string prefix, std::unique_ptr<ByteSource> rest) : prefix_(std::move(prefix)), rest_(std::move(rest)) {}
+  std::size_t read(char* buffer, std::size_t n) override {
+    if (used_ < prefix_.size()) {
+      const std::size_t k = std::min(n, prefix_.size() - used_);
+      std::memcpy(buffer, prefix_.data() + used_, k);
+      used_ += k;
+      return k;
+    }
+    return rest_->read(buffer, n);
+  }
+  const char* kind() const override { return rest_->kind(); }
+
+ private:
+  std::string prefix_;
+  std::size_t used_ = 0;
+  std::unique_ptr<ByteSource> rest_;
+};
+
+// A piece is never cut mid-frame; a frame larger than this (or a file with no frame boundary in
+// this many bytes, such as a binary file read as text) is read frame by frame instead.
+constexpr std::size_t kLargestPiece = std::size_t{64} << 20;
+constexpr std::string_view kFrameStart = "ITEM: TIMESTEP";
+
+// Where the last frame in `text` that starts after `after` begins (just after a '\n', its
+// whole first line in `text`), or 0; `line_end` is where that first line ends.
+std::size_t last_frame_start(const std::string& text, std::size_t after, std::size_t& line_end) {
+  std::size_t end = text.size();
+  std::size_t next_nl = std::string::npos;  // the '\n' ending the line after the one looked at
+  while (end > after) {
+    const void* nl = ::memrchr(text.data(), '\n', end);
+    if (nl == nullptr) return 0;
+    const auto at = static_cast<std::size_t>(static_cast<const char*>(nl) - text.data());
+    if (next_nl != std::string::npos && at + 1 > after && text.compare(at + 1, kFrameStart.size(), kFrameStart) == 0) {
+      line_end = next_nl;
+      return at + 1;
+    }
+    next_nl = at;
+    end = at;
+  }
+  return 0;
+}
+
+}  // namespace
+
+FrameBatchSource::FrameBatchSource(const std::string& path, bool binary, std::vector<std::string> binary_columns,
+                                   std::vector<std::string> convert, std::size_t batch_bytes)
+    : path_(path), convert_(std::move(convert)), batch_bytes_(std::max<std::size_t>(batch_bytes, 1)) {
+  const bool split = std::filesystem::path(path).filename().string().find_first_of("*%") != std::string::npos;
+  if (!binary && !split) {
+    bytes_ = open_bytes(path);
+  } else {
+    reader_ = open_dump(path, binary, binary_columns);
+  }
+}
+
+FrameBatchSource::~FrameBatchSource() = default;
+
+long FrameBatchSource::bytes_read() const {
+  std::lock_guard lock(mutex_);
+  return bytes_read_;
+}
+
+bool FrameBatchSource::take(FrameBatch& batch) {
+  std::lock_guard lock(mutex_);
+  if (finished_) return false;
+  batch.index = next_index_++;
+  batch.first = batch.index == 0;
+  batch.error = nullptr;
+  batch.error_step = -1;
+  batch.error_step_line = 0;
+  batch.last = false;
+  batch.text.clear();
+  batch.raw = false;
+  batch.lines = 0;
+  batch.relative_lines = false;
+  if (bytes_) return take_piece(batch);
+  return take_frames(batch);
+}
+
+bool FrameBatchSource::take_piece(FrameBatch& batch) {
+  std::size_t want = batch_bytes_;
+  // The first non-blank byte: a frame boundary must come after some text.
+  std::size_t after = 0;
+  for (;;) {
+    bool end = false;
+    while (carry_.size() < want) {
+      const std::size_t old = carry_.size();
+      carry_.resize(want);
+      const std::size_t got = bytes_->read(carry_.data() + old, want - old);
+      carry_.resize(old + got);
+      bytes_read_ += static_cast<long>(got);
+      if (got == 0) {
+        end = true;
+        break;
+      }
+    }
+    if (end) {
+      finished_ = true;
+      batch.last = true;
+      batch.relative_lines = true;
+      batch.raw = true;
+      batch.text = std::move(carry_);
+      carry_.clear();
+      return true;
+    }
+    after = carry_.find_first_not_of(" \t\r\n");
+    if (after == std::string::npos) after = carry_.size();
+    const bool binary = std::memchr(carry_.data(), '\0', carry_.size()) != nullptr;
+    std::size_t line_end = 0;
+    const std::size_t cut = binary ? 0 : last_frame_start(carry_, after, line_end);
+    if (cut > 0) {
+      batch.relative_lines = true;
+      batch.raw = true;
+      batch.next_line.assign(carry_, cut, line_end - cut);
+      if (!batch.next_line.empty() && batch.next_line.back() == '\r') batch.next_line.pop_back();
+      batch.text = std::move(carry_);
+      carry_.assign(batch.text, cut, std::string::npos);
+      batch.text.resize(cut);
+      return true;
+    }
+    if (binary || carry_.size() >= kLargestPiece) {
+      // Read frame by frame from here on: the text reader finds what is wrong, or reads the
+      // frames too large to cut.
+      auto reader = std::make_unique<TextDumpReader>(std::make_unique<PrefixedSource>(std::move(carry_), std::move(bytes_)),
+                                                     path_, batch.first);
+      reader->convert_only(convert_);
+      text_reader_ = reader.get();
+      reader_ = std::move(reader);
+      reader_lines_relative_ = true;
+      carry_.clear();
+      return take_frames(batch);
+    }
+    want *= 2;
+  }
+}
+
+bool FrameBatchSource::take_frames(FrameBatch& batch) {
+  batch.relative_lines = reader_lines_relative_;
+  const long line0 = text_reader_ != nullptr ? text_reader_->line_number() : 0;
+  std::size_t n = 0, bytes = 0;
+  try {
+    while (bytes < batch_bytes_) {
+      if (batch.frames.size() <= n) batch.frames.resize(n + 1);
+      auto& f = batch.frames[n];
+      if (!reader_->next(f)) {
+        batch.last = true;
+        break;
+      }
+      if (text_reader_ != nullptr) f.first_line -= line0;
+      bytes += f.values.size() * sizeof(double);
+      ++n;
+    }
+  } catch (...) {
+    batch.error = shift_line(std::current_exception(), -line0);
+    if (text_reader_ != nullptr && text_reader_->step_read() >= 0) {
+      batch.error_step = text_reader_->step_read();
+      batch.error_step_line = batch.frames[n].first_line + 1 - line0;
+    }
+    batch.last = true;
+  }
+  batch.frames.resize(n);
+  if (text_reader_ != nullptr) batch.lines = text_reader_->line_number() - line0;
+  if (batch.last) finished_ = true;
+  return true;  // possibly empty, with `last` set
+}
+
+void FrameBatchSource::parse(FrameBatch& batch) const {
+  if (!batch.raw) return;
+  batch.raw = false;
+  TextDumpReader reader(std::move(batch.text), path_, batch.first, batch.last ? std::nullopt : std::optional(batch.next_line));
+  reader.convert_only(convert_);
+  std::size_t n = 0;
+  try {
+    for (;;) {
+      if (batch.frames.size() <= n) batch.frames.resize(n + 1);
+      if (!reader.next(batch.frames[n])) break;
+      ++n;
+    }
+  } catch (...) {
+    batch.error = std::current_exception();
+    if (reader.step_read() >= 0) {
+      batch.error_step = reader.step_read();
+      batch.error_step_line = batch.frames[n].first_line + 1;
+    }
+  }
+  batch.frames.resize(n);
+  batch.lines = reader.line_number();
+  batch.text.clear();
+}
+
+void FrameBatchSource::settle(FrameBatch& batch) {
+  if (batch.relative_lines) {
+    for (auto& f : batch.frames) f.first_line += settled_lines_;
+    batch.error = shift_line(batch.error, settled_lines_);
+    if (batch.error_step >= 0) batch.error_step_line += settled_lines_;
+    settled_lines_ += batch.lines;
+  }
+  // As TextDumpReader words it, at the step's line.
+  auto backwards = [&](long step, long line) {
+    return std::make_exception_ptr(FormatError(
+        path_, line,
+        fmt::format("timestep {} comes after {}: timesteps go backwards (two runs appended to one file?)", step, last_step_)));
+  };
+  for (std::size_t k = 0; k < batch.frames.size(); ++k) {
+    const auto& f = batch.frames[k];
+    if (f.step < last_step_) {
+      batch.error = backwards(f.step, f.first_line > 0 ? f.first_line + 1 : 0);
+      batch.frames.resize(k);
+      batch.last = true;
+      return;
+    }
+    last_step_ = f.step;
+  }
+  if (batch.error && batch.error_step >= 0 && batch.error_step < last_step_) {
+    batch.error = backwards(batch.error_step, batch.error_step_line);
+  }
+}
+
+}  // namespace granstack::formats
