@@ -3,7 +3,10 @@
 
 #include <fmt/format.h>
 
+#include <cerrno>
 #include <cstring>
+#include <fcntl.h>
+#include <unistd.h>
 #include <filesystem>
 #include <optional>
 
@@ -64,12 +67,19 @@ FrameBatchSource::FrameBatchSource(const std::string& path, bool binary, std::ve
   const bool split = std::filesystem::path(path).filename().string().find_first_of("*%") != std::string::npos;
   if (!binary && !split) {
     bytes_ = open_bytes(path);
+  } else if (binary && !split) {
+    // Headers are read in turn, the values by the threads that take the frames.
+    auto reader = std::make_unique<BinaryDumpReader>(path, std::move(binary_columns));
+    if (reader->defer_values()) fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    reader_ = std::move(reader);
   } else {
     reader_ = open_dump(path, binary, binary_columns);
   }
 }
 
-FrameBatchSource::~FrameBatchSource() = default;
+FrameBatchSource::~FrameBatchSource() {
+  if (fd_ >= 0) ::close(fd_);
+}
 
 long FrameBatchSource::bytes_read() const {
   std::lock_guard lock(mutex_);
@@ -163,7 +173,7 @@ bool FrameBatchSource::take_frames(FrameBatch& batch) {
         break;
       }
       if (text_reader_ != nullptr) f.first_line -= line0;
-      bytes += f.values.size() * sizeof(double);
+      bytes += static_cast<std::size_t>(f.atoms) * f.columns.size() * sizeof(double);
       ++n;
     }
   } catch (...) {
@@ -181,7 +191,20 @@ bool FrameBatchSource::take_frames(FrameBatch& batch) {
 }
 
 void FrameBatchSource::parse(FrameBatch& batch) const {
-  if (!batch.raw) return;
+  if (!batch.raw) {
+    for (std::size_t k = 0; k < batch.frames.size(); ++k) {
+      if (batch.frames[k].deferred.empty()) continue;
+      try {
+        if (fd_ < 0) throw FormatError(path_, 0, std::string("cannot open: ") + std::strerror(errno));
+        read_deferred(batch.frames[k], fd_, path_);
+      } catch (...) {
+        batch.error = std::current_exception();
+        batch.frames.resize(k);
+        break;
+      }
+    }
+    return;
+  }
   batch.raw = false;
   TextDumpReader reader(std::move(batch.text), path_, batch.first, batch.last ? std::nullopt : std::optional(batch.next_line));
   reader.convert_only(convert_);

@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <sys/stat.h>
 #include <vector>
 #include <zlib.h>
 #include <zstd.h>
@@ -18,12 +19,20 @@ using File = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
 
 class PlainSource final : public ByteSource {
  public:
-  explicit PlainSource(File file) : file_(std::move(file)) {}
+  explicit PlainSource(File file) : file_(std::move(file)) {
+    struct stat st {};
+    if (::fstat(::fileno(file_.get()), &st) == 0 && S_ISREG(st.st_mode)) size_ = static_cast<long>(st.st_size);
+  }
   std::size_t read(char* buffer, std::size_t n) override { return std::fread(buffer, 1, n, file_.get()); }
   const char* kind() const override { return "plain"; }
+  long remaining() const override { return size_ < 0 ? -1 : std::max(0L, size_ - static_cast<long>(::ftello(file_.get()))); }
+  void skip(std::size_t n) override {
+    if (size_ < 0 || ::fseeko(file_.get(), static_cast<off_t>(n), SEEK_CUR) != 0) ByteSource::skip(n);
+  }
 
  private:
   File file_;
+  long size_ = -1;  // of a regular file
 };
 
 class GzipSource final : public ByteSource {
@@ -83,6 +92,15 @@ class ZstdSource final : public ByteSource {
 };
 
 }  // namespace
+
+void ByteSource::skip(std::size_t n) {
+  char sink[1 << 14];
+  while (n > 0) {
+    const std::size_t got = read(sink, std::min(n, sizeof sink));
+    if (got == 0) return;
+    n -= got;
+  }
+}
 
 std::unique_ptr<ByteSource> open_bytes(const std::string& path) {
   File file(std::fopen(path.c_str(), "rb"), &std::fclose);

@@ -10,6 +10,7 @@
 #include <limits>
 #include <cstdint>
 #include <cstring>
+#include <unistd.h>
 
 namespace granstack::formats {
 
@@ -24,7 +25,8 @@ TextDumpReader::TextDumpReader(const std::string& path) : reader_(path) {}
 
 TextDumpReader::TextDumpReader(std::string piece, const std::string& path, bool first,
                                std::optional<std::string> next_line)
-    : reader_(std::move(piece), path), first_(first), last_(!next_line), next_line_(next_line.value_or("")) {}
+    : reader_(std::move(piece), path), first_(first), last_(!next_line), next_line_(next_line.value_or("")),
+      in_memory_(true) {}
 
 TextDumpReader::TextDumpReader(std::unique_ptr<ByteSource> source, const std::string& path, bool first)
     : reader_(std::move(source), path), first_(first) {}
@@ -41,6 +43,30 @@ const char* skip_word(const char* p, const char* end) {
   if (p == end) return nullptr;
   while (p < end && *p != ' ' && *p != '\t') ++p;
   return p;
+}
+// How far same_token may read past the start of a token.
+constexpr std::size_t kTokenReach = 40;
+
+// The length of the token at p when the token at q has the same bytes and the same delimiter
+// after it (a byte below '!'), else 0. Reads up to 32 bytes at p and at q; tokens of 32 bytes
+// or more count as different.
+std::size_t same_token(const char* p, const char* q) {
+  constexpr std::uint64_t kOnes = 0x0101010101010101ULL, kHigh = 0x8080808080808080ULL;
+  for (std::size_t n = 0; n < 32; n += 8) {
+    std::uint64_t a = 0, b = 0;
+    std::memcpy(&a, p + n, 8);
+    std::memcpy(&b, q + n, 8);
+    const std::uint64_t diff = a ^ b;
+    // Bytes below 0x21 (space, tab, line ends): the lowest flagged byte is exact.
+    const std::uint64_t delimiters = (a - kOnes * 0x21) & ~a & kHigh;
+    if (delimiters != 0) {
+      const auto d = static_cast<std::size_t>(__builtin_ctzll(delimiters)) / 8;  // little-endian byte index
+      const std::uint64_t through = d == 7 ? ~std::uint64_t{0} : (std::uint64_t{1} << (8 * (d + 1))) - 1;
+      return (diff & through) == 0 && n + d > 0 ? n + d : 0;
+    }
+    if (diff != 0) return 0;
+  }
+  return 0;
 }
 }  // namespace
 
@@ -128,6 +154,13 @@ bool TextDumpReader::next(DumpFrame& f) {
   // storage of the previous frame is reused without clearing it).
   const std::size_t expected = static_cast<std::size_t>(f.atoms) * ncol;
   if (f.values.size() > expected) f.values.resize(expected);
+  // A token with the same bytes as in the atom's line of the previous frame has its value (DEM
+  // dumps repeat much: radius, mass, resting atoms, zeros). Only for a piece in memory, whose
+  // earlier lines stay put, and a frame stored apart from the previous one.
+  const bool keep_lines = in_memory_ && f.atoms <= (long{1} << 24);
+  const bool reuse = keep_lines && !previous_lines_.empty() && previous_values_ != nullptr &&
+                     previous_values_ != f.values.data() && previous_columns_ == f.columns;
+  if (keep_lines) lines_.resize(static_cast<std::size_t>(f.atoms));
   for (long a = 0; a < f.atoms; ++a) {
     if (!in_frame(line)) {
       throw TruncatedError(path, line_number(),
@@ -151,7 +184,35 @@ bool TextDumpReader::next(DumpFrame& f) {
     const char* p = line.data();
     const char* end = line.data() + line.size();
     std::size_t c = 0;
-    if (convert_all) {
+    // The same atom line of the previous frame of this piece, when there is one to compare with.
+    const bool cached = reuse && static_cast<std::size_t>(a) < previous_lines_.size() &&
+                        line.data() + line.size() + kTokenReach <= reader_.data_end();
+    if (cached) {
+      const std::string_view before = previous_lines_[static_cast<std::size_t>(a)];
+      const double* old = previous_values_ + base;
+      const char* q = before.data();
+      const char* qend = before.data() + before.size();
+      if (before == line) {  // an atom at rest: the whole line again
+        std::memcpy(out, old, ncol * sizeof(double));
+        c = ncol;
+        p = end;
+      }
+      for (; c < ncol && p != nullptr; ++c) {
+        while (p < end && (*p == ' ' || *p == '\t')) ++p;
+        while (q < qend && (*q == ' ' || *q == '\t')) ++q;
+        const std::size_t same = q < qend ? same_token(p, q) : 0;
+        if (same > 0) {
+          out[c] = old[c];
+          p += same;
+          q += same;
+        } else {
+          p = convert_[c] != 0 ? parse_next_double(p, end, out[c]) : skip_word(p, end);
+          if (convert_[c] == 0) out[c] = std::numeric_limits<double>::quiet_NaN();
+          const char* next_q = skip_word(q, qend);
+          q = next_q != nullptr ? next_q : qend;
+        }
+      }
+    } else if (convert_all) {
       for (; c < ncol && p != nullptr; ++c) p = parse_next_double(p, end, out[c]);
     } else {
       for (; c < ncol && p != nullptr; ++c) {
@@ -179,6 +240,15 @@ bool TextDumpReader::next(DumpFrame& f) {
       }
       bad_row(fmt::format("atom line {} of the frame at step {} is not a row of numbers", a + 1, f.step));
     }
+    if (keep_lines) lines_[static_cast<std::size_t>(a)] = line;
+  }
+  // In a piece held in memory, this frame's lines stay readable for the next frame's comparison.
+  if (keep_lines) {
+    previous_lines_.swap(lines_);
+    previous_values_ = f.values.data();
+    previous_columns_ = f.columns;
+  } else {
+    previous_lines_.clear();
   }
   last_step_ = f.step;
   ++frames_;
@@ -273,6 +343,7 @@ bool BinaryDumpReader::next(DumpFrame& f) {
   // The header's count is not trusted with memory: the frame grows as its chunks arrive (and the
   // storage of the previous frame is reused without clearing it).
   if (f.values.size() > total) f.values.resize(total);
+  f.deferred.clear();
   std::size_t filled = 0;
   for (std::int32_t c = 0; c < chunks; ++c) {
     std::int32_t n = 0;
@@ -280,6 +351,17 @@ bool BinaryDumpReader::next(DumpFrame& f) {
     if (n < 0 || static_cast<std::size_t>(n) > total - filled || n % size_one != 0) {
       throw FormatError(path_, 0, fmt::format("{}: chunk {} holds {} values, which does not fit {} atoms of {} columns",
                                               where(), c + 1, n, h.atoms, size_one));
+    }
+    if (defer_) {
+      const long bytes = static_cast<long>(sizeof(double)) * n;
+      if (source_->remaining() < bytes) {
+        throw TruncatedError(path_, 0, fmt::format("file ends inside {} (atom data): the run was cut short", where()));
+      }
+      f.deferred.emplace_back(offset_, n);
+      source_->skip(static_cast<std::size_t>(bytes));
+      offset_ += bytes;
+      filled += static_cast<std::size_t>(n);
+      continue;
     }
     for (std::size_t done = 0; done < static_cast<std::size_t>(n);) {
       const std::size_t part = std::min<std::size_t>(static_cast<std::size_t>(n) - done, std::size_t{1} << 20);
@@ -296,6 +378,34 @@ bool BinaryDumpReader::next(DumpFrame& f) {
   last_step_ = f.step;
   ++frames_;
   return true;
+}
+
+bool BinaryDumpReader::defer_values() {
+  defer_ = source_->remaining() >= 0;
+  return defer_;
+}
+
+void read_deferred(DumpFrame& f, int fd, const std::string& path) {
+  if (f.deferred.empty()) return;
+  std::size_t total = 0;
+  for (const auto& [offset, count] : f.deferred) total += static_cast<std::size_t>(count);
+  f.values.resize(total);
+  char* out = reinterpret_cast<char*>(f.values.data());
+  for (const auto& [offset, count] : f.deferred) {
+    std::size_t want = sizeof(double) * static_cast<std::size_t>(count);
+    off_t at = static_cast<off_t>(offset);
+    while (want > 0) {
+      const ssize_t got = ::pread(fd, out, want, at);
+      if (got <= 0) {
+        throw FormatError(path, 0, fmt::format("cannot read the frame at step {} (byte {}): {}", f.step, at,
+                                               got == 0 ? "the file got shorter while being read" : std::strerror(errno)));
+      }
+      out += got;
+      at += got;
+      want -= static_cast<std::size_t>(got);
+    }
+  }
+  f.deferred.clear();
 }
 
 DumpWriter::DumpWriter(const std::string& path, bool binary)

@@ -101,6 +101,11 @@ class StreamedTable {
 
 }  // namespace
 
+// Frames are handed to threads in batches of about this many bytes: large enough that a text
+// piece holds many frames (each reuses the previous frame's identical numbers, and the first of
+// a piece has none to reuse), small enough that a few batches per thread stay small in memory.
+constexpr std::size_t kBatchBytes = std::size_t{1} << 20;
+
 CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& options) {
   const fs::path dir(case_dir);
   const auto manifest = formats::read_manifest(case_dir);
@@ -118,7 +123,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   const bool conservative = model::is_conservative(spec);
   const auto dump_path = formats::find_dump(case_dir, manifest.files.dump);
   const bool binary = spec.dump_format == model::DumpFormat::binary;
-  formats::FrameBatchSource source(dump_path, binary, manifest.files.dump_columns, FrameView::needed_columns());
+  formats::FrameBatchSource source(dump_path, binary, manifest.files.dump_columns, FrameView::needed_columns(), kBatchBytes);
   const WaveTracker wave_sampler(stack, res.dt);
   WaveTracker waves(stack, res.dt);
   std::vector<BlockPeak> dump_peaks(static_cast<std::size_t>(nb));

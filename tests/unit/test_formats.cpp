@@ -269,6 +269,57 @@ TEST_F(BatchTest, ACompressedDumpIsCutAndParsedTheSameWay) {
   EXPECT_EQ(test_support::difference(whole, test_support::read_in_batches(plain + ".gz", 700)), "");
 }
 
+// A binary dump: headers read in turn, values read (pread) by whichever thread parses the batch;
+// batches stay near the size asked for, whatever the number of frames.
+TEST_F(BatchTest, BinaryBatchesHoldAFewFramesAndTheSameValues) {
+  const auto text_path = write("dump.txt", dump_text(40, 17));
+  const auto bin_path = (dir_ / "dump.bin").string();
+  {
+    formats::TextDumpReader text(text_path);
+    formats::DumpWriter writer(bin_path, true);
+    formats::DumpFrame f;
+    while (text.next(f)) writer.write(f);
+  }
+  const std::vector<std::string> columns{"id", "type", "x", "z", "vx", "vz", "fx"};
+  formats::BinaryDumpReader whole(bin_path, columns);
+  formats::FrameBatchSource source(bin_path, true, columns, {}, 3000);  // a frame is 17 x 7 x 8 = 952 bytes
+  formats::FrameBatch batch;
+  formats::DumpFrame f;
+  std::size_t frames = 0, largest = 0;
+  while (source.take(batch)) {
+    source.parse(batch);
+    source.settle(batch);
+    ASSERT_FALSE(batch.error);
+    largest = std::max(largest, batch.frames.size());
+    for (const auto& b : batch.frames) {
+      ASSERT_TRUE(whole.next(f));
+      EXPECT_EQ(b.step, f.step);
+      EXPECT_EQ(b.values, f.values);
+      EXPECT_TRUE(b.deferred.empty());
+      ++frames;
+    }
+  }
+  EXPECT_EQ(frames, 40u);
+  EXPECT_EQ(largest, 4u);  // the fewest frames reaching 3000 bytes
+  // Cut short inside the values of frame 39: the 38 frames before it, then the truncation.
+  std::filesystem::resize_file(bin_path, std::filesystem::file_size(bin_path) - 1500);
+  formats::FrameBatchSource cut(bin_path, true, columns, {}, 3000);
+  frames = 0;
+  std::string error;
+  while (error.empty() && cut.take(batch)) {
+    cut.parse(batch);
+    cut.settle(batch);
+    frames += batch.frames.size();
+    try {
+      if (batch.error) std::rethrow_exception(batch.error);
+    } catch (const formats::TruncatedError& e) {
+      error = e.what();
+    }
+  }
+  EXPECT_EQ(frames, 38u);
+  EXPECT_NE(error.find("the run was cut short"), std::string::npos) << error;
+}
+
 // Only the named columns are converted; the others are checked to be there and left NaN.
 TEST_F(BatchTest, ColumnsNotAskedForAreLeftUnparsed) {
   formats::FrameBatchSource source(write("dump.txt", dump_text(3, 5)), false, {}, {"id", "x"});

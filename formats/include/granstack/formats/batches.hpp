@@ -70,6 +70,7 @@ class FrameBatchSource {
   // Anything else (or a text file whose frames are too large to cut): frames read in turn.
   std::unique_ptr<DumpReader> reader_;
   TextDumpReader* text_reader_ = nullptr;  // reader_, when it reads text
+  int fd_ = -1;                            // a binary file whose values parse() reads
   bool reader_lines_relative_ = false;
   // settle()'s state
   long settled_lines_ = 0;

@@ -14,6 +14,10 @@ class ByteSource {
   virtual std::size_t read(char* buffer, std::size_t n) = 0;
   // "plain", "gzip" or "zstd".
   virtual const char* kind() const = 0;
+  // The bytes left, when that is known without reading them (a plain file); else -1.
+  virtual long remaining() const { return -1; }
+  // Passes over `n` bytes: seeks when remaining() is known (and at least n), else reads them.
+  virtual void skip(std::size_t n);
 };
 
 // Throws FormatError when the file cannot be opened.

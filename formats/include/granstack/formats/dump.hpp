@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace granstack::formats {
@@ -22,6 +23,9 @@ struct DumpFrame {
   std::vector<std::string> columns; // as in the ITEM: ATOMS line
   std::vector<double> values;       // atoms x columns, row-major
   long first_line = 0;              // line of "ITEM: TIMESTEP", for messages
+  // Values not read yet (BinaryDumpReader::defer_values): (byte offset in the file, count), in
+  // the order they fill `values`.
+  std::vector<std::pair<long, long>> deferred;
 
   // Index of a column, or -1.
   int column(std::string_view name) const;
@@ -68,7 +72,12 @@ class TextDumpReader final : public DumpReader {
   LineReader reader_;
   bool first_ = true, last_ = true;
   std::string next_line_;
+  bool in_memory_ = false;
   bool next_frame_seen_ = false;
+  // The previous frame's atom lines and values, where the piece in memory lets them be reused.
+  std::vector<std::string_view> lines_, previous_lines_;
+  const double* previous_values_ = nullptr;
+  std::vector<std::string> previous_columns_;
   long step_read_ = -1;
   std::vector<std::string> wanted_;
   std::vector<char> convert_;  // per column of the current header
@@ -83,8 +92,13 @@ class BinaryDumpReader final : public DumpReader {
   BinaryDumpReader(const std::string& path, std::vector<std::string> columns);
   bool next(DumpFrame& frame) override;
   const std::string& path() const override { return path_; }
+  // For a plain (uncompressed) file: next() checks and records where each frame's values are
+  // (DumpFrame::deferred) instead of reading them, so other threads can read them
+  // (read_deferred). Returns false, and changes nothing, for a compressed file.
+  bool defer_values();
 
  private:
+  bool defer_ = false;
   std::string path_;
   std::vector<std::string> columns_;
   std::unique_ptr<ByteSource> source_;
@@ -118,6 +132,10 @@ class MultiFileDumpReader final : public DumpReader {
 // The files matching a LIGGGHTS dump name with '*' or '%', ordered by the number standing in
 // for it (compressed copies, name.gz or name.zst, count too).
 std::vector<std::string> dump_files_matching(const std::string& pattern);
+
+// Reads the values a deferring BinaryDumpReader left in `frame.deferred` from the open file
+// `fd` (pread: any number of threads at once). Throws FormatError if the file has changed.
+void read_deferred(DumpFrame& frame, int fd, const std::string& path);
 
 // Writes frames in LIGGGHTS's `dump custom` layouts: text as the generated decks ask for it
 // (ids and types as integers, every other column %.17g, each line ending in a space), or binary.

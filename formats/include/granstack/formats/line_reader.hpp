@@ -26,6 +26,8 @@ class LineReader {
   // The next line without its '\n' (and without a '\r' before it); false at the end of the file.
   bool next(std::string_view& line);
   long line_number() const { return line_number_; }
+  // The end of the bytes held: the lines handed out may be read up to here.
+  const char* data_end() const { return buffer_.data() + end_; }
   const std::string& path() const { return path_; }
   // True when a NUL byte came before the end of the last line read: the file is binary, not
   // text. (Only what was read counts, whatever the buffer holds beyond it.)
