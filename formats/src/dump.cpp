@@ -157,10 +157,10 @@ bool TextDumpReader::next(DumpFrame& f) {
   // A token with the same bytes as in the atom's line of the previous frame has its value (DEM
   // dumps repeat much: radius, mass, resting atoms, zeros). Only for a piece in memory, whose
   // earlier lines stay put, and a frame stored apart from the previous one.
-  const bool keep_lines = in_memory_ && f.atoms <= (long{1} << 24);
+  const bool keep_lines = in_memory_;
   const bool reuse = keep_lines && !previous_lines_.empty() && previous_values_ != nullptr &&
                      previous_values_ != f.values.data() && previous_columns_ == f.columns;
-  if (keep_lines) lines_.resize(static_cast<std::size_t>(f.atoms));
+
   for (long a = 0; a < f.atoms; ++a) {
     if (!in_frame(line)) {
       throw TruncatedError(path, line_number(),
@@ -187,41 +187,41 @@ bool TextDumpReader::next(DumpFrame& f) {
     // The same atom line of the previous frame of this piece, when there is one to compare with.
     const bool cached = reuse && static_cast<std::size_t>(a) < previous_lines_.size() &&
                         line.data() + line.size() + kTokenReach <= reader_.data_end();
-    if (cached) {
-      const std::string_view before = previous_lines_[static_cast<std::size_t>(a)];
-      const double* old = previous_values_ + base;
-      const char* q = before.data();
-      const char* qend = before.data() + before.size();
-      if (before == line) {  // an atom at rest: the whole line again
-        std::memcpy(out, old, ncol * sizeof(double));
-        c = ncol;
-        p = end;
-      }
-      for (; c < ncol && p != nullptr; ++c) {
-        while (p < end && (*p == ' ' || *p == '\t')) ++p;
-        while (q < qend && (*q == ' ' || *q == '\t')) ++q;
-        const std::size_t same = q < qend ? same_token(p, q) : 0;
+    const double* old = cached ? previous_values_ + base : nullptr;
+    const std::string_view before = cached ? previous_lines_[static_cast<std::size_t>(a)] : std::string_view();
+    const std::uint32_t* old_starts = cached ? previous_starts_.data() + base : nullptr;
+    if (keep_lines && lines_.size() <= static_cast<std::size_t>(a)) {  // grown as lines arrive, as the values
+      lines_.resize(std::min(static_cast<std::size_t>(f.atoms), std::max<std::size_t>(a + 1, 2 * lines_.size())));
+      starts_.resize(lines_.size() * ncol);
+    }
+    std::uint32_t* starts = keep_lines ? starts_.data() + base : nullptr;
+    if (cached && before == line) {  // an atom at rest: the whole line again
+      std::memcpy(out, old, ncol * sizeof(double));
+      std::memcpy(starts, old_starts, ncol * sizeof(std::uint32_t));
+      c = ncol;
+      p = end;
+    }
+    for (; c < ncol && p != nullptr; ++c) {
+      while (p < end && (*p == ' ' || *p == '\t')) ++p;
+      if (starts != nullptr) starts[c] = static_cast<std::uint32_t>(p - line.data());
+      if (cached) {
+        const std::size_t same = same_token(p, before.data() + old_starts[c]);
         if (same > 0) {
           out[c] = old[c];
           p += same;
-          q += same;
-        } else {
-          p = convert_[c] != 0 ? parse_next_double(p, end, out[c]) : skip_word(p, end);
-          if (convert_[c] == 0) out[c] = std::numeric_limits<double>::quiet_NaN();
-          const char* next_q = skip_word(q, qend);
-          q = next_q != nullptr ? next_q : qend;
+          continue;
         }
       }
-    } else if (convert_all) {
-      for (; c < ncol && p != nullptr; ++c) p = parse_next_double(p, end, out[c]);
-    } else {
-      for (; c < ncol && p != nullptr; ++c) {
-        if (convert_[c] != 0) {
-          p = parse_next_double(p, end, out[c]);
-        } else {
-          p = skip_word(p, end);
-          out[c] = std::numeric_limits<double>::quiet_NaN();
+      if (convert_all || convert_[c] != 0) {
+        if (p + 1 < end && p[0] == '0' && (p[1] == ' ' || p[1] == '\t')) {  // the commonest number
+          out[c] = 0.0;
+          ++p;
+          continue;
         }
+        p = parse_next_double(p, end, out[c]);
+      } else {
+        p = skip_word(p, end);
+        out[c] = std::numeric_limits<double>::quiet_NaN();
       }
     }
     while (p != nullptr && p < end && (*p == ' ' || *p == '\t')) ++p;
@@ -245,6 +245,7 @@ bool TextDumpReader::next(DumpFrame& f) {
   // In a piece held in memory, this frame's lines stay readable for the next frame's comparison.
   if (keep_lines) {
     previous_lines_.swap(lines_);
+    previous_starts_.swap(starts_);
     previous_values_ = f.values.data();
     previous_columns_ = f.columns;
   } else {

@@ -5,6 +5,7 @@
 #include <granstack/formats/line_reader.hpp>
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <cstdio>
 #include <memory>
@@ -76,6 +77,7 @@ class TextDumpReader final : public DumpReader {
   bool next_frame_seen_ = false;
   // The previous frame's atom lines and values, where the piece in memory lets them be reused.
   std::vector<std::string_view> lines_, previous_lines_;
+  std::vector<std::uint32_t> starts_, previous_starts_;  // where each token starts in its line
   const double* previous_values_ = nullptr;
   std::vector<std::string> previous_columns_;
   long step_read_ = -1;
