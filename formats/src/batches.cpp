@@ -40,16 +40,26 @@ class PrefixedSource final : public ByteSource {
 constexpr std::size_t kLargestPiece = std::size_t{64} << 20;
 constexpr std::string_view kFrameStart = "ITEM: TIMESTEP";
 
+// Grows a batch's text buffer to hold `n` bytes, keeping what it holds.
+void reserve_text(FrameBatch& batch, std::size_t n) {
+  if (n <= batch.text_capacity) return;
+  const std::size_t capacity = std::max(n, 2 * batch.text_capacity);
+  std::unique_ptr<char[]> bigger(new char[capacity]);
+  if (batch.text_size > 0) std::memcpy(bigger.get(), batch.text.get(), batch.text_size);
+  batch.text = std::move(bigger);
+  batch.text_capacity = capacity;
+}
+
 // Where the last frame in `text` that starts after `after` begins (just after a '\n', its
 // whole first line in `text`), or 0; `line_end` is where that first line ends.
-std::size_t last_frame_start(const std::string& text, std::size_t after, std::size_t& line_end) {
+std::size_t last_frame_start(std::string_view text, std::size_t after, std::size_t& line_end) {
   std::size_t end = text.size();
   std::size_t next_nl = std::string::npos;  // the '\n' ending the line after the one looked at
   while (end > after) {
     const void* nl = ::memrchr(text.data(), '\n', end);
     if (nl == nullptr) return 0;
     const auto at = static_cast<std::size_t>(static_cast<const char*>(nl) - text.data());
-    if (next_nl != std::string::npos && at + 1 > after && text.compare(at + 1, kFrameStart.size(), kFrameStart) == 0) {
+    if (next_nl != std::string::npos && at + 1 > after && text.substr(at + 1, kFrameStart.size()) == kFrameStart) {
       line_end = next_nl;
       return at + 1;
     }
@@ -95,7 +105,7 @@ bool FrameBatchSource::take(FrameBatch& batch) {
   batch.error_step = -1;
   batch.error_step_line = 0;
   batch.last = false;
-  batch.text.clear();
+  batch.text_size = 0;
   batch.raw = false;
   batch.lines = 0;
   batch.relative_lines = false;
@@ -105,55 +115,57 @@ bool FrameBatchSource::take(FrameBatch& batch) {
 
 bool FrameBatchSource::take_piece(FrameBatch& batch) {
   std::size_t want = batch_bytes_;
-  // The first non-blank byte: a frame boundary must come after some text.
-  std::size_t after = 0;
+  // The piece starts with what the last one left over, then fresh bytes up to `want`.
+  batch.text_size = 0;
+  reserve_text(batch, std::max(want, carry_.size()));
+  std::memcpy(batch.text.get(), carry_.data(), carry_.size());
+  batch.text_size = carry_.size();
+  carry_.clear();
   for (;;) {
     bool end = false;
-    while (carry_.size() < want) {
-      const std::size_t old = carry_.size();
-      carry_.resize(want);
-      const std::size_t got = bytes_->read(carry_.data() + old, want - old);
-      carry_.resize(old + got);
+    reserve_text(batch, want);
+    while (batch.text_size < want) {
+      const std::size_t got = bytes_->read(batch.text.get() + batch.text_size, want - batch.text_size);
+      batch.text_size += got;
       bytes_read_ += static_cast<long>(got);
       if (got == 0) {
         end = true;
         break;
       }
     }
+    const std::string_view text(batch.text.get(), batch.text_size);
     if (end) {
       finished_ = true;
       batch.last = true;
       batch.relative_lines = true;
       batch.raw = true;
-      batch.text = std::move(carry_);
-      carry_.clear();
       return true;
     }
-    after = carry_.find_first_not_of(" \t\r\n");
-    if (after == std::string::npos) after = carry_.size();
-    const bool binary = std::memchr(carry_.data(), '\0', carry_.size()) != nullptr;
+    // The first non-blank byte: a frame boundary must come after some text.
+    std::size_t after = text.find_first_not_of(" \t\r\n");
+    if (after == std::string_view::npos) after = text.size();
+    const bool binary = std::memchr(text.data(), '\0', text.size()) != nullptr;
     std::size_t line_end = 0;
-    const std::size_t cut = binary ? 0 : last_frame_start(carry_, after, line_end);
+    const std::size_t cut = binary ? 0 : last_frame_start(text, after, line_end);
     if (cut > 0) {
       batch.relative_lines = true;
       batch.raw = true;
-      batch.next_line.assign(carry_, cut, line_end - cut);
+      batch.next_line.assign(text.substr(cut, line_end - cut));
       if (!batch.next_line.empty() && batch.next_line.back() == '\r') batch.next_line.pop_back();
-      batch.text = std::move(carry_);
-      carry_.assign(batch.text, cut, std::string::npos);
-      batch.text.resize(cut);
+      carry_.assign(text.substr(cut));
+      batch.text_size = cut;
       return true;
     }
-    if (binary || carry_.size() >= kLargestPiece) {
+    if (binary || text.size() >= kLargestPiece) {
       // Read frame by frame from here on: the text reader finds what is wrong, or reads the
       // frames too large to cut.
-      auto reader = std::make_unique<TextDumpReader>(std::make_unique<PrefixedSource>(std::move(carry_), std::move(bytes_)),
+      auto reader = std::make_unique<TextDumpReader>(std::make_unique<PrefixedSource>(std::string(text), std::move(bytes_)),
                                                      path_, batch.first);
       reader->convert_only(convert_);
       text_reader_ = reader.get();
       reader_ = std::move(reader);
       reader_lines_relative_ = true;
-      carry_.clear();
+      batch.text_size = 0;
       return take_frames(batch);
     }
     want *= 2;
@@ -206,7 +218,8 @@ void FrameBatchSource::parse(FrameBatch& batch) const {
     return;
   }
   batch.raw = false;
-  TextDumpReader reader(std::move(batch.text), path_, batch.first, batch.last ? std::nullopt : std::optional(batch.next_line));
+  TextDumpReader reader(std::string_view(batch.text.get(), batch.text_size), path_, batch.first,
+                        batch.last ? std::nullopt : std::optional(batch.next_line));
   reader.convert_only(convert_);
   std::size_t n = 0;
   try {
@@ -224,7 +237,7 @@ void FrameBatchSource::parse(FrameBatch& batch) const {
   }
   batch.frames.resize(n);
   batch.lines = reader.line_number();
-  batch.text.clear();
+  batch.text_size = 0;
 }
 
 void FrameBatchSource::settle(FrameBatch& batch) {

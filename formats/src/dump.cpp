@@ -23,9 +23,9 @@ int DumpFrame::column(std::string_view name) const {
 
 TextDumpReader::TextDumpReader(const std::string& path) : reader_(path) {}
 
-TextDumpReader::TextDumpReader(std::string piece, const std::string& path, bool first,
+TextDumpReader::TextDumpReader(std::string_view piece, const std::string& path, bool first,
                                std::optional<std::string> next_line)
-    : reader_(std::move(piece), path), first_(first), last_(!next_line), next_line_(next_line.value_or("")),
+    : reader_(piece, path), first_(first), last_(!next_line), next_line_(next_line.value_or("")),
       in_memory_(true) {}
 
 TextDumpReader::TextDumpReader(std::unique_ptr<ByteSource> source, const std::string& path, bool first)
@@ -65,6 +65,18 @@ std::size_t same_token(const char* p, const char* q) {
       return (diff & through) == 0 && n + d > 0 ? n + d : 0;
     }
     if (diff != 0) return 0;
+  }
+  return 0;
+}
+// The length of the token at p (up to the first byte below '!'), read 8 bytes at a time; 0 when
+// it is 32 bytes or longer. Reads up to 32 bytes at p.
+std::size_t token_length(const char* p) {
+  constexpr std::uint64_t kOnes = 0x0101010101010101ULL, kHigh = 0x8080808080808080ULL;
+  for (std::size_t n = 0; n < 32; n += 8) {
+    std::uint64_t a = 0;
+    std::memcpy(&a, p + n, 8);
+    const std::uint64_t delimiters = (a - kOnes * 0x21) & ~a & kHigh;
+    if (delimiters != 0) return n + static_cast<std::size_t>(__builtin_ctzll(delimiters)) / 8;
   }
   return 0;
 }
@@ -202,7 +214,11 @@ bool TextDumpReader::next(DumpFrame& f) {
       p = end;
     }
     for (; c < ncol && p != nullptr; ++c) {
-      while (p < end && (*p == ' ' || *p == '\t')) ++p;
+      if (cached && *p == ' ' && p[1] > ' ') {
+        ++p;  // the one space LIGGGHTS writes between numbers (the bytes ahead may be read: see cached)
+      } else {
+        while (p < end && (*p == ' ' || *p == '\t')) ++p;
+      }
       if (starts != nullptr) starts[c] = static_cast<std::uint32_t>(p - line.data());
       if (cached) {
         const std::size_t same = same_token(p, before.data() + old_starts[c]);
@@ -220,7 +236,8 @@ bool TextDumpReader::next(DumpFrame& f) {
         }
         p = parse_next_double(p, end, out[c]);
       } else {
-        p = skip_word(p, end);
+        const std::size_t length = cached ? token_length(p) : 0;
+        p = length > 0 && p + length <= end ? p + length : skip_word(p, end);
         out[c] = std::numeric_limits<double>::quiet_NaN();
       }
     }

@@ -9,15 +9,15 @@
 namespace granstack::formats {
 
 LineReader::LineReader(const std::string& path, std::size_t buffer_bytes)
-    : path_(path), source_(open_bytes(path)), buffer_(buffer_bytes, '\0') {}
+    : path_(path), source_(open_bytes(path)), buffer_(buffer_bytes, '\0'), data_(buffer_.data()) {}
 
 LineReader::LineReader(std::unique_ptr<ByteSource> source, const std::string& path, std::size_t buffer_bytes)
-    : path_(path), source_(std::move(source)), buffer_(buffer_bytes, '\0') {}
+    : path_(path), source_(std::move(source)), buffer_(buffer_bytes, '\0'), data_(buffer_.data()) {}
 
-LineReader::LineReader(std::string text, const std::string& path)
-    : path_(path), buffer_(std::move(text)), end_(buffer_.size()), eof_(true) {
-  if (const void* nul = std::memchr(buffer_.data(), '\0', buffer_.size())) {
-    first_nul_ = static_cast<long>(static_cast<const char*>(nul) - buffer_.data());
+LineReader::LineReader(std::string_view text, const std::string& path)
+    : path_(path), data_(text.data()), end_(text.size()), eof_(true) {
+  if (const void* nul = std::memchr(text.data(), '\0', text.size())) {
+    first_nul_ = static_cast<long>(static_cast<const char*>(nul) - text.data());
   }
 }
 
@@ -30,7 +30,10 @@ bool LineReader::refill() {
     base_ += static_cast<long>(begin_);
     begin_ = 0;
   }
-  if (end_ == buffer_.size()) buffer_.resize(buffer_.size() * 2, '\0');
+  if (end_ == buffer_.size()) {
+    buffer_.resize(buffer_.size() * 2, '\0');
+    data_ = buffer_.data();
+  }
   const std::size_t got = source_->read(buffer_.data() + end_, buffer_.size() - end_);
   if (first_nul_ < 0) {
     if (const void* nul = std::memchr(buffer_.data() + end_, '\0', got)) {
@@ -45,13 +48,13 @@ bool LineReader::refill() {
 bool LineReader::next(std::string_view& line) {
   std::size_t scanned = begin_;
   for (;;) {
-    const char* start = buffer_.data() + scanned;
+    const char* start = data_ + scanned;
     const void* nl = std::memchr(start, '\n', end_ - scanned);
     if (nl != nullptr) {
-      const std::size_t pos = static_cast<std::size_t>(static_cast<const char*>(nl) - buffer_.data());
+      const std::size_t pos = static_cast<std::size_t>(static_cast<const char*>(nl) - data_);
       std::size_t len = pos - begin_;
-      if (len > 0 && buffer_[begin_ + len - 1] == '\r') --len;
-      line = std::string_view(buffer_.data() + begin_, len);
+      if (len > 0 && data_[begin_ + len - 1] == '\r') --len;
+      line = std::string_view(data_ + begin_, len);
       begin_ = pos + 1;
       ++line_number_;
       return true;
@@ -59,7 +62,7 @@ bool LineReader::next(std::string_view& line) {
     const std::size_t offset = end_ - begin_;
     if (!refill()) {
       if (end_ > begin_) {  // last line without '\n'
-        line = std::string_view(buffer_.data() + begin_, end_ - begin_);
+        line = std::string_view(data_ + begin_, end_ - begin_);
         begin_ = end_;
         ++line_number_;
         return true;

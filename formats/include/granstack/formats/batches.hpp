@@ -25,7 +25,10 @@ struct FrameBatch {
   // a step that goes backwards is reported before anything else wrong in its frame.
   long error_step = -1, error_step_line = 0;
   bool last = false;              // nothing comes after this batch
-  std::string text;               // the raw piece, before parse()
+  // The raw piece of text, before parse(): bytes not cleared before use (a std::string would
+  // zero every byte it grows by).
+  std::unique_ptr<char[]> text;
+  std::size_t text_size = 0, text_capacity = 0;
   bool raw = false;               // parse() has yet to turn `text` into frames
   std::string next_line;          // the line after the piece (the next frame's first), unless `last`
   long lines = 0;                 // text lines the batch spans

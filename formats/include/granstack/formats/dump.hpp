@@ -57,7 +57,9 @@ class TextDumpReader final : public DumpReader {
   // piece's start. `first`: the piece starts the file (so no frame at all is an empty file).
   // `next_line`: the file's line after the piece (a frame cut short by it fails as it would when
   // reading the whole file); none when the piece ends the file (a frame cut short is truncated).
-  TextDumpReader(std::string piece, const std::string& path, bool first, std::optional<std::string> next_line);
+  // The piece must outlive the reader, and the frames it fills stay untouched until the next call
+  // (a token repeating the previous frame's takes that frame's value).
+  TextDumpReader(std::string_view piece, const std::string& path, bool first, std::optional<std::string> next_line);
   // The rest of a file from an open source; `first` as above.
   TextDumpReader(std::unique_ptr<ByteSource> source, const std::string& path, bool first);
   bool next(DumpFrame& frame) override;

@@ -15,9 +15,9 @@ class LineReader {
  public:
   // Throws FormatError when the file cannot be opened.
   explicit LineReader(const std::string& path, std::size_t buffer_bytes = std::size_t{1} << 18);
-  // Lines of `text`, a piece of the file `path` already in memory; line numbers count from the
-  // piece's first line.
-  LineReader(std::string text, const std::string& path);
+  // Lines of `text`, a piece of the file `path` already in memory (it must outlive the reader);
+  // line numbers count from the piece's first line.
+  LineReader(std::string_view text, const std::string& path);
   // Lines of an open source (named `path` in messages).
   LineReader(std::unique_ptr<ByteSource> source, const std::string& path, std::size_t buffer_bytes = std::size_t{1} << 18);
   LineReader(const LineReader&) = delete;
@@ -27,7 +27,7 @@ class LineReader {
   bool next(std::string_view& line);
   long line_number() const { return line_number_; }
   // The end of the bytes held: the lines handed out may be read up to here.
-  const char* data_end() const { return buffer_.data() + end_; }
+  const char* data_end() const { return data_ + end_; }
   const std::string& path() const { return path_; }
   // True when a NUL byte came before the end of the last line read: the file is binary, not
   // text. (Only what was read counts, whatever the buffer holds beyond it.)
@@ -37,7 +37,8 @@ class LineReader {
   bool refill();
   std::string path_;
   std::unique_ptr<ByteSource> source_;
-  std::string buffer_;
+  std::string buffer_;            // reading a file
+  const char* data_ = nullptr;    // the bytes held: buffer_'s, or the piece in memory
   std::size_t begin_ = 0;
   std::size_t end_ = 0;
   bool eof_ = false;
