@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fcntl.h>
 #include <unistd.h>
+#include <algorithm>
 #include <filesystem>
 #include <optional>
 
@@ -77,6 +78,35 @@ FrameBatchSource::FrameBatchSource(const std::string& path, bool binary, std::ve
   const bool split = std::filesystem::path(path).filename().string().find_first_of("*%") != std::string::npos;
   if (!binary && !split) {
     bytes_ = open_bytes(path);
+    // A plain file: the pieces' bytes are read by the threads that parse them; only the few
+    // kilobytes around each boundary are read here. A file with a NUL byte at its start is
+    // binary: it is left to the sequential reader, which says so.
+    if (std::string_view(bytes_->kind()) == "plain" && bytes_->remaining() >= 0) {
+      const long size = bytes_->remaining();
+      const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+      bool text = fd >= 0;
+      long at = 0;
+      std::string probe(std::size_t{1} << 16, '\0');
+      for (; text && at < size; at += static_cast<long>(probe.size())) {
+        const ssize_t got = ::pread(fd, probe.data(), probe.size(), at);
+        if (got <= 0) break;
+        const std::string_view head(probe.data(), static_cast<std::size_t>(got));
+        if (head.find('\0') != std::string_view::npos) text = false;
+        const auto nonblank = head.find_first_not_of(" \t\r\n");
+        if (nonblank != std::string_view::npos) {
+          at += static_cast<long>(nonblank);
+          break;
+        }
+      }
+      if (text) {
+        fd_ = fd;
+        plain_size_ = size;
+        first_text_ = std::min(at, size);
+        bytes_.reset();
+      } else if (fd >= 0) {
+        ::close(fd);
+      }
+    }
   } else if (binary && !split) {
     // Headers are read in turn, the values by the threads that take the frames.
     auto reader = std::make_unique<BinaryDumpReader>(path, std::move(binary_columns));
@@ -107,8 +137,10 @@ bool FrameBatchSource::take(FrameBatch& batch) {
   batch.last = false;
   batch.text_size = 0;
   batch.raw = false;
+  batch.file_end = -1;
   batch.lines = 0;
   batch.relative_lines = false;
+  if (plain_size_ >= 0) return take_plain_piece(batch);
   if (bytes_) return take_piece(batch);
   return take_frames(batch);
 }
@@ -159,16 +191,76 @@ bool FrameBatchSource::take_piece(FrameBatch& batch) {
     if (binary || text.size() >= kLargestPiece) {
       // Read frame by frame from here on: the text reader finds what is wrong, or reads the
       // frames too large to cut.
-      auto reader = std::make_unique<TextDumpReader>(std::make_unique<PrefixedSource>(std::string(text), std::move(bytes_)),
-                                                     path_, batch.first);
-      reader->convert_only(convert_);
-      text_reader_ = reader.get();
-      reader_ = std::move(reader);
-      reader_lines_relative_ = true;
+      auto rest = std::make_unique<PrefixedSource>(std::string(text), std::move(bytes_));
       batch.text_size = 0;
+      read_frame_by_frame(batch, std::move(rest));
       return take_frames(batch);
     }
     want *= 2;
+  }
+}
+
+void FrameBatchSource::read_frame_by_frame(FrameBatch& batch, std::unique_ptr<ByteSource> rest) {
+  auto reader = std::make_unique<TextDumpReader>(std::move(rest), path_, batch.first);
+  reader->convert_only(convert_);
+  text_reader_ = reader.get();
+  reader_ = std::move(reader);
+  reader_lines_relative_ = true;
+}
+
+bool FrameBatchSource::take_plain_piece(FrameBatch& batch) {
+  constexpr long kWindow = 1L << 16, kOverlap = 1L << 12;
+  batch.relative_lines = true;
+  batch.raw = true;
+  batch.file_start = position_;
+  for (long end = position_ + static_cast<long>(batch_bytes_);; end = position_ + 2 * (end - position_)) {
+    if (end >= plain_size_) {
+      batch.file_end = plain_size_;
+      batch.last = true;
+      finished_ = true;
+      position_ = bytes_read_ = plain_size_;
+      return true;
+    }
+    // The last frame start in [position_, end), whole line, after the file's first text: looked
+    // for in windows from the end back.
+    for (long window_end = end;;) {
+      const long window_start = std::max(position_, window_end - kWindow);
+      window_.resize(static_cast<std::size_t>(window_end - window_start));
+      std::size_t got = 0;
+      while (got < window_.size()) {
+        const ssize_t k = ::pread(fd_, window_.data() + got, window_.size() - got, window_start + static_cast<long>(got));
+        if (k <= 0) break;
+        got += static_cast<std::size_t>(k);
+      }
+      if (got < window_.size()) {
+        batch.raw = false;
+        batch.error = std::make_exception_ptr(FormatError(path_, 0, "the file got shorter while being read"));
+        batch.last = true;
+        finished_ = true;
+        return true;
+      }
+      const std::size_t after = static_cast<std::size_t>(std::clamp(first_text_ - window_start, 0L, window_end - window_start));
+      std::size_t line_end = 0;
+      const std::size_t cut = last_frame_start(window_, after, line_end);
+      if (cut > 0) {
+        batch.next_line.assign(window_, cut, line_end - cut);
+        if (!batch.next_line.empty() && batch.next_line.back() == '\r') batch.next_line.pop_back();
+        batch.file_end = window_start + static_cast<long>(cut);
+        position_ = bytes_read_ = batch.file_end;
+        return true;
+      }
+      if (window_start == position_) break;
+      window_end = window_start + kOverlap;  // a frame start's line may straddle the windows' edge
+    }
+    if (end - position_ >= static_cast<long>(kLargestPiece)) {
+      // Frames too large to cut: read frame by frame from here on.
+      batch.raw = false;
+      auto rest = open_bytes(path_);
+      rest->skip(static_cast<std::size_t>(position_));
+      plain_size_ = -1;
+      read_frame_by_frame(batch, std::move(rest));
+      return take_frames(batch);
+    }
   }
 }
 
@@ -203,6 +295,25 @@ bool FrameBatchSource::take_frames(FrameBatch& batch) {
 }
 
 void FrameBatchSource::parse(FrameBatch& batch) const {
+  if (batch.raw && batch.file_end >= 0) {
+    const auto n = static_cast<std::size_t>(batch.file_end - batch.file_start);
+    batch.text_size = 0;
+    reserve_text(batch, n);
+    std::size_t got = 0;
+    while (got < n) {
+      const ssize_t k = ::pread(fd_, batch.text.get() + got, n - got, batch.file_start + static_cast<long>(got));
+      if (k <= 0) break;
+      got += static_cast<std::size_t>(k);
+    }
+    batch.file_end = -1;
+    if (got < n) {
+      batch.raw = false;
+      batch.frames.clear();
+      batch.error = std::make_exception_ptr(FormatError(path_, 0, "the file got shorter while being read"));
+      return;
+    }
+    batch.text_size = n;
+  }
   if (!batch.raw) {
     for (std::size_t k = 0; k < batch.frames.size(); ++k) {
       if (batch.frames[k].deferred.empty()) continue;

@@ -16,9 +16,8 @@ LineReader::LineReader(std::unique_ptr<ByteSource> source, const std::string& pa
 
 LineReader::LineReader(std::string_view text, const std::string& path)
     : path_(path), data_(text.data()), end_(text.size()), eof_(true) {
-  if (const void* nul = std::memchr(text.data(), '\0', text.size())) {
-    first_nul_ = static_cast<long>(static_cast<const char*>(nul) - text.data());
-  }
+  const void* nul = text.empty() ? nullptr : std::memchr(text.data(), '\0', text.size());
+  if (nul != nullptr) first_nul_ = static_cast<long>(static_cast<const char*>(nul) - text.data());
 }
 
 bool LineReader::refill() {
@@ -49,7 +48,7 @@ bool LineReader::next(std::string_view& line) {
   std::size_t scanned = begin_;
   for (;;) {
     const char* start = data_ + scanned;
-    const void* nl = std::memchr(start, '\n', end_ - scanned);
+    const void* nl = end_ > scanned ? std::memchr(start, '\n', end_ - scanned) : nullptr;
     if (nl != nullptr) {
       const std::size_t pos = static_cast<std::size_t>(static_cast<const char*>(nl) - data_);
       std::size_t len = pos - begin_;

@@ -30,6 +30,7 @@ struct FrameBatch {
   std::unique_ptr<char[]> text;
   std::size_t text_size = 0, text_capacity = 0;
   bool raw = false;               // parse() has yet to turn `text` into frames
+  long file_start = 0, file_end = -1;  // a plain file's piece, which parse() reads itself (pread)
   std::string next_line;          // the line after the piece (the next frame's first), unless `last`
   long lines = 0;                 // text lines the batch spans
   bool relative_lines = false;    // line numbers count from the batch's start
@@ -59,6 +60,8 @@ class FrameBatchSource {
 
  private:
   bool take_piece(FrameBatch& batch);
+  bool take_plain_piece(FrameBatch& batch);
+  void read_frame_by_frame(FrameBatch& batch, std::unique_ptr<ByteSource> rest);
   bool take_frames(FrameBatch& batch);
   std::string path_;
   std::vector<std::string> convert_;
@@ -73,7 +76,11 @@ class FrameBatchSource {
   // Anything else (or a text file whose frames are too large to cut): frames read in turn.
   std::unique_ptr<DumpReader> reader_;
   TextDumpReader* text_reader_ = nullptr;  // reader_, when it reads text
-  int fd_ = -1;                            // a binary file whose values parse() reads
+  int fd_ = -1;                            // a file parse() reads pieces or values of (pread)
+  long plain_size_ = -1;                   // a plain text file cut without reading it all
+  long position_ = 0;                      // where its next piece starts
+  long first_text_ = 0;                    // its first byte that is not blank
+  std::string window_;                     // bytes read to find a frame boundary
   bool reader_lines_relative_ = false;
   // settle()'s state
   long settled_lines_ = 0;
