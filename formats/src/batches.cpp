@@ -134,6 +134,7 @@ bool FrameBatchSource::take(FrameBatch& batch) {
   batch.error = nullptr;
   batch.error_step = -1;
   batch.error_step_line = 0;
+  batch.first_step_after_nul = batch.error_step_after_nul = false;
   batch.last = false;
   batch.text_size = 0;
   batch.raw = false;
@@ -276,7 +277,10 @@ bool FrameBatchSource::take_frames(FrameBatch& batch) {
         batch.last = true;
         break;
       }
-      if (text_reader_ != nullptr) f.first_line -= line0;
+      if (text_reader_ != nullptr) {
+        f.first_line -= line0;
+        if (n == 0) batch.first_step_after_nul = text_reader_->nul_by_step();
+      }
       bytes += static_cast<std::size_t>(f.atoms) * f.columns.size() * sizeof(double);
       ++n;
     }
@@ -284,6 +288,7 @@ bool FrameBatchSource::take_frames(FrameBatch& batch) {
     batch.error = shift_line(std::current_exception(), -line0);
     if (text_reader_ != nullptr && text_reader_->step_read() >= 0) {
       batch.error_step = text_reader_->step_read();
+      batch.error_step_after_nul = text_reader_->nul_by_step();
       batch.error_step_line = batch.frames[n].first_line + 1 - line0;
     }
     batch.last = true;
@@ -337,12 +342,14 @@ void FrameBatchSource::parse(FrameBatch& batch) const {
     for (;;) {
       if (batch.frames.size() <= n) batch.frames.resize(n + 1);
       if (!reader.next(batch.frames[n])) break;
+      if (n == 0) batch.first_step_after_nul = reader.nul_by_step();
       ++n;
     }
   } catch (...) {
     batch.error = std::current_exception();
     if (reader.step_read() >= 0) {
       batch.error_step = reader.step_read();
+      batch.error_step_after_nul = reader.nul_by_step();
       batch.error_step_line = batch.frames[n].first_line + 1;
     }
   }
@@ -359,15 +366,16 @@ void FrameBatchSource::settle(FrameBatch& batch) {
     settled_lines_ += batch.lines;
   }
   // As TextDumpReader words it, at the step's line.
-  auto backwards = [&](long step, long line) {
-    return std::make_exception_ptr(FormatError(
-        path_, line,
-        fmt::format("timestep {} comes after {}: timesteps go backwards (two runs appended to one file?)", step, last_step_)));
+  auto backwards = [&](long step, long line, bool after_nul) {
+    auto message =
+        fmt::format("timestep {} comes after {}: timesteps go backwards (two runs appended to one file?)", step, last_step_);
+    if (after_nul) message = "binary data where a text dump was expected (" + message + ")";
+    return std::make_exception_ptr(FormatError(path_, line, message));
   };
   for (std::size_t k = 0; k < batch.frames.size(); ++k) {
     const auto& f = batch.frames[k];
     if (f.step < last_step_) {
-      batch.error = backwards(f.step, f.first_line > 0 ? f.first_line + 1 : 0);
+      batch.error = backwards(f.step, f.first_line > 0 ? f.first_line + 1 : 0, k == 0 && batch.first_step_after_nul);
       batch.frames.resize(k);
       batch.last = true;
       return;
@@ -375,7 +383,7 @@ void FrameBatchSource::settle(FrameBatch& batch) {
     last_step_ = f.step;
   }
   if (batch.error && batch.error_step >= 0 && batch.error_step < last_step_) {
-    batch.error = backwards(batch.error_step, batch.error_step_line);
+    batch.error = backwards(batch.error_step, batch.error_step_line, batch.error_step_after_nul);
   }
 }
 

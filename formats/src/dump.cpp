@@ -68,6 +68,19 @@ std::size_t same_token(const char* p, const char* q) {
   }
   return 0;
 }
+// How many bytes a and b have in common at their start (at most n), 8 at a time.
+std::size_t common_prefix(const char* a, const char* b, std::size_t n) {
+  std::size_t k = 0;
+  for (; k + 8 <= n; k += 8) {
+    std::uint64_t x = 0, y = 0;
+    std::memcpy(&x, a + k, 8);
+    std::memcpy(&y, b + k, 8);
+    if (x != y) return k + static_cast<std::size_t>(__builtin_ctzll(x ^ y)) / 8;
+  }
+  while (k < n && a[k] == b[k]) ++k;
+  return k;
+}
+
 // The length of the token at p (up to the first byte below '!'), read 8 bytes at a time; 0 when
 // it is 32 bytes or longer. Reads up to 32 bytes at p.
 std::size_t token_length(const char* p) {
@@ -126,6 +139,7 @@ bool TextDumpReader::next(DumpFrame& f) {
   if (!in_frame(line)) throw TruncatedError(path, line_number(), "file ends after 'ITEM: TIMESTEP'");
   if (!parse_long(line, f.step) || f.step < 0) throw fail(fmt::format("'{}' is not a timestep", line.substr(0, 60)));
   step_read_ = f.step;
+  nul_by_step_ = reader_.saw_nul();
   if (f.step < last_step_) {
     throw fail(fmt::format("timestep {} comes after {}: timesteps go backwards (two runs appended to one file?)", f.step,
                            last_step_));
@@ -212,6 +226,14 @@ bool TextDumpReader::next(DumpFrame& f) {
       std::memcpy(starts, old_starts, ncol * sizeof(std::uint32_t));
       c = ncol;
       p = end;
+    } else if (cached) {
+      // The columns wholly inside the bytes both lines begin with (id, type, radius, mass and
+      // often the position) repeat: taken in one go. The rest are compared token by token.
+      const std::size_t common = common_prefix(line.data(), before.data(), std::min(line.size(), before.size()));
+      while (c + 1 < ncol && old_starts[c + 1] <= common) ++c;
+      std::memcpy(out, old, c * sizeof(double));
+      std::memcpy(starts, old_starts, c * sizeof(std::uint32_t));
+      p = line.data() + (c > 0 ? old_starts[c] : 0);
     }
     for (; c < ncol && p != nullptr; ++c) {
       if (cached && *p == ' ' && p[1] > ' ') {

@@ -101,10 +101,11 @@ class StreamedTable {
 
 }  // namespace
 
-// Frames are handed to threads in batches of about this many bytes: large enough that a text
-// piece holds many frames (each reuses the previous frame's identical numbers, and the first of
-// a piece has none to reuse), small enough that a few batches per thread stay small in memory.
-constexpr std::size_t kBatchBytes = std::size_t{1} << 20;
+// Frames are handed to threads in batches of about this many bytes: a text piece large enough to
+// hold many frames (each reuses the previous frame's repeated numbers; the first of a piece has
+// none to reuse: 4 MB against 1 MB, 7.7 % fewer instructions, callgrind), a binary batch small,
+// and a few batches per thread small in memory.
+constexpr std::size_t kTextBatchBytes = std::size_t{4} << 20, kBinaryBatchBytes = std::size_t{1} << 20;
 
 CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& options) {
   const fs::path dir(case_dir);
@@ -123,7 +124,8 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   const bool conservative = model::is_conservative(spec);
   const auto dump_path = formats::find_dump(case_dir, manifest.files.dump);
   const bool binary = spec.dump_format == model::DumpFormat::binary;
-  formats::FrameBatchSource source(dump_path, binary, manifest.files.dump_columns, FrameView::needed_columns(), kBatchBytes);
+  formats::FrameBatchSource source(dump_path, binary, manifest.files.dump_columns, FrameView::needed_columns(),
+                                   binary ? kBinaryBatchBytes : kTextBatchBytes);
   const WaveTracker wave_sampler(stack, res.dt);
   WaveTracker waves(stack, res.dt);
   std::vector<BlockPeak> dump_peaks(static_cast<std::size_t>(nb));

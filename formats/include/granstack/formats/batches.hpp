@@ -24,6 +24,9 @@ struct FrameBatch {
   // The step of the frame the error is in, and the line of that step, when it was read (else -1):
   // a step that goes backwards is reported before anything else wrong in its frame.
   long error_step = -1, error_step_line = 0;
+  // Binary data came before the step line of the first frame, or of the frame in error: a step
+  // going backwards is then worded as the whole-file reader words it.
+  bool first_step_after_nul = false, error_step_after_nul = false;
   bool last = false;              // nothing comes after this batch
   // The raw piece of text, before parse(): bytes not cleared before use (a std::string would
   // zero every byte it grows by).

@@ -67,6 +67,8 @@ class TextDumpReader final : public DumpReader {
   long line_number() const { return reader_.line_number() + (next_frame_seen_ ? 1 : 0); }
   // The step of the frame the last next() was reading, once its step line was read; else -1.
   long step_read() const { return step_read_; }
+  // Whether a NUL byte (binary data) came before that step's line.
+  bool nul_by_step() const { return nul_by_step_; }
   // Only these columns are converted to numbers; the others are checked to be there and left
   // NaN (LIGGGHTS dumps often carry columns an analysis does not need). Empty: every column.
   void convert_only(std::vector<std::string> columns);
@@ -83,6 +85,7 @@ class TextDumpReader final : public DumpReader {
   const double* previous_values_ = nullptr;
   std::vector<std::string> previous_columns_;
   long step_read_ = -1;
+  bool nul_by_step_ = false;
   std::vector<std::string> wanted_;
   std::vector<char> convert_;  // per column of the current header
   std::vector<std::string_view> words_;
