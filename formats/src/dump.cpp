@@ -221,7 +221,9 @@ bool TextDumpReader::next(DumpFrame& f) {
       starts_.resize(lines_.size() * ncol);
     }
     std::uint32_t* starts = keep_lines ? starts_.data() + base : nullptr;
-    if (cached && before == line) {  // an atom at rest: the whole line again
+    const std::size_t common =
+        cached ? common_prefix(line.data(), before.data(), std::min(line.size(), before.size())) : 0;
+    if (cached && common == line.size() && common == before.size()) {  // an atom at rest: the line again
       std::memcpy(out, old, ncol * sizeof(double));
       std::memcpy(starts, old_starts, ncol * sizeof(std::uint32_t));
       c = ncol;
@@ -229,7 +231,6 @@ bool TextDumpReader::next(DumpFrame& f) {
     } else if (cached) {
       // The columns wholly inside the bytes both lines begin with (id, type, radius, mass and
       // often the position) repeat: taken in one go. The rest are compared token by token.
-      const std::size_t common = common_prefix(line.data(), before.data(), std::min(line.size(), before.size()));
       while (c + 1 < ncol && old_starts[c + 1] <= common) ++c;
       std::memcpy(out, old, c * sizeof(double));
       std::memcpy(starts, old_starts, c * sizeof(std::uint32_t));
