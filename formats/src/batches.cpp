@@ -70,6 +70,12 @@ std::size_t last_frame_start(std::string_view text, std::size_t after, std::size
   return 0;
 }
 
+// The line [start, end) of `text`, the first after a piece, without a '\r' ending it.
+void set_next_line(FrameBatch& batch, std::string_view text, std::size_t start, std::size_t end) {
+  batch.next_line.assign(text.substr(start, end - start));
+  if (!batch.next_line.empty() && batch.next_line.back() == '\r') batch.next_line.pop_back();
+}
+
 }  // namespace
 
 FrameBatchSource::FrameBatchSource(const std::string& path, bool binary, std::vector<std::string> binary_columns,
@@ -121,11 +127,6 @@ FrameBatchSource::~FrameBatchSource() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-long FrameBatchSource::bytes_read() const {
-  std::lock_guard lock(mutex_);
-  return bytes_read_;
-}
-
 bool FrameBatchSource::take(FrameBatch& batch) {
   std::lock_guard lock(mutex_);
   if (finished_) return false;
@@ -160,7 +161,6 @@ bool FrameBatchSource::take_piece(FrameBatch& batch) {
     while (batch.text_size < want) {
       const std::size_t got = bytes_->read(batch.text.get() + batch.text_size, want - batch.text_size);
       batch.text_size += got;
-      bytes_read_ += static_cast<long>(got);
       if (got == 0) {
         end = true;
         break;
@@ -183,8 +183,7 @@ bool FrameBatchSource::take_piece(FrameBatch& batch) {
     if (cut > 0) {
       batch.relative_lines = true;
       batch.raw = true;
-      batch.next_line.assign(text.substr(cut, line_end - cut));
-      if (!batch.next_line.empty() && batch.next_line.back() == '\r') batch.next_line.pop_back();
+      set_next_line(batch, text, cut, line_end);
       carry_.assign(text.substr(cut));
       batch.text_size = cut;
       return true;
@@ -219,7 +218,7 @@ bool FrameBatchSource::take_plain_piece(FrameBatch& batch) {
       batch.file_end = plain_size_;
       batch.last = true;
       finished_ = true;
-      position_ = bytes_read_ = plain_size_;
+      position_ = plain_size_;
       return true;
     }
     // The last frame start in [position_, end), whole line, after the file's first text: looked
@@ -244,10 +243,9 @@ bool FrameBatchSource::take_plain_piece(FrameBatch& batch) {
       std::size_t line_end = 0;
       const std::size_t cut = last_frame_start(window_, after, line_end);
       if (cut > 0) {
-        batch.next_line.assign(window_, cut, line_end - cut);
-        if (!batch.next_line.empty() && batch.next_line.back() == '\r') batch.next_line.pop_back();
+        set_next_line(batch, window_, cut, line_end);
         batch.file_end = window_start + static_cast<long>(cut);
-        position_ = bytes_read_ = batch.file_end;
+        position_ = batch.file_end;
         return true;
       }
       if (window_start == position_) break;

@@ -55,17 +55,20 @@ void FrameView::bind(const formats::DumpFrame& f) {
   }
 }
 
-double FrameView::rotational_energy(const formats::DumpFrame& f, long r) const {
-  const double m = f.at(r, c_mass_);
-  const double rad = f.at(r, c_radius_);
-  const double wx = f.at(r, c_wx_), wy = f.at(r, c_wy_), wz = f.at(r, c_wz_);
+namespace {
+// 1/2 (2/5 m R^2) w^2 and 1/2 m v^2: one expression each, so every sum of them rounds alike.
+double rotational(double m, double rad, double wx, double wy, double wz) {
   return 0.5 * (0.4 * m * rad * rad) * (wx * wx + wy * wy + wz * wz);
+}
+double translational(double m, double vx, double vy, double vz) { return 0.5 * m * (vx * vx + vy * vy + vz * vz); }
+}  // namespace
+
+double FrameView::rotational_energy(const formats::DumpFrame& f, long r) const {
+  return rotational(f.at(r, c_mass_), f.at(r, c_radius_), f.at(r, c_wx_), f.at(r, c_wy_), f.at(r, c_wz_));
 }
 
 double FrameView::kinetic_energy(const formats::DumpFrame& f, long r) const {
-  const double m = f.at(r, c_mass_);
-  const double vx = f.at(r, c_vx_), vy = f.at(r, c_vy_), vz = f.at(r, c_vz_);
-  return 0.5 * m * (vx * vx + vy * vy + vz * vz) + rotational_energy(f, r);
+  return translational(f.at(r, c_mass_), f.at(r, c_vx_), f.at(r, c_vy_), f.at(r, c_vz_)) + rotational_energy(f, r);
 }
 
 namespace {
@@ -86,12 +89,10 @@ void for_each_close_pair(const model::Stack& stack, const std::vector<double>& x
     std::vector<std::size_t> spheres;
   };
   std::vector<Grid> grids;
-  std::vector<std::size_t> level(n);
   for (std::size_t i = 0; i < n; ++i) {
     std::size_t g = 0;
     while (g < grids.size() && grids[g].radius != spheres[i].radius) ++g;
     if (g == grids.size()) grids.push_back({spheres[i].radius, 2.0 * spheres[i].radius, 0, 0, 0, 0, {}, {}, {}});
-    level[i] = g;
     if (std::isfinite(x[i]) && std::isfinite(z[i])) grids[g].spheres.push_back(i);  // a blown-up sphere touches nothing
   }
   auto cell_of = [](double v, double cell) { return static_cast<std::int64_t>(std::floor(v / cell)); };
@@ -144,12 +145,7 @@ void for_each_close_pair(const model::Stack& stack, const std::vector<double>& x
       }
     }
   }
-  (void)level;
 }
-
-struct FrameViewColumns {
-  int x, y, z;
-};
 
 // Hertz parameters of every atom-type pair and of every type against the walls, computed once.
 class ContactEnergy {
@@ -285,7 +281,7 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
   const std::size_t cvx = col(v.c_vx_), cvy = col(v.c_vy_), cvz = col(v.c_vz_);
   const std::size_t cwx = col(v.c_wx_), cwy = col(v.c_wy_), cwz = col(v.c_wz_);
   // Sphere by sphere in the stack's order (ids 1..n), so every sum keeps one order whatever the
-  // order of the dump's lines; the same expressions as FrameView::kinetic_energy.
+  // order of the dump's lines.
   for (std::size_t i = 0; i < n; ++i) {
     const double* a = values + static_cast<std::size_t>(v.rows_[i]) * stride;
     x_[i] = a[cx];
@@ -294,8 +290,8 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     const double m = a[cm], rad = a[cr];
     const double vx = a[cvx], vy = a[cvy], vz = a[cvz];
     const double wx = a[cwx], wy = a[cwy], wz = a[cwz];
-    const double rot = 0.5 * (0.4 * m * rad * rad) * (wx * wx + wy * wy + wz * wz);
-    const double ke = 0.5 * m * (vx * vx + vy * vy + vz * vz) + rot;
+    const double rot = rotational(m, rad, wx, wy, wz);
+    const double ke = translational(m, vx, vy, vz) + rot;
     e.kinetic += ke;
     const int b = c.block[i];
     if (b < 0) {
@@ -328,45 +324,25 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
   }
 }
 
-FrameEnergy frame_energy(const formats::DumpFrame& frame, const FrameView&, const model::Stack& stack) {
-  FrameAnalyser analyser(stack, "");
-  FrameEnergy e;
-  analyser.analyse(frame, e);
-  return e;
-}
-
-namespace {
-double contact_energy_with(const ContactEnergy& contacts, const formats::DumpFrame& f, const FrameView& v,
-                           const model::Stack& stack, int id, const FrameViewColumns& c) {
-  const auto& me = stack.sphere(id);
+bool FrameAnalyser::has_separated(const formats::DumpFrame& f, int id) const {
+  const auto& v = view_;
+  const double ke = v.kinetic_energy(f, v.row(id));
+  if (!(ke > 0.0)) return false;
+  // The elastic energy in its contacts, with the walls and with every other sphere.
+  const auto& contacts = constants_->contacts;
+  const auto& me = stack_.sphere(id);
   const long row = v.row(id);
-  const double x = f.at(row, c.x), y = f.at(row, c.y), z = f.at(row, c.z);
+  const double x = f.at(row, v.c_x_), y = f.at(row, v.c_y_), z = f.at(row, v.c_z_);
   double energy = contacts.walls(me, x, z);
-  for (const auto& s : stack.spheres()) {
+  for (const auto& s : stack_.spheres()) {
     if (s.id == id) continue;
     const long r = v.row(s.id);
-    const double dx = f.at(r, c.x) - x, dy = f.at(r, c.y) - y, dz = f.at(r, c.z) - z;
+    const double dx = f.at(r, v.c_x_) - x, dy = f.at(r, v.c_y_) - y, dz = f.at(r, v.c_z_) - z;
     const double sum = me.radius + s.radius;
     const double d2 = dx * dx + dy * dy + dz * dz;
     if (d2 < sum * sum) energy += contacts.pair(me, s, sum - std::sqrt(d2));
   }
-  return energy;
-}
-}  // namespace
-
-double contact_energy(const formats::DumpFrame& f, const FrameView& v, const model::Stack& stack, int id) {
-  return contact_energy_with(ContactEnergy(stack), f, v, stack, id, {v.c_x_, v.c_y_, v.c_z_});
-}
-
-bool has_separated(const formats::DumpFrame& f, const FrameView& v, const model::Stack& stack, int id) {
-  const double ke = v.kinetic_energy(f, v.row(id));
-  return ke > 0.0 && contact_energy(f, v, stack, id) <= kSeparatedContactEnergy * ke;
-}
-
-bool FrameAnalyser::has_separated(const formats::DumpFrame& f, int id) const {
-  const double ke = view_.kinetic_energy(f, view_.row(id));
-  return ke > 0.0 && contact_energy_with(constants_->contacts, f, view_, stack_, id, {view_.c_x_, view_.c_y_, view_.c_z_}) <=
-                         kSeparatedContactEnergy * ke;
+  return energy <= kSeparatedContactEnergy * ke;
 }
 
 }  // namespace granstack::postproc

@@ -98,6 +98,17 @@ std::pair<std::size_t, std::size_t> System::share(std::size_t count, int index) 
   return {count * k / t, count * (k + 1) / t};
 }
 
+void System::for_shares(std::size_t count, const std::function<void(std::size_t, std::size_t)>& job) {
+  if (threads_ <= 1) {
+    job(0, count);
+    return;
+  }
+  parallel([&](int t) {
+    const auto [begin, end] = share(count, t);
+    job(begin, end);
+  });
+}
+
 void System::build_pairs() {
   // Candidates: (R_i + R_j) * cdf + skin, as neigh_gran.cpp. A pair keeps its history across
   // the rebuild only if it was flagged as touching and is within the contact distance now.
@@ -422,12 +433,10 @@ void System::compute_forces(bool update_history) {
 // Contacts in parallel into their own slots, then each particle's slots added in pair order by
 // the thread that owns the particle: the same sums, in the same order, as one thread.
 void System::threaded_forces(bool update_history) {
-  parallel([&](int t) {
-    const auto [begin, end] = share(pair_i_.size(), t);
+  for_shares(pair_i_.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t p = begin; p < end; ++p) pair_force(p, update_history, contributions_[p]);
   });
-  parallel([&](int t) {
-    const auto [begin, end] = share(n_, t);
+  for_shares(n_, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       double* f = &f_[3 * i];
       double* tq = &t_[3 * i];
@@ -469,24 +478,10 @@ void System::second_half(std::size_t begin, std::size_t end) {
 }
 
 void System::step() {
-  if (threads_ > 1) {
-    parallel([&](int t) {
-      const auto [begin, end] = share(n_, t);
-      first_half(begin, end);
-    });
-  } else {
-    first_half(0, n_);
-  }
+  for_shares(n_, [&](std::size_t begin, std::size_t end) { first_half(begin, end); });
   if (needs_rebuild()) build_pairs();
   compute_forces(true);
-  if (threads_ > 1) {
-    parallel([&](int t) {
-      const auto [begin, end] = share(n_, t);
-      second_half(begin, end);
-    });
-  } else {
-    second_half(0, n_);
-  }
+  for_shares(n_, [&](std::size_t begin, std::size_t end) { second_half(begin, end); });
   ++step_;
 }
 

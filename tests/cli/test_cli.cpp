@@ -49,6 +49,17 @@ void expect_contains(const Result& r, const std::string& words) {
   EXPECT_NE(r.output.find(words), std::string::npos) << "missing '" << words << "' in:\n" << r.output;
 }
 
+std::string read_bytes(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Replaces the case's dump with `content` and reduces the case.
+Result reduce_with_dump(const std::string& case_dir, const std::string& dump, const std::string& content) {
+  std::ofstream(dump, std::ios::binary) << content;
+  return granstack("reduce " + case_dir);
+}
+
 TEST_F(Cli, InvalidSpecsExitWith2NameTheFieldAndWriteNothing) {
   struct Bad {
     std::string flags;
@@ -94,8 +105,7 @@ TEST_F(Cli, FlagsOverrideTheSpecFile) {
   const auto r = granstack("generate -o " + path("case") + " --config " + path("spec.toml") + " --blocks 1");
   ASSERT_EQ(r.code, 0) << r.output;
   expect_contains(r, "17 spheres");
-  std::ifstream manifest(path("case/manifest.json"));
-  const std::string text((std::istreambuf_iterator<char>(manifest)), std::istreambuf_iterator<char>());
+  const std::string text = read_bytes(path("case/manifest.json"));
   EXPECT_NE(text.find("\"restitution\": 0.9"), std::string::npos);
   EXPECT_NE(text.find("\"--blocks\""), std::string::npos);  // the exact command line is recorded
 }
@@ -134,15 +144,8 @@ TEST_F(Cli, BadDumpFilesGiveClearErrorsAndATruncatedFrameAWarning) {
   ASSERT_EQ(granstack("generate -o " + path("case") + " --blocks 1").code, 0);
   ASSERT_EQ(granstack("run " + path("case")).code, 0);
   const auto dump = path("case/dumps/dump.txt");
-  std::string text;
-  {
-    std::ifstream in(dump, std::ios::binary);
-    text.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  }
-  auto with_dump = [&](const std::string& content) {
-    std::ofstream(dump, std::ios::binary) << content;
-    return granstack("reduce " + path("case"));
-  };
+  const std::string text = read_bytes(dump);
+  auto with_dump = [&](const std::string& content) { return reduce_with_dump(path("case"), dump, content); };
   // Cut in the middle of the last frame: the complete frames are used, with a warning.
   auto r = with_dump(text.substr(0, text.size() - 700));
   EXPECT_EQ(r.code, 0) << r.output;
@@ -207,8 +210,7 @@ TEST_F(Cli, TableAndPlotsFromARealSweep) {
   std::string magic(8, '\0');
   png.read(magic.data(), 8);
   EXPECT_EQ(magic, std::string("\x89PNG\r\n\x1a\n", 8));
-  std::ifstream svg(path("svg/decay.svg"));
-  const std::string text((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
+  const std::string text = read_bytes(path("svg/decay.svg"));
   EXPECT_NE(text.find("<svg"), std::string::npos);
 }
 
@@ -297,15 +299,8 @@ TEST_F(Cli, BadBinaryDumpsGiveClearErrorsAndATruncatedFrameAWarning) {
   ASSERT_EQ(granstack("generate -o " + path("case") + " --blocks 1 --dump-format binary").code, 0);
   ASSERT_EQ(granstack("run " + path("case")).code, 0);
   const auto dump = path("case/dumps/dump.bin");
-  std::string bytes;
-  {
-    std::ifstream in(dump, std::ios::binary);
-    bytes.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  }
-  auto with_dump = [&](const std::string& content) {
-    std::ofstream(dump, std::ios::binary) << content;
-    return granstack("reduce " + path("case"));
-  };
+  const std::string bytes = read_bytes(dump);
+  auto with_dump = [&](const std::string& content) { return reduce_with_dump(path("case"), dump, content); };
   auto r = with_dump(bytes.substr(0, bytes.size() - 1000));
   EXPECT_EQ(r.code, 0) << r.output;
   expect_contains(r, "file ends inside frame");

@@ -1,6 +1,7 @@
 // The real LIGGGHTS on small cases: generate -> run -> reduce, checked against physics
 // (energy conservation, scale freedom) and against LIGGGHTS's own in-situ energies.
 #include <granstack/formats/dump.hpp>
+#include <granstack/formats/files.hpp>
 #include <granstack/formats/log.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/series.hpp>
@@ -65,12 +66,12 @@ Energies dump_energies(const std::string& dir) {
   const auto stack = model::Stack::build(m.spec);
   const auto path = (fs::path(dir) / m.files.dump).string();
   formats::TextDumpReader reader(path);
-  postproc::FrameView view(stack, path);
+  postproc::FrameAnalyser analyser(stack, path);
   formats::DumpFrame f;
   Energies out;
   while (reader.next(f)) {
-    view.bind(f);  // throws if an atom is missing: none may be lost
-    const auto e = postproc::frame_energy(f, view, stack);
+    postproc::FrameEnergy e;
+    analyser.analyse(f, e);  // throws if an atom is missing: none may be lost
     out.max_drift = std::max(out.max_drift, std::fabs(e.kinetic + e.elastic - stack.incident_energy()) /
                                                 stack.incident_energy());
     out.by_step[f.step] = e;
@@ -299,28 +300,20 @@ TEST(Reduce, BinaryDumpsGiveExactlyTheTextDumpsResult) {
   EXPECT_EQ(b.frames, t.frames);
   EXPECT_EQ(b.output_fraction, t.output_fraction);
   EXPECT_EQ(b.output_fraction_bottom_row, t.output_fraction_bottom_row);
-  auto slurp = [](const std::string& p) {
-    std::ifstream in(p);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  };
-  EXPECT_EQ(slurp(b.csv_path), slurp(t.csv_path));
+  EXPECT_EQ(formats::read_file(b.csv_path), formats::read_file(t.csv_path));
 }
 
 // Frames are parsed and analysed on several threads and their results put back in order: the
 // tables and the summary must not depend on how many threads did it, to the byte.
 TEST(Reduce, TheNumberOfThreadsChangesNoByteOfTheResult) {
   const auto dir = run_case("case", blocks(3));
-  auto slurp = [](const fs::path& p) {
-    std::ifstream in(p);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  };
   const std::vector<std::string> files{"block_ke.csv", "energy_parts.csv", "row_ke.csv", "column_ke.csv", "summary.json"};
   std::vector<std::string> one_thread;
   postproc::ReduceOptions o;
   o.threads = 1;
   const auto reference = postproc::reduce_case(dir, o);
   ASSERT_GT(fs::file_size(formats::find_dump(dir, "dumps/dump.txt")), 3u << 20) << "a dump of several batches";
-  for (const auto& f : files) one_thread.push_back(slurp(fs::path(dir) / "reduce" / f));
+  for (const auto& f : files) one_thread.push_back(formats::read_file(fs::path(dir) / "reduce" / f));
   for (const int threads : {2, 3, 8}) {
     o.threads = threads;
     long frames_seen = 0;
@@ -328,7 +321,7 @@ TEST(Reduce, TheNumberOfThreadsChangesNoByteOfTheResult) {
     const auto r = postproc::reduce_case(dir, o);
     EXPECT_EQ(postproc::to_json(r), postproc::to_json(reference)) << threads << " threads";
     for (std::size_t k = 0; k < files.size(); ++k) {
-      EXPECT_EQ(slurp(fs::path(dir) / "reduce" / files[k]), one_thread[k]) << files[k] << ", " << threads << " threads";
+      EXPECT_EQ(formats::read_file(fs::path(dir) / "reduce" / files[k]), one_thread[k]) << files[k] << ", " << threads << " threads";
     }
   }
 }

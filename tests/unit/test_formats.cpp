@@ -4,6 +4,7 @@
 #include <granstack/formats/data_file.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/error.hpp>
+#include <granstack/formats/files.hpp>
 #include <granstack/formats/log.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/series.hpp>
@@ -199,24 +200,22 @@ std::string dump_text(int frames, int atoms) {
   f.box_flags = "mm mm mm";
   f.box = {-1, 1, -1, 1, -1, 1};
   f.columns = {"id", "type", "x", "z", "vx", "vz", "fx"};
-  std::string text;
-  for (int k = 0; k < frames; ++k) {
-    f.step = 10L * k;
-    f.values.clear();
-    for (int a = 0; a < atoms; ++a) {
-      for (double v : {a + 1.0, 1.0, 0.1 * a + 1e-17 * k, -0.3 * k, std::sin(a + k), 0.0, 1.0 / (a + k + 3.0)}) {
-        f.values.push_back(v);
+  const auto path = fs::temp_directory_path() / ("granstack_dump_text_" + std::to_string(::getpid()));
+  {
+    formats::DumpWriter w(path.string(), false);
+    for (int k = 0; k < frames; ++k) {
+      f.step = 10L * k;
+      f.values.clear();
+      for (int a = 0; a < atoms; ++a) {
+        for (double v : {a + 1.0, 1.0, 0.1 * a + 1e-17 * k, -0.3 * k, std::sin(a + k), 0.0, 1.0 / (a + k + 3.0)}) {
+          f.values.push_back(v);
+        }
       }
-    }
-    const auto path = fs::temp_directory_path() / ("granstack_dump_text_" + std::to_string(::getpid()));
-    {
-      formats::DumpWriter w(path.string(), false);
       w.write(f);
     }
-    std::ifstream in(path, std::ios::binary);
-    text += std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    fs::remove(path);
   }
+  const std::string text = formats::read_file(path);
+  fs::remove(path);
   return text;
 }
 

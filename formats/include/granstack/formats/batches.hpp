@@ -59,7 +59,6 @@ class FrameBatchSource {
   // short with an error if they do).
   void settle(FrameBatch& batch);
   const std::string& path() const { return path_; }
-  long bytes_read() const;
 
  private:
   bool take_piece(FrameBatch& batch);
@@ -69,13 +68,12 @@ class FrameBatchSource {
   std::string path_;
   std::vector<std::string> convert_;
   std::size_t batch_bytes_;
-  mutable std::mutex mutex_;
+  std::mutex mutex_;
   long next_index_ = 0;
   bool finished_ = false;
   // A single text file cut into pieces: bytes read but not yet handed out.
   std::unique_ptr<ByteSource> bytes_;
   std::string carry_;
-  long bytes_read_ = 0;
   // Anything else (or a text file whose frames are too large to cut): frames read in turn.
   std::unique_ptr<DumpReader> reader_;
   TextDumpReader* text_reader_ = nullptr;  // reader_, when it reads text

@@ -47,7 +47,6 @@ class FrameView {
   int c_id_ = -1, c_mass_ = -1, c_radius_ = -1, c_vx_ = -1, c_vy_ = -1, c_vz_ = -1, c_wx_ = -1, c_wy_ = -1, c_wz_ = -1;
   int c_x_ = -1, c_y_ = -1, c_z_ = -1;
   friend class FrameAnalyser;
-  friend double contact_energy(const formats::DumpFrame&, const FrameView&, const model::Stack&, int);
 };
 
 // The pairs of spheres close enough to touch, kept from frame to frame: rebuilt (from a cell
@@ -82,7 +81,8 @@ class FrameAnalyser {
   void analyse(const formats::DumpFrame& frame, FrameEnergy& e);
   // The view of the frame last analysed.
   const FrameView& view() const { return view_; }
-  // has_separated() for the frame last analysed.
+  // Whether sphere `id` has separated in the frame last analysed: the elastic energy left in its
+  // contacts (with spheres and walls) is at most kSeparatedContactEnergy of its kinetic energy.
   bool has_separated(const formats::DumpFrame& frame, int id) const;
   long candidate_builds() const { return candidates_.builds(); }
 
@@ -95,19 +95,10 @@ class FrameAnalyser {
   std::vector<double> x_, y_, z_;
 };
 
-// Kinetic energy 1/2 m v^2 + 1/2 (2/5 m R^2) w^2 per group, and the elastic energy
-// 8/15 Y* sqrt(R*) d^(5/2) of every overlap (physics.md sections 2 and 4), of one bound frame.
-// A FrameAnalyser does the same for a run of frames, faster.
-FrameEnergy frame_energy(const formats::DumpFrame& frame, const FrameView& view, const model::Stack& stack);
-
-// Elastic energy stored in the contacts of one sphere (with spheres and walls) in this frame.
-double contact_energy(const formats::DumpFrame& frame, const FrameView& view, const model::Stack& stack, int id);
-
-// A sphere has separated when the elastic energy left in its contacts can change its kinetic
-// energy by less than this fraction. (Exactly touching neighbours that leave together keep a
+// A sphere has separated (FrameAnalyser::has_separated) when the elastic energy left in its
+// contacts can change its kinetic energy by less than this fraction. (Exactly touching neighbours that leave together keep a
 // round-off overlap of ~1e-14 m, whose energy is ~1e-21 J: a count of overlaps would call them
 // touching forever.)
 inline constexpr double kSeparatedContactEnergy = 1e-6;
-bool has_separated(const formats::DumpFrame& frame, const FrameView& view, const model::Stack& stack, int id);
 
 }  // namespace granstack::postproc

@@ -88,6 +88,8 @@ class System {
   void parallel(const std::function<void(int)>& job);
   void worker(int index);
   std::pair<std::size_t, std::size_t> share(std::size_t count, int index) const;
+  // job(begin, end) on every thread's share of [0, count); on the caller alone with one thread.
+  void for_shares(std::size_t count, const std::function<void(std::size_t, std::size_t)>& job);
   void threaded_forces(bool update_history);
 
   std::size_t n_ = 0;
