@@ -130,6 +130,7 @@ struct RunFlags {
   int jobs = 1;
   int ranks = 1;
   int threads = 1;
+  std::string kernel = "auto";
   bool force = false;
   std::string liggghts = "liggghts";
 };
@@ -140,6 +141,7 @@ int do_run(const RunFlags& f) {
   o.jobs = f.jobs;
   o.ranks = f.ranks;
   o.threads = f.threads;
+  o.kernel = f.kernel;
   o.force = f.force;
   o.liggghts = f.liggghts;
   o.engine = f.engine == "refsim" ? runner::Engine::refsim : runner::Engine::liggghts;
@@ -345,6 +347,10 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--np", run.ranks, "MPI ranks per case (mpirun when > 1)")->check(CLI::Range(1, 4096));
   run_cmd->add_option("--threads", run.threads, "Threads per case for --engine refsim (results do not depend on it)")
       ->check(CLI::Range(1, 256));
+  run_cmd->add_option("--kernel", run.kernel,
+                      "refsim's contact kernel: auto (AVX-512 where the CPU has it), reference (scalar) or avx512; "
+                      "all give the same bits")
+      ->check(CLI::IsMember({"auto", "reference", "avx512"}));
   run_cmd->add_option("--liggghts", run.liggghts, "The LIGGGHTS executable");
   run_cmd->add_option("--engine", run.engine, "liggghts (the real DEM code) or refsim (the in-house reference integrator)")
       ->check(CLI::IsMember({"liggghts", "refsim"}));

@@ -191,6 +191,7 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   const auto data = formats::parse_data_file((dir / manifest.files.data).string());
   auto params = case_parameters(stack);
   params.threads = options.threads;
+  params.kernel = options.kernel;
   System system(particles_from(data), params);
 
   fs::create_directories((dir / manifest.files.dump).parent_path());
@@ -218,6 +219,7 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   stats.particle_steps_per_second =
       stats.loop_seconds > 0 ? static_cast<double>(stats.steps) * static_cast<double>(stats.atoms) / stats.loop_seconds : 0.0;
   stats.neighbor_builds = system.neighbor_builds();
+  stats.kernel = system.uses_avx512() ? "avx512" : "reference";
   return stats;
 }
 

@@ -322,18 +322,21 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
   return result;
 }
 
-EngineResult run_refsim(const fs::path& dir, int threads, const std::function<void(long)>& on_step) {
+EngineResult run_refsim(const fs::path& dir, const RunOptions& o, const std::function<void(long)>& on_step) {
   EngineResult result;
   try {
+    using Kernel = refsim::Parameters::Kernel;
     refsim::RunOptions ro;
-    ro.threads = threads;
+    ro.threads = o.threads;
+    ro.kernel = o.kernel == "reference" ? Kernel::reference : o.kernel == "avx512" ? Kernel::avx512 : Kernel::automatic;
     ro.on_progress = [&](long step, long) { on_step(step); };
     const auto stats = refsim::run_case(dir.string(), ro);
     result.loop_seconds = stats.loop_seconds;
     result.particle_steps_per_second = stats.particle_steps_per_second;
     result.record["steps"] = stats.steps;
     result.record["atoms"] = stats.atoms;
-    result.record["threads"] = threads;
+    result.record["threads"] = o.threads;
+    result.record["kernel"] = stats.kernel;
     result.record["neighbor_builds"] = stats.neighbor_builds;
   } catch (const std::exception& e) {
     result.error = std::string("refsim: ") + e.what();
@@ -378,7 +381,7 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
   const auto slot = monitor.start(manifest.case_name, manifest.derived.value("steps", 0L));
   const auto on_step = [&](long step) { monitor.update(slot, step); };
   const auto t0 = Clock::now();
-  auto result = refsim_engine ? run_refsim(dir, o.threads, on_step) : run_liggghts(dir, manifest, o, on_step);
+  auto result = refsim_engine ? run_refsim(dir, o, on_step) : run_liggghts(dir, manifest, o, on_step);
   outcome.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   monitor.finish(slot);
 

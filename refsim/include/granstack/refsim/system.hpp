@@ -4,12 +4,19 @@
 // (liggghts-3.8.md sections 1 to 3) so that two-body cases reproduce its dumps to round-off.
 #include <array>
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <thread>
 #include <vector>
 
 namespace granstack::refsim {
+
+namespace detail {
+struct PairTable;
+struct PairConstants;
+struct Motion;
+}  // namespace detail
 
 using Vec3 = std::array<double, 3>;
 
@@ -34,6 +41,9 @@ struct Parameters {
   // Threads for the force and integration loops. Every per-particle sum keeps the pair order
   // of one thread, so the result does not depend on the thread count, to the bit.
   int threads = 1;
+  // The contact kernel: the scalar reference, or eight pairs per instruction with AVX-512 (same
+  // operations in the same order, so the same bits); automatic takes AVX-512 where the CPU has it.
+  enum class Kernel { automatic, reference, avx512 } kernel = Kernel::automatic;
 };
 
 struct Particle {
@@ -61,62 +71,51 @@ class System {
   int type(std::size_t i) const { return type_[i]; }
   double radius(std::size_t i) const { return radius_[i]; }
   double mass(std::size_t i) const { return mass_[i]; }
-  Vec3 x(std::size_t i) const { return {x_[3 * i], x_[3 * i + 1], x_[3 * i + 2]}; }
-  Vec3 v(std::size_t i) const { return {v_[3 * i], v_[3 * i + 1], v_[3 * i + 2]}; }
-  Vec3 omega(std::size_t i) const { return {w_[3 * i], w_[3 * i + 1], w_[3 * i + 2]}; }
-  Vec3 force(std::size_t i) const { return {f_[3 * i], f_[3 * i + 1], f_[3 * i + 2]}; }
-  Vec3 torque(std::size_t i) const { return {t_[3 * i], t_[3 * i + 1], t_[3 * i + 2]}; }
+  Vec3 x(std::size_t i) const { return get(x_, i); }
+  Vec3 v(std::size_t i) const { return get(v_, i); }
+  Vec3 omega(std::size_t i) const { return get(w_, i); }
+  Vec3 force(std::size_t i) const { return get(f_, i); }
+  Vec3 torque(std::size_t i) const { return get(t_, i); }
   long neighbor_builds() const { return builds_; }
+  bool uses_avx512() const { return avx512_; }
 
  private:
-  // What one contact adds to its two particles, and whether it touches at all.
-  struct Contribution {
-    double fi[3], ti[3], fj[3], tj[3];
-    bool touching;
-  };
-
+  Vec3 get(const std::vector<double>& a, std::size_t i) const { return {a[i], a[stride_ + i], a[2 * stride_ + i]}; }
   void build_pairs();
-  bool needs_rebuild() const;
   void compute_forces(bool update_history);
-  void pair_force(std::size_t p, bool update_history, Contribution& c);
+  void sum_forces(std::size_t begin, std::size_t end, bool update_history);
   void wall_force(std::size_t i, std::size_t w, bool update_history);
   void external_forces(std::size_t i, bool update_history);  // walls then gravity, in the deck's order
-  void first_half(std::size_t begin, std::size_t end);
-  void second_half(std::size_t begin, std::size_t end);
+  detail::Motion motion();
 
   // Threads: workers wait for a job and run it on their share; the caller runs share 0.
   void parallel(const std::function<void(int)>& job);
   void worker(int index);
-  std::pair<std::size_t, std::size_t> share(std::size_t count, int index) const;
+  // Share `index` of [0, count), its bounds multiples of `align`.
+  std::pair<std::size_t, std::size_t> share(std::size_t count, int index, std::size_t align = 1) const;
   // job(begin, end) on every thread's share of [0, count); on the caller alone with one thread.
-  void for_shares(std::size_t count, const std::function<void(std::size_t, std::size_t)>& job);
-  void threaded_forces(bool update_history);
+  void for_shares(std::size_t count, const std::function<void(std::size_t, std::size_t)>& job, std::size_t align = 1);
 
   std::size_t n_ = 0;
   Parameters p_;
   std::vector<int> type_;
   std::vector<double> radius_, mass_;
   std::vector<double> kick_, spin_kick_;  // dtf / m and dtfrotate / (r^2 m), as fix nve/sphere forms them
-  // Structure of arrays, xyz interleaved per particle (the access pattern of the pair loop).
+  // Structure of arrays: component d of particle i at d * stride_ + i. The stride leaves room
+  // for the contact kernel's 16-wide loads past the last particle.
+  std::size_t stride_ = 0;
   std::vector<double> x_, v_, w_, f_, t_, x_at_build_;
 
-  // Per type pair, the left-most factors of LIGGGHTS's expressions, evaluated once: the same
-  // doubles it computes in every contact (4./3.*Y, 2.*Y, 8.*G, -2.*sqrt(5/6)*beta), so hoisting
-  // them changes no bit.
-  struct PairConstants {
-    double kn_factor, sn_factor, st_factor, damping_factor, friction;
-    bool damped;
-  };
-  std::vector<PairConstants> type_constants_;
-
-  // Candidate pairs (i < j), rebuilt when a particle has moved more than half the skin, with
-  // what does not change between rebuilds.
-  std::vector<std::size_t> pair_i_, pair_j_;
-  std::vector<double> pair_reff_, pair_meff_;
-  std::vector<const PairConstants*> pair_constants_;
-  std::vector<double> pair_history_;    // 3 per pair: the tangential displacement
-  std::vector<unsigned char> pair_flag_; // touching at its last evaluation (kept across rebuilds)
-  std::vector<double> wall_history_;    // 3 per particle and wall
+  std::vector<detail::PairConstants> type_constants_;  // per type pair, (a - 1) * types + (b - 1)
+  // Candidate pairs (i < j), rebuilt when a particle has moved more than half the skin.
+  std::unique_ptr<detail::PairTable> pairs_;
+  // Per particle, its entries in the pair table's contribution arrays, in LIGGGHTS's pair
+  // order: contributions_[contribution_offsets_[k] .. contribution_offsets_[k + 1]].
+  std::vector<std::size_t> contribution_offsets_;
+  std::vector<std::uint32_t> contributions_;
+  std::vector<double> wall_history_;  // 3 per particle and wall
+  bool external_ = false;             // walls or gravity
+  bool avx512_ = false;
 
   long step_ = 0;
   long builds_ = 0;
@@ -127,9 +126,6 @@ class System {
   std::atomic<long> generation_{0};
   std::atomic<int> finished_{0};
   std::atomic<bool> stop_{false};
-  std::vector<Contribution> contributions_;  // per pair, threaded runs only
-  // Per particle, the pairs it belongs to, in pair order (2 p for side i, 2 p + 1 for side j).
-  std::vector<std::size_t> atom_pair_offsets_, atom_pairs_;
 };
 
 }  // namespace granstack::refsim

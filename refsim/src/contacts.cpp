@@ -1,0 +1,220 @@
+#include "contacts.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace granstack::refsim::detail {
+
+void PairTable::clear() {
+  count = 0;
+  for (auto* a : {&i, &j}) a->clear();
+  for (auto* a : {&radi, &radj, &reff, &meff, &kn_factor, &sn_factor, &st_factor, &damping_factor, &friction, &shear_x,
+                  &shear_y, &shear_z}) {
+    a->clear();
+  }
+  touching.clear();
+}
+
+void PairTable::add(std::int32_t a, std::int32_t b, double ra, double rb, double ma, double mb, const PairConstants& k) {
+  i.push_back(a);
+  j.push_back(b);
+  radi.push_back(ra);
+  radj.push_back(rb);
+  reff.push_back(ra * rb / (ra + rb));
+  meff.push_back(ma * mb / (ma + mb));
+  kn_factor.push_back(k.kn_factor);
+  sn_factor.push_back(k.sn_factor);
+  st_factor.push_back(k.st_factor);
+  damping_factor.push_back(k.damping_factor);
+  friction.push_back(k.friction);
+  shear_x.push_back(0.0);
+  shear_y.push_back(0.0);
+  shear_z.push_back(0.0);
+  touching.push_back(0);
+  ++count;
+}
+
+void PairTable::finish() {
+  const std::size_t n = padded();
+  // Padding repeats the last pair at zero radius: never touching, never close, so it changes
+  // nothing, and it stays within the block's windows.
+  i.resize(n, count > 0 ? i[count - 1] : 0);
+  j.resize(n, count > 0 ? j[count - 1] : 0);
+  for (auto* a : {&radi, &radj, &reff, &meff, &kn_factor, &sn_factor, &st_factor, &damping_factor, &friction, &shear_x,
+                  &shear_y, &shear_z}) {
+    a->resize(n, 0.0);
+  }
+  touching.resize(n, 0);
+  for (auto* a : {&fx, &fy, &fz, &tx, &ty, &tz}) a->assign(2 * n, 0.0);
+  window_i.clear();
+  window_j.clear();
+  windowed.clear();
+  lane_i.resize(n);
+  lane_j.resize(n);
+  for (std::size_t b = 0; b < n; b += kPairBlock) {
+    const auto [i_lo, i_hi] = std::minmax_element(i.begin() + static_cast<std::ptrdiff_t>(b),
+                                                  i.begin() + static_cast<std::ptrdiff_t>(b + kPairBlock));
+    const auto [j_lo, j_hi] = std::minmax_element(j.begin() + static_cast<std::ptrdiff_t>(b),
+                                                  j.begin() + static_cast<std::ptrdiff_t>(b + kPairBlock));
+    window_i.push_back(*i_lo);
+    window_j.push_back(*j_lo);
+    windowed.push_back(*i_hi - *i_lo < kWindow && *j_hi - *j_lo < kWindow);
+    for (std::size_t p = b; p < b + kPairBlock; ++p) {
+      lane_i[p] = i[p] - *i_lo;
+      lane_j[p] = j[p] - *j_lo;
+    }
+  }
+}
+
+// With beta = 0 (e = 1) the damping coefficients are the factor itself (-0.0) whatever the
+// square root, so it is not taken.
+Normal hertz_normal(const PairConstants& k, double reff, double meff, double deltan, double vn, bool tangential_damping) {
+  const double sqrtval = std::sqrt(reff * deltan);
+  const double kt = k.st_factor * sqrtval;
+  const double kn = k.kn_factor * sqrtval;
+  const bool damped = k.damped();
+  const double gamman = damped ? k.damping_factor * std::sqrt(k.sn_factor * sqrtval * meff) : k.damping_factor;
+  const double gammat = !tangential_damping ? 0.0 : damped ? k.damping_factor * std::sqrt(kt * meff) : k.damping_factor;
+  return {-gamman * vn + kn * deltan, kt, gammat};
+}
+
+void tangential_force(double shear[3], const double en[3], const double vtr[3], const Normal& n, double mu,
+                      bool update_history, double dt, double ft[3], double tor[3]) {
+  if (update_history) {
+    shear[0] += vtr[0] * dt;
+    shear[1] += vtr[1] * dt;
+    shear[2] += vtr[2] * dt;
+    const double rsht = shear[0] * en[0] + shear[1] * en[1] + shear[2] * en[2];
+    shear[0] -= rsht * en[0];
+    shear[1] -= rsht * en[1];
+    shear[2] -= rsht * en[2];
+  }
+  const double kt = n.kt;
+  const double shear_sq = shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2];
+  ft[0] = -(kt * shear[0]);
+  ft[1] = -(kt * shear[1]);
+  ft[2] = -(kt * shear[2]);
+  if (mu == 0.0 && kt > 0.0 && shear_sq > 0.0) {
+    // Frictionless: LIGGGHTS slides with ratio 0 / (kt |xi|), leaving a zero force and a zero
+    // history; the same without the square root and the four divisions (only signs of zero differ).
+    ft[0] = ft[1] = ft[2] = 0.0;
+    if (update_history) shear[0] = shear[1] = shear[2] = 0.0;
+  } else {
+    const double shrmag = std::sqrt(shear_sq);
+    const double ft_shear = kt * shrmag;
+    const double ft_friction = mu * std::fabs(n.fn);
+    if (ft_shear > ft_friction) {
+      if (shrmag != 0.0) {
+        const double ratio = ft_friction / ft_shear;
+        for (int d = 0; d < 3; ++d) ft[d] *= ratio;
+        if (update_history) {
+          for (int d = 0; d < 3; ++d) shear[d] = -ft[d] / kt;
+        }
+      } else {
+        ft[0] = ft[1] = ft[2] = 0.0;
+      }
+    } else {
+      for (int d = 0; d < 3; ++d) ft[d] -= n.gammat * vtr[d];
+    }
+  }
+  tor[0] = en[1] * ft[2] - en[2] * ft[1];
+  tor[1] = en[2] * ft[0] - en[0] * ft[2];
+  tor[2] = en[0] * ft[1] - en[1] * ft[0];
+}
+
+namespace {
+
+void zero_contribution(PairTable& t, std::size_t p) {
+  for (std::size_t q : {p, t.padded() + p}) t.fx[q] = t.fy[q] = t.fz[q] = t.tx[q] = t.ty[q] = t.tz[q] = 0.0;
+}
+
+void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
+  const std::size_t i = static_cast<std::size_t>(t.i[p]), j = static_cast<std::size_t>(t.j[p]);
+  const std::size_t y = s.stride, z = 2 * s.stride;
+  const double delx = s.x[i] - s.x[j];
+  const double dely = s.x[y + i] - s.x[y + j];
+  const double delz = s.x[z + i] - s.x[z + j];
+  const double rsq = delx * delx + dely * dely + delz * delz;
+  const double radi = t.radi[p], radj = t.radj[p];
+  const double radsum = radi + radj;
+  if (!(rsq < radsum * radsum)) {
+    // Close but not touching: the history is reset (surfacesClose); farther: left alone.
+    const double cdf = s.contact_distance_factor;
+    if (rsq < cdf * cdf * radsum * radsum) {
+      t.touching[p] = 0;
+      t.shear_x[p] = t.shear_y[p] = t.shear_z[p] = 0.0;
+    }
+    zero_contribution(t, p);
+    return;
+  }
+  t.touching[p] = 1;
+  const double r = std::sqrt(rsq);
+  const double rinv = 1.0 / r;
+  const double en[3] = {delx * rinv, dely * rinv, delz * rinv};
+
+  // Relative velocity at the contact point; lever arms shortened by half the overlap.
+  const double vr1 = s.v[i] - s.v[j], vr2 = s.v[y + i] - s.v[y + j], vr3 = s.v[z + i] - s.v[z + j];
+  const double vn = vr1 * en[0] + vr2 * en[1] + vr3 * en[2];
+  const double vt1 = vr1 - vn * en[0], vt2 = vr2 - vn * en[1], vt3 = vr3 - vn * en[2];
+  const double deltan = radsum - r;
+  const double cri = radi - 0.5 * deltan;
+  const double crj = radj - 0.5 * deltan;
+  const double wr1 = (cri * s.w[i] + crj * s.w[j]) * rinv;
+  const double wr2 = (cri * s.w[y + i] + crj * s.w[y + j]) * rinv;
+  const double wr3 = (cri * s.w[z + i] + crj * s.w[z + j]) * rinv;
+  const double vtr[3] = {vt1 - (delz * wr2 - dely * wr3), vt2 - (delx * wr3 - delz * wr1), vt3 - (dely * wr1 - delx * wr2)};
+
+  const PairConstants k{t.kn_factor[p], t.sn_factor[p], t.st_factor[p], t.damping_factor[p], t.friction[p]};
+  const Normal n = hertz_normal(k, t.reff[p], t.meff[p], deltan, vn, s.tangential_damping);
+  double shear[3] = {t.shear_x[p], t.shear_y[p], t.shear_z[p]};
+  double ft[3], tor[3];
+  tangential_force(shear, en, vtr, n, k.friction, s.update_history, s.dt, ft, tor);
+  t.shear_x[p] = shear[0];
+  t.shear_y[p] = shear[1];
+  t.shear_z[p] = shear[2];
+  // The force on j is (0 + -fn en) + -ft, the exact negative of this but for the sign of a zero.
+  const std::size_t q = t.padded() + p;
+  t.fx[q] = -(t.fx[p] = n.fn * en[0] + ft[0]);
+  t.fy[q] = -(t.fy[p] = n.fn * en[1] + ft[1]);
+  t.fz[q] = -(t.fz[p] = n.fn * en[2] + ft[2]);
+  t.tx[p] = -cri * tor[0];
+  t.ty[p] = -cri * tor[1];
+  t.tz[p] = -cri * tor[2];
+  t.tx[q] = -crj * tor[0];
+  t.ty[q] = -crj * tor[1];
+  t.tz[q] = -crj * tor[2];
+}
+
+}  // namespace
+
+void contacts_reference(PairTable& pairs, const ContactStep& s, std::size_t begin, std::size_t end) {
+  for (std::size_t p = begin; p < end; ++p) pair_force(pairs, s, p);
+}
+
+bool first_half_reference(const Motion& m, std::size_t begin, std::size_t end) {
+  bool moved = false;
+  const std::size_t y = m.stride, z = 2 * m.stride;
+  for (std::size_t i = begin; i < end; ++i) {
+    for (std::size_t e : {i, y + i, z + i}) {
+      m.v[e] += m.kick[i] * m.f[e];
+      m.x[e] += m.dt * m.v[e];
+      m.w[e] += m.spin_kick[i] * m.t[e];
+    }
+    const double dx = m.x[i] - m.x_at_build[i];
+    const double dy = m.x[y + i] - m.x_at_build[y + i];
+    const double dz = m.x[z + i] - m.x_at_build[z + i];
+    moved |= dx * dx + dy * dy + dz * dz > m.trigger;
+  }
+  return moved;
+}
+
+void second_half_reference(const Motion& m, std::size_t begin, std::size_t end) {
+  for (std::size_t i = begin; i < end; ++i) {
+    for (std::size_t e : {i, m.stride + i, 2 * m.stride + i}) {
+      m.v[e] += m.kick[i] * m.f[e];
+      m.w[e] += m.spin_kick[i] * m.t[e];
+    }
+  }
+}
+
+}  // namespace granstack::refsim::detail

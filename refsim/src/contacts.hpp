@@ -1,0 +1,111 @@
+#pragma once
+// The sphere-sphere contact kernel, private to refsim: candidate pairs in structure-of-arrays
+// form and two implementations over them, the scalar reference (contacts.cpp, the model written
+// out line by line) and an AVX-512 one (contacts_avx512.cpp, eight pairs per instruction). Both
+// perform every floating-point operation of LIGGGHTS's hertz/history model in its order, so they
+// give the same bits; a test holds them to that.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace granstack::refsim::detail {
+
+// Pairs are processed in blocks of this many; the tables are padded to a multiple of it with
+// pairs of zero radius that never touch, so a block never needs a tail.
+inline constexpr std::size_t kPairBlock = 8;
+
+// What the Hertz model needs of one type pair: the left-most factors of LIGGGHTS's expressions
+// (4./3.*Y, 2.*Y, 8.*G, -2.*sqrt(5/6)*beta), evaluated once as it evaluates them in every
+// contact, so hoisting them changes no bit.
+struct PairConstants {
+  double kn_factor = 0.0, sn_factor = 0.0, st_factor = 0.0, damping_factor = 0.0, friction = 0.0;
+  bool damped() const { return damping_factor != 0.0; }  // beta != 0, i.e. e < 1
+};
+
+// The candidate pairs (i < j), what does not change between neighbour-list builds, the
+// tangential history, and what each contact gives its two spheres at the last force call.
+// Non-touching pairs give zeros: adding +-0 to a force sum that started at +0 changes no bit.
+// The order of the pairs is free (each particle adds its contributions in its own order), so
+// they are ordered by j - i, then i: in a lattice, eight consecutive pairs then have their i
+// within 16 consecutive particles and their j too, which two loads and a permutation fetch.
+struct PairTable {
+  std::size_t count = 0;  // real pairs; the per-pair arrays hold padded() entries
+  std::vector<std::int32_t> i, j;
+  std::vector<double> radi, radj, reff, meff;
+  std::vector<double> kn_factor, sn_factor, st_factor, damping_factor, friction;
+  std::vector<double> shear_x, shear_y, shear_z;  // the tangential displacement history
+  std::vector<std::uint8_t> touching;             // at its last evaluation (kept across rebuilds)
+  // Per block of kPairBlock pairs: the lowest i and j, and whether every i and every j lies
+  // within kWindow particles of them; per pair, its i and j less those.
+  static constexpr std::int32_t kWindow = 2 * static_cast<std::int32_t>(kPairBlock);
+  std::vector<std::int32_t> window_i, window_j;
+  std::vector<std::uint8_t> windowed;
+  std::vector<std::int64_t> lane_i, lane_j;
+  // What each contact gives its spheres: entry p for i, entry padded() + p for j (the force on
+  // j is the exact negative of the force on i; the torques differ by their lever arms).
+  std::vector<double> fx, fy, fz, tx, ty, tz;
+
+  std::size_t padded() const { return (count + kPairBlock - 1) / kPairBlock * kPairBlock; }
+  void clear();
+  void add(std::int32_t a, std::int32_t b, double ra, double rb, double ma, double mb, const PairConstants& k);
+  void finish();  // after the last add: pads, and finds each block's windows
+};
+
+// One force call's inputs beyond the tables.
+struct ContactStep {
+  // Particle positions, velocities, angular velocities: component d of particle k at
+  // d * stride + k, with at least kWindow entries after the last particle's.
+  const double* x;
+  const double* v;
+  const double* w;
+  std::size_t stride = 0;
+  double dt = 0.0;
+  double contact_distance_factor = 1.0;
+  bool update_history = true;
+  bool tangential_damping = true;
+};
+
+// Evaluates pairs [begin, end) of the table (both multiples of kPairBlock for the AVX-512 one).
+void contacts_reference(PairTable& pairs, const ContactStep& s, std::size_t begin, std::size_t end);
+void contacts_avx512(PairTable& pairs, const ContactStep& s, std::size_t begin, std::size_t end);
+bool avx512_available();  // this CPU runs contacts_avx512
+
+// The particle arrays nve/sphere updates (component-major, as ContactStep; every array holds
+// whole blocks of kPairBlock particles, zero past the last).
+struct Motion {
+  double* x;
+  double* v;
+  double* w;
+  const double* f;
+  const double* t;
+  const double* kick;       // dtf / m per particle
+  const double* spin_kick;  // dtfrotate / (r^2 m) per particle
+  const double* x_at_build;
+  std::size_t stride = 0;
+  double dt = 0.0;
+  double trigger = 0.0;  // (skin / 2)^2
+};
+
+// nve/sphere's initial_integrate on particles [begin, end): kick, drift, spin kick. True if one
+// of them is now more than half the skin from where it was at the last neighbour-list build.
+bool first_half_reference(const Motion& m, std::size_t begin, std::size_t end);
+void second_half_reference(const Motion& m, std::size_t begin, std::size_t end);  // final_integrate
+// The same on whole blocks of particles: begin a multiple of kPairBlock, end rounded up to one.
+bool first_half_avx512(const Motion& m, std::size_t begin, std::size_t end);
+void second_half_avx512(const Motion& m, std::size_t begin, std::size_t end);
+
+// The Hertz normal force with restitution damping, and the tangential stiffness and damping
+// (normal_model_hertz.h); shared by the pair kernel and the walls.
+struct Normal {
+  double fn, kt, gammat;
+};
+Normal hertz_normal(const PairConstants& k, double reff, double meff, double deltan, double vn, bool tangential_damping);
+
+// The tangential history spring (tangential_model_history.h): increment by the sliding velocity,
+// project on the tangent plane, Coulomb-truncate (no damping while sliding). Returns the
+// tangential force on the first body in `ft` and n x Ft in `tor` (the torque on each body is
+// minus its lever arm times it).
+void tangential_force(double shear[3], const double en[3], const double vtr[3], const Normal& n, double mu,
+                      bool update_history, double dt, double ft[3], double tor[3]);
+
+}  // namespace granstack::refsim::detail

@@ -1,0 +1,253 @@
+// The contact kernel eight pairs at a time with AVX-512: contacts.cpp's pair_force with every
+// branch turned into lane masks. Each lane does the reference's floating-point operations in the
+// reference's order (IEEE addition, multiplication, division and square root are exactly
+// rounded, and refsim is built without contraction into fused multiply-adds), so each lane gives
+// the reference's bits. Work a branch would skip is skipped when no lane needs it.
+#include "contacts.hpp"
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define GRANSTACK_HAVE_AVX512_KERNEL 1
+#include <immintrin.h>
+// GCC 12's avx512fintrin.h makes its "undefined" vectors by self-initialisation, which its own
+// -Wuninitialized reports wherever a gather or a conversion is inlined.
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+
+#include <stdexcept>
+
+namespace granstack::refsim::detail {
+
+#ifdef GRANSTACK_HAVE_AVX512_KERNEL
+
+bool avx512_available() { return __builtin_cpu_supports("avx512f"); }
+
+#define GRANSTACK_AVX512 __attribute__((target("avx512f")))
+#define GRANSTACK_AVX512_INLINE __attribute__((target("avx512f"), always_inline)) inline
+
+namespace {
+
+using V = __m512d;  // eight doubles; + - * / and unary - act lane by lane
+using M = __mmask8;
+
+GRANSTACK_AVX512_INLINE V broadcast(double a) { return _mm512_set1_pd(a); }
+GRANSTACK_AVX512_INLINE V load(const double* p) { return _mm512_loadu_pd(p); }
+GRANSTACK_AVX512_INLINE V sqrt(V a) { return _mm512_sqrt_pd(a); }
+GRANSTACK_AVX512_INLINE V abs(V a) { return _mm512_abs_pd(a); }
+GRANSTACK_AVX512_INLINE M less(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_LT_OQ); }
+GRANSTACK_AVX512_INLINE M greater(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_GT_OQ); }
+GRANSTACK_AVX512_INLINE M equal(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_EQ_OQ); }
+GRANSTACK_AVX512_INLINE M not_equal(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_NEQ_UQ); }
+// `yes` in the lanes of m, `no` elsewhere.
+GRANSTACK_AVX512_INLINE V select(M m, V yes, V no) { return _mm512_mask_blend_pd(m, no, yes); }
+GRANSTACK_AVX512_INLINE V zero_unless(M m, V a) { return _mm512_maskz_mov_pd(m, a); }
+struct Vec {
+  V x, y, z;
+};
+
+// Where a block finds one side's particles: within a window of 16 from `base` (two loads and a
+// permutation), or anywhere (a gather).
+struct Side {
+  bool windowed;
+  std::int32_t base;
+  __m512i lanes;  // index - base
+  __m256i index;
+};
+
+GRANSTACK_AVX512_INLINE V fetch(const double* component, const Side& s) {
+  if (s.windowed) return _mm512_permutex2var_pd(load(component + s.base), s.lanes, load(component + s.base + 8));
+  return _mm512_i32gather_pd(s.index, component, 8);
+}
+
+GRANSTACK_AVX512_INLINE Vec fetch(const double* a, std::size_t stride, const Side& s) {
+  return {fetch(a, s), fetch(a + stride, s), fetch(a + 2 * stride, s)};
+}
+
+// Force on i and on j (its negative), torques on i and on j, zero where not touching.
+GRANSTACK_AVX512_INLINE void store_contributions(PairTable& t, std::size_t p, M touching, const Vec& f, const Vec& ti, const Vec& tj) {
+  const std::size_t q = t.padded() + p;
+  _mm512_storeu_pd(&t.fx[p], zero_unless(touching, f.x));
+  _mm512_storeu_pd(&t.fy[p], zero_unless(touching, f.y));
+  _mm512_storeu_pd(&t.fz[p], zero_unless(touching, f.z));
+  _mm512_storeu_pd(&t.fx[q], zero_unless(touching, -f.x));
+  _mm512_storeu_pd(&t.fy[q], zero_unless(touching, -f.y));
+  _mm512_storeu_pd(&t.fz[q], zero_unless(touching, -f.z));
+  _mm512_storeu_pd(&t.tx[p], zero_unless(touching, ti.x));
+  _mm512_storeu_pd(&t.ty[p], zero_unless(touching, ti.y));
+  _mm512_storeu_pd(&t.tz[p], zero_unless(touching, ti.z));
+  _mm512_storeu_pd(&t.tx[q], zero_unless(touching, tj.x));
+  _mm512_storeu_pd(&t.ty[q], zero_unless(touching, tj.y));
+  _mm512_storeu_pd(&t.tz[q], zero_unless(touching, tj.z));
+}
+
+// The touching flags of pairs p..p+7: set where touching, cleared where only close.
+GRANSTACK_AVX512_INLINE void update_flags(std::uint8_t* flags, M touching, M close) {
+  __m512i f = _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(flags)));
+  f = _mm512_mask_mov_epi64(f, close, _mm512_setzero_si512());
+  f = _mm512_mask_mov_epi64(f, touching, _mm512_set1_epi64(1));
+  _mm_storel_epi64(reinterpret_cast<__m128i*>(flags), _mm512_cvtepi64_epi8(f));
+}
+
+GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
+  const std::size_t b = p / kPairBlock;
+  const bool windowed = t.windowed[b] != 0;
+  const Side si{windowed, t.window_i[b], _mm512_loadu_si512(&t.lane_i[p]),
+                _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&t.i[p]))};
+  const Side sj{windowed, t.window_j[b], _mm512_loadu_si512(&t.lane_j[p]),
+                _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&t.j[p]))};
+  const Vec xi = fetch(s.x, s.stride, si), xj = fetch(s.x, s.stride, sj);
+  const V delx = xi.x - xj.x;
+  const V dely = xi.y - xj.y;
+  const V delz = xi.z - xj.z;
+  const V rsq = delx * delx + dely * dely + delz * delz;
+  const V radi = load(&t.radi[p]), radj = load(&t.radj[p]);
+  const V radsum = radi + radj;
+  const M touching = less(rsq, radsum * radsum);
+  const V cdf = broadcast(s.contact_distance_factor);
+  // Close but not touching: the history is reset (surfacesClose); farther: left alone.
+  const M close = static_cast<M>(~touching & less(rsq, cdf * cdf * radsum * radsum));
+  update_flags(&t.touching[p], touching, close);
+  const V zero = _mm512_setzero_pd();
+  if (touching == 0) {
+    for (double* a : {&t.shear_x[p], &t.shear_y[p], &t.shear_z[p]}) _mm512_mask_storeu_pd(a, close, zero);
+    store_contributions(t, p, touching, {zero, zero, zero}, {zero, zero, zero}, {zero, zero, zero});
+    return;
+  }
+  const V one = broadcast(1.0), half = broadcast(0.5);
+  const V r = sqrt(rsq);
+  const V rinv = one / r;
+  const Vec en{delx * rinv, dely * rinv, delz * rinv};
+
+  // Relative velocity at the contact point; lever arms shortened by half the overlap.
+  const Vec vi = fetch(s.v, s.stride, si), vj = fetch(s.v, s.stride, sj);
+  const V vr1 = vi.x - vj.x, vr2 = vi.y - vj.y, vr3 = vi.z - vj.z;
+  const V vn = vr1 * en.x + vr2 * en.y + vr3 * en.z;
+  const V vt1 = vr1 - vn * en.x, vt2 = vr2 - vn * en.y, vt3 = vr3 - vn * en.z;
+  const V deltan = radsum - r;
+  const V cri = radi - half * deltan;
+  const V crj = radj - half * deltan;
+  const Vec wi = fetch(s.w, s.stride, si), wj = fetch(s.w, s.stride, sj);
+  const V wr1 = (cri * wi.x + crj * wj.x) * rinv;
+  const V wr2 = (cri * wi.y + crj * wj.y) * rinv;
+  const V wr3 = (cri * wi.z + crj * wj.z) * rinv;
+  const Vec vtr{vt1 - (delz * wr2 - dely * wr3), vt2 - (delx * wr3 - delz * wr1), vt3 - (dely * wr1 - delx * wr2)};
+
+  // hertz_normal
+  const V meff = load(&t.meff[p]);
+  const V damping = load(&t.damping_factor[p]);
+  const V sqrtval = sqrt(load(&t.reff[p]) * deltan);
+  const V kt = load(&t.st_factor[p]) * sqrtval;
+  const V kn = load(&t.kn_factor[p]) * sqrtval;
+  const M damped = static_cast<M>(touching & not_equal(damping, zero));
+  V gamman = damping, gammat = s.tangential_damping ? damping : zero;
+  if (damped != 0) {
+    gamman = select(damped, damping * sqrt(load(&t.sn_factor[p]) * sqrtval * meff), gamman);
+    if (s.tangential_damping) gammat = select(damped, damping * sqrt(kt * meff), gammat);
+  }
+  const V fn = -gamman * vn + kn * deltan;
+
+  // tangential_force
+  Vec shear{load(&t.shear_x[p]), load(&t.shear_y[p]), load(&t.shear_z[p])};
+  const Vec shear_before = shear;
+  if (s.update_history) {
+    const V dt = broadcast(s.dt);
+    shear.x = shear.x + vtr.x * dt;
+    shear.y = shear.y + vtr.y * dt;
+    shear.z = shear.z + vtr.z * dt;
+    const V rsht = shear.x * en.x + shear.y * en.y + shear.z * en.z;
+    shear.x = shear.x - rsht * en.x;
+    shear.y = shear.y - rsht * en.y;
+    shear.z = shear.z - rsht * en.z;
+  }
+  const V shear_sq = shear.x * shear.x + shear.y * shear.y + shear.z * shear.z;
+  Vec ft{-(kt * shear.x), -(kt * shear.y), -(kt * shear.z)};
+  const V mu = load(&t.friction[p]);
+  const M frictionless = equal(mu, zero);
+  // Frictionless sliding leaves a zero force and a zero history (as the reference).
+  const M zero_slide = static_cast<M>(touching & frictionless & greater(kt, zero) & greater(shear_sq, zero));
+  // A frictionless pair that does not slide sticks: its kt |xi| is 0, not above mu |fn| = 0.
+  const M coulomb = static_cast<M>(touching & ~frictionless);
+  M sliding = 0;
+  if (coulomb != 0) {
+    const V shrmag = sqrt(shear_sq);
+    const V ft_shear = kt * shrmag;
+    const V ft_friction = mu * abs(fn);
+    sliding = static_cast<M>(coulomb & greater(ft_shear, ft_friction));
+    if (sliding != 0) {
+      // Sliding: scaled down to the Coulomb limit, or zero if there is no displacement to scale.
+      const M scaled = static_cast<M>(sliding & not_equal(shrmag, zero));
+      const V ratio = ft_friction / ft_shear;
+      ft = {select(scaled, ft.x * ratio, select(sliding, zero, ft.x)), select(scaled, ft.y * ratio, select(sliding, zero, ft.y)),
+            select(scaled, ft.z * ratio, select(sliding, zero, ft.z))};
+      if (s.update_history) {
+        shear = {select(scaled, -ft.x / kt, shear.x), select(scaled, -ft.y / kt, shear.y), select(scaled, -ft.z / kt, shear.z)};
+      }
+    }
+  }
+  if (zero_slide != 0) {
+    ft = {select(zero_slide, zero, ft.x), select(zero_slide, zero, ft.y), select(zero_slide, zero, ft.z)};
+    if (s.update_history) {
+      shear = {select(zero_slide, zero, shear.x), select(zero_slide, zero, shear.y), select(zero_slide, zero, shear.z)};
+    }
+  }
+  const M sticking = static_cast<M>(touching & ~zero_slide & ~sliding);
+  ft = {select(sticking, ft.x - gammat * vtr.x, ft.x), select(sticking, ft.y - gammat * vtr.y, ft.y),
+        select(sticking, ft.z - gammat * vtr.z, ft.z)};
+  const Vec tor{en.y * ft.z - en.z * ft.y, en.z * ft.x - en.x * ft.z, en.x * ft.y - en.y * ft.x};
+
+  // The history: the new one where touching, zero where close, unchanged farther away.
+  _mm512_storeu_pd(&t.shear_x[p], select(touching, shear.x, select(close, zero, shear_before.x)));
+  _mm512_storeu_pd(&t.shear_y[p], select(touching, shear.y, select(close, zero, shear_before.y)));
+  _mm512_storeu_pd(&t.shear_z[p], select(touching, shear.z, select(close, zero, shear_before.z)));
+  store_contributions(t, p, touching, {fn * en.x + ft.x, fn * en.y + ft.y, fn * en.z + ft.z},
+                      {-cri * tor.x, -cri * tor.y, -cri * tor.z}, {-crj * tor.x, -crj * tor.y, -crj * tor.z});
+}
+
+}  // namespace
+
+void contacts_avx512(PairTable& pairs, const ContactStep& s, std::size_t begin, std::size_t end) {
+  for (std::size_t p = begin; p < end; p += kPairBlock) block(pairs, s, p);
+}
+
+GRANSTACK_AVX512 bool first_half_avx512(const Motion& m, std::size_t begin, std::size_t end) {
+  const V dt = broadcast(m.dt), trigger = broadcast(m.trigger);
+  M moved = 0;
+  for (std::size_t i = begin; i < end; i += kPairBlock) {
+    const V kick = load(&m.kick[i]), spin = load(&m.spin_kick[i]);
+    V dsq = _mm512_setzero_pd();
+    for (std::size_t e = i; e < i + 3 * m.stride; e += m.stride) {
+      const V v = load(&m.v[e]) + kick * load(&m.f[e]);
+      const V x = load(&m.x[e]) + dt * v;
+      _mm512_storeu_pd(&m.v[e], v);
+      _mm512_storeu_pd(&m.x[e], x);
+      _mm512_storeu_pd(&m.w[e], load(&m.w[e]) + spin * load(&m.t[e]));
+      const V d = x - load(&m.x_at_build[e]);
+      dsq = dsq + d * d;  // dx^2, then + dy^2, then + dz^2: the reference's order
+    }
+    moved = static_cast<M>(moved | greater(dsq, trigger));
+  }
+  return moved != 0;
+}
+
+GRANSTACK_AVX512 void second_half_avx512(const Motion& m, std::size_t begin, std::size_t end) {
+  for (std::size_t i = begin; i < end; i += kPairBlock) {
+    const V kick = load(&m.kick[i]), spin = load(&m.spin_kick[i]);
+    for (std::size_t e = i; e < i + 3 * m.stride; e += m.stride) {
+      _mm512_storeu_pd(&m.v[e], load(&m.v[e]) + kick * load(&m.f[e]));
+      _mm512_storeu_pd(&m.w[e], load(&m.w[e]) + spin * load(&m.t[e]));
+    }
+  }
+}
+
+#else
+
+bool avx512_available() { return false; }
+
+[[noreturn]] void no_avx512() { throw std::logic_error("refsim: this build has no AVX-512 kernels"); }
+void contacts_avx512(PairTable&, const ContactStep&, std::size_t, std::size_t) { no_avx512(); }
+bool first_half_avx512(const Motion&, std::size_t, std::size_t) { no_avx512(); }
+void second_half_avx512(const Motion&, std::size_t, std::size_t) { no_avx512(); }
+
+#endif
+
+}  // namespace granstack::refsim::detail
