@@ -2,31 +2,31 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace granstack::refsim::detail {
 
 void PairTable::clear() {
   count = 0;
-  for (auto* a : {&i, &j}) a->clear();
-  for (auto* a : {&radi, &radj, &reff, &meff, &kn_factor, &sn_factor, &st_factor, &damping_factor, &friction, &shear_x,
-                  &shear_y, &shear_z}) {
-    a->clear();
-  }
+  for (auto* a : {&i, &j, &record}) a->clear();
+  for (auto* a : {&shear_x, &shear_y, &shear_z}) a->clear();
   touching.clear();
+  records.assign(1, PairRecord{});
 }
 
 void PairTable::add(std::int32_t a, std::int32_t b, double ra, double rb, double ma, double mb, const PairConstants& k) {
   i.push_back(a);
   j.push_back(b);
-  radi.push_back(ra);
-  radj.push_back(rb);
-  reff.push_back(ra * rb / (ra + rb));
-  meff.push_back(ma * mb / (ma + mb));
-  kn_factor.push_back(k.kn_factor);
-  sn_factor.push_back(k.sn_factor);
-  st_factor.push_back(k.st_factor);
-  damping_factor.push_back(k.damping_factor);
-  friction.push_back(k.friction);
+  const PairRecord r{ra,          rb,          ra * rb / (ra + rb), ma * mb / (ma + mb), k.kn_factor,
+                     k.sn_factor, k.st_factor, k.damping_factor,    k.friction};
+  // Bitwise equal, newest first (neighbouring pairs mostly share one).
+  std::size_t found = records.size();
+  while (found > 1 && std::memcmp(&records[found - 1], &r, sizeof r) != 0) --found;
+  if (found == 1) {
+    records.push_back(r);
+    found = records.size();
+  }
+  record.push_back(static_cast<std::int32_t>(found - 1));
   shear_x.push_back(0.0);
   shear_y.push_back(0.0);
   shear_z.push_back(0.0);
@@ -40,15 +40,14 @@ void PairTable::finish() {
   // nothing, and it stays within the block's windows.
   i.resize(n, count > 0 ? i[count - 1] : 0);
   j.resize(n, count > 0 ? j[count - 1] : 0);
-  for (auto* a : {&radi, &radj, &reff, &meff, &kn_factor, &sn_factor, &st_factor, &damping_factor, &friction, &shear_x,
-                  &shear_y, &shear_z}) {
-    a->resize(n, 0.0);
-  }
+  record.resize(n, 0);
+  for (auto* a : {&shear_x, &shear_y, &shear_z}) a->resize(n, 0.0);
   touching.resize(n, 0);
   for (auto* a : {&fx, &fy, &fz, &tx, &ty, &tz}) a->assign(2 * n, 0.0);
   window_i.clear();
   window_j.clear();
   windowed.clear();
+  uniform.clear();
   lane_i.resize(n);
   lane_j.resize(n);
   for (std::size_t b = 0; b < n; b += kPairBlock) {
@@ -59,9 +58,11 @@ void PairTable::finish() {
     window_i.push_back(*i_lo);
     window_j.push_back(*j_lo);
     windowed.push_back(*i_hi - *i_lo < kWindow && *j_hi - *j_lo < kWindow);
+    const auto first = record.begin() + static_cast<std::ptrdiff_t>(b);
+    uniform.push_back(std::all_of(first, first + kPairBlock, [&](std::int32_t r) { return r == *first; }));
     for (std::size_t p = b; p < b + kPairBlock; ++p) {
-      lane_i[p] = i[p] - *i_lo;
-      lane_j[p] = j[p] - *j_lo;
+      lane_i[p] = static_cast<std::uint8_t>(i[p] - *i_lo);  // only used when windowed
+      lane_j[p] = static_cast<std::uint8_t>(j[p] - *j_lo);
     }
   }
 }
@@ -135,7 +136,8 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
   const double dely = s.x[y + i] - s.x[y + j];
   const double delz = s.x[z + i] - s.x[z + j];
   const double rsq = delx * delx + dely * dely + delz * delz;
-  const double radi = t.radi[p], radj = t.radj[p];
+  const PairRecord& rec = t.records[static_cast<std::size_t>(t.record[p])];
+  const double radi = rec.radi, radj = rec.radj;
   const double radsum = radi + radj;
   if (!(rsq < radsum * radsum)) {
     // Close but not touching: the history is reset (surfacesClose); farther: left alone.
@@ -164,8 +166,8 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
   const double wr3 = (cri * s.w[z + i] + crj * s.w[z + j]) * rinv;
   const double vtr[3] = {vt1 - (delz * wr2 - dely * wr3), vt2 - (delx * wr3 - delz * wr1), vt3 - (dely * wr1 - delx * wr2)};
 
-  const PairConstants k{t.kn_factor[p], t.sn_factor[p], t.st_factor[p], t.damping_factor[p], t.friction[p]};
-  const Normal n = hertz_normal(k, t.reff[p], t.meff[p], deltan, vn, s.tangential_damping);
+  const PairConstants k = rec.constants();
+  const Normal n = hertz_normal(k, rec.reff, rec.meff, deltan, vn, s.tangential_damping);
   double shear[3] = {t.shear_x[p], t.shear_y[p], t.shear_z[p]};
   double ft[3], tor[3];
   tangential_force(shear, en, vtr, n, k.friction, s.update_history, s.dt, ft, tor);

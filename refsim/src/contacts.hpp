@@ -28,19 +28,28 @@ struct PairConstants {
 // The order of the pairs is free (each particle adds its contributions in its own order), so
 // they are ordered by j - i, then i: in a lattice, eight consecutive pairs then have their i
 // within 16 consecutive particles and their j too, which two loads and a permutation fetch.
+// What a pair's contact needs of its two spheres, the same for every pair of two given types
+// in a generated stack: the table keeps each distinct one once.
+struct PairRecord {
+  double radi, radj, reff, meff;
+  double kn_factor, sn_factor, st_factor, damping_factor, friction;
+  PairConstants constants() const { return {kn_factor, sn_factor, st_factor, damping_factor, friction}; }
+};
+
 struct PairTable {
   std::size_t count = 0;  // real pairs; the per-pair arrays hold padded() entries
   std::vector<std::int32_t> i, j;
-  std::vector<double> radi, radj, reff, meff;
-  std::vector<double> kn_factor, sn_factor, st_factor, damping_factor, friction;
+  std::vector<PairRecord> records;                // distinct records, the first all zero (padding)
+  std::vector<std::int32_t> record;               // per pair, its record
   std::vector<double> shear_x, shear_y, shear_z;  // the tangential displacement history
   std::vector<std::uint8_t> touching;             // at its last evaluation (kept across rebuilds)
-  // Per block of kPairBlock pairs: the lowest i and j, and whether every i and every j lies
-  // within kWindow particles of them; per pair, its i and j less those.
+  // Per block of kPairBlock pairs: the lowest i and j, whether every i and every j lies within
+  // kWindow particles of them, and whether its pairs share one record; per pair, its i and j
+  // less those lowest.
   static constexpr std::int32_t kWindow = 2 * static_cast<std::int32_t>(kPairBlock);
   std::vector<std::int32_t> window_i, window_j;
-  std::vector<std::uint8_t> windowed;
-  std::vector<std::int64_t> lane_i, lane_j;
+  std::vector<std::uint8_t> windowed, uniform;
+  std::vector<std::uint8_t> lane_i, lane_j;
   // What each contact gives its spheres: entry p for i, entry padded() + p for j (the force on
   // j is the exact negative of the force on i; the torques differ by their lever arms).
   std::vector<double> fx, fy, fz, tx, ty, tz;

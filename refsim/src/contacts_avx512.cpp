@@ -14,6 +14,7 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
 
+#include <cstddef>
 #include <stdexcept>
 
 namespace granstack::refsim::detail {
@@ -63,6 +64,30 @@ GRANSTACK_AVX512_INLINE Vec fetch(const double* a, std::size_t stride, const Sid
   return {fetch(a, s), fetch(a + stride, s), fetch(a + 2 * stride, s)};
 }
 
+GRANSTACK_AVX512_INLINE __m512i lanes(const std::uint8_t* p) {
+  return _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)));
+}
+
+// The eight pairs' records: one broadcast when they share one, else gathered.
+struct Record {
+  const PairRecord* shared;
+  const double* table;
+  __m256i index;  // record x 9 doubles
+  GRANSTACK_AVX512_INLINE V field(std::size_t offset) const {
+    const std::size_t d = offset / sizeof(double);
+    if (shared != nullptr) return broadcast(reinterpret_cast<const double*>(shared)[d]);
+    return _mm512_i32gather_pd(index, table + d, 8);
+  }
+};
+
+GRANSTACK_AVX512_INLINE Record record(const PairTable& t, std::size_t p, bool uniform) {
+  static_assert(sizeof(PairRecord) == 9 * sizeof(double));
+  const auto* table = reinterpret_cast<const double*>(t.records.data());
+  if (uniform) return {&t.records[static_cast<std::size_t>(t.record[p])], table, _mm256_setzero_si256()};
+  const __m256i r = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&t.record[p]));
+  return {nullptr, table, _mm256_add_epi32(_mm256_slli_epi32(r, 3), r)};
+}
+
 // Force on i and on j (its negative), torques on i and on j, zero where not touching.
 GRANSTACK_AVX512_INLINE void store_contributions(PairTable& t, std::size_t p, M touching, const Vec& f, const Vec& ti, const Vec& tj) {
   const std::size_t q = t.padded() + p;
@@ -91,16 +116,15 @@ GRANSTACK_AVX512_INLINE void update_flags(std::uint8_t* flags, M touching, M clo
 GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
   const std::size_t b = p / kPairBlock;
   const bool windowed = t.windowed[b] != 0;
-  const Side si{windowed, t.window_i[b], _mm512_loadu_si512(&t.lane_i[p]),
-                _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&t.i[p]))};
-  const Side sj{windowed, t.window_j[b], _mm512_loadu_si512(&t.lane_j[p]),
-                _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&t.j[p]))};
+  const Side si{windowed, t.window_i[b], lanes(&t.lane_i[p]), _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&t.i[p]))};
+  const Side sj{windowed, t.window_j[b], lanes(&t.lane_j[p]), _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&t.j[p]))};
+  const Record rec = record(t, p, t.uniform[b] != 0);
   const Vec xi = fetch(s.x, s.stride, si), xj = fetch(s.x, s.stride, sj);
   const V delx = xi.x - xj.x;
   const V dely = xi.y - xj.y;
   const V delz = xi.z - xj.z;
   const V rsq = delx * delx + dely * dely + delz * delz;
-  const V radi = load(&t.radi[p]), radj = load(&t.radj[p]);
+  const V radi = rec.field(offsetof(PairRecord, radi)), radj = rec.field(offsetof(PairRecord, radj));
   const V radsum = radi + radj;
   const M touching = less(rsq, radsum * radsum);
   const V cdf = broadcast(s.contact_distance_factor);
@@ -133,15 +157,15 @@ GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
   const Vec vtr{vt1 - (delz * wr2 - dely * wr3), vt2 - (delx * wr3 - delz * wr1), vt3 - (dely * wr1 - delx * wr2)};
 
   // hertz_normal
-  const V meff = load(&t.meff[p]);
-  const V damping = load(&t.damping_factor[p]);
-  const V sqrtval = sqrt(load(&t.reff[p]) * deltan);
-  const V kt = load(&t.st_factor[p]) * sqrtval;
-  const V kn = load(&t.kn_factor[p]) * sqrtval;
+  const V meff = rec.field(offsetof(PairRecord, meff));
+  const V damping = rec.field(offsetof(PairRecord, damping_factor));
+  const V sqrtval = sqrt(rec.field(offsetof(PairRecord, reff)) * deltan);
+  const V kt = rec.field(offsetof(PairRecord, st_factor)) * sqrtval;
+  const V kn = rec.field(offsetof(PairRecord, kn_factor)) * sqrtval;
   const M damped = static_cast<M>(touching & not_equal(damping, zero));
   V gamman = damping, gammat = s.tangential_damping ? damping : zero;
   if (damped != 0) {
-    gamman = select(damped, damping * sqrt(load(&t.sn_factor[p]) * sqrtval * meff), gamman);
+    gamman = select(damped, damping * sqrt(rec.field(offsetof(PairRecord, sn_factor)) * sqrtval * meff), gamman);
     if (s.tangential_damping) gammat = select(damped, damping * sqrt(kt * meff), gammat);
   }
   const V fn = -gamman * vn + kn * deltan;
@@ -161,7 +185,7 @@ GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
   }
   const V shear_sq = shear.x * shear.x + shear.y * shear.y + shear.z * shear.z;
   Vec ft{-(kt * shear.x), -(kt * shear.y), -(kt * shear.z)};
-  const V mu = load(&t.friction[p]);
+  const V mu = rec.field(offsetof(PairRecord, friction));
   const M frictionless = equal(mu, zero);
   // Frictionless sliding leaves a zero force and a zero history (as the reference).
   const M zero_slide = static_cast<M>(touching & frictionless & greater(kt, zero) & greater(shear_sq, zero));
