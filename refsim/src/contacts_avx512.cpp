@@ -8,10 +8,12 @@
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define GRANSTACK_HAVE_AVX512_KERNEL 1
 #include <immintrin.h>
+#if !defined(__clang__)
 // GCC 12's avx512fintrin.h makes its "undefined" vectors by self-initialisation, which its own
 // -Wuninitialized reports wherever a gather or a conversion is inlined.
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #endif
 
 #include <cstddef>
