@@ -50,17 +50,17 @@ void PairTable::finish() {
   uniform.clear();
   lane_i.resize(n);
   lane_j.resize(n);
-  for (std::size_t b = 0; b < n; b += kPairBlock) {
+  for (std::size_t b = 0; b < n; b += kLanes) {
     const auto [i_lo, i_hi] = std::minmax_element(i.begin() + static_cast<std::ptrdiff_t>(b),
-                                                  i.begin() + static_cast<std::ptrdiff_t>(b + kPairBlock));
+                                                  i.begin() + static_cast<std::ptrdiff_t>(b + kLanes));
     const auto [j_lo, j_hi] = std::minmax_element(j.begin() + static_cast<std::ptrdiff_t>(b),
-                                                  j.begin() + static_cast<std::ptrdiff_t>(b + kPairBlock));
+                                                  j.begin() + static_cast<std::ptrdiff_t>(b + kLanes));
     window_i.push_back(*i_lo);
     window_j.push_back(*j_lo);
     windowed.push_back(*i_hi - *i_lo < kWindow && *j_hi - *j_lo < kWindow);
     const auto first = record.begin() + static_cast<std::ptrdiff_t>(b);
-    uniform.push_back(std::all_of(first, first + kPairBlock, [&](std::int32_t r) { return r == *first; }));
-    for (std::size_t p = b; p < b + kPairBlock; ++p) {
+    uniform.push_back(std::all_of(first, first + kLanes, [&](std::int32_t r) { return r == *first; }));
+    for (std::size_t p = b; p < b + kLanes; ++p) {
       lane_i[p] = static_cast<std::uint8_t>(i[p] - *i_lo);  // only used when windowed
       lane_j[p] = static_cast<std::uint8_t>(j[p] - *j_lo);
     }

@@ -10,9 +10,11 @@
 
 namespace granstack::refsim::detail {
 
-// Pairs are processed in blocks of this many; the tables are padded to a multiple of it with
-// pairs of zero radius that never touch, so a block never needs a tail.
-inline constexpr std::size_t kPairBlock = 8;
+// Vector lanes (doubles in an AVX-512 register), and pairs per step of the AVX-512 contact
+// kernel (two registers' worth, whose independent chains of square roots and divisions overlap).
+// The tables are padded to whole blocks with pairs of zero radius that never touch.
+inline constexpr std::size_t kLanes = 8;
+inline constexpr std::size_t kPairBlock = 2 * kLanes;
 
 // What the Hertz model needs of one type pair: the left-most factors of LIGGGHTS's expressions
 // (4./3.*Y, 2.*Y, 8.*G, -2.*sqrt(5/6)*beta), evaluated once as it evaluates them in every
@@ -43,10 +45,10 @@ struct PairTable {
   std::vector<std::int32_t> record;               // per pair, its record
   std::vector<double> shear_x, shear_y, shear_z;  // the tangential displacement history
   std::vector<std::uint8_t> touching;             // at its last evaluation (kept across rebuilds)
-  // Per block of kPairBlock pairs: the lowest i and j, whether every i and every j lies within
-  // kWindow particles of them, and whether its pairs share one record; per pair, its i and j
-  // less those lowest.
-  static constexpr std::int32_t kWindow = 2 * static_cast<std::int32_t>(kPairBlock);
+  // Per kLanes pairs: the lowest i and j, whether every i and every j lies within kWindow
+  // particles of them, and whether the pairs share one record; per pair, its i and j less
+  // those lowest.
+  static constexpr std::int32_t kWindow = 2 * static_cast<std::int32_t>(kLanes);
   std::vector<std::int32_t> window_i, window_j;
   std::vector<std::uint8_t> windowed, uniform;
   std::vector<std::uint8_t> lane_i, lane_j;
@@ -80,7 +82,7 @@ void contacts_avx512(PairTable& pairs, const ContactStep& s, std::size_t begin, 
 bool avx512_available();  // this CPU runs contacts_avx512
 
 // The particle arrays nve/sphere updates (component-major, as ContactStep; every array holds
-// whole blocks of kPairBlock particles, zero past the last).
+// whole groups of kLanes particles, zero past the last).
 struct Motion {
   double* x;
   double* v;
@@ -99,7 +101,7 @@ struct Motion {
 // of them is now more than half the skin from where it was at the last neighbour-list build.
 bool first_half_reference(const Motion& m, std::size_t begin, std::size_t end);
 void second_half_reference(const Motion& m, std::size_t begin, std::size_t end);  // final_integrate
-// The same on whole blocks of particles: begin a multiple of kPairBlock, end rounded up to one.
+// The same on whole groups of particles: begin a multiple of kLanes, end rounded up to one.
 bool first_half_avx512(const Motion& m, std::size_t begin, std::size_t end);
 void second_half_avx512(const Motion& m, std::size_t begin, std::size_t end);
 

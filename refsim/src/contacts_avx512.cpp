@@ -1,4 +1,4 @@
-// The contact kernel eight pairs at a time with AVX-512: contacts.cpp's pair_force with every
+// The contact kernel sixteen pairs at a time with AVX-512: contacts.cpp's pair_force with every
 // branch turned into lane masks. Each lane does the reference's floating-point operations in the
 // reference's order (IEEE addition, multiplication, division and square root are exactly
 // rounded, and refsim is built without contraction into fused multiply-adds), so each lane gives
@@ -17,7 +17,9 @@
 #endif
 
 #include <cstddef>
+#include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 namespace granstack::refsim::detail {
 
@@ -30,26 +32,54 @@ bool avx512_available() { return __builtin_cpu_supports("avx512f"); }
 
 namespace {
 
-using V = __m512d;  // eight doubles; + - * / and unary - act lane by lane
-using M = __mmask8;
+// Sixteen doubles in two registers. Every operation is issued for both halves side by side, so
+// the two halves' chains of square roots and divisions (each some 23 cycles of latency) overlap.
+using Z = __m512d;
+struct V {
+  Z lo, hi;
+};
+using M = std::uint32_t;  // bit k for lane k: lanes 0..7 in lo, 8..15 in hi
 
-GRANSTACK_AVX512_INLINE V broadcast(double a) { return _mm512_set1_pd(a); }
-GRANSTACK_AVX512_INLINE V load(const double* p) { return _mm512_loadu_pd(p); }
-GRANSTACK_AVX512_INLINE V sqrt(V a) { return _mm512_sqrt_pd(a); }
-GRANSTACK_AVX512_INLINE V abs(V a) { return _mm512_abs_pd(a); }
-GRANSTACK_AVX512_INLINE M less(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_LT_OQ); }
-GRANSTACK_AVX512_INLINE M greater(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_GT_OQ); }
-GRANSTACK_AVX512_INLINE M equal(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_EQ_OQ); }
-GRANSTACK_AVX512_INLINE M not_equal(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_NEQ_UQ); }
+GRANSTACK_AVX512_INLINE V operator+(V a, V b) { return {a.lo + b.lo, a.hi + b.hi}; }
+GRANSTACK_AVX512_INLINE V operator-(V a, V b) { return {a.lo - b.lo, a.hi - b.hi}; }
+GRANSTACK_AVX512_INLINE V operator*(V a, V b) { return {a.lo * b.lo, a.hi * b.hi}; }
+GRANSTACK_AVX512_INLINE V operator/(V a, V b) { return {a.lo / b.lo, a.hi / b.hi}; }
+GRANSTACK_AVX512_INLINE V operator-(V a) { return {-a.lo, -a.hi}; }
+GRANSTACK_AVX512_INLINE V broadcast(double a) { return {_mm512_set1_pd(a), _mm512_set1_pd(a)}; }
+GRANSTACK_AVX512_INLINE V load(const double* p) { return {_mm512_loadu_pd(p), _mm512_loadu_pd(p + kLanes)}; }
+GRANSTACK_AVX512_INLINE void store(double* p, V a) {
+  _mm512_storeu_pd(p, a.lo);
+  _mm512_storeu_pd(p + kLanes, a.hi);
+}
+GRANSTACK_AVX512_INLINE __mmask8 lo(M m) { return static_cast<__mmask8>(m); }
+GRANSTACK_AVX512_INLINE __mmask8 hi(M m) { return static_cast<__mmask8>(m >> kLanes); }
+GRANSTACK_AVX512_INLINE M join(__mmask8 l, __mmask8 h) { return static_cast<M>(l) | static_cast<M>(h) << kLanes; }
+GRANSTACK_AVX512_INLINE V sqrt(V a) { return {_mm512_sqrt_pd(a.lo), _mm512_sqrt_pd(a.hi)}; }
+GRANSTACK_AVX512_INLINE V abs(V a) { return {_mm512_abs_pd(a.lo), _mm512_abs_pd(a.hi)}; }
+template <int Predicate>
+GRANSTACK_AVX512_INLINE M compare(V a, V b) {
+  return join(_mm512_cmp_pd_mask(a.lo, b.lo, Predicate), _mm512_cmp_pd_mask(a.hi, b.hi, Predicate));
+}
+GRANSTACK_AVX512_INLINE M less(V a, V b) { return compare<_CMP_LT_OQ>(a, b); }
+GRANSTACK_AVX512_INLINE M greater(V a, V b) { return compare<_CMP_GT_OQ>(a, b); }
+GRANSTACK_AVX512_INLINE M equal(V a, V b) { return compare<_CMP_EQ_OQ>(a, b); }
+GRANSTACK_AVX512_INLINE M not_equal(V a, V b) { return compare<_CMP_NEQ_UQ>(a, b); }
 // `yes` in the lanes of m, `no` elsewhere.
-GRANSTACK_AVX512_INLINE V select(M m, V yes, V no) { return _mm512_mask_blend_pd(m, no, yes); }
-GRANSTACK_AVX512_INLINE V zero_unless(M m, V a) { return _mm512_maskz_mov_pd(m, a); }
+GRANSTACK_AVX512_INLINE V select(M m, V yes, V no) {
+  return {_mm512_mask_blend_pd(lo(m), no.lo, yes.lo), _mm512_mask_blend_pd(hi(m), no.hi, yes.hi)};
+}
+GRANSTACK_AVX512_INLINE V zero_unless(M m, V a) { return {_mm512_maskz_mov_pd(lo(m), a.lo), _mm512_maskz_mov_pd(hi(m), a.hi)}; }
+GRANSTACK_AVX512_INLINE void store_where(double* p, M m, V a) {
+  _mm512_mask_storeu_pd(p, lo(m), a.lo);
+  _mm512_mask_storeu_pd(p + kLanes, hi(m), a.hi);
+}
+
 struct Vec {
   V x, y, z;
 };
 
-// Where a block finds one side's particles: within a window of 16 from `base` (two loads and a
-// permutation), or anywhere (a gather).
+// Where eight pairs find one side's particles: within a window of 16 from `base` (two loads
+// and a permutation), or anywhere (a gather).
 struct Side {
   bool windowed;
   std::int32_t base;
@@ -57,58 +87,77 @@ struct Side {
   __m256i index;
 };
 
-GRANSTACK_AVX512_INLINE V fetch(const double* component, const Side& s) {
-  if (s.windowed) return _mm512_permutex2var_pd(load(component + s.base), s.lanes, load(component + s.base + 8));
+GRANSTACK_AVX512_INLINE Side side(const PairTable& t, const std::vector<std::int32_t>& index,
+                                  const std::vector<std::int32_t>& window, const std::vector<std::uint8_t>& lanes,
+                                  std::size_t p) {
+  const std::size_t g = p / kLanes;
+  return {t.windowed[g] != 0, window[g], _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&lanes[p]))),
+          _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&index[p]))};
+}
+
+GRANSTACK_AVX512_INLINE Z fetch(const double* component, const Side& s) {
+  if (s.windowed) {
+    return _mm512_permutex2var_pd(_mm512_loadu_pd(component + s.base), s.lanes, _mm512_loadu_pd(component + s.base + 8));
+  }
   return _mm512_i32gather_pd(s.index, component, 8);
 }
 
-GRANSTACK_AVX512_INLINE Vec fetch(const double* a, std::size_t stride, const Side& s) {
+struct Sides {
+  Side lo, hi;
+};
+
+GRANSTACK_AVX512_INLINE V fetch(const double* component, const Sides& s) { return {fetch(component, s.lo), fetch(component, s.hi)}; }
+
+GRANSTACK_AVX512_INLINE Vec fetch(const double* a, std::size_t stride, const Sides& s) {
   return {fetch(a, s), fetch(a + stride, s), fetch(a + 2 * stride, s)};
 }
 
-GRANSTACK_AVX512_INLINE __m512i lanes(const std::uint8_t* p) {
-  return _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)));
-}
-
-// The eight pairs' records: one broadcast when they share one, else gathered.
+// Eight pairs' records: one broadcast when they share one, else gathered.
 struct Record {
   const PairRecord* shared;
   const double* table;
   __m256i index;  // record x 9 doubles
-  GRANSTACK_AVX512_INLINE V field(std::size_t offset) const {
-    const std::size_t d = offset / sizeof(double);
-    if (shared != nullptr) return broadcast(reinterpret_cast<const double*>(shared)[d]);
+  GRANSTACK_AVX512_INLINE Z field(std::size_t d) const {
+    if (shared != nullptr) return _mm512_set1_pd(reinterpret_cast<const double*>(shared)[d]);
     return _mm512_i32gather_pd(index, table + d, 8);
   }
 };
 
-GRANSTACK_AVX512_INLINE Record record(const PairTable& t, std::size_t p, bool uniform) {
+GRANSTACK_AVX512_INLINE Record record(const PairTable& t, std::size_t p) {
   static_assert(sizeof(PairRecord) == 9 * sizeof(double));
   const auto* table = reinterpret_cast<const double*>(t.records.data());
-  if (uniform) return {&t.records[static_cast<std::size_t>(t.record[p])], table, _mm256_setzero_si256()};
+  if (t.uniform[p / kLanes] != 0) return {&t.records[static_cast<std::size_t>(t.record[p])], table, _mm256_setzero_si256()};
   const __m256i r = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&t.record[p]));
   return {nullptr, table, _mm256_add_epi32(_mm256_slli_epi32(r, 3), r)};
 }
 
+struct Records {
+  Record lo, hi;
+  GRANSTACK_AVX512_INLINE V field(std::size_t offset) const {
+    return {lo.field(offset / sizeof(double)), hi.field(offset / sizeof(double))};
+  }
+};
+
 // Force on i and on j (its negative), torques on i and on j, zero where not touching.
-GRANSTACK_AVX512_INLINE void store_contributions(PairTable& t, std::size_t p, M touching, const Vec& f, const Vec& ti, const Vec& tj) {
+GRANSTACK_AVX512_INLINE void store_contributions(PairTable& t, std::size_t p, M touching, const Vec& f, const Vec& ti,
+                                                 const Vec& tj) {
   const std::size_t q = t.padded() + p;
-  _mm512_storeu_pd(&t.fx[p], zero_unless(touching, f.x));
-  _mm512_storeu_pd(&t.fy[p], zero_unless(touching, f.y));
-  _mm512_storeu_pd(&t.fz[p], zero_unless(touching, f.z));
-  _mm512_storeu_pd(&t.fx[q], zero_unless(touching, -f.x));
-  _mm512_storeu_pd(&t.fy[q], zero_unless(touching, -f.y));
-  _mm512_storeu_pd(&t.fz[q], zero_unless(touching, -f.z));
-  _mm512_storeu_pd(&t.tx[p], zero_unless(touching, ti.x));
-  _mm512_storeu_pd(&t.ty[p], zero_unless(touching, ti.y));
-  _mm512_storeu_pd(&t.tz[p], zero_unless(touching, ti.z));
-  _mm512_storeu_pd(&t.tx[q], zero_unless(touching, tj.x));
-  _mm512_storeu_pd(&t.ty[q], zero_unless(touching, tj.y));
-  _mm512_storeu_pd(&t.tz[q], zero_unless(touching, tj.z));
+  store(&t.fx[p], zero_unless(touching, f.x));
+  store(&t.fy[p], zero_unless(touching, f.y));
+  store(&t.fz[p], zero_unless(touching, f.z));
+  store(&t.fx[q], zero_unless(touching, -f.x));
+  store(&t.fy[q], zero_unless(touching, -f.y));
+  store(&t.fz[q], zero_unless(touching, -f.z));
+  store(&t.tx[p], zero_unless(touching, ti.x));
+  store(&t.ty[p], zero_unless(touching, ti.y));
+  store(&t.tz[p], zero_unless(touching, ti.z));
+  store(&t.tx[q], zero_unless(touching, tj.x));
+  store(&t.ty[q], zero_unless(touching, tj.y));
+  store(&t.tz[q], zero_unless(touching, tj.z));
 }
 
-// The touching flags of pairs p..p+7: set where touching, cleared where only close.
-GRANSTACK_AVX512_INLINE void update_flags(std::uint8_t* flags, M touching, M close) {
+// The touching flags of eight pairs: set where touching, cleared where only close.
+GRANSTACK_AVX512_INLINE void update_flags(std::uint8_t* flags, __mmask8 touching, __mmask8 close) {
   __m512i f = _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(flags)));
   f = _mm512_mask_mov_epi64(f, close, _mm512_setzero_si512());
   f = _mm512_mask_mov_epi64(f, touching, _mm512_set1_epi64(1));
@@ -116,11 +165,10 @@ GRANSTACK_AVX512_INLINE void update_flags(std::uint8_t* flags, M touching, M clo
 }
 
 GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
-  const std::size_t b = p / kPairBlock;
-  const bool windowed = t.windowed[b] != 0;
-  const Side si{windowed, t.window_i[b], lanes(&t.lane_i[p]), _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&t.i[p]))};
-  const Side sj{windowed, t.window_j[b], lanes(&t.lane_j[p]), _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&t.j[p]))};
-  const Record rec = record(t, p, t.uniform[b] != 0);
+  const std::size_t p8 = p + kLanes;
+  const Sides si{side(t, t.i, t.window_i, t.lane_i, p), side(t, t.i, t.window_i, t.lane_i, p8)};
+  const Sides sj{side(t, t.j, t.window_j, t.lane_j, p), side(t, t.j, t.window_j, t.lane_j, p8)};
+  const Records rec{record(t, p), record(t, p8)};
   const Vec xi = fetch(s.x, s.stride, si), xj = fetch(s.x, s.stride, sj);
   const V delx = xi.x - xj.x;
   const V dely = xi.y - xj.y;
@@ -132,10 +180,11 @@ GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
   const V cdf = broadcast(s.contact_distance_factor);
   // Close but not touching: the history is reset (surfacesClose); farther: left alone.
   const M close = static_cast<M>(~touching & less(rsq, cdf * cdf * radsum * radsum));
-  update_flags(&t.touching[p], touching, close);
-  const V zero = _mm512_setzero_pd();
+  update_flags(&t.touching[p], lo(touching), lo(close));
+  update_flags(&t.touching[p8], hi(touching), hi(close));
+  const V zero = broadcast(0.0);
   if (touching == 0) {
-    for (double* a : {&t.shear_x[p], &t.shear_y[p], &t.shear_z[p]}) _mm512_mask_storeu_pd(a, close, zero);
+    for (double* a : {&t.shear_x[p], &t.shear_y[p], &t.shear_z[p]}) store_where(a, close, zero);
     store_contributions(t, p, touching, {zero, zero, zero}, {zero, zero, zero}, {zero, zero, zero});
     return;
   }
@@ -222,9 +271,9 @@ GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
   const Vec tor{en.y * ft.z - en.z * ft.y, en.z * ft.x - en.x * ft.z, en.x * ft.y - en.y * ft.x};
 
   // The history: the new one where touching, zero where close, unchanged farther away.
-  _mm512_storeu_pd(&t.shear_x[p], select(touching, shear.x, select(close, zero, shear_before.x)));
-  _mm512_storeu_pd(&t.shear_y[p], select(touching, shear.y, select(close, zero, shear_before.y)));
-  _mm512_storeu_pd(&t.shear_z[p], select(touching, shear.z, select(close, zero, shear_before.z)));
+  store(&t.shear_x[p], select(touching, shear.x, select(close, zero, shear_before.x)));
+  store(&t.shear_y[p], select(touching, shear.y, select(close, zero, shear_before.y)));
+  store(&t.shear_z[p], select(touching, shear.z, select(close, zero, shear_before.z)));
   store_contributions(t, p, touching, {fn * en.x + ft.x, fn * en.y + ft.y, fn * en.z + ft.z},
                       {-cri * tor.x, -cri * tor.y, -cri * tor.z}, {-crj * tor.x, -crj * tor.y, -crj * tor.z});
 }
@@ -236,31 +285,31 @@ void contacts_avx512(PairTable& pairs, const ContactStep& s, std::size_t begin, 
 }
 
 GRANSTACK_AVX512 bool first_half_avx512(const Motion& m, std::size_t begin, std::size_t end) {
-  const V dt = broadcast(m.dt), trigger = broadcast(m.trigger);
-  M moved = 0;
-  for (std::size_t i = begin; i < end; i += kPairBlock) {
-    const V kick = load(&m.kick[i]), spin = load(&m.spin_kick[i]);
-    V dsq = _mm512_setzero_pd();
+  const Z dt = _mm512_set1_pd(m.dt), trigger = _mm512_set1_pd(m.trigger);
+  __mmask8 moved = 0;
+  for (std::size_t i = begin; i < end; i += kLanes) {
+    const Z kick = _mm512_loadu_pd(&m.kick[i]), spin = _mm512_loadu_pd(&m.spin_kick[i]);
+    Z dsq = _mm512_setzero_pd();
     for (std::size_t e = i; e < i + 3 * m.stride; e += m.stride) {
-      const V v = load(&m.v[e]) + kick * load(&m.f[e]);
-      const V x = load(&m.x[e]) + dt * v;
+      const Z v = _mm512_loadu_pd(&m.v[e]) + kick * _mm512_loadu_pd(&m.f[e]);
+      const Z x = _mm512_loadu_pd(&m.x[e]) + dt * v;
       _mm512_storeu_pd(&m.v[e], v);
       _mm512_storeu_pd(&m.x[e], x);
-      _mm512_storeu_pd(&m.w[e], load(&m.w[e]) + spin * load(&m.t[e]));
-      const V d = x - load(&m.x_at_build[e]);
+      _mm512_storeu_pd(&m.w[e], _mm512_loadu_pd(&m.w[e]) + spin * _mm512_loadu_pd(&m.t[e]));
+      const Z d = x - _mm512_loadu_pd(&m.x_at_build[e]);
       dsq = dsq + d * d;  // dx^2, then + dy^2, then + dz^2: the reference's order
     }
-    moved = static_cast<M>(moved | greater(dsq, trigger));
+    moved = static_cast<__mmask8>(moved | _mm512_cmp_pd_mask(dsq, trigger, _CMP_GT_OQ));
   }
   return moved != 0;
 }
 
 GRANSTACK_AVX512 void second_half_avx512(const Motion& m, std::size_t begin, std::size_t end) {
-  for (std::size_t i = begin; i < end; i += kPairBlock) {
-    const V kick = load(&m.kick[i]), spin = load(&m.spin_kick[i]);
+  for (std::size_t i = begin; i < end; i += kLanes) {
+    const Z kick = _mm512_loadu_pd(&m.kick[i]), spin = _mm512_loadu_pd(&m.spin_kick[i]);
     for (std::size_t e = i; e < i + 3 * m.stride; e += m.stride) {
-      _mm512_storeu_pd(&m.v[e], load(&m.v[e]) + kick * load(&m.f[e]));
-      _mm512_storeu_pd(&m.w[e], load(&m.w[e]) + spin * load(&m.t[e]));
+      _mm512_storeu_pd(&m.v[e], _mm512_loadu_pd(&m.v[e]) + kick * _mm512_loadu_pd(&m.f[e]));
+      _mm512_storeu_pd(&m.w[e], _mm512_loadu_pd(&m.w[e]) + spin * _mm512_loadu_pd(&m.t[e]));
     }
   }
 }

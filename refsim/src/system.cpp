@@ -26,7 +26,7 @@ System::System(std::vector<Particle> particles, Parameters params)
   type_.resize(n_);
   radius_.resize(n_);
   mass_.resize(n_);
-  stride_ = (n_ + 7) / 8 * 8 + 2 * detail::kPairBlock;
+  stride_ = (n_ + detail::kLanes - 1) / detail::kLanes * detail::kLanes + 2 * detail::kLanes;
   for (auto* a : {&x_, &v_, &w_, &f_, &t_}) a->assign(3 * stride_, 0.0);
   for (std::size_t i = 0; i < n_; ++i) {
     const auto& pa = particles[i];
@@ -317,7 +317,7 @@ void System::step() {
           moved.store(true, std::memory_order_relaxed);
         }
       },
-      detail::kPairBlock);
+      detail::kLanes);
   if (moved.load(std::memory_order_relaxed)) build_pairs();
   compute_forces(true);
   for_shares(
@@ -329,7 +329,7 @@ void System::step() {
           detail::second_half_reference(m, begin, end);
         }
       },
-      detail::kPairBlock);
+      detail::kLanes);
   ++step_;
 }
 
