@@ -43,11 +43,15 @@ void PairTable::finish() {
   record.resize(n, 0);
   for (auto* a : {&shear_x, &shear_y, &shear_z}) a->resize(n, 0.0);
   touching.resize(n, 0);
-  for (auto* a : {&fx, &fy, &fz, &tx, &ty, &tz}) a->assign(2 * n, 0.0);
+  // Two sides, and room for a 16-wide read past the last entry.
+  for (auto* a : {&fx, &fy, &fz, &tx, &ty, &tz}) a->assign(2 * n + static_cast<std::size_t>(kWindow), 0.0);
   window_i.clear();
   window_j.clear();
   windowed.clear();
   uniform.clear();
+  elastic_frictionless.clear();
+  torque_free = std::all_of(record.begin(), record.end(),
+                            [&](std::int32_t r) { return records[static_cast<std::size_t>(r)].elastic_frictionless(); });
   lane_i.resize(n);
   lane_j.resize(n);
   for (std::size_t b = 0; b < n; b += kLanes) {
@@ -60,10 +64,71 @@ void PairTable::finish() {
     windowed.push_back(*i_hi - *i_lo < kWindow && *j_hi - *j_lo < kWindow);
     const auto first = record.begin() + static_cast<std::ptrdiff_t>(b);
     uniform.push_back(std::all_of(first, first + kLanes, [&](std::int32_t r) { return r == *first; }));
+    elastic_frictionless.push_back(std::all_of(
+        first, first + kLanes, [&](std::int32_t r) { return records[static_cast<std::size_t>(r)].elastic_frictionless(); }));
     for (std::size_t p = b; p < b + kLanes; ++p) {
       lane_i[p] = static_cast<std::uint8_t>(i[p] - *i_lo);  // only used when windowed
       lane_j[p] = static_cast<std::uint8_t>(j[p] - *j_lo);
     }
+  }
+}
+
+void SumPlan::build(const std::vector<std::size_t>& offsets,
+                    const std::vector<std::pair<std::int32_t, std::uint32_t>>& contributions) {
+  const std::size_t n = offsets.size() - 1;
+  first_round.assign(1, 0);
+  for (auto* a : {&lanes_in, &windowed, &lane}) a->clear();
+  window.clear();
+  entry.clear();
+  struct Item {
+    std::int64_t offset;
+    std::size_t lane;
+    std::uint32_t entry;
+  };
+  std::vector<Item> items;
+  for (std::size_t g = 0; g * kLanes < n; ++g) {
+    items.clear();
+    for (std::size_t l = 0; l < kLanes && g * kLanes + l < n; ++l) {
+      const std::size_t k = g * kLanes + l;
+      for (std::size_t e = offsets[k]; e < offsets[k + 1]; ++e) {
+        items.push_back({static_cast<std::int64_t>(contributions[e].first) - static_cast<std::int64_t>(k), l,
+                         contributions[e].second});
+      }
+    }
+    std::sort(items.begin(), items.end(),
+              [](const Item& a, const Item& b) { return a.offset != b.offset ? a.offset < b.offset : a.lane < b.lane; });
+    std::uint32_t round_entry[kLanes] = {};
+    unsigned in = 0;
+    auto close = [&] {
+      if (in == 0) return;
+      std::uint32_t lo = 0xffffffffU, hi = 0;
+      for (std::size_t l = 0; l < kLanes; ++l) {
+        if (in >> l & 1U) {
+          lo = std::min(lo, round_entry[l]);
+          hi = std::max(hi, round_entry[l]);
+        }
+      }
+      lanes_in.push_back(static_cast<std::uint8_t>(in));
+      windowed.push_back(hi - lo < static_cast<std::uint32_t>(PairTable::kWindow));
+      window.push_back(static_cast<std::int32_t>(lo));
+      for (std::size_t l = 0; l < kLanes; ++l) {
+        const std::uint32_t e = in >> l & 1U ? round_entry[l] : lo;  // absent lanes read nothing
+        entry.push_back(static_cast<std::int32_t>(e));
+        lane.push_back(static_cast<std::uint8_t>(e - lo));
+      }
+      in = 0;
+    };
+    for (std::size_t a = 0; a < items.size();) {
+      std::size_t b = a;
+      unsigned group = 0;
+      while (b < items.size() && items[b].offset == items[a].offset) group |= 1U << items[b++].lane;
+      if ((group & in) != 0) close();
+      for (std::size_t c = a; c < b; ++c) round_entry[items[c].lane] = items[c].entry;
+      in |= group;
+      a = b;
+    }
+    close();
+    first_round.push_back(lanes_in.size());
   }
 }
 

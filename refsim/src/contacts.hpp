@@ -36,6 +36,10 @@ struct PairRecord {
   double radi, radj, reff, meff;
   double kn_factor, sn_factor, st_factor, damping_factor, friction;
   PairConstants constants() const { return {kn_factor, sn_factor, st_factor, damping_factor, friction}; }
+  // e = 1 and mu = 0: both damping coefficients are +-0 and every path of the tangential model
+  // gives a force of +-0, so the contact force is kn delta n and there is no torque (signs of
+  // zeros aside, which never change a force sum that starts at +0), for finite velocities.
+  bool elastic_frictionless() const { return damping_factor == 0.0 && friction == 0.0; }
 };
 
 struct PairTable {
@@ -50,7 +54,8 @@ struct PairTable {
   // those lowest.
   static constexpr std::int32_t kWindow = 2 * static_cast<std::int32_t>(kLanes);
   std::vector<std::int32_t> window_i, window_j;
-  std::vector<std::uint8_t> windowed, uniform;
+  std::vector<std::uint8_t> windowed, uniform, elastic_frictionless;
+  bool torque_free = false;  // every pair elastic and frictionless: no torque anywhere
   std::vector<std::uint8_t> lane_i, lane_j;
   // What each contact gives its spheres: entry p for i, entry padded() + p for j (the force on
   // j is the exact negative of the force on i; the torques differ by their lever arms).
@@ -61,6 +66,27 @@ struct PairTable {
   void add(std::int32_t a, std::int32_t b, double ra, double rb, double ma, double mb, const PairConstants& k);
   void finish();  // after the last add: pads, and finds each block's windows
 };
+
+// How eight particles at a time add their contributions. Each particle adds its contributions
+// in LIGGGHTS's pair order, by the other particle's index; a round takes one contribution of
+// some of the eight, and a particle's contributions fall in successive rounds, so the sums are
+// the reference's. Rounds follow the offset (other - self) upwards and merge while no particle
+// is in both, so a lattice's eight neighbours read eight consecutive entries.
+struct SumPlan {
+  std::vector<std::size_t> first_round;  // per group of kLanes particles, and one past the last
+  // Per round: which lanes take part, and where their entries are (as PairTable's windows).
+  std::vector<std::uint8_t> lanes_in, windowed;
+  std::vector<std::int32_t> window;
+  std::vector<std::uint8_t> lane;    // kLanes per round: entry - window
+  std::vector<std::int32_t> entry;   // kLanes per round
+  // contributions[offsets[k] .. offsets[k + 1]]: particle k's (other particle, entry), in order.
+  void build(const std::vector<std::size_t>& offsets, const std::vector<std::pair<std::int32_t, std::uint32_t>>& contributions);
+};
+
+// Adds up every particle's contributions in groups [group_begin, group_end) into f and t
+// (component-major, stride as ContactStep).
+void sum_contributions_avx512(const PairTable& pairs, const SumPlan& plan, double* f, double* t, std::size_t stride,
+                              std::size_t group_begin, std::size_t group_end);
 
 // One force call's inputs beyond the tables.
 struct ContactStep {

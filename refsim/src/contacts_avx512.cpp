@@ -192,13 +192,34 @@ GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
   const V r = sqrt(rsq);
   const V rinv = one / r;
   const Vec en{delx * rinv, dely * rinv, delz * rinv};
+  const V deltan = radsum - r;
+  if (t.elastic_frictionless[p / kLanes] != 0 && t.elastic_frictionless[p8 / kLanes] != 0) {
+    // kn delta n: the reference's -gamman vn and ft are +-0 here (PairRecord::elastic_frictionless).
+    const V fn = rec.field(offsetof(PairRecord, kn_factor)) * sqrt(rec.field(offsetof(PairRecord, reff)) * deltan) * deltan;
+    // The history never acts on such a pair; it is cleared where the reference's slide clears it.
+    for (double* a : {&t.shear_x[p], &t.shear_y[p], &t.shear_z[p]}) {
+      store_where(a, static_cast<M>(close | (s.update_history ? touching : 0U)), zero);
+    }
+    const std::size_t q = t.padded() + p;
+    const Vec f{fn * en.x, fn * en.y, fn * en.z};
+    store(&t.fx[p], zero_unless(touching, f.x));
+    store(&t.fy[p], zero_unless(touching, f.y));
+    store(&t.fz[p], zero_unless(touching, f.z));
+    store(&t.fx[q], zero_unless(touching, -f.x));
+    store(&t.fy[q], zero_unless(touching, -f.y));
+    store(&t.fz[q], zero_unless(touching, -f.z));
+    // The torque entries: zero since the table was built, unless other pairs may write them.
+    if (!t.torque_free) {
+      for (double* a : {&t.tx[p], &t.ty[p], &t.tz[p], &t.tx[q], &t.ty[q], &t.tz[q]}) store(a, zero);
+    }
+    return;
+  }
 
   // Relative velocity at the contact point; lever arms shortened by half the overlap.
   const Vec vi = fetch(s.v, s.stride, si), vj = fetch(s.v, s.stride, sj);
   const V vr1 = vi.x - vj.x, vr2 = vi.y - vj.y, vr3 = vi.z - vj.z;
   const V vn = vr1 * en.x + vr2 * en.y + vr3 * en.z;
   const V vt1 = vr1 - vn * en.x, vt2 = vr2 - vn * en.y, vt3 = vr3 - vn * en.z;
-  const V deltan = radsum - r;
   const V cri = radi - half * deltan;
   const V crj = radj - half * deltan;
   const Vec wi = fetch(s.w, s.stride, si), wj = fetch(s.w, s.stride, sj);
@@ -284,6 +305,33 @@ void contacts_avx512(PairTable& pairs, const ContactStep& s, std::size_t begin, 
   for (std::size_t p = begin; p < end; p += kPairBlock) block(pairs, s, p);
 }
 
+GRANSTACK_AVX512 void sum_contributions_avx512(const PairTable& pairs, const SumPlan& plan, double* f, double* t,
+                                               std::size_t stride, std::size_t group_begin, std::size_t group_end) {
+  const double* in[6] = {pairs.fx.data(), pairs.fy.data(), pairs.fz.data(), pairs.tx.data(), pairs.ty.data(), pairs.tz.data()};
+  double* out[6] = {f, f + stride, f + 2 * stride, t, t + stride, t + 2 * stride};
+  // Without torques (PairTable::torque_free) every torque sum is 0 + +-0 + ... = +0.
+  const int components = pairs.torque_free ? 3 : 6;
+  for (std::size_t g = group_begin; g < group_end; ++g) {
+    Z sum[6];
+    for (auto& s : sum) s = _mm512_setzero_pd();
+    for (std::size_t r = plan.first_round[g]; r < plan.first_round[g + 1]; ++r) {
+      const __mmask8 m = plan.lanes_in[r];
+      if (plan.windowed[r] != 0) {
+        const __m512i lanes = _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&plan.lane[r * kLanes])));
+        const double* base = nullptr;
+        for (int c = 0; c < components; ++c) {
+          base = in[c] + plan.window[r];
+          sum[c] = sum[c] + _mm512_maskz_permutex2var_pd(m, _mm512_loadu_pd(base), lanes, _mm512_loadu_pd(base + kLanes));
+        }
+      } else {
+        const __m256i index = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&plan.entry[r * kLanes]));
+        for (int c = 0; c < components; ++c) sum[c] = sum[c] + _mm512_mask_i32gather_pd(_mm512_setzero_pd(), m, index, in[c], 8);
+      }
+    }
+    for (int c = 0; c < 6; ++c) _mm512_storeu_pd(out[c] + g * kLanes, sum[c]);
+  }
+}
+
 GRANSTACK_AVX512 bool first_half_avx512(const Motion& m, std::size_t begin, std::size_t end) {
   const Z dt = _mm512_set1_pd(m.dt), trigger = _mm512_set1_pd(m.trigger);
   __mmask8 moved = 0;
@@ -321,6 +369,9 @@ bool avx512_available() { return false; }
 [[noreturn]] void no_avx512() { throw std::logic_error("refsim: this build has no AVX-512 kernels"); }
 void contacts_avx512(PairTable&, const ContactStep&, std::size_t, std::size_t) { no_avx512(); }
 bool first_half_avx512(const Motion&, std::size_t, std::size_t) { no_avx512(); }
+void sum_contributions_avx512(const PairTable&, const SumPlan&, double*, double*, std::size_t, std::size_t, std::size_t) {
+  no_avx512();
+}
 void second_half_avx512(const Motion&, std::size_t, std::size_t) { no_avx512(); }
 
 #endif

@@ -18,7 +18,10 @@ constexpr double kInertia = 0.4;
 }  // namespace
 
 System::System(std::vector<Particle> particles, Parameters params)
-    : n_(particles.size()), p_(std::move(params)), pairs_(std::make_unique<detail::PairTable>()) {
+    : n_(particles.size()),
+      p_(std::move(params)),
+      pairs_(std::make_unique<detail::PairTable>()),
+      sum_plan_(std::make_unique<detail::SumPlan>()) {
   const std::size_t tt = static_cast<std::size_t>(p_.types) * static_cast<std::size_t>(p_.types);
   if (p_.y_star.size() != tt || p_.g_star.size() != tt || p_.beta.size() != tt || p_.friction.size() != tt) {
     throw std::invalid_argument("refsim: every property table needs types x types entries");
@@ -190,9 +193,10 @@ void System::build_pairs() {
   contributions_.clear();
   for (auto& l : lists) {
     std::sort(l.begin(), l.end());
-    for (const auto& e : l) contributions_.push_back(e.second);
+    contributions_.insert(contributions_.end(), l.begin(), l.end());
     contribution_offsets_.push_back(contributions_.size());
   }
+  if (avx512_) sum_plan_->build(contribution_offsets_, contributions_);
   x_at_build_ = x_;
   ++builds_;
 }
@@ -260,11 +264,19 @@ void System::external_forces(std::size_t i, bool update_history) {
 // as LIGGGHTS's pair loop, whichever thread adds them.
 void System::sum_forces(std::size_t begin, std::size_t end, bool update_history) {
   const auto& c = *pairs_;
+  if (avx512_) {
+    detail::sum_contributions_avx512(c, *sum_plan_, f_.data(), t_.data(), stride_, begin / detail::kLanes,
+                                     (end + detail::kLanes - 1) / detail::kLanes);
+    if (external_) {
+      for (std::size_t k = begin; k < end; ++k) external_forces(k, update_history);
+    }
+    return;
+  }
   const std::size_t y = stride_, z = 2 * stride_;
   for (std::size_t k = begin; k < end; ++k) {
     double fx = 0.0, fy = 0.0, fz = 0.0, tx = 0.0, ty = 0.0, tz = 0.0;
     for (std::size_t e = contribution_offsets_[k]; e < contribution_offsets_[k + 1]; ++e) {
-      const std::size_t q = contributions_[e];
+      const std::size_t q = contributions_[e].second;
       fx += c.fx[q];
       fy += c.fy[q];
       fz += c.fz[q];
@@ -296,7 +308,8 @@ void System::compute_forces(bool update_history) {
         }
       },
       detail::kPairBlock);
-  for_shares(n_, [&](std::size_t begin, std::size_t end) { sum_forces(begin, end, update_history); });
+  for_shares(
+      n_, [&](std::size_t begin, std::size_t end) { sum_forces(begin, end, update_history); }, detail::kLanes);
 }
 
 void System::setup() { compute_forces(false); }

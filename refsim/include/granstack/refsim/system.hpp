@@ -16,6 +16,7 @@ namespace detail {
 struct PairTable;
 struct PairConstants;
 struct Motion;
+struct SumPlan;
 }  // namespace detail
 
 using Vec3 = std::array<double, 3>;
@@ -109,10 +110,11 @@ class System {
   std::vector<detail::PairConstants> type_constants_;  // per type pair, (a - 1) * types + (b - 1)
   // Candidate pairs (i < j), rebuilt when a particle has moved more than half the skin.
   std::unique_ptr<detail::PairTable> pairs_;
-  // Per particle, its entries in the pair table's contribution arrays, in LIGGGHTS's pair
-  // order: contributions_[contribution_offsets_[k] .. contribution_offsets_[k + 1]].
+  // Per particle, the other particle and its entry in the pair table's contribution arrays, in
+  // LIGGGHTS's pair order: contributions_[contribution_offsets_[k] .. contribution_offsets_[k + 1]].
   std::vector<std::size_t> contribution_offsets_;
-  std::vector<std::uint32_t> contributions_;
+  std::vector<std::pair<std::int32_t, std::uint32_t>> contributions_;
+  std::unique_ptr<detail::SumPlan> sum_plan_;  // the same sums eight particles at a time (AVX-512)
   std::vector<double> wall_history_;  // 3 per particle and wall
   bool external_ = false;             // walls or gravity
   bool avx512_ = false;
