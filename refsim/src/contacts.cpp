@@ -34,6 +34,17 @@ void PairTable::add(std::int32_t a, std::int32_t b, double ra, double rb, double
   ++count;
 }
 
+void PairTable::pad_to(std::size_t multiple) {
+  while (count % multiple != 0) {
+    i.push_back(count > 0 ? i[count - 1] : 0);
+    j.push_back(count > 0 ? j[count - 1] : 0);
+    record.push_back(0);
+    for (auto* a : {&shear_x, &shear_y, &shear_z}) a->push_back(0.0);
+    touching.push_back(0);
+    ++count;
+  }
+}
+
 void PairTable::finish() {
   const std::size_t n = padded();
   // Padding repeats the last pair at zero radius: never touching, never close, so it changes
@@ -48,7 +59,7 @@ void PairTable::finish() {
   window_i.clear();
   window_j.clear();
   windowed.clear();
-  uniform.clear();
+  shared_record.clear();
   elastic_frictionless.clear();
   torque_free = std::all_of(record.begin(), record.end(),
                             [&](std::int32_t r) { return records[static_cast<std::size_t>(r)].elastic_frictionless(); });
@@ -62,10 +73,13 @@ void PairTable::finish() {
     window_i.push_back(*i_lo);
     window_j.push_back(*j_lo);
     windowed.push_back(*i_hi - *i_lo < kWindow && *j_hi - *j_lo < kWindow);
-    const auto first = record.begin() + static_cast<std::ptrdiff_t>(b);
-    uniform.push_back(std::all_of(first, first + kLanes, [&](std::int32_t r) { return r == *first; }));
+    // Padding (record 0) may take the block's shared record: its results are never summed.
+    const auto first = record.begin() + static_cast<std::ptrdiff_t>(b), last = first + kLanes;
+    const auto real = std::find_if(first, last, [](std::int32_t r) { return r != 0; });
+    const std::int32_t shared = real == last ? 0 : *real;
+    shared_record.push_back(std::all_of(first, last, [&](std::int32_t r) { return r == 0 || r == shared; }) ? shared : -1);
     elastic_frictionless.push_back(std::all_of(
-        first, first + kLanes, [&](std::int32_t r) { return records[static_cast<std::size_t>(r)].elastic_frictionless(); }));
+        first, last, [&](std::int32_t r) { return records[static_cast<std::size_t>(r)].elastic_frictionless(); }));
     for (std::size_t p = b; p < b + kLanes; ++p) {
       lane_i[p] = static_cast<std::uint8_t>(i[p] - *i_lo);  // only used when windowed
       lane_j[p] = static_cast<std::uint8_t>(j[p] - *j_lo);

@@ -43,18 +43,19 @@ struct PairRecord {
 };
 
 struct PairTable {
-  std::size_t count = 0;  // real pairs; the per-pair arrays hold padded() entries
+  std::size_t count = 0;  // entries, padding (record 0) included; the arrays hold padded()
   std::vector<std::int32_t> i, j;
   std::vector<PairRecord> records;                // distinct records, the first all zero (padding)
   std::vector<std::int32_t> record;               // per pair, its record
   std::vector<double> shear_x, shear_y, shear_z;  // the tangential displacement history
   std::vector<std::uint8_t> touching;             // at its last evaluation (kept across rebuilds)
   // Per kLanes pairs: the lowest i and j, whether every i and every j lies within kWindow
-  // particles of them, and whether the pairs share one record; per pair, its i and j less
-  // those lowest.
+  // particles of them, whether they are all elastic and frictionless, and the record they
+  // share; per pair, its i and j less those lowest.
   static constexpr std::int32_t kWindow = 2 * static_cast<std::int32_t>(kLanes);
   std::vector<std::int32_t> window_i, window_j;
-  std::vector<std::uint8_t> windowed, uniform, elastic_frictionless;
+  std::vector<std::uint8_t> windowed, elastic_frictionless;
+  std::vector<std::int32_t> shared_record;  // the record all real pairs of the eight share, or -1
   bool torque_free = false;  // every pair elastic and frictionless: no torque anywhere
   std::vector<std::uint8_t> lane_i, lane_j;
   // What each contact gives its spheres: entry p for i, entry padded() + p for j (the force on
@@ -64,6 +65,7 @@ struct PairTable {
   std::size_t padded() const { return (count + kPairBlock - 1) / kPairBlock * kPairBlock; }
   void clear();
   void add(std::int32_t a, std::int32_t b, double ra, double rb, double ma, double mb, const PairConstants& k);
+  void pad_to(std::size_t multiple);  // padding entries up to a multiple
   void finish();  // after the last add: pads, and finds each block's windows
 };
 

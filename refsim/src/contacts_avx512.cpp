@@ -126,7 +126,8 @@ struct Record {
 GRANSTACK_AVX512_INLINE Record record(const PairTable& t, std::size_t p) {
   static_assert(sizeof(PairRecord) == 9 * sizeof(double));
   const auto* table = reinterpret_cast<const double*>(t.records.data());
-  if (t.uniform[p / kLanes] != 0) return {&t.records[static_cast<std::size_t>(t.record[p])], table, _mm256_setzero_si256()};
+  const std::int32_t shared = t.shared_record[p / kLanes];
+  if (shared >= 0) return {&t.records[static_cast<std::size_t>(shared)], table, _mm256_setzero_si256()};
   const __m256i r = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&t.record[p]));
   return {nullptr, table, _mm256_add_epi32(_mm256_slli_epi32(r, 3), r)};
 }
@@ -305,30 +306,40 @@ void contacts_avx512(PairTable& pairs, const ContactStep& s, std::size_t begin, 
   for (std::size_t p = begin; p < end; p += kPairBlock) block(pairs, s, p);
 }
 
+// One group's rounds over `Components` arrays (3: forces only, 6: and torques), the sums in
+// registers.
+template <int Components>
+GRANSTACK_AVX512_INLINE void sum_group(const SumPlan& plan, std::size_t g, const double* const* in, double* const* out) {
+  Z sum[Components];
+  for (auto& s : sum) s = _mm512_setzero_pd();
+  for (std::size_t r = plan.first_round[g]; r < plan.first_round[g + 1]; ++r) {
+    const __mmask8 m = plan.lanes_in[r];
+    if (plan.windowed[r] != 0) {
+      const __m512i lanes = _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&plan.lane[r * kLanes])));
+      const std::size_t w = static_cast<std::size_t>(plan.window[r]);
+      for (int c = 0; c < Components; ++c) {
+        sum[c] = sum[c] + _mm512_maskz_permutex2var_pd(m, _mm512_loadu_pd(in[c] + w), lanes, _mm512_loadu_pd(in[c] + w + kLanes));
+      }
+    } else {
+      const __m256i index = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&plan.entry[r * kLanes]));
+      for (int c = 0; c < Components; ++c) sum[c] = sum[c] + _mm512_mask_i32gather_pd(_mm512_setzero_pd(), m, index, in[c], 8);
+    }
+  }
+  for (int c = 0; c < Components; ++c) _mm512_storeu_pd(out[c] + g * kLanes, sum[c]);
+}
+
 GRANSTACK_AVX512 void sum_contributions_avx512(const PairTable& pairs, const SumPlan& plan, double* f, double* t,
                                                std::size_t stride, std::size_t group_begin, std::size_t group_end) {
   const double* in[6] = {pairs.fx.data(), pairs.fy.data(), pairs.fz.data(), pairs.tx.data(), pairs.ty.data(), pairs.tz.data()};
   double* out[6] = {f, f + stride, f + 2 * stride, t, t + stride, t + 2 * stride};
-  // Without torques (PairTable::torque_free) every torque sum is 0 + +-0 + ... = +0.
-  const int components = pairs.torque_free ? 3 : 6;
   for (std::size_t g = group_begin; g < group_end; ++g) {
-    Z sum[6];
-    for (auto& s : sum) s = _mm512_setzero_pd();
-    for (std::size_t r = plan.first_round[g]; r < plan.first_round[g + 1]; ++r) {
-      const __mmask8 m = plan.lanes_in[r];
-      if (plan.windowed[r] != 0) {
-        const __m512i lanes = _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&plan.lane[r * kLanes])));
-        const double* base = nullptr;
-        for (int c = 0; c < components; ++c) {
-          base = in[c] + plan.window[r];
-          sum[c] = sum[c] + _mm512_maskz_permutex2var_pd(m, _mm512_loadu_pd(base), lanes, _mm512_loadu_pd(base + kLanes));
-        }
-      } else {
-        const __m256i index = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&plan.entry[r * kLanes]));
-        for (int c = 0; c < components; ++c) sum[c] = sum[c] + _mm512_mask_i32gather_pd(_mm512_setzero_pd(), m, index, in[c], 8);
-      }
+    if (pairs.torque_free) {
+      // Without torques (PairTable::torque_free) every torque sum is 0 + +-0 + ... = +0.
+      sum_group<3>(plan, g, in, out);
+      for (int c = 3; c < 6; ++c) _mm512_storeu_pd(out[c] + g * kLanes, _mm512_setzero_pd());
+    } else {
+      sum_group<6>(plan, g, in, out);
     }
-    for (int c = 0; c < 6; ++c) _mm512_storeu_pd(out[c] + g * kLanes, sum[c]);
   }
 }
 

@@ -147,45 +147,68 @@ void System::build_pairs() {
       found.push_back({static_cast<std::int32_t>(i), static_cast<std::int32_t>(j), rsq < radsum * radsum});
     }
   }
-  std::sort(found.begin(), found.end(), [](const Candidate& a, const Candidate& b) {
-    return a.j - a.i != b.j - b.i ? a.j - a.i < b.j - b.i : a.i < b.i;
-  });
+  // The history of the old pairs, merged in (i, j) order (the padding has record 0).
   detail::PairTable old;
   std::swap(old, *pairs_);
-  // The old pairs sorted as the new ones, to merge the history as we go.
-  std::vector<std::size_t> old_order(old.count);
-  for (std::size_t q = 0; q < old.count; ++q) old_order[q] = q;
-  std::sort(old_order.begin(), old_order.end(), [&](std::size_t a, std::size_t b) {
-    const auto da = old.j[a] - old.i[a], db = old.j[b] - old.i[b];
-    return da != db ? da < db : old.i[a] < old.i[b];
+  std::vector<std::size_t> old_order;
+  for (std::size_t q = 0; q < old.count; ++q) {
+    if (old.record[q] != 0) old_order.push_back(q);
+  }
+  std::sort(old_order.begin(), old_order.end(),
+            [&](std::size_t a, std::size_t b) { return old.i[a] != old.i[b] ? old.i[a] < old.i[b] : old.j[a] < old.j[b]; });
+  struct Kept {
+    bool touching;
+    double shear[3];
+  };
+  std::vector<Kept> kept(found.size(), Kept{false, {0.0, 0.0, 0.0}});
+  for (std::size_t c = 0, o = 0; c < found.size(); ++c) {
+    const auto& f = found[c];
+    while (o < old_order.size() && (old.i[old_order[o]] < f.i || (old.i[old_order[o]] == f.i && old.j[old_order[o]] < f.j))) ++o;
+    const std::size_t q = o < old_order.size() ? old_order[o] : 0;
+    if (o < old_order.size() && old.i[q] == f.i && old.j[q] == f.j && old.touching[q] && f.touching) {
+      kept[c] = {true, {old.shear_x[q], old.shear_y[q], old.shear_z[q]}};
+    }
+  }
+  // Table order: by tile of i, then j - i, then i; each run of one j - i padded to whole
+  // vectors and each tile to whole kernel blocks, so that a block's particles lie in a window.
+  std::vector<std::size_t> order(found.size());
+  for (std::size_t c = 0; c < order.size(); ++c) order[c] = c;
+  const auto tile = [](std::int32_t i) { return static_cast<std::size_t>(i) / kTile; };
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    const auto &u = found[a], &v = found[b];
+    if (tile(u.i) != tile(v.i)) return tile(u.i) < tile(v.i);
+    return u.j - u.i != v.j - v.i ? u.j - u.i < v.j - v.i : u.i < v.i;
   });
   auto& pairs = *pairs_;
   pairs.clear();
-  std::size_t o = 0;
-  for (const auto& c : found) {
-    const auto before = [&](std::size_t q) {
-      const auto d = old.j[q] - old.i[q];
-      return d < c.j - c.i || (d == c.j - c.i && old.i[q] < c.i);
-    };
-    while (o < old_order.size() && before(old_order[o])) ++o;
-    const auto i = static_cast<std::size_t>(c.i), j = static_cast<std::size_t>(c.j);
-    pairs.add(c.i, c.j, radius_[i], radius_[j], mass_[i], mass_[j],
+  const std::size_t tiles = (n_ + kTile - 1) / kTile;
+  tile_first_.assign(1, 0);
+  for (std::size_t c = 0; c < order.size(); ++c) {
+    const auto& f = found[order[c]];
+    while (tile_first_.size() <= tile(f.i)) tile_first_.push_back(pairs.count);  // the tile starts here
+    const auto i = static_cast<std::size_t>(f.i), j = static_cast<std::size_t>(f.j);
+    pairs.add(f.i, f.j, radius_[i], radius_[j], mass_[i], mass_[j],
               type_constants_[static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
                               static_cast<std::size_t>(type_[j] - 1)]);
-    const std::size_t q = o < old_order.size() ? old_order[o] : 0;
-    if (o < old_order.size() && old.i[q] == c.i && old.j[q] == c.j && old.touching[q] && c.touching) {
+    const auto& k = kept[order[c]];
+    if (k.touching) {
       const std::size_t p = pairs.count - 1;
       pairs.touching[p] = 1;
-      pairs.shear_x[p] = old.shear_x[q];
-      pairs.shear_y[p] = old.shear_y[q];
-      pairs.shear_z[p] = old.shear_z[q];
+      pairs.shear_x[p] = k.shear[0];
+      pairs.shear_y[p] = k.shear[1];
+      pairs.shear_z[p] = k.shear[2];
     }
+    const bool last = c + 1 == order.size();
+    const auto* next = last ? nullptr : &found[order[c + 1]];
+    if (last || tile(next->i) != tile(f.i)) pairs.pad_to(detail::kPairBlock);
   }
+  while (tile_first_.size() <= tiles) tile_first_.push_back(pairs.count);
   pairs.finish();
   // Each particle's contributions in LIGGGHTS's pair order: by the other particle's index.
   std::vector<std::vector<std::pair<std::int32_t, std::uint32_t>>> lists(n_);
   const std::size_t side_j = pairs.padded();
   for (std::size_t p = 0; p < pairs.count; ++p) {
+    if (pairs.record[p] == 0) continue;  // padding
     lists[static_cast<std::size_t>(pairs.i[p])].emplace_back(pairs.j[p], static_cast<std::uint32_t>(p));
     lists[static_cast<std::size_t>(pairs.j[p])].emplace_back(pairs.i[p], static_cast<std::uint32_t>(side_j + p));
   }
@@ -262,13 +285,20 @@ void System::external_forces(std::size_t i, bool update_history) {
 // Each particle's force and torque: its contacts' contributions in pair order, then the walls
 // and gravity, the post_force fixes that follow the pair style. The same sums in the same order
 // as LIGGGHTS's pair loop, whichever thread adds them.
-void System::sum_forces(std::size_t begin, std::size_t end, bool update_history) {
+void System::sum_forces(std::size_t begin, std::size_t end, bool update_history, bool kick) {
   const auto& c = *pairs_;
+  const auto m = motion();
   if (avx512_) {
-    detail::sum_contributions_avx512(c, *sum_plan_, f_.data(), t_.data(), stride_, begin / detail::kLanes,
-                                     (end + detail::kLanes - 1) / detail::kLanes);
-    if (external_) {
-      for (std::size_t k = begin; k < end; ++k) external_forces(k, update_history);
+    // In chunks that stay in the L1 cache from the sums to the kick.
+    constexpr std::size_t chunk = 8 * detail::kLanes;
+    for (std::size_t b = begin; b < end; b += chunk) {
+      const std::size_t e = std::min(end, b + chunk);
+      detail::sum_contributions_avx512(c, *sum_plan_, f_.data(), t_.data(), stride_, b / detail::kLanes,
+                                       (e + detail::kLanes - 1) / detail::kLanes);
+      if (external_) {
+        for (std::size_t k = b; k < e; ++k) external_forces(k, update_history);
+      }
+      if (kick) detail::second_half_avx512(m, b, e);
     }
     return;
   }
@@ -291,28 +321,39 @@ void System::sum_forces(std::size_t begin, std::size_t end, bool update_history)
     t_[y + k] = ty;
     t_[z + k] = tz;
     if (external_) external_forces(k, update_history);
+    if (kick) detail::second_half_reference(m, k, k + 1);
   }
 }
 
-void System::compute_forces(bool update_history) {
+// The pair forces, then per particle its sums, walls and gravity and, within a step, the
+// second half kick (a particle's kick needs only its own force and torque).
+void System::compute_forces(bool update_history, bool kick) {
   detail::ContactStep s{x_.data(), v_.data(), w_.data(), stride_, p_.dt, p_.contact_distance_factor, update_history,
                         p_.tangential_damping};
   auto& pairs = *pairs_;
+  const auto contacts = [&](std::size_t begin, std::size_t end) {
+    if (avx512_) {
+      detail::contacts_avx512(pairs, s, begin, end);
+    } else {
+      detail::contacts_reference(pairs, s, begin, end);
+    }
+  };
+  if (threads_ == 1) {
+    // Tile by tile: every pair of a particle has its i at or before the particle, so its sums
+    // can be taken right after its tile's pairs, while their contributions are in the cache.
+    for (std::size_t t = 0; t + 1 < tile_first_.size(); ++t) {
+      contacts(tile_first_[t], tile_first_[t + 1]);
+      sum_forces(t * kTile, std::min(n_, (t + 1) * kTile), update_history, kick);
+    }
+    return;
+  }
+  for_shares(pairs.padded(), contacts, detail::kPairBlock);
   for_shares(
-      pairs.padded(),
-      [&](std::size_t begin, std::size_t end) {
-        if (avx512_) {
-          detail::contacts_avx512(pairs, s, begin, end);
-        } else {
-          detail::contacts_reference(pairs, s, begin, end);
-        }
-      },
-      detail::kPairBlock);
-  for_shares(
-      n_, [&](std::size_t begin, std::size_t end) { sum_forces(begin, end, update_history); }, detail::kLanes);
+      n_, [&](std::size_t begin, std::size_t end) { sum_forces(begin, end, update_history, kick); }, detail::kLanes);
 }
 
-void System::setup() { compute_forces(false); }
+void System::setup() { compute_forces(false, false); }
+
 
 detail::Motion System::motion() {
   const double half = 0.5 * p_.skin;
@@ -332,17 +373,7 @@ void System::step() {
       },
       detail::kLanes);
   if (moved.load(std::memory_order_relaxed)) build_pairs();
-  compute_forces(true);
-  for_shares(
-      n_,
-      [&](std::size_t begin, std::size_t end) {
-        if (avx512_) {
-          detail::second_half_avx512(m, begin, end);
-        } else {
-          detail::second_half_reference(m, begin, end);
-        }
-      },
-      detail::kLanes);
+  compute_forces(true, true);
   ++step_;
 }
 

@@ -83,8 +83,8 @@ class System {
  private:
   Vec3 get(const std::vector<double>& a, std::size_t i) const { return {a[i], a[stride_ + i], a[2 * stride_ + i]}; }
   void build_pairs();
-  void compute_forces(bool update_history);
-  void sum_forces(std::size_t begin, std::size_t end, bool update_history);
+  void compute_forces(bool update_history, bool kick);
+  void sum_forces(std::size_t begin, std::size_t end, bool update_history, bool kick);
   void wall_force(std::size_t i, std::size_t w, bool update_history);
   void external_forces(std::size_t i, bool update_history);  // walls then gravity, in the deck's order
   detail::Motion motion();
@@ -115,6 +115,9 @@ class System {
   std::vector<std::size_t> contribution_offsets_;
   std::vector<std::pair<std::int32_t, std::uint32_t>> contributions_;
   std::unique_ptr<detail::SumPlan> sum_plan_;  // the same sums eight particles at a time (AVX-512)
+  // Particles in tiles of kTile; the pairs whose i is in tile t are [tile_first_[t], tile_first_[t + 1]).
+  static constexpr std::size_t kTile = 64;
+  std::vector<std::size_t> tile_first_;
   std::vector<double> wall_history_;  // 3 per particle and wall
   bool external_ = false;             // walls or gravity
   bool avx512_ = false;
