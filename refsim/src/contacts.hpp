@@ -132,6 +132,8 @@ void second_half_reference(const Motion& m, std::size_t begin, std::size_t end);
 // The same on whole groups of particles: begin a multiple of kLanes, end rounded up to one.
 bool first_half_avx512(const Motion& m, std::size_t begin, std::size_t end);
 void second_half_avx512(const Motion& m, std::size_t begin, std::size_t end);
+// One step's second half and the next one's first half, each particle's operations in order.
+bool second_and_first_half_avx512(const Motion& m, std::size_t begin, std::size_t end);
 
 // The Hertz normal force with restitution damping, and the tangential stiffness and damping
 // (normal_model_hertz.h); shared by the pair kernel and the walls.

@@ -363,6 +363,27 @@ GRANSTACK_AVX512 bool first_half_avx512(const Motion& m, std::size_t begin, std:
   return moved != 0;
 }
 
+GRANSTACK_AVX512 bool second_and_first_half_avx512(const Motion& m, std::size_t begin, std::size_t end) {
+  const Z dt = _mm512_set1_pd(m.dt), trigger = _mm512_set1_pd(m.trigger);
+  __mmask8 moved = 0;
+  for (std::size_t i = begin; i < end; i += kLanes) {
+    const Z kick = _mm512_loadu_pd(&m.kick[i]), spin = _mm512_loadu_pd(&m.spin_kick[i]);
+    Z dsq = _mm512_setzero_pd();
+    for (std::size_t e = i; e < i + 3 * m.stride; e += m.stride) {
+      const Z f = _mm512_loadu_pd(&m.f[e]), t = _mm512_loadu_pd(&m.t[e]);
+      const Z v = _mm512_loadu_pd(&m.v[e]) + kick * f + kick * f;
+      const Z x = _mm512_loadu_pd(&m.x[e]) + dt * v;
+      _mm512_storeu_pd(&m.v[e], v);
+      _mm512_storeu_pd(&m.x[e], x);
+      _mm512_storeu_pd(&m.w[e], _mm512_loadu_pd(&m.w[e]) + spin * t + spin * t);
+      const Z d = x - _mm512_loadu_pd(&m.x_at_build[e]);
+      dsq = dsq + d * d;
+    }
+    moved = static_cast<__mmask8>(moved | _mm512_cmp_pd_mask(dsq, trigger, _CMP_GT_OQ));
+  }
+  return moved != 0;
+}
+
 GRANSTACK_AVX512 void second_half_avx512(const Motion& m, std::size_t begin, std::size_t end) {
   for (std::size_t i = begin; i < end; i += kLanes) {
     const Z kick = _mm512_loadu_pd(&m.kick[i]), spin = _mm512_loadu_pd(&m.spin_kick[i]);
@@ -384,6 +405,7 @@ void sum_contributions_avx512(const PairTable&, const SumPlan&, double*, double*
   no_avx512();
 }
 void second_half_avx512(const Motion&, std::size_t, std::size_t) { no_avx512(); }
+bool second_and_first_half_avx512(const Motion&, std::size_t, std::size_t) { no_avx512(); }
 
 #endif
 

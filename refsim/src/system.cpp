@@ -285,9 +285,10 @@ void System::external_forces(std::size_t i, bool update_history) {
 // Each particle's force and torque: its contacts' contributions in pair order, then the walls
 // and gravity, the post_force fixes that follow the pair style. The same sums in the same order
 // as LIGGGHTS's pair loop, whichever thread adds them.
-void System::sum_forces(std::size_t begin, std::size_t end, bool update_history, bool kick) {
+void System::sum_forces(std::size_t begin, std::size_t end, bool update_history, bool kick, bool drift) {
   const auto& c = *pairs_;
   const auto m = motion();
+  bool moved = false;
   if (avx512_) {
     // In chunks that stay in the L1 cache from the sums to the kick.
     constexpr std::size_t chunk = 8 * detail::kLanes;
@@ -298,8 +299,13 @@ void System::sum_forces(std::size_t begin, std::size_t end, bool update_history,
       if (external_) {
         for (std::size_t k = b; k < e; ++k) external_forces(k, update_history);
       }
-      if (kick) detail::second_half_avx512(m, b, e);
+      if (kick && drift) {
+        moved |= detail::second_and_first_half_avx512(m, b, e);
+      } else if (kick) {
+        detail::second_half_avx512(m, b, e);
+      }
     }
+    if (moved) moved_.store(true, std::memory_order_relaxed);
     return;
   }
   const std::size_t y = stride_, z = 2 * stride_;
@@ -322,12 +328,15 @@ void System::sum_forces(std::size_t begin, std::size_t end, bool update_history,
     t_[z + k] = tz;
     if (external_) external_forces(k, update_history);
     if (kick) detail::second_half_reference(m, k, k + 1);
+    if (drift) moved |= detail::first_half_reference(m, k, k + 1);
   }
+  if (moved) moved_.store(true, std::memory_order_relaxed);
 }
 
 // The pair forces, then per particle its sums, walls and gravity and, within a step, the
-// second half kick (a particle's kick needs only its own force and torque).
-void System::compute_forces(bool update_history, bool kick) {
+// second half kick (a particle's kick needs only its own force and torque), and if the next
+// step follows at once, its first half too: no pair left to compute uses the particle.
+void System::compute_forces(bool update_history, bool kick, bool drift) {
   detail::ContactStep s{x_.data(), v_.data(), w_.data(), stride_, p_.dt, p_.contact_distance_factor, update_history,
                         p_.tangential_damping};
   auto& pairs = *pairs_;
@@ -343,16 +352,16 @@ void System::compute_forces(bool update_history, bool kick) {
     // can be taken right after its tile's pairs, while their contributions are in the cache.
     for (std::size_t t = 0; t + 1 < tile_first_.size(); ++t) {
       contacts(tile_first_[t], tile_first_[t + 1]);
-      sum_forces(t * kTile, std::min(n_, (t + 1) * kTile), update_history, kick);
+      sum_forces(t * kTile, std::min(n_, (t + 1) * kTile), update_history, kick, drift);
     }
     return;
   }
   for_shares(pairs.padded(), contacts, detail::kPairBlock);
   for_shares(
-      n_, [&](std::size_t begin, std::size_t end) { sum_forces(begin, end, update_history, kick); }, detail::kLanes);
+      n_, [&](std::size_t begin, std::size_t end) { sum_forces(begin, end, update_history, kick, drift); }, detail::kLanes);
 }
 
-void System::setup() { compute_forces(false, false); }
+void System::setup() { compute_forces(false, false, false); }
 
 
 detail::Motion System::motion() {
@@ -361,20 +370,28 @@ detail::Motion System::motion() {
           stride_, p_.dt, half * half};
 }
 
-void System::step() {
-  const auto m = motion();
-  std::atomic<bool> moved{false};
-  for_shares(
-      n_,
-      [&](std::size_t begin, std::size_t end) {
-        if (avx512_ ? detail::first_half_avx512(m, begin, end) : detail::first_half_reference(m, begin, end)) {
-          moved.store(true, std::memory_order_relaxed);
-        }
-      },
-      detail::kLanes);
-  if (moved.load(std::memory_order_relaxed)) build_pairs();
-  compute_forces(true, true);
-  ++step_;
+void System::step() { advance(1); }
+
+void System::advance(long steps) {
+  for (long k = 0; k < steps; ++k) {
+    if (!drifted_) {
+      const auto m = motion();
+      moved_ = false;
+      for_shares(
+          n_,
+          [&](std::size_t begin, std::size_t end) {
+            if (avx512_ ? detail::first_half_avx512(m, begin, end) : detail::first_half_reference(m, begin, end)) {
+              moved_.store(true, std::memory_order_relaxed);
+            }
+          },
+          detail::kLanes);
+    }
+    if (moved_.load(std::memory_order_relaxed)) build_pairs();
+    drifted_ = k + 1 < steps;
+    moved_ = false;
+    compute_forces(true, true, drifted_);
+    ++step_;
+  }
 }
 
 }  // namespace granstack::refsim

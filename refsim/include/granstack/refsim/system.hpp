@@ -66,6 +66,9 @@ class System {
   void setup();
   // One step: half kick and drift, neighbour check, forces, half kick.
   void step();
+  // `steps` steps, each step's last half kick and the next one's first half taken together
+  // particle by particle (the same operations): the state is observable only at the end.
+  void advance(long steps);
 
   long step_count() const { return step_; }
   std::size_t size() const { return n_; }
@@ -83,8 +86,8 @@ class System {
  private:
   Vec3 get(const std::vector<double>& a, std::size_t i) const { return {a[i], a[stride_ + i], a[2 * stride_ + i]}; }
   void build_pairs();
-  void compute_forces(bool update_history, bool kick);
-  void sum_forces(std::size_t begin, std::size_t end, bool update_history, bool kick);
+  void compute_forces(bool update_history, bool kick, bool drift);
+  void sum_forces(std::size_t begin, std::size_t end, bool update_history, bool kick, bool drift);
   void wall_force(std::size_t i, std::size_t w, bool update_history);
   void external_forces(std::size_t i, bool update_history);  // walls then gravity, in the deck's order
   detail::Motion motion();
@@ -124,6 +127,8 @@ class System {
 
   long step_ = 0;
   long builds_ = 0;
+  bool drifted_ = false;              // the next step's first half is done
+  std::atomic<bool> moved_{false};    // a particle moved half a skin in the last first half
 
   int threads_ = 1;
   std::vector<std::thread> workers_;
