@@ -4,7 +4,10 @@
 # no dumps or series in the loop (one frame at each end). Runs the engines alternately REPEATS
 # times and reports the median particle-steps per second of each and their ratio, for
 # 1 LIGGGHTS rank against 1 refsim thread, and 2 ranks against 2 threads. refsim runs its
-# automatic kernel (AVX-512 where the CPU has it); its scalar reference kernel is timed too.
+# automatic kernels (AVX-512 where the CPU has it); its scalar reference kernel is timed too.
+# The issue's case is the default spec (e = 1, mu = 0: elastic, frictionless contacts, which
+# refsim's AVX-512 kernel computes without the tangential model); the same stack with e = 0.9
+# and mu = 0.25 (every contact damped and frictional) is timed as well.
 # Usage: bench/refsim_vs_liggghts.sh [REPEATS]   (about a minute)
 set -euo pipefail
 repeats=${1:-7}
@@ -12,34 +15,45 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 gs=${GRANSTACK:-$here/build/release/app/granstack}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$gs" generate -o "$work/case" --blocks 4 --top-columns 8 --duration 2e-4 --dump-every 1000000000 \
-  --series-every 1000000000 >/dev/null
-for engine in liggghts liggghts2 refsim refsim2 reference; do cp -r "$work/case" "$work/$engine"; done
+common=(--blocks 4 --top-columns 8 --duration 2e-4 --dump-every 1000000000 --series-every 1000000000)
+"$gs" generate -o "$work/case" "${common[@]}" >/dev/null
+"$gs" generate -o "$work/damped" "${common[@]}" --restitution 0.9 --friction 0.25 >/dev/null
+for run in liggghts liggghts2 refsim refsim2 reference; do cp -r "$work/case" "$work/$run"; done
+for run in liggghts refsim; do cp -r "$work/damped" "$work/damped_$run"; done
 rate() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['particle_steps_per_second'])" "$1/run.json"; }
 declare -A rates
+timed() {  # name, then the run arguments
+  local name=$1
+  shift
+  "$gs" run --force "$@" "$work/$name" >/dev/null
+  rates[$name]+="$(rate "$work/$name") "
+}
 for ((k = 1; k <= repeats; k++)); do
-  "$gs" run --force "$work/liggghts" >/dev/null
-  rates[liggghts]+="$(rate "$work/liggghts") "
-  "$gs" run --force --engine refsim "$work/refsim" >/dev/null
-  rates[refsim]+="$(rate "$work/refsim") "
-  "$gs" run --force --np 2 "$work/liggghts2" >/dev/null
-  rates[liggghts2]+="$(rate "$work/liggghts2") "
-  "$gs" run --force --engine refsim --threads 2 "$work/refsim2" >/dev/null
-  rates[refsim2]+="$(rate "$work/refsim2") "
-  "$gs" run --force --engine refsim --kernel reference "$work/reference" >/dev/null
-  rates[reference]+="$(rate "$work/reference") "
+  timed liggghts
+  timed refsim --engine refsim
+  timed liggghts2 --np 2
+  timed refsim2 --engine refsim --threads 2
+  timed reference --engine refsim --kernel reference
+  timed damped_liggghts
+  timed damped_refsim --engine refsim
 done
 kernel=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['kernel'])" "$work/refsim/run.json")
-python3 - "$kernel" "${rates[liggghts]}" "${rates[refsim]}" "${rates[liggghts2]}" "${rates[refsim2]}" "${rates[reference]}" <<'PY'
+python3 - "$kernel" "${rates[liggghts]}" "${rates[refsim]}" "${rates[liggghts2]}" "${rates[refsim2]}" "${rates[reference]}" \
+  "${rates[damped_liggghts]}" "${rates[damped_refsim]}" <<'PY'
 import statistics, sys
 kernel = sys.argv[1]
-l1, r1, l2, r2, s1 = ([float(x) for x in a.split()] for a in sys.argv[2:7])
+l1, r1, l2, r2, s1, dl, dr = ([float(x) for x in a.split()] for a in sys.argv[2:9])
 m = lambda xs: statistics.median(xs)
 print(f"961 spheres, 3190 steps, {len(l1)} alternating runs each (median; min..max); refsim kernel: {kernel}")
+print("e = 1, mu = 0 (the issue's case):")
 for name, xs in (("LIGGGHTS, 1 rank", l1), ("LIGGGHTS, 2 ranks", l2), ("refsim, 1 thread", r1), ("refsim, 2 threads", r2),
                  ("refsim reference kernel, 1 thread", s1)):
     print(f"  {name:34s} {m(xs):.3e} particle-steps/s  ({min(xs):.3e}..{max(xs):.3e})")
-print(f"ratio refsim 1 thread / LIGGGHTS 1 rank:  {m(r1) / m(l1):.2f}")
-print(f"ratio refsim 2 threads / LIGGGHTS 2 ranks: {m(r2) / m(l2):.2f}")
-print(f"ratio refsim reference kernel / LIGGGHTS 1 rank: {m(s1) / m(l1):.2f}")
+print(f"  ratio refsim 1 thread / LIGGGHTS 1 rank:  {m(r1) / m(l1):.2f}")
+print(f"  ratio refsim 2 threads / LIGGGHTS 2 ranks: {m(r2) / m(l2):.2f}")
+print(f"  ratio refsim reference kernel / LIGGGHTS 1 rank: {m(s1) / m(l1):.2f}")
+print("e = 0.9, mu = 0.25:")
+for name, xs in (("LIGGGHTS, 1 rank", dl), ("refsim, 1 thread", dr)):
+    print(f"  {name:34s} {m(xs):.3e} particle-steps/s  ({min(xs):.3e}..{max(xs):.3e})")
+print(f"  ratio refsim 1 thread / LIGGGHTS 1 rank:  {m(dr) / m(dl):.2f}")
 PY

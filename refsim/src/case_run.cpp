@@ -199,10 +199,11 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   SeriesWriter series((dir / manifest.files.series).string(), stack, manifest.files.series_columns);
   formats::DumpFrame frame;
 
-  const auto t0 = std::chrono::steady_clock::now();
   system.setup();
   fill_frame(system, manifest.files.dump_columns, data.box, frame);
   dump.write(frame);
+  // As LIGGGHTS's "Loop time" (run.cpp): the setup force call and the step-0 output are not in it.
+  const auto t0 = std::chrono::steady_clock::now();
   for (long step = 1; step <= res.steps; ++step) {
     // Up to the next step with output, a progress report or the end, in one go.
     const long next = std::min({res.steps, (step + res.series_every - 1) / res.series_every * res.series_every,
