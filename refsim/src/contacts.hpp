@@ -87,8 +87,9 @@ struct SumPlan {
 
 // Adds up every particle's contributions in groups [group_begin, group_end) into f and t
 // (component-major, stride as ContactStep).
+// With pairs.torque_free and !zero_torques, t is left alone (it holds +0 already).
 void sum_contributions_avx512(const PairTable& pairs, const SumPlan& plan, double* f, double* t, std::size_t stride,
-                              std::size_t group_begin, std::size_t group_end);
+                              std::size_t group_begin, std::size_t group_end, bool zero_torques);
 
 // One force call's inputs beyond the tables.
 struct ContactStep {
@@ -123,6 +124,10 @@ struct Motion {
   std::size_t stride = 0;
   double dt = 0.0;
   double trigger = 0.0;  // (skin / 2)^2
+  // False when every torque is +0 and stays so (no torque from any pair, no walls) and no
+  // angular velocity is -0: then w + (dtfrotate / (r^2 m)) * t leaves w as it is, and the AVX-512
+  // functions leave w and t alone.
+  bool spin = true;
 };
 
 // nve/sphere's initial_integrate on particles [begin, end): kick, drift, spin kick. True if one

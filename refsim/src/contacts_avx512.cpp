@@ -329,14 +329,17 @@ GRANSTACK_AVX512_INLINE void sum_group(const SumPlan& plan, std::size_t g, const
 }
 
 GRANSTACK_AVX512 void sum_contributions_avx512(const PairTable& pairs, const SumPlan& plan, double* f, double* t,
-                                               std::size_t stride, std::size_t group_begin, std::size_t group_end) {
+                                               std::size_t stride, std::size_t group_begin, std::size_t group_end,
+                                               bool zero_torques) {
   const double* in[6] = {pairs.fx.data(), pairs.fy.data(), pairs.fz.data(), pairs.tx.data(), pairs.ty.data(), pairs.tz.data()};
   double* out[6] = {f, f + stride, f + 2 * stride, t, t + stride, t + 2 * stride};
   for (std::size_t g = group_begin; g < group_end; ++g) {
     if (pairs.torque_free) {
       // Without torques (PairTable::torque_free) every torque sum is 0 + +-0 + ... = +0.
       sum_group<3>(plan, g, in, out);
-      for (int c = 3; c < 6; ++c) _mm512_storeu_pd(out[c] + g * kLanes, _mm512_setzero_pd());
+      if (zero_torques) {
+        for (int c = 3; c < 6; ++c) _mm512_storeu_pd(out[c] + g * kLanes, _mm512_setzero_pd());
+      }
     } else {
       sum_group<6>(plan, g, in, out);
     }
@@ -354,7 +357,7 @@ GRANSTACK_AVX512 bool first_half_avx512(const Motion& m, std::size_t begin, std:
       const Z x = _mm512_loadu_pd(&m.x[e]) + dt * v;
       _mm512_storeu_pd(&m.v[e], v);
       _mm512_storeu_pd(&m.x[e], x);
-      _mm512_storeu_pd(&m.w[e], _mm512_loadu_pd(&m.w[e]) + spin * _mm512_loadu_pd(&m.t[e]));
+      if (m.spin) _mm512_storeu_pd(&m.w[e], _mm512_loadu_pd(&m.w[e]) + spin * _mm512_loadu_pd(&m.t[e]));
       const Z d = x - _mm512_loadu_pd(&m.x_at_build[e]);
       dsq = dsq + d * d;  // dx^2, then + dy^2, then + dz^2: the reference's order
     }
@@ -370,12 +373,15 @@ GRANSTACK_AVX512 bool second_and_first_half_avx512(const Motion& m, std::size_t 
     const Z kick = _mm512_loadu_pd(&m.kick[i]), spin = _mm512_loadu_pd(&m.spin_kick[i]);
     Z dsq = _mm512_setzero_pd();
     for (std::size_t e = i; e < i + 3 * m.stride; e += m.stride) {
-      const Z f = _mm512_loadu_pd(&m.f[e]), t = _mm512_loadu_pd(&m.t[e]);
+      const Z f = _mm512_loadu_pd(&m.f[e]);
       const Z v = _mm512_loadu_pd(&m.v[e]) + kick * f + kick * f;
       const Z x = _mm512_loadu_pd(&m.x[e]) + dt * v;
       _mm512_storeu_pd(&m.v[e], v);
       _mm512_storeu_pd(&m.x[e], x);
-      _mm512_storeu_pd(&m.w[e], _mm512_loadu_pd(&m.w[e]) + spin * t + spin * t);
+      if (m.spin) {
+        const Z t = _mm512_loadu_pd(&m.t[e]);
+        _mm512_storeu_pd(&m.w[e], _mm512_loadu_pd(&m.w[e]) + spin * t + spin * t);
+      }
       const Z d = x - _mm512_loadu_pd(&m.x_at_build[e]);
       dsq = dsq + d * d;
     }
@@ -389,7 +395,7 @@ GRANSTACK_AVX512 void second_half_avx512(const Motion& m, std::size_t begin, std
     const Z kick = _mm512_loadu_pd(&m.kick[i]), spin = _mm512_loadu_pd(&m.spin_kick[i]);
     for (std::size_t e = i; e < i + 3 * m.stride; e += m.stride) {
       _mm512_storeu_pd(&m.v[e], _mm512_loadu_pd(&m.v[e]) + kick * _mm512_loadu_pd(&m.f[e]));
-      _mm512_storeu_pd(&m.w[e], _mm512_loadu_pd(&m.w[e]) + spin * _mm512_loadu_pd(&m.t[e]));
+      if (m.spin) _mm512_storeu_pd(&m.w[e], _mm512_loadu_pd(&m.w[e]) + spin * _mm512_loadu_pd(&m.t[e]));
     }
   }
 }
@@ -401,7 +407,8 @@ bool avx512_available() { return false; }
 [[noreturn]] void no_avx512() { throw std::logic_error("refsim: this build has no AVX-512 kernels"); }
 void contacts_avx512(PairTable&, const ContactStep&, std::size_t, std::size_t) { no_avx512(); }
 bool first_half_avx512(const Motion&, std::size_t, std::size_t) { no_avx512(); }
-void sum_contributions_avx512(const PairTable&, const SumPlan&, double*, double*, std::size_t, std::size_t, std::size_t) {
+void sum_contributions_avx512(const PairTable&, const SumPlan&, double*, double*, std::size_t, std::size_t, std::size_t,
+                              bool) {
   no_avx512();
 }
 void second_half_avx512(const Motion&, std::size_t, std::size_t) { no_avx512(); }

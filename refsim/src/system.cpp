@@ -35,6 +35,7 @@ System::System(std::vector<Particle> particles, Parameters params)
     const auto& pa = particles[i];
     if (pa.type < 1 || pa.type > p_.types) throw std::invalid_argument("refsim: particle type outside the tables");
     type_[i] = pa.type;
+    for (double w : pa.omega) negative_zero_spin_ |= w == 0.0 && std::signbit(w);
     radius_[i] = pa.radius;
     mass_[i] = pa.mass;
     for (std::size_t d = 0; d < 3; ++d) {
@@ -295,7 +296,7 @@ void System::sum_forces(std::size_t begin, std::size_t end, bool update_history,
     for (std::size_t b = begin; b < end; b += chunk) {
       const std::size_t e = std::min(end, b + chunk);
       detail::sum_contributions_avx512(c, *sum_plan_, f_.data(), t_.data(), stride_, b / detail::kLanes,
-                                       (e + detail::kLanes - 1) / detail::kLanes);
+                                       (e + detail::kLanes - 1) / detail::kLanes, m.spin);
       if (external_) {
         for (std::size_t k = b; k < e; ++k) external_forces(k, update_history);
       }
@@ -366,8 +367,9 @@ void System::setup() { compute_forces(false, false, false); }
 
 detail::Motion System::motion() {
   const double half = 0.5 * p_.skin;
-  return {x_.data(), v_.data(), w_.data(), f_.data(), t_.data(), kick_.data(), spin_kick_.data(), x_at_build_.data(),
-          stride_, p_.dt, half * half};
+  const bool spinless = pairs_->torque_free && p_.walls.empty() && !negative_zero_spin_;
+  return {x_.data(), v_.data(),          w_.data(), f_.data(), t_.data(), kick_.data(), spin_kick_.data(), x_at_build_.data(),
+          stride_,   p_.dt,    half * half, !spinless};
 }
 
 void System::step() { advance(1); }

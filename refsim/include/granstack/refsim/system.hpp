@@ -123,6 +123,7 @@ class System {
   std::vector<std::size_t> tile_first_;
   std::vector<double> wall_history_;  // 3 per particle and wall
   bool external_ = false;             // walls or gravity
+  bool negative_zero_spin_ = false;   // an angular velocity component starts at -0
   bool avx512_ = false;
 
   long step_ = 0;
