@@ -1,9 +1,10 @@
 #pragma once
-// The sphere-sphere contact kernel, private to refsim: candidate pairs in structure-of-arrays
-// form and two implementations over them, the scalar reference (contacts.cpp, the model written
-// out line by line) and an AVX-512 one (contacts_avx512.cpp, eight pairs per instruction). Both
-// perform every floating-point operation of LIGGGHTS's hertz/history model in its order, so they
-// give the same bits; a test holds them to that.
+// refsim's inner loops, private to refsim: the sphere-sphere contacts over candidate pairs in
+// structure-of-arrays form, each particle's force sums and the integrator's two halves, each in
+// two implementations, the scalar reference (contacts.cpp, the model written out line by line)
+// and AVX-512 (contacts_avx512.cpp, eight pairs or particles per instruction). Both perform
+// every floating-point operation of LIGGGHTS's hertz/history model and nve/sphere in its order,
+// so they give the same bits; a test holds them to that.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -11,8 +12,8 @@
 namespace granstack::refsim::detail {
 
 // Vector lanes (doubles in an AVX-512 register), and pairs per step of the AVX-512 contact
-// kernel (two registers' worth, whose independent chains of square roots and divisions overlap).
-// The tables are padded to whole blocks with pairs of zero radius that never touch.
+// kernel (two registers' worth). The tables are padded to whole blocks with entries of zero
+// radius that never touch.
 inline constexpr std::size_t kLanes = 8;
 inline constexpr std::size_t kPairBlock = 2 * kLanes;
 
@@ -24,12 +25,6 @@ struct PairConstants {
   bool damped() const { return damping_factor != 0.0; }  // beta != 0, i.e. e < 1
 };
 
-// The candidate pairs (i < j), what does not change between neighbour-list builds, the
-// tangential history, and what each contact gives its two spheres at the last force call.
-// Non-touching pairs give zeros: adding +-0 to a force sum that started at +0 changes no bit.
-// The order of the pairs is free (each particle adds its contributions in its own order), so
-// they are ordered by j - i, then i: in a lattice, eight consecutive pairs then have their i
-// within 16 consecutive particles and their j too, which two loads and a permutation fetch.
 // What a pair's contact needs of its two spheres, the same for every pair of two given types
 // in a generated stack: the table keeps each distinct one once.
 struct PairRecord {
@@ -42,6 +37,13 @@ struct PairRecord {
   bool elastic_frictionless() const { return damping_factor == 0.0 && friction == 0.0; }
 };
 
+// The candidate pairs (i < j), what does not change between neighbour-list builds, the
+// tangential history, and what each contact gives its two spheres at the last force call.
+// Non-touching pairs give zeros: adding +-0 to a force sum that started at +0 changes no bit.
+// The order of the pairs is free (each particle adds its contributions in its own order), so
+// they are ordered by the tile of i (System), then j - i, then i: in a lattice, eight
+// consecutive pairs then have their i within 16 consecutive particles and their j too, which
+// two loads and a permutation fetch.
 struct PairTable {
   std::size_t count = 0;  // entries, padding (record 0) included; the arrays hold padded()
   std::vector<std::int32_t> i, j;

@@ -60,7 +60,9 @@ System::System(std::vector<Particle> particles, Parameters params)
   }
   using Kernel = Parameters::Kernel;
   if (p_.kernel == Kernel::avx512 && !detail::avx512_available()) {
-    throw std::invalid_argument("refsim: the AVX-512 contact kernel was asked for, but this CPU does not have AVX-512");
+    throw std::invalid_argument(
+        "refsim: the AVX-512 kernels were asked for (--kernel avx512), but this CPU has no AVX-512; "
+        "use --kernel auto or reference");
   }
   avx512_ = p_.kernel == Kernel::avx512 || (p_.kernel == Kernel::automatic && detail::avx512_available());
   build_pairs();
