@@ -139,9 +139,8 @@ struct Records {
   }
 };
 
-// Force on i and on j (its negative), torques on i and on j, zero where not touching.
-GRANSTACK_AVX512_INLINE void store_contributions(PairTable& t, std::size_t p, M touching, const Vec& f, const Vec& ti,
-                                                 const Vec& tj) {
+// Force on i and on j (its negative), zero where not touching.
+GRANSTACK_AVX512_INLINE void store_forces(PairTable& t, std::size_t p, M touching, const Vec& f) {
   const std::size_t q = t.padded() + p;
   store(&t.fx[p], zero_unless(touching, f.x));
   store(&t.fy[p], zero_unless(touching, f.y));
@@ -149,6 +148,11 @@ GRANSTACK_AVX512_INLINE void store_contributions(PairTable& t, std::size_t p, M 
   store(&t.fx[q], zero_unless(touching, -f.x));
   store(&t.fy[q], zero_unless(touching, -f.y));
   store(&t.fz[q], zero_unless(touching, -f.z));
+}
+
+// Torques on i and on j, zero where not touching.
+GRANSTACK_AVX512_INLINE void store_torques(PairTable& t, std::size_t p, M touching, const Vec& ti, const Vec& tj) {
+  const std::size_t q = t.padded() + p;
   store(&t.tx[p], zero_unless(touching, ti.x));
   store(&t.ty[p], zero_unless(touching, ti.y));
   store(&t.tz[p], zero_unless(touching, ti.z));
@@ -186,7 +190,8 @@ GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
   const V zero = broadcast(0.0);
   if (touching == 0) {
     for (double* a : {&t.shear_x[p], &t.shear_y[p], &t.shear_z[p]}) store_where(a, close, zero);
-    store_contributions(t, p, touching, {zero, zero, zero}, {zero, zero, zero}, {zero, zero, zero});
+    store_forces(t, p, touching, {zero, zero, zero});
+    store_torques(t, p, touching, {zero, zero, zero}, {zero, zero, zero});
     return;
   }
   const V one = broadcast(1.0), half = broadcast(0.5);
@@ -201,18 +206,9 @@ GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
     for (double* a : {&t.shear_x[p], &t.shear_y[p], &t.shear_z[p]}) {
       store_where(a, static_cast<M>(close | (s.update_history ? touching : 0U)), zero);
     }
-    const std::size_t q = t.padded() + p;
-    const Vec f{fn * en.x, fn * en.y, fn * en.z};
-    store(&t.fx[p], zero_unless(touching, f.x));
-    store(&t.fy[p], zero_unless(touching, f.y));
-    store(&t.fz[p], zero_unless(touching, f.z));
-    store(&t.fx[q], zero_unless(touching, -f.x));
-    store(&t.fy[q], zero_unless(touching, -f.y));
-    store(&t.fz[q], zero_unless(touching, -f.z));
+    store_forces(t, p, touching, {fn * en.x, fn * en.y, fn * en.z});
     // The torque entries: zero since the table was built, unless other pairs may write them.
-    if (!t.torque_free) {
-      for (double* a : {&t.tx[p], &t.ty[p], &t.tz[p], &t.tx[q], &t.ty[q], &t.tz[q]}) store(a, zero);
-    }
+    if (!t.torque_free) store_torques(t, p, touching, {zero, zero, zero}, {zero, zero, zero});
     return;
   }
 
@@ -296,8 +292,8 @@ GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
   store(&t.shear_x[p], select(touching, shear.x, select(close, zero, shear_before.x)));
   store(&t.shear_y[p], select(touching, shear.y, select(close, zero, shear_before.y)));
   store(&t.shear_z[p], select(touching, shear.z, select(close, zero, shear_before.z)));
-  store_contributions(t, p, touching, {fn * en.x + ft.x, fn * en.y + ft.y, fn * en.z + ft.z},
-                      {-cri * tor.x, -cri * tor.y, -cri * tor.z}, {-crj * tor.x, -crj * tor.y, -crj * tor.z});
+  store_forces(t, p, touching, {fn * en.x + ft.x, fn * en.y + ft.y, fn * en.z + ft.z});
+  store_torques(t, p, touching, {-cri * tor.x, -cri * tor.y, -cri * tor.z}, {-crj * tor.x, -crj * tor.y, -crj * tor.z});
 }
 
 }  // namespace
@@ -346,18 +342,29 @@ GRANSTACK_AVX512 void sum_contributions_avx512(const PairTable& pairs, const Sum
   }
 }
 
-GRANSTACK_AVX512 bool first_half_avx512(const Motion& m, std::size_t begin, std::size_t end) {
+// The first half (kick, drift, spin kick, rebuild check), after the previous step's second
+// half (kick, spin kick) when SecondHalfFirst: each particle's operations in the reference's order.
+template <bool SecondHalfFirst>
+GRANSTACK_AVX512_INLINE bool first_half(const Motion& m, std::size_t begin, std::size_t end) {
   const Z dt = _mm512_set1_pd(m.dt), trigger = _mm512_set1_pd(m.trigger);
   __mmask8 moved = 0;
   for (std::size_t i = begin; i < end; i += kLanes) {
     const Z kick = _mm512_loadu_pd(&m.kick[i]), spin = _mm512_loadu_pd(&m.spin_kick[i]);
     Z dsq = _mm512_setzero_pd();
     for (std::size_t e = i; e < i + 3 * m.stride; e += m.stride) {
-      const Z v = _mm512_loadu_pd(&m.v[e]) + kick * _mm512_loadu_pd(&m.f[e]);
+      const Z f = _mm512_loadu_pd(&m.f[e]);
+      Z v = _mm512_loadu_pd(&m.v[e]);
+      if (SecondHalfFirst) v = v + kick * f;
+      v = v + kick * f;
       const Z x = _mm512_loadu_pd(&m.x[e]) + dt * v;
       _mm512_storeu_pd(&m.v[e], v);
       _mm512_storeu_pd(&m.x[e], x);
-      if (m.spin) _mm512_storeu_pd(&m.w[e], _mm512_loadu_pd(&m.w[e]) + spin * _mm512_loadu_pd(&m.t[e]));
+      if (m.spin) {
+        const Z t = _mm512_loadu_pd(&m.t[e]);
+        Z w = _mm512_loadu_pd(&m.w[e]);
+        if (SecondHalfFirst) w = w + spin * t;
+        _mm512_storeu_pd(&m.w[e], w + spin * t);
+      }
       const Z d = x - _mm512_loadu_pd(&m.x_at_build[e]);
       dsq = dsq + d * d;  // dx^2, then + dy^2, then + dz^2: the reference's order
     }
@@ -366,28 +373,12 @@ GRANSTACK_AVX512 bool first_half_avx512(const Motion& m, std::size_t begin, std:
   return moved != 0;
 }
 
+GRANSTACK_AVX512 bool first_half_avx512(const Motion& m, std::size_t begin, std::size_t end) {
+  return first_half<false>(m, begin, end);
+}
+
 GRANSTACK_AVX512 bool second_and_first_half_avx512(const Motion& m, std::size_t begin, std::size_t end) {
-  const Z dt = _mm512_set1_pd(m.dt), trigger = _mm512_set1_pd(m.trigger);
-  __mmask8 moved = 0;
-  for (std::size_t i = begin; i < end; i += kLanes) {
-    const Z kick = _mm512_loadu_pd(&m.kick[i]), spin = _mm512_loadu_pd(&m.spin_kick[i]);
-    Z dsq = _mm512_setzero_pd();
-    for (std::size_t e = i; e < i + 3 * m.stride; e += m.stride) {
-      const Z f = _mm512_loadu_pd(&m.f[e]);
-      const Z v = _mm512_loadu_pd(&m.v[e]) + kick * f + kick * f;
-      const Z x = _mm512_loadu_pd(&m.x[e]) + dt * v;
-      _mm512_storeu_pd(&m.v[e], v);
-      _mm512_storeu_pd(&m.x[e], x);
-      if (m.spin) {
-        const Z t = _mm512_loadu_pd(&m.t[e]);
-        _mm512_storeu_pd(&m.w[e], _mm512_loadu_pd(&m.w[e]) + spin * t + spin * t);
-      }
-      const Z d = x - _mm512_loadu_pd(&m.x_at_build[e]);
-      dsq = dsq + d * d;
-    }
-    moved = static_cast<__mmask8>(moved | _mm512_cmp_pd_mask(dsq, trigger, _CMP_GT_OQ));
-  }
-  return moved != 0;
+  return first_half<true>(m, begin, end);
 }
 
 GRANSTACK_AVX512 void second_half_avx512(const Motion& m, std::size_t begin, std::size_t end) {

@@ -172,8 +172,8 @@ void System::build_pairs() {
       kept[c] = {true, {old.shear_x[q], old.shear_y[q], old.shear_z[q]}};
     }
   }
-  // Table order: by tile of i, then j - i, then i; each run of one j - i padded to whole
-  // vectors and each tile to whole kernel blocks, so that a block's particles lie in a window.
+  // Table order: by tile of i, then j - i, then i, so that a block's particles lie in a window;
+  // each tile padded to whole kernel blocks.
   std::vector<std::size_t> order(found.size());
   for (std::size_t c = 0; c < order.size(); ++c) order[c] = c;
   const auto tile = [](std::int32_t i) { return static_cast<std::size_t>(i) / kTile; };

@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 using namespace granstack;
 using refsim::Particle;
@@ -306,7 +308,7 @@ TEST(Threads, TwoThreadsGiveExactlyTheOneThreadResult) {
 // takes every path (damped and frictional with walls and gravity: sticking, sliding, history
 // reset and walls; elastic and frictionless: kn delta n, no torques), on one and two threads,
 // one step at a time or several at once.
-TEST(Kernels, TheAvx512KernelsGiveExactlyTheReferenceResult) {
+TEST(Kernels, TheAvx512KernelsGiveExactlyTheReferenceResult) {  // or, without AVX-512, the fallback
   for (const bool frictional : {true, false}) {
     model::StackSpec spec;
     spec.blocks = 3;
@@ -352,7 +354,20 @@ TEST(Kernels, TheAvx512KernelsGiveExactlyTheReferenceResult) {
     EXPECT_FALSE(reference->uses_avx512());
     EXPECT_GT(reference->neighbor_builds(), 1);  // histories carried across a rebuild too
     EXPECT_NE(reference->v(stack.output_sphere_id() - 1), (refsim::Vec3{0, 0, 0}));  // the pulse got there
-    if (!run(refsim::Parameters::Kernel::automatic, 1)->uses_avx512()) GTEST_SKIP() << "this CPU has no AVX-512";
+    const auto automatic = run(refsim::Parameters::Kernel::automatic, 1);
+    same(*automatic);
+    if (!automatic->uses_avx512()) {
+      // A CPU without AVX-512 runs the reference kernel, and refuses a request for AVX-512 with the fix.
+      auto params = refsim::case_parameters(stack);
+      params.kernel = refsim::Parameters::Kernel::avx512;
+      try {
+        System refused(particles, params);
+        ADD_FAILURE() << "--kernel avx512 accepted on a CPU without AVX-512";
+      } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("use --kernel auto or reference"), std::string::npos) << e.what();
+      }
+      continue;
+    }
     for (const int threads : {1, 2}) {
       for (const bool advance : {false, true}) same(*run(refsim::Parameters::Kernel::avx512, threads, advance));
     }
