@@ -56,6 +56,7 @@ void PairTable::finish() {
   touching.resize(n, 0);
   // Two sides, and room for a 16-wide read past the last entry.
   for (auto* a : {&fx, &fy, &fz, &tx, &ty, &tz}) a->assign(2 * n + static_cast<std::size_t>(kWindow), 0.0);
+  forces_stored.assign(n / kPairBlock, 0);
   window_i.clear();
   window_j.clear();
   windowed.clear();

@@ -60,6 +60,7 @@ struct PairTable {
   std::vector<std::int32_t> shared_record;  // the record all real pairs of the eight share, or -1
   bool torque_free = false;  // every pair elastic and frictionless: no torque anywhere
   std::vector<std::uint8_t> lane_i, lane_j;
+  std::vector<std::uint8_t> forces_stored;  // per kPairBlock pairs: a force entry may be nonzero
   // What each contact gives its spheres: entry p for i, entry padded() + p for j (the force on
   // j is the exact negative of the force on i; the torques differ by their lever arms).
   std::vector<double> fx, fy, fz, tx, ty, tz;

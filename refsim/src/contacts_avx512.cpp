@@ -298,7 +298,44 @@ GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
 
 }  // namespace
 
-void contacts_avx512(PairTable& pairs, const ContactStep& s, std::size_t begin, std::size_t end) {
+// block() for a table whose every pair is elastic and frictionless (PairTable::torque_free):
+// the force kn delta n alone. The history of such a pair is +0 from its start to its end (no
+// path of the model makes it anything else), so neither it nor the touching flags that decide
+// which history survives a rebuild need to be written; the torque entries stay +0.
+GRANSTACK_AVX512_INLINE void elastic_block(PairTable& t, const ContactStep& s, std::size_t p) {
+  const std::size_t p8 = p + kLanes;
+  const Sides si{side(t, t.i, t.window_i, t.lane_i, p), side(t, t.i, t.window_i, t.lane_i, p8)};
+  const Sides sj{side(t, t.j, t.window_j, t.lane_j, p), side(t, t.j, t.window_j, t.lane_j, p8)};
+  const Records rec{record(t, p), record(t, p8)};
+  const Vec xi = fetch(s.x, s.stride, si), xj = fetch(s.x, s.stride, sj);
+  const V delx = xi.x - xj.x;
+  const V dely = xi.y - xj.y;
+  const V delz = xi.z - xj.z;
+  const V rsq = delx * delx + dely * dely + delz * delz;
+  const V radsum = rec.field(offsetof(PairRecord, radi)) + rec.field(offsetof(PairRecord, radj));
+  const M touching = less(rsq, radsum * radsum);
+  std::uint8_t& stored = t.forces_stored[p / kPairBlock];
+  if (touching == 0) {
+    if (stored != 0) {
+      const V zero = broadcast(0.0);
+      store_forces(t, p, touching, {zero, zero, zero});
+      stored = 0;
+    }
+    return;
+  }
+  stored = 1;
+  const V r = sqrt(rsq);
+  const V rinv = broadcast(1.0) / r;
+  const V deltan = radsum - r;
+  const V fn = rec.field(offsetof(PairRecord, kn_factor)) * sqrt(rec.field(offsetof(PairRecord, reff)) * deltan) * deltan;
+  store_forces(t, p, touching, {fn * (delx * rinv), fn * (dely * rinv), fn * (delz * rinv)});
+}
+
+GRANSTACK_AVX512 void contacts_avx512(PairTable& pairs, const ContactStep& s, std::size_t begin, std::size_t end) {
+  if (pairs.torque_free) {
+    for (std::size_t p = begin; p < end; p += kPairBlock) elastic_block(pairs, s, p);
+    return;
+  }
   for (std::size_t p = begin; p < end; p += kPairBlock) block(pairs, s, p);
 }
 
@@ -346,27 +383,40 @@ GRANSTACK_AVX512 void sum_contributions_avx512(const PairTable& pairs, const Sum
 // half (kick, spin kick) when SecondHalfFirst: each particle's operations in the reference's order.
 template <bool SecondHalfFirst>
 GRANSTACK_AVX512_INLINE bool first_half(const Motion& m, std::size_t begin, std::size_t end) {
+  // The arrays do not overlap one another (nor the Motion), which the compiler cannot know.
+  double* __restrict x = m.x;
+  double* __restrict v = m.v;
+  double* __restrict w = m.w;
+  const double* __restrict f = m.f;
+  const double* __restrict t = m.t;
+  const double* __restrict kicks = m.kick;
+  const double* __restrict spins = m.spin_kick;
+  const double* __restrict x0 = m.x_at_build;
+  const std::size_t stride = m.stride;
+  const bool spin_on = m.spin;
   const Z dt = _mm512_set1_pd(m.dt), trigger = _mm512_set1_pd(m.trigger);
   __mmask8 moved = 0;
   for (std::size_t i = begin; i < end; i += kLanes) {
-    const Z kick = _mm512_loadu_pd(&m.kick[i]), spin = _mm512_loadu_pd(&m.spin_kick[i]);
+    const Z kick = _mm512_loadu_pd(&kicks[i]), spin = _mm512_loadu_pd(&spins[i]);
     Z dsq = _mm512_setzero_pd();
-    for (std::size_t e = i; e < i + 3 * m.stride; e += m.stride) {
-      const Z f = _mm512_loadu_pd(&m.f[e]);
-      Z v = _mm512_loadu_pd(&m.v[e]);
-      if (SecondHalfFirst) v = v + kick * f;
-      v = v + kick * f;
-      const Z x = _mm512_loadu_pd(&m.x[e]) + dt * v;
-      _mm512_storeu_pd(&m.v[e], v);
-      _mm512_storeu_pd(&m.x[e], x);
-      if (m.spin) {
-        const Z t = _mm512_loadu_pd(&m.t[e]);
-        Z w = _mm512_loadu_pd(&m.w[e]);
-        if (SecondHalfFirst) w = w + spin * t;
-        _mm512_storeu_pd(&m.w[e], w + spin * t);
+#pragma GCC unroll 3
+    for (std::size_t d = 0; d < 3; ++d) {
+      const std::size_t e = i + d * stride;
+      const Z fe = _mm512_loadu_pd(&f[e]);
+      Z ve = _mm512_loadu_pd(&v[e]);
+      if (SecondHalfFirst) ve = ve + kick * fe;
+      ve = ve + kick * fe;
+      const Z xe = _mm512_loadu_pd(&x[e]) + dt * ve;
+      _mm512_storeu_pd(&v[e], ve);
+      _mm512_storeu_pd(&x[e], xe);
+      if (spin_on) {
+        const Z te = _mm512_loadu_pd(&t[e]);
+        Z we = _mm512_loadu_pd(&w[e]);
+        if (SecondHalfFirst) we = we + spin * te;
+        _mm512_storeu_pd(&w[e], we + spin * te);
       }
-      const Z d = x - _mm512_loadu_pd(&m.x_at_build[e]);
-      dsq = dsq + d * d;  // dx^2, then + dy^2, then + dz^2: the reference's order
+      const Z de = xe - _mm512_loadu_pd(&x0[e]);
+      dsq = dsq + de * de;  // dx^2, then + dy^2, then + dz^2: the reference's order
     }
     moved = static_cast<__mmask8>(moved | _mm512_cmp_pd_mask(dsq, trigger, _CMP_GT_OQ));
   }
