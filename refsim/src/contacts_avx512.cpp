@@ -341,11 +341,22 @@ GRANSTACK_AVX512 void contacts_avx512(PairTable& pairs, const ContactStep& s, st
 
 // One group's rounds over `Components` arrays (3: forces only, 6: and torques), the sums in
 // registers.
+// The plan's arrays as plain pointers, which the compiler keeps in registers.
+struct PlanView {
+  const std::size_t* first_round;
+  const std::uint8_t* lanes_in;
+  const std::uint8_t* windowed;
+  const std::int32_t* window;
+  const std::uint8_t* lane;
+  const std::int32_t* entry;
+};
+
 template <int Components>
-GRANSTACK_AVX512_INLINE void sum_group(const SumPlan& plan, std::size_t g, const double* const* in, double* const* out) {
+GRANSTACK_AVX512_INLINE void sum_group(const PlanView& plan, std::size_t g, const double* const* in, double* const* out) {
   Z sum[Components];
   for (auto& s : sum) s = _mm512_setzero_pd();
-  for (std::size_t r = plan.first_round[g]; r < plan.first_round[g + 1]; ++r) {
+  const std::size_t last = plan.first_round[g + 1];
+  for (std::size_t r = plan.first_round[g]; r < last; ++r) {
     const __mmask8 m = plan.lanes_in[r];
     if (plan.windowed[r] != 0) {
       const __m512i lanes = _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&plan.lane[r * kLanes])));
@@ -366,15 +377,17 @@ GRANSTACK_AVX512 void sum_contributions_avx512(const PairTable& pairs, const Sum
                                                bool zero_torques) {
   const double* in[6] = {pairs.fx.data(), pairs.fy.data(), pairs.fz.data(), pairs.tx.data(), pairs.ty.data(), pairs.tz.data()};
   double* out[6] = {f, f + stride, f + 2 * stride, t, t + stride, t + 2 * stride};
+  const PlanView view{plan.first_round.data(), plan.lanes_in.data(), plan.windowed.data(),
+                      plan.window.data(),      plan.lane.data(),     plan.entry.data()};
   for (std::size_t g = group_begin; g < group_end; ++g) {
     if (pairs.torque_free) {
       // Without torques (PairTable::torque_free) every torque sum is 0 + +-0 + ... = +0.
-      sum_group<3>(plan, g, in, out);
+      sum_group<3>(view, g, in, out);
       if (zero_torques) {
         for (int c = 3; c < 6; ++c) _mm512_storeu_pd(out[c] + g * kLanes, _mm512_setzero_pd());
       }
     } else {
-      sum_group<6>(plan, g, in, out);
+      sum_group<6>(view, g, in, out);
     }
   }
 }
