@@ -50,7 +50,9 @@ struct PairTable {
   std::vector<PairRecord> records;                // distinct records, the first all zero (padding)
   std::vector<std::int32_t> record;               // per pair, its record
   std::vector<double> shear_x, shear_y, shear_z;  // the tangential displacement history
-  std::vector<std::uint8_t> touching;             // at its last evaluation (kept across rebuilds)
+  // At its last evaluation (kept across rebuilds); not kept for a torque_free table, whose
+  // history is +0 throughout, so that which history survives a rebuild does not matter.
+  std::vector<std::uint8_t> touching;
   // Per kLanes pairs: the lowest i and j, whether every i and every j lies within kWindow
   // particles of them, whether they are all elastic and frictionless, and the record they
   // share; per pair, its i and j less those lowest.
