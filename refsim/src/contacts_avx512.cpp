@@ -169,7 +169,16 @@ GRANSTACK_AVX512_INLINE void update_flags(std::uint8_t* flags, __mmask8 touching
   _mm_storel_epi64(reinterpret_cast<__m128i*>(flags), _mm512_cvtepi64_epi8(f));
 }
 
-GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
+// What both kernels find first of sixteen pairs from p: where their spheres are, their
+// records, their separation and which of them touch.
+struct Found {
+  Sides si, sj;
+  Records rec;
+  V delx, dely, delz, rsq, radi, radj, radsum;
+  M touching;
+};
+
+GRANSTACK_AVX512_INLINE Found find(const PairTable& t, const ContactStep& s, std::size_t p) {
   const std::size_t p8 = p + kLanes;
   const Sides si{side(t, t.i, t.window_i, t.lane_i, p), side(t, t.i, t.window_i, t.lane_i, p8)};
   const Sides sj{side(t, t.j, t.window_j, t.lane_j, p), side(t, t.j, t.window_j, t.lane_j, p8)};
@@ -181,7 +190,12 @@ GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
   const V rsq = delx * delx + dely * dely + delz * delz;
   const V radi = rec.field(offsetof(PairRecord, radi)), radj = rec.field(offsetof(PairRecord, radj));
   const V radsum = radi + radj;
-  const M touching = less(rsq, radsum * radsum);
+  return {si, sj, rec, delx, dely, delz, rsq, radi, radj, radsum, less(rsq, radsum * radsum)};
+}
+
+GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
+  const std::size_t p8 = p + kLanes;
+  const auto [si, sj, rec, delx, dely, delz, rsq, radi, radj, radsum, touching] = find(t, s, p);
   const V cdf = broadcast(s.contact_distance_factor);
   // Close but not touching: the history is reset (surfacesClose); farther: left alone.
   const M close = static_cast<M>(~touching & less(rsq, cdf * cdf * radsum * radsum));
@@ -309,17 +323,7 @@ GRANSTACK_AVX512_INLINE V unpack(Z packed, __mmask8 in_lo, __mmask8 in_hi, __mma
 }
 
 GRANSTACK_AVX512_INLINE void elastic_block(PairTable& t, const ContactStep& s, std::size_t p) {
-  const std::size_t p8 = p + kLanes;
-  const Sides si{side(t, t.i, t.window_i, t.lane_i, p), side(t, t.i, t.window_i, t.lane_i, p8)};
-  const Sides sj{side(t, t.j, t.window_j, t.lane_j, p), side(t, t.j, t.window_j, t.lane_j, p8)};
-  const Records rec{record(t, p), record(t, p8)};
-  const Vec xi = fetch(s.x, s.stride, si), xj = fetch(s.x, s.stride, sj);
-  const V delx = xi.x - xj.x;
-  const V dely = xi.y - xj.y;
-  const V delz = xi.z - xj.z;
-  const V rsq = delx * delx + dely * dely + delz * delz;
-  const V radsum = rec.field(offsetof(PairRecord, radi)) + rec.field(offsetof(PairRecord, radj));
-  const M touching = less(rsq, radsum * radsum);
+  const auto [si, sj, rec, delx, dely, delz, rsq, radi, radj, radsum, touching] = find(t, s, p);
   std::uint8_t& stored = t.forces_stored[p / kPairBlock];
   if (touching == 0) {
     if (stored != 0) {
