@@ -312,16 +312,16 @@ GRANSTACK_AVX512 void block(PairTable& t, const ContactStep& s, std::size_t p) {
 
 }  // namespace
 
-// block() for a table whose every pair is elastic and frictionless (PairTable::torque_free):
-// the force kn delta n alone. The history of such a pair is +0 from its start to its end (no
-// path of the model makes it anything else), so neither it nor the touching flags that decide
-// which history survives a rebuild need to be written; the torque entries stay +0.
 // Lanes `in_lo` of the low register and `in_hi` of the high one, from a register holding the
 // former in its lowest lanes and the latter in lanes `after_lo`; zero elsewhere.
 GRANSTACK_AVX512_INLINE V unpack(Z packed, __mmask8 in_lo, __mmask8 in_hi, __mmask8 after_lo) {
   return {_mm512_maskz_expand_pd(in_lo, packed), _mm512_maskz_expand_pd(in_hi, _mm512_maskz_compress_pd(after_lo, packed))};
 }
 
+// block() for a table whose every pair is elastic and frictionless (PairTable::torque_free):
+// the force kn delta n alone. The history of such a pair is +0 from its start to its end (no
+// path of the model makes it anything else), so neither it nor the touching flags that decide
+// which history survives a rebuild need to be written; the torque entries stay +0.
 GRANSTACK_AVX512_INLINE void elastic_block(PairTable& t, const ContactStep& s, std::size_t p) {
   const auto [si, sj, rec, delx, dely, delz, rsq, radi, radj, radsum, touching] = find(t, s, p);
   std::uint8_t& stored = t.forces_stored[p / kPairBlock];
@@ -366,8 +366,6 @@ GRANSTACK_AVX512 void contacts_avx512(PairTable& pairs, const ContactStep& s, st
   for (std::size_t p = begin; p < end; p += kPairBlock) block(pairs, s, p);
 }
 
-// One group's rounds over `Components` arrays (3: forces only, 6: and torques), the sums in
-// registers.
 // The plan's arrays as plain pointers, which the compiler keeps in registers.
 struct PlanView {
   const std::size_t* first_round;
@@ -378,6 +376,8 @@ struct PlanView {
   const std::int32_t* entry;
 };
 
+// One group's rounds over `Components` arrays (3: forces only, 6: and torques), the sums in
+// registers.
 template <int Components>
 GRANSTACK_AVX512_INLINE void sum_group(const PlanView& plan, std::size_t g, const double* const* in, double* const* out) {
   Z sum[Components];
