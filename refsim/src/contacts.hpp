@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <granstack/refsim/aligned.hpp>
+
 namespace granstack::refsim::detail {
 
 // Vector lanes (doubles in an AVX-512 register), and pairs per step of the AVX-512 contact
@@ -43,13 +45,14 @@ struct PairRecord {
 // The order of the pairs is free (each particle adds its contributions in its own order), so
 // they are ordered by the tile of i (System), then j - i, then i: in a lattice, eight
 // consecutive pairs then have their i within 16 consecutive particles and their j too, which
-// two loads and a permutation fetch.
+// two loads and a permutation fetch. The arrays start on cache lines (aligned.hpp), and blocks
+// of pairs at multiples of kLanes, so a kernel's 64-byte loads and stores never split a line.
 struct PairTable {
   std::size_t count = 0;  // entries, padding (record 0) included; the arrays hold padded()
-  std::vector<std::int32_t> i, j;
-  std::vector<PairRecord> records;                // distinct records, the first all zero (padding)
-  std::vector<std::int32_t> record;               // per pair, its record
-  std::vector<double> shear_x, shear_y, shear_z;  // the tangential displacement history
+  AlignedVector<std::int32_t> i, j;
+  std::vector<PairRecord> records;                  // distinct records, the first all zero (padding)
+  AlignedVector<std::int32_t> record;               // per pair, its record
+  AlignedVector<double> shear_x, shear_y, shear_z;  // the tangential displacement history
   // At its last evaluation (kept across rebuilds); not kept for a torque_free table, whose
   // history is +0 throughout, so that which history survives a rebuild does not matter.
   std::vector<std::uint8_t> touching;
@@ -61,11 +64,11 @@ struct PairTable {
   std::vector<std::uint8_t> windowed, elastic_frictionless;
   std::vector<std::int32_t> shared_record;  // the record all real pairs of the eight share, or -1
   bool torque_free = false;  // every pair elastic and frictionless: no torque anywhere
-  std::vector<std::uint8_t> lane_i, lane_j;
+  AlignedVector<std::uint8_t> lane_i, lane_j;
   std::vector<std::uint8_t> forces_stored;  // per kPairBlock pairs: a force entry may be nonzero
   // What each contact gives its spheres: entry p for i, entry padded() + p for j (the force on
   // j is the exact negative of the force on i; the torques differ by their lever arms).
-  std::vector<double> fx, fy, fz, tx, ty, tz;
+  AlignedVector<double> fx, fy, fz, tx, ty, tz;
 
   std::size_t padded() const { return (count + kPairBlock - 1) / kPairBlock * kPairBlock; }
   void clear();
@@ -82,10 +85,10 @@ struct PairTable {
 struct SumPlan {
   std::vector<std::size_t> first_round;  // per group of kLanes particles, and one past the last
   // Per round: which lanes take part, and where their entries are (as PairTable's windows).
-  std::vector<std::uint8_t> lanes_in, windowed;
+  AlignedVector<std::uint8_t> lanes_in, windowed;
   std::vector<std::int32_t> window;
-  std::vector<std::uint8_t> lane;    // kLanes per round: entry - window
-  std::vector<std::int32_t> entry;   // kLanes per round
+  AlignedVector<std::uint8_t> lane;    // kLanes per round: entry - window
+  AlignedVector<std::int32_t> entry;   // kLanes per round
   // contributions[offsets[k] .. offsets[k + 1]]: particle k's (other particle, entry), in order.
   void build(const std::vector<std::size_t>& offsets, const std::vector<std::pair<std::int32_t, std::uint32_t>>& contributions);
 };

@@ -87,8 +87,8 @@ struct Side {
   __m256i index;
 };
 
-GRANSTACK_AVX512_INLINE Side side(const PairTable& t, const std::vector<std::int32_t>& index,
-                                  const std::vector<std::int32_t>& window, const std::vector<std::uint8_t>& lanes,
+GRANSTACK_AVX512_INLINE Side side(const PairTable& t, const AlignedVector<std::int32_t>& index,
+                                  const std::vector<std::int32_t>& window, const AlignedVector<std::uint8_t>& lanes,
                                   std::size_t p) {
   const std::size_t g = p / kLanes;
   return {t.windowed[g] != 0, window[g], _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&lanes[p]))),

@@ -10,6 +10,8 @@
 #include <thread>
 #include <vector>
 
+#include <granstack/refsim/aligned.hpp>
+
 namespace granstack::refsim {
 
 namespace detail {
@@ -84,7 +86,7 @@ class System {
   bool uses_avx512() const { return avx512_; }
 
  private:
-  Vec3 get(const std::vector<double>& a, std::size_t i) const { return {a[i], a[stride_ + i], a[2 * stride_ + i]}; }
+  Vec3 get(const detail::AlignedVector<double>& a, std::size_t i) const { return {a[i], a[stride_ + i], a[2 * stride_ + i]}; }
   void build_pairs();
   void compute_forces(bool update_history, bool kick, bool drift);
   void sum_forces(std::size_t begin, std::size_t end, bool update_history, bool kick, bool drift);
@@ -104,11 +106,12 @@ class System {
   Parameters p_;
   std::vector<int> type_;
   std::vector<double> radius_, mass_;
-  std::vector<double> kick_, spin_kick_;  // dtf / m and dtfrotate / (r^2 m), as fix nve/sphere forms them
-  // Structure of arrays: component d of particle i at d * stride_ + i. The stride leaves room
-  // for the contact kernel's 16-wide loads past the last particle.
+  detail::AlignedVector<double> kick_, spin_kick_;  // dtf / m and dtfrotate / (r^2 m), as fix nve/sphere forms them
+  // Structure of arrays: component d of particle i at d * stride_ + i. The stride, a multiple
+  // of eight, keeps every component on cache lines and leaves room for the contact kernel's
+  // 16-wide loads past the last particle.
   std::size_t stride_ = 0;
-  std::vector<double> x_, v_, w_, f_, t_, x_at_build_;
+  detail::AlignedVector<double> x_, v_, w_, f_, t_, x_at_build_;
 
   std::vector<detail::PairConstants> type_constants_;  // per type pair, (a - 1) * types + (b - 1)
   // Candidate pairs (i < j), rebuilt when a particle has moved more than half the skin.
