@@ -57,6 +57,9 @@ void PairTable::finish() {
   // Two sides, and room for a 16-wide read past the last entry.
   for (auto* a : {&fx, &fy, &fz, &tx, &ty, &tz}) a->assign(2 * n + static_cast<std::size_t>(kWindow), 0.0);
   forces_stored.assign(n / kPairBlock, 0);
+  evaluated.assign(n / kPairBlock, 0);
+  particles_i.assign(n / kLanes, 0);
+  particles_j.assign(n / kLanes, 0);
   window_i.clear();
   window_j.clear();
   windowed.clear();
@@ -84,6 +87,10 @@ void PairTable::finish() {
     for (std::size_t p = b; p < b + kLanes; ++p) {
       lane_i[p] = static_cast<std::uint8_t>(i[p] - *i_lo);  // only used when windowed
       lane_j[p] = static_cast<std::uint8_t>(j[p] - *j_lo);
+      if (windowed.back() != 0) {
+        particles_i[b / kLanes] = static_cast<std::uint16_t>(particles_i[b / kLanes] | 1U << lane_i[p]);
+        particles_j[b / kLanes] = static_cast<std::uint16_t>(particles_j[b / kLanes] | 1U << lane_j[p]);
+      }
     }
   }
 }

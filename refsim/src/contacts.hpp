@@ -66,6 +66,11 @@ struct PairTable {
   bool torque_free = false;  // every pair elastic and frictionless: no torque anywhere
   AlignedVector<std::uint8_t> lane_i, lane_j;
   std::vector<std::uint8_t> forces_stored;  // per kPairBlock pairs: a force entry may be nonzero
+  // Per kPairBlock pairs: its force entries are those of the positions it was last evaluated
+  // at (cleared by finish()). Per kLanes pairs: which particles of the windows they use (bit
+  // k: window + k), for the still-particle test of torque_free tables.
+  std::vector<std::uint8_t> evaluated;
+  std::vector<std::uint16_t> particles_i, particles_j;
   // What each contact gives its spheres: entry p for i, entry padded() + p for j (the force on
   // j is the exact negative of the force on i; the torques differ by their lever arms).
   AlignedVector<double> fx, fy, fz, tx, ty, tz;
@@ -111,6 +116,8 @@ struct ContactStep {
   double contact_distance_factor = 1.0;
   bool update_history = true;
   bool tangential_damping = true;
+  // Motion::position_changed of the last drift, with room for a 4-byte read past its last byte.
+  const std::uint8_t* position_changed = nullptr;
 };
 
 // Evaluates pairs [begin, end) of the table (both multiples of kPairBlock for the AVX-512 one).
@@ -129,6 +136,9 @@ struct Motion {
   const double* kick;       // dtf / m per particle
   const double* spin_kick;  // dtfrotate / (r^2 m) per particle
   const double* x_at_build;
+  // Written by the AVX-512 first halves: per group of kLanes particles, bit k set if particle
+  // kLanes * group + k has a new position (bitwise) after this drift.
+  std::uint8_t* position_changed;
   std::size_t stride = 0;
   double dt = 0.0;
   double trigger = 0.0;  // (skin / 2)^2

@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -318,11 +319,32 @@ GRANSTACK_AVX512_INLINE V unpack(Z packed, __mmask8 in_lo, __mmask8 in_hi, __mma
   return {_mm512_maskz_expand_pd(in_lo, packed), _mm512_maskz_expand_pd(in_hi, _mm512_maskz_compress_pd(after_lo, packed))};
 }
 
+// Particles window .. window + 15 of Motion::position_changed, as bits 0 .. 15.
+GRANSTACK_AVX512_INLINE std::uint32_t changed_in_window(const std::uint8_t* changed, std::int32_t window) {
+  const auto w = static_cast<std::size_t>(window);
+  std::uint32_t word;
+  std::memcpy(&word, changed + w / 8, sizeof word);
+  return word >> (w % 8);
+}
+
+// Whether no particle of the kLanes pairs from g * kLanes has a new position since they were
+// last evaluated (as far as a windowed group can tell; an unwindowed one is never still).
+GRANSTACK_AVX512_INLINE bool still(const PairTable& t, const std::uint8_t* changed, std::size_t g) {
+  return t.windowed[g] != 0 && (changed_in_window(changed, t.window_i[g]) & t.particles_i[g]) == 0 &&
+         (changed_in_window(changed, t.window_j[g]) & t.particles_j[g]) == 0;
+}
+
 // block() for a table whose every pair is elastic and frictionless (PairTable::torque_free):
 // the force kn delta n alone. The history of such a pair is +0 from its start to its end (no
 // path of the model makes it anything else), so neither it nor the touching flags that decide
-// which history survives a rebuild need to be written; the torque entries stay +0.
+// which history survives a rebuild need to be written; the torque entries stay +0. The force
+// is a function of the two positions alone, so a block none of whose spheres has a new
+// position since its last evaluation keeps its entries: the stack at rest ahead of the wave,
+// whose spheres' round-off forces are far too small to change a position's bits.
 GRANSTACK_AVX512_INLINE void elastic_block(PairTable& t, const ContactStep& s, std::size_t p) {
+  std::uint8_t& evaluated = t.evaluated[p / kPairBlock];
+  if (evaluated != 0 && still(t, s.position_changed, p / kLanes) && still(t, s.position_changed, p / kLanes + 1)) return;
+  evaluated = 1;
   const auto [si, sj, rec, delx, dely, delz, rsq, radi, radj, radsum, touching] = find(t, s, p);
   std::uint8_t& stored = t.forces_stored[p / kPairBlock];
   if (touching == 0) {
@@ -432,6 +454,7 @@ GRANSTACK_AVX512_INLINE bool first_half(const Motion& m, std::size_t begin, std:
   const double* __restrict kicks = m.kick;
   const double* __restrict spins = m.spin_kick;
   const double* __restrict x0 = m.x_at_build;
+  std::uint8_t* __restrict changed = m.position_changed;
   const std::size_t stride = m.stride;
   const bool spin_on = m.spin;
   const Z dt = _mm512_set1_pd(m.dt), trigger = _mm512_set1_pd(m.trigger);
@@ -439,6 +462,7 @@ GRANSTACK_AVX512_INLINE bool first_half(const Motion& m, std::size_t begin, std:
   for (std::size_t i = begin; i < end; i += kLanes) {
     const Z kick = _mm512_loadu_pd(&kicks[i]), spin = _mm512_loadu_pd(&spins[i]);
     Z dsq = _mm512_setzero_pd();
+    __mmask8 new_position = 0;
 #pragma GCC unroll 3
     for (std::size_t d = 0; d < 3; ++d) {
       const std::size_t e = i + d * stride;
@@ -446,7 +470,10 @@ GRANSTACK_AVX512_INLINE bool first_half(const Motion& m, std::size_t begin, std:
       Z ve = _mm512_loadu_pd(&v[e]);
       if (SecondHalfFirst) ve = ve + kick * fe;
       ve = ve + kick * fe;
-      const Z xe = _mm512_loadu_pd(&x[e]) + dt * ve;
+      const Z x_before = _mm512_loadu_pd(&x[e]);
+      const Z xe = x_before + dt * ve;
+      new_position = static_cast<__mmask8>(
+          new_position | _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(xe), _mm512_castpd_si512(x_before)));
       _mm512_storeu_pd(&v[e], ve);
       _mm512_storeu_pd(&x[e], xe);
       if (spin_on) {
@@ -459,6 +486,7 @@ GRANSTACK_AVX512_INLINE bool first_half(const Motion& m, std::size_t begin, std:
       dsq = dsq + de * de;  // dx^2, then + dy^2, then + dz^2: the reference's order
     }
     moved = static_cast<__mmask8>(moved | _mm512_cmp_pd_mask(dsq, trigger, _CMP_GT_OQ));
+    changed[i / kLanes] = new_position;
   }
   return moved != 0;
 }

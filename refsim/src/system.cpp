@@ -31,6 +31,7 @@ System::System(std::vector<Particle> particles, Parameters params)
   mass_.resize(n_);
   stride_ = (n_ + detail::kLanes - 1) / detail::kLanes * detail::kLanes + 2 * detail::kLanes;
   for (auto* a : {&x_, &v_, &w_, &f_, &t_}) a->assign(3 * stride_, 0.0);
+  position_changed_.assign(stride_ / detail::kLanes + sizeof(std::uint32_t), 0xff);
   for (std::size_t i = 0; i < n_; ++i) {
     const auto& pa = particles[i];
     if (pa.type < 1 || pa.type > p_.types) throw std::invalid_argument("refsim: particle type outside the tables");
@@ -340,8 +341,9 @@ void System::sum_forces(std::size_t begin, std::size_t end, bool update_history,
 // second half kick (a particle's kick needs only its own force and torque), and if the next
 // step follows at once, its first half too: no pair left to compute uses the particle.
 void System::compute_forces(bool update_history, bool kick, bool drift) {
-  detail::ContactStep s{x_.data(), v_.data(), w_.data(), stride_, p_.dt, p_.contact_distance_factor, update_history,
-                        p_.tangential_damping};
+  detail::ContactStep s{x_.data(),      v_.data(),           w_.data(),
+                        stride_,        p_.dt,               p_.contact_distance_factor,
+                        update_history, p_.tangential_damping, position_changed_.data()};
   auto& pairs = *pairs_;
   const auto contacts = [&](std::size_t begin, std::size_t end) {
     if (avx512_) {
@@ -370,8 +372,8 @@ void System::setup() { compute_forces(false, false, false); }
 detail::Motion System::motion() {
   const double half = 0.5 * p_.skin;
   const bool spinless = pairs_->torque_free && p_.walls.empty() && !negative_zero_spin_;
-  return {x_.data(), v_.data(),          w_.data(), f_.data(), t_.data(), kick_.data(), spin_kick_.data(), x_at_build_.data(),
-          stride_,   p_.dt,    half * half, !spinless};
+  return {x_.data(), v_.data(), w_.data(), f_.data(), t_.data(), kick_.data(), spin_kick_.data(), x_at_build_.data(),
+          position_changed_.data(), stride_, p_.dt, half * half, !spinless};
 }
 
 void System::step() { advance(1); }

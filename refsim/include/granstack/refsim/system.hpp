@@ -112,6 +112,9 @@ class System {
   // 16-wide loads past the last particle.
   std::size_t stride_ = 0;
   detail::AlignedVector<double> x_, v_, w_, f_, t_, x_at_build_;
+  // Per group of eight particles, bit k: particle 8 * group + k got a new position in the last
+  // drift (the AVX-512 first halves write it; the elastic contact kernel skips still pairs).
+  std::vector<std::uint8_t> position_changed_;
 
   std::vector<detail::PairConstants> type_constants_;  // per type pair, (a - 1) * types + (b - 1)
   // Candidate pairs (i < j), rebuilt when a particle has moved more than half the skin.
