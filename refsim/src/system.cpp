@@ -1,5 +1,7 @@
 #include <granstack/refsim/system.hpp>
 
+#include <granstack/refsim/neighbors.hpp>
+
 #include "contacts.hpp"
 
 #include <algorithm>
@@ -139,17 +141,14 @@ void System::build_pairs() {
   const double* x = x_.data();
   const double* y = x + stride_;
   const double* z = y + stride_;
-  for (std::size_t i = 0; i < n_; ++i) {
-    for (std::size_t j = i + 1; j < n_; ++j) {
-      const double delx = x[i] - x[j];
-      const double dely = y[i] - y[j];
-      const double delz = z[i] - z[j];
-      const double rsq = delx * delx + dely * dely + delz * delz;
-      const double radsum = (radius_[i] + radius_[j]) * cdf;
-      const double cut = radsum + p_.skin;
-      if (rsq > cut * cut) continue;
-      found.push_back({static_cast<std::int32_t>(i), static_cast<std::int32_t>(j), rsq < radsum * radsum});
-    }
+  for (const auto& [a, b] : candidate_pairs({x, y, z, radius_.data(), n_}, cdf, p_.skin)) {
+    const auto i = static_cast<std::size_t>(a), j = static_cast<std::size_t>(b);
+    const double delx = x[i] - x[j];
+    const double dely = y[i] - y[j];
+    const double delz = z[i] - z[j];
+    const double rsq = delx * delx + dely * dely + delz * delz;
+    const double radsum = (radius_[i] + radius_[j]) * cdf;
+    found.push_back({a, b, rsq < radsum * radsum});
   }
   // The history of the old pairs, merged in (i, j) order (the padding has record 0).
   detail::PairTable old;
