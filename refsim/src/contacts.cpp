@@ -54,8 +54,9 @@ void PairTable::finish() {
   record.resize(n, 0);
   for (auto* a : {&shear_x, &shear_y, &shear_z}) a->resize(n, 0.0);
   touching.resize(n, 0);
-  // Two sides, and room for a 16-wide read past the last entry.
-  for (auto* a : {&fx, &fy, &fz, &tx, &ty, &tz}) a->assign(2 * n + static_cast<std::size_t>(kWindow), 0.0);
+  // Forces of one side, torques of two, and room for a 16-wide read past the last entry.
+  for (auto* a : {&fx, &fy, &fz}) a->assign(n + static_cast<std::size_t>(kWindow), 0.0);
+  for (auto* a : {&tx, &ty, &tz}) a->assign(2 * n + static_cast<std::size_t>(kWindow), 0.0);
   forces_stored.assign(n / kPairBlock, 0);
   evaluated.assign(n / kPairBlock, 0);
   particles_i.assign(n / kLanes, 0);
@@ -96,9 +97,10 @@ void PairTable::finish() {
 }
 
 void SumPlan::build(const std::vector<std::size_t>& offsets,
-                    const std::vector<std::pair<std::int32_t, std::uint32_t>>& contributions) {
+                    const std::vector<std::pair<std::int32_t, std::uint32_t>>& contributions, std::size_t j_side) {
   const std::size_t n = offsets.size() - 1;
   first_round.assign(1, 0);
+  first_added.clear();
   for (auto* a : {&lanes_in, &windowed, &lane}) a->clear();
   window.clear();
   entry.clear();
@@ -113,14 +115,17 @@ void SumPlan::build(const std::vector<std::size_t>& offsets,
     for (std::size_t l = 0; l < kLanes && g * kLanes + l < n; ++l) {
       const std::size_t k = g * kLanes + l;
       for (std::size_t e = offsets[k]; e < offsets[k + 1]; ++e) {
+        const std::uint32_t q = contributions[e].second;  // j's (offset < 0) at j_side + p
         items.push_back({static_cast<std::int64_t>(contributions[e].first) - static_cast<std::int64_t>(k), l,
-                         contributions[e].second});
+                         q >= j_side ? static_cast<std::uint32_t>(q - j_side) : q});
       }
     }
     std::sort(items.begin(), items.end(),
               [](const Item& a, const Item& b) { return a.offset != b.offset ? a.offset < b.offset : a.lane < b.lane; });
     std::uint32_t round_entry[kLanes] = {};
     unsigned in = 0;
+    bool round_subtracts = false;
+    std::size_t subtracting = 0;
     auto close = [&] {
       if (in == 0) return;
       std::uint32_t lo = 0xffffffffU, hi = 0;
@@ -138,18 +143,22 @@ void SumPlan::build(const std::vector<std::size_t>& offsets,
         entry.push_back(static_cast<std::int32_t>(e));
         lane.push_back(static_cast<std::uint8_t>(e - lo));
       }
+      subtracting += round_subtracts ? 1 : 0;
       in = 0;
     };
     for (std::size_t a = 0; a < items.size();) {
       std::size_t b = a;
       unsigned group = 0;
       while (b < items.size() && items[b].offset == items[a].offset) group |= 1U << items[b++].lane;
-      if ((group & in) != 0) close();
+      const bool subtracts = items[a].offset < 0;
+      if ((group & in) != 0 || (in != 0 && subtracts != round_subtracts)) close();
+      round_subtracts = subtracts;
       for (std::size_t c = a; c < b; ++c) round_entry[items[c].lane] = items[c].entry;
       in |= group;
       a = b;
     }
     close();
+    first_added.push_back(first_round.back() + subtracting);
     first_round.push_back(lanes_in.size());
   }
 }
@@ -213,7 +222,8 @@ void tangential_force(double shear[3], const double en[3], const double vtr[3], 
 namespace {
 
 void zero_contribution(PairTable& t, std::size_t p) {
-  for (std::size_t q : {p, t.padded() + p}) t.fx[q] = t.fy[q] = t.fz[q] = t.tx[q] = t.ty[q] = t.tz[q] = 0.0;
+  t.fx[p] = t.fy[p] = t.fz[p] = 0.0;
+  for (std::size_t q : {p, t.padded() + p}) t.tx[q] = t.ty[q] = t.tz[q] = 0.0;
 }
 
 void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
@@ -261,11 +271,12 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
   t.shear_x[p] = shear[0];
   t.shear_y[p] = shear[1];
   t.shear_z[p] = shear[2];
-  // The force on j is (0 + -fn en) + -ft, the exact negative of this but for the sign of a zero.
+  // The force on j is (0 + -fn en) + -ft, the exact negative of this but for the sign of a zero
+  // (which a sum that starts at +0 never shows): the sums subtract this.
   const std::size_t q = t.padded() + p;
-  t.fx[q] = -(t.fx[p] = n.fn * en[0] + ft[0]);
-  t.fy[q] = -(t.fy[p] = n.fn * en[1] + ft[1]);
-  t.fz[q] = -(t.fz[p] = n.fn * en[2] + ft[2]);
+  t.fx[p] = n.fn * en[0] + ft[0];
+  t.fy[p] = n.fn * en[1] + ft[1];
+  t.fz[p] = n.fn * en[2] + ft[2];
   t.tx[p] = -cri * tor[0];
   t.ty[p] = -cri * tor[1];
   t.tz[p] = -cri * tor[2];

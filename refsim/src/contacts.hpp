@@ -71,8 +71,9 @@ struct PairTable {
   // k: window + k), for the still-particle test of torque_free tables.
   std::vector<std::uint8_t> evaluated;
   std::vector<std::uint16_t> particles_i, particles_j;
-  // What each contact gives its spheres: entry p for i, entry padded() + p for j (the force on
-  // j is the exact negative of the force on i; the torques differ by their lever arms).
+  // What each contact gives its spheres. The force on i at entry p; the force on j is its exact
+  // negative, which the sums subtract (x - y is x + -y in IEEE arithmetic). The torques differ
+  // by their lever arms: entry p for i, entry padded() + p for j.
   AlignedVector<double> fx, fy, fz, tx, ty, tz;
 
   std::size_t padded() const { return (count + kPairBlock - 1) / kPairBlock * kPairBlock; }
@@ -86,16 +87,21 @@ struct PairTable {
 // in LIGGGHTS's pair order, by the other particle's index; a round takes one contribution of
 // some of the eight, and a particle's contributions fall in successive rounds, so the sums are
 // the reference's. Rounds follow the offset (other - self) upwards and merge while no particle
-// is in both, so a lattice's eight neighbours read eight consecutive entries.
+// is in both, so a lattice's eight neighbours read eight consecutive entries. A group's rounds
+// with negative offsets come first: there the particles are the pairs' j, whose forces they
+// subtract and whose torques they read padded() entries on; the two kinds never merge.
 struct SumPlan {
   std::vector<std::size_t> first_round;  // per group of kLanes particles, and one past the last
-  // Per round: which lanes take part, and where their entries are (as PairTable's windows).
+  std::vector<std::size_t> first_added;  // per group, its first round of positive offsets
+  // Per round: which lanes take part, and where their force entries are (as PairTable's windows).
   AlignedVector<std::uint8_t> lanes_in, windowed;
   std::vector<std::int32_t> window;
   AlignedVector<std::uint8_t> lane;    // kLanes per round: entry - window
   AlignedVector<std::int32_t> entry;   // kLanes per round
   // contributions[offsets[k] .. offsets[k + 1]]: particle k's (other particle, entry), in order.
-  void build(const std::vector<std::size_t>& offsets, const std::vector<std::pair<std::int32_t, std::uint32_t>>& contributions);
+  // From PairTable entries as the contributions give them (j's at padded + p, `j_side`).
+  void build(const std::vector<std::size_t>& offsets, const std::vector<std::pair<std::int32_t, std::uint32_t>>& contributions,
+             std::size_t j_side);
 };
 
 // Adds up every particle's contributions in groups [group_begin, group_end) into f and t

@@ -140,15 +140,11 @@ struct Records {
   }
 };
 
-// Force on i and on j (its negative), zero where not touching.
+// Force on i (the sums subtract it from j's), zero where not touching.
 GRANSTACK_AVX512_INLINE void store_forces(PairTable& t, std::size_t p, M touching, const Vec& f) {
-  const std::size_t q = t.padded() + p;
   store(&t.fx[p], zero_unless(touching, f.x));
   store(&t.fy[p], zero_unless(touching, f.y));
   store(&t.fz[p], zero_unless(touching, f.z));
-  store(&t.fx[q], zero_unless(touching, -f.x));
-  store(&t.fy[q], zero_unless(touching, -f.y));
-  store(&t.fz[q], zero_unless(touching, -f.z));
 }
 
 // Torques on i and on j, zero where not touching.
@@ -391,6 +387,7 @@ GRANSTACK_AVX512 void contacts_avx512(PairTable& pairs, const ContactStep& s, st
 // The plan's arrays as plain pointers, which the compiler keeps in registers.
 struct PlanView {
   const std::size_t* first_round;
+  const std::size_t* first_added;
   const std::uint8_t* lanes_in;
   const std::uint8_t* windowed;
   const std::int32_t* window;
@@ -398,26 +395,39 @@ struct PlanView {
   const std::int32_t* entry;
 };
 
-// One group's rounds over `Components` arrays (3: forces only, 6: and torques), the sums in
-// registers.
-template <int Components>
-GRANSTACK_AVX512_INLINE void sum_group(const PlanView& plan, std::size_t g, const double* const* in, double* const* out) {
-  Z sum[Components];
-  for (auto& s : sum) s = _mm512_setzero_pd();
-  const std::size_t last = plan.first_round[g + 1];
-  for (std::size_t r = plan.first_round[g]; r < last; ++r) {
+// Rounds [first, last) of a group over `Components` arrays (3: forces only, 6: and torques),
+// into sums in registers: the forces added, or subtracted with the torques read `torque_side`
+// entries on (the pairs' j side).
+template <int Components, bool Subtract>
+GRANSTACK_AVX512_INLINE void sum_rounds(const PlanView& plan, std::size_t first, std::size_t last, const double* const* in,
+                                        std::size_t torque_side, Z* sum) {
+  const auto take = [&](int c, Z& s, Z x) { s = Subtract && c < 3 ? s - x : s + x; };
+  for (std::size_t r = first; r < last; ++r) {
     const __mmask8 m = plan.lanes_in[r];
     if (plan.windowed[r] != 0) {
       const __m512i lanes = _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&plan.lane[r * kLanes])));
       const std::size_t w = static_cast<std::size_t>(plan.window[r]);
       for (int c = 0; c < Components; ++c) {
-        sum[c] = sum[c] + _mm512_maskz_permutex2var_pd(m, _mm512_loadu_pd(in[c] + w), lanes, _mm512_loadu_pd(in[c] + w + kLanes));
+        const double* a = in[c] + w + (c < 3 ? 0 : torque_side);
+        take(c, sum[c], _mm512_maskz_permutex2var_pd(m, _mm512_loadu_pd(a), lanes, _mm512_loadu_pd(a + kLanes)));
       }
     } else {
       const __m256i index = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&plan.entry[r * kLanes]));
-      for (int c = 0; c < Components; ++c) sum[c] = sum[c] + _mm512_mask_i32gather_pd(_mm512_setzero_pd(), m, index, in[c], 8);
+      for (int c = 0; c < Components; ++c) {
+        take(c, sum[c], _mm512_mask_i32gather_pd(_mm512_setzero_pd(), m, index, in[c] + (c < 3 ? 0 : torque_side), 8));
+      }
     }
   }
+}
+
+// One group's sums: its rounds as the pairs' j, then as their i.
+template <int Components>
+GRANSTACK_AVX512_INLINE void sum_group(const PlanView& plan, std::size_t g, const double* const* in, std::size_t j_side,
+                                       double* const* out) {
+  Z sum[Components];
+  for (auto& s : sum) s = _mm512_setzero_pd();
+  sum_rounds<Components, true>(plan, plan.first_round[g], plan.first_added[g], in, j_side, sum);
+  sum_rounds<Components, false>(plan, plan.first_added[g], plan.first_round[g + 1], in, 0, sum);
   for (int c = 0; c < Components; ++c) _mm512_storeu_pd(out[c] + g * kLanes, sum[c]);
 }
 
@@ -426,17 +436,18 @@ GRANSTACK_AVX512 void sum_contributions_avx512(const PairTable& pairs, const Sum
                                                bool zero_torques) {
   const double* in[6] = {pairs.fx.data(), pairs.fy.data(), pairs.fz.data(), pairs.tx.data(), pairs.ty.data(), pairs.tz.data()};
   double* out[6] = {f, f + stride, f + 2 * stride, t, t + stride, t + 2 * stride};
-  const PlanView view{plan.first_round.data(), plan.lanes_in.data(), plan.windowed.data(),
-                      plan.window.data(),      plan.lane.data(),     plan.entry.data()};
+  const PlanView view{plan.first_round.data(), plan.first_added.data(), plan.lanes_in.data(), plan.windowed.data(),
+                      plan.window.data(),      plan.lane.data(),        plan.entry.data()};
+  const std::size_t j_side = pairs.padded();
   for (std::size_t g = group_begin; g < group_end; ++g) {
     if (pairs.torque_free) {
       // Without torques (PairTable::torque_free) every torque sum is 0 + +-0 + ... = +0.
-      sum_group<3>(view, g, in, out);
+      sum_group<3>(view, g, in, j_side, out);
       if (zero_torques) {
         for (int c = 3; c < 6; ++c) _mm512_storeu_pd(out[c] + g * kLanes, _mm512_setzero_pd());
       }
     } else {
-      sum_group<6>(view, g, in, out);
+      sum_group<6>(view, g, in, j_side, out);
     }
   }
 }

@@ -222,7 +222,7 @@ void System::build_pairs() {
     contributions_.insert(contributions_.end(), l.begin(), l.end());
     contribution_offsets_.push_back(contributions_.size());
   }
-  if (avx512_) sum_plan_->build(contribution_offsets_, contributions_);
+  if (avx512_) sum_plan_->build(contribution_offsets_, contributions_, side_j);
   x_at_build_ = x_;
   ++builds_;
 }
@@ -311,14 +311,20 @@ void System::sum_forces(std::size_t begin, std::size_t end, bool update_history,
     if (moved) moved_.store(true, std::memory_order_relaxed);
     return;
   }
-  const std::size_t y = stride_, z = 2 * stride_;
+  const std::size_t y = stride_, z = 2 * stride_, side_j = c.padded();
   for (std::size_t k = begin; k < end; ++k) {
     double fx = 0.0, fy = 0.0, fz = 0.0, tx = 0.0, ty = 0.0, tz = 0.0;
     for (std::size_t e = contribution_offsets_[k]; e < contribution_offsets_[k + 1]; ++e) {
       const std::size_t q = contributions_[e].second;
-      fx += c.fx[q];
-      fy += c.fy[q];
-      fz += c.fz[q];
+      if (q < side_j) {
+        fx += c.fx[q];
+        fy += c.fy[q];
+        fz += c.fz[q];
+      } else {  // j of the pair: minus the force on i
+        fx -= c.fx[q - side_j];
+        fy -= c.fy[q - side_j];
+        fz -= c.fz[q - side_j];
+      }
       tx += c.tx[q];
       ty += c.ty[q];
       tz += c.tz[q];
