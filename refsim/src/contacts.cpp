@@ -64,6 +64,8 @@ void PairTable::finish() {
   window_i.clear();
   window_j.clear();
   windowed.clear();
+  run_i.clear();
+  run_j.clear();
   shared_record.clear();
   elastic_frictionless.clear();
   torque_free = std::all_of(record.begin(), record.end(),
@@ -93,6 +95,15 @@ void PairTable::finish() {
         particles_j[b / kLanes] = static_cast<std::uint16_t>(particles_j[b / kLanes] | 1U << lane_j[p]);
       }
     }
+    // Padding lanes (record 0, zero radii) never touch, whatever particles they read.
+    const auto run = [&](const AlignedVector<std::uint8_t>& lanes) {
+      for (std::size_t k = 0; k < kLanes; ++k) {
+        if (record[b + k] != 0 && lanes[b + k] != k) return false;
+      }
+      return windowed.back() != 0;
+    };
+    run_i.push_back(run(lane_i));
+    run_j.push_back(run(lane_j));
   }
 }
 
@@ -101,7 +112,7 @@ void SumPlan::build(const std::vector<std::size_t>& offsets,
   const std::size_t n = offsets.size() - 1;
   first_round.assign(1, 0);
   first_added.clear();
-  for (auto* a : {&lanes_in, &windowed, &lane}) a->clear();
+  for (auto* a : {&lanes_in, &fetch, &lane}) a->clear();
   window.clear();
   entry.clear();
   struct Item {
@@ -129,15 +140,20 @@ void SumPlan::build(const std::vector<std::size_t>& offsets,
     auto close = [&] {
       if (in == 0) return;
       std::uint32_t lo = 0xffffffffU, hi = 0;
+      std::int64_t base = -1;  // entry - lane, if the same for every lane in the round
+      bool run = true;
       for (std::size_t l = 0; l < kLanes; ++l) {
         if (in >> l & 1U) {
           lo = std::min(lo, round_entry[l]);
           hi = std::max(hi, round_entry[l]);
+          const std::int64_t b = static_cast<std::int64_t>(round_entry[l]) - static_cast<std::int64_t>(l);
+          run = run && (base < 0 || b == base) && b >= 0;
+          base = b;
         }
       }
       lanes_in.push_back(static_cast<std::uint8_t>(in));
-      windowed.push_back(hi - lo < static_cast<std::uint32_t>(PairTable::kWindow));
-      window.push_back(static_cast<std::int32_t>(lo));
+      fetch.push_back(run ? kRun : hi - lo < static_cast<std::uint32_t>(PairTable::kWindow) ? kWindowed : kGather);
+      window.push_back(static_cast<std::int32_t>(run ? static_cast<std::uint32_t>(base) : lo));
       for (std::size_t l = 0; l < kLanes; ++l) {
         const std::uint32_t e = in >> l & 1U ? round_entry[l] : lo;  // absent lanes read nothing
         entry.push_back(static_cast<std::int32_t>(e));

@@ -62,6 +62,9 @@ struct PairTable {
   static constexpr std::int32_t kWindow = 2 * static_cast<std::int32_t>(kLanes);
   std::vector<std::int32_t> window_i, window_j;
   std::vector<std::uint8_t> windowed, elastic_frictionless;
+  // Per kLanes pairs, per side: windowed, and every real pair's particle is the lowest plus its
+  // lane (consecutive particles: one load fetches them).
+  std::vector<std::uint8_t> run_i, run_j;
   std::vector<std::int32_t> shared_record;  // the record all real pairs of the eight share, or -1
   bool torque_free = false;  // every pair elastic and frictionless: no torque anywhere
   AlignedVector<std::uint8_t> lane_i, lane_j;
@@ -93,8 +96,10 @@ struct PairTable {
 struct SumPlan {
   std::vector<std::size_t> first_round;  // per group of kLanes particles, and one past the last
   std::vector<std::size_t> first_added;  // per group, its first round of positive offsets
-  // Per round: which lanes take part, and where their force entries are (as PairTable's windows).
-  AlignedVector<std::uint8_t> lanes_in, windowed;
+  // Per round: which lanes take part, and where their force entries are: gathered; within
+  // kWindow of `window` (at window + lane); or at window + their lane number (one load).
+  enum Fetch : std::uint8_t { kGather, kWindowed, kRun };
+  AlignedVector<std::uint8_t> lanes_in, fetch;
   std::vector<std::int32_t> window;
   AlignedVector<std::uint8_t> lane;    // kLanes per round: entry - window
   AlignedVector<std::int32_t> entry;   // kLanes per round

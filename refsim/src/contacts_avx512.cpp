@@ -79,9 +79,10 @@ struct Vec {
   V x, y, z;
 };
 
-// Where eight pairs find one side's particles: within a window of 16 from `base` (two loads
-// and a permutation), or anywhere (a gather).
+// Where eight pairs find one side's particles: at base + their lane (one load), within a window
+// of 16 from `base` (two loads and a permutation), or anywhere (a gather).
 struct Side {
+  bool run;
   bool windowed;
   std::int32_t base;
   __m512i lanes;  // index - base
@@ -90,13 +91,15 @@ struct Side {
 
 GRANSTACK_AVX512_INLINE Side side(const PairTable& t, const AlignedVector<std::int32_t>& index,
                                   const std::vector<std::int32_t>& window, const AlignedVector<std::uint8_t>& lanes,
-                                  std::size_t p) {
+                                  const std::vector<std::uint8_t>& run, std::size_t p) {
   const std::size_t g = p / kLanes;
-  return {t.windowed[g] != 0, window[g], _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&lanes[p]))),
+  return {run[g] != 0, t.windowed[g] != 0, window[g],
+          _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&lanes[p]))),
           _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&index[p]))};
 }
 
 GRANSTACK_AVX512_INLINE Z fetch(const double* component, const Side& s) {
+  if (s.run) return _mm512_loadu_pd(component + s.base);
   if (s.windowed) {
     return _mm512_permutex2var_pd(_mm512_loadu_pd(component + s.base), s.lanes, _mm512_loadu_pd(component + s.base + 8));
   }
@@ -177,8 +180,8 @@ struct Found {
 
 GRANSTACK_AVX512_INLINE Found find(const PairTable& t, const ContactStep& s, std::size_t p) {
   const std::size_t p8 = p + kLanes;
-  const Sides si{side(t, t.i, t.window_i, t.lane_i, p), side(t, t.i, t.window_i, t.lane_i, p8)};
-  const Sides sj{side(t, t.j, t.window_j, t.lane_j, p), side(t, t.j, t.window_j, t.lane_j, p8)};
+  const Sides si{side(t, t.i, t.window_i, t.lane_i, t.run_i, p), side(t, t.i, t.window_i, t.lane_i, t.run_i, p8)};
+  const Sides sj{side(t, t.j, t.window_j, t.lane_j, t.run_j, p), side(t, t.j, t.window_j, t.lane_j, t.run_j, p8)};
   const Records rec{record(t, p), record(t, p8)};
   const Vec xi = fetch(s.x, s.stride, si), xj = fetch(s.x, s.stride, sj);
   const V delx = xi.x - xj.x;
@@ -389,7 +392,7 @@ struct PlanView {
   const std::size_t* first_round;
   const std::size_t* first_added;
   const std::uint8_t* lanes_in;
-  const std::uint8_t* windowed;
+  const std::uint8_t* fetch;
   const std::int32_t* window;
   const std::uint8_t* lane;
   const std::int32_t* entry;
@@ -404,7 +407,10 @@ GRANSTACK_AVX512_INLINE void sum_rounds(const PlanView& plan, std::size_t first,
   const auto take = [&](int c, Z& s, Z x) { s = Subtract && c < 3 ? s - x : s + x; };
   for (std::size_t r = first; r < last; ++r) {
     const __mmask8 m = plan.lanes_in[r];
-    if (plan.windowed[r] != 0) {
+    if (plan.fetch[r] == SumPlan::kRun) {
+      const std::size_t w = static_cast<std::size_t>(plan.window[r]);
+      for (int c = 0; c < Components; ++c) take(c, sum[c], _mm512_maskz_loadu_pd(m, in[c] + w + (c < 3 ? 0 : torque_side)));
+    } else if (plan.fetch[r] == SumPlan::kWindowed) {
       const __m512i lanes = _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&plan.lane[r * kLanes])));
       const std::size_t w = static_cast<std::size_t>(plan.window[r]);
       for (int c = 0; c < Components; ++c) {
@@ -436,7 +442,7 @@ GRANSTACK_AVX512 void sum_contributions_avx512(const PairTable& pairs, const Sum
                                                bool zero_torques) {
   const double* in[6] = {pairs.fx.data(), pairs.fy.data(), pairs.fz.data(), pairs.tx.data(), pairs.ty.data(), pairs.tz.data()};
   double* out[6] = {f, f + stride, f + 2 * stride, t, t + stride, t + 2 * stride};
-  const PlanView view{plan.first_round.data(), plan.first_added.data(), plan.lanes_in.data(), plan.windowed.data(),
+  const PlanView view{plan.first_round.data(), plan.first_added.data(), plan.lanes_in.data(), plan.fetch.data(),
                       plan.window.data(),      plan.lane.data(),        plan.entry.data()};
   const std::size_t j_side = pairs.padded();
   for (std::size_t g = group_begin; g < group_end; ++g) {
