@@ -400,27 +400,33 @@ struct PlanView {
 
 // Rounds [first, last) of a group over `Components` arrays (3: forces only, 6: and torques),
 // into sums in registers: the forces added, or subtracted with the torques read `torque_side`
-// entries on (the pairs' j side).
+// entries on (the pairs' j side). Lanes not in a round keep their sums (as adding the +0 of
+// the reference's order would: no sum that starts at +0 is ever -0); a run or a window may read
+// entries of other rounds or the tables' padding for them.
+template <bool Subtract>
+GRANSTACK_AVX512_INLINE void take(int c, Z& sum, __mmask8 m, Z x) {
+  sum = Subtract && c < 3 ? _mm512_mask_sub_pd(sum, m, sum, x) : _mm512_mask_add_pd(sum, m, sum, x);
+}
+
 template <int Components, bool Subtract>
 GRANSTACK_AVX512_INLINE void sum_rounds(const PlanView& plan, std::size_t first, std::size_t last, const double* const* in,
                                         std::size_t torque_side, Z* sum) {
-  const auto take = [&](int c, Z& s, Z x) { s = Subtract && c < 3 ? s - x : s + x; };
   for (std::size_t r = first; r < last; ++r) {
     const __mmask8 m = plan.lanes_in[r];
     if (plan.fetch[r] == SumPlan::kRun) {
       const std::size_t w = static_cast<std::size_t>(plan.window[r]);
-      for (int c = 0; c < Components; ++c) take(c, sum[c], _mm512_maskz_loadu_pd(m, in[c] + w + (c < 3 ? 0 : torque_side)));
+      for (int c = 0; c < Components; ++c) take<Subtract>(c, sum[c], m, _mm512_loadu_pd(in[c] + w + (c < 3 ? 0 : torque_side)));
     } else if (plan.fetch[r] == SumPlan::kWindowed) {
       const __m512i lanes = _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&plan.lane[r * kLanes])));
       const std::size_t w = static_cast<std::size_t>(plan.window[r]);
       for (int c = 0; c < Components; ++c) {
         const double* a = in[c] + w + (c < 3 ? 0 : torque_side);
-        take(c, sum[c], _mm512_maskz_permutex2var_pd(m, _mm512_loadu_pd(a), lanes, _mm512_loadu_pd(a + kLanes)));
+        take<Subtract>(c, sum[c], m, _mm512_permutex2var_pd(_mm512_loadu_pd(a), lanes, _mm512_loadu_pd(a + kLanes)));
       }
     } else {
       const __m256i index = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&plan.entry[r * kLanes]));
       for (int c = 0; c < Components; ++c) {
-        take(c, sum[c], _mm512_mask_i32gather_pd(_mm512_setzero_pd(), m, index, in[c] + (c < 3 ? 0 : torque_side), 8));
+        take<Subtract>(c, sum[c], m, _mm512_mask_i32gather_pd(_mm512_setzero_pd(), m, index, in[c] + (c < 3 ? 0 : torque_side), 8));
       }
     }
   }
