@@ -44,9 +44,10 @@ struct PairRecord {
 // Non-touching pairs give zeros: adding +-0 to a force sum that started at +0 changes no bit.
 // The order of the pairs is free (each particle adds its contributions in its own order), so
 // they are ordered by the tile of i (System), then j - i, then i: in a lattice, eight
-// consecutive pairs then have their i within 16 consecutive particles and their j too, which
-// two loads and a permutation fetch. The arrays start on cache lines (aligned.hpp), and blocks
-// of pairs at multiples of kLanes, so a kernel's 64-byte loads and stores never split a line.
+// consecutive pairs then mostly have consecutive i and consecutive j, which one load fetches
+// (else within 16 particles: two loads and a permutation). The arrays start on cache lines
+// (aligned.hpp) and blocks of pairs at multiples of kLanes, so the kernels' 64-byte accesses
+// to a block's entries never split a line.
 struct PairTable {
   std::size_t count = 0;  // entries, padding (record 0) included; the arrays hold padded()
   AlignedVector<std::int32_t> i, j;

@@ -398,16 +398,18 @@ struct PlanView {
   const std::int32_t* entry;
 };
 
-// Rounds [first, last) of a group over `Components` arrays (3: forces only, 6: and torques),
-// into sums in registers: the forces added, or subtracted with the torques read `torque_side`
-// entries on (the pairs' j side). Lanes not in a round keep their sums (as adding the +0 of
-// the reference's order would: no sum that starts at +0 is ever -0); a run or a window may read
-// entries of other rounds or the tables' padding for them.
+// Component c's entries x into its sums, in the lanes of m: subtracted if Subtract and c is a
+// force component, else added. The other lanes keep their sums, as adding the +0 of the
+// reference's order would (no sum that starts at +0 is ever -0).
 template <bool Subtract>
 GRANSTACK_AVX512_INLINE void take(int c, Z& sum, __mmask8 m, Z x) {
   sum = Subtract && c < 3 ? _mm512_mask_sub_pd(sum, m, sum, x) : _mm512_mask_add_pd(sum, m, sum, x);
 }
 
+// Rounds [first, last) of a group over `Components` arrays (3: forces only, 6: and torques),
+// into sums in registers: the forces added, or subtracted with the torques read `torque_side`
+// entries on (the pairs' j side). A run or a window may read, for the lanes not in the round,
+// entries of other pairs or the tables' padding: take() leaves those lanes alone.
 template <int Components, bool Subtract>
 GRANSTACK_AVX512_INLINE void sum_rounds(const PlanView& plan, std::size_t first, std::size_t last, const double* const* in,
                                         std::size_t torque_side, Z* sum) {
