@@ -63,9 +63,8 @@ void PairTable::finish() {
   particles_j.assign(n / kLanes, 0);
   window_i.clear();
   window_j.clear();
-  windowed.clear();
-  run_i.clear();
-  run_j.clear();
+  fetch_i.clear();
+  fetch_j.clear();
   shared_record.clear();
   elastic_frictionless.clear();
   torque_free = std::all_of(record.begin(), record.end(),
@@ -79,7 +78,6 @@ void PairTable::finish() {
                                                   j.begin() + static_cast<std::ptrdiff_t>(b + kLanes));
     window_i.push_back(*i_lo);
     window_j.push_back(*j_lo);
-    windowed.push_back(*i_hi - *i_lo < kWindow && *j_hi - *j_lo < kWindow);
     // Padding (record 0) may take the block's shared record: its results are never summed.
     const auto first = record.begin() + static_cast<std::ptrdiff_t>(b), last = first + kLanes;
     const auto real = std::find_if(first, last, [](std::int32_t r) { return r != 0; });
@@ -87,23 +85,21 @@ void PairTable::finish() {
     shared_record.push_back(std::all_of(first, last, [&](std::int32_t r) { return r == 0 || r == shared; }) ? shared : -1);
     elastic_frictionless.push_back(std::all_of(
         first, last, [&](std::int32_t r) { return records[static_cast<std::size_t>(r)].elastic_frictionless(); }));
-    for (std::size_t p = b; p < b + kLanes; ++p) {
-      lane_i[p] = static_cast<std::uint8_t>(i[p] - *i_lo);  // only used when windowed
-      lane_j[p] = static_cast<std::uint8_t>(j[p] - *j_lo);
-      if (windowed.back() != 0) {
-        particles_i[b / kLanes] = static_cast<std::uint16_t>(particles_i[b / kLanes] | 1U << lane_i[p]);
-        particles_j[b / kLanes] = static_cast<std::uint16_t>(particles_j[b / kLanes] | 1U << lane_j[p]);
-      }
-    }
-    // Padding lanes (record 0, zero radii) never touch, whatever particles they read.
-    const auto run = [&](const AlignedVector<std::uint8_t>& lanes) {
+    // One side: its lanes and particles in the window, and how to fetch them. Padding lanes
+    // (record 0, zero radii) never touch, whatever particles a run reads for them.
+    const auto side = [&](const AlignedVector<std::int32_t>& index, std::int32_t lo, std::int32_t hi,
+                          AlignedVector<std::uint8_t>& lanes, std::vector<std::uint16_t>& particles) {
+      if (hi - lo >= kWindow) return kGather;
+      bool run = true;
       for (std::size_t k = 0; k < kLanes; ++k) {
-        if (record[b + k] != 0 && lanes[b + k] != k) return false;
+        lanes[b + k] = static_cast<std::uint8_t>(index[b + k] - lo);
+        particles[b / kLanes] = static_cast<std::uint16_t>(particles[b / kLanes] | 1U << lanes[b + k]);
+        run = run && (record[b + k] == 0 || lanes[b + k] == k);
       }
-      return windowed.back() != 0;
+      return run ? kRun : kWindowed;
     };
-    run_i.push_back(run(lane_i));
-    run_j.push_back(run(lane_j));
+    fetch_i.push_back(side(i, *i_lo, *i_hi, lane_i, particles_i));
+    fetch_j.push_back(side(j, *j_lo, *j_hi, lane_j, particles_j));
   }
 }
 
@@ -112,7 +108,8 @@ void SumPlan::build(const std::vector<std::size_t>& offsets,
   const std::size_t n = offsets.size() - 1;
   first_round.assign(1, 0);
   first_added.clear();
-  for (auto* a : {&lanes_in, &fetch, &lane}) a->clear();
+  for (auto* a : {&lanes_in, &lane}) a->clear();
+  fetch.clear();
   window.clear();
   entry.clear();
   struct Item {

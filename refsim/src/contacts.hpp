@@ -13,6 +13,10 @@
 
 namespace granstack::refsim::detail {
 
+// How eight lanes find their values in an array: gathered; within kWindow entries of a
+// window (two loads and a permutation); or at window + their lane number (one load).
+enum Fetch : std::uint8_t { kGather, kWindowed, kRun };
+
 // Vector lanes (doubles in an AVX-512 register), and pairs per step of the AVX-512 contact
 // kernel (two registers' worth). The tables are padded to whole blocks with entries of zero
 // radius that never touch.
@@ -57,15 +61,14 @@ struct PairTable {
   // At its last evaluation (kept across rebuilds); not kept for a torque_free table, whose
   // history is +0 throughout, so that which history survives a rebuild does not matter.
   std::vector<std::uint8_t> touching;
-  // Per kLanes pairs: the lowest i and j, whether every i and every j lies within kWindow
-  // particles of them, whether they are all elastic and frictionless, and the record they
-  // share; per pair, its i and j less those lowest.
+  // Per kLanes pairs: the lowest i and j (the windows), how each side fetches its particles
+  // (kRun if every real pair's is the window plus its lane, kWindowed if all lie within
+  // kWindow of it), whether they are all elastic and frictionless, and the record they share;
+  // per pair, its i and j less those lowest.
   static constexpr std::int32_t kWindow = 2 * static_cast<std::int32_t>(kLanes);
   std::vector<std::int32_t> window_i, window_j;
-  std::vector<std::uint8_t> windowed, elastic_frictionless;
-  // Per kLanes pairs, per side: windowed, and every real pair's particle is the lowest plus its
-  // lane (consecutive particles: one load fetches them).
-  std::vector<std::uint8_t> run_i, run_j;
+  std::vector<Fetch> fetch_i, fetch_j;
+  std::vector<std::uint8_t> elastic_frictionless;
   std::vector<std::int32_t> shared_record;  // the record all real pairs of the eight share, or -1
   bool torque_free = false;  // every pair elastic and frictionless: no torque anywhere
   AlignedVector<std::uint8_t> lane_i, lane_j;
@@ -97,10 +100,9 @@ struct PairTable {
 struct SumPlan {
   std::vector<std::size_t> first_round;  // per group of kLanes particles, and one past the last
   std::vector<std::size_t> first_added;  // per group, its first round of positive offsets
-  // Per round: which lanes take part, and where their force entries are: gathered; within
-  // kWindow of `window` (at window + lane); or at window + their lane number (one load).
-  enum Fetch : std::uint8_t { kGather, kWindowed, kRun };
-  AlignedVector<std::uint8_t> lanes_in, fetch;
+  // Per round: which lanes take part, and how their force entries are fetched (from `window`).
+  AlignedVector<std::uint8_t> lanes_in;
+  AlignedVector<Fetch> fetch;
   std::vector<std::int32_t> window;
   AlignedVector<std::uint8_t> lane;    // kLanes per round: entry - window
   AlignedVector<std::int32_t> entry;   // kLanes per round

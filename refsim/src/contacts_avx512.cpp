@@ -82,25 +82,23 @@ struct Vec {
 // Where eight pairs find one side's particles: at base + their lane (one load), within a window
 // of 16 from `base` (two loads and a permutation), or anywhere (a gather).
 struct Side {
-  bool run;
-  bool windowed;
+  Fetch how;
   std::int32_t base;
   __m512i lanes;  // index - base
   __m256i index;
 };
 
-GRANSTACK_AVX512_INLINE Side side(const PairTable& t, const AlignedVector<std::int32_t>& index,
-                                  const std::vector<std::int32_t>& window, const AlignedVector<std::uint8_t>& lanes,
-                                  const std::vector<std::uint8_t>& run, std::size_t p) {
+GRANSTACK_AVX512_INLINE Side side(const AlignedVector<std::int32_t>& index, const std::vector<std::int32_t>& window,
+                                  const AlignedVector<std::uint8_t>& lanes, const std::vector<Fetch>& how, std::size_t p) {
   const std::size_t g = p / kLanes;
-  return {run[g] != 0, t.windowed[g] != 0, window[g],
+  return {how[g], window[g],
           _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&lanes[p]))),
           _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&index[p]))};
 }
 
 GRANSTACK_AVX512_INLINE Z fetch(const double* component, const Side& s) {
-  if (s.run) return _mm512_loadu_pd(component + s.base);
-  if (s.windowed) {
+  if (s.how == kRun) return _mm512_loadu_pd(component + s.base);
+  if (s.how == kWindowed) {
     return _mm512_permutex2var_pd(_mm512_loadu_pd(component + s.base), s.lanes, _mm512_loadu_pd(component + s.base + 8));
   }
   return _mm512_i32gather_pd(s.index, component, 8);
@@ -180,8 +178,8 @@ struct Found {
 
 GRANSTACK_AVX512_INLINE Found find(const PairTable& t, const ContactStep& s, std::size_t p) {
   const std::size_t p8 = p + kLanes;
-  const Sides si{side(t, t.i, t.window_i, t.lane_i, t.run_i, p), side(t, t.i, t.window_i, t.lane_i, t.run_i, p8)};
-  const Sides sj{side(t, t.j, t.window_j, t.lane_j, t.run_j, p), side(t, t.j, t.window_j, t.lane_j, t.run_j, p8)};
+  const Sides si{side(t.i, t.window_i, t.lane_i, t.fetch_i, p), side(t.i, t.window_i, t.lane_i, t.fetch_i, p8)};
+  const Sides sj{side(t.j, t.window_j, t.lane_j, t.fetch_j, p), side(t.j, t.window_j, t.lane_j, t.fetch_j, p8)};
   const Records rec{record(t, p), record(t, p8)};
   const Vec xi = fetch(s.x, s.stride, si), xj = fetch(s.x, s.stride, sj);
   const V delx = xi.x - xj.x;
@@ -327,9 +325,10 @@ GRANSTACK_AVX512_INLINE std::uint32_t changed_in_window(const std::uint8_t* chan
 }
 
 // Whether no particle of the kLanes pairs from g * kLanes has a new position since they were
-// last evaluated (as far as a windowed group can tell; an unwindowed one is never still).
+// last evaluated (as far as windows can tell; a gathered side is never still).
 GRANSTACK_AVX512_INLINE bool still(const PairTable& t, const std::uint8_t* changed, std::size_t g) {
-  return t.windowed[g] != 0 && (changed_in_window(changed, t.window_i[g]) & t.particles_i[g]) == 0 &&
+  return t.fetch_i[g] != kGather && t.fetch_j[g] != kGather &&
+         (changed_in_window(changed, t.window_i[g]) & t.particles_i[g]) == 0 &&
          (changed_in_window(changed, t.window_j[g]) & t.particles_j[g]) == 0;
 }
 
@@ -392,7 +391,7 @@ struct PlanView {
   const std::size_t* first_round;
   const std::size_t* first_added;
   const std::uint8_t* lanes_in;
-  const std::uint8_t* fetch;
+  const Fetch* fetch;
   const std::int32_t* window;
   const std::uint8_t* lane;
   const std::int32_t* entry;
@@ -415,10 +414,10 @@ GRANSTACK_AVX512_INLINE void sum_rounds(const PlanView& plan, std::size_t first,
                                         std::size_t torque_side, Z* sum) {
   for (std::size_t r = first; r < last; ++r) {
     const __mmask8 m = plan.lanes_in[r];
-    if (plan.fetch[r] == SumPlan::kRun) {
+    if (plan.fetch[r] == kRun) {
       const std::size_t w = static_cast<std::size_t>(plan.window[r]);
       for (int c = 0; c < Components; ++c) take<Subtract>(c, sum[c], m, _mm512_loadu_pd(in[c] + w + (c < 3 ? 0 : torque_side)));
-    } else if (plan.fetch[r] == SumPlan::kWindowed) {
+    } else if (plan.fetch[r] == kWindowed) {
       const __m512i lanes = _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&plan.lane[r * kLanes])));
       const std::size_t w = static_cast<std::size_t>(plan.window[r]);
       for (int c = 0; c < Components; ++c) {
