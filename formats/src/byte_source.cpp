@@ -1,5 +1,6 @@
 #include <granstack/formats/byte_source.hpp>
 #include <granstack/formats/error.hpp>
+#include <granstack/formats/files.hpp>
 
 #include <fmt/format.h>
 
@@ -103,6 +104,7 @@ void ByteSource::skip(std::size_t n) {
 }
 
 std::unique_ptr<ByteSource> open_bytes(const std::string& path) {
+  require_regular_file(path);
   File file(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!file) throw FormatError(path, 0, std::string("cannot open: ") + std::strerror(errno));
   unsigned char magic[4] = {0, 0, 0, 0};

@@ -259,9 +259,19 @@ bool TextDumpReader::next(DumpFrame& f) {
         }
         p = parse_next_double(p, end, out[c]);
       } else {
+        // Not converted, but checked to be a finite number: its first character past a sign is a
+        // digit or a point (nan, inf and words are not).
+        const char* q = p < end && (*p == '-' || *p == '+') ? p + 1 : p;
+        if (q < end && !(*q >= '0' && *q <= '9') && *q != '.') {
+          const char* w = q;
+          while (w < end && *w != ' ' && *w != '\t') ++w;
+          throw fail(fmt::format("'{}' in column '{}' (atom line {} of the frame at step {}) is not a finite number",
+                                 std::string_view(p, static_cast<std::size_t>(std::min<long>(w - p, 40))), f.columns[c],
+                                 a + 1, f.step));
+        }
         const std::size_t length = cached ? token_length(p) : 0;
         p = length > 0 && p + length <= end ? p + length : skip_word(p, end);
-        out[c] = std::numeric_limits<double>::quiet_NaN();
+        out[c] = 0.0;
       }
     }
     while (p != nullptr && p < end && (*p == ' ' || *p == '\t')) ++p;

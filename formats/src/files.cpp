@@ -1,3 +1,4 @@
+#include <granstack/formats/error.hpp>
 #include <granstack/formats/files.hpp>
 
 #include <fmt/chrono.h>
@@ -9,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <sys/stat.h>
 
 namespace granstack::formats {
 
@@ -23,7 +25,20 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view t
   std::filesystem::rename(tmp, path);
 }
 
+void require_regular_file(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) throw FormatError(path, 0, std::string("cannot open: ") + std::strerror(errno));
+  if (S_ISREG(st.st_mode)) return;
+  const char* kind = S_ISDIR(st.st_mode)   ? "a directory"
+                     : S_ISFIFO(st.st_mode) ? "a FIFO (named pipe)"
+                     : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device"
+                     : S_ISSOCK(st.st_mode) ? "a socket"
+                                            : "not a regular file";
+  throw FormatError(path, 0, fmt::format("is {}: granstack reads only regular files; put the file itself there", kind));
+}
+
 std::string read_file(const std::filesystem::path& path) {
+  require_regular_file(path.string());
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open: {}", path.string(), std::strerror(errno)));
   std::ostringstream text;

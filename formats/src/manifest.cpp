@@ -1,4 +1,5 @@
 #include <granstack/formats/error.hpp>
+#include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
 
 #include <fmt/format.h>
@@ -166,6 +167,7 @@ Manifest manifest_from_json(const json& j, const std::string& source) {
 
 Manifest read_manifest(const std::string& case_dir) {
   const std::string path = case_dir + "/manifest.json";
+  if (std::filesystem::exists(path)) require_regular_file(path);
   std::ifstream in(path);
   if (!in) throw FormatError(path, 0, "cannot open: is this a case directory made by 'granstack generate'?");
   json j;
@@ -204,6 +206,7 @@ std::vector<std::string> expand_case_dirs(const std::vector<std::string>& dirs) 
       continue;
     }
     const auto sweep_path = (fs::path(d) / "sweep.json").string();
+    if (fs::exists(sweep_path)) require_regular_file(sweep_path);
     std::ifstream in(sweep_path);
     if (!in) {
       throw FormatError(d, 0, "not a case directory (no manifest.json) nor a sweep directory (no sweep.json); "

@@ -1,5 +1,6 @@
 #include <granstack/formats/data_file.hpp>
 #include <granstack/formats/files.hpp>
+#include <granstack/formats/ownership.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/contact.hpp>
 #include <granstack/model/version.hpp>
@@ -259,6 +260,7 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
   const fs::path out = fs::absolute(options.output).lexically_normal();
   const fs::path target = out.filename().empty() ? out.parent_path() : out;
   std::vector<PreparedCase> prepared;
+  GenerateResult result;
   const auto created = formats::utc_timestamp();
   for (const auto& sc : cases) {
     // A single case is named after its directory; a sweep's cases after their swept values.
@@ -266,6 +268,19 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
     if (cases.size() == 1) c.name = target.filename().string();
     const auto stack = model::Stack::build(c.spec);
     const auto res = model::resolve(stack);
+    auto issues = model::check_resolution(stack, res);
+    if (!issues.empty()) {
+      if (cases.size() > 1) {
+        for (auto& i : issues) i.message += fmt::format(" (in the sweep case {})", c.name);
+      }
+      throw model::SpecError(std::move(issues));
+    }
+    const auto cost = model::estimate_cost(stack, res);
+    if (const auto why = model::why_large(cost); !why.empty() && !options.allow_large) {
+      throw model::SpecError({{"size", fmt::format("{}{} is large: {}; pass --large if you mean it", cases.size() > 1 ? "the sweep case " : "the case ",
+                                                   c.name, why)}});
+    }
+    result.costs.push_back(cost);
     PreparedCase p;
     p.name = c.name;
     p.files = case_files(stack);
@@ -280,20 +295,31 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
     m.created = created;
     m.command_line = options.command_line;
     m.derived = derived_json(stack, res);
+    for (const auto& [key, value] : m.derived.items()) {
+      if (value.is_number_float() && !std::isfinite(value.get<double>())) {
+        throw std::runtime_error(fmt::format("case {}: the derived value {} is not finite; please report this spec", c.name, key));
+      }
+    }
     m.layout = layout_json(stack);
     p.manifest = formats::manifest_to_json(m).dump(2) + "\n";
     prepared.push_back(std::move(p));
   }
 
-  if (fs::exists(target) && !options.force) {
-    throw ExistsError(fmt::format("{} exists; pass --force to replace it (its runs and results would be lost)",
-                                  options.output.string()));
+  if (fs::exists(fs::symlink_status(target))) {
+    // --force replaces only what granstack made; anything else is refused whatever the flags.
+    if (const auto why = formats::why_not_replaceable(options.output); !why.empty()) {
+      throw RefusedError(fmt::format("{} exists and is not replaced: {}; choose a new directory with -o", options.output.string(), why));
+    }
+    if (!options.force) {
+      throw ExistsError(fmt::format("{} exists (a granstack {}); pass --force to replace it (its runs and results "
+                                    "would be lost)",
+                                    options.output.string(), fs::exists(target / "sweep.json") ? "sweep" : "case"));
+    }
   }
   fs::create_directories(target.parent_path());
   const auto stamp = fmt::format("{}", ::getpid());
   const fs::path tmp = target.parent_path() / fmt::format(".{}.tmp-{}", target.filename().string(), stamp);
   const fs::path old = target.parent_path() / fmt::format(".{}.old-{}", target.filename().string(), stamp);
-  GenerateResult result;
   result.sweep = prepared.size() > 1;
   try {
     fs::remove_all(tmp);

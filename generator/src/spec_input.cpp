@@ -217,6 +217,11 @@ Sweep build_sweep(const RawSpec& raw) {
       p.bad(field, fmt::format("unknown field; known fields: {}", fmt::join(spec_fields(), ", ")));
       continue;
     }
+    const bool repeatable = field == "restitution_pairs" || field == "friction_pairs" || field == "custom_materials";
+    if ((tokens.empty() && !repeatable) || std::find(tokens.begin(), tokens.end(), std::string()) != tokens.end()) {
+      p.bad(field, "an empty value: give a value (leave the field or flag out for its default)");
+      continue;
+    }
     auto single = [&]() -> const std::string* {
       if (tokens.size() == 1) return &tokens.front();
       p.bad(field, fmt::format("takes one value, {} given", tokens.size()));

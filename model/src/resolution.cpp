@@ -61,8 +61,12 @@ Resolution resolve(const Stack& stack) {
   r.duration_auto = !spec.duration.has_value();
   r.dt = spec.dt.value_or(r.min_contact_time / kStepsPerContact);
   const double wanted = spec.duration.value_or(kDurationPerArrival * arrival);
-  r.steps = std::max<long>(1, std::lround(std::ceil(wanted / r.dt - 1e-9)));
-  const int wave_cadence = static_cast<int>(std::max(1.0, std::floor(kDumpPerContact * r.min_contact_time / r.dt)));
+  // Counts beyond kMaxSteps are held just above it (check_resolution refuses them) rather than
+  // overflowing.
+  const double wanted_steps = std::ceil(wanted / r.dt - 1e-9);
+  r.steps = wanted_steps <= static_cast<double>(kMaxSteps) ? std::max<long>(1, std::lround(wanted_steps)) : kMaxSteps + 1;
+  const int wave_cadence = static_cast<int>(
+      std::clamp(std::floor(kDumpPerContact * r.min_contact_time / r.dt), 1.0, static_cast<double>(1 << 30)));
   r.dump_every = spec.dump_every.value_or(std::min(cadence(r.steps, kAutoDumpFrames), wave_cadence));
   if (spec.dump_every && *spec.dump_every > r.steps) r.dump_every = static_cast<int>(r.steps);
   // The last step is always dumped, so reduce sees the final state.
@@ -72,6 +76,62 @@ Resolution resolve(const Stack& stack) {
   r.thermo_every = cadence(r.steps, kAutoThermoLines);
   r.skin = 0.25 * blocks.back().radius;
   return r;
+}
+
+std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& r) {
+  std::vector<SpecIssue> issues;
+  const auto& spec = stack.spec();
+  if (!(r.dt <= r.min_contact_time / kMinStepsPerContact)) {
+    issues.push_back({"dt", fmt::format("{:.4g} s is more than 1/{:g} of the shortest Hertz contact time ({:.4g} s, {}): "
+                                        "the integration would not conserve energy; use at most {:.4g} s, or 'auto' "
+                                        "({:.4g} s)",
+                                        r.dt, kMinStepsPerContact, r.min_contact_time, r.min_contact_pair,
+                                        r.min_contact_time / kMinStepsPerContact, r.min_contact_time / kStepsPerContact)});
+  }
+  if (!(r.steps <= kMaxSteps) || !std::isfinite(r.duration)) {
+    issues.push_back({spec.duration ? "duration" : "dt",
+                      fmt::format("the run would take {:.3g} steps (duration / dt), more than the {:.0e} granstack "
+                                  "allows; shorten --duration or use the automatic dt",
+                                  spec.duration.value_or(r.duration) / r.dt, static_cast<double>(kMaxSteps))});
+  }
+  const auto lib = spec.material_library();
+  const auto& top = stack.block(1);
+  const auto& m = lib.at(top.material);
+  const double overlap = hertz_max_overlap(sphere_sphere(m, top.radius, m, top.radius), spec.striker_speed);
+  if (!(overlap <= kMaxOverlapPerRadius * top.radius)) {
+    issues.push_back({"striker_speed", fmt::format("{} m/s presses the striker {:.3g} of a radius into the top spheres; "
+                                                   "Hertz contact holds for small overlaps only (at most {:g}): use a "
+                                                   "lower speed",
+                                                   spec.striker_speed, overlap / top.radius, kMaxOverlapPerRadius)});
+  }
+  return issues;
+}
+
+Cost estimate_cost(const Stack& stack, const Resolution& r) {
+  Cost c;
+  c.spheres = static_cast<long>(stack.spheres().size());
+  c.steps = r.steps;
+  c.frames = r.steps / std::max(1, r.dump_every) + 1;
+  const double per_atom =
+      stack.spec().dump_format == DumpFormat::binary ? kBinaryDumpBytesPerAtom : kTextDumpBytesPerAtom;
+  c.dump_bytes = static_cast<double>(c.frames) * static_cast<double>(c.spheres) * per_atom;
+  const double samples = static_cast<double>(r.steps / std::max(1, r.series_every) + 1);
+  c.series_bytes = samples * (2.0 * (stack.spec().blocks + 3) + 1) * 24.0;
+  c.liggghts_seconds = static_cast<double>(c.spheres) * static_cast<double>(c.steps) / kLiggghtsParticleStepsPerSecond;
+  return c;
+}
+
+std::string why_large(const Cost& c) {
+  std::string why;
+  if (c.dump_bytes + c.series_bytes > kLargeDumpBytes) {
+    why = fmt::format("its outputs would take about {:.3g} GB (more than {:.3g} GB)", (c.dump_bytes + c.series_bytes) / 1e9,
+                      kLargeDumpBytes / 1e9);
+  }
+  if (c.liggghts_seconds > kLargeLiggghtsSeconds) {
+    why += fmt::format("{}LIGGGHTS would run for about {:.3g} hours on one core (more than {:.3g})", why.empty() ? "" : "; ",
+                       c.liggghts_seconds / 3600, kLargeLiggghtsSeconds / 3600);
+  }
+  return why;
 }
 
 }  // namespace granstack::model

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <regex>
 
@@ -98,14 +99,22 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
   auto finite_positive = [](double v) { return std::isfinite(v) && v > 0.0; };
 
   static const std::regex name_re("[a-z][a-z0-9_]*");
+  const auto builtin = MaterialLibrary::builtin();
+  auto within = [](double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
   for (const auto& m : s.custom_materials) {
     const auto field = fmt::format("custom_materials.{}", m.name);
     if (!std::regex_match(m.name, name_re)) {
       bad(field, "a material name is lower-case letters, digits and '_', starting with a letter");
     }
-    if (!finite_positive(m.density)) bad(field + ".density", fmt::format("{} must be > 0 (kg/m^3)", m.density));
-    if (!finite_positive(m.youngs_modulus)) {
-      bad(field + ".youngs_modulus", fmt::format("{} must be > 0 (Pa)", m.youngs_modulus));
+    if (builtin.find(m.name) != nullptr) {
+      bad(field, fmt::format("'{}' is a built-in material and cannot be redefined; give yours another name", m.name));
+    }
+    if (!within(m.density, kMinDensity, kMaxDensity)) {
+      bad(field + ".density", fmt::format("{} must be in [{:g}, {:g}] kg/m^3", m.density, kMinDensity, kMaxDensity));
+    }
+    if (!within(m.youngs_modulus, kMinYoungsModulus, kMaxYoungsModulus)) {
+      bad(field + ".youngs_modulus", fmt::format("{} must be in [{:g}, {:g}] Pa", m.youngs_modulus, kMinYoungsModulus,
+                                                 kMaxYoungsModulus));
     }
     if (!(m.poisson_ratio >= 0.0 && m.poisson_ratio < 0.5)) {
       bad(field + ".poisson_ratio", fmt::format("{} must be in [0, 0.5)", m.poisson_ratio));
@@ -119,11 +128,20 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
                                    "central columns)",
                                    s.top_columns));
   }
-  if (!finite_positive(s.bottom_radius)) bad("bottom_radius", fmt::format("{} must be > 0 (m)", s.bottom_radius));
+  if (!within(s.bottom_radius, kMinRadius, kMaxRadius)) {
+    bad("bottom_radius", fmt::format("{} must be in [{:g}, {:g}] m", s.bottom_radius, kMinRadius, kMaxRadius));
+  }
   if (s.radius_ratio < 1 || s.radius_ratio > 16) {
     bad("radius_ratio", fmt::format("{} must be a whole number from 1 to 16 (each block's columns tile the block "
                                     "below exactly only for whole ratios)",
                                     s.radius_ratio));
+  }
+  if (issues.empty() && !(s.bottom_radius * std::pow(static_cast<double>(s.radius_ratio), s.blocks - 1) <= kMaxRadius)) {
+    bad("bottom_radius", fmt::format("with radius_ratio {} and {} blocks the top spheres would be {:g} m in radius, more "
+                                     "than {:g} m",
+                                     s.radius_ratio, s.blocks,
+                                     s.bottom_radius * std::pow(static_cast<double>(s.radius_ratio), s.blocks - 1),
+                                     kMaxRadius));
   }
   if (issues.empty() && sphere_count(s) > kMaxSpheres) {
     bad("blocks", fmt::format("this stack would have more than {} spheres; use fewer blocks, rows or columns",
@@ -147,23 +165,33 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
     bad("wall_material", fmt::format("unknown material '{}' (known: {})", s.wall_material, known_list));
   }
 
+  // The materials the stack is made of: its blocks (the striker is the top block's) and its walls.
+  std::vector<std::string> used = s.materials;
+  if (s.bottom == Boundary::wall || s.sides == Boundary::wall) {
+    used.push_back(!s.wall_material.empty() ? s.wall_material : s.materials.empty() ? "" : s.materials.back());
+  }
+  auto in_stack = [&](const std::string& name) { return std::find(used.begin(), used.end(), name) != used.end(); };
   auto check_pairs = [&](const PairTable& t, const std::string& field, auto&& value_ok, const std::string& range) {
     if (!value_ok(t.value)) bad(field, fmt::format("{} must be {}", t.value, range));
     for (const auto& [key, v] : t.pairs) {
       const auto pf = fmt::format("{}_pairs.\"{}:{}\"", field, key.first, key.second);
       if (!known(key.first) || !known(key.second)) {
         bad(pf, fmt::format("names an unknown material (known: {})", known_list));
+      } else if (!in_stack(key.first) || !in_stack(key.second)) {
+        bad(pf, fmt::format("names a material this stack does not use (it uses: {}): the entry would have no effect",
+                            fmt::join(used, ", ")));
       }
       if (!value_ok(v)) bad(pf, fmt::format("{} must be {}", v, range));
     }
   };
   // LIGGGHTS refuses e <= 0.05 (global_properties.cpp:488-489; liggghts-3.8.md section 1).
   check_pairs(s.restitution, "restitution", [](double e) { return e > 0.05 && e <= 1.0; }, "in (0.05, 1]");
-  check_pairs(s.friction, "friction", [](double mu) { return std::isfinite(mu) && mu >= 0.0; }, ">= 0");
+  check_pairs(s.friction, "friction", [&](double mu) { return within(mu, 0.0, kMaxFriction); },
+              fmt::format("in [0, {:g}]", kMaxFriction));
 
   if (!finite_positive(s.striker_speed)) bad("striker_speed", fmt::format("{} must be > 0 (m/s)", s.striker_speed));
-  if (!(std::isfinite(s.gravity) && s.gravity >= 0.0)) {
-    bad("gravity", fmt::format("{} must be >= 0 (m/s^2, acting along -z; 0 turns it off)", s.gravity));
+  if (!within(s.gravity, 0.0, kMaxGravity)) {
+    bad("gravity", fmt::format("{} must be in [0, {:g}] (m/s^2, acting along -z; 0 turns it off)", s.gravity, kMaxGravity));
   }
   if (s.dt && !finite_positive(*s.dt)) bad("dt", fmt::format("{} must be > 0 (s) or 'auto'", *s.dt));
   if (s.duration && !finite_positive(*s.duration)) {

@@ -70,9 +70,19 @@ int Stack::id_of(int block_index, int row, int column) const {
   return b.first_id + (row - 1) * b.columns + (column - 1);
 }
 
+int Stack::impact_column(int block_index) const {
+  const auto& b = block(block_index);
+  const int n = spec_.radius_ratio;
+  if (n % 2 == 0) return b.columns / 2 + 1;
+  // x_j = (2j - 1 - C_k) R_k = R_1 with R_1 / R_k = n^(k-1): j = (n^(k-1) + 1 + C_k) / 2.
+  long scale = 1;
+  for (int k = 1; k < block_index; ++k) scale *= n;
+  return static_cast<int>((scale + 1 + b.columns) / 2);
+}
+
 int Stack::output_sphere_id() const {
   const auto& b = blocks_.back();
-  return id_of(b.index, b.rows, b.columns / 2 + 1);
+  return id_of(b.index, b.rows, impact_column(b.index));
 }
 
 std::vector<int> Stack::bottom_row_ids() const {

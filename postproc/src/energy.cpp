@@ -18,11 +18,36 @@ const std::vector<std::string> kNeededColumns{"id", "mass", "radius", "x", "y", 
 
 const std::vector<std::string>& FrameView::needed_columns() { return kNeededColumns; }
 
+void FrameView::require_finite(const formats::DumpFrame& f) const {
+  const std::size_t n = f.values.size();
+  std::size_t bad = n;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(f.values[i])) {
+      bad = i;
+      break;
+    }
+  }
+  if (bad == n) return;
+  const std::size_t ncol = f.columns.size();
+  const long row = static_cast<long>(bad / ncol);
+  const int c_id = f.column("id");
+  const double id = c_id >= 0 ? f.at(row, c_id) : 0.0;
+  // A text frame's atom lines follow its nine header lines; a binary one has no lines.
+  const long line = f.first_line > 0 && f.deferred.empty() ? f.first_line + 9 + row : 0;
+  throw formats::FormatError(path_, line,
+                             fmt::format("{} in column '{}' of atom {} (row {}) in the frame at step {}: the run "
+                                         "blew up or the file is damaged; a result cannot be taken from it",
+                                         f.values[bad], f.columns[bad % ncol],
+                                         std::isfinite(id) ? fmt::format("id {}", static_cast<long>(id)) : "?", row + 1,
+                                         f.step));
+}
+
 FrameView::FrameView(const model::Stack& stack, const std::string& path)
     : stack_(stack), path_(path), rows_(stack.spheres().size(), -1) {}
 
 void FrameView::bind(const formats::DumpFrame& f) {
   formats::require_columns(f, kNeededColumns, path_);
+  require_finite(f);
   c_id_ = f.column("id");
   c_mass_ = f.column("mass");
   c_radius_ = f.column("radius");

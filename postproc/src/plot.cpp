@@ -3,12 +3,12 @@
 #include <granstack/formats/series.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
+#include <granstack/os/process.hpp>
 #include <granstack/postproc/plot.hpp>
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 
@@ -24,7 +24,8 @@ std::string terminal(const PlotOptions& o) {
   throw std::invalid_argument(fmt::format("plot format '{}' is not png or svg", o.format));
 }
 
-// Writes NAME.dat and NAME.gp into `dir` and runs gnuplot there. Returns the image path.
+// Writes NAME.dat and NAME.gp into `dir` and runs gnuplot there, from an argument vector (no
+// shell sees any path). Returns the image path.
 std::string render(const fs::path& dir, const std::string& name, const std::string& data, const std::string& script,
                    const PlotOptions& o) {
   fs::create_directories(dir);
@@ -32,19 +33,27 @@ std::string render(const fs::path& dir, const std::string& name, const std::stri
   formats::write_file_atomically(dir / (name + ".gp"), script);
   const auto image = dir / (name + "." + o.format);
   const auto log = dir / (name + ".gnuplot.log");
-  const auto cmd = fmt::format("cd '{}' && '{}' '{}.gp' > '{}' 2>&1", dir.string(), o.gnuplot, name, log.filename().string());
-  const int rc = std::system(cmd.c_str());
-  if (rc != 0 || !fs::exists(image) || fs::file_size(image) == 0) {
+  os::StartOptions start;
+  start.cwd = dir;
+  start.output = log;
+  std::string start_error;
+  const auto end = os::run({o.gnuplot, name + ".gp"}, start, &start_error);
+  std::error_code ec;
+  if (!start_error.empty()) {
+    throw std::runtime_error(fmt::format("{}; gnuplot comes with scripts/setup.sh (Debian package gnuplot-nox)", start_error));
+  }
+  if (!end.ok() || !fs::exists(image) || fs::file_size(image, ec) == 0) {
     std::string what;
     try {
       what = formats::read_file(log);
     } catch (const std::exception&) {
     }
-    throw std::runtime_error(fmt::format("gnuplot failed on {} ({}); it comes with scripts/setup.sh (Debian package "
-                                         "gnuplot-nox). Its output: {}",
-                                         (dir / (name + ".gp")).string(), rc, what.substr(0, 400)));
+    throw std::runtime_error(fmt::format("gnuplot failed on {} ({}). Its output: {}", (dir / (name + ".gp")).string(),
+                                         end.signal != 0 ? fmt::format("signal {}", end.signal)
+                                                         : fmt::format("exit code {}", end.code),
+                                         what.substr(0, 400)));
   }
-  fs::remove(log);
+  fs::remove(log, ec);
   return image.string();
 }
 
@@ -57,7 +66,14 @@ std::string safe_name(std::string s) {
 
 }  // namespace
 
-std::string plot_block_energy(const std::string& case_dir, const std::string& out_dir, const PlotOptions& o) {
+std::string energy_plot_name(const std::string& label) { return "energy_" + safe_name(label); }
+
+std::vector<std::string> plot_files(const std::string& name, const PlotOptions& o) {
+  return {name + ".dat", name + ".gp", name + "." + o.format};
+}
+
+std::string plot_block_energy(const std::string& case_dir, const std::string& label, const std::string& out_dir,
+                              const PlotOptions& o) {
   const auto m = formats::read_manifest(case_dir);
   const auto stack = model::Stack::build(m.spec);
   const double dt = model::resolve(stack).dt;
@@ -80,7 +96,7 @@ std::string plot_block_energy(const std::string& case_dir, const std::string& ou
   const std::size_t stride = std::max<std::size_t>(1, series.rows.size() / 4000);
   fmt::memory_buffer data;
   auto out = std::back_inserter(data);
-  fmt::format_to(out, "# case {}: time (us), then each block's KE / peak KE of block 1 ({:.6g} J)\n", m.case_name, peak1);
+  fmt::format_to(out, "# case {}: time (us), then each block's KE / peak KE of block 1 ({:.6g} J)\n", safe_name(label), peak1);
   for (std::size_t r = 0; r < series.rows.size(); r += stride) {
     const auto& row = series.rows[r];
     fmt::format_to(out, "{:.6g}", row[0] * dt * 1e6);
@@ -91,7 +107,7 @@ std::string plot_block_energy(const std::string& case_dir, const std::string& ou
     }
     fmt::format_to(out, "\n");
   }
-  const auto name = "energy_" + safe_name(m.case_name);
+  const auto name = energy_plot_name(label);
   const auto script = fmt::format(
       "# granstack: kinetic energy of each block of case {} (translational + rotational), normalised by the\n"
       "# peak of block 1 (physics.md section 4). Data: {}.dat (time in us, then block 1 = top, ...).\n"
@@ -101,7 +117,7 @@ std::string plot_block_energy(const std::string& case_dir, const std::string& ou
       "set xlabel 'time t (µs)'\nset ylabel 'E_k / max E_k of block 1'\n"
       "set grid\nset key top right\nset yrange [0:*]\nset autoscale xfix\n"
       "plot for [k=1:{}] '{}.dat' using 1:(column(k+1)) with lines title sprintf('block %d', k)\n",
-      m.case_name, name, name, terminal(o), name, o.format, nb, m.spec.restitution.value, m.spec.friction.value,
+      safe_name(label), name, name, terminal(o), name, o.format, nb, m.spec.restitution.value, m.spec.friction.value,
       m.spec.striker_speed, nb, name);
   return render(out_dir, name, fmt::to_string(data), script, o);
 }

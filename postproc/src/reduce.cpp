@@ -1,4 +1,5 @@
 #include <granstack/formats/batches.hpp>
+#include <granstack/formats/deck.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/files.hpp>
@@ -99,6 +100,170 @@ class StreamedTable {
   fmt::memory_buffer buffer_;
 };
 
+
+// The manifest's dt and steps must be those its spec gives, and the deck's those of the manifest:
+// every time in the results is a step times dt.
+void require_consistent_inputs(const std::string& case_dir, const formats::Manifest& m, const model::Resolution& res) {
+  const auto path = (fs::path(case_dir) / "manifest.json").string();
+  if (m.derived.value("dt", 0.0) != res.dt || m.derived.value("steps", 0L) != res.steps ||
+      m.derived.value("dump_every", 0L) != res.dump_every || m.derived.value("series_every", 0L) != res.series_every) {
+    throw formats::FormatError(path, 0, "its derived dt, steps or output cadences are not what its spec gives: the "
+                                        "manifest was edited; generate the case again");
+  }
+  formats::check_deck_matches_manifest(case_dir, m);
+}
+
+// What each dump frame says, kept for the check against the series.
+struct FrameCheck {
+  long step = 0;
+  std::vector<double> block_ke;
+  double striker_ke = 0.0;
+  double energy = 0.0;  // kinetic + elastic
+};
+
+// Where the series keeps what reduce reads.
+struct SeriesColumns {
+  int step = -1;
+  std::vector<int> trans, rot;  // per block
+  int striker_t = -1, striker_r = -1, out_t = -1, out_r = -1;
+  static double at(const std::vector<double>& row, int c) { return row[static_cast<std::size_t>(c)]; }
+  double block_ke(const std::vector<double>& row, int k) const {
+    return at(row, trans[static_cast<std::size_t>(k)]) + at(row, rot[static_cast<std::size_t>(k)]);
+  }
+  double striker_ke(const std::vector<double>& row) const { return at(row, striker_t) + at(row, striker_r); }
+  double output_ke(const std::vector<double>& row) const { return at(row, out_t) + at(row, out_r); }
+};
+
+SeriesColumns series_columns(const formats::Series& series, const std::string& path, int nb) {
+  SeriesColumns c;
+  std::vector<std::string> missing;
+  auto find = [&](const std::string& name) {
+    const int i = series.column(name);
+    if (i < 0) missing.push_back(name);
+    return i;
+  };
+  c.step = find("step");
+  for (int k = 1; k <= nb; ++k) {
+    c.trans.push_back(find(fmt::format("ke_trans_block{}", k)));
+    c.rot.push_back(find(fmt::format("ke_rot_block{}", k)));
+  }
+  c.striker_t = find("ke_trans_striker");
+  c.striker_r = find("ke_rot_striker");
+  c.out_t = find("ke_trans_output_sphere");
+  c.out_r = find("ke_rot_output_sphere");
+  if (!missing.empty()) {
+    throw formats::FormatError(path, 0, fmt::format("lacks the columns {} that the case's deck writes: it is not this "
+                                                    "case's series", fmt::join(missing, ", ")));
+  }
+  for (std::size_t i = 0; i < series.rows.size(); ++i) {
+    for (std::size_t j = 0; j < series.columns.size(); ++j) {
+      if (!std::isfinite(series.rows[i][j])) {
+        throw formats::FormatError(path, 0, fmt::format("{} in column '{}' of data row {} (step {}): the run blew up or "
+                                                        "the file is damaged",
+                                                        series.rows[i][j], series.columns[j], i + 1,
+                                                        series.rows[i][static_cast<std::size_t>(c.step)]));
+      }
+    }
+  }
+  return c;
+}
+
+// Every series_every steps from the first multiple after the start (`fix print` writes at the
+// end of a step) to the last step, nothing missing, nothing more.
+void require_series_matches_run(const formats::Series& series, const SeriesColumns& c, const std::string& path,
+                                const model::Resolution& res) {
+  const long expected = res.steps / res.series_every;
+  for (std::size_t i = 0; i < series.rows.size(); ++i) {
+    const double step = SeriesColumns::at(series.rows[i], c.step);
+    const long want = static_cast<long>(i + 1) * res.series_every;
+    if (step != static_cast<double>(want)) {
+      throw formats::FormatError(path, 0, fmt::format("data row {} is at step {}, where the run sampled step {} (every "
+                                                      "{} steps): rows are missing, or it is another case's series",
+                                                      i + 1, step, want, res.series_every));
+    }
+  }
+  if (static_cast<long>(series.rows.size()) != expected) {
+    throw formats::FormatError(path, 0, fmt::format("{} rows, the run wrote {} (steps {} to {} every {}): the series was "
+                                                    "cut or damaged (run the case again with --force)",
+                                                    series.rows.size(), expected, res.series_every, res.steps,
+                                                    res.series_every));
+  }
+}
+
+// A kinetic energy is never negative and never more than the energy the case holds: E_in, plus
+// with gravity the potential energy of every sphere's fall to z = 0 (within kEnergyBalanceBound).
+void require_series_physical(const formats::Series& series, const std::string& path, const model::Stack& stack) {
+  double available = stack.incident_energy();
+  for (const auto& sp : stack.spheres()) {
+    const double mass = sp.block > 0 ? stack.block(sp.block).sphere_mass : stack.striker_mass();
+    available += stack.spec().gravity * mass * std::max(0.0, sp.z);
+  }
+  const double limit = available * (1.0 + kEnergyBalanceBound);
+  for (std::size_t i = 0; i < series.rows.size(); ++i) {
+    for (std::size_t j = 1; j < series.columns.size(); ++j) {
+      const double v = series.rows[i][j];
+      if (v < 0.0 || v > limit) {
+        throw formats::FormatError(path, 0, fmt::format("{:.6g} J in column '{}' at step {}: a kinetic energy lies in "
+                                                        "[0, {:.6g}] J (what the case holds); the file is damaged or "
+                                                        "not this case's",
+                                                        v, series.columns[j], series.rows[i][0], limit));
+      }
+    }
+  }
+}
+
+// The series and the dumps come from one run: where both sampled a step, every block's and the
+// striker's kinetic energy agree to kSeriesDumpAgreement of E_in (both are sums of the same
+// doubles in another order: measured differences are below 1e-15 of E_in).
+constexpr double kSeriesDumpAgreement = 1e-9;
+
+void require_series_matches_dumps(const formats::Series& series, const SeriesColumns& c, const std::string& path,
+                                  const std::vector<FrameCheck>& frames, double e_in) {
+  const long every = series.rows.empty() ? 0 : static_cast<long>(SeriesColumns::at(series.rows[0], c.step));
+  for (const auto& f : frames) {
+    if (every <= 0 || f.step == 0 || f.step % every != 0) continue;
+    const auto i = static_cast<std::size_t>(f.step / every - 1);
+    if (i >= series.rows.size()) continue;
+    const auto& row = series.rows[i];
+    auto differ = [&](double a, double b) { return !(std::fabs(a - b) <= kSeriesDumpAgreement * e_in); };
+    for (std::size_t k = 0; k < f.block_ke.size(); ++k) {
+      if (differ(c.block_ke(row, static_cast<int>(k)), f.block_ke[k])) {
+        throw formats::FormatError(path, 0, fmt::format("at step {} block {}'s kinetic energy is {:.17g} J here and "
+                                                        "{:.17g} J in the dump: the series is not this run's",
+                                                        f.step, k + 1, c.block_ke(row, static_cast<int>(k)), f.block_ke[k]));
+      }
+    }
+    if (differ(c.striker_ke(row), f.striker_ke)) {
+      throw formats::FormatError(path, 0, fmt::format("at step {} the striker's kinetic energy is {:.17g} J here and "
+                                                      "{:.17g} J in the dump: the series is not this run's",
+                                                      f.step, c.striker_ke(row), f.striker_ke));
+    }
+  }
+}
+
+// Energy: without gravity, kinetic plus elastic energy never exceeds E_in (damping and friction
+// only remove energy), and where nothing dissipates it stays at E_in; both within
+// kEnergyBalanceBound of E_in. The bound sits above what the time-step guard lets through: the
+// largest drift measured with refsim at the largest dt generate accepts (t_c/20) is 2.2e-3 of
+// E_in (steel on Teflon; 9.4e-5 on the default stack, 4.3e-4 with walls), against 9.7e-5 and
+// 3.8e-6 at the automatic dt (t_c/100); a broken integration gives orders of magnitude more.
+void require_energy_balance(const std::vector<FrameCheck>& frames, const model::StackSpec& spec, CaseReduction& r,
+                            const std::string& dump_path) {
+  if (spec.gravity != 0.0) return;  // gravity's potential energy is not counted
+  const bool conservative = model::is_conservative(spec);
+  for (const auto& f : frames) {
+    const double error = (f.energy - r.e_in) / r.e_in;
+    if (conservative) r.energy_drift = std::max(r.energy_drift.value_or(0.0), std::fabs(error));
+    if (error > kEnergyBalanceBound || (conservative && -error > kEnergyBalanceBound)) {
+      throw PhysicsError(fmt::format(
+          "{}: at step {} the kinetic plus elastic energy is {:.6g} J against E_in = {:.6g} J ({:+.3g} of E_in; at "
+          "most {:g} allowed{}): the integration is broken (a time step too long for the contacts?) or the dump is "
+          "not this case's; no result is taken from it",
+          dump_path, f.step, f.energy, r.e_in, error, kEnergyBalanceBound,
+          conservative ? ", this case conserves energy" : ", damping and friction only remove energy"));
+    }
+  }
+}
 }  // namespace
 
 // Frames are handed to threads in batches of about this many bytes: a text piece large enough to
@@ -113,6 +278,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   require_successful_run(dir, manifest.files);
   const auto stack = model::Stack::build(manifest.spec);
   const auto res = model::resolve(stack);
+  require_consistent_inputs(case_dir, manifest, res);
   const auto& spec = stack.spec();
   const int nb = spec.blocks;
 
@@ -121,15 +287,13 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   r.case_name = manifest.case_name;
   r.spec = spec;
   r.e_in = stack.incident_energy();
-  const bool conservative = model::is_conservative(spec);
   const auto dump_path = formats::find_dump(case_dir, manifest.files.dump);
   const bool binary = spec.dump_format == model::DumpFormat::binary;
   formats::FrameBatchSource source(dump_path, binary, manifest.files.dump_columns, FrameView::needed_columns(),
                                    binary ? kBinaryBatchBytes : kTextBatchBytes);
   const WaveTracker wave_sampler(stack, res.dt);
   WaveTracker waves(stack, res.dt);
-  std::vector<BlockPeak> dump_peaks(static_cast<std::size_t>(nb));
-  const auto rdir = dir / "reduce";
+  const auto rdir = options.output_dir.empty() ? dir / "reduce" : fs::path(options.output_dir);
   StreamedTable block_table(rdir / "block_ke.csv", options.write_files);
   auto out = block_table.out();
   fmt::format_to(out, "step,time_s");
@@ -192,17 +356,16 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   };
   FrameEnergy last_energy;
   long last_step = 0;
+  const long expected_frames = res.steps / res.dump_every + 1;
+  std::vector<FrameCheck> checks;  // per frame, for the check against the series
   auto take_result = [&](FrameResult& fr) {
     const auto& e = fr.e;
-    const double t = static_cast<double>(e.step) * res.dt;
-    for (int k = 0; k < nb; ++k) {
-      const double ke = e.block_ke[static_cast<std::size_t>(k)];
-      auto& p = dump_peaks[static_cast<std::size_t>(k)];
-      if (ke > p.peak_ke) p = {k + 1, ke, t, 0.0};
+    if (e.step != r.frames * res.dump_every) {
+      throw formats::FormatError(dump_path, 0, fmt::format("frame {} is at step {}, where the run dumped step {} (every {} "
+                                                           "steps): frames are missing or out of order",
+                                                           r.frames + 1, e.step, r.frames * res.dump_every, res.dump_every));
     }
-    if (conservative) {
-      r.energy_drift = std::max(r.energy_drift.value_or(0.0), std::fabs(e.kinetic + e.elastic - r.e_in) / r.e_in);
-    }
+    checks.push_back({e.step, e.block_ke, e.striker_ke, e.kinetic + e.elastic});
     r.output_peak_fraction = std::max(r.output_peak_fraction, e.output_sphere_ke / r.e_in);
     r.top_row_sideways_peak = std::max(r.top_row_sideways_peak, e.top_row_sideways);
     r.top_row_downward_peak = std::max(r.top_row_downward_peak, e.top_row_downward);
@@ -224,48 +387,44 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     for_each_frame_in_order<FrameResult>(
         source, threads, [&] { return std::make_unique<FrameAnalyser>(stack, dump_path); }, analyse, take_result);
   } catch (const formats::TruncatedError& e) {
-    r.warnings.push_back(fmt::format("{}; the {} complete frames before it are used", e.what(), r.frames));
+    throw formats::FormatError(e.file(), e.line(),
+                               fmt::format("{}: the dump holds {} complete frames of the {} the run wrote; the file "
+                                           "was cut or damaged after the run (run the case again with --force)",
+                                           e.message(), r.frames, expected_frames));
   }
-  if (r.frames == 0) throw formats::FormatError(dump_path, 0, "no complete frame");
+  if (r.frames != expected_frames) {
+    throw formats::FormatError(dump_path, 0, fmt::format("{} frames, the run wrote {} (steps 0 to {} every {}): pieces or "
+                                                         "frames are missing (run the case again with --force)",
+                                                         r.frames, expected_frames, res.steps, res.dump_every));
+  }
   r.final_time = static_cast<double>(last_step) * res.dt;
+  require_energy_balance(checks, spec, r, dump_path);
 
-  // Peaks from the in-situ series when there is one: it is sampled far more often than the dumps.
-  r.blocks = dump_peaks;
-  r.peak_source = "dump";
+  // Peaks from the in-situ series: it is sampled far more often than the dumps. It must be the
+  // run's own, whole, and agree with the dump frames where both have data.
   const auto series_path = (dir / manifest.files.series).string();
-  // Read once: the peaks here and the wave analysis below both use it.
-  const auto series = fs::exists(series_path) ? formats::read_series(series_path) : formats::Series{};
-  if (fs::exists(series_path)) {
-    std::vector<int> trans, rot;
-    for (int k = 1; k <= nb; ++k) {
-      trans.push_back(series.column(fmt::format("ke_trans_block{}", k)));
-      rot.push_back(series.column(fmt::format("ke_rot_block{}", k)));
-    }
-    const int c_step = series.column("step");
-    const int c_out_t = series.column("ke_trans_output_sphere"), c_out_r = series.column("ke_rot_output_sphere");
-    const bool complete = c_step >= 0 && c_out_t >= 0 && c_out_r >= 0 &&
-                          std::find(trans.begin(), trans.end(), -1) == trans.end() &&
-                          std::find(rot.begin(), rot.end(), -1) == rot.end();
-    if (complete && !series.rows.empty()) {
-      std::vector<BlockPeak> peaks(static_cast<std::size_t>(nb));
-      for (const auto& row : series.rows) {
-        const double t = row[static_cast<std::size_t>(c_step)] * res.dt;
-        for (int k = 0; k < nb; ++k) {
-          const double ke = row[static_cast<std::size_t>(trans[static_cast<std::size_t>(k)])] +
-                            row[static_cast<std::size_t>(rot[static_cast<std::size_t>(k)])];
-          auto& p = peaks[static_cast<std::size_t>(k)];
-          if (ke > p.peak_ke) p = {k + 1, ke, t, 0.0};
-        }
-        r.output_peak_fraction = std::max(
-            r.output_peak_fraction,
-            (row[static_cast<std::size_t>(c_out_t)] + row[static_cast<std::size_t>(c_out_r)]) / r.e_in);
+  if (!fs::exists(series_path)) {
+    throw formats::FormatError(series_path, 0, "missing: the run's in-situ energy series is what the peaks are taken "
+                                               "from; run the case again with --force");
+  }
+  const auto series = formats::read_series(series_path);
+  const SeriesColumns cols = series_columns(series, series_path, nb);
+  require_series_matches_run(series, cols, series_path, res);
+  require_series_physical(series, series_path, stack);
+  require_series_matches_dumps(series, cols, series_path, checks, r.e_in);
+  {
+    std::vector<BlockPeak> peaks(static_cast<std::size_t>(nb));
+    for (const auto& row : series.rows) {
+      const double t = row[static_cast<std::size_t>(cols.step)] * res.dt;
+      for (int k = 0; k < nb; ++k) {
+        const double ke = cols.block_ke(row, k);
+        auto& p = peaks[static_cast<std::size_t>(k)];
+        if (ke > p.peak_ke) p = {k + 1, ke, t, 0.0};
       }
-      r.blocks = peaks;
-      r.peak_source = "series";
-    } else if (!complete) {
-      r.warnings.push_back(fmt::format("{} lacks the per-block columns; peaks are taken from the dump frames",
-                                       series_path));
+      r.output_peak_fraction = std::max(r.output_peak_fraction, cols.output_ke(row) / r.e_in);
     }
+    r.blocks = peaks;
+    r.peak_source = "series";
   }
   for (auto& b : r.blocks) b.normalised = r.blocks.front().peak_ke > 0 ? b.peak_ke / r.blocks.front().peak_ke : 0.0;
 
@@ -353,6 +512,41 @@ json to_json(const CaseReduction& r) {
           {"top_row_downward_peak", r.top_row_downward_peak},
           {"waves", waves_json(r.waves)},
           {"warnings", r.warnings}};
+}
+
+std::vector<std::string> unique_case_labels(const std::vector<std::string>& dirs) {
+  std::vector<std::vector<std::string>> parts;  // each path's components, last first
+  for (const auto& d : dirs) {
+    std::vector<std::string> p;
+    for (const auto& c : fs::weakly_canonical(fs::absolute(d))) {
+      if (!c.empty() && c != "/") p.insert(p.begin(), c.string());
+    }
+    if (p.empty()) p.push_back(d);
+    parts.push_back(std::move(p));
+  }
+  std::vector<std::size_t> depth(dirs.size(), 1);
+  auto label = [&](std::size_t i) {
+    std::string l;
+    for (std::size_t k = std::min(depth[i], parts[i].size()); k-- > 0;) l += (l.empty() ? "" : "/") + parts[i][k];
+    return l;
+  };
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t i = 0; i < dirs.size(); ++i) {
+      for (std::size_t j = i + 1; j < dirs.size(); ++j) {
+        if (label(i) != label(j)) continue;
+        for (const auto k : {i, j}) {
+          if (depth[k] < parts[k].size()) {
+            ++depth[k];
+            changed = true;
+          }
+        }
+      }
+    }
+  }
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < dirs.size(); ++i) out.push_back(label(i));
+  return out;
 }
 
 std::string format_table(const std::vector<CaseReduction>& rs) {

@@ -36,7 +36,7 @@ std::vector<std::size_t> prominent_peaks(const std::vector<double>& y, double mi
 WaveTracker::WaveTracker(const model::Stack& stack, double dt) : stack_(stack), dt_(dt) {
   for (const auto& b : stack.blocks()) {
     Column c;
-    for (int i = 1; i <= b.rows; ++i) c.ids.push_back(stack.id_of(b.index, i, b.columns / 2 + 1));
+    for (int i = 1; i <= b.rows; ++i) c.ids.push_back(stack.id_of(b.index, i, stack.impact_column(b.index)));
     for (std::size_t r = 0; r + 1 < c.ids.size(); ++r) {
       c.radius_sum.push_back(stack.sphere(c.ids[r]).radius + stack.sphere(c.ids[r + 1]).radius);
     }
@@ -137,7 +137,7 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
   for (int k = 1; k <= nb; ++k) {
     auto& w = out[static_cast<std::size_t>(k - 1)];
     w.block = k;
-    w.column = stack.block(k).columns / 2 + 1;
+    w.column = stack.impact_column(k);
     const int ct = series.column(fmt::format("ke_trans_block{}", k)), cr = series.column(fmt::format("ke_rot_block{}", k));
     if (ct < 0 || cr < 0) continue;
     std::vector<double> ke;

@@ -1,8 +1,13 @@
+#include <granstack/formats/deck.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/log.hpp>
 #include <granstack/formats/manifest.hpp>
+#include <granstack/formats/ownership.hpp>
 #include <granstack/model/version.hpp>
+#include <granstack/os/case_lock.hpp>
+#include <granstack/os/interrupt.hpp>
+#include <granstack/os/process.hpp>
 #include <granstack/refsim/case_run.hpp>
 #include <granstack/runner/runner.hpp>
 
@@ -18,12 +23,9 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
-
-extern char** environ;
 
 namespace granstack::runner {
 
@@ -31,24 +33,14 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-std::optional<std::string> find_program(const std::string& program) {
-  if (program.find('/') != std::string::npos) {
-    return ::access(program.c_str(), X_OK) == 0 ? std::optional<std::string>(program) : std::nullopt;
-  }
-  const char* path = std::getenv("PATH");
-  std::string dirs = path != nullptr ? path : "/usr/local/bin:/usr/bin:/bin";
-  std::size_t start = 0;
-  while (start <= dirs.size()) {
-    const auto end = std::min(dirs.find(':', start), dirs.size());
-    const auto candidate = fs::path(dirs.substr(start, end - start)) / program;
-    if (::access(candidate.c_str(), X_OK) == 0) return candidate.string();
-    start = end + 1;
-  }
-  return std::nullopt;
-}
+std::optional<std::string> find_program(const std::string& program) { return os::find_program(program); }
 
 void clone_case_inputs(const std::string& case_dir, const std::string& target) {
   const auto m = formats::read_manifest(case_dir);
+  // Only a copy granstack made earlier is replaced; anything else in its place is the user's.
+  if (const auto why = formats::why_not_replaceable(target); !why.empty()) {
+    throw std::runtime_error(fmt::format("cannot make the copy {}: {}; move it away first", target, why));
+  }
   fs::remove_all(target);
   fs::create_directories(fs::path(target) / fs::path(m.files.dump).parent_path());
   for (const auto& f : {std::string("manifest.json"), m.files.data, m.files.deck}) {
@@ -113,36 +105,6 @@ class Monitor {
   std::vector<CaseProgress> slots_;
   std::vector<Clock::time_point> starts_;
 };
-
-struct Spawned {
-  pid_t pid = -1;
-  std::string error;
-};
-
-Spawned spawn(const std::vector<std::string>& argv, const fs::path& cwd, const fs::path& output,
-              const std::vector<std::string>& extra_env) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addchdir_np(&actions, cwd.c_str());
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, output.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  std::vector<char*> env;
-  for (char** e = environ; *e != nullptr; ++e) env.push_back(*e);
-  for (const auto& e : extra_env) env.push_back(const_cast<char*>(e.c_str()));
-  env.push_back(nullptr);
-  Spawned s;
-  const int rc = posix_spawnp(&s.pid, args[0], &actions, nullptr, args.data(), env.data());
-  posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0) {
-    s.pid = -1;
-    s.error = fmt::format("cannot start {}: {}", argv[0], std::strerror(rc));
-  }
-  return s;
-}
 
 // A private directory for Open MPI's session files, removed with everything in it at the end.
 // Open MPI processes started at the same time share /tmp/ompi.HOST.UID by default, and one that
@@ -212,6 +174,7 @@ class Tail {
 struct EngineResult {
   std::string error;
   nlohmann::json record = nlohmann::json::object();
+  bool interrupted = false;  // stopped by a signal to granstack
   double loop_seconds = 0.0;
   double particle_steps_per_second = 0.0;
 };
@@ -223,9 +186,13 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
   std::vector<std::string> argv;
   const auto liggghts = find_program(o.liggghts);
   if (!liggghts) {
-    result.error = fmt::format("LIGGGHTS ('{}') is not on PATH: install it with scripts/setup.sh (Debian package "
-                               "'liggghts') or pass --liggghts PATH",
-                               o.liggghts);
+    result.error = o.liggghts.find('/') == std::string::npos
+                       ? fmt::format("LIGGGHTS ('{}') is not on PATH: install it with scripts/setup.sh (Debian package "
+                                     "'liggghts') or pass --liggghts PATH",
+                                     o.liggghts)
+                       : fmt::format("--liggghts {}: not an executable file; pass the LIGGGHTS executable (the Debian "
+                                     "package 'liggghts' installs /usr/bin/liggghts)",
+                                     o.liggghts);
     return result;
   }
   if (o.ranks > 1) {
@@ -240,7 +207,8 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
   // Unbuffered, so an MPI_Abort cannot swallow LIGGGHTS's error message (liggghts-3.8.md section 9).
   const auto stdbuf = find_program("stdbuf");
   if (stdbuf) argv.insert(argv.end(), {*stdbuf, "-o0", "-e0"});
-  argv.insert(argv.end(), {*liggghts, "-in", files.deck, "-log", files.log});
+  // Absolute: the program starts in the case directory, where a relative path would mean something else.
+  argv.insert(argv.end(), {fs::absolute(*liggghts).string(), "-in", files.deck, "-log", files.log});
   result.record["command"] = argv;
   result.record["ranks"] = o.ranks;
 
@@ -254,8 +222,11 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
   int starts = 0;
   for (; starts < kStarts; ++starts) {
     const PrivateTmpDir tmpdir;
-    const auto child = spawn(argv, fs::absolute(dir), fs::absolute(dir / files.screen),
-                             mpi_environment(tmpdir.path(), o.ranks));
+    os::StartOptions start;
+    start.cwd = fs::absolute(dir);
+    start.output = fs::absolute(dir / files.screen);
+    start.extra_environment = mpi_environment(tmpdir.path(), o.ranks);
+    const auto child = os::start(argv, start);
     if (child.pid < 0) {
       result.error = child.error;
       return result;
@@ -265,20 +236,20 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
     signal_text.clear();
     Tail tail(dir / files.screen);
     for (;;) {
-      int status = 0;
-      const pid_t r = ::waitpid(child.pid, &status, WNOHANG);
-      if (r == child.pid) {
-        if (WIFEXITED(status)) exit_code = WEXITSTATUS(status);
-        if (WIFSIGNALED(status)) signal_text = fmt::format("killed by signal {}", WTERMSIG(status));
+      if (const auto end = os::poll(child)) {
+        exit_code = end->code;
+        if (end->signal != 0) signal_text = fmt::format("killed by signal {}", end->signal);
         break;
       }
-      if (r < 0 && errno != EINTR) {
-        result.error = fmt::format("waitpid failed: {}", std::strerror(errno));
-        break;
+      if (os::interrupt_signal() != 0) {  // granstack is asked to stop: so is LIGGGHTS, at once
+        os::kill_group(child);
+        os::wait(child);
+        result.interrupted = true;
+        return result;
       }
       tail.poll(scanner);
       if (auto step = scanner.last_step()) on_step(*step);
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
     tail.flush(scanner);
     const bool failed_to_start = exit_code != 0 && scanner.version().empty() && result.error.empty();
@@ -322,6 +293,9 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
   return result;
 }
 
+// Thrown from refsim's progress callback to end its loop when granstack is asked to stop.
+struct Interrupted {};
+
 EngineResult run_refsim(const fs::path& dir, const RunOptions& o, const std::function<void(long)>& on_step) {
   EngineResult result;
   try {
@@ -329,7 +303,10 @@ EngineResult run_refsim(const fs::path& dir, const RunOptions& o, const std::fun
     refsim::RunOptions ro;
     ro.threads = o.threads;
     ro.kernel = o.kernel == "reference" ? Kernel::reference : o.kernel == "avx512" ? Kernel::avx512 : Kernel::automatic;
-    ro.on_progress = [&](long step, long) { on_step(step); };
+    ro.on_progress = [&](long step, long) {
+      on_step(step);
+      if (os::interrupt_signal() != 0) throw Interrupted();
+    };
     const auto stats = refsim::run_case(dir.string(), ro);
     result.loop_seconds = stats.loop_seconds;
     result.particle_steps_per_second = stats.particle_steps_per_second;
@@ -338,10 +315,25 @@ EngineResult run_refsim(const fs::path& dir, const RunOptions& o, const std::fun
     result.record["threads"] = o.threads;
     result.record["kernel"] = stats.kernel;
     result.record["neighbor_builds"] = stats.neighbor_builds;
+  } catch (const Interrupted&) {
+    result.interrupted = true;
   } catch (const std::exception& e) {
     result.error = std::string("refsim: ") + e.what();
   }
   return result;
+}
+
+// LIGGGHTS writes restart_forced_liggghts_STEP.data when a signal reaches it directly; such a
+// file made during this run is debris of the stop, never a result.
+void remove_forced_restarts(const fs::path& dir, fs::file_time_type since) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const auto name = entry.path().filename().string();
+    if (name.rfind("restart_forced_liggghts_", 0) == 0 && entry.is_regular_file(ec) &&
+        entry.last_write_time(ec) >= since) {
+      fs::remove(entry.path(), ec);
+    }
+  }
 }
 
 RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& monitor) {
@@ -349,8 +341,11 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
   outcome.case_dir = case_dir;
   const fs::path dir(case_dir);
   formats::Manifest manifest;
+  std::optional<os::CaseLock> lock;
   try {
     manifest = formats::read_manifest(case_dir);
+    lock.emplace(dir, o.engine == Engine::refsim ? "granstack run --engine refsim" : "granstack run");
+    formats::check_deck_matches_manifest(case_dir, manifest);
   } catch (const std::exception& e) {
     outcome.message = e.what();
     monitor.skipped();
@@ -377,6 +372,7 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
   }
   fs::create_directories((dir / files.dump).parent_path());
   write_record(dir / files.run_record, record);
+  const auto started = fs::file_time_type::clock::now();
 
   const auto slot = monitor.start(manifest.case_name, manifest.derived.value("steps", 0L));
   const auto on_step = [&](long step) { monitor.update(slot, step); };
@@ -384,16 +380,22 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
   auto result = refsim_engine ? run_refsim(dir, o, on_step) : run_liggghts(dir, manifest, o, on_step);
   outcome.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   monitor.finish(slot);
+  if (!refsim_engine) remove_forced_restarts(dir, started);
 
   outcome.message = result.error;
   outcome.loop_seconds = result.loop_seconds;
   outcome.particle_steps_per_second = result.particle_steps_per_second;
-  outcome.status = result.error.empty() ? RunStatus::done : RunStatus::failed;
+  outcome.status = result.interrupted    ? RunStatus::interrupted
+                   : result.error.empty() ? RunStatus::done
+                                          : RunStatus::failed;
+  if (result.interrupted) outcome.message = fmt::format("stopped by signal {}", os::interrupt_signal());
   record.update(result.record);
-  record["status"] = outcome.status == RunStatus::done ? "done" : "failed";
+  record["status"] = outcome.status == RunStatus::done          ? "done"
+                     : outcome.status == RunStatus::interrupted ? "interrupted"
+                                                                : "failed";
   record["finished"] = formats::utc_timestamp();
   record["wall_seconds"] = outcome.wall_seconds;
-  if (!result.error.empty()) record["error"] = result.error;
+  if (!outcome.message.empty()) record["error"] = outcome.message;
   if (result.loop_seconds > 0) {
     record["loop_seconds"] = result.loop_seconds;
     record["particle_steps_per_second"] = result.particle_steps_per_second;
@@ -411,6 +413,11 @@ std::vector<RunOutcome> run_cases(const std::vector<std::string>& case_dirs, con
   std::atomic<bool> all_done{false};
   auto worker = [&] {
     for (std::size_t i = next++; i < case_dirs.size(); i = next++) {
+      if (os::interrupt_signal() != 0) {  // asked to stop: no new case starts
+        outcomes[i].case_dir = case_dirs[i];
+        outcomes[i].status = RunStatus::not_started;
+        continue;
+      }
       try {
         outcomes[i] = run_one(case_dirs[i], options, monitor);
       } catch (const std::exception& e) {  // e.g. a disk error: this case fails, the others go on

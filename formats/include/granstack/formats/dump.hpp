@@ -69,8 +69,9 @@ class TextDumpReader final : public DumpReader {
   long step_read() const { return step_read_; }
   // Whether a NUL byte (binary data) came before that step's line.
   bool nul_by_step() const { return nul_by_step_; }
-  // Only these columns are converted to numbers; the others are checked to be there and left
-  // NaN (LIGGGHTS dumps often carry columns an analysis does not need). Empty: every column.
+  // Only these columns are converted to numbers; the others are checked to be there and to be
+  // finite numbers (FormatError otherwise) and left 0 (LIGGGHTS dumps often carry columns an
+  // analysis does not need). Empty: every column.
   void convert_only(std::vector<std::string> columns);
 
  private:

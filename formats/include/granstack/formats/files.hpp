@@ -9,7 +9,10 @@ namespace granstack::formats {
 // Writes `text` to a temporary file beside `path` and renames it over `path`, so a reader never
 // sees a half-written file. Throws std::runtime_error naming the path.
 void write_file_atomically(const std::filesystem::path& path, std::string_view text);
-// Reads a whole file. Throws std::runtime_error naming the path.
+// Throws FormatError unless `path` is a regular file (after following links): granstack reads
+// no FIFO, device or directory, which could block or never end.
+void require_regular_file(const std::string& path);
+// Reads a whole regular file. Throws std::runtime_error naming the path.
 std::string read_file(const std::filesystem::path& path);
 // The current time as ISO 8601 UTC, e.g. "2026-11-22T00:35:28Z".
 std::string utc_timestamp();

@@ -2,6 +2,7 @@
 // Writes case directories: the LIGGGHTS data file, the input deck and the manifest.
 #include <granstack/formats/data_file.hpp>
 #include <granstack/formats/manifest.hpp>
+#include <granstack/formats/ownership.hpp>
 #include <granstack/generator/spec_input.hpp>
 #include <granstack/generator/template.hpp>
 #include <granstack/model/resolution.hpp>
@@ -16,16 +17,16 @@ namespace granstack::generator {
 
 struct GenerateOptions {
   std::filesystem::path output;          // the case directory, or the sweep directory
-  bool force = false;                    // replace an existing directory
+  bool force = false;                    // replace an existing directory granstack made
+  bool allow_large = false;              // generate cases that model::why_large calls large
   std::optional<std::string> deck_template_path;  // a user's template instead of the default
   std::vector<std::string> command_line;
 };
 
-// Thrown when the output exists and force is off: nothing is written.
-class ExistsError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+// Thrown when the output exists and force is off, or is something --force may never replace
+// (formats::why_not_replaceable): nothing is written.
+using formats::ExistsError;
+using formats::RefusedError;
 
 // The names of everything the generated deck writes and the columns of each file.
 formats::CaseFiles case_files(const model::Stack& stack);
@@ -39,11 +40,13 @@ nlohmann::json layout_json(const model::Stack& stack);
 struct GenerateResult {
   std::vector<std::filesystem::path> case_dirs;
   bool sweep = false;  // true: output holds one subdirectory per case and sweep.json
+  std::vector<model::Cost> costs;  // per case
 };
 
 // One case is written into `output`; several into `output/NAME/` plus `output/sweep.json`.
 // Everything is written into a temporary sibling directory first and renamed into place, so
-// an error leaves nothing half-written. Throws ExistsError, SpecError or std::runtime_error.
+// an error leaves nothing half-written. Throws ExistsError, RefusedError, SpecError or
+// std::runtime_error.
 GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOptions& options);
 
 }  // namespace granstack::generator

@@ -5,6 +5,7 @@
 #include <granstack/model/stack.hpp>
 
 #include <string>
+#include <vector>
 
 namespace granstack::model {
 
@@ -26,6 +27,19 @@ inline constexpr double kDumpPerContact = 0.2;
 inline constexpr long kAutoSeriesSamples = 20000;
 inline constexpr long kAutoThermoLines = 200;
 
+// Physics guards on what the spec and the rules give (refused by `generate`, listed in the README):
+// - dt at most the shortest contact time / kMinStepsPerContact. Velocity Verlet's energy error
+//   on Hertz contacts grows as dt^2: measured with refsim (e = 1, mu = 0), 3.8e-6 of E_in on the
+//   default stack and 9.7e-5 for steel on Teflon at t_c/100 (the automatic dt), 9.4e-5 and
+//   2.2e-3 at t_c/20; beyond that the error grows fast and a contact of the smallest spheres
+//   is resolved by too few steps to time its wave.
+inline constexpr double kMinStepsPerContact = 20.0;
+// - at most this many steps, whatever the flags (a typo such as --dt 1e-20 or --duration 1e9).
+inline constexpr long kMaxSteps = 10'000'000'000;
+// - the striker's Hertz overlap on the top spheres at most this fraction of their radius: Hertz
+//   theory is a small-strain theory, and a steel sphere yields long before (about 0.1 m/s).
+inline constexpr double kMaxOverlapPerRadius = 0.05;
+
 struct Resolution {
   double dt = 0.0;        // s
   double duration = 0.0;  // s (steps * dt)
@@ -46,5 +60,32 @@ struct Resolution {
 // is rounded up to a multiple of dump_every (a dump_every larger than the run becomes the whole
 // run), so the final state is always in the dump.
 Resolution resolve(const Stack& stack);
+
+// What is physically or numerically out of bounds in a resolved case (see the guards above), as
+// spec issues naming the field and the bound; empty when the case is sound.
+std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& res);
+
+// What a case will cost: its size, its outputs, and the time LIGGGHTS needs on one core at
+// kLiggghtsParticleStepsPerSecond (the slowest rate measured on the project's machine, so the
+// estimate errs long).
+inline constexpr double kLiggghtsParticleStepsPerSecond = 3.8e6;
+// Bytes a dumped atom line takes: 141 in text (the default case's 27.6 MB over 811 frames of 241
+// atoms, measured) and 16 doubles in binary.
+inline constexpr double kTextDumpBytesPerAtom = 141.0;
+inline constexpr double kBinaryDumpBytesPerAtom = 128.0;
+struct Cost {
+  long spheres = 0;
+  long steps = 0;
+  long frames = 0;
+  double dump_bytes = 0.0;
+  double series_bytes = 0.0;
+  double liggghts_seconds = 0.0;  // one core
+};
+Cost estimate_cost(const Stack& stack, const Resolution& res);
+// A case larger than this needs the user's confirmation (`generate --large`).
+inline constexpr double kLargeDumpBytes = 20e9;
+inline constexpr double kLargeLiggghtsSeconds = 24 * 3600.0;
+// Why the case is large (empty when it is not).
+std::string why_large(const Cost& cost);
 
 }  // namespace granstack::model

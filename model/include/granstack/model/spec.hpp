@@ -86,6 +86,18 @@ std::vector<SpecIssue> validate(const StackSpec& spec);
 // Throws SpecError when validate() finds anything.
 void require_valid(const StackSpec& spec);
 
+// Bounds of physical sense, refused outside (the README's spec table states them):
+// radii from a micrometre (below, van der Waals forces dominate Hertz contact) to a metre;
+inline constexpr double kMinRadius = 1e-6, kMaxRadius = 1.0;
+// gravity up to 1000 m/s^2 (about 100 g, the top of geotechnical centrifuges);
+inline constexpr double kMaxGravity = 1000.0;
+// Coulomb friction up to 10 (real materials stay below about 1.5; above, every contact sticks);
+inline constexpr double kMaxFriction = 10.0;
+// densities from 1 kg/m^3 to 1e5 (osmium is 22 590) and Young's moduli from 1 kPa (soft gels) to
+// 10 TPa (diamond is 1.2 TPa).
+inline constexpr double kMinDensity = 1.0, kMaxDensity = 1e5;
+inline constexpr double kMinYoungsModulus = 1e3, kMaxYoungsModulus = 1e13;
+
 // The most spheres granstack will lay out in one case (a guard against typos such as 40 blocks).
 inline constexpr long kMaxSpheres = 4'000'000;
 // True when nothing dissipates or adds energy: restitution 1 and friction 0 for every material

@@ -53,7 +53,12 @@ class Stack {
 
   int id_of(int block, int row, int column) const;
   static constexpr int striker_id() { return 1; }
-  // The bottom sphere of the central column just right of the impact axis (physics.md section 4).
+  // The column of block k that the impact travels down: for an even radius ratio the central
+  // column just right of the axis (each sphere rests on two, the pulse spreads down both); for an
+  // odd one the column straight below the top block's right central sphere (x = R_1), since each
+  // sphere rests on the one directly below it and its side neighbours receive no downward push.
+  int impact_column(int block) const;
+  // The bottom sphere of the impact column of the bottom block (physics.md section 4).
   int output_sphere_id() const;
   std::vector<int> bottom_row_ids() const;
 

@@ -32,7 +32,9 @@ class FrameView {
   FrameView(const model::Stack& stack, const std::string& path);
   // The dump columns the energies need (a reader may leave the others unparsed).
   static const std::vector<std::string>& needed_columns();
-  // Binds a frame; returns the row of each id (index id - 1).
+  // Throws FormatError naming file, line, step, atom and column at the first NaN or inf.
+  void require_finite(const formats::DumpFrame& frame) const;
+  // Binds a frame (checking every value finite); returns the row of each id (index id - 1).
   void bind(const formats::DumpFrame& frame);
   long row(int id) const { return rows_[static_cast<std::size_t>(id - 1)]; }
 

@@ -4,6 +4,7 @@
 #include <granstack/postproc/table.hpp>
 
 #include <string>
+#include <vector>
 
 namespace granstack::postproc {
 
@@ -12,9 +13,17 @@ struct PlotOptions {
   std::string gnuplot = "gnuplot";
 };
 
+// The name (without extension) of the energy figure of the case labelled `label`, and the files
+// a figure called `name` writes (data, script, image).
+std::string energy_plot_name(const std::string& label);
+std::vector<std::string> plot_files(const std::string& name, const PlotOptions& options);
+
 // Each block's kinetic energy over time, normalised by the top block's peak (the study's
-// energy figures), from the case's in-situ series. Returns the image path.
-std::string plot_block_energy(const std::string& case_dir, const std::string& out_dir, const PlotOptions& options);
+// energy figures), from the case's in-situ series. `label` names the case in the figure and its
+// file name (unique among the cases plotted together). gnuplot starts from an argument vector.
+// Returns the image path.
+std::string plot_block_energy(const std::string& case_dir, const std::string& label, const std::string& out_dir,
+                              const PlotOptions& options);
 
 // Output fraction against N_B on a log axis, one series per group with its fitted line.
 std::string plot_decay(const OutputTable& table, const std::string& out_dir, const PlotOptions& options);

@@ -50,17 +50,32 @@ struct CaseReduction {
 };
 
 struct ReduceOptions {
-  // CASE/reduce/: block_ke.csv, energy_parts.csv, row_ke.csv, column_ke.csv, summary.json
+  // CASE/reduce/ (or output_dir): block_ke.csv, energy_parts.csv, row_ke.csv, column_ke.csv, summary.json
   bool write_files = true;
+  std::string output_dir;  // empty: CASE/reduce
   // Called after every frame read (frames so far), on the calling thread.
   std::function<void(long frames)> on_frame;
   // Threads that parse and analyse frames; 0 = one per core.
   int threads = 0;
 };
 
-// Throws formats::FormatError for unreadable or inconsistent files, std::runtime_error for a
-// case that has not (successfully) run.
+// The results break a law they must obey (energy created, or not conserved where nothing
+// dissipates): no result is taken from such a case.
+class PhysicsError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+// The bound of reduce's energy checks, as a fraction of E_in (see require_energy_balance).
+inline constexpr double kEnergyBalanceBound = 0.01;
+
+// Throws formats::FormatError for unreadable or inconsistent files (NaN or inf anywhere, frames
+// or series rows missing, a series or deck that is not the manifest's), PhysicsError for broken
+// energy balance, std::runtime_error for a case that has not (successfully) run.
 CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& options = {});
+
+// Names for the cases `dirs` that tell them apart: the directory's name, or where two share it the
+// shortest tail of their paths that differs (a/nb1_e1, b/nb1_e1).
+std::vector<std::string> unique_case_labels(const std::vector<std::string>& dirs);
 
 // The JSON object `reduce --json` prints for a case (one line per case).
 nlohmann::json to_json(const CaseReduction& r);

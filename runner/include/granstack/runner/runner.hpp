@@ -39,7 +39,9 @@ struct RunOptions {
   std::function<void(const ProgressSnapshot&)> on_progress;
 };
 
-enum class RunStatus { done, skipped, failed };
+// interrupted: stopped by SIGINT/SIGTERM/SIGHUP to granstack (run.json says so); not_started:
+// not begun because such a signal came first.
+enum class RunStatus { done, skipped, failed, interrupted, not_started };
 
 struct RunOutcome {
   std::string case_dir;
@@ -50,15 +52,18 @@ struct RunOutcome {
   double particle_steps_per_second = 0.0;
 };
 
-// Runs every case (already expanded from sweep directories). Never throws for a failing case:
-// the failure is in its outcome and its run.json.
+// Runs every case (already expanded from sweep directories), each under its case lock (a case
+// another granstack is running fails with that one named). Never throws for a failing case: the
+// failure is in its outcome and its run.json. After os::interrupt_signal() is set, running cases
+// are stopped (their LIGGGHTS killed) and marked interrupted, and no other case starts.
 std::vector<RunOutcome> run_cases(const std::vector<std::string>& case_dirs, const RunOptions& options);
 
-// The status recorded in CASE/run.json: "done", "failed", "running" (interrupted), or "" when never run.
+// The status recorded in CASE/run.json: "done", "failed", "interrupted", "running" (while it
+// runs, or when the run was killed outright), or "" when never run.
 std::string recorded_status(const std::string& case_dir);
 
 // Copies the inputs of a case (manifest, data file, deck) into a new directory `target`
-// (replaced if it exists), so the same case can be run again elsewhere, e.g. by the other engine.
+// (replacing a granstack case there; anything else there is refused), so the same case can be run again elsewhere, e.g. by the other engine.
 void clone_case_inputs(const std::string& case_dir, const std::string& target);
 
 // The directory of PATH that holds `program`, or nullopt.

@@ -1,0 +1,44 @@
+#pragma once
+// The granstack subcommands: each file in app/ adds one to the CLI11 parser and says how it runs.
+#include <granstack/postproc/reduce.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace granstack::app {
+
+// Exit codes (the README's table).
+constexpr int kOk = 0;
+constexpr int kCaseFailed = 1;  // a run failed, a case is in use, or a case could not be reduced
+constexpr int kBadInput = 2;    // invalid spec, flag or value
+constexpr int kExists = 3;      // an output exists: not replaced without --force, or never (not granstack's)
+constexpr int kBadFile = 4;     // an input file is missing, malformed or inconsistent
+constexpr int kDisagree = 5;    // validate: the engines differ by more than the tolerance
+constexpr int kPhysics = 6;     // reduce: the results break a physical law they must obey
+
+// A subcommand: its parser and what runs it once the command line is parsed.
+struct Command {
+  CLI::App* parser = nullptr;
+  std::function<int()> run;
+};
+
+Command add_generate(CLI::App& app, const std::vector<std::string>& argv);
+Command add_run(CLI::App& app);
+Command add_reduce(CLI::App& app);
+Command add_table(CLI::App& app);
+Command add_plot(CLI::App& app);
+Command add_validate(CLI::App& app);
+
+// Reduces every case, with frame progress on a terminal; a failing case is reported on stderr
+// and left out. Case names are made unique among `dirs` (the shortest distinguishing tail of
+// their paths). Returns the exit code so far.
+int reduce_all(const std::vector<std::string>& dirs, std::vector<postproc::CaseReduction>& results,
+               const postproc::ReduceOptions& base = {});
+
+// `rc`, or 128 + the signal when granstack was asked to stop (130 for SIGINT, 143 for SIGTERM).
+int unless_interrupted(int rc);
+
+}  // namespace granstack::app

@@ -1,0 +1,119 @@
+// granstack run: LIGGGHTS (or refsim) in each case directory.
+#include "commands.hpp"
+#include "progress.hpp"
+
+#include <granstack/formats/manifest.hpp>
+#include <granstack/os/interrupt.hpp>
+#include <granstack/runner/runner.hpp>
+
+#include <fmt/format.h>
+
+#include <memory>
+
+namespace granstack::app {
+
+namespace {
+
+struct RunFlags {
+  std::vector<std::string> cases;
+  std::string engine = "liggghts";
+  int jobs = 1;
+  int ranks = 1;
+  int threads = 1;
+  std::string kernel = "auto";
+  bool force = false;
+  std::string liggghts = "liggghts";
+};
+
+void show_progress(runner::RunOptions& o, StatusLine& status) {
+  if (!status.active()) return;
+  o.on_progress = [&status](const runner::ProgressSnapshot& s) {
+    std::string line = fmt::format("run: {}/{} cases finished", s.finished, s.total);
+    for (const auto& c : s.running) {
+      const double frac = c.total_steps > 0 ? static_cast<double>(c.step) / static_cast<double>(c.total_steps) : 0.0;
+      line += fmt::format(" | {} step {}/{} ({:.0f}%) ETA {}", c.name, c.step, c.total_steps, 100 * frac,
+                          eta(c.elapsed, frac));
+    }
+    status.show(line);
+  };
+}
+
+// Prints each outcome; returns the exit code they make.
+int report(const std::vector<runner::RunOutcome>& outcomes) {
+  int rc = kOk;
+  int not_started = 0;
+  for (const auto& r : outcomes) {
+    switch (r.status) {
+      case runner::RunStatus::done:
+        fmt::print("done     {}  ({:.1f} s wall, loop {:.3g} s, {:.3g} particle-steps/s)\n", r.case_dir, r.wall_seconds,
+                   r.loop_seconds, r.particle_steps_per_second);
+        break;
+      case runner::RunStatus::skipped:
+        fmt::print("skipped  {}  ({})\n", r.case_dir, r.message);
+        break;
+      case runner::RunStatus::failed:
+        fmt::print(stderr, "FAILED   {}  {}\n", r.case_dir, r.message);
+        rc = kCaseFailed;
+        break;
+      case runner::RunStatus::interrupted:
+        fmt::print(stderr, "STOPPED  {}  ({}; run.json says interrupted: run it again to redo it)\n", r.case_dir, r.message);
+        break;
+      case runner::RunStatus::not_started:
+        ++not_started;
+        break;
+    }
+  }
+  if (not_started > 0) fmt::print(stderr, "{} case(s) not started: granstack was asked to stop\n", not_started);
+  return rc;
+}
+
+int run(const RunFlags& f) {
+  const auto dirs = formats::expand_case_dirs(f.cases);
+  runner::RunOptions o;
+  o.jobs = f.jobs;
+  o.ranks = f.ranks;
+  o.threads = f.threads;
+  o.kernel = f.kernel;
+  o.force = f.force;
+  o.liggghts = f.liggghts;
+  o.engine = f.engine == "refsim" ? runner::Engine::refsim : runner::Engine::liggghts;
+  if (o.engine == runner::Engine::refsim && f.ranks > 1) {
+    fmt::print(stderr, "note: refsim runs in this process and does not use MPI ranks (--np); use --threads {}\n", f.ranks);
+  }
+  if (o.engine == runner::Engine::liggghts && f.threads > 1) {
+    fmt::print(stderr, "note: --threads is for --engine refsim; LIGGGHTS runs in parallel with --np\n");
+  }
+  StatusLine status;
+  show_progress(o, status);
+  const auto outcomes = runner::run_cases(dirs, o);
+  status.clear();
+  return report(outcomes);
+}
+
+}  // namespace
+
+Command add_run(CLI::App& app) {
+  auto f = std::make_shared<RunFlags>();
+  auto* cmd = app.add_subcommand("run", "Run LIGGGHTS on case directories (or sweep directories)");
+  cmd->add_option("cases", f->cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
+  cmd->add_option("--np", f->ranks, "MPI ranks per case (mpirun when > 1) [1]")->check(CLI::Range(1, 4096));
+  cmd->add_option("--threads", f->threads, "Threads per case for --engine refsim (results do not depend on it) [1]")
+      ->check(CLI::Range(1, 256));
+  cmd->add_option("--kernel", f->kernel,
+                  "refsim's contact kernel: auto (AVX-512 where the CPU has it), reference (scalar) or avx512; "
+                  "all give the same bits [auto]")
+      ->check(CLI::IsMember({"auto", "reference", "avx512"}));
+  cmd->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
+  cmd->add_option("--engine", f->engine, "liggghts (the real DEM code) or refsim (the in-house reference integrator) [liggghts]")
+      ->check(CLI::IsMember({"liggghts", "refsim"}));
+  cmd->add_flag("--force", f->force, "Run cases again even if they finished");
+  return {cmd, [f] { return run(*f); }};
+}
+
+int unless_interrupted(int rc) {
+  const int signal = os::interrupt_signal();
+  return signal != 0 ? os::exit_code_for_signal(signal) : rc;
+}
+
+}  // namespace granstack::app

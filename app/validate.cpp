@@ -1,0 +1,83 @@
+// granstack validate: LIGGGHTS and refsim on copies of each case, compared.
+#include "commands.hpp"
+
+#include <granstack/formats/manifest.hpp>
+#include <granstack/os/case_lock.hpp>
+#include <granstack/os/interrupt.hpp>
+#include <granstack/postproc/compare.hpp>
+#include <granstack/runner/runner.hpp>
+
+#include <fmt/format.h>
+
+#include <memory>
+#include <optional>
+
+namespace granstack::app {
+
+namespace {
+
+struct ValidateFlags {
+  std::vector<std::string> cases;
+  double tolerance = 1e-6;
+  int jobs = 1;
+  std::string liggghts = "liggghts";
+};
+
+// Runs LIGGGHTS and refsim on copies of each case (CASE/validate/liggghts, CASE/validate/refsim),
+// each case locked for the whole comparison, and compares them.
+int validate(const ValidateFlags& f) {
+  const auto dirs = formats::expand_case_dirs(f.cases);
+  std::vector<os::CaseLock> locks;
+  std::vector<std::string> liggghts_dirs, refsim_dirs;
+  for (const auto& d : dirs) {
+    try {
+      locks.emplace_back(d, "granstack validate");
+    } catch (const os::LockedError& e) {
+      fmt::print(stderr, "error: {}\n", e.what());
+      return kCaseFailed;
+    }
+    liggghts_dirs.push_back(d + "/validate/liggghts");
+    refsim_dirs.push_back(d + "/validate/refsim");
+    runner::clone_case_inputs(d, liggghts_dirs.back());
+    runner::clone_case_inputs(d, refsim_dirs.back());
+  }
+  runner::RunOptions o;
+  o.jobs = f.jobs;
+  o.force = true;
+  o.liggghts = f.liggghts;
+  int rc = kOk;
+  for (const auto engine : {runner::Engine::liggghts, runner::Engine::refsim}) {
+    o.engine = engine;
+    for (const auto& r : runner::run_cases(engine == runner::Engine::liggghts ? liggghts_dirs : refsim_dirs, o)) {
+      if (r.status == runner::RunStatus::failed) {
+        fmt::print(stderr, "FAILED   {}  {}\n", r.case_dir, r.message);
+        rc = kCaseFailed;
+      }
+    }
+  }
+  if (rc != kOk || os::interrupt_signal() != 0) return rc;
+  for (std::size_t i = 0; i < dirs.size(); ++i) {
+    const auto c = postproc::compare_runs(liggghts_dirs[i], refsim_dirs[i]);
+    fmt::print("{}{}\n", postproc::format_comparison(c, "liggghts", "refsim", f.tolerance),
+               c.worst() <= f.tolerance ? "agree" : "DISAGREE");
+    if (!(c.worst() <= f.tolerance)) rc = kDisagree;
+  }
+  return rc;
+}
+
+}  // namespace
+
+Command add_validate(CLI::App& app) {
+  auto f = std::make_shared<ValidateFlags>();
+  auto* cmd = app.add_subcommand("validate", "Run LIGGGHTS and refsim on the same cases and compare them");
+  cmd->add_option("cases", f->cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("--tolerance", f->tolerance,
+                  "Largest accepted relative difference (per-block KE over time / peak, output fraction, "
+                  "positions / smallest radius, velocities / striker speed) [1e-6]")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
+  cmd->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
+  return {cmd, [f] { return validate(*f); }};
+}
+
+}  // namespace granstack::app

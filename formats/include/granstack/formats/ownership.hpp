@@ -1,0 +1,42 @@
+#pragma once
+// What granstack may replace or remove: only what it made. A directory counts as made by
+// granstack when it holds a case manifest (manifest.json), a sweep index (sweep.json) or the
+// marker table and plot leave in their output directories (.granstack-output), each readable
+// as granstack writes it.
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace granstack::formats {
+
+inline constexpr const char* kOutputMarker = ".granstack-output";
+
+bool made_by_granstack(const std::filesystem::path& dir);
+
+// Why `path` may not be replaced (removed and written anew) even with --force, or "" when it
+// may: it must be a directory made by granstack, and neither '/', the home directory, the
+// working directory nor one of its parents. A regular file or anything else is never replaced.
+std::string why_not_replaceable(const std::filesystem::path& path);
+
+// An output exists and --force was not given (exit 3): nothing is written.
+class ExistsError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// An output is something granstack never replaces, whatever the flags (exit 3): a user's file
+// or directory, '.', a parent of the working directory, '/', the home directory.
+class RefusedError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Before a command writes `names` into the directory `dir` (table -o, plot -o): a new directory
+// is made and marked as granstack's; in an existing one, a file of `names` that is already there
+// is replaced only with `force`, and only when granstack made the directory. Throws ExistsError
+// or RefusedError naming the file.
+void prepare_output_directory(const std::filesystem::path& dir, const std::vector<std::string>& names, bool force,
+                              const std::string& command);
+
+}  // namespace granstack::formats

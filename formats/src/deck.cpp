@@ -1,0 +1,46 @@
+#include <granstack/formats/deck.hpp>
+#include <granstack/formats/error.hpp>
+#include <granstack/formats/line_reader.hpp>
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <vector>
+
+namespace granstack::formats {
+
+void check_deck_matches_manifest(const std::string& case_dir, const Manifest& manifest) {
+  const auto path = (std::filesystem::path(case_dir) / manifest.files.deck).string();
+  const double dt = manifest.derived.value("dt", 0.0);
+  const long steps = manifest.derived.value("steps", 0L);
+  const std::string fix = "; the deck was edited after 'granstack generate': generate the case again with the "
+                          "values you want (--dt, --duration) instead";
+  LineReader reader(path);
+  std::string_view line;
+  std::vector<std::string_view> words;
+  long timestep_line = 0, run_line = 0, run_steps = -1;
+  while (reader.next(line)) {
+    split_words(line, words);
+    if (words.size() < 2 || words[0].front() == '#') continue;
+    if (words[0] == "timestep") {
+      double value = 0.0;
+      if (!parse_double(words[1], value) || value != dt) {
+        throw FormatError(path, reader.line_number(),
+                          fmt::format("the time step is {}, the manifest's dt is {}{}", words[1], dt, fix));
+      }
+      timestep_line = reader.line_number();
+    } else if (words[0] == "run") {
+      if (!parse_long(words[1], run_steps)) run_steps = -1;
+      run_line = reader.line_number();
+    }
+  }
+  if (timestep_line == 0) throw FormatError(path, 0, fmt::format("no 'timestep' line (the manifest's dt is {})", dt));
+  if (run_line == 0) throw FormatError(path, 0, fmt::format("no 'run' line (the manifest has {} steps)", steps));
+  if (run_steps != steps) {
+    throw FormatError(path, run_line, fmt::format("the deck runs {} steps, the manifest has {}{}",
+                                                  run_steps < 0 ? "an unknown number of" : std::to_string(run_steps),
+                                                  steps, fix));
+  }
+}
+
+}  // namespace granstack::formats

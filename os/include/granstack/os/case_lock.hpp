@@ -1,0 +1,34 @@
+#pragma once
+// One run at a time per case directory: an OS-level lock (flock) on DIR/.granstack.lock, held
+// while granstack works in the directory. The kernel drops it when the holder ends in any way,
+// SIGKILL included, so a dead holder's lock is simply taken over.
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+namespace granstack::os {
+
+// Thrown when another process holds the lock; the message names it (pid, host, command, start).
+class LockedError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class CaseLock {
+ public:
+  // Takes the lock of `dir` for `what` (e.g. "granstack run"), or throws LockedError naming
+  // the holder (std::runtime_error when the lock file cannot be made, e.g. a read-only case).
+  CaseLock(const std::filesystem::path& dir, const std::string& what);
+  ~CaseLock();
+  CaseLock(const CaseLock&) = delete;
+  CaseLock& operator=(const CaseLock&) = delete;
+  CaseLock(CaseLock&& other) noexcept;
+  CaseLock& operator=(CaseLock&& other) noexcept;
+
+  static constexpr const char* kFileName = ".granstack.lock";
+
+ private:
+  int fd_ = -1;
+};
+
+}  // namespace granstack::os

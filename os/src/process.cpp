@@ -1,0 +1,177 @@
+#include <granstack/os/process.hpp>
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <fcntl.h>
+#include <sys/prctl.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+extern char** environ;
+
+namespace granstack::os {
+
+namespace fs = std::filesystem;
+
+namespace {
+bool executable_file(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(path.c_str(), X_OK) == 0;
+}
+
+// What the child does between fork and exec: only async-signal-safe calls (the parent has
+// threads). Reports a failure to the parent through `report` (close-on-exec) and exits 127.
+[[noreturn]] void become(char* const* argv, char* const* envp, const char* cwd, const char* output, pid_t parent,
+                         int report) {
+  auto fail = [&](int stage) {
+    const int e[2] = {stage, errno};
+    [[maybe_unused]] const auto n = ::write(report, e, sizeof e);
+    ::_exit(127);
+  };
+  // SIGKILL when the starting thread ends; if the parent died before this took effect, go now.
+  if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0) fail(0);
+  if (::getppid() != parent) ::_exit(127);
+  ::setpgid(0, 0);
+  // Signals granstack ignores or handles must reach the program in their default state.
+  struct sigaction dfl {};
+  dfl.sa_handler = SIG_DFL;
+  for (const int s : {SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGQUIT}) ::sigaction(s, &dfl, nullptr);
+  sigset_t none;
+  sigemptyset(&none);
+  ::sigprocmask(SIG_SETMASK, &none, nullptr);
+  if (cwd[0] != '\0' && ::chdir(cwd) != 0) fail(1);
+  const int in = ::open("/dev/null", O_RDONLY);
+  if (in < 0 || ::dup2(in, STDIN_FILENO) < 0) fail(2);
+  const int out = output[0] != '\0' ? ::open(output, O_WRONLY | O_CREAT | O_TRUNC, 0644) : ::open("/dev/null", O_WRONLY);
+  if (out < 0 || ::dup2(out, STDOUT_FILENO) < 0 || ::dup2(out, STDERR_FILENO) < 0) fail(2);
+  ::execve(argv[0], argv, envp);
+  fail(3);
+  ::_exit(127);
+}
+}  // namespace
+
+std::optional<std::string> find_program(const std::string& program) {
+  if (program.empty()) return std::nullopt;
+  if (program.find('/') != std::string::npos) {
+    return executable_file(program) ? std::optional<std::string>(program) : std::nullopt;
+  }
+  const char* path = std::getenv("PATH");
+  const std::string dirs = path != nullptr ? path : "/usr/local/bin:/usr/bin:/bin";
+  std::size_t begin = 0;
+  while (begin <= dirs.size()) {
+    const auto end = std::min(dirs.find(':', begin), dirs.size());
+    const auto candidate = (fs::path(end > begin ? dirs.substr(begin, end - begin) : ".") / program).string();
+    if (executable_file(candidate)) return candidate;
+    begin = end + 1;
+  }
+  return std::nullopt;
+}
+
+Child start(const std::vector<std::string>& argv, const StartOptions& options) {
+  Child child;
+  if (argv.empty()) {
+    child.error = "no program to start";
+    return child;
+  }
+  const auto program = find_program(argv[0]);
+  if (!program) {
+    child.error = fmt::format("cannot start '{}': not an executable file{}", argv[0],
+                              argv[0].find('/') == std::string::npos ? " on PATH" : "");
+    return child;
+  }
+  // Everything the child needs is built before fork: it may not allocate.
+  std::vector<std::string> args = argv;
+  args[0] = fs::absolute(*program).string();  // the child changes directory before exec
+  std::vector<char*> arg_ptrs;
+  for (auto& a : args) arg_ptrs.push_back(a.data());
+  arg_ptrs.push_back(nullptr);
+  std::vector<std::string> extra = options.extra_environment;
+  std::vector<char*> env;
+  for (char** e = environ; *e != nullptr; ++e) env.push_back(*e);
+  for (auto& e : extra) env.push_back(e.data());
+  env.push_back(nullptr);
+  const std::string cwd = options.cwd.string(), output = options.output.string();
+  int report[2];
+  if (::pipe2(report, O_CLOEXEC) != 0) {
+    child.error = fmt::format("cannot start {}: {}", argv[0], std::strerror(errno));
+    return child;
+  }
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid == 0) become(arg_ptrs.data(), env.data(), cwd.c_str(), output.c_str(), parent, report[1]);
+  ::close(report[1]);
+  if (pid < 0) {
+    child.error = fmt::format("cannot start {}: {}", argv[0], std::strerror(errno));
+    ::close(report[0]);
+    return child;
+  }
+  ::setpgid(pid, pid);  // also here, so the group exists before the parent may signal it
+  int failure[2] = {0, 0};
+  ssize_t got;
+  do {
+    got = ::read(report[0], failure, sizeof failure);
+  } while (got < 0 && errno == EINTR);
+  ::close(report[0]);
+  if (got == static_cast<ssize_t>(sizeof failure)) {
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    static const char* const stages[] = {"set up its parent-death signal", "enter the directory", "redirect its output",
+                                         "execute"};
+    const char* where = stages[failure[0] >= 0 && failure[0] <= 3 ? failure[0] : 3];
+    child.error = fmt::format("cannot start {}: could not {}{}: {}", *program, where,
+                              failure[0] == 1 ? " " + cwd : failure[0] == 2 ? " to " + output : "",
+                              std::strerror(failure[1]));
+    return child;
+  }
+  child.pid = pid;
+  return child;
+}
+
+void kill_group(const Child& child) {
+  if (child.pid > 0) ::kill(-child.pid, SIGKILL);
+}
+
+namespace {
+Exit decode(int status) {
+  Exit e;
+  if (WIFEXITED(status)) e.code = WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) e.signal = WTERMSIG(status);
+  return e;
+}
+}  // namespace
+
+Exit wait(const Child& child) {
+  int status = 0;
+  pid_t r;
+  do {
+    r = ::waitpid(child.pid, &status, 0);
+  } while (r < 0 && errno == EINTR);
+  return r == child.pid ? decode(status) : Exit{};
+}
+
+std::optional<Exit> poll(const Child& child) {
+  int status = 0;
+  pid_t r;
+  do {
+    r = ::waitpid(child.pid, &status, WNOHANG);
+  } while (r < 0 && errno == EINTR);
+  if (r == child.pid) return decode(status);
+  if (r < 0) return Exit{};
+  return std::nullopt;
+}
+
+Exit run(const std::vector<std::string>& argv, const StartOptions& options, std::string* start_error) {
+  const auto child = start(argv, options);
+  if (child.pid < 0) {
+    if (start_error != nullptr) *start_error = child.error;
+    return Exit{};
+  }
+  return wait(child);
+}
+
+}  // namespace granstack::os
