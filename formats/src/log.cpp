@@ -44,6 +44,9 @@ void LogScanner::add_line(std::string_view line) {
     warnings_.emplace_back(line);
   }
   if (line.find("Lost atoms") != std::string_view::npos) lost_atoms_ = true;
+  // LIGGGHTS's own signal handler (signal_handling.cpp): it ends the run early, yet its "Loop
+  // time" line still names the steps asked for.
+  if (line.substr(0, 21) == "SIGINT/SIGTERM caught") stopped_by_signal_ = true;
 
   static const std::regex loop_re(R"(^Loop time of (\S+) on (\d+) procs.* for (\d+) steps with (\d+) atoms)");
   if (line.substr(0, 13) == "Loop time of ") {

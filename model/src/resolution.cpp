@@ -64,6 +64,7 @@ Resolution resolve(const Stack& stack) {
   // Counts beyond kMaxSteps are held just above it (check_resolution refuses them) rather than
   // overflowing.
   const double wanted_steps = std::ceil(wanted / r.dt - 1e-9);
+  r.steps_asked = wanted_steps;
   r.steps = wanted_steps <= static_cast<double>(kMaxSteps) ? std::max<long>(1, std::lround(wanted_steps)) : kMaxSteps + 1;
   const int wave_cadence = static_cast<int>(
       std::clamp(std::floor(kDumpPerContact * r.min_contact_time / r.dt), 1.0, static_cast<double>(1 << 30)));
@@ -92,7 +93,7 @@ std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& r)
     issues.push_back({spec.duration ? "duration" : "dt",
                       fmt::format("the run would take {:.3g} steps (duration / dt), more than the {:.0e} granstack "
                                   "allows; shorten --duration or use the automatic dt",
-                                  spec.duration.value_or(r.duration) / r.dt, static_cast<double>(kMaxSteps))});
+                                  r.steps_asked, static_cast<double>(kMaxSteps))});
   }
   const auto lib = spec.material_library();
   const auto& top = stack.block(1);

@@ -170,6 +170,8 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
   if (s.bottom == Boundary::wall || s.sides == Boundary::wall) {
     used.push_back(!s.wall_material.empty() ? s.wall_material : s.materials.empty() ? "" : s.materials.back());
   }
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
   auto in_stack = [&](const std::string& name) { return std::find(used.begin(), used.end(), name) != used.end(); };
   auto check_pairs = [&](const PairTable& t, const std::string& field, auto&& value_ok, const std::string& range) {
     if (!value_ok(t.value)) bad(field, fmt::format("{} must be {}", t.value, range));

@@ -71,13 +71,14 @@ int Stack::id_of(int block_index, int row, int column) const {
 }
 
 int Stack::impact_column(int block_index) const {
-  const auto& b = block(block_index);
+  // The path's centre in block k is x_k = u_k R_k: u_1 = 1 (the top block's right central
+  // sphere); an even ratio n rests a sphere on two at x_k -+ R_(k+1), of which the path takes the
+  // inner, u_(k+1) = n u_k - 1; an odd one on the one straight below, u_(k+1) = n u_k. u_k stays
+  // odd, and x_j = (2j - 1 - C_k) R_k gives j = (u_k + 1 + C_k) / 2.
   const int n = spec_.radius_ratio;
-  if (n % 2 == 0) return b.columns / 2 + 1;
-  // x_j = (2j - 1 - C_k) R_k = R_1 with R_1 / R_k = n^(k-1): j = (n^(k-1) + 1 + C_k) / 2.
-  long scale = 1;
-  for (int k = 1; k < block_index; ++k) scale *= n;
-  return static_cast<int>((scale + 1 + b.columns) / 2);
+  long u = 1;
+  for (int k = 1; k < block_index; ++k) u = n % 2 == 0 ? n * u - 1 : n * u;
+  return static_cast<int>((u + 1 + block(block_index).columns) / 2);
 }
 
 int Stack::output_sphere_id() const {

@@ -39,7 +39,7 @@ void clone_case_inputs(const std::string& case_dir, const std::string& target) {
   const auto m = formats::read_manifest(case_dir);
   // Only a copy granstack made earlier is replaced; anything else in its place is the user's.
   if (const auto why = formats::why_not_replaceable(target); !why.empty()) {
-    throw std::runtime_error(fmt::format("cannot make the copy {}: {}; move it away first", target, why));
+    throw formats::RefusedError(fmt::format("cannot make the copy {}: {}; move it away first", target, why));
   }
   fs::remove_all(target);
   fs::create_directories(fs::path(target) / fs::path(m.files.dump).parent_path());
@@ -262,6 +262,9 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
   if (result.error.empty()) {
     if (!scanner.errors().empty()) {
       result.error = scanner.errors().front();
+    } else if (scanner.stopped_by_signal()) {
+      result.error = "LIGGGHTS was sent SIGINT or SIGTERM directly and quit before the end of the run (its forced "
+                     "restart file is removed); to stop granstack, signal granstack itself; run the case again";
     } else if (scanner.lost_atoms()) {
       result.error = "LIGGGHTS lost atoms (see " + files.screen + ")";
     } else if (!signal_text.empty()) {

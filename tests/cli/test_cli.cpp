@@ -131,7 +131,13 @@ TEST_F(Cli, ReduceAndRunRefuseWhatIsNotACaseOrNotRun) {
   expect_contains(r, "has not been run; run 'granstack run");
   r = granstack("run " + path("case") + " --liggghts /nonexistent/liggghts");
   EXPECT_EQ(r.code, 1);
-  expect_contains(r, "scripts/setup.sh");
+  expect_contains(r, "--liggghts /nonexistent/liggghts: not an executable file");
+  r = granstack("run " + path("case") + " --liggghts /etc/passwd");
+  EXPECT_EQ(r.code, 1);
+  expect_contains(r, "--liggghts /etc/passwd: not an executable file");
+  r = granstack("run " + path("case") + " --liggghts no-such-liggghts");
+  EXPECT_EQ(r.code, 1);
+  expect_contains(r, "is not on PATH: install it with scripts/setup.sh");
   r = granstack("run --np 0 " + path("case"));
   EXPECT_EQ(r.code, 2);
   r = granstack("--version");
@@ -140,17 +146,17 @@ TEST_F(Cli, ReduceAndRunRefuseWhatIsNotACaseOrNotRun) {
 }
 
 // Bad dump files, made from a real LIGGGHTS run.
-TEST_F(Cli, BadDumpFilesGiveClearErrorsAndATruncatedFrameAWarning) {
+TEST_F(Cli, BadDumpFilesGiveClearErrors) {
   ASSERT_EQ(granstack("generate -o " + path("case") + " --blocks 1").code, 0);
   ASSERT_EQ(granstack("run " + path("case")).code, 0);
   const auto dump = path("case/dumps/dump.txt");
   const std::string text = read_bytes(dump);
   auto with_dump = [&](const std::string& content) { return reduce_with_dump(path("case"), dump, content); };
-  // Cut in the middle of the last frame: the complete frames are used, with a warning.
+  // Cut in the middle of the last frame: the run finished, so a frame missing is damage.
   auto r = with_dump(text.substr(0, text.size() - 700));
-  EXPECT_EQ(r.code, 0) << r.output;
-  expect_contains(r, "warning: case: ");
+  EXPECT_EQ(r.code, 4) << r.output;
   expect_contains(r, "file ends inside the frame at step");
+  expect_contains(r, "the dump holds 216 complete frames of the 217 the run wrote");
   // An atom missing from a frame (lost, or another case's dump).
   const auto atoms_line = text.find("ITEM: NUMBER OF ATOMS\n17\n");
   ASSERT_NE(atoms_line, std::string::npos);
@@ -249,13 +255,14 @@ TEST_F(Cli, CompressedDumpsReduceToTheSameResult) {
       fs::remove(dump + ".zst");
     }
   }
-  // A gzip file cut short: the complete frames are used, with a warning naming the cut frame.
+  // A gzip file cut short: an error naming the cut frame and the frames missing.
   const auto dump = path("case_text/dumps/dump.txt");
   ASSERT_EQ(shell("gzip -c " + dump + " | head -c 100000 > " + dump + ".gz").code, 0);
   fs::rename(dump, dump + ".orig");
   auto r = granstack("reduce " + path("case_text"));
-  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.code, 4) << r.output;
   expect_contains(r, "file ends inside the frame at step");
+  expect_contains(r, "complete frames of the");
   // Damaged compressed data: a clear error.
   ASSERT_EQ(shell("gzip -c " + dump + ".orig > " + dump + ".gz && printf 'garbage!garbage!' | dd of=" + dump +
                   ".gz bs=1 seek=5000 conv=notrunc status=none").code,
@@ -286,24 +293,25 @@ TEST_F(Cli, PerStepAndPerRankDumpsReduceToTheSingleFilesResult) {
   EXPECT_TRUE(fs::exists(path("per_rank/dumps/dump.1.txt")));
   const auto v = granstack("validate " + path("per_step"));
   EXPECT_EQ(v.code, 0) << v.output;
-  // A rank's file missing its last piece: the complete steps are used, with a warning.
+  // A rank's file missing its last piece: an error, since the run wrote it.
   ASSERT_EQ(shell("head -n -30 " + path("per_rank/dumps/dump.1.txt") + " > " + path("cut.txt") + " && mv " + path("cut.txt") +
                   " " + path("per_rank/dumps/dump.1.txt")).code,
             0);
   const auto cut = granstack("reduce " + path("per_rank"));
-  EXPECT_EQ(cut.code, 0) << cut.output;
-  expect_contains(cut, "warning:");
+  EXPECT_EQ(cut.code, 4) << cut.output;
+  expect_contains(cut, "complete frames of the");
 }
 
-TEST_F(Cli, BadBinaryDumpsGiveClearErrorsAndATruncatedFrameAWarning) {
+TEST_F(Cli, BadBinaryDumpsGiveClearErrors) {
   ASSERT_EQ(granstack("generate -o " + path("case") + " --blocks 1 --dump-format binary").code, 0);
   ASSERT_EQ(granstack("run " + path("case")).code, 0);
   const auto dump = path("case/dumps/dump.bin");
   const std::string bytes = read_bytes(dump);
   auto with_dump = [&](const std::string& content) { return reduce_with_dump(path("case"), dump, content); };
   auto r = with_dump(bytes.substr(0, bytes.size() - 1000));
-  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.code, 4) << r.output;
   expect_contains(r, "file ends inside frame");
+  expect_contains(r, "complete frames of the");
   r = with_dump("ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n17\n");
   EXPECT_EQ(r.code, 4);
   expect_contains(r, "this is a text dump, not a binary one");

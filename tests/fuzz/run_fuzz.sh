@@ -12,7 +12,7 @@ src=$(cd "$(dirname "$0")/../.." && pwd)
 rm -rf "$work" && mkdir -p "$work/corpus"
 clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
   -I"$src/formats/include" -I"$src/model/include" \
-  "$src/tests/fuzz/fuzz_readers.cpp" "$src"/formats/src/{error,byte_source,line_reader,dump,batches,series,data_file}.cpp \
+  "$src/tests/fuzz/fuzz_readers.cpp" "$src"/formats/src/{error,files,byte_source,line_reader,dump,batches,series,data_file}.cpp \
   -lfmt -lz -lzstd -o "$work/fuzz_readers"
 # Seeds: a small real case, text and binary, plus its series and data file.
 for format in text binary; do

@@ -114,12 +114,27 @@ TEST_P(GeometryTest, CountsIdsAndLayoutFollowTheDocumentedOrder) {
     EXPECT_NEAR(b.columns * 2.0 * b.radius, 2.0 * stack.half_width(), 1e-15);
     EXPECT_DOUBLE_EQ(b.radius, 1e-3 * std::pow(p.ratio, p.blocks - b.index));
   }
-  // The bottom face is z = 0; the output sphere is right of the axis, in the bottom row.
+  // The bottom face is z = 0; the output sphere is in the bottom row, on the impact path: just
+  // right of the axis for ratio 2, straight below the top block's right central sphere
+  // (x = R_1) for an odd ratio (each sphere rests on one).
   const auto& out = stack.sphere(stack.output_sphere_id());
   EXPECT_EQ(out.block, p.blocks);
   EXPECT_EQ(out.row, p.rows);
-  EXPECT_DOUBLE_EQ(out.x, out.radius);
+  if (p.ratio == 2) {
+    EXPECT_DOUBLE_EQ(out.x, out.radius);  // the study's definition
+  }
+  if (p.ratio % 2 == 1) {
+    EXPECT_DOUBLE_EQ(out.x, stack.block(1).radius);
+  }
   EXPECT_DOUBLE_EQ(out.z - out.radius, 0.0);
+  // Down the impact path, the top sphere of each block's impact column touches the bottom sphere
+  // of the impact column above it: the path is a chain of contacts.
+  for (int k = 1; k < p.blocks; ++k) {
+    const auto& upper = stack.sphere(stack.id_of(k, p.rows, stack.impact_column(k)));
+    const auto& lower = stack.sphere(stack.id_of(k + 1, 1, stack.impact_column(k + 1)));
+    EXPECT_NEAR(std::hypot(upper.x - lower.x, upper.z - lower.z), upper.radius + lower.radius, 1e-12 * upper.radius)
+        << "block " << k;
+  }
 }
 
 TEST_P(GeometryTest, MirrorSymmetricAboutTheImpactAxis) {

@@ -39,10 +39,13 @@ const BadCase kBadCases[] = {
     {"blocks_zero", [](StackSpec& s) { s.blocks = 0; }, "blocks", "from 1 to 16"},
     {"rows_zero", [](StackSpec& s) { s.rows = 0; }, "rows", "from 1 to 4096"},
     {"odd_columns", [](StackSpec& s) { s.top_columns = 3; }, "top_columns", "even"},
-    {"negative_radius", [](StackSpec& s) { s.bottom_radius = -1e-3; }, "bottom_radius", "> 0"},
-    {"nan_radius", [](StackSpec& s) { s.bottom_radius = std::nan(""); }, "bottom_radius", "> 0"},
+    {"negative_radius", [](StackSpec& s) { s.bottom_radius = -1e-3; }, "bottom_radius", "in [1e-06, 1] m"},
+    {"nan_radius", [](StackSpec& s) { s.bottom_radius = std::nan(""); }, "bottom_radius", "in [1e-06, 1] m"},
+    {"huge_radius", [](StackSpec& s) { s.bottom_radius = 1e308; }, "bottom_radius", "in [1e-06, 1] m"},
+    {"tiny_radius", [](StackSpec& s) { s.bottom_radius = 1e-300; }, "bottom_radius", "in [1e-06, 1] m"},
+    {"top_radius", [](StackSpec& s) { s.blocks = 12; }, "bottom_radius", "the top spheres would be 2.048 m"},
     {"ratio_zero", [](StackSpec& s) { s.radius_ratio = 0; }, "radius_ratio", "whole number"},
-    {"too_many_spheres", [](StackSpec& s) { s.blocks = 16; s.top_columns = 64; }, "blocks", "more than"},
+    {"too_many_spheres", [](StackSpec& s) { s.blocks = 16; s.top_columns = 64; s.bottom_radius = 1e-6; }, "blocks", "more than"},
     {"unknown_material", [](StackSpec& s) { s.materials = {"unobtainium"}; }, "materials", "known: steel, teflon"},
     {"material_count", [](StackSpec& s) { s.materials = {"steel", "teflon"}; }, "materials", "one per block"},
     {"restitution_zero", [](StackSpec& s) { s.restitution.value = 0.0; }, "restitution", "(0.05, 1]"},
@@ -51,9 +54,11 @@ const BadCase kBadCases[] = {
      "restitution_pairs.\"steel:teflon\"", "(0.05, 1]"},
     {"restitution_pair_material", [](StackSpec& s) { s.restitution.set("steel", "glass", 0.5); },
      "restitution_pairs.\"glass:steel\"", "unknown material"},
-    {"friction_negative", [](StackSpec& s) { s.friction.value = -0.1; }, "friction", ">= 0"},
+    {"friction_negative", [](StackSpec& s) { s.friction.value = -0.1; }, "friction", "in [0, 10]"},
+    {"friction_huge", [](StackSpec& s) { s.friction.value = 1e300; }, "friction", "in [0, 10]"},
     {"speed_zero", [](StackSpec& s) { s.striker_speed = 0.0; }, "striker_speed", "> 0"},
-    {"gravity_negative", [](StackSpec& s) { s.gravity = -9.8; }, "gravity", ">= 0"},
+    {"gravity_negative", [](StackSpec& s) { s.gravity = -9.8; }, "gravity", "in [0, 1000]"},
+    {"gravity_huge", [](StackSpec& s) { s.gravity = 1e30; }, "gravity", "in [0, 1000]"},
     {"dt_negative", [](StackSpec& s) { s.dt = -1.0; }, "dt", "> 0"},
     {"dt_longer_than_run", [](StackSpec& s) { s.dt = 1e-3; s.duration = 1e-4; }, "dt", "smaller than the duration"},
     {"duration_zero", [](StackSpec& s) { s.duration = 0.0; }, "duration", "> 0"},
@@ -61,9 +66,15 @@ const BadCase kBadCases[] = {
     {"series_every_zero", [](StackSpec& s) { s.series_every = 0; }, "series_every", ">= 1"},
     {"wall_material", [](StackSpec& s) { s.wall_material = "wood"; }, "wall_material", "unknown material"},
     {"material_density", [](StackSpec& s) { s.custom_materials.push_back({"foam", 0.0, 1e6, 0.3}); },
-     "custom_materials.foam.density", "> 0"},
+     "custom_materials.foam.density", "in [1, 100000] kg/m^3"},
+    {"material_builtin", [](StackSpec& s) { s.custom_materials.push_back({"steel", 1.0, 1e3, 0.3}); },
+     "custom_materials.steel", "built-in material and cannot be redefined"},
+    {"pair_absent_material", [](StackSpec& s) { s.restitution.set("steel", "teflon", 0.8); },
+     "restitution_pairs.\"steel:teflon\"", "names a material this stack does not use (it uses: steel)"},
+    {"friction_pair_absent_material", [](StackSpec& s) { s.friction.set("teflon", "teflon", 0.3); },
+     "friction_pairs.\"teflon:teflon\"", "does not use"},
     {"material_modulus", [](StackSpec& s) { s.custom_materials.push_back({"foam", 100.0, -1.0, 0.3}); },
-     "custom_materials.foam.youngs_modulus", "> 0"},
+     "custom_materials.foam.youngs_modulus", "in [1000, 1e+13] Pa"},
     {"material_poisson", [](StackSpec& s) { s.custom_materials.push_back({"foam", 100.0, 1e6, 0.5}); },
      "custom_materials.foam.poisson_ratio", "[0, 0.5)"},
     {"material_name", [](StackSpec& s) { s.custom_materials.push_back({"Foam!", 100.0, 1e6, 0.3}); },
@@ -122,6 +133,7 @@ poisson_ratio = 0.45
     EXPECT_NE(std::string(e.what()).find("nb1_e1"), std::string::npos) << e.what();
   }
   sweep.base.materials = {"steel"};
+  sweep.base.wall_material = "rubbery";  // the pair must name materials the stack uses
   const auto cases = generator::expand(sweep);
   ASSERT_EQ(cases.size(), 6u);
   EXPECT_EQ(cases[0].name, "nb1_e1");

@@ -32,6 +32,8 @@ class LogScanner {
   const std::vector<std::string>& errors() const { return errors_; }
   const std::vector<std::string>& warnings() const { return warnings_; }
   bool lost_atoms() const { return lost_atoms_; }
+  // LIGGGHTS caught SIGINT or SIGTERM and quit early (writing a forced restart).
+  bool stopped_by_signal() const { return stopped_by_signal_; }
   std::optional<long> last_step() const { return last_step_; }  // of the last thermo row seen
   const std::optional<LoopTime>& loop_time() const { return loop_; }
   // Every thermo block, one per run command.
@@ -48,6 +50,7 @@ class LogScanner {
   std::vector<std::string> errors_;
   std::vector<std::string> warnings_;
   bool lost_atoms_ = false;
+  bool stopped_by_signal_ = false;
   bool in_thermo_ = false;
   std::optional<long> last_step_;
   std::optional<LoopTime> loop_;

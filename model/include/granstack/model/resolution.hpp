@@ -44,6 +44,7 @@ struct Resolution {
   double dt = 0.0;        // s
   double duration = 0.0;  // s (steps * dt)
   long steps = 0;
+  double steps_asked = 0.0;  // duration / dt before rounding (or holding at kMaxSteps + 1)
   int dump_every = 0;     // steps
   int series_every = 0;   // steps
   int thermo_every = 0;   // steps

@@ -53,10 +53,11 @@ class Stack {
 
   int id_of(int block, int row, int column) const;
   static constexpr int striker_id() { return 1; }
-  // The column of block k that the impact travels down: for an even radius ratio the central
-  // column just right of the axis (each sphere rests on two, the pulse spreads down both); for an
-  // odd one the column straight below the top block's right central sphere (x = R_1), since each
-  // sphere rests on the one directly below it and its side neighbours receive no downward push.
+  // The column of block k on the impact path, the chain of contacts down from the top block's
+  // right central sphere (x = R_1): with an even radius ratio each sphere rests on two and the
+  // path takes the inner one (for the study's ratio 2, the central column just right of the
+  // axis in every block); with an odd ratio each rests on the one straight below (x = R_1 in
+  // every block), and its side neighbours receive no downward push.
   int impact_column(int block) const;
   // The bottom sphere of the impact column of the bottom block (physics.md section 4).
   int output_sphere_id() const;
