@@ -8,7 +8,9 @@
 
 #include <fmt/format.h>
 
+#include <cstdio>
 #include <memory>
+#include <mutex>
 
 namespace granstack::app {
 
@@ -25,24 +27,24 @@ struct RunFlags {
   std::string liggghts = "liggghts";
 };
 
-void show_progress(runner::RunOptions& o, StatusLine& status) {
-  if (!status.active()) return;
-  o.on_progress = [&status](const runner::ProgressSnapshot& s) {
-    std::string line = fmt::format("run: {}/{} cases finished", s.finished, s.total);
-    for (const auto& c : s.running) {
-      const double frac = c.total_steps > 0 ? static_cast<double>(c.step) / static_cast<double>(c.total_steps) : 0.0;
-      line += fmt::format(" | {} step {}/{} ({:.0f}%) ETA {}", c.name, c.step, c.total_steps, 100 * frac,
-                          eta(c.elapsed, frac));
-    }
-    status.show(line);
-  };
-}
-
-// Prints each outcome; returns the exit code they make.
-int report(const std::vector<runner::RunOutcome>& outcomes) {
-  int rc = kOk;
-  int not_started = 0;
-  for (const auto& r : outcomes) {
+// The status line (on a terminal) and a line per case as it ends, flushed, so a log followed
+// with tail -f shows each case when it finishes. Both write under `mutex`.
+void show_progress(runner::RunOptions& o, StatusLine& status, std::mutex& mutex, int& rc) {
+  if (status.active()) {
+    o.on_progress = [&status, &mutex](const runner::ProgressSnapshot& s) {
+      std::string line = fmt::format("run: {}/{} cases finished", s.finished, s.total);
+      for (const auto& c : s.running) {
+        const double frac = c.total_steps > 0 ? static_cast<double>(c.step) / static_cast<double>(c.total_steps) : 0.0;
+        line += fmt::format(" | {} step {}/{} ({:.0f}%) ETA {}", c.name, c.step, c.total_steps, 100 * frac,
+                            eta(c.elapsed, frac));
+      }
+      const std::lock_guard lock(mutex);
+      status.show(line);
+    };
+  }
+  o.on_case_done = [&status, &mutex, &rc](const runner::RunOutcome& r) {
+    const std::lock_guard lock(mutex);
+    status.clear();
     switch (r.status) {
       case runner::RunStatus::done:
         fmt::print("done     {}  ({:.1f} s wall, loop {:.3g} s, {:.3g} particle-steps/s)\n", r.case_dir, r.wall_seconds,
@@ -56,15 +58,16 @@ int report(const std::vector<runner::RunOutcome>& outcomes) {
         rc = kCaseFailed;
         break;
       case runner::RunStatus::interrupted:
-        fmt::print(stderr, "STOPPED  {}  ({}; run.json says interrupted: run it again to redo it)\n", r.case_dir, r.message);
+        fmt::print(stderr, "STOPPED  {}  ({}; run.json says interrupted: run it again to redo it)\n", r.case_dir,
+                   r.message);
         break;
       case runner::RunStatus::not_started:
-        ++not_started;
+        fmt::print(stderr, "not run  {}  (granstack was asked to stop first)\n", r.case_dir);
         break;
     }
-  }
-  if (not_started > 0) fmt::print(stderr, "{} case(s) not started: granstack was asked to stop\n", not_started);
-  return rc;
+    std::fflush(stdout);
+    std::fflush(stderr);
+  };
 }
 
 int run(const RunFlags& f) {
@@ -84,10 +87,12 @@ int run(const RunFlags& f) {
     fmt::print(stderr, "note: --threads is for --engine refsim; LIGGGHTS runs in parallel with --np\n");
   }
   StatusLine status;
-  show_progress(o, status);
-  const auto outcomes = runner::run_cases(dirs, o);
+  std::mutex mutex;
+  int rc = kOk;
+  show_progress(o, status, mutex, rc);
+  runner::run_cases(dirs, o);
   status.clear();
-  return report(outcomes);
+  return rc;
 }
 
 }  // namespace

@@ -414,6 +414,7 @@ std::vector<RunOutcome> run_cases(const std::vector<std::string>& case_dirs, con
   Monitor monitor(static_cast<int>(case_dirs.size()));
   std::atomic<std::size_t> next{0};
   std::atomic<bool> all_done{false};
+  std::mutex done_mutex;
   auto worker = [&] {
     for (std::size_t i = next++; i < case_dirs.size(); i = next++) {
       if (os::interrupt_signal() != 0) {  // asked to stop: no new case starts
@@ -427,6 +428,10 @@ std::vector<RunOutcome> run_cases(const std::vector<std::string>& case_dirs, con
         outcomes[i].case_dir = case_dirs[i];
         outcomes[i].status = RunStatus::failed;
         outcomes[i].message = e.what();
+      }
+      if (options.on_case_done) {
+        const std::lock_guard lock(done_mutex);
+        options.on_case_done(outcomes[i]);
       }
     }
   };

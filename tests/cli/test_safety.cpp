@@ -249,7 +249,8 @@ TEST_F(Safety, ACaseInUseIsRefusedAndAStopSignalEndsItsLiggghts) {
 // 3. kill -9 of a sweep mid-way: no LIGGGHTS is left, a rerun at once redoes only the unfinished
 // cases, and the results are those of an uninterrupted run, byte for byte.
 TEST_F(Safety, ASweepKilledMidwayLeavesNoLiggghtsAndResumesToTheSameBytes) {
-  const std::vector<std::string> spec = {"--blocks", "3,4", "--restitution", "1,0.9", "--dt", "1.5e-8"};
+  // Cases of several seconds each, so that a LIGGGHTS left running would still be there.
+  const std::vector<std::string> spec = {"--blocks", "3,4", "--restitution", "1,0.9", "--dt", "6e-9"};
   auto args = std::vector<std::string>{"generate", "-o", path("killed").string()};
   args.insert(args.end(), spec.begin(), spec.end());
   ASSERT_EQ(granstack(args).code, 0);
@@ -267,7 +268,7 @@ TEST_F(Safety, ASweepKilledMidwayLeavesNoLiggghtsAndResumesToTheSameBytes) {
       120));
   ::kill(run.pid, SIGKILL);
   os::wait(run);
-  EXPECT_TRUE(eventually([&] { return processes_in(path("killed")).empty(); }, 5)) << processes_in(path("killed")).front();
+  EXPECT_TRUE(eventually([&] { return processes_in(path("killed")).empty(); }, 1)) << processes_in(path("killed")).front();
   int done_before = 0;
   for (const auto& c : cases) done_before += status_of(path("killed") / c) == "done";
   const auto rerun = granstack({"run", "-j", "2", path("killed").string()});
@@ -571,6 +572,21 @@ TEST_F(Safety, OutputsNeverReplaceUsersFilesAndCaseNamesStayApart) {
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_TRUE(fs::exists(path("elsewhere/nb2/summary.json")));
   EXPECT_EQ(read_bytes(c / "reduce"), "in the way");
+}
+
+// A line per case as it ends, written at once: a log followed with tail -f shows each case
+// when it finishes, not all of them at the end.
+TEST_F(Safety, RunPrintsEachCaseAsItEnds) {
+  ASSERT_EQ(granstack({"generate", "-o", path("quick").string(), "--blocks", "1"}).code, 0);
+  ASSERT_EQ(granstack({"generate", "-o", path("slow").string(), "--blocks", "4", "--dt", "3e-9"}).code, 0);
+  const auto run = start({"run", path("quick").string(), path("slow").string()});
+  const auto log = logs_[run.pid];
+  EXPECT_TRUE(eventually([&] { return read_bytes(log).find("done     " + path("quick").string()) != std::string::npos; }, 30));
+  EXPECT_FALSE(os::poll(run).has_value()) << "the slow case should still be running";
+  EXPECT_EQ(read_bytes(log).find("slow"), std::string::npos);
+  const auto r = finish(run, 120);
+  EXPECT_EQ(r.code, 0) << r.output;
+  expect_contains(r, "done     " + path("slow").string());
 }
 
 }  // namespace

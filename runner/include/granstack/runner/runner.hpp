@@ -26,19 +26,6 @@ enum class Engine {
   refsim     // the in-house reference integrator, in this process
 };
 
-struct RunOptions {
-  Engine engine = Engine::liggghts;
-  int jobs = 1;           // cases run at the same time
-  int ranks = 1;          // MPI ranks per case (mpirun when > 1; LIGGGHTS only)
-  int threads = 1;        // threads per case (refsim only)
-  std::string kernel = "auto";  // refsim's contact kernel: auto, reference or avx512
-  bool force = false;     // rerun cases that finished
-  std::string liggghts = "liggghts";
-  std::string mpirun = "mpirun";
-  // Called about twice a second while cases run, and once at the end.
-  std::function<void(const ProgressSnapshot&)> on_progress;
-};
-
 // interrupted: stopped by SIGINT/SIGTERM/SIGHUP to granstack (run.json says so); not_started:
 // not begun because such a signal came first.
 enum class RunStatus { done, skipped, failed, interrupted, not_started };
@@ -52,6 +39,21 @@ struct RunOutcome {
   double particle_steps_per_second = 0.0;
 };
 
+struct RunOptions {
+  Engine engine = Engine::liggghts;
+  int jobs = 1;           // cases run at the same time
+  int ranks = 1;          // MPI ranks per case (mpirun when > 1; LIGGGHTS only)
+  int threads = 1;        // threads per case (refsim only)
+  std::string kernel = "auto";  // refsim's contact kernel: auto, reference or avx512
+  bool force = false;     // rerun cases that finished
+  std::string liggghts = "liggghts";
+  std::string mpirun = "mpirun";
+  // Called about twice a second while cases run, and once at the end.
+  std::function<void(const ProgressSnapshot&)> on_progress;
+  // Called as each case ends (done, skipped, failed, interrupted), one call at a time.
+  std::function<void(const RunOutcome&)> on_case_done;
+};
+
 // Runs every case (already expanded from sweep directories), each under its case lock (a case
 // another granstack is running fails with that one named). Never throws for a failing case: the
 // failure is in its outcome and its run.json. After os::interrupt_signal() is set, running cases
@@ -63,7 +65,8 @@ std::vector<RunOutcome> run_cases(const std::vector<std::string>& case_dirs, con
 std::string recorded_status(const std::string& case_dir);
 
 // Copies the inputs of a case (manifest, data file, deck) into a new directory `target`
-// (replacing a granstack case there; anything else there is refused), so the same case can be run again elsewhere, e.g. by the other engine.
+// (replacing a granstack case there; anything else there is refused), so the same case can be
+// run again elsewhere, e.g. by the other engine.
 void clone_case_inputs(const std::string& case_dir, const std::string& target);
 
 // The directory of PATH that holds `program`, or nullopt.
