@@ -105,12 +105,9 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
 
   std::string walls;
   const std::string wall_fix = "all wall/gran model hertz tangential history primitive type";
-  if (spec.bottom == model::Boundary::wall) {
-    walls += fmt::format("fix             wall_bottom {} {} zplane 0\n", wall_fix, stack.wall_type());
-  }
-  if (spec.sides == model::Boundary::wall) {
-    walls += fmt::format("fix             wall_left {} {} xplane {}\n", wall_fix, stack.wall_type(), -stack.half_width());
-    walls += fmt::format("fix             wall_right {} {} xplane {}\n", wall_fix, stack.wall_type(), stack.half_width());
+  for (const auto& w : stack.walls()) {
+    walls += fmt::format("fix             {} {} {} {}plane {}\n", w.name, wall_fix, stack.wall_type(), w.axis == 0 ? 'x' : 'z',
+                         w.position);
   }
   v["walls"] = walls.empty() ? "# free bottom and free sides: no walls" : walls.substr(0, walls.size() - 1);
   v["gravity"] = spec.gravity > 0.0 ? fmt::format("fix             gravity all gravity {} vector 0 0 -1", spec.gravity)

@@ -93,6 +93,16 @@ std::vector<int> Stack::bottom_row_ids() const {
   return ids;
 }
 
+std::vector<Wall> Stack::walls() const {
+  std::vector<Wall> w;
+  if (spec_.bottom == Boundary::wall) w.push_back({"wall_bottom", 2, 0.0});
+  if (spec_.sides == Boundary::wall) {
+    w.push_back({"wall_left", 0, -half_width()});
+    w.push_back({"wall_right", 0, half_width()});
+  }
+  return w;
+}
+
 bool Stack::has_walls() const {
   return spec_.bottom == Boundary::wall || spec_.sides == Boundary::wall;
 }

@@ -198,19 +198,14 @@ class ContactEnergy {
     return model::hertz_elastic_energy(y, a.radius * b.radius / (a.radius + b.radius), overlap);
   }
 
-  // Against every wall the spec has (planes z = 0 and x = -+half_width; a wall has R* = R_i).
+  // Against every wall of the stack (a wall has R* = R_i).
   double walls(const model::Sphere& s, double x, double z) const {
     if (wall_y_star_.empty()) return 0.0;
-    const auto& spec = stack_.spec();
     const double y = wall_y_star_[static_cast<std::size_t>(s.atom_type - 1)];
     double energy = 0.0;
-    auto add = [&](double distance) {
+    for (const auto& w : walls_) {
+      const double distance = std::fabs((w.axis == 0 ? x : z) - w.position);
       if (distance < s.radius) energy += model::hertz_elastic_energy(y, s.radius, s.radius - distance);
-    };
-    if (spec.bottom == model::Boundary::wall) add(std::fabs(z));
-    if (spec.sides == model::Boundary::wall) {
-      add(std::fabs(x + stack_.half_width()));
-      add(std::fabs(x - stack_.half_width()));
     }
     return energy;
   }
@@ -220,6 +215,7 @@ class ContactEnergy {
   std::size_t ntypes_ = 0;
   std::vector<double> y_star_;
   std::vector<double> wall_y_star_;
+  std::vector<model::Wall> walls_ = stack_.walls();
 };
 
 }  // namespace

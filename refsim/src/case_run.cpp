@@ -57,12 +57,8 @@ Parameters case_parameters(const model::Stack& stack) {
       [&](const model::Material& a, const model::Material& b) { return spec.friction.get(a.name, b.name); });
   p.dt = res.dt;
   p.skin = res.skin;
-  // The deck's walls, in its order: bottom, then left and right.
-  if (spec.bottom == model::Boundary::wall) p.walls.push_back({2, 0.0, stack.wall_type()});
-  if (spec.sides == model::Boundary::wall) {
-    p.walls.push_back({0, -stack.half_width(), stack.wall_type()});
-    p.walls.push_back({0, stack.half_width(), stack.wall_type()});
-  }
+  // The deck's walls, in its order.
+  for (const auto& w : stack.walls()) p.walls.push_back({w.axis, w.position, stack.wall_type()});
   // fix gravity ... vector 0 0 -1: acceleration = magnitude * unit vector.
   if (spec.gravity > 0.0) p.gravity = {spec.gravity * 0.0, spec.gravity * 0.0, spec.gravity * -1.0};
   return p;

@@ -27,6 +27,14 @@ struct Sphere {
   double z = 0.0;       // m
 };
 
+// A planar wall (LIGGGHTS wall/gran ... primitive xplane/zplane): the plane where coordinate
+// `axis` (0 = x, 2 = z) equals `position`, in m.
+struct Wall {
+  std::string name;  // the deck's fix id: wall_bottom, wall_left, wall_right
+  int axis = 2;
+  double position = 0.0;
+};
+
 struct Block {
   int index = 0;  // 1 = top
   std::string material;
@@ -66,6 +74,10 @@ class Stack {
   int striker_type() const { return static_cast<int>(blocks_.size()) + 1; }
   // 0 when the spec has no wall.
   int wall_type() const { return has_walls() ? striker_type() + 1 : 0; }
+  // Where the spec's walls stand, touching the lattice: the bottom face z = 0, the sides
+  // x = -+half_width; in the deck's order (bottom, left, right). The generator, refsim and the
+  // post-processor all place walls through this.
+  std::vector<Wall> walls() const;
   bool has_walls() const;
   int atom_types() const { return has_walls() ? striker_type() + 1 : striker_type(); }
   // The material of each LIGGGHTS atom type, index 0 = type 1.
