@@ -18,7 +18,7 @@ namespace {
 
 struct ValidateFlags {
   std::vector<std::string> cases;
-  double tolerance = 1e-6;
+  double tolerance = postproc::kDefaultTolerance;
   int jobs = 1;
   std::string liggghts = "liggghts";
 };
@@ -58,8 +58,7 @@ int validate(const ValidateFlags& f) {
   if (rc != kOk || os::interrupt_signal() != 0) return rc;
   for (std::size_t i = 0; i < dirs.size(); ++i) {
     const auto c = postproc::compare_runs(liggghts_dirs[i], refsim_dirs[i]);
-    fmt::print("{}{}\n", postproc::format_comparison(c, "liggghts", "refsim", f.tolerance),
-               c.worst() <= f.tolerance ? "agree" : "DISAGREE");
+    fmt::print("{}", postproc::format_comparison(c, "liggghts", "refsim", f.tolerance));
     if (!(c.worst() <= f.tolerance)) rc = kDisagree;
   }
   return rc;
@@ -72,8 +71,8 @@ Command add_validate(CLI::App& app) {
   auto* cmd = app.add_subcommand("validate", "Run LIGGGHTS and refsim on the same cases and compare them");
   cmd->add_option("cases", f->cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("--tolerance", f->tolerance,
-                  "Largest accepted relative difference (per-block KE over time / peak, output fraction, "
-                  "positions / smallest radius, velocities / striker speed) [1e-6]")
+                  "Largest accepted difference of any dumped column, series column or the output fraction, "
+                  "relative to max(|liggghts|, |refsim|, a physical floor) [1e-8: round-off, see README]")
       ->check(CLI::PositiveNumber);
   cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
   cmd->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");

@@ -18,7 +18,7 @@ using nlohmann::json;
 
 namespace {
 const std::vector<std::string> kDumpColumns{"id", "type", "radius", "mass", "x", "y", "z", "vx", "vy", "vz",
-                                            "omegax", "omegay", "omegaz", "fx", "fy", "fz"};
+                                            "omegax", "omegay", "omegaz", "fx", "fy", "fz", "tqx", "tqy", "tqz"};
 
 // The groups whose energies the series records: (group, short tag, column suffix).
 struct EnergyGroup {

@@ -2,6 +2,7 @@
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/series.hpp>
+#include <granstack/model/contact.hpp>
 #include <granstack/model/stack.hpp>
 #include <granstack/postproc/compare.hpp>
 #include <granstack/postproc/energy.hpp>
@@ -18,90 +19,203 @@ namespace granstack::postproc {
 namespace fs = std::filesystem;
 
 double RunComparison::worst() const {
-  double w = output_fraction_difference;
-  for (const double d : block_series_difference) w = std::max(w, d);
-  if (position_scale > 0) w = std::max(w, max_position_difference / position_scale);
-  if (velocity_scale > 0) w = std::max(w, max_velocity_difference / velocity_scale);
+  if (!mismatches.empty()) return std::numeric_limits<double>::infinity();
+  double w = output_fraction.relative;
+  for (const auto* list : {&dump, &series}) {
+    for (const auto& d : *list) w = std::max(w, d.relative);
+  }
   return w;
 }
 
-namespace {
-// Per-block KE (translational + rotational) by step, from the in-situ series.
-std::map<long, std::vector<double>> block_series(const std::string& dir, int blocks) {
-  const auto m = formats::read_manifest(dir);
-  const auto s = formats::read_series((fs::path(dir) / m.files.series).string());
-  std::vector<std::pair<int, int>> cols;
-  for (int k = 1; k <= blocks; ++k) {
-    cols.emplace_back(s.column(fmt::format("ke_trans_block{}", k)), s.column(fmt::format("ke_rot_block{}", k)));
-  }
-  std::map<long, std::vector<double>> out;
-  for (const auto& row : s.rows) {
-    std::vector<double> ke;
-    for (const auto& [t, r] : cols) {
-      ke.push_back(t >= 0 && r >= 0 ? row[static_cast<std::size_t>(t)] + row[static_cast<std::size_t>(r)] : 0.0);
+const Difference& RunComparison::largest() const {
+  const Difference* w = &output_fraction;
+  for (const auto* list : {&dump, &series}) {
+    for (const auto& d : *list) {
+      if (d.relative > w->relative) w = &d;
     }
-    out[static_cast<long>(row[0])] = std::move(ke);
   }
-  return out;
+  return *w;
 }
+
+namespace {
+
+// The physical scale of each quantity, the floor of its relative differences.
+struct Scales {
+  double radius, mass, speed, spin, force, torque, energy;
+  explicit Scales(const model::Stack& stack) {
+    const auto& spec = stack.spec();
+    const auto& top = stack.block(1);
+    const auto& bottom = stack.blocks().back();
+    const auto& m = spec.material_library().at(top.material);
+    // The largest force of the impact: the striker's Hertz peak on a top sphere,
+    // 4/3 Y* sqrt(R*) d_max^(3/2).
+    const auto c = model::sphere_sphere(m, top.radius, m, top.radius);
+    const double d = model::hertz_max_overlap(c, spec.striker_speed);
+    radius = bottom.radius;
+    mass = bottom.sphere_mass;
+    speed = spec.striker_speed;
+    spin = speed / radius;
+    force = 4.0 / 3.0 * c.y_star * std::sqrt(c.r_star) * d * std::sqrt(d);
+    torque = force * radius;
+    energy = stack.incident_energy();
+  }
+  // Floor and unit of a dump column.
+  std::pair<double, const char*> of(const std::string& column) const {
+    const char first = column.empty() ? ' ' : column.front();
+    if (column == "radius") return {radius, "m"};
+    if (column == "mass") return {mass, "kg"};
+    if (column == "x" || column == "y" || column == "z") return {radius, "m"};
+    if (column.rfind("omega", 0) == 0) return {spin, "rad/s"};
+    if (column.rfind("tq", 0) == 0) return {torque, "N m"};
+    if (first == 'v') return {speed, "m/s"};
+    if (first == 'f') return {force, "N"};
+    return {1.0, ""};
+  }
+};
+
+void add(Difference& d, double a, double b, long step, long atom) {
+  const double r = std::fabs(a - b) / std::max({std::fabs(a), std::fabs(b), d.floor});
+  if (d.values++ == 0 || r > d.relative) {
+    d.relative = r;
+    d.step = step;
+    d.atom = atom;
+    d.a = a;
+    d.b = b;
+  }
+}
+
+bool finite_frame(const formats::DumpFrame& f, const std::string& path, RunComparison& c) {
+  for (std::size_t i = 0; i < f.values.size(); ++i) {
+    if (!std::isfinite(f.values[i])) {
+      const auto row = static_cast<long>(i / f.columns.size());
+      const int id = f.column("id");
+      c.mismatches.push_back(fmt::format("{}: {} in column '{}' of atom {} at step {}", path, f.values[i],
+                                         f.columns[i % f.columns.size()], id >= 0 ? f.at(row, id) : 0.0, f.step));
+      return false;
+    }
+  }
+  return true;
+}
+
+// Every column both dumps carry, every sphere, every frame.
+void compare_dumps(const std::string& dir_a, const std::string& dir_b, const model::Stack& stack, RunComparison& c) {
+  const auto ma = formats::read_manifest(dir_a), mb = formats::read_manifest(dir_b);
+  const auto path_a = formats::find_dump(dir_a, ma.files.dump), path_b = formats::find_dump(dir_b, mb.files.dump);
+  const auto ra = formats::open_dump(path_a, ma.spec.dump_format == model::DumpFormat::binary, ma.files.dump_columns);
+  const auto rb = formats::open_dump(path_b, mb.spec.dump_format == model::DumpFormat::binary, mb.files.dump_columns);
+  const Scales scales(stack);
+  formats::DumpFrame fa, fb;
+  FrameView va(stack, path_a), vb(stack, path_b);
+  std::vector<std::pair<int, int>> columns;  // (column in a, column in b) per Difference
+  for (;;) {
+    const bool more_a = ra->next(fa), more_b = rb->next(fb);
+    if (!more_a || !more_b) {
+      if (more_a || more_b) {
+        c.mismatches.push_back(fmt::format("{} has more dump frames than {} (the first one {} lacks is at step {})",
+                                           more_a ? path_a : path_b, more_a ? path_b : path_a, more_a ? path_b : path_a,
+                                           (more_a ? fa : fb).step));
+      }
+      return;
+    }
+    if (fa.step != fb.step) {
+      c.mismatches.push_back(fmt::format("dump frame {} is at step {} in {} and at step {} in {}", c.frames + 1, fa.step,
+                                         path_a, fb.step, path_b));
+      return;
+    }
+    if (!finite_frame(fa, path_a, c) || !finite_frame(fb, path_b, c)) return;
+    va.bind(fa);
+    vb.bind(fb);
+    if (c.frames == 0) {
+      for (const auto& name : fa.columns) {
+        if (name == "id") continue;
+        const int kb = fb.column(name);
+        if (kb < 0) {
+          c.mismatches.push_back(fmt::format("{} has the dump column '{}', {} has not", path_a, name, path_b));
+          continue;
+        }
+        const auto [floor, unit] = scales.of(name);
+        c.dump.push_back({name, unit, floor});
+        columns.emplace_back(fa.column(name), kb);
+      }
+      for (const auto& name : fb.columns) {
+        if (fa.column(name) < 0) c.mismatches.push_back(fmt::format("{} has the dump column '{}', {} has not", path_b, name, path_a));
+      }
+    }
+    for (const auto& s : stack.spheres()) {
+      const long rowa = va.row(s.id), rowb = vb.row(s.id);
+      for (std::size_t k = 0; k < columns.size(); ++k) {
+        add(c.dump[k], fa.at(rowa, columns[k].first), fb.at(rowb, columns[k].second), fa.step, s.id);
+      }
+    }
+    ++c.frames;
+  }
+}
+
+// Every column of the two series, step by step.
+void compare_series(const std::string& dir_a, const std::string& dir_b, const model::Stack& stack, RunComparison& c) {
+  const auto ma = formats::read_manifest(dir_a), mb = formats::read_manifest(dir_b);
+  const auto path_a = (fs::path(dir_a) / ma.files.series).string(), path_b = (fs::path(dir_b) / mb.files.series).string();
+  const auto sa = formats::read_series(path_a), sb = formats::read_series(path_b);
+  if (sa.columns != sb.columns) {
+    c.mismatches.push_back(fmt::format("the series have other columns: {} in {}, {} in {}", fmt::join(sa.columns, " "),
+                                       path_a, fmt::join(sb.columns, " "), path_b));
+    return;
+  }
+  if (sa.rows.size() != sb.rows.size()) {
+    c.mismatches.push_back(fmt::format("{} has {} series rows, {} has {}", path_a, sa.rows.size(), path_b, sb.rows.size()));
+    return;
+  }
+  const double energy = Scales(stack).energy;
+  for (std::size_t j = 1; j < sa.columns.size(); ++j) c.series.push_back({sa.columns[j], "J", energy});
+  for (std::size_t i = 0; i < sa.rows.size(); ++i) {
+    const auto& a = sa.rows[i];
+    const auto& b = sb.rows[i];
+    if (a[0] != b[0]) {
+      c.mismatches.push_back(fmt::format("series row {} is at step {} in {} and at step {} in {}", i + 1, a[0], path_a,
+                                         b[0], path_b));
+      return;
+    }
+    for (std::size_t j = 1; j < a.size(); ++j) {
+      if (!std::isfinite(a[j]) || !std::isfinite(b[j])) {
+        c.mismatches.push_back(fmt::format("series column '{}' at step {}: {} in {}, {} in {}", sa.columns[j], a[0], a[j],
+                                           path_a, b[j], path_b));
+        return;
+      }
+      add(c.series[j - 1], a[j], b[j], static_cast<long>(a[0]), -1);
+    }
+    ++c.series_rows;
+  }
+}
+
+// Runs `what`, turning a bad file into a mismatch.
+template <typename F>
+void recorded(RunComparison& c, F what) {
+  try {
+    what();
+  } catch (const formats::FormatError& e) {
+    c.mismatches.push_back(e.what());
+  } catch (const PhysicsError& e) {
+    c.mismatches.push_back(e.what());
+  }
+}
+
 }  // namespace
 
 RunComparison compare_runs(const std::string& dir_a, const std::string& dir_b) {
   RunComparison c;
-  c.a = reduce_case(dir_a);
-  c.b = reduce_case(dir_b);
-  const auto& spec = c.a.spec;
-  const int nb = spec.blocks;
-  c.output_fraction_difference =
-      c.a.output_fraction != 0.0 ? std::fabs(c.a.output_fraction - c.b.output_fraction) / std::fabs(c.a.output_fraction)
-                                 : std::fabs(c.b.output_fraction);
-
-  const auto sa = block_series(dir_a, nb);
-  const auto sb = block_series(dir_b, nb);
-  c.block_series_difference.assign(static_cast<std::size_t>(nb), 0.0);
-  for (const auto& [step, ka] : sa) {
-    const auto it = sb.find(step);
-    if (it == sb.end()) continue;
-    ++c.series_rows_compared;
-    for (std::size_t k = 0; k < ka.size(); ++k) {
-      const double peak = c.a.blocks[k].peak_ke;
-      if (peak > 0) c.block_series_difference[k] = std::max(c.block_series_difference[k], std::fabs(ka[k] - it->second[k]) / peak);
-    }
-  }
-
-  const auto stack = model::Stack::build(spec);
-  c.position_scale = stack.blocks().back().radius;
-  c.velocity_scale = spec.striker_speed;
-  const auto ma = formats::read_manifest(dir_a);
-  const auto mb = formats::read_manifest(dir_b);
-  const auto ra = formats::open_dump(formats::find_dump(dir_a, ma.files.dump),
-                                     ma.spec.dump_format == model::DumpFormat::binary, ma.files.dump_columns);
-  const auto rb = formats::open_dump(formats::find_dump(dir_b, mb.files.dump),
-                                     mb.spec.dump_format == model::DumpFormat::binary, mb.files.dump_columns);
-  formats::DumpFrame fa, fb;
-  FrameView va(stack, ra->path()), vb(stack, rb->path());
-  while (ra->next(fa)) {
-    if (!rb->next(fb)) break;
-    if (fa.step != fb.step) {
-      throw formats::FormatError(rb->path(), 0, fmt::format("dump frame at step {} where {} has step {}: the runs do not "
-                                                            "dump the same steps",
-                                                            fb.step, ra->path(), fa.step));
-    }
-    va.bind(fa);
-    vb.bind(fb);
-    const int xa[3] = {fa.column("x"), fa.column("y"), fa.column("z")};
-    const int xb[3] = {fb.column("x"), fb.column("y"), fb.column("z")};
-    const int ua[3] = {fa.column("vx"), fa.column("vy"), fa.column("vz")};
-    const int ub[3] = {fb.column("vx"), fb.column("vy"), fb.column("vz")};
-    for (const auto& s : stack.spheres()) {
-      const long rowa = va.row(s.id), rowb = vb.row(s.id);
-      for (int d = 0; d < 3; ++d) {
-        c.max_position_difference = std::max(c.max_position_difference, std::fabs(fa.at(rowa, xa[d]) - fb.at(rowb, xb[d])));
-        c.max_velocity_difference = std::max(c.max_velocity_difference, std::fabs(fa.at(rowa, ua[d]) - fb.at(rowb, ub[d])));
-      }
-    }
-    ++c.frames_compared;
-  }
+  const auto manifest = formats::read_manifest(dir_a);
+  c.case_name = manifest.case_name;
+  const auto stack = model::Stack::build(manifest.spec);
+  recorded(c, [&] { compare_dumps(dir_a, dir_b, stack, c); });
+  recorded(c, [&] { compare_series(dir_a, dir_b, stack, c); });
+  c.output_fraction = {"output_fraction", "of E_in", kOutputFractionFloor};
+  ReduceOptions quiet;
+  quiet.write_files = false;
+  recorded(c, [&] {
+    const auto a = reduce_case(dir_a, quiet);
+    const auto b = reduce_case(dir_b, quiet);
+    add(c.output_fraction, a.output_fraction, b.output_fraction, -1, -1);
+  });
   return c;
 }
 
@@ -109,23 +223,28 @@ std::string format_comparison(const RunComparison& c, const std::string& name_a,
                               double tolerance) {
   fmt::memory_buffer b;
   auto out = std::back_inserter(b);
-  auto mark = [&](double rel) { return rel <= tolerance ? "ok" : "OVER"; };
-  fmt::format_to(out, "{}: {} against {} ({} dump frames, {} series samples compared; tolerance {:g})\n",
-                 c.a.case_name, name_a, name_b, c.frames_compared, c.series_rows_compared, tolerance);
-  fmt::format_to(out, "{:>5}  {:>16}  {:>16}  {:>22}\n", "block", fmt::format("peak KE {} (J)", name_a),
-                 fmt::format("peak KE {} (J)", name_b), "max |dKE(t)| / peak");
-  for (std::size_t k = 0; k < c.block_series_difference.size(); ++k) {
-    fmt::format_to(out, "{:>5}  {:>16.10e}  {:>16.10e}  {:>18.3e} {}\n", k + 1, c.a.blocks[k].peak_ke, c.b.blocks[k].peak_ke,
-                   c.block_series_difference[k], mark(c.block_series_difference[k]));
+  fmt::format_to(out, "{}: {} against {}: {} dump frames, {} series rows compared; tolerance {:g} of max(|{}|, |{}|, floor)\n",
+                 c.case_name, name_a, name_b, c.frames, c.series_rows, tolerance, name_a, name_b);
+  fmt::format_to(out, "{:<24} {:>10} {:<7} {:>10}  {:<4} {:>9} {:>6}  {:>24} {:>24}\n", "quantity", "floor", "", "largest",
+                 "", "at step", "atom", name_a, name_b);
+  auto row = [&](const Difference& d) {
+    fmt::format_to(out, "{:<24} {:>10.3e} {:<7} {:>10.3e}  {:<4} {:>9} {:>6}  {:>24.17g} {:>24.17g}\n", d.quantity, d.floor,
+                   d.unit, d.relative, d.relative <= tolerance ? "ok" : "OVER", d.step >= 0 ? std::to_string(d.step) : "-",
+                   d.atom >= 0 ? std::to_string(d.atom) : "-", d.a, d.b);
+  };
+  for (const auto& d : c.dump) row(d);
+  for (const auto& d : c.series) row(d);
+  row(c.output_fraction);
+  for (const auto& m : c.mismatches) fmt::format_to(out, "MISMATCH: {}\n", m);
+  const auto& w = c.largest();
+  if (c.mismatches.empty()) {
+    fmt::format_to(out, "{}: largest difference {:.3e} ({}{}) {} the tolerance {:g}\n",
+                   c.worst() <= tolerance ? "agree" : "DISAGREE", w.relative, w.quantity,
+                   w.step >= 0 ? fmt::format(", step {}", w.step) : "", c.worst() <= tolerance ? "within" : "above",
+                   tolerance);
+  } else {
+    fmt::format_to(out, "DISAGREE: {} mismatch{}\n", c.mismatches.size(), c.mismatches.size() == 1 ? "" : "es");
   }
-  fmt::format_to(out, "output fraction: {:.15g} against {:.15g}, relative difference {:.3e} {}\n", c.a.output_fraction,
-                 c.b.output_fraction, c.output_fraction_difference, mark(c.output_fraction_difference));
-  const double px = c.position_scale > 0 ? c.max_position_difference / c.position_scale : 0.0;
-  const double pv = c.velocity_scale > 0 ? c.max_velocity_difference / c.velocity_scale : 0.0;
-  fmt::format_to(out, "largest position difference: {:.3e} m ({:.3e} of the smallest radius) {}\n",
-                 c.max_position_difference, px, mark(px));
-  fmt::format_to(out, "largest velocity difference: {:.3e} m/s ({:.3e} of the striker speed) {}\n",
-                 c.max_velocity_difference, pv, mark(pv));
   return fmt::to_string(b);
 }
 

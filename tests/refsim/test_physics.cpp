@@ -306,13 +306,19 @@ TEST(Threads, TwoThreadsGiveExactlyTheOneThreadResult) {
   EXPECT_NE(one->v(stack.output_sphere_id() - 1), (refsim::Vec3{0, 0, 0}));  // the pulse got there
 }
 
-// The AVX-512 kernels do the reference's operations lane by lane: the same bits, on a stack that
-// takes every path (damped and frictional with walls and gravity: sticking, sliding, history
-// reset and walls; elastic and frictionless: kn delta n, no torques, pairs of still spheres
-// skipped), on one and two threads, one step at a time or several at once. The spheres in
-// generated order and in reverse, so that the pulse reaches the higher-numbered sphere of a pair
-// first in one and the lower-numbered one in the other.
-TEST(Kernels, TheAvx512KernelsGiveExactlyTheReferenceResult) {  // or, without AVX-512, the fallback
+// The stacks the kernel tests run: one that takes every path (damped and frictional with walls
+// and gravity: sticking, sliding, history reset and walls) and one elastic and frictionless
+// (kn delta n, no torques, pairs of still spheres skipped), the latter also in reversed sphere
+// order, so that the pulse reaches the higher-numbered sphere of a pair first in one and the
+// lower-numbered one in the other.
+struct KernelCase {
+  model::Stack stack;
+  std::vector<refsim::Particle> particles;
+  std::size_t output = 0;
+};
+
+std::vector<KernelCase> kernel_cases() {
+  std::vector<KernelCase> cases;
   for (const auto& [frictional, reversed] : {std::pair{true, false}, {false, false}, {false, true}}) {
     model::StackSpec spec;
     spec.blocks = 3;
@@ -328,55 +334,84 @@ TEST(Kernels, TheAvx512KernelsGiveExactlyTheReferenceResult) {  // or, without A
     auto particles = refsim::particles_from(generator::data_file(stack, "kernels"));
     if (reversed) std::reverse(particles.begin(), particles.end());
     const std::size_t output = reversed ? particles.size() - stack.output_sphere_id() : stack.output_sphere_id() - 1;
-    // One step at a time, or advance() taking each step's end and the next one's start together.
-    auto run = [&](refsim::Parameters::Kernel kernel, int threads, bool advance = false) {
-      auto params = refsim::case_parameters(stack);
-      params.kernel = kernel;
-      params.threads = threads;
-      auto s = std::make_unique<System>(particles, params);
-      s->setup();
-      if (advance) {
-        s->advance(1000);
-        s->advance(2000);
-      } else {
-        for (int k = 0; k < 3000; ++k) s->step();
-      }
-      return s;
-    };
-    const auto reference = run(refsim::Parameters::Kernel::reference, 1);
-    const auto same = [&](const System& a) {
-      EXPECT_EQ(a.step_count(), reference->step_count());
-      EXPECT_EQ(a.neighbor_builds(), reference->neighbor_builds());
-      for (std::size_t i = 0; i < reference->size(); ++i) {
-        ASSERT_EQ(a.x(i), reference->x(i)) << i;
-        ASSERT_EQ(a.v(i), reference->v(i)) << i;
-        ASSERT_EQ(a.omega(i), reference->omega(i)) << i;
-        ASSERT_EQ(a.force(i), reference->force(i)) << i;
-        ASSERT_EQ(a.torque(i), reference->torque(i)) << i;
-      }
-    };
-    same(*run(refsim::Parameters::Kernel::reference, 1, true));
-    same(*run(refsim::Parameters::Kernel::reference, 2, true));
+    cases.push_back({stack, particles, output});
+  }
+  return cases;
+}
+
+// 3000 steps one at a time, or through advance() taking each step's end and the next one's
+// start together.
+std::unique_ptr<System> run_kernel(const KernelCase& c, refsim::Parameters::Kernel kernel, int threads, bool advance = false) {
+  auto params = refsim::case_parameters(c.stack);
+  params.kernel = kernel;
+  params.threads = threads;
+  auto s = std::make_unique<System>(c.particles, params);
+  s->setup();
+  if (advance) {
+    s->advance(1000);
+    s->advance(2000);
+  } else {
+    for (int k = 0; k < 3000; ++k) s->step();
+  }
+  return s;
+}
+
+void expect_same(const System& a, const System& reference) {
+  EXPECT_EQ(a.step_count(), reference.step_count());
+  EXPECT_EQ(a.neighbor_builds(), reference.neighbor_builds());
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    ASSERT_EQ(a.x(i), reference.x(i)) << i;
+    ASSERT_EQ(a.v(i), reference.v(i)) << i;
+    ASSERT_EQ(a.omega(i), reference.omega(i)) << i;
+    ASSERT_EQ(a.force(i), reference.force(i)) << i;
+    ASSERT_EQ(a.torque(i), reference.torque(i)) << i;
+  }
+}
+
+// The reference kernel gives the same bits on one or two threads, stepping or advancing.
+TEST(Kernels, TheReferenceKernelGivesTheSameBitsOnAnyThreadsAndStepping) {
+  for (const auto& c : kernel_cases()) {
+    const auto reference = run_kernel(c, refsim::Parameters::Kernel::reference, 1);
     EXPECT_FALSE(reference->uses_avx512());
     EXPECT_GT(reference->neighbor_builds(), 1);  // histories carried across a rebuild too
-    EXPECT_NE(reference->v(output), (refsim::Vec3{0, 0, 0}));  // the pulse got there
-    const auto automatic = run(refsim::Parameters::Kernel::automatic, 1);
-    same(*automatic);
-    if (!automatic->uses_avx512()) {
-      // A CPU without AVX-512 runs the reference kernel, and refuses a request for AVX-512 with the fix.
-      auto params = refsim::case_parameters(stack);
-      params.kernel = refsim::Parameters::Kernel::avx512;
-      try {
-        System refused(particles, params);
-        ADD_FAILURE() << "--kernel avx512 accepted on a CPU without AVX-512";
-      } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("use --kernel auto or reference"), std::string::npos) << e.what();
-      }
-      continue;
-    }
+    EXPECT_NE(reference->v(c.output), (refsim::Vec3{0, 0, 0}));  // the pulse got there
+    expect_same(*run_kernel(c, refsim::Parameters::Kernel::reference, 1, true), *reference);
+    expect_same(*run_kernel(c, refsim::Parameters::Kernel::reference, 2, true), *reference);
+  }
+}
+
+bool cpu_has_avx512() {
+  const auto c = kernel_cases().front();
+  return run_kernel(c, refsim::Parameters::Kernel::automatic, 1)->uses_avx512();
+}
+
+// The AVX-512 kernels do the reference's operations lane by lane: the same bits.
+TEST(Kernels, TheAvx512KernelsGiveExactlyTheReferenceResult) {
+  if (!cpu_has_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: the AVX-512 kernels cannot run here";
+  for (const auto& c : kernel_cases()) {
+    const auto reference = run_kernel(c, refsim::Parameters::Kernel::reference, 1);
+    const auto automatic = run_kernel(c, refsim::Parameters::Kernel::automatic, 1);
+    EXPECT_TRUE(automatic->uses_avx512());
+    expect_same(*automatic, *reference);
     for (const int threads : {1, 2}) {
-      for (const bool advance : {false, true}) same(*run(refsim::Parameters::Kernel::avx512, threads, advance));
+      for (const bool advance : {false, true}) {
+        expect_same(*run_kernel(c, refsim::Parameters::Kernel::avx512, threads, advance), *reference);
+      }
     }
+  }
+}
+
+// A CPU without AVX-512 runs the reference kernel, and refuses a request for AVX-512 with the fix.
+TEST(Kernels, WithoutAvx512TheAvx512KernelIsRefused) {
+  if (cpu_has_avx512()) GTEST_SKIP() << "this CPU has AVX-512: the fallback is not taken here";
+  const auto c = kernel_cases().front();
+  auto params = refsim::case_parameters(c.stack);
+  params.kernel = refsim::Parameters::Kernel::avx512;
+  try {
+    System refused(c.particles, params);
+    ADD_FAILURE() << "--kernel avx512 accepted on a CPU without AVX-512";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("use --kernel auto or reference"), std::string::npos) << e.what();
   }
 }
 

@@ -1,31 +1,67 @@
 #pragma once
 // Two runs of the same case (LIGGGHTS and refsim) compared the way `granstack validate`
-// reports them: per-block energies over time, the output fraction, and every sphere's state.
+// reports them: every column both engines dump, at every frame, for every sphere; every column
+// of the in-situ series at every step; and the output fraction. Nothing is skipped: frames,
+// steps, columns or spheres that one run has and the other lacks, and NaN or inf anywhere, make
+// the runs disagree.
 #include <granstack/postproc/reduce.hpp>
 
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace granstack::postproc {
 
-struct RunComparison {
-  CaseReduction a, b;
-  std::vector<double> block_series_difference;  // per block: max over common steps |KE_a - KE_b| / peak_a
-  double output_fraction_difference = 0.0;     // |f_a - f_b| / f_a
-  double max_position_difference = 0.0;        // m, any sphere, any common dump frame
-  double max_velocity_difference = 0.0;        // m/s
-  double position_scale = 0.0;                 // m: the smallest radius
-  double velocity_scale = 0.0;                 // m/s: the striker speed
-  long frames_compared = 0;
-  long series_rows_compared = 0;
-  // The largest of the relative measures: series / peak, output fraction, |dx| / R_min, |dv| / v.
-  double worst() const;
+// The largest difference of one quantity over the whole comparison, relative to
+// max(|a|, |b|, floor): the floor is a physical scale of the quantity (the smallest radius for
+// positions, the striker speed for velocities, ...), so a value that should be zero is compared
+// too, and never divides by zero.
+struct Difference {
+  std::string quantity;  // a dump column ("vx"), a series column ("ke_trans_block2"), "output_fraction"
+  std::string unit;
+  double floor = 0.0;
+  double relative = 0.0;  // the largest |a - b| / max(|a|, |b|, floor)
+  long step = -1;         // where it is largest
+  long atom = -1;         // atom id (dump columns)
+  double a = 0.0, b = 0.0;
+  long values = 0;        // how many pairs of values were compared
 };
 
-// Reduces both run directories (same case) and compares them. Throws like reduce_case, and
-// formats::FormatError when the runs do not share their dump steps.
+// The floor of the output fraction's relative difference (a fraction of E_in; the energies it is
+// made of carry round-off near 1e-16 of E_in).
+inline constexpr double kOutputFractionFloor = 1e-12;
+
+// validate's default tolerance. Round-off alone, measured on the study's stacks (N_B = 1..4,
+// e = 1 and 0.9, mu = 0 and 0.25; and e = 0.9, mu = 0.25 with walls and gravity), every column,
+// every frame: frictionless runs differ by at most 1e-13 (most columns bit for bit), frictional
+// ones up to 1.2e-11 (velocities, N_B = 4) and 5.6e-10 with walls and gravity (spins, N_B = 4),
+// as Coulomb sliding amplifies the round-off of a different summation order; the in-situ
+// series by 3e-15 of E_in; the output fractions are identical. The default leaves a factor 18
+// above the largest of these and sits far below any modelling difference.
+inline constexpr double kDefaultTolerance = 1e-8;
+
+struct RunComparison {
+  std::string case_name;
+  std::vector<Difference> dump;    // one per dump column both runs write (id and type must be equal)
+  std::vector<Difference> series;  // one per series column (the step is the key)
+  Difference output_fraction;
+  long frames = 0;        // dump frames compared
+  long series_rows = 0;   // series rows compared
+  // Why the runs cannot be compared value by value (frames, steps, columns, spheres missing on
+  // one side, NaN or inf, a run that cannot be reduced): each makes them disagree.
+  std::vector<std::string> mismatches;
+  // The largest relative difference of all, or infinity when there is a mismatch.
+  double worst() const;
+  // The quantity with the largest relative difference.
+  const Difference& largest() const;
+};
+
+// Compares two run directories of the same case. Throws formats::FormatError only when a run
+// directory is not a case at all; everything about its outputs is reported in the comparison.
 RunComparison compare_runs(const std::string& dir_a, const std::string& dir_b);
 
+// The report `validate` prints: per quantity, the largest relative difference, where, and the
+// verdict against `tolerance`; then the mismatches.
 std::string format_comparison(const RunComparison& c, const std::string& name_a, const std::string& name_b,
                               double tolerance);
 

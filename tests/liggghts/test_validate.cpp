@@ -1,0 +1,120 @@
+// postproc::compare_runs, what `granstack validate` certifies with, on a real LIGGGHTS run and a
+// refsim run of one case: it agrees to round-off, and every way a run can be incomplete or
+// different is a disagreement, named, never skipped.
+#include <granstack/formats/files.hpp>
+#include <granstack/generator/case_writer.hpp>
+#include <granstack/generator/spec_input.hpp>
+#include <granstack/postproc/compare.hpp>
+#include <granstack/runner/runner.hpp>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace granstack;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_bytes(const fs::path& f) { return formats::read_file(f); }
+void write_bytes(const fs::path& f, const std::string& text) { std::ofstream(f, std::ios::binary) << text; }
+
+class Validate : public ::testing::Test {
+ protected:
+  // Each test in a directory of its own (ctest runs them as parallel processes): a LIGGGHTS
+  // run and a refsim run of one damped, frictional case, and b_, the refsim run to spoil.
+  void SetUp() override {
+    root_ = fs::path(GRANSTACK_TEST_WORKDIR) /
+            ("validate_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(root_);
+    model::StackSpec spec;
+    spec.blocks = 2;
+    spec.rows = 4;
+    spec.restitution.value = 0.9;
+    spec.friction.value = 0.25;
+    for (const auto* engine : {"liggghts", "refsim"}) {
+      generator::GenerateOptions o;
+      o.output = root_ / engine;
+      generator::generate({{engine, spec}}, o);
+      runner::RunOptions r;
+      r.engine = std::string(engine) == "refsim" ? runner::Engine::refsim : runner::Engine::liggghts;
+      const auto outcome = runner::run_cases({o.output.string()}, r);
+      ASSERT_EQ(outcome.front().status, runner::RunStatus::done) << outcome.front().message;
+    }
+    b_ = root_ / "refsim";
+  }
+  postproc::RunComparison compare() const { return postproc::compare_runs((root_ / "liggghts").string(), b_.string()); }
+  static bool mentions(const postproc::RunComparison& c, const std::string& words) {
+    for (const auto& m : c.mismatches) {
+      if (m.find(words) != std::string::npos) return true;
+    }
+    return false;
+  }
+  fs::path root_, b_;
+};
+
+TEST_F(Validate, RealRunsAgreeToRoundOffInEveryColumnFrameAndRow) {
+  const auto c = compare();
+  EXPECT_TRUE(c.mismatches.empty()) << c.mismatches.front();
+  EXPECT_LE(c.worst(), postproc::kDefaultTolerance) << c.largest().quantity;
+  // Every column the deck dumps, including those LIGGGHTS leaves at zero in this plane (y, vy,
+  // omegax, omegaz, fy, tqx, tqz), is compared for every sphere of every frame.
+  EXPECT_EQ(c.dump.size(), 18u);  // the 19 dump columns but the id, which keys the spheres
+  EXPECT_GT(c.frames, 100);
+  constexpr long kSpheres = 1 + 4 * 2 + 4 * 4;  // the striker, 4 rows of 2 and of 4 columns
+  for (const auto& d : c.dump) EXPECT_EQ(d.values, c.frames * kSpheres) << d.quantity;
+  EXPECT_EQ(c.series.size(), 10u);  // translational and rotational KE of 2 blocks, striker, output sphere, bottom row
+  for (const auto& d : c.series) EXPECT_EQ(d.values, c.series_rows) << d.quantity;
+  EXPECT_EQ(c.output_fraction.values, 1);
+}
+
+TEST_F(Validate, AColumnThatShouldBeZeroIsComparedToo) {
+  auto dump = read_bytes(b_ / "dumps/dump.txt");
+  // The second frame's first atom line: its vy (the 9th value) becomes 1e-6 m/s.
+  auto at = dump.find("ITEM: ATOMS", dump.find("ITEM: ATOMS") + 1);
+  at = dump.find('\n', at) + 1;
+  for (int k = 1; k < 9; ++k) at = dump.find(' ', at) + 1;
+  dump.replace(at, dump.find(' ', at) - at, "1e-06");
+  write_bytes(b_ / "dumps/dump.txt", dump);
+  const auto c = compare();
+  EXPECT_GT(c.worst(), postproc::kDefaultTolerance);
+  EXPECT_EQ(c.largest().quantity, "vy");
+  EXPECT_EQ(c.largest().atom, 1);
+}
+
+TEST_F(Validate, MissingFramesRowsAndColumnsAndNonFiniteValuesAreMismatches) {
+  const auto dump = read_bytes(b_ / "dumps/dump.txt");
+  const auto series = read_bytes(b_ / "ke_series.txt");
+  // The last dump frame gone.
+  write_bytes(b_ / "dumps/dump.txt", dump.substr(0, dump.rfind("ITEM: TIMESTEP")));
+  auto c = compare();
+  EXPECT_TRUE(mentions(c, "has more dump frames than")) << (c.mismatches.empty() ? "" : c.mismatches.front());
+  EXPECT_FALSE(c.worst() <= 1.0);
+  write_bytes(b_ / "dumps/dump.txt", dump);
+  // A series row gone from the middle.
+  const auto middle = series.find('\n', series.size() / 2) + 1;
+  write_bytes(b_ / "ke_series.txt", series.substr(0, middle) + series.substr(series.find('\n', middle) + 1));
+  c = compare();
+  EXPECT_TRUE(mentions(c, "series rows")) << (c.mismatches.empty() ? "" : c.mismatches.front());
+  // A series column gone.
+  std::istringstream in(series);
+  std::string line, cut;
+  while (std::getline(in, line)) cut += line.substr(0, line.rfind(' ')) + "\n";
+  write_bytes(b_ / "ke_series.txt", cut);
+  c = compare();
+  EXPECT_TRUE(mentions(c, "the series have other columns"));
+  write_bytes(b_ / "ke_series.txt", series);
+  // NaN in a dump column.
+  auto nan = dump;
+  auto at = nan.find('\n', nan.find("ITEM: ATOMS", nan.size() / 2)) + 1;
+  for (int k = 1; k < 14; ++k) at = nan.find(' ', at) + 1;
+  nan.replace(at, nan.find(' ', at) - at, "nan");
+  write_bytes(b_ / "dumps/dump.txt", nan);
+  c = compare();
+  EXPECT_TRUE(mentions(c, "nan in column 'fx'")) << (c.mismatches.empty() ? "" : c.mismatches.front());
+  EXPECT_FALSE(c.worst() <= 1.0);
+}
+
+}  // namespace
