@@ -34,7 +34,12 @@ double hertz_max_overlap(const ContactPair& c, double v) {
   return std::pow(15.0 * c.m_star * v * v / (16.0 * c.y_star * std::sqrt(c.r_star)), 0.4);
 }
 
-double hertz_contact_time(const ContactPair& c, double v) { return 2.9432 * hertz_max_overlap(c, v) / v; }
+double hertz_time_coefficient() {
+  static const double coefficient = 0.8 * std::tgamma(0.4) * std::tgamma(0.5) / std::tgamma(0.9);
+  return coefficient;
+}
+
+double hertz_contact_time(const ContactPair& c, double v) { return hertz_time_coefficient() * hertz_max_overlap(c, v) / v; }
 
 double rayleigh_time(const Material& m, double radius) {
   const double shear = m.youngs_modulus / (2.0 * (1.0 + m.poisson_ratio));

@@ -28,7 +28,11 @@ ContactPair sphere_wall(const Material& sphere, double radius, const Material& w
 // Two-body Hertz impact at relative normal speed v (physics.md section 5):
 // d_max = (15 m* v^2 / (16 Y* sqrt(R*)))^(2/5).
 double hertz_max_overlap(const ContactPair& c, double relative_speed);
-// Contact time t_c = 2.9432 d_max / v (the exact coefficient of the Hertz collision integral).
+// The Hertz collision integral's coefficient: t_c = kHertzTimeCoefficient d_max / v, with
+// kHertzTimeCoefficient = 2 int_0^1 (1 - x^(5/2))^(-1/2) dx = (4/5) B(2/5, 1/2)
+// = (4/5) Gamma(2/5) Gamma(1/2) / Gamma(9/10) = 2.9432752...
+double hertz_time_coefficient();
+// Contact time t_c = hertz_time_coefficient() d_max / v.
 double hertz_contact_time(const ContactPair& c, double relative_speed);
 // Elastic energy stored in an overlap d: 8/15 Y* sqrt(R*) d^(5/2).
 inline double hertz_elastic_energy(double y_star, double r_star, double overlap) {
