@@ -56,13 +56,19 @@ OutputTable build_table(const std::vector<CaseReduction>& reductions) {
   }
   OutputTable t;
   std::set<int> all_blocks;
+  std::vector<json> sort_keys;  // per group: the differing fields' values, compared as values
   for (auto& [text, cases] : by_key) {
     std::sort(cases.begin(), cases.end(), [](auto* a, auto* b) { return a->spec.blocks < b->spec.blocks; });
     TableGroup g;
     g.cases = cases;
     g.restitution = cases.front()->spec.restitution.value;
     std::vector<std::string> parts;
-    for (const auto& field : differing) parts.push_back(short_name(field) + "=" + value_text(keys[text][field]));
+    json sort_key = json::array();
+    for (const auto& field : differing) {
+      parts.push_back(short_name(field) + "=" + value_text(keys[text][field]));
+      sort_key.push_back(keys[text][field]);
+    }
+    sort_keys.push_back(std::move(sort_key));
     g.label = parts.empty() ? fmt::format("e={}", g.restitution) : fmt::format("{}", fmt::join(parts, ", "));
     std::vector<int> nb;
     std::vector<double> f;
@@ -83,7 +89,17 @@ OutputTable build_table(const std::vector<CaseReduction>& reductions) {
     }
     t.groups.push_back(std::move(g));
   }
-  std::sort(t.groups.begin(), t.groups.end(), [](const auto& a, const auto& b) { return a.restitution > b.restitution; });
+  // Highest restitution first (the study's order), then by the values of the fields that tell
+  // the groups apart, as numbers where they are numbers (rows=8 before rows=10).
+  std::vector<std::size_t> order(t.groups.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (t.groups[a].restitution != t.groups[b].restitution) return t.groups[a].restitution > t.groups[b].restitution;
+    return sort_keys[a] < sort_keys[b];
+  });
+  std::vector<TableGroup> sorted;
+  for (const auto i : order) sorted.push_back(std::move(t.groups[i]));
+  t.groups = std::move(sorted);
   t.blocks.assign(all_blocks.begin(), all_blocks.end());
   return t;
 }

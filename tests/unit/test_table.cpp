@@ -71,6 +71,22 @@ TEST(OutputTable, GroupsByEverythingButBlocksAndFitsEachGroup) {
   EXPECT_THROW(postproc::build_table(rs), std::invalid_argument);
 }
 
+// Groups that differ in a number are ordered by its value, not by its text.
+TEST(OutputTable, OrdersGroupsByValue) {
+  std::vector<postproc::CaseReduction> rs;
+  for (const int rows : {12, 8, 10}) {
+    for (int nb = 1; nb <= 2; ++nb) {
+      rs.push_back(reduction(nb, 1.0, std::exp(-1.1 * nb)));
+      rs.back().spec.rows = rows;
+    }
+  }
+  const auto t = postproc::build_table(rs);
+  ASSERT_EQ(t.groups.size(), 3u);
+  EXPECT_EQ(t.groups[0].label, "rows=8");
+  EXPECT_EQ(t.groups[1].label, "rows=10");
+  EXPECT_EQ(t.groups[2].label, "rows=12");
+}
+
 TEST(Peaks, ProminenceRuleKeepsDistinctPeaksAndDropsRipples) {
   // Two clear peaks (1.0 and 0.6) separated by a dip to 0.2, with a ripple of 0.02 on the first.
   const std::vector<double> y{0.0, 0.5, 0.98, 0.96, 1.0, 0.7, 0.2, 0.4, 0.6, 0.3, 0.0};
