@@ -1,7 +1,9 @@
 // granstack validate: LIGGGHTS and refsim on copies of each case, compared.
 #include "commands.hpp"
 
+#include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
+#include <granstack/generator/case_writer.hpp>
 #include <granstack/os/case_lock.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/postproc/compare.hpp>
@@ -9,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 
@@ -34,6 +37,15 @@ int validate(const ValidateFlags& f) {
       locks.emplace_back(d, "granstack validate");
     } catch (const os::LockedError& e) {
       fmt::print(stderr, "error: {}\n", e.what());
+      return kCaseFailed;
+    }
+    // refsim runs only what granstack's own template renders (see runner): say so before
+    // LIGGGHTS spends its time.
+    const auto m = formats::read_manifest(d);
+    if (formats::read_file(std::filesystem::path(d) / m.files.deck) != generator::default_deck(m)) {
+      fmt::print(stderr, "error: {}/{} is not the deck granstack's own template gives for this case (a --template of "
+                         "yours, or edited): refsim cannot be sure to run the same physics, so it cannot be validated; "
+                         "generate the case without --template\n", d, m.files.deck);
       return kCaseFailed;
     }
     liggghts_dirs.push_back(d + "/validate/liggghts");

@@ -153,6 +153,14 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
   return v;
 }
 
+std::string default_deck(const formats::Manifest& m) {
+  const auto stack = model::Stack::build(m.spec);
+  auto vars = deck_variables(stack, model::resolve(stack), m.files, m.case_name);
+  vars["granstack_version"] = m.granstack_version;
+  vars["git_commit"] = m.git_commit;
+  return render_template(default_deck_template(), vars, "templates/in.granstack.tmpl");
+}
+
 formats::DataFile data_file(const model::Stack& stack, const std::string& case_name) {
   const auto& spec = stack.spec();
   const auto lib = spec.material_library();
@@ -281,7 +289,6 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
     PreparedCase p;
     p.name = c.name;
     p.files = case_files(stack);
-    p.deck = render_template(tmpl, deck_variables(stack, res, p.files, c.name), tmpl_name);
     p.data = formats::format_data_file(data_file(stack, c.name));
     formats::Manifest m;
     m.case_name = c.name;
@@ -299,6 +306,8 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
     }
     m.layout = layout_json(stack);
     p.manifest = formats::manifest_to_json(m).dump(2) + "\n";
+    p.deck = options.deck_template_path ? render_template(tmpl, deck_variables(stack, res, p.files, c.name), tmpl_name)
+                                        : default_deck(m);
     prepared.push_back(std::move(p));
   }
 

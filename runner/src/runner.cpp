@@ -4,6 +4,7 @@
 #include <granstack/formats/log.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/ownership.hpp>
+#include <granstack/generator/case_writer.hpp>
 #include <granstack/model/version.hpp>
 #include <granstack/os/case_lock.hpp>
 #include <granstack/os/interrupt.hpp>
@@ -299,8 +300,17 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
 // Thrown from refsim's progress callback to end its loop when granstack is asked to stop.
 struct Interrupted {};
 
-EngineResult run_refsim(const fs::path& dir, const RunOptions& o, const std::function<void(long)>& on_step) {
+EngineResult run_refsim(const fs::path& dir, const formats::Manifest& manifest, const RunOptions& o,
+                        const std::function<void(long)>& on_step) {
   EngineResult result;
+  // refsim takes its physics from the manifest, LIGGGHTS from the deck: they must say the same.
+  if (formats::read_file(dir / manifest.files.deck) != generator::default_deck(manifest)) {
+    result.error = fmt::format("refsim: {} is not the deck granstack's own template gives for this case (it was "
+                               "rendered from a --template of yours, or edited), so refsim cannot be sure to run the "
+                               "same physics; run it with LIGGGHTS, or generate the case without --template",
+                               (dir / manifest.files.deck).string());
+    return result;
+  }
   try {
     using Kernel = refsim::Parameters::Kernel;
     refsim::RunOptions ro;
@@ -380,7 +390,7 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
   const auto slot = monitor.start(manifest.case_name, manifest.derived.value("steps", 0L));
   const auto on_step = [&](long step) { monitor.update(slot, step); };
   const auto t0 = Clock::now();
-  auto result = refsim_engine ? run_refsim(dir, o, on_step) : run_liggghts(dir, manifest, o, on_step);
+  auto result = refsim_engine ? run_refsim(dir, manifest, o, on_step) : run_liggghts(dir, manifest, o, on_step);
   outcome.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   monitor.finish(slot);
   if (!refsim_engine) remove_forced_restarts(dir, started);

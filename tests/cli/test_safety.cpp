@@ -589,4 +589,38 @@ TEST_F(Safety, RunPrintsEachCaseAsItEnds) {
   expect_contains(r, "done     " + path("slow").string());
 }
 
+// refsim takes its physics from the manifest, LIGGGHTS from the deck: a deck rendered from a
+// template of the user's could say something else, so refsim and validate refuse it (before
+// LIGGGHTS spends any time), while a template identical to granstack's own is accepted.
+TEST_F(Safety, RefsimAndValidateRefuseADeckFromAnotherTemplate) {
+  std::string tmpl = read_bytes(fs::path(GRANSTACK_SOURCE_DIR) / "templates/in.granstack.tmpl");
+  std::ofstream(path("same.tmpl")) << tmpl;
+  std::ofstream(path("mine.tmpl")) << tmpl << "# my own line\n";
+  ASSERT_EQ(granstack({"generate", "-o", path("same").string(), "--blocks", "1", "--template", path("same.tmpl").string()}).code, 0);
+  ASSERT_EQ(granstack({"generate", "-o", path("mine").string(), "--blocks", "1", "--template", path("mine.tmpl").string()}).code, 0);
+  EXPECT_EQ(granstack({"run", "--engine", "refsim", path("same").string()}).code, 0);
+  auto r = granstack({"run", "--engine", "refsim", path("mine").string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "is not the deck granstack's own template gives for this case");
+  r = granstack({"validate", path("mine").string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "cannot be validated");
+  EXPECT_FALSE(fs::exists(path("mine/validate")));
+  EXPECT_EQ(granstack({"run", path("mine").string()}).code, 0);  // LIGGGHTS runs it as written
+}
+
+// --liggghts names a program as the user sees it from where they run granstack, not from the
+// case directory LIGGGHTS starts in; a file that is not executable is named as such.
+TEST_F(Safety, TheLiggghtsPathIsTheCallersAndIsChecked) {
+  ASSERT_EQ(granstack({"generate", "-o", path("case").string(), "--blocks", "1"}).code, 0);
+  fs::create_directories(path("bin"));
+  fs::create_symlink(os::find_program("liggghts").value(), path("bin/my-liggghts"));
+  auto r = granstack({"run", "--liggghts", "bin/my-liggghts", "case"});
+  EXPECT_EQ(r.code, 0) << r.output;
+  r = granstack({"run", "--force", "--liggghts", "/etc/passwd", "case"});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "--liggghts /etc/passwd: not an executable file");
+}
+
 }  // namespace
+

@@ -34,6 +34,11 @@ formats::CaseFiles case_files(const model::Stack& stack);
 TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& res, const formats::CaseFiles& files,
                             const std::string& case_name);
 formats::DataFile data_file(const model::Stack& stack, const std::string& case_name);
+// The deck granstack's own template gives for a case, from its manifest alone (with the
+// granstack version and commit the manifest records). generate writes exactly this unless
+// given --template; refsim runs only cases whose deck is this, so the two engines cannot be
+// handed different physics.
+std::string default_deck(const formats::Manifest& manifest);
 nlohmann::json derived_json(const model::Stack& stack, const model::Resolution& res);
 nlohmann::json layout_json(const model::Stack& stack);
 
