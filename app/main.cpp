@@ -22,10 +22,7 @@ int guarded(const std::function<int()>& run) {
   } catch (const model::SpecError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return app::kBadInput;
-  } catch (const formats::ExistsError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
-    return app::kExists;
-  } catch (const formats::RefusedError& e) {
+  } catch (const formats::OutputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return app::kExists;
   } catch (const formats::FormatError& e) {

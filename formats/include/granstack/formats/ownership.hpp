@@ -19,17 +19,21 @@ bool made_by_granstack(const std::filesystem::path& dir);
 // working directory nor one of its parents. A regular file or anything else is never replaced.
 std::string why_not_replaceable(const std::filesystem::path& path);
 
-// An output exists and --force was not given (exit 3): nothing is written.
-class ExistsError : public std::runtime_error {
+// An output is in the way (exit 3): nothing is written.
+class OutputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
-
-// An output is something granstack never replaces, whatever the flags (exit 3): a user's file
-// or directory, '.', a parent of the working directory, '/', the home directory.
-class RefusedError : public std::runtime_error {
+// It exists and --force was not given.
+class ExistsError : public OutputError {
  public:
-  using std::runtime_error::runtime_error;
+  using OutputError::OutputError;
+};
+// It is something granstack never replaces, whatever the flags: a user's file or directory,
+// '.', a parent of the working directory, '/', the home directory.
+class RefusedError : public OutputError {
+ public:
+  using OutputError::OutputError;
 };
 
 // Before a command writes `names` into the directory `dir` (table -o, plot -o): a new directory
