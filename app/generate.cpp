@@ -112,7 +112,7 @@ Command add_generate(CLI::App& app, const std::vector<std::string>& argv) {
       {"--wall-material", "wall_material", "Material of the walls [the bottom block's]"},
       {"--dt", "dt", "Time step, s, at most 1/20 of the shortest contact time, or auto [auto: 1/100]"},
       {"--duration", "duration", "Simulated time, s, or auto [auto]"},
-      {"--dump-every", "dump_every", "Steps between dump frames, or auto [auto: 250 frames, at least every 0.2 t_c]"},
+      {"--dump-every", "dump_every", "Steps between dump frames, or auto [auto: the smaller of a 250th of the run and 0.2 t_c]"},
       {"--series-every", "series_every", "Steps between in-situ energy samples, or auto [auto]"},
       {"--dump-format", "dump_format", "Dump format: text | binary [text]"},
       {"--dump-files", "dump_files", "single | per_step (LIGGGHTS '*') | per_rank (LIGGGHTS '%', with --np) [single]"},
