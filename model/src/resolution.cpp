@@ -117,7 +117,7 @@ Cost estimate_cost(const Stack& stack, const Resolution& r) {
       stack.spec().dump_format == DumpFormat::binary ? kBinaryDumpBytesPerAtom : kTextDumpBytesPerAtom;
   c.dump_bytes = static_cast<double>(c.frames) * static_cast<double>(c.spheres) * per_atom;
   const double samples = static_cast<double>(r.steps / std::max(1, r.series_every) + 1);
-  c.series_bytes = samples * (2.0 * (stack.spec().blocks + 3) + 1) * 24.0;
+  c.series_bytes = samples * (2.0 * (stack.spec().blocks + 3) + 1) * kSeriesBytesPerValue;
   c.liggghts_seconds = static_cast<double>(c.spheres) * static_cast<double>(c.steps) / kLiggghtsParticleStepsPerSecond;
   return c;
 }

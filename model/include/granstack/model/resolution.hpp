@@ -70,10 +70,12 @@ std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& re
 // kLiggghtsParticleStepsPerSecond (the slowest rate measured on the project's machine, so the
 // estimate errs long).
 inline constexpr double kLiggghtsParticleStepsPerSecond = 3.8e6;
-// Bytes a dumped atom line takes: 141 in text (the default case's 27.6 MB over 811 frames of 241
-// atoms, measured) and 16 doubles in binary.
-inline constexpr double kTextDumpBytesPerAtom = 141.0;
-inline constexpr double kBinaryDumpBytesPerAtom = 128.0;
+// Bytes a dumped atom line takes: 147 in text (the default case's 28.8 MB over 811 frames of 241
+// atoms, measured) and 19 doubles in binary; bytes per value of the series (the default case's
+// 3.05 MB over 16200 rows of 15 values, measured).
+inline constexpr double kTextDumpBytesPerAtom = 147.0;
+inline constexpr double kBinaryDumpBytesPerAtom = 152.0;
+inline constexpr double kSeriesBytesPerValue = 12.6;
 struct Cost {
   long spheres = 0;
   long steps = 0;
