@@ -1,6 +1,10 @@
 #include <granstack/postproc/fit.hpp>
 
+#include <granstack/postproc/least_squares.hpp>
+
 #include <fmt/format.h>
+
+#include <algorithm>
 
 #include <cmath>
 #include <stdexcept>
@@ -18,38 +22,32 @@ DecayFit fit_decay(const std::vector<int>& blocks, const std::vector<double>& fr
     x[k] = blocks[k];
     y[k] = std::log(fractions[k]);
   }
-  double mx = 0, my = 0;
+  // ln f = ln A - alpha N, with a free prefactor and through the origin (A = 1).
+  Eigen::MatrixXd free(static_cast<Eigen::Index>(n), 2), origin(static_cast<Eigen::Index>(n), 1);
+  Eigen::VectorXd ln(static_cast<Eigen::Index>(n));
   for (std::size_t k = 0; k < n; ++k) {
-    mx += x[k];
-    my += y[k];
+    const auto i = static_cast<Eigen::Index>(k);
+    free(i, 0) = 1.0;
+    free(i, 1) = x[k];
+    origin(i, 0) = x[k];
+    ln(i) = y[k];
   }
-  mx /= static_cast<double>(n);
-  my /= static_cast<double>(n);
-  double sxx = 0, sxy = 0, xx = 0, xy = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    sxx += (x[k] - mx) * (x[k] - mx);
-    sxy += (x[k] - mx) * (y[k] - my);
-    xx += x[k] * x[k];
-    xy += x[k] * y[k];
+  if (n < 2 || std::all_of(x.begin(), x.end(), [&](double v) { return v == x.front(); })) {
+    throw std::invalid_argument("fit_decay: needs at least two different block counts");
   }
-  if (n < 2 || sxx == 0.0) throw std::invalid_argument("fit_decay: needs at least two different block counts");
+  const auto with_prefactor = least_squares(free, ln);
+  const auto through_origin = least_squares(origin, ln);
   DecayFit f;
   f.points = static_cast<int>(n);
-  const double slope = sxy / sxx;
-  const double intercept = my - slope * mx;
-  f.alpha = -slope;
-  f.prefactor = std::exp(intercept);
-  f.alpha_origin = -xy / xx;
-  if (n > 2) {
-    double rss = 0;
-    for (std::size_t k = 0; k < n; ++k) rss += std::pow(y[k] - (intercept + slope * x[k]), 2);
-    const double s2 = rss / static_cast<double>(n - 2);
-    f.alpha_error = std::sqrt(s2 / sxx);
-    f.prefactor_error = f.prefactor * std::sqrt(s2 * (1.0 / static_cast<double>(n) + mx * mx / sxx));
+  f.alpha = -with_prefactor.coefficients(1);
+  f.prefactor = std::exp(with_prefactor.coefficients(0));
+  f.alpha_origin = -through_origin.coefficients(0);
+  if (with_prefactor.covariance) {
+    f.alpha_error = with_prefactor.error(1);
+    f.prefactor_error = f.prefactor * with_prefactor.error(0);  // A = exp(ln A): dA = A d(ln A)
+    f.covariance_ln_prefactor_alpha = -(*with_prefactor.covariance)(0, 1);
   }
-  double rss0 = 0;
-  for (std::size_t k = 0; k < n; ++k) rss0 += std::pow(y[k] + f.alpha_origin * x[k], 2);
-  f.alpha_origin_error = std::sqrt(rss0 / static_cast<double>(n - 1) / xx);
+  f.alpha_origin_error = through_origin.error(0);
   return f;
 }
 

@@ -159,14 +159,14 @@ std::string fits_csv(const OutputTable& t) {
   fmt::memory_buffer b;
   auto out = std::back_inserter(b);
   auto opt = [](const std::optional<double>& v) { return v ? fmt::format("{}", *v) : std::string(); };
-  fmt::format_to(out, "group,restitution,points,prefactor,prefactor_error,alpha,alpha_error,alpha_origin,"
-                      "alpha_origin_error,alpha_times_e\n");
+  fmt::format_to(out, "group,restitution,points,prefactor,prefactor_error,alpha,alpha_error,cov_ln_prefactor_alpha,"
+                      "alpha_origin,alpha_origin_error,alpha_times_e\n");
   for (const auto& g : t.groups) {
     if (!g.fit) continue;
     const auto& f = *g.fit;
-    fmt::format_to(out, "\"{}\",{},{},{},{},{},{},{},{},{}\n", g.label, g.restitution, f.points, f.prefactor,
-                   opt(f.prefactor_error), f.alpha, opt(f.alpha_error), f.alpha_origin, opt(f.alpha_origin_error),
-                   f.alpha * g.restitution);
+    fmt::format_to(out, "\"{}\",{},{},{},{},{},{},{},{},{},{}\n", g.label, g.restitution, f.points, f.prefactor,
+                   opt(f.prefactor_error), f.alpha, opt(f.alpha_error), opt(f.covariance_ln_prefactor_alpha),
+                   f.alpha_origin, opt(f.alpha_origin_error), f.alpha * g.restitution);
   }
   return fmt::to_string(b);
 }
@@ -183,7 +183,9 @@ json table_json(const OutputTable& t) {
     if (g.fit) {
       fit = {{"points", g.fit->points},         {"prefactor", g.fit->prefactor},
              {"prefactor_error", opt(g.fit->prefactor_error)}, {"alpha", g.fit->alpha},
-             {"alpha_error", opt(g.fit->alpha_error)}, {"alpha_origin", g.fit->alpha_origin},
+             {"alpha_error", opt(g.fit->alpha_error)},
+             {"covariance_ln_prefactor_alpha", opt(g.fit->covariance_ln_prefactor_alpha)},
+             {"alpha_origin", g.fit->alpha_origin},
              {"alpha_origin_error", opt(g.fit->alpha_origin_error)}, {"alpha_times_e", g.fit->alpha * g.restitution}};
     }
     groups.push_back({{"group", g.label}, {"restitution", g.restitution}, {"cases", cases}, {"fit", fit}});

@@ -6,6 +6,7 @@
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
 #include <granstack/postproc/energy.hpp>
+#include <granstack/postproc/least_squares.hpp>
 #include <granstack/postproc/waves.hpp>
 
 #include <fmt/format.h>
@@ -168,19 +169,20 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
     }
     w.rows_used = static_cast<int>(depth.size());
     if (depth.size() >= 3) {
-      double mt = 0, mz = 0;
+      // depth = speed t + offset, by least squares.
+      Eigen::MatrixXd x(static_cast<Eigen::Index>(depth.size()), 2);
+      Eigen::VectorXd z(static_cast<Eigen::Index>(depth.size()));
       for (std::size_t k = 0; k < depth.size(); ++k) {
-        mt += arrival[k];
-        mz += depth[k];
+        const auto i = static_cast<Eigen::Index>(k);
+        x(i, 0) = arrival[k];
+        x(i, 1) = 1.0;
+        z(i) = depth[k];
       }
-      mt /= static_cast<double>(depth.size());
-      mz /= static_cast<double>(depth.size());
-      double stt = 0, stz = 0;
-      for (std::size_t k = 0; k < depth.size(); ++k) {
-        stt += (arrival[k] - mt) * (arrival[k] - mt);
-        stz += (arrival[k] - mt) * (depth[k] - mz);
+      try {
+        const double speed = least_squares(x, z).coefficients(0);
+        if (speed > 0) w.speed = speed;
+      } catch (const std::invalid_argument&) {  // every row timed at the same instant
       }
-      if (stt > 0 && stz > 0) w.speed = stz / stt;
     }
     if (!w.speed) {
       w.note = fmt::format("the leading maximum was timed at {} rows (3 needed, and a wave moving down): dump more "

@@ -33,6 +33,8 @@ TEST(DecayFit, MatchesLeastSquaresWorkedByHand) {
   EXPECT_NEAR(*fit.prefactor_error, fit.prefactor * std::sqrt(1.0 / 6.0 * (1.0 / 3.0 + 4.0 / 2.0)), 1e-12);
   EXPECT_NEAR(fit.alpha_origin, 15.0 / 14.0, 1e-12);
   EXPECT_NEAR(*fit.alpha_origin_error, std::sqrt(35.0 / 196.0 / 2.0 / 14.0), 1e-12);
+  // cov(ln A, alpha) = -cov(intercept, slope) = s^2 mean(N) / S_NN = (1/6) 2 / 2.
+  EXPECT_NEAR(*fit.covariance_ln_prefactor_alpha, 1.0 / 6.0, 1e-12);
 }
 
 TEST(DecayFit, RefusesWhatCannotBeFitted) {
