@@ -212,6 +212,18 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
                              std::max(1L, std::lround(std::floor(0.5 * crossing / dt))));
       }
     }
+    // A leading maximum far from Nesterenko's speed is no solitary wave (a block loaded too
+    // slowly, e.g. steel below a soft block): no speed is given for it.
+    if (w.speed && w.nesterenko_speed) {
+      const double ratio = *w.speed / *w.nesterenko_speed;
+      if (ratio < kSolitaryWaveBand[0] || ratio > kSolitaryWaveBand[1]) {
+        w.note = fmt::format("no solitary wave forms: the leading maximum moves down at {:.4g} m/s, {:.2f} of "
+                             "Nesterenko's speed for its peak force (a solitary wave keeps within {:g} to {:g})",
+                             *w.speed, ratio, kSolitaryWaveBand[0], kSolitaryWaveBand[1]);
+        w.speed.reset();
+        w.no_solitary_wave = true;
+      }
+    }
     // Width when the leading maximum is at the middle row: RMS width of the column's overlaps,
     // as the support of the cos^4 profile with the same RMS width (sigma = 0.1414482 L).
     if (middle_overlaps != nullptr && !middle_overlaps->empty()) {

@@ -34,6 +34,9 @@ struct CaseReduction {
   std::string peak_source;             // "series" (in-situ, every series_every steps) or "dump"
   long frames = 0;
   double final_time = 0.0;             // s, of the last dump frame
+  // s: the last in-situ sample at which the output sphere's kinetic energy changed by more than
+  // 1e-3 of its final value (a warning when it is late in the run).
+  double output_last_change_time = 0.0;
   // max |KE + elastic - E_in| / E_in over the frames; only for a conservative case
   // (model::is_conservative), where it measures the integration error.
   std::optional<double> energy_drift;
