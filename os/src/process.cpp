@@ -95,7 +95,9 @@ Child start(const std::vector<std::string>& argv, const StartOptions& options) {
   for (char** e = environ; *e != nullptr; ++e) env.push_back(*e);
   for (auto& e : extra) env.push_back(e.data());
   env.push_back(nullptr);
-  const std::string cwd = options.cwd.string(), output = options.output.string();
+  // Absolute, since the child changes directory before it opens the output.
+  const std::string cwd = options.cwd.empty() ? "" : fs::absolute(options.cwd).string();
+  const std::string output = options.output.empty() ? "" : fs::absolute(options.output).string();
   int report[2];
   if (::pipe2(report, O_CLOEXEC) != 0) {
     child.error = fmt::format("cannot start {}: {}", argv[0], std::strerror(errno));

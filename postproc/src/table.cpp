@@ -65,8 +65,11 @@ OutputTable build_table(const std::vector<CaseReduction>& reductions) {
     std::vector<std::string> parts;
     json sort_key = json::array();
     for (const auto& field : differing) {
-      parts.push_back(short_name(field) + "=" + value_text(keys[text][field]));
       sort_key.push_back(keys[text][field]);
+      // A custom material's constants are named by the material that uses them.
+      if (field == "custom_materials") continue;
+      const auto value = value_text(keys[text][field]);
+      parts.push_back(short_name(field) + "=" + (value.empty() ? "default" : value));
     }
     sort_keys.push_back(std::move(sort_key));
     g.label = parts.empty() ? fmt::format("e={}", g.restitution) : fmt::format("{}", fmt::join(parts, ", "));
