@@ -46,7 +46,8 @@ struct Scales {
     const auto& spec = stack.spec();
     const auto& top = stack.block(1);
     const auto& bottom = stack.blocks().back();
-    const auto& m = spec.material_library().at(top.material);
+    const auto lib = spec.material_library();
+    const auto& m = lib.at(top.material);
     // The largest force of the impact: the striker's Hertz peak on a top sphere,
     // 4/3 Y* sqrt(R*) d_max^(3/2).
     const auto c = model::sphere_sphere(m, top.radius, m, top.radius);
