@@ -246,6 +246,25 @@ TEST_F(Safety, ACaseInUseIsRefusedAndAStopSignalEndsItsLiggghts) {
   }
 }
 
+// 3. The same for a run on two MPI ranks: mpirun's ranks sit in process groups of their own,
+// and still none is left once granstack is stopped (SIGINT) or killed (SIGKILL).
+TEST_F(Safety, AnMpiRunLeavesNoRankBehind) {
+  const auto c = path("case");
+  ASSERT_EQ(granstack({"generate", "-o", c.string(), "--blocks", "4", "--dt", "3e-9"}).code, 0);
+  for (const int sig : {SIGINT, SIGKILL}) {
+    const auto run = start({"run", "--force", "--np", "2", c.string()});
+    // mpirun and both ranks.
+    ASSERT_TRUE(eventually([&] { return processes_in(c).size() == 3; }, 30)) << processes_in(c).size();
+    ::kill(run.pid, sig);
+    const auto r = finish(run, 30);
+    if (sig == SIGINT) {
+      EXPECT_EQ(r.code, 130) << r.output;
+      EXPECT_EQ(status_of(c), "interrupted");
+    }
+    EXPECT_TRUE(eventually([&] { return processes_in(c).empty(); }, 3)) << processes_in(c).front();
+  }
+}
+
 // 3. kill -9 of a sweep mid-way: no LIGGGHTS is left, a rerun at once redoes only the unfinished
 // cases, and the results are those of an uninterrupted run, byte for byte.
 TEST_F(Safety, ASweepKilledMidwayLeavesNoLiggghtsAndResumesToTheSameBytes) {
