@@ -494,6 +494,7 @@ json waves_json(const std::vector<BlockWaves>& waves) {
   for (const auto& w : waves) {
     out.push_back({{"block", w.block},
                    {"peaks", w.peaks},
+                   {"pulses", w.pulses},
                    {"column", w.column},
                    {"rows_timed", w.rows_used},
                    {"leading_speed", opt(w.speed)},
@@ -597,17 +598,17 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
     const auto& r = rs.front();
     fmt::format_to(out, "\nper block ({}; peaks from the {}):\n", r.case_name,
                    r.peak_source == "series" ? "in-situ series" : "dump frames");
-    fmt::format_to(out, "{:>5}  {:>8}  {:>14}  {:>10}  {:>13}  {:>5}  {:>12}  {:>10}\n", "block", "material", "peak KE (J)",
-                   "peak/top", "t_peak (us)", "peaks", "wave (m/s)", "/Nesterenko");
+    fmt::format_to(out, "{:>5}  {:>8}  {:>14}  {:>10}  {:>13}  {:>5}  {:>6}  {:>12}  {:>10}\n", "block", "material",
+                   "peak KE (J)", "peak/top", "t_peak (us)", "peaks", "pulses", "wave (m/s)", "/Nesterenko");
     for (const auto& bp : r.blocks) {
       const BlockWaves* wave =
           static_cast<std::size_t>(bp.block) <= r.waves.size() ? &r.waves[static_cast<std::size_t>(bp.block - 1)] : nullptr;
       const std::string speed = wave && wave->speed ? fmt::format("{:.1f}", *wave->speed) : "-";
       const std::string ratio =
           wave && wave->speed && wave->nesterenko_speed ? fmt::format("{:.3f}", *wave->speed / *wave->nesterenko_speed) : "-";
-      fmt::format_to(out, "{:>5}  {:>8}  {:>14.6e}  {:>10.6f}  {:>13.3f}  {:>5}  {:>12}  {:>10}\n", bp.block,
+      fmt::format_to(out, "{:>5}  {:>8}  {:>14.6e}  {:>10.6f}  {:>13.3f}  {:>5}  {:>6}  {:>12}  {:>10}\n", bp.block,
                      r.spec.block_material(bp.block), bp.peak_ke, bp.normalised, bp.peak_time * 1e6, wave ? wave->peaks : 0,
-                     speed, ratio);
+                     wave ? wave->pulses : 0, speed, ratio);
     }
     for (const auto& wave : r.waves) {
       if (!wave.note.empty()) fmt::format_to(out, "note: block {}: {}\n", wave.block, wave.note);

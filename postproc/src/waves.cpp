@@ -84,6 +84,7 @@ void WaveTracker::add(long step, const std::vector<double>& samples) {
     std::swap(c.overlaps_before, c.overlaps);
     c.overlaps.assign(overlap, overlap + c.radius_sum.size());
     for (const double o : c.overlaps) c.max_overlap = std::max(c.max_overlap, o);
+    c.middle_energy.push_back(speed[c.rows.size() / 2] * speed[c.rows.size() / 2]);
     for (std::size_t r = 0; r < c.rows.size(); ++r) {
       auto& row = c.rows[r];
       const double s = speed[r];
@@ -145,6 +146,11 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
     for (const auto& row : series.rows) ke.push_back(row[static_cast<std::size_t>(ct)] + row[static_cast<std::size_t>(cr)]);
     const double top = ke.empty() ? 0.0 : *std::max_element(ke.begin(), ke.end());
     w.peaks = static_cast<int>(prominent_peaks(ke, kPeakProminence * top).size());
+    const auto& middle = columns[static_cast<std::size_t>(k - 1)].middle_energy;
+    if (!middle.empty()) {
+      const double highest = *std::max_element(middle.begin(), middle.end());
+      w.pulses = static_cast<int>(prominent_peaks(middle, kPeakProminence * highest).size());
+    }
   }
   for (const auto& b : stack.blocks()) {
     auto& w = out[static_cast<std::size_t>(b.index - 1)];

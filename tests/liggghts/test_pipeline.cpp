@@ -351,6 +351,26 @@ TEST(Physics, SandwichWarnsOfLateKicksAndItsBottomBlockHasNoSolitaryWave) {
   }
 }
 
+// Steel over Teflon (refsim): the single wave entering the Teflon block splits into a train of
+// smaller ones. The block's total energy rises to a plateau with no maximum (peaks = 0), so the
+// train is counted as pulses passing the middle row of the impact column.
+TEST(Physics, ATeflonBlockUnderSteelCarriesATrainOfPulses) {
+  auto spec = blocks(2);
+  spec.materials = {"steel", "teflon"};
+  generator::GenerateOptions o;
+  o.output = work_dir() / "steel_on_teflon";
+  o.force = true;
+  generator::generate({{"steel_on_teflon", spec}}, o);
+  runner::RunOptions ro;
+  ro.engine = runner::Engine::refsim;
+  ASSERT_EQ(runner::run_cases({o.output.string()}, ro).at(0).status, runner::RunStatus::done);
+  const auto r = postproc::reduce_case(o.output.string());
+  ASSERT_EQ(r.waves.size(), 2u);
+  EXPECT_EQ(r.waves[0].pulses, 1);  // one solitary wave crosses the steel block's middle row
+  EXPECT_EQ(r.waves[1].peaks, 0);
+  EXPECT_GE(r.waves[1].pulses, 2);  // measured 3
+}
+
 // physics.md section 4: friction cuts the sideways energy of the top row strongly and leaves
 // the downward part nearly unchanged (a wider top block, 4 columns).
 TEST(Physics, FrictionCutsTheTopRowsSidewaysEnergyNotItsDownwardEnergy) {

@@ -30,6 +30,10 @@ inline constexpr double kSolitaryWaveBand[2] = {0.8, 1.25};
 struct BlockWaves {
   int block = 0;                   // 1 = top
   int peaks = 0;                   // of the block's KE curve (in-situ series), kPeakProminence rule
+  // Pulses passing the middle row of the impact path's column: the prominent maxima (same rule)
+  // of that sphere's kinetic energy over the dump frames. A block's total energy can rise to a
+  // plateau with no maximum while a train of waves runs through it (a Teflon block under steel).
+  int pulses = 0;
   int column = 0;                  // the impact path's column followed (model::Stack::impact_column)
   int rows_used = 0;               // rows whose leading maximum was timed
   std::optional<double> speed;     // m/s, least squares of arrival time against depth; none when
@@ -78,6 +82,7 @@ class WaveTracker {
     std::vector<double> radius_sum;  // of rows i and i + 1
     std::size_t offset = 0;       // of its speeds in a frame's samples; its overlaps follow
     std::vector<Row> rows;
+    std::vector<double> middle_energy;  // speed^2 of the middle row's sphere, every frame
     std::vector<double> overlaps, overlaps_before;  // the last two frames'
     double max_overlap = 0.0;
   };
