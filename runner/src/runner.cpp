@@ -16,15 +16,11 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
-#include <cerrno>
 #include <chrono>
 #include <cstdlib>
-#include <cstring>
-#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
-#include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
 
@@ -33,8 +29,6 @@ namespace granstack::runner {
 namespace fs = std::filesystem;
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
-
-std::optional<std::string> find_program(const std::string& program) { return os::find_program(program); }
 
 void clone_case_inputs(const std::string& case_dir, const std::string& target) {
   const auto m = formats::read_manifest(case_dir);
@@ -185,7 +179,7 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
   EngineResult result;
   const auto& files = manifest.files;
   std::vector<std::string> argv;
-  const auto liggghts = find_program(o.liggghts);
+  const auto liggghts = os::find_program(o.liggghts);
   if (!liggghts) {
     result.error = o.liggghts.find('/') == std::string::npos
                        ? fmt::format("LIGGGHTS ('{}') is not on PATH: install it with scripts/setup.sh (Debian package "
@@ -197,7 +191,7 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
     return result;
   }
   if (o.ranks > 1) {
-    if (!find_program(o.mpirun)) {
+    if (!os::find_program(o.mpirun)) {
       result.error = fmt::format("'{}' is not on PATH: it comes with the Debian package 'liggghts' (Open MPI)", o.mpirun);
       return result;
     }
@@ -206,7 +200,7 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
     if (o.ranks > static_cast<int>(std::thread::hardware_concurrency())) argv.push_back("--oversubscribe");
   }
   // Unbuffered, so an MPI_Abort cannot swallow LIGGGHTS's error message (liggghts-3.8.md section 9).
-  const auto stdbuf = find_program("stdbuf");
+  const auto stdbuf = os::find_program("stdbuf");
   if (stdbuf) argv.insert(argv.end(), {*stdbuf, "-o0", "-e0"});
   // Absolute: the program starts in the case directory, where a relative path would mean something else.
   argv.insert(argv.end(), {fs::absolute(*liggghts).string(), "-in", files.deck, "-log", files.log});

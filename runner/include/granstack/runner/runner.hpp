@@ -69,7 +69,4 @@ std::string recorded_status(const std::string& case_dir);
 // run again elsewhere, e.g. by the other engine.
 void clone_case_inputs(const std::string& case_dir, const std::string& target);
 
-// The directory of PATH that holds `program`, or nullopt.
-std::optional<std::string> find_program(const std::string& program);
-
 }  // namespace granstack::runner
