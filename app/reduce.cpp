@@ -164,8 +164,7 @@ int plot(const PlotFlags& f) {
   if (any_fit) {
     for (const auto& n : postproc::plot_files("decay", o)) names.push_back(n);
   }
-  if (std::adjacent_find(names.begin(), names.end()) != names.end() ||
-      std::set<std::string>(names.begin(), names.end()).size() != names.size()) {
+  if (std::set<std::string>(names.begin(), names.end()).size() != names.size()) {
     throw std::runtime_error("two cases' figures would have the same file name; plot them into separate directories");
   }
   if (results.empty()) return rc;

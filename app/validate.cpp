@@ -1,7 +1,6 @@
 // granstack validate: LIGGGHTS and refsim on copies of each case, compared.
 #include "commands.hpp"
 
-#include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/os/case_lock.hpp>
@@ -11,7 +10,6 @@
 
 #include <fmt/format.h>
 
-#include <filesystem>
 #include <memory>
 #include <optional>
 
@@ -42,7 +40,7 @@ int validate(const ValidateFlags& f) {
     // refsim runs only what granstack's own template renders (see runner): say so before
     // LIGGGHTS spends its time.
     const auto m = formats::read_manifest(d);
-    if (formats::read_file(std::filesystem::path(d) / m.files.deck) != generator::default_deck(m)) {
+    if (!generator::has_default_deck(d, m)) {
       fmt::print(stderr, "error: {}/{} is not the deck granstack's own template gives for this case (a --template of "
                          "yours, or edited): refsim cannot be sure to run the same physics, so it cannot be validated; "
                          "generate the case without --template\n", d, m.files.deck);

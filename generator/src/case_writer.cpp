@@ -161,6 +161,10 @@ std::string default_deck(const formats::Manifest& m) {
   return render_template(default_deck_template(), vars, "templates/in.granstack.tmpl");
 }
 
+bool has_default_deck(const std::string& case_dir, const formats::Manifest& m) {
+  return formats::read_file(fs::path(case_dir) / m.files.deck) == default_deck(m);
+}
+
 formats::DataFile data_file(const model::Stack& stack, const std::string& case_name) {
   const auto& spec = stack.spec();
   const auto lib = spec.material_library();

@@ -99,8 +99,8 @@ bool finite_frame(const formats::DumpFrame& f, const std::string& path, RunCompa
 }
 
 // Every column both dumps carry, every sphere, every frame.
-void compare_dumps(const std::string& dir_a, const std::string& dir_b, const model::Stack& stack, RunComparison& c) {
-  const auto ma = formats::read_manifest(dir_a), mb = formats::read_manifest(dir_b);
+void compare_dumps(const std::string& dir_a, const formats::Manifest& ma, const std::string& dir_b,
+                   const formats::Manifest& mb, const model::Stack& stack, RunComparison& c) {
   const auto path_a = formats::find_dump(dir_a, ma.files.dump), path_b = formats::find_dump(dir_b, mb.files.dump);
   const auto ra = formats::open_dump(path_a, ma.spec.dump_format == model::DumpFormat::binary, ma.files.dump_columns);
   const auto rb = formats::open_dump(path_b, mb.spec.dump_format == model::DumpFormat::binary, mb.files.dump_columns);
@@ -153,8 +153,8 @@ void compare_dumps(const std::string& dir_a, const std::string& dir_b, const mod
 }
 
 // Every column of the two series, step by step.
-void compare_series(const std::string& dir_a, const std::string& dir_b, const model::Stack& stack, RunComparison& c) {
-  const auto ma = formats::read_manifest(dir_a), mb = formats::read_manifest(dir_b);
+void compare_series(const std::string& dir_a, const formats::Manifest& ma, const std::string& dir_b,
+                    const formats::Manifest& mb, const model::Stack& stack, RunComparison& c) {
   const auto path_a = (fs::path(dir_a) / ma.files.series).string(), path_b = (fs::path(dir_b) / mb.files.series).string();
   const auto sa = formats::read_series(path_a), sb = formats::read_series(path_b);
   if (sa.columns != sb.columns) {
@@ -204,11 +204,11 @@ void recorded(RunComparison& c, F what) {
 
 RunComparison compare_runs(const std::string& dir_a, const std::string& dir_b) {
   RunComparison c;
-  const auto manifest = formats::read_manifest(dir_a);
-  c.case_name = manifest.case_name;
-  const auto stack = model::Stack::build(manifest.spec);
-  recorded(c, [&] { compare_dumps(dir_a, dir_b, stack, c); });
-  recorded(c, [&] { compare_series(dir_a, dir_b, stack, c); });
+  const auto ma = formats::read_manifest(dir_a), mb = formats::read_manifest(dir_b);
+  c.case_name = ma.case_name;
+  const auto stack = model::Stack::build(ma.spec);
+  recorded(c, [&] { compare_dumps(dir_a, ma, dir_b, mb, stack, c); });
+  recorded(c, [&] { compare_series(dir_a, ma, dir_b, mb, stack, c); });
   c.output_fraction = {"output_fraction", "of E_in", kOutputFractionFloor};
   ReduceOptions quiet;
   quiet.write_files = false;

@@ -113,14 +113,6 @@ void require_consistent_inputs(const std::string& case_dir, const formats::Manif
   formats::check_deck_matches_manifest(case_dir, m);
 }
 
-// What each dump frame says, kept for the check against the series.
-struct FrameCheck {
-  long step = 0;
-  std::vector<double> block_ke;
-  double striker_ke = 0.0;
-  double energy = 0.0;  // kinetic + elastic
-};
-
 // Where the series keeps what reduce reads.
 struct SeriesColumns {
   int step = -1;
@@ -214,30 +206,28 @@ void require_series_physical(const formats::Series& series, const std::string& p
 
 // The series and the dumps come from one run: where both sampled a step, every block's and the
 // striker's kinetic energy agree to kSeriesDumpAgreement of E_in (both are sums of the same
-// doubles in another order: measured differences are below 1e-15 of E_in).
+// doubles in another order: measured differences are below 1e-15 of E_in). The series has been
+// checked to hold a row every series_every steps from series_every on.
 constexpr double kSeriesDumpAgreement = 1e-9;
 
-void require_series_matches_dumps(const formats::Series& series, const SeriesColumns& c, const std::string& path,
-                                  const std::vector<FrameCheck>& frames, double e_in) {
-  const long every = series.rows.empty() ? 0 : static_cast<long>(SeriesColumns::at(series.rows[0], c.step));
-  for (const auto& f : frames) {
-    if (every <= 0 || f.step == 0 || f.step % every != 0) continue;
-    const auto i = static_cast<std::size_t>(f.step / every - 1);
-    if (i >= series.rows.size()) continue;
-    const auto& row = series.rows[i];
-    auto differ = [&](double a, double b) { return !(std::fabs(a - b) <= kSeriesDumpAgreement * e_in); };
-    for (std::size_t k = 0; k < f.block_ke.size(); ++k) {
-      if (differ(c.block_ke(row, static_cast<int>(k)), f.block_ke[k])) {
-        throw formats::FormatError(path, 0, fmt::format("at step {} block {}'s kinetic energy is {:.17g} J here and "
-                                                        "{:.17g} J in the dump: the series is not this run's",
-                                                        f.step, k + 1, c.block_ke(row, static_cast<int>(k)), f.block_ke[k]));
-      }
-    }
-    if (differ(c.striker_ke(row), f.striker_ke)) {
-      throw formats::FormatError(path, 0, fmt::format("at step {} the striker's kinetic energy is {:.17g} J here and "
+void require_frame_matches_series(const FrameEnergy& e, const formats::Series& series, const SeriesColumns& c,
+                                  long series_every, const std::string& path, double e_in) {
+  if (e.step == 0 || e.step % series_every != 0) return;
+  const auto i = static_cast<std::size_t>(e.step / series_every - 1);
+  if (i >= series.rows.size()) return;
+  const auto& row = series.rows[i];
+  auto differ = [&](double a, double b) { return !(std::fabs(a - b) <= kSeriesDumpAgreement * e_in); };
+  for (std::size_t k = 0; k < e.block_ke.size(); ++k) {
+    if (differ(c.block_ke(row, static_cast<int>(k)), e.block_ke[k])) {
+      throw formats::FormatError(path, 0, fmt::format("at step {} block {}'s kinetic energy is {:.17g} J here and "
                                                       "{:.17g} J in the dump: the series is not this run's",
-                                                      f.step, c.striker_ke(row), f.striker_ke));
+                                                      e.step, k + 1, c.block_ke(row, static_cast<int>(k)), e.block_ke[k]));
     }
+  }
+  if (differ(c.striker_ke(row), e.striker_ke)) {
+    throw formats::FormatError(path, 0, fmt::format("at step {} the striker's kinetic energy is {:.17g} J here and "
+                                                    "{:.17g} J in the dump: the series is not this run's",
+                                                    e.step, c.striker_ke(row), e.striker_ke));
   }
 }
 
@@ -275,21 +265,19 @@ void warn_if_energy_still_arriving(const formats::Series& series, const SeriesCo
 // largest drift measured with refsim at the largest dt generate accepts (t_c/20) is 2.2e-3 of
 // E_in (steel on Teflon; 9.4e-5 on the default stack, 4.3e-4 with walls), against 9.7e-5 and
 // 3.8e-6 at the automatic dt (t_c/100); a broken integration gives orders of magnitude more.
-void require_energy_balance(const std::vector<FrameCheck>& frames, const model::StackSpec& spec, CaseReduction& r,
+void require_energy_balance(const FrameEnergy& e, const model::StackSpec& spec, CaseReduction& r,
                             const std::string& dump_path) {
   if (spec.gravity != 0.0) return;  // gravity's potential energy is not counted
   const bool conservative = model::is_conservative(spec);
-  for (const auto& f : frames) {
-    const double error = (f.energy - r.e_in) / r.e_in;
-    if (conservative) r.energy_drift = std::max(r.energy_drift.value_or(0.0), std::fabs(error));
-    if (error > kEnergyBalanceBound || (conservative && -error > kEnergyBalanceBound)) {
-      throw PhysicsError(fmt::format(
-          "{}: at step {} the kinetic plus elastic energy is {:.6g} J against E_in = {:.6g} J ({:+.3g} of E_in; at "
-          "most {:g} allowed{}): the integration is broken (a time step too long for the contacts?) or the dump is "
-          "not this case's; no result is taken from it",
-          dump_path, f.step, f.energy, r.e_in, error, kEnergyBalanceBound,
-          conservative ? ", this case conserves energy" : ", damping and friction only remove energy"));
-    }
+  const double error = (e.kinetic + e.elastic - r.e_in) / r.e_in;
+  if (conservative) r.energy_drift = std::max(r.energy_drift.value_or(0.0), std::fabs(error));
+  if (error > kEnergyBalanceBound || (conservative && -error > kEnergyBalanceBound)) {
+    throw PhysicsError(fmt::format(
+        "{}: at step {} the kinetic plus elastic energy is {:.6g} J against E_in = {:.6g} J ({:+.3g} of E_in; at "
+        "most {:g} allowed{}): the integration is broken (a time step too long for the contacts?) or the dump is "
+        "not this case's; no result is taken from it",
+        dump_path, e.step, e.kinetic + e.elastic, r.e_in, error, kEnergyBalanceBound,
+        conservative ? ", this case conserves energy" : ", damping and friction only remove energy"));
   }
 }
 }  // namespace
@@ -315,6 +303,17 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   r.case_name = manifest.case_name;
   r.spec = spec;
   r.e_in = stack.incident_energy();
+  // The in-situ series gives the peaks. It must be the run's own and whole (checked here), and
+  // agree with every dump frame where both have data (checked as the frames arrive).
+  const auto series_path = (dir / manifest.files.series).string();
+  if (!fs::exists(series_path)) {
+    throw formats::FormatError(series_path, 0, "missing: the run's in-situ energy series is what the peaks are taken "
+                                               "from; run the case again with --force");
+  }
+  const auto series = formats::read_series(series_path);
+  const SeriesColumns cols = series_columns(series, series_path, nb);
+  require_series_matches_run(series, cols, series_path, res);
+  require_series_physical(series, series_path, stack);
   const auto dump_path = formats::find_dump(case_dir, manifest.files.dump);
   const bool binary = spec.dump_format == model::DumpFormat::binary;
   formats::FrameBatchSource source(dump_path, binary, manifest.files.dump_columns, FrameView::needed_columns(),
@@ -385,7 +384,6 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   FrameEnergy last_energy;
   long last_step = 0;
   const long expected_frames = res.steps / res.dump_every + 1;
-  std::vector<FrameCheck> checks;  // per frame, for the check against the series
   auto take_result = [&](FrameResult& fr) {
     const auto& e = fr.e;
     if (e.step != r.frames * res.dump_every) {
@@ -393,7 +391,8 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
                                                            "steps): frames are missing or out of order",
                                                            r.frames + 1, e.step, r.frames * res.dump_every, res.dump_every));
     }
-    checks.push_back({e.step, e.block_ke, e.striker_ke, e.kinetic + e.elastic});
+    require_energy_balance(e, spec, r, dump_path);
+    require_frame_matches_series(e, series, cols, res.series_every, series_path, r.e_in);
     r.output_peak_fraction = std::max(r.output_peak_fraction, e.output_sphere_ke / r.e_in);
     r.top_row_sideways_peak = std::max(r.top_row_sideways_peak, e.top_row_sideways);
     r.top_row_downward_peak = std::max(r.top_row_downward_peak, e.top_row_downward);
@@ -426,20 +425,8 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
                                                          r.frames, expected_frames, res.steps, res.dump_every));
   }
   r.final_time = static_cast<double>(last_step) * res.dt;
-  require_energy_balance(checks, spec, r, dump_path);
 
-  // Peaks from the in-situ series: it is sampled far more often than the dumps. It must be the
-  // run's own, whole, and agree with the dump frames where both have data.
-  const auto series_path = (dir / manifest.files.series).string();
-  if (!fs::exists(series_path)) {
-    throw formats::FormatError(series_path, 0, "missing: the run's in-situ energy series is what the peaks are taken "
-                                               "from; run the case again with --force");
-  }
-  const auto series = formats::read_series(series_path);
-  const SeriesColumns cols = series_columns(series, series_path, nb);
-  require_series_matches_run(series, cols, series_path, res);
-  require_series_physical(series, series_path, stack);
-  require_series_matches_dumps(series, cols, series_path, checks, r.e_in);
+  // Peaks from the in-situ series: it is sampled far more often than the dumps.
   {
     std::vector<BlockPeak> peaks(static_cast<std::size_t>(nb));
     for (const auto& row : series.rows) {

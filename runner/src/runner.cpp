@@ -298,7 +298,7 @@ EngineResult run_refsim(const fs::path& dir, const formats::Manifest& manifest, 
                         const std::function<void(long)>& on_step) {
   EngineResult result;
   // refsim takes its physics from the manifest, LIGGGHTS from the deck: they must say the same.
-  if (formats::read_file(dir / manifest.files.deck) != generator::default_deck(manifest)) {
+  if (!generator::has_default_deck(dir.string(), manifest)) {
     result.error = fmt::format("refsim: {} is not the deck granstack's own template gives for this case (it was "
                                "rendered from a --template of yours, or edited), so refsim cannot be sure to run the "
                                "same physics; run it with LIGGGHTS, or generate the case without --template",

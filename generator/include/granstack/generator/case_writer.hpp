@@ -39,6 +39,8 @@ formats::DataFile data_file(const model::Stack& stack, const std::string& case_n
 // given --template; refsim runs only cases whose deck is this, so the two engines cannot be
 // handed different physics.
 std::string default_deck(const formats::Manifest& manifest);
+// Whether the deck in `case_dir` is exactly default_deck(manifest).
+bool has_default_deck(const std::string& case_dir, const formats::Manifest& manifest);
 nlohmann::json derived_json(const model::Stack& stack, const model::Resolution& res);
 nlohmann::json layout_json(const model::Stack& stack);
 
