@@ -107,6 +107,8 @@ Command add_generate(CLI::App& app, const std::vector<std::string>& argv) {
       {"--restitution", "restitution", "Coefficient of restitution e, 0.05 < e <= 1 (sweepable) [1]"},
       {"--friction", "friction", "Coulomb friction coefficient mu, 0..10 (sweepable) [0]"},
       {"--striker-speed", "striker_speed", "Striker speed, m/s (sweepable) [1]"},
+      {"--striker-radius-ratio", "striker_radius_ratio", "Striker radius over the top spheres', 1..16 [1]"},
+      {"--striker-material", "striker_material", "Material of the striker [the top block's]"},
       {"--bottom", "bottom", "Bottom boundary: free | wall [free]"},
       {"--sides", "sides", "Side boundaries: free | wall [free]"},
       {"--wall-material", "wall_material", "Material of the walls [the bottom block's]"},

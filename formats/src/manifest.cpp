@@ -60,6 +60,8 @@ json spec_to_json(const model::StackSpec& s) {
           {"friction", s.friction.value},
           {"friction_pairs", pairs_to_json(s.friction)},
           {"striker_speed", s.striker_speed},
+          {"striker_radius_ratio", s.striker_radius_ratio},
+          {"striker_material", s.striker_material},
           {"bottom", model::to_string(s.bottom)},
           {"sides", model::to_string(s.sides)},
           {"wall_material", s.wall_material},
@@ -90,6 +92,9 @@ model::StackSpec spec_from_json(const json& j, const std::string& source) {
   s.restitution = pairs_from_json(get<double>(j, "restitution", source), restitution_pairs, source, "restitution_pairs");
   s.friction = pairs_from_json(get<double>(j, "friction", source), friction_pairs, source, "friction_pairs");
   s.striker_speed = get<double>(j, "striker_speed", source);
+  // Absent from manifests written before the striker could be chosen: the study's striker.
+  if (j.contains("striker_radius_ratio")) s.striker_radius_ratio = get<double>(j, "striker_radius_ratio", source);
+  if (j.contains("striker_material")) s.striker_material = get<std::string>(j, "striker_material", source);
   auto boundary = [&](const char* key) {
     auto b = model::parse_boundary(get<std::string>(j, key, source));
     if (!b) throw FormatError(source, 0, fmt::format("field '{}' is 'free' or 'wall'", key));

@@ -16,7 +16,7 @@ using model::SpecIssue;
 const std::vector<std::string>& spec_fields() {
   static const std::vector<std::string> fields{
       "blocks",        "rows",          "top_columns",     "bottom_radius",     "radius_ratio",
-      "materials",     "restitution",   "friction",        "striker_speed",     "bottom",
+      "materials",     "restitution",   "friction",        "striker_speed",     "striker_radius_ratio", "striker_material", "bottom",
       "sides",         "wall_material", "gravity",         "dt",                "duration",
       "dump_every",    "series_every",  "dump_format",     "dump_files",        "restitution_pairs",
       "friction_pairs", "custom_materials"};
@@ -270,6 +270,10 @@ Sweep build_sweep(const RawSpec& raw) {
       }
     } else if (field == "wall_material") {
       if (const auto* t = single()) s.wall_material = *t;
+    } else if (field == "striker_material") {
+      if (const auto* t = single()) s.striker_material = *t;
+    } else if (field == "striker_radius_ratio") {
+      if (const auto* t = single()) p.number(field, *t, s.striker_radius_ratio);
     } else if (field == "gravity") {
       if (const auto* t = single()) {
         if (*t == "true") s.gravity = 9.80665;  // standard gravity

@@ -15,6 +15,13 @@ int cadence(long steps, long samples) {
 }
 }  // namespace
 
+ContactPair striker_contact(const Stack& stack) {
+  const auto lib = stack.spec().material_library();
+  const auto& top = stack.block(1);
+  return sphere_sphere(lib.at(stack.spec().effective_striker_material()), stack.striker_radius(), lib.at(top.material),
+                       top.radius);
+}
+
 Resolution resolve(const Stack& stack) {
   const auto& spec = stack.spec();
   const auto lib = spec.material_library();
@@ -47,6 +54,7 @@ Resolution resolve(const Stack& stack) {
     min_rayleigh = std::min(min_rayleigh, rayleigh_time(m, b.radius));
   }
   r.min_rayleigh_time = min_rayleigh;
+  consider(striker_contact(stack), "striker - block 1");
 
   // Arrival at the bottom face: each block's rows, plus its entry, in its own contact time.
   double arrival = 0.0;
@@ -95,10 +103,8 @@ std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& r)
                                   "allows; shorten --duration or use the automatic dt",
                                   r.steps_asked, static_cast<double>(kMaxSteps))});
   }
-  const auto lib = spec.material_library();
   const auto& top = stack.block(1);
-  const auto& m = lib.at(top.material);
-  const double overlap = hertz_max_overlap(sphere_sphere(m, top.radius, m, top.radius), spec.striker_speed);
+  const double overlap = hertz_max_overlap(striker_contact(stack), spec.striker_speed);
   if (!(overlap <= kMaxOverlapPerRadius * top.radius)) {
     issues.push_back({"striker_speed", fmt::format("{} m/s presses the striker {:.3g} of a radius into the top spheres; "
                                                    "Hertz contact holds for small overlaps only (at most {:g}): use a "

@@ -55,6 +55,10 @@ const std::string& StackSpec::effective_wall_material() const {
   return wall_material.empty() ? block_material(blocks) : wall_material;
 }
 
+const std::string& StackSpec::effective_striker_material() const {
+  return striker_material.empty() ? block_material(1) : striker_material;
+}
+
 MaterialLibrary StackSpec::material_library() const {
   auto lib = MaterialLibrary::builtin();
   for (const auto& m : custom_materials) lib.add(m);
@@ -164,9 +168,21 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
   if (!s.wall_material.empty() && !known(s.wall_material)) {
     bad("wall_material", fmt::format("unknown material '{}' (known: {})", s.wall_material, known_list));
   }
+  if (!s.striker_material.empty() && !known(s.striker_material)) {
+    bad("striker_material", fmt::format("unknown material '{}' (known: {})", s.striker_material, known_list));
+  }
+  if (!within(s.striker_radius_ratio, 1.0, kMaxStrikerRadiusRatio)) {
+    bad("striker_radius_ratio", fmt::format("{} must be in [1, {:g}] (the striker's radius over the top spheres')",
+                                            s.striker_radius_ratio, kMaxStrikerRadiusRatio));
+  } else if (s.sides == Boundary::wall && !(s.striker_radius_ratio < s.top_columns)) {
+    bad("striker_radius_ratio", fmt::format("{} would make the striker touch the side walls (at -+{} top radii): use "
+                                            "a smaller striker, more top columns or free sides",
+                                            s.striker_radius_ratio, s.top_columns));
+  }
 
-  // The materials the stack is made of: its blocks (the striker is the top block's) and its walls.
+  // The materials the stack is made of: its blocks, its striker and its walls.
   std::vector<std::string> used = s.materials;
+  if (!s.striker_material.empty()) used.push_back(s.striker_material);
   if (s.bottom == Boundary::wall || s.sides == Boundary::wall) {
     used.push_back(!s.wall_material.empty() ? s.wall_material : s.materials.empty() ? "" : s.materials.back());
   }

@@ -5,8 +5,13 @@
 
 namespace granstack::model {
 
+double seat_height(double lower_radius, double upper_radius) {
+  const double d = lower_radius + upper_radius;
+  return std::sqrt(d * d - lower_radius * lower_radius);
+}
+
 double interface_height(double lower_radius, int n) {
-  if (n % 2 == 0) return lower_radius * std::sqrt(static_cast<double>(n * n + 2 * n));
+  if (n % 2 == 0) return seat_height(lower_radius, n * lower_radius);
   return static_cast<double>(n + 1) * lower_radius;
 }
 
@@ -48,8 +53,12 @@ Stack Stack::build(const StackSpec& spec) {
   s.spheres_.reserve(static_cast<std::size_t>(first_id - 1));
   const auto& top = s.block(1);
   const double top_row_z = bottom_row_z[1] + 2.0 * top.radius * (top.rows - 1);
-  // The striker rests on the two central top spheres (at x = -+R_1): sqrt(3) R_1 above their row.
-  s.spheres_.push_back({1, 0, 0, 0, s.striker_type(), top.radius, 0.0, top_row_z + std::sqrt(3.0) * top.radius});
+  // The striker rests on the two central top spheres (at x = -+R_1): sqrt(3) R_1 above their row
+  // for the study's striker (the top spheres' radius).
+  const double striker_radius = spec.striker_radius_ratio * top.radius;
+  s.striker_mass_ = sphere_mass(striker_radius, lib.at(spec.effective_striker_material()).density);
+  s.spheres_.push_back({1, 0, 0, 0, s.striker_type(), striker_radius, 0.0,
+                        top_row_z + seat_height(top.radius, striker_radius)});
   for (const auto& b : s.blocks_) {
     for (int i = 1; i <= b.rows; ++i) {
       const double z = bottom_row_z[static_cast<std::size_t>(b.index)] + 2.0 * b.radius * (b.rows - i);
@@ -110,14 +119,15 @@ bool Stack::has_walls() const {
 std::vector<std::string> Stack::type_materials() const {
   std::vector<std::string> out;
   for (const auto& b : blocks_) out.push_back(b.material);
-  out.push_back(block(1).material);  // the striker is made of the top block's material
+  out.push_back(spec_.effective_striker_material());
   if (has_walls()) out.push_back(spec_.effective_wall_material());
   return out;
 }
 
 double Stack::half_width() const { return spec_.top_columns * block(1).radius; }
 double Stack::top_z() const { return spheres_.front().z + spheres_.front().radius; }
-double Stack::striker_mass() const { return block(1).sphere_mass; }
+double Stack::striker_radius() const { return spheres_.front().radius; }
+double Stack::striker_mass() const { return striker_mass_; }
 double Stack::incident_energy() const { return 0.5 * striker_mass() * spec_.striker_speed * spec_.striker_speed; }
 
 }  // namespace granstack::model

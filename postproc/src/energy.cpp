@@ -287,7 +287,7 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     e.column_ke[k].assign(static_cast<std::size_t>(stack.blocks()[k].columns), 0.0);
   }
   e.top_row_sideways = e.top_row_downward = e.striker_ke = e.output_sphere_ke = e.bottom_row_ke = 0.0;
-  e.kinetic = e.elastic = 0.0;
+  e.kinetic = e.elastic = e.striker_vz = 0.0;
   const auto out_index = static_cast<std::size_t>(stack.output_sphere_id() - 1);
   const auto bottom_first = static_cast<std::size_t>(stack.bottom_row_ids().front() - 1);
   const auto& spheres = stack.spheres();
@@ -317,6 +317,7 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     const int b = c.block[i];
     if (b < 0) {
       e.striker_ke += ke;
+      e.striker_vz = vz;
     } else {
       const auto k = static_cast<std::size_t>(b);
       const double sideways = 0.5 * m * (vx * vx + vy * vy), downward = 0.5 * m * vz * vz;

@@ -445,6 +445,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   for (auto& b : r.blocks) b.normalised = r.blocks.front().peak_ke > 0 ? b.peak_ke / r.blocks.front().peak_ke : 0.0;
 
   if (spec.gravity == 0.0) r.dissipated_fraction = (r.e_in - last_energy.kinetic - last_energy.elastic) / r.e_in;
+  r.striker_velocity_ratio = last_energy.striker_vz / -spec.striker_speed;
   const auto bottom = stack.bottom_row_ids();
   r.output_fraction_bottom_row = last_energy.bottom_row_ke / r.e_in;
   r.output_fraction_bottom_row_per_sphere = r.output_fraction_bottom_row / static_cast<double>(bottom.size());
@@ -524,6 +525,7 @@ json to_json(const CaseReduction& r) {
           {"peak_source", r.peak_source},
           {"frames", r.frames},
           {"final_time", r.final_time},
+          {"striker_velocity_ratio", r.striker_velocity_ratio},
           {"output_last_change_time", r.output_last_change_time},
           {"energy_drift", r.energy_drift ? json(*r.energy_drift) : json(nullptr)},
           {"dissipated_fraction", r.dissipated_fraction ? json(*r.dissipated_fraction) : json(nullptr)},

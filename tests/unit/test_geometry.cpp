@@ -170,6 +170,26 @@ std::vector<Layout> layouts() {
 
 INSTANTIATE_TEST_SUITE_P(Stacks, GeometryTest, ::testing::ValuesIn(layouts()), layout_name);
 
+// The isolated collision of physics.md section 5: a striker rho times the top radius on one row
+// of two spheres touches both, at sin(theta) = 1 / (rho + 1) from the vertical, and nothing else.
+TEST(Geometry, ALargeStrikerRestsOnTheTwoCentralSpheresAtTheAngleOfItsRadius) {
+  for (const double rho : {1.0, 2.0, 3.0, 4.0, 7.5}) {
+    StackSpec s;
+    s.blocks = 1;
+    s.rows = 1;
+    s.striker_radius_ratio = rho;
+    const auto stack = Stack::build(s);
+    const auto& striker = stack.sphere(Stack::striker_id());
+    EXPECT_DOUBLE_EQ(striker.radius, rho * stack.block(1).radius);
+    for (const int j : {1, 2}) {
+      const auto& small = stack.sphere(stack.id_of(1, 1, j));
+      EXPECT_TRUE(touching(striker, small)) << "rho " << rho << " gap " << gap(striker, small);
+      EXPECT_NEAR(std::fabs(striker.x - small.x) / (striker.radius + small.radius), 1.0 / (rho + 1.0), 1e-15);
+    }
+    EXPECT_NEAR(stack.striker_mass(), rho * rho * rho * stack.block(1).sphere_mass, 1e-15 * stack.striker_mass());
+  }
+}
+
 TEST(Geometry, InterfaceAndStrikerAnglesAreThoseOfPhysicsMd) {
   StackSpec s;
   s.blocks = 2;

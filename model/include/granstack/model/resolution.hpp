@@ -2,6 +2,7 @@
 // Time step, duration and output cadences of a case: the automatic rules and what they are
 // derived from (physics.md section 6). The constants are justified by the convergence study
 // in docs/timestep.md.
+#include <granstack/model/contact.hpp>
 #include <granstack/model/stack.hpp>
 
 #include <string>
@@ -61,6 +62,8 @@ struct Resolution {
 // is rounded up to a multiple of dump_every (a dump_every larger than the run becomes the whole
 // run), so the final state is always in the dump.
 Resolution resolve(const Stack& stack);
+// The striker's contact with a top sphere (its radius and material against the top block's).
+ContactPair striker_contact(const Stack& stack);
 
 // What is physically or numerically out of bounds in a resolved case (see the guards above), as
 // spec issues naming the field and the bound; empty when the case is sound.

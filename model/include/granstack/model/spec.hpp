@@ -45,6 +45,11 @@ struct StackSpec {
   PairTable restitution{1.0, {}};              // e, 0.05 < e <= 1
   PairTable friction{0.0, {}};                 // Coulomb mu >= 0
   double striker_speed = 1.0;                  // m/s, along -z
+  // The striker's radius over the top block's, from 1 to 16: it rests on the two central top
+  // spheres (seat_height). 2 with one row of two spheres is the isolated collision of physics.md
+  // section 5 (a large sphere on two small ones, the interface's geometry).
+  double striker_radius_ratio = 1.0;
+  std::string striker_material;                // empty: the top block's material
   Boundary bottom = Boundary::free_surface;
   Boundary sides = Boundary::free_surface;
   std::string wall_material;                   // empty: the bottom block's material
@@ -60,6 +65,8 @@ struct StackSpec {
   const std::string& block_material(int k) const;
   // The wall's material name (wall_material, or the bottom block's).
   const std::string& effective_wall_material() const;
+  // The striker's material name (striker_material, or the top block's).
+  const std::string& effective_striker_material() const;
   // Built-in materials plus custom_materials.
   MaterialLibrary material_library() const;
   bool operator==(const StackSpec&) const = default;
@@ -93,6 +100,8 @@ inline constexpr double kMinRadius = 1e-6, kMaxRadius = 1.0;
 inline constexpr double kMaxGravity = 1000.0;
 // Coulomb friction up to 10 (real materials stay below about 1.5; above, every contact sticks);
 inline constexpr double kMaxFriction = 10.0;
+// a striker from 1 to 16 times the top spheres' radius (the range of radius_ratio);
+inline constexpr double kMaxStrikerRadiusRatio = 16.0;
 // densities from 1 kg/m^3 to 1e5 (osmium is 22 590) and Young's moduli from 1 kPa (soft gels) to
 // 10 TPa (diamond is 1.2 TPa).
 inline constexpr double kMinDensity = 1.0, kMaxDensity = 1e5;

@@ -85,11 +85,13 @@ class Stack {
 
   double half_width() const;       // m: the lattice spans -half_width..half_width in x (C R_1)
   double top_z() const;            // m: the top of the striker
+  double striker_radius() const;   // m
   double striker_mass() const;     // kg
   double incident_energy() const;  // E_in = 1/2 m_s v^2, J
 
  private:
   StackSpec spec_;
+  double striker_mass_ = 0.0;
   std::vector<Sphere> spheres_;
   std::vector<Block> blocks_;
 };
@@ -99,5 +101,10 @@ class Stack {
 // (sqrt((n+1)^2 - 1) R_{k+1}, 2 sqrt(2) R_{k+1} for the study's n = 2), with n odd on the one
 // directly below ((n+1) R_{k+1}).
 double interface_height(double lower_radius, int radius_ratio);
+// The height of the centre of a sphere of radius `upper_radius` above the centres of two
+// touching spheres of radius `lower_radius` (at -+lower_radius) it rests on, touching both:
+// sqrt((R_u + R_l)^2 - R_l^2). The striker's seat (sqrt(3) R_1 for the study's striker) and
+// the even-ratio interface.
+double seat_height(double lower_radius, double upper_radius);
 
 }  // namespace granstack::model

@@ -19,6 +19,7 @@ struct FrameEnergy {
   // 1/2 m vz^2 (physics.md section 4).
   double top_row_sideways = 0.0, top_row_downward = 0.0;
   double striker_ke = 0.0;
+  double striker_vz = 0.0;       // m/s, the striker's velocity along z (negative: moving down)
   double output_sphere_ke = 0.0;
   double bottom_row_ke = 0.0;
   double kinetic = 0.0;          // everything

@@ -44,6 +44,10 @@ struct CaseReduction {
   // sideways (1/2 m vx^2 + vy^2) and downward (1/2 m vz^2) kinetic energy, in J.
   double top_row_sideways_peak = 0.0;
   double top_row_downward_peak = 0.0;
+  // The striker's velocity along z at the last frame over the one it started with, -v: 1 when it
+  // goes on at full speed, negative when it bounced back. The isolated collision of physics.md
+  // section 5 (Eq. 3) has (1 - 2 kappa cos^2 theta) / (1 + 2 kappa cos^2 theta).
+  double striker_velocity_ratio = 0.0;
   // E_in - kinetic - elastic at the last frame, / E_in: what damping and friction took. Not
   // defined with gravity (its potential energy is not counted).
   std::optional<double> dissipated_fraction;
