@@ -68,7 +68,7 @@ const BadCase kBadCases[] = {
     {"striker_material", [](StackSpec& s) { s.striker_material = "wood"; }, "striker_material", "unknown material"},
     {"striker_small", [](StackSpec& s) { s.striker_radius_ratio = 0.5; }, "striker_radius_ratio", "in [1, 16]"},
     {"striker_nan", [](StackSpec& s) { s.striker_radius_ratio = std::nan(""); }, "striker_radius_ratio", "in [1, 16]"},
-    {"striker_at_walls", [](StackSpec& s) { s.sides = Boundary::wall; s.striker_radius_ratio = 2.0; },
+    {"striker_at_walls", [](StackSpec& s) { s.sides = granstack::model::Boundary::wall; s.striker_radius_ratio = 2.0; },
      "striker_radius_ratio", "touch the side walls"},
     {"material_density", [](StackSpec& s) { s.custom_materials.push_back({"foam", 0.0, 1e6, 0.3}); },
      "custom_materials.foam.density", "in [1, 100000] kg/m^3"},
