@@ -18,16 +18,17 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string terminal(const PlotOptions& o) {
+}  // namespace
+
+std::string gnuplot_terminal(const PlotOptions& o) {
   if (o.format == "svg") return "set terminal svg size 1600,1000 dynamic enhanced font 'Sans,26' linewidth 2";
   if (o.format == "png") return "set terminal pngcairo size 1600,1000 enhanced font 'Sans,26' linewidth 3";
   throw std::invalid_argument(fmt::format("plot format '{}' is not png or svg", o.format));
 }
 
-// Writes NAME.dat and NAME.gp into `dir` and runs gnuplot there, from an argument vector (no
-// shell sees any path). Returns the image path.
-std::string render(const fs::path& dir, const std::string& name, const std::string& data, const std::string& script,
-                   const PlotOptions& o) {
+std::string render_gnuplot(const std::string& dir_name, const std::string& name, const std::string& data,
+                           const std::string& script, const PlotOptions& o) {
+  const fs::path dir(dir_name);
   fs::create_directories(dir);
   formats::write_file_atomically(dir / (name + ".dat"), data);
   formats::write_file_atomically(dir / (name + ".gp"), script);
@@ -56,6 +57,8 @@ std::string render(const fs::path& dir, const std::string& name, const std::stri
   fs::remove(log, ec);
   return image.string();
 }
+
+namespace {
 
 std::string safe_name(std::string s) {
   for (auto& c : s) {
@@ -118,9 +121,9 @@ std::string plot_block_energy(const std::string& case_dir, const std::string& la
       "# The key beside the plot covers no curve; 8 % head room keeps a curve that reaches 1 off the border.\n"
       "set grid\nset key outside right top\nset yrange [0:*]\nset offsets 0, 0, graph 0.08, 0\nset autoscale xfix\n"
       "plot for [k=1:{}] '{}.dat' using 1:(column(k+1)) with lines title sprintf('block %d', k)\n",
-      safe_name(label), name, name, terminal(o), name, o.format, nb, nb == 1 ? "" : "s", m.spec.restitution.value,
+      safe_name(label), name, name, gnuplot_terminal(o), name, o.format, nb, nb == 1 ? "" : "s", m.spec.restitution.value,
       m.spec.friction.value, m.spec.striker_speed, nb, name);
-  return render(out_dir, name, fmt::to_string(data), script, o);
+  return render_gnuplot(out_dir, name, fmt::to_string(data), script, o);
 }
 
 std::string plot_decay(const OutputTable& t, const std::string& out_dir, const PlotOptions& o) {
@@ -155,8 +158,8 @@ std::string plot_decay(const OutputTable& t, const std::string& out_dir, const P
       "# The key below the plot, one entry a line: long group names stay whole and cover nothing.\n"
       "set logscale y\nset format y '10^{{%L}}'\nset grid\nset key below left maxcols 1\n"
       "set xrange [{}:{}]\nset xtics 1\nset samples 200\n{}plot {}\n",
-      terminal(o), o.format, lo - 0.3, hi + 0.3, functions, plots);
-  return render(out_dir, "decay", fmt::to_string(data), script, o);
+      gnuplot_terminal(o), o.format, lo - 0.3, hi + 0.3, functions, plots);
+  return render_gnuplot(out_dir, "decay", fmt::to_string(data), script, o);
 }
 
 }  // namespace granstack::postproc

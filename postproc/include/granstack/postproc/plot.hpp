@@ -13,6 +13,14 @@ struct PlotOptions {
   std::string gnuplot = "gnuplot";
 };
 
+// gnuplot's `set terminal` line for the options' format (png or svg), in the project's style.
+std::string gnuplot_terminal(const PlotOptions& options);
+// Writes NAME.dat and NAME.gp into `dir` and runs gnuplot there, from an argument vector (no
+// shell sees any path); the script must write NAME.<format>. Returns the image path; throws
+// std::runtime_error with gnuplot's own words when it fails.
+std::string render_gnuplot(const std::string& dir, const std::string& name, const std::string& data,
+                           const std::string& script, const PlotOptions& options);
+
 // The name (without extension) of the energy figure of the case labelled `label`, and the files
 // a figure called `name` writes (data, script, image).
 std::string energy_plot_name(const std::string& label);

@@ -1,0 +1,82 @@
+// granstack reproduce: the study's figures and numbers in one command, with a report.
+#include "commands.hpp"
+#include "progress.hpp"
+
+#include <granstack/study/report.hpp>
+#include <granstack/study/reproduce.hpp>
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <memory>
+#include <mutex>
+
+namespace granstack::app {
+
+namespace {
+
+struct ReproduceFlags {
+  study::ReproduceOptions options;
+};
+
+int reproduce(ReproduceFlags& f) {
+  auto& o = f.options;
+  try {
+    study::select(study::builtin_catalogue(), o.experiments, o.quick);
+  } catch (const study::UnknownExperiment& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return kBadInput;
+  }
+  StatusLine status;
+  std::mutex mutex;
+  if (status.active()) {
+    o.on_progress = [&](const std::string& line) {
+      const std::lock_guard lock(mutex);
+      status.show("reproduce: " + line);
+    };
+  }
+  o.on_event = [&](const std::string& line) {
+    const std::lock_guard lock(mutex);
+    status.clear();
+    fmt::print("{}\n", line);
+    std::fflush(stdout);
+  };
+  study::StudyResult result;
+  try {
+    result = study::reproduce(study::builtin_catalogue(), o);
+  } catch (const study::ReproduceError& e) {
+    status.clear();
+    fmt::print(stderr, "error: {}\n", e.what());
+    return kExists;
+  }
+  status.clear();
+  fmt::print("\n{}\nreport: {}/report.md, {}/report.html, {}/report.json ({:.1f} s)\n", study::summary_text(result), o.output,
+             o.output, o.output, result.wall_seconds);
+  if (result.failed_cases > 0) {
+    fmt::print(stderr, "{} case(s) failed or could not be reduced (see the report's case tables); run the same command "
+                       "again to retry them\n",
+               result.failed_cases);
+    return kCaseFailed;
+  }
+  return kOk;
+}
+
+}  // namespace
+
+Command add_reproduce(CLI::App& app) {
+  auto f = std::make_shared<ReproduceFlags>();
+  auto& o = f->options;
+  auto* cmd = app.add_subcommand("reproduce", "Reproduce the study's figures and numbers, with a report");
+  cmd->add_option("experiments", o.experiments,
+                  fmt::format("Experiments to run [all]: {}", fmt::join(study::builtin_catalogue().names(), ", ")));
+  cmd->add_option("-o,--output", o.output, "The reproduction's directory (its cases are reused on a rerun)")->required();
+  cmd->add_option("-j,--jobs", o.jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
+  cmd->add_option("--engine", o.engine, "liggghts or refsim [liggghts]")->check(CLI::IsMember({"liggghts", "refsim"}));
+  cmd->add_flag("--validate", o.validate, "Also run every case with the other engine and report the agreement");
+  cmd->add_flag("--quick", o.quick, "The small subset CI runs (the experiments marked quick)");
+  cmd->add_flag("--force", o.force, "Generate and run every case again");
+  cmd->add_option("--liggghts", o.liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
+  return {cmd, [f] { return reproduce(*f); }};
+}
+
+}  // namespace granstack::app

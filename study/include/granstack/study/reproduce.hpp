@@ -1,0 +1,101 @@
+#pragma once
+// `granstack reproduce`: the study's experiments (catalogue.hpp) generated, run, reduced, measured
+// by their named analyses and judged against the paper's statements, into a report.
+#include <granstack/postproc/reduce.hpp>
+#include <granstack/study/catalogue.hpp>
+
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace granstack::study {
+
+struct Table {
+  std::string caption;
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+};
+
+struct Figure {
+  std::string file;     // the SVG, relative to the report's directory
+  std::string caption;
+};
+
+// A claim judged: the value of each candidate reading, and the verdict of the first within the
+// band (or, when none is, of the one closest to it).
+struct Verdict {
+  const Claim* claim = nullptr;
+  std::vector<std::pair<std::string, std::optional<double>>> readings;  // quantity, value (none: not measured)
+  std::string reading;          // the reading the verdict is about
+  std::optional<double> value;
+  std::optional<double> error;  // its standard error, where the analysis has one
+  std::string verdict;          // "within", "outside" or "not measured"
+  double off = 0.0;             // outside: the relative distance to the nearer band edge
+};
+
+// One case of an experiment as it ran.
+struct CaseRecord {
+  std::string name, dir;
+  std::string status;                     // done, failed, interrupted, not run
+  double wall_seconds = 0.0;              // of this invocation's run (0 when reused)
+  std::optional<double> validate_worst;   // with --validate: refsim against LIGGGHTS, worst relative difference
+  std::string validate_quantity;          // and where
+  std::optional<postproc::CaseReduction> reduction;
+  std::string problem;                    // why it has no reduction
+};
+
+struct ExperimentResult {
+  const Experiment* experiment = nullptr;
+  std::vector<CaseRecord> cases;
+  std::map<std::string, double> values;   // the analysis's quantities, by name
+  std::map<std::string, double> errors;   // standard errors, where it has them
+  std::vector<Table> tables;
+  std::vector<Figure> figures;
+  std::vector<std::string> notes;          // what the analysis found worth saying
+  std::vector<Verdict> verdicts;
+  const CaseRecord* find_case(const std::string& name) const;
+};
+
+struct ReproduceOptions {
+  std::string output;                      // DIR
+  std::vector<std::string> experiments;    // empty: all (with quick: the quick ones)
+  bool quick = false;
+  bool validate = false;                   // also run refsim on every case and compare
+  bool force = false;                      // regenerate and rerun every case
+  std::string engine = "liggghts";         // or "refsim"
+  int jobs = 1;
+  std::string liggghts = "liggghts";
+  std::string gnuplot = "gnuplot";
+  // Progress: a stage name and a line of detail, about twice a second while cases run.
+  std::function<void(const std::string& line)> on_progress;
+  // A line per event worth a log line (a case done, reused, failed), flushed at once by the caller.
+  std::function<void(const std::string& line)> on_event;
+};
+
+struct StudyResult {
+  std::vector<ExperimentResult> experiments;
+  double wall_seconds = 0.0;
+  bool quick = false, validated = false;
+  std::string engine;
+  int failed_cases = 0;
+  bool interrupted = false;
+};
+
+// Thrown when DIR or one of its cases is not granstack's, or holds a case of another spec and
+// force is off: nothing is changed. (Also formats::RefusedError / ExistsError.)
+class ReproduceError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Generates the missing cases under DIR/<experiment>/<case>, runs those not done, reduces them,
+// measures and judges. Cases already done are reused, so an interrupted reproduction continues
+// where it stopped.
+StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& options);
+
+// Judges one claim from an experiment's values.
+Verdict judge(const Claim& claim, const std::map<std::string, double>& values, const std::map<std::string, double>& errors);
+
+}  // namespace granstack::study

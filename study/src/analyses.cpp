@@ -1,0 +1,379 @@
+// The named analyses of the catalogue (study/data/catalogue.toml).
+#include "analyses.hpp"
+
+#include "curves.hpp"
+#include "figures.hpp"
+
+#include <granstack/model/contact.hpp>
+#include <granstack/model/resolution.hpp>
+#include <granstack/model/stack.hpp>
+#include <granstack/postproc/fit.hpp>
+#include <granstack/postproc/least_squares.hpp>
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace granstack::study {
+
+const postproc::CaseReduction* AnalysisInput::reduction(const std::string& exp, const std::string& case_name) const {
+  const auto it = cases.find(exp + "/" + case_name);
+  if (it == cases.end() || !it->second->reduction) return nullptr;
+  return &*it->second->reduction;
+}
+
+namespace {
+
+std::string pct(double f) { return fmt::format("{:.3g} %", 100.0 * f); }
+std::string num(double v) { return fmt::format("{:.4g}", v); }
+std::string num(const std::optional<double>& v) { return v ? num(*v) : "-"; }
+
+// The impact column's energy (reduce/column_ke.csv) of block k.
+Curve impact_column(const postproc::CaseReduction& r, int k) {
+  const auto stack = model::Stack::build(r.spec);
+  return reduce_column(r, "column_ke", fmt::format("ke_block{}_column{}_J", k, stack.impact_column(k)));
+}
+
+// fig2: the candidate readings of "10 and 3 %", and the wave speeds against Nesterenko.
+void fig2(const AnalysisInput& in, ExperimentResult& out) {
+  Table readings{"Peak kinetic energy of block k over the peak of block 1, four readings, free bottom and bottom wall",
+                 {"reading", "bottom", "block 2", "block 3", "block 4"}, {}};
+  const std::pair<const char*, const char*> names[] = {{"whole_block", "whole block, peak over the run (reduce's peak/top)"},
+                                                       {"leading_peak", "whole block, its first peak"},
+                                                       {"column", "impact column, peak over the run"},
+                                                       {"column_leading", "impact column, its first peak"}};
+  for (const auto* variant : {"free", "wall"}) {
+    const auto* r = in.own(variant);
+    if (r == nullptr) continue;
+    const int nb = r->spec.blocks;
+    std::map<std::string, std::vector<double>> v;
+    const double top_block = r->blocks.front().peak_ke;
+    const auto top_column = impact_column(*r, 1);
+    for (int k = 1; k <= nb; ++k) {
+      const auto column = impact_column(*r, k);
+      v["whole_block"].push_back(r->blocks[static_cast<std::size_t>(k - 1)].normalised);
+      v["leading_peak"].push_back(series_energy(*r, fmt::format("block{}", k)).first_peak() / top_block);
+      v["column"].push_back(column.max() / top_column.max());
+      v["column_leading"].push_back(column.first_peak() / top_column.max());
+    }
+    for (const auto& [key, label] : names) {
+      std::vector<std::string> row{label, variant};
+      for (int k = 2; k <= nb; ++k) {
+        const double x = v[key][static_cast<std::size_t>(k - 1)];
+        out.values[fmt::format("{}.{}.b{}", key, variant, k)] = x;
+        row.push_back(pct(x));
+      }
+      readings.rows.push_back(row);
+    }
+  }
+  out.tables.push_back(readings);
+
+  if (const auto* r = in.own("free")) {
+    Table waves{"The leading wave down the impact column of each block (free bottom) against Nesterenko's law",
+                {"block", "peak force (N)", "speed (m/s)", "Nesterenko (m/s)", "ratio", "pulses"}, {}};
+    double worst = 1.0;
+    for (const auto& w : r->waves) {
+      std::optional<double> ratio;
+      if (w.speed && w.nesterenko_speed) ratio = *w.speed / *w.nesterenko_speed;
+      if (ratio) {
+        out.values[fmt::format("speed_ratio.free.b{}", w.block)] = *ratio;
+        if (std::fabs(*ratio - 1.0) > std::fabs(worst - 1.0)) worst = *ratio;
+      }
+      waves.rows.push_back({std::to_string(w.block), num(w.peak_force), num(w.speed), num(w.nesterenko_speed), num(ratio),
+                            std::to_string(w.pulses)});
+    }
+    out.values["speed_ratio.worst"] = worst;
+    out.tables.push_back(waves);
+    out.figures.push_back(energy_figure(*r, in.figures_dir, "fig2_energy", in.gnuplot,
+                                        "Fig. 2 re-made: kinetic energy of each block of four steel blocks (free bottom), "
+                                        "over the top block's peak; the inset magnifies the lower blocks"));
+  }
+  if (const auto* r = in.own("wall")) {
+    out.figures.push_back(energy_figure(*r, in.figures_dir, "fig2_column_wall", in.gnuplot,
+                                        "The reading that gives the paper's 10 and 3 %: the energy of each block's impact "
+                                        "column over its peak in block 1, bottom wall",
+                                        true));
+  }
+}
+
+// fig3: output against N_B per e, and the decay fits both ways the study's form allows.
+void fig3(const AnalysisInput& in, ExperimentResult& out) {
+  struct Point {
+    double e;
+    int nb;
+    double f;
+  };
+  std::vector<Point> points;
+  std::vector<double> restitutions;
+  for (const auto& c : in.experiment.cases) {
+    const auto* r = in.own(c.name);
+    if (r == nullptr) continue;
+    const double e = c.spec.restitution.value;
+    points.push_back({e, c.spec.blocks, r->output_fraction});
+    out.values[fmt::format("output.e{}.nb{}", e, c.spec.blocks)] = r->output_fraction;
+    if (std::find(restitutions.begin(), restitutions.end(), e) == restitutions.end()) restitutions.push_back(e);
+  }
+  Table outputs{"Output fraction E_out/E_in (the output sphere after it left the free bottom)", {"N_B"}, {}};
+  Table fits{"Fits of ln(E_out/E_in) = ln A - (alpha/e) N_B per e: alpha (the study's, i.e. the slope times e) with its "
+             "standard error",
+             {"e", "alpha through the origin", "alpha, free A", "A", "points"}, {}};
+  for (const double e : restitutions) outputs.header.push_back(fmt::format("e = {}", e));
+  for (int nb = 1; nb <= 16; ++nb) {
+    std::vector<std::string> row{std::to_string(nb)};
+    bool any = false;
+    for (const double e : restitutions) {
+      const auto it = out.values.find(fmt::format("output.e{}.nb{}", e, nb));
+      any = any || it != out.values.end();
+      row.push_back(it == out.values.end() ? "-" : pct(it->second));
+    }
+    if (any) outputs.rows.push_back(row);
+  }
+  for (const double e : restitutions) {
+    std::vector<int> nbs;
+    std::vector<double> fs;
+    for (const auto& p : points) {
+      if (p.e == e) {
+        nbs.push_back(p.nb);
+        fs.push_back(p.f);
+      }
+    }
+    if (nbs.size() < 2) continue;
+    const auto fit = postproc::fit_decay(nbs, fs);
+    const auto key = fmt::format("alpha.e{}", e);
+    out.values[key + ".origin"] = fit.alpha_origin * e;
+    out.values[key + ".free"] = fit.alpha * e;
+    if (fit.alpha_origin_error) out.errors[key + ".origin"] = *fit.alpha_origin_error * e;
+    if (fit.alpha_error) out.errors[key + ".free"] = *fit.alpha_error * e;
+    auto with_error = [&](const std::string& k) {
+      const auto er = out.errors.find(k);
+      return er == out.errors.end() ? num(out.values[k]) : fmt::format("{:.4f} +- {:.4f}", out.values[k], er->second);
+    };
+    fits.rows.push_back({fmt::format("{}", e), with_error(key + ".origin"), with_error(key + ".free"), num(fit.prefactor),
+                         std::to_string(nbs.size())});
+  }
+  // One alpha for every e: ln f = -alpha N/e (origin) and ln f = ln A - alpha N/e (free).
+  if (points.size() >= 3) {
+    const auto n = static_cast<Eigen::Index>(points.size());
+    Eigen::MatrixXd x0(n, 1), x1(n, 2);
+    Eigen::VectorXd y(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto& p = points[static_cast<std::size_t>(i)];
+      x0(i, 0) = -p.nb / p.e;
+      x1(i, 0) = 1.0;
+      x1(i, 1) = -p.nb / p.e;
+      y(i) = std::log(p.f);
+    }
+    const auto origin = postproc::least_squares(x0, y);
+    const auto free = postproc::least_squares(x1, y);
+    out.values["alpha.all.origin"] = origin.coefficients(0);
+    out.values["alpha.all.free"] = free.coefficients(1);
+    if (origin.covariance) out.errors["alpha.all.origin"] = origin.error(0);
+    if (free.covariance) out.errors["alpha.all.free"] = free.error(1);
+    out.values["rms_ln_residual.all.origin"] = std::sqrt(origin.rss / static_cast<double>(n));
+    out.values["rms_ln_residual.all.free"] = std::sqrt(free.rss / static_cast<double>(n));
+    fits.rows.push_back({"all, one alpha", fmt::format("{:.4f} +- {:.4f}", origin.coefficients(0), out.errors["alpha.all.origin"]),
+                         fmt::format("{:.4f} +- {:.4f}", free.coefficients(1), out.errors["alpha.all.free"]),
+                         num(std::exp(free.coefficients(0))), std::to_string(points.size())});
+    double lo = 1e300, hi = 0.0;
+    for (const double e : restitutions) {
+      const auto it = out.values.find(fmt::format("alpha.e{}.origin", e));
+      if (it == out.values.end()) continue;
+      lo = std::min(lo, it->second);
+      hi = std::max(hi, it->second);
+    }
+    out.notes.push_back(fmt::format(
+        "One alpha for all e: through the origin {:.3f}, the fit's logarithmic residuals {:.3f} RMS (a factor {:.2f} on "
+        "the output); alpha*e fitted per e ranges from {:.3f} to {:.3f}, so the form exp(-(alpha/e) N_B) describes the "
+        "damped stacks only roughly: damping removes energy at every contact, not in proportion to 1/e.",
+        origin.coefficients(0), out.values["rms_ln_residual.all.origin"], std::exp(out.values["rms_ln_residual.all.origin"]),
+        lo, hi));
+    std::map<double, std::vector<std::pair<int, double>>> by_e;
+    for (const auto& p : points) by_e[p.e].emplace_back(p.nb, p.f);
+    out.figures.push_back(decay_figure(by_e, origin.coefficients(0), in.figures_dir, in.gnuplot));
+  }
+  out.tables.push_back(outputs);
+  out.tables.push_back(fits);
+}
+
+// friction: how much of the top row's sideways energy friction removes, by width and walls.
+void friction(const AnalysisInput& in, ExperimentResult& out) {
+  Table t{"Top row of the top block: sideways energy cut and downward energy change against mu = 0",
+          {"sides", "top columns", "mu", "sideways cut, first contact", "sideways cut, whole run", "downward change"}, {}};
+  std::vector<BarGroup> bars;
+  for (const auto* sides : {"free", "walls"}) {
+    for (const int cols : {2, 4, 8}) {
+      const auto* base = in.own(fmt::format("{}_cols{}_mu0", sides, cols));
+      if (base == nullptr) continue;
+      const auto stack = model::Stack::build(base->spec);
+      // The impact's own pulse: 1.5 striker contact times.
+      const double window = 1.5 * model::hertz_contact_time(model::striker_contact(stack), base->spec.striker_speed);
+      const double side0 = reduce_column(*base, "energy_parts", "top_row_sideways_J").max_until(window);
+      BarGroup g{fmt::format("{} sides\\n{} columns", sides, cols), {}};
+      for (const double mu : {0.1, 0.25}) {
+        const auto* r = in.own(fmt::format("{}_cols{}_mu{}", sides, cols, mu));
+        if (r == nullptr) continue;
+        const auto key = fmt::format("{}.cols{}.mu{}", sides, cols, mu);
+        const double first = 1.0 - reduce_column(*r, "energy_parts", "top_row_sideways_J").max_until(window) / side0;
+        const double run = 1.0 - r->top_row_sideways_peak / base->top_row_sideways_peak;
+        const double down = r->top_row_downward_peak / base->top_row_downward_peak - 1.0;
+        out.values["sideways_cut_first." + key] = first;
+        out.values["sideways_cut_run." + key] = run;
+        out.values["downward_change." + key] = down;
+        t.rows.push_back({sides, std::to_string(cols), fmt::format("{}", mu), pct(first), pct(run), fmt::format("{:+.3g} %", 100 * down)});
+        g.values.push_back(first);
+      }
+      bars.push_back(g);
+    }
+  }
+  out.tables.push_back(t);
+  if (!bars.empty()) {
+    const BarStyle style{"friction_sideways", "Top row of the top block: sideways energy cut by friction",
+                         "sideways energy cut, first contact",
+                         "Friction: the cut of the top row's sideways energy over the first striker contact, by top-block "
+                         "width and side boundary; dashed, the paper's 44 and 75 %",
+                         {{"paper, mu = 0.1: 44 %", 0.44}, {"paper, mu = 0.25: 75 %", 0.75}}};
+    out.figures.push_back(bar_figure(bars, {"mu = 0.1", "mu = 0.25"}, style, in.figures_dir, in.gnuplot));
+  }
+}
+
+// What a sensitivity case changes from the main case.
+std::string what_changed(const model::StackSpec& main, const model::StackSpec& s) {
+  std::vector<std::string> parts;
+  for (const auto& [pair, v] : s.restitution.pairs) {
+    if (main.restitution.get(pair.first, pair.second) != v) parts.push_back(fmt::format("e({}:{}) = {}", pair.first, pair.second, v));
+  }
+  for (const auto& m : s.custom_materials) {
+    parts.push_back(fmt::format("{}: Y = {:g} GPa, nu = {}", m.name, m.youngs_modulus / 1e9, m.poisson_ratio));
+  }
+  if (s.duration != main.duration && s.duration) parts.push_back(fmt::format("duration {:g} ms", *s.duration * 1e3));
+  return parts.empty() ? "(the model as given)" : fmt::format("{}", fmt::join(parts, "; "));
+}
+
+// The output of the main case of fig4 or the sandwich read several ways, and the sensitivity runs.
+void sensitivity(const AnalysisInput& in, ExperimentResult& out, const std::string& main_name, double paper) {
+  const auto* main = in.own(main_name);
+  if (main == nullptr) return;
+  out.values["output." + main_name] = main->output_fraction;
+  Table s{fmt::format("Sensitivity: what moves the output (the paper: {})", pct(paper)),
+          {"case", "changed", "output", "over the paper's"}, {}};
+  for (const auto& c : in.experiment.cases) {
+    const auto* r = in.own(c.name);
+    if (r == nullptr) continue;
+    out.values["output." + c.name] = r->output_fraction;
+    s.rows.push_back({c.name, what_changed(main->spec, c.spec), pct(r->output_fraction), num(r->output_fraction / paper)});
+  }
+  out.tables.push_back(s);
+
+  const auto stack = model::Stack::build(main->spec);
+  const auto lib = main->spec.material_library();
+  const auto& bottom = stack.blocks().back();
+  const auto& m = lib.at(bottom.material);
+  const double tc = model::hertz_contact_time(model::sphere_sphere(m, bottom.radius, m, bottom.radius), main->spec.striker_speed);
+  const auto output = series_energy(*main, "output_sphere");
+  const auto k = kicks(output, 2.0 * tc, 1e-4 * output.max());
+  Table d{"The output read other ways (main case)", {"reading", "value", "over the paper's"}, {}};
+  auto add = [&](const std::string& key, const std::string& label, double v) {
+    out.values[key] = v;
+    d.rows.push_back({label, pct(v), num(v / paper)});
+  };
+  add("output_def.final", "output sphere, after it left (granstack's output_fraction)", main->output_fraction);
+  add("output_def.peak", "output sphere, peak kinetic energy", main->output_peak_fraction);
+  add("output_def.bottom_row_per_sphere", "bottom row's final energy per sphere", main->output_fraction_bottom_row_per_sphere);
+  for (std::size_t i = 0; i < k.size(); ++i) {
+    add(fmt::format("output_def.after_kick{}", i + 1),
+        fmt::format("output sphere after kick {} of {} (ends at {:.0f} us)", i + 1, k.size(), k[i].end * 1e6),
+        k[i].after / main->e_in);
+  }
+  out.values["kicks"] = static_cast<double>(k.size());
+  out.tables.push_back(d);
+  out.figures.push_back(output_figure(*main, output, k, in.figures_dir, main_name + "_output", in.gnuplot,
+                                      "The output sphere's kinetic energy over E_in against time, its kicks marked; the "
+                                      "dashed line is the automatic duration's end"));
+}
+
+void fig4(const AnalysisInput& in, ExperimentResult& out) {
+  const auto* r = in.own("steel_on_teflon");
+  if (r == nullptr) return;
+  sensitivity(in, out, "steel_on_teflon", 0.04);
+  const auto& teflon = r->waves.at(1);
+  out.values["pulses.teflon"] = teflon.pulses;
+  if (const auto* f2 = in.reduction("fig2", "free")) {
+    out.values["block2_peak_over_fig2"] = r->blocks.at(1).normalised / f2->blocks.at(1).normalised;
+    out.values["column_leading_over_fig2"] =
+        (impact_column(*r, 2).first_peak() / impact_column(*r, 1).max()) /
+        (impact_column(*f2, 2).first_peak() / impact_column(*f2, 1).max());
+    const auto& steel = f2->waves.at(1);
+    if (teflon.speed && steel.speed) out.values["speed.teflon_over_steel"] = *teflon.speed / *steel.speed;
+    Table w{"Block 2: steel (Fig. 2) against Teflon (Fig. 4)", {"", "peak/top", "pulses", "speed (m/s)", "Nesterenko (m/s)"}, {}};
+    w.rows.push_back({"steel, Fig. 2", num(f2->blocks.at(1).normalised), std::to_string(steel.pulses), num(steel.speed),
+                      num(steel.nesterenko_speed)});
+    w.rows.push_back({"Teflon, Fig. 4", num(r->blocks.at(1).normalised), std::to_string(teflon.pulses), num(teflon.speed),
+                      num(teflon.nesterenko_speed)});
+    out.tables.push_back(w);
+  }
+  out.figures.push_back(energy_figure(*r, in.figures_dir, "fig4_energy", in.gnuplot,
+                                      "Fig. 4 re-made: kinetic energy of a steel block over a Teflon block, over the top "
+                                      "block's peak; the inset magnifies the Teflon block"));
+}
+
+void sandwich(const AnalysisInput& in, ExperimentResult& out) { sensitivity(in, out, "sandwich", 0.006); }
+
+// eq3: the striker's speed after an isolated collision against the hard-sphere formula.
+void eq3(const AnalysisInput& in, ExperimentResult& out) {
+  Table t{"v_f/v_i of the striker: Eq. (3) against the measured (LIGGGHTS or the engine run)",
+          {"case", "kappa", "theta (deg)", "Eq. (3)", "measured", "difference"}, {}};
+  for (const auto& c : in.experiment.cases) {
+    const auto* r = in.own(c.name);
+    if (r == nullptr) continue;
+    const auto lib = c.spec.material_library();
+    const double rho = c.spec.striker_radius_ratio;
+    const double kappa = lib.at(c.spec.block_material(1)).density / lib.at(c.spec.effective_striker_material()).density /
+                         (rho * rho * rho);
+    const double sin_theta = 1.0 / (rho + 1.0);
+    const double k = 2.0 * kappa * (1.0 - sin_theta * sin_theta);
+    const double theory = (1.0 - k) / (1.0 + k);
+    out.values["v_ratio." + c.name] = r->striker_velocity_ratio;
+    out.values["v_ratio_eq3." + c.name] = theory;
+    t.rows.push_back({c.name, num(kappa), fmt::format("{:.2f}", std::asin(sin_theta) * 180.0 / M_PI), fmt::format("{:.6f}", theory),
+                      fmt::format("{:.6f}", r->striker_velocity_ratio),
+                      fmt::format("{:+.2e}", r->striker_velocity_ratio / theory - 1.0)});
+  }
+  out.tables.push_back(t);
+}
+
+// eq45: the leading wave's peak force in block k+1 over block k, in the stack of Fig. 2.
+void eq45(const AnalysisInput& in, ExperimentResult& out) {
+  const auto* r = in.reduction("fig2", "free");
+  if (r == nullptr) return;
+  Table t{"Peak Hertz force between vertical neighbours of the impact column, block k+1 over block k (Fig. 2's stack)",
+          {"interface", "F_m above (N)", "F_m below (N)", "ratio", "Eq. (5)", "Eq. (4)"}, {}};
+  const double c2 = 8.0 / 9.0, kappa = 1.0 / 8.0;
+  const double eq5 = 0.25 * std::pow(2.0 * std::sqrt(c2) / (1.0 + 2.0 * kappa * c2), 1.2);
+  const double eq4 = std::pow(2.0 * std::sqrt(c2) / (2.0 * c2 + 1.0), 1.2);
+  double sum = 0.0;
+  int n = 0;
+  for (std::size_t k = 0; k + 1 < r->waves.size(); ++k) {
+    const double ratio = r->waves[k + 1].peak_force / r->waves[k].peak_force;
+    out.values[fmt::format("force_ratio.b{}_b{}", k + 1, k + 2)] = ratio;
+    sum += ratio;
+    ++n;
+    t.rows.push_back({fmt::format("{} -> {}", k + 1, k + 2), num(r->waves[k].peak_force), num(r->waves[k + 1].peak_force),
+                      fmt::format("{:.3f}", ratio), fmt::format("{:.3f}", eq5), fmt::format("{:.3f}", eq4)});
+  }
+  if (n > 0) out.values["force_ratio.mean"] = sum / n;
+  out.values["eq5"] = eq5;
+  out.values["eq4"] = eq4;
+  out.tables.push_back(t);
+}
+
+}  // namespace
+
+Analysis find_analysis(const std::string& name) {
+  static const std::map<std::string, Analysis> analyses{{"fig2", fig2},         {"fig3", fig3}, {"friction", friction},
+                                                         {"fig4", fig4},         {"sandwich", sandwich},
+                                                         {"eq3", eq3},           {"eq45", eq45}};
+  const auto it = analyses.find(name);
+  return it == analyses.end() ? nullptr : it->second;
+}
+
+}  // namespace granstack::study

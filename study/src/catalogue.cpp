@@ -1,0 +1,181 @@
+#include <granstack/generator/spec_input.hpp>
+#include <granstack/study/catalogue.hpp>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <sstream>
+
+namespace granstack::embedded {
+std::string_view catalogue();
+}
+
+namespace granstack::study {
+
+namespace {
+
+std::string text(const toml::table& t, const char* key, const std::string& where, bool required = true) {
+  if (const auto* v = t.get_as<std::string>(key)) return v->get();
+  if (required) throw CatalogueError(fmt::format("{}: '{}' is missing or not a string", where, key));
+  return {};
+}
+
+std::vector<std::string> strings(const toml::node* n, const std::string& where) {
+  std::vector<std::string> out;
+  if (n == nullptr) return out;
+  if (const auto* s = n->as_string()) return {s->get()};
+  const auto* a = n->as_array();
+  if (a == nullptr) throw CatalogueError(where + ": a string or a list of strings");
+  for (const auto& e : *a) {
+    const auto* s = e.as_string();
+    if (s == nullptr) throw CatalogueError(where + ": a string or a list of strings");
+    out.push_back(s->get());
+  }
+  return out;
+}
+
+double number(const toml::node* n, const std::string& where) {
+  if (n != nullptr) {
+    if (const auto v = n->value<double>()) return *v;
+  }
+  throw CatalogueError(where + ": a number is needed");
+}
+
+// The cases of one [experiment.cases.NAME] table: a spec, or a sweep of specs.
+void add_cases(const std::string& name, toml::table spec, const std::string& where, std::vector<CaseEntry>& out) {
+  bool quick = true;
+  if (const auto* q = spec.get_as<bool>("quick")) quick = q->get();
+  spec.erase("quick");
+  std::ostringstream os;
+  os << spec;
+  try {
+    const auto sweep = generator::build_sweep(generator::parse_spec_toml(os.str(), where));
+    for (auto& c : generator::expand(sweep)) {
+      const bool single = sweep.axes.empty();
+      std::string case_name = single ? name : name == "sweep" ? c.name : name + "_" + c.name;
+      out.push_back({std::move(case_name), std::move(c.spec), quick});
+    }
+  } catch (const model::SpecError& e) {
+    throw CatalogueError(fmt::format("{}: {}", where, e.what()));
+  }
+}
+
+Claim parse_claim(const toml::table& t, const std::string& experiment, std::size_t index) {
+  Claim c;
+  c.id = fmt::format("{}.{}", experiment, index);
+  const auto where = fmt::format("claim {}", c.id);
+  c.statement = text(t, "statement", where);
+  c.quantities = strings(t.get("quantity"), where + ".quantity");
+  if (c.quantities.empty()) throw CatalogueError(where + ": 'quantity' is missing");
+  if (t.contains("paper")) c.paper = number(t.get("paper"), where + ".paper");
+  const auto* band = t.get_as<toml::array>("band");
+  if (band == nullptr || band->size() != 2) throw CatalogueError(where + ": 'band' is [low, high]");
+  c.low = number(band->get(0), where + ".band");
+  c.high = number(band->get(1), where + ".band");
+  if (!(c.low <= c.high)) throw CatalogueError(where + ": the band's low end is above its high end");
+  c.band_reason = text(t, "band_reason", where);
+  c.expect = text(t, "expect", where);
+  if (c.expect != "within" && c.expect != "outside") throw CatalogueError(where + ": 'expect' is \"within\" or \"outside\"");
+  return c;
+}
+
+Experiment parse_experiment(const toml::table& t) {
+  Experiment e;
+  e.name = text(t, "name", "an experiment");
+  const auto where = fmt::format("experiment {}", e.name);
+  e.title = text(t, "title", where);
+  e.source = text(t, "source", where);
+  e.analysis = text(t, "analysis", where);
+  e.explanation = text(t, "explanation", where, false);
+  e.needs = strings(t.get("needs"), where + ".needs");
+  if (const auto* q = t.get_as<bool>("quick")) e.quick = q->get();
+  if (const auto* cases = t.get_as<toml::table>("cases")) {
+    for (const auto& [key, node] : *cases) {
+      const auto* spec = node.as_table();
+      if (spec == nullptr) throw CatalogueError(fmt::format("{}: cases.{} is a table of spec fields", where, key.str()));
+      add_cases(std::string(key.str()), *spec, fmt::format("{} case {}", where, key.str()), e.cases);
+    }
+  }
+  if (const auto* claims = t.get_as<toml::array>("claim")) {
+    std::size_t n = 0;
+    for (const auto& node : *claims) {
+      const auto* c = node.as_table();
+      if (c == nullptr) throw CatalogueError(where + ": [[experiment.claim]] entries are tables");
+      e.claims.push_back(parse_claim(*c, e.name, ++n));
+    }
+  }
+  return e;
+}
+
+}  // namespace
+
+const Experiment* Catalogue::find(std::string_view name) const {
+  for (const auto& e : experiments) {
+    if (e.name == name) return &e;
+  }
+  return nullptr;
+}
+
+std::vector<std::string> Catalogue::names() const {
+  std::vector<std::string> out;
+  for (const auto& e : experiments) out.push_back(e.name);
+  return out;
+}
+
+Catalogue parse_catalogue(std::string_view toml_text, const std::string& source) {
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, source);
+  } catch (const toml::parse_error& e) {
+    throw CatalogueError(fmt::format("{}:{}:{}: {}", source, e.source().begin.line, e.source().begin.column,
+                                     e.description()));
+  }
+  Catalogue c;
+  const auto* list = root.get_as<toml::array>("experiment");
+  if (list == nullptr) throw CatalogueError(source + ": no [[experiment]]");
+  for (const auto& node : *list) {
+    const auto* t = node.as_table();
+    if (t == nullptr) throw CatalogueError(source + ": [[experiment]] entries are tables");
+    c.experiments.push_back(parse_experiment(*t));
+  }
+  for (const auto& e : c.experiments) {
+    for (const auto& n : e.needs) {
+      if (c.find(n) == nullptr) throw CatalogueError(fmt::format("experiment {} needs '{}', which is not in the catalogue", e.name, n));
+    }
+  }
+  return c;
+}
+
+const Catalogue& builtin_catalogue() {
+  static const Catalogue c = parse_catalogue(embedded::catalogue(), "study/data/catalogue.toml");
+  return c;
+}
+
+std::vector<const Experiment*> select(const Catalogue& c, const std::vector<std::string>& names, bool quick) {
+  std::vector<std::string> wanted;
+  for (const auto& n : names) {
+    if (c.find(n) == nullptr) {
+      throw UnknownExperiment(fmt::format("unknown experiment '{}'; known: {}", n, fmt::join(c.names(), ", ")));
+    }
+    wanted.push_back(n);
+  }
+  if (wanted.empty()) {
+    for (const auto& e : c.experiments) {
+      if (!quick || e.quick) wanted.push_back(e.name);
+    }
+  }
+  // The experiments they need, and theirs.
+  for (std::size_t i = 0; i < wanted.size(); ++i) {
+    for (const auto& n : c.find(wanted[i])->needs) {
+      if (std::find(wanted.begin(), wanted.end(), n) == wanted.end()) wanted.push_back(n);
+    }
+  }
+  std::vector<const Experiment*> out;
+  for (const auto& e : c.experiments) {
+    if (std::find(wanted.begin(), wanted.end(), e.name) != wanted.end()) out.push_back(&e);
+  }
+  return out;
+}
+
+}  // namespace granstack::study

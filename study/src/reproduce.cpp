@@ -1,0 +1,242 @@
+#include "analyses.hpp"
+
+#include <granstack/formats/manifest.hpp>
+#include <granstack/formats/ownership.hpp>
+#include <granstack/generator/case_writer.hpp>
+#include <granstack/os/interrupt.hpp>
+#include <granstack/postproc/compare.hpp>
+#include <granstack/runner/runner.hpp>
+#include <granstack/study/report.hpp>
+#include <granstack/study/reproduce.hpp>
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+namespace granstack::study {
+
+namespace fs = std::filesystem;
+
+const CaseRecord* ExperimentResult::find_case(const std::string& name) const {
+  for (const auto& c : cases) {
+    if (c.name == name) return &c;
+  }
+  return nullptr;
+}
+
+Verdict judge(const Claim& claim, const std::map<std::string, double>& values, const std::map<std::string, double>& errors) {
+  Verdict v;
+  v.claim = &claim;
+  v.verdict = "not measured";
+  double closest = INFINITY;
+  for (const auto& q : claim.quantities) {
+    const auto it = values.find(q);
+    if (it == values.end() || !std::isfinite(it->second)) {
+      v.readings.emplace_back(q, std::nullopt);
+      continue;
+    }
+    const double x = it->second;
+    v.readings.emplace_back(q, x);
+    const double scale = std::max({std::fabs(claim.low), std::fabs(claim.high), 1e-300});
+    const double off = x < claim.low ? (claim.low - x) / scale : x > claim.high ? (x - claim.high) / scale : 0.0;
+    if (v.verdict == "within") continue;
+    if (off == 0.0 || off < closest) {
+      closest = off;
+      v.reading = q;
+      v.value = x;
+      const auto e = errors.find(q);
+      v.error = e == errors.end() ? std::nullopt : std::optional<double>(e->second);
+      v.verdict = off == 0.0 ? "within" : "outside";
+      v.off = off;
+    }
+  }
+  return v;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// DIR: new, empty, or a reproduction granstack made; anything else is refused.
+void prepare_directory(const fs::path& dir) {
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(dir, ec)) && fs::is_directory(dir, ec) && !fs::is_empty(dir, ec) &&
+      !fs::exists(dir / formats::kOutputMarker, ec)) {
+    throw formats::RefusedError(fmt::format("{} exists and was not made by granstack reproduce: granstack does not write "
+                                            "into a directory of yours; choose a new directory with -o",
+                                            dir.string()));
+  }
+  formats::prepare_output_directory(dir, {"report.md", "report.html", "report.json"}, true, "granstack reproduce");
+}
+
+// Generates the case unless it is there with the same spec; with `force`, anew.
+void ensure_case(const fs::path& dir, const CaseEntry& entry, bool force, const ReproduceOptions& o) {
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(dir, ec)) && !force) {
+    try {
+      if (formats::read_manifest(dir.string()).spec == entry.spec) return;
+    } catch (const std::exception&) {
+    }
+    throw ReproduceError(fmt::format("{} holds another case than the catalogue's {} (made by another granstack, or "
+                                     "edited): pass --force to generate it again, or choose a new directory with -o",
+                                     dir.string(), entry.name));
+  }
+  generator::GenerateOptions g;
+  g.output = dir;
+  g.force = true;  // only ever a case granstack made (generate refuses anything else)
+  g.command_line = {"granstack", "reproduce", "-o", o.output};
+  fs::create_directories(dir.parent_path());
+  generator::generate({{entry.name, entry.spec}}, g);
+}
+
+runner::RunOptions run_options(const ReproduceOptions& o, const std::string& engine, const std::string& stage) {
+  runner::RunOptions r;
+  r.engine = engine == "refsim" ? runner::Engine::refsim : runner::Engine::liggghts;
+  r.jobs = o.jobs;
+  r.liggghts = o.liggghts;
+  if (o.on_progress) {
+    r.on_progress = [&o, stage](const runner::ProgressSnapshot& s) {
+      std::string line = fmt::format("{}: {}/{} cases finished", stage, s.finished, s.total);
+      for (const auto& c : s.running) {
+        line += fmt::format(" | {} {:.0f}%", fs::path(c.name).filename().string(),
+                            c.total_steps > 0 ? 100.0 * static_cast<double>(c.step) / static_cast<double>(c.total_steps) : 0.0);
+      }
+      o.on_progress(line);
+    };
+  }
+  return r;
+}
+
+std::string status_name(runner::RunStatus s) {
+  switch (s) {
+    case runner::RunStatus::done: return "done";
+    case runner::RunStatus::skipped: return "done";
+    case runner::RunStatus::failed: return "failed";
+    case runner::RunStatus::interrupted: return "interrupted";
+    case runner::RunStatus::not_started: return "not run";
+  }
+  return "failed";
+}
+
+// Runs every case with the chosen engine; the records get their status.
+void run_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, StudyResult& result) {
+  std::vector<std::string> dirs;
+  for (const auto* r : records) dirs.push_back(r->dir);
+  auto ro = run_options(o, o.engine, "run");
+  ro.on_case_done = [&o](const runner::RunOutcome& r) {
+    if (!o.on_event) return;
+    if (r.status == runner::RunStatus::done) o.on_event(fmt::format("done     {}  ({:.1f} s)", r.case_dir, r.wall_seconds));
+    if (r.status == runner::RunStatus::failed) o.on_event(fmt::format("FAILED   {}  {}", r.case_dir, r.message));
+  };
+  const auto outcomes = runner::run_cases(dirs, ro);
+  for (std::size_t i = 0; i < outcomes.size(); ++i) {
+    auto& rec = *records[i];
+    rec.status = status_name(outcomes[i].status);
+    if (outcomes[i].status == runner::RunStatus::done) rec.wall_seconds = outcomes[i].wall_seconds;
+    if (rec.status != "done") {
+      rec.problem = outcomes[i].message;
+      ++result.failed_cases;
+    }
+  }
+}
+
+void reduce_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, StudyResult& result) {
+  std::size_t n = 0;
+  for (auto* rec : records) {
+    ++n;
+    if (o.on_progress) o.on_progress(fmt::format("reduce: {}/{} {}", n, records.size(), rec->dir));
+    if (rec->status != "done" || os::interrupt_signal() != 0) continue;
+    try {
+      rec->reduction = postproc::reduce_case(rec->dir);
+    } catch (const std::exception& e) {
+      rec->problem = e.what();
+      ++result.failed_cases;
+      if (o.on_event) o.on_event(fmt::format("FAILED   {}  reduce: {}", rec->dir, e.what()));
+    }
+  }
+}
+
+// refsim (or LIGGGHTS, when refsim ran the cases) on a copy of each case, compared.
+void validate_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o) {
+  const std::string other = o.engine == "refsim" ? "liggghts" : "refsim";
+  std::vector<std::string> copies;
+  std::vector<CaseRecord*> compared;
+  for (auto* rec : records) {
+    if (!rec->reduction) continue;
+    copies.push_back((fs::path(rec->dir) / "validate" / other).string());
+    runner::clone_case_inputs(rec->dir, copies.back());
+    compared.push_back(rec);
+  }
+  auto ro = run_options(o, other, "validate");
+  ro.force = true;
+  const auto outcomes = runner::run_cases(copies, ro);
+  for (std::size_t i = 0; i < compared.size(); ++i) {
+    if (outcomes[i].status != runner::RunStatus::done) {
+      compared[i]->validate_quantity = fmt::format("{} failed: {}", other, outcomes[i].message);
+      compared[i]->validate_worst = INFINITY;
+      continue;
+    }
+    const auto c = postproc::compare_runs(compared[i]->dir, copies[i]);
+    compared[i]->validate_worst = c.worst();
+    compared[i]->validate_quantity = c.mismatches.empty() ? c.largest().quantity : c.mismatches.front();
+  }
+}
+
+void analyse(ExperimentResult& e, const std::map<std::string, const CaseRecord*>& all, const ReproduceOptions& o) {
+  const auto analysis = find_analysis(e.experiment->analysis);
+  if (analysis == nullptr) {
+    e.notes.push_back(fmt::format("granstack has no analysis '{}'", e.experiment->analysis));
+  } else {
+    const AnalysisInput in{*e.experiment, all, (fs::path(o.output) / "figures").string(), o.gnuplot};
+    try {
+      analysis(in, e);
+    } catch (const std::exception& ex) {
+      e.notes.push_back(fmt::format("the analysis stopped: {}", ex.what()));
+    }
+  }
+  for (const auto& c : e.experiment->claims) e.verdicts.push_back(judge(c, e.values, e.errors));
+}
+
+}  // namespace
+
+StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& o) {
+  const auto start = Clock::now();
+  StudyResult result;
+  result.quick = o.quick;
+  result.validated = o.validate;
+  result.engine = o.engine;
+  const auto selected = select(catalogue, o.experiments, o.quick);
+  const fs::path root(o.output);
+  prepare_directory(root);
+
+  std::vector<CaseRecord*> records;
+  result.experiments.reserve(selected.size());
+  for (const auto* e : selected) {
+    auto& er = result.experiments.emplace_back();
+    er.experiment = e;
+    for (const auto& c : e->cases) {
+      if (o.quick && !c.quick) continue;
+      er.cases.push_back({c.name, (root / e->name / c.name).string(), "not run", 0.0, {}, {}, {}, {}});
+      ensure_case(er.cases.back().dir, c, o.force, o);
+    }
+    for (auto& c : er.cases) records.push_back(&c);
+  }
+  run_all(records, o, result);
+  reduce_all(records, o, result);
+  if (o.validate && os::interrupt_signal() == 0) validate_all(records, o);
+  result.interrupted = os::interrupt_signal() != 0;
+
+  std::map<std::string, const CaseRecord*> all;
+  for (const auto& e : result.experiments) {
+    for (const auto& c : e.cases) all[e.experiment->name + "/" + c.name] = &c;
+  }
+  if (o.on_progress) o.on_progress("analyse and write the report");
+  for (auto& e : result.experiments) analyse(e, all, o);
+  result.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  write_report(result, o.output);
+  return result;
+}
+
+}  // namespace granstack::study
