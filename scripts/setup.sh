@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs everything granstack needs from Debian packages (idempotent: installs only what is
 # missing, so a second call is quick and needs no network). Debian 12 or newer, as root or
-# with sudo.
+# with sudo. With --tests, also what only the tests use.
 set -euo pipefail
 packages=(
   liggghts            # the DEM code (LIGGGHTS-PUBLIC 3.8.0, with Open MPI's mpirun)
@@ -14,6 +14,11 @@ packages=(
   libfast-float-dev        # number parsing at the speed the dumps need
   clang libclang-rt-dev    # the fuzz targets (libFuzzer)
 )
+if [ "${1:-}" = "--tests" ]; then
+  packages+=(
+    chromium                 # reproduce's HTML report, opened in a real headless browser
+  )
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

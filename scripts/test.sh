@@ -3,5 +3,6 @@
 # real LIGGGHTS on small cases, the examples) with ctest on all cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+bash scripts/setup.sh --tests
 bash scripts/build.sh ci
 ctest --preset ci

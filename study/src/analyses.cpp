@@ -254,13 +254,23 @@ void sensitivity(const AnalysisInput& in, ExperimentResult& out, const std::stri
   const auto* main = in.own(main_name);
   if (main == nullptr) return;
   out.values["output." + main_name] = main->output_fraction;
+  // The paper's band for this output, from the catalogue's claim on it.
+  const Claim* claim = nullptr;
+  for (const auto& c : in.experiment.claims) {
+    if (c.quantities.front() == "output." + main_name) claim = &c;
+  }
+  auto in_band = [&](double v) { return claim != nullptr && v >= claim->low && v <= claim->high; };
   Table s{fmt::format("Sensitivity: what moves the output (the paper: {})", pct(paper)),
-          {"case", "changed", "output", "over the paper's"}, {}};
+          {"case", "changed", "output", "over the paper's", "block 2 peak/top"}, {}};
+  std::vector<std::string> matches;
   for (const auto& c : in.experiment.cases) {
     const auto* r = in.own(c.name);
     if (r == nullptr) continue;
     out.values["output." + c.name] = r->output_fraction;
-    s.rows.push_back({c.name, what_changed(main->spec, c.spec), pct(r->output_fraction), num(r->output_fraction / paper)});
+    out.values["block2_peak." + c.name] = r->blocks.at(1).normalised;
+    s.rows.push_back({c.name, what_changed(main->spec, c.spec), pct(r->output_fraction), num(r->output_fraction / paper),
+                      num(r->blocks.at(1).normalised)});
+    if (in_band(r->output_fraction)) matches.push_back(fmt::format("{} ({})", what_changed(main->spec, c.spec), pct(r->output_fraction)));
   }
   out.tables.push_back(s);
 
@@ -286,6 +296,18 @@ void sensitivity(const AnalysisInput& in, ExperimentResult& out, const std::stri
   }
   out.values["kicks"] = static_cast<double>(k.size());
   out.tables.push_back(d);
+  for (std::size_t i = 0; i < k.size(); ++i) {
+    if (in_band(k[i].after / main->e_in)) matches.push_back(fmt::format("reading the output after kick {} ({})", i + 1, pct(k[i].after / main->e_in)));
+  }
+  if (in_band(main->output_fraction_bottom_row_per_sphere)) {
+    matches.push_back(fmt::format("the bottom row's energy per sphere ({})", pct(main->output_fraction_bottom_row_per_sphere)));
+  }
+  if (claim != nullptr) {
+    out.notes.push_back(matches.empty() ? fmt::format("No variation tried gives an output within the paper's band [{}, {}].",
+                                                      pct(claim->low), pct(claim->high))
+                                        : fmt::format("Within the paper's band [{}, {}]: {}; nothing else tried.", pct(claim->low),
+                                                      pct(claim->high), fmt::join(matches, "; ")));
+  }
   out.figures.push_back(output_figure(*main, output, k, in.figures_dir, main_name + "_output", in.gnuplot,
                                       "The output sphere's kinetic energy over E_in against time, its kicks marked; the "
                                       "dashed line is the automatic duration's end"));

@@ -55,7 +55,8 @@ Table summary_table(const StudyResult& r) {
           {"claim", "the paper says", "paper", "granstack", "band", "verdict", "expected"}, {}};
   for (const auto& e : r.experiments) {
     for (const auto& v : e.verdicts) {
-      t.rows.push_back({v.claim->id, v.claim->statement, value_text(v.claim->paper), value_text(v.value), band_text(*v.claim),
+      const auto measured = v.readings.size() > 1 && v.value ? fmt::format("{} ({})", value_text(v.value), v.reading) : value_text(v.value);
+      t.rows.push_back({v.claim->id, v.claim->statement, value_text(v.claim->paper), measured, band_text(*v.claim),
                         verdict_text(v), v.claim->expect});
     }
   }
@@ -104,7 +105,14 @@ std::vector<Block> document(const StudyResult& r) {
     if (!x.explanation.empty()) d.push_back(Paragraph{x.explanation});
     if (!e.verdicts.empty()) d.push_back(claim_table(e));
     for (const auto& v : e.verdicts) {
-      d.push_back(Paragraph{fmt::format("{}: band {} because {}.", v.claim->id, band_text(*v.claim), v.claim->band_reason)});
+      std::vector<std::string> within;
+      for (const auto& [q, value] : v.readings) {
+        if (value && *value >= v.claim->low && *value <= v.claim->high) within.push_back(q);
+      }
+      const auto readings = v.readings.size() < 2 ? std::string()
+                            : within.empty()      ? " No reading falls within it."
+                                                  : fmt::format(" Within it: {}.", fmt::join(within, ", "));
+      d.push_back(Paragraph{fmt::format("{}: band {} because {}.{}", v.claim->id, band_text(*v.claim), v.claim->band_reason, readings)});
     }
     for (const auto& n : e.notes) d.push_back(Paragraph{n});
     for (const auto& t : e.tables) d.push_back(t);

@@ -1,0 +1,176 @@
+// `granstack reproduce --quick` end to end on the real LIGGGHTS: the numbers against the
+// catalogue's bands and against physics computed here, reuse of finished cases, refusals, and the
+// HTML report opened in a real headless browser.
+#include <granstack/os/process.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+namespace fs = std::filesystem;
+using namespace granstack;
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string output;
+};
+
+std::string read(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+const fs::path& work() {
+  static const fs::path dir = fs::path(GRANSTACK_TEST_WORKDIR) / "reproduce";
+  return dir;
+}
+
+// Runs a program from an argument vector, its stdout and stderr into a file.
+Result run(std::vector<std::string> argv) {
+  fs::create_directories(work());
+  const auto log = work() / "last_output.txt";
+  os::StartOptions o;
+  o.output = log;
+  std::string error;
+  const auto end = os::run(argv, o, &error);
+  EXPECT_TRUE(error.empty()) << error;
+  return {end.signal != 0 ? -end.signal : end.code, read(log)};
+}
+
+Result granstack(std::vector<std::string> args) {
+  args.insert(args.begin(), GRANSTACK_EXE);
+  return run(args);
+}
+
+// One quick reproduction shared by the tests (it is the expensive part).
+const fs::path& quick_dir() {
+  static const fs::path dir = [] {
+    const auto d = work() / "quick";
+    fs::remove_all(d);
+    const auto r = granstack({"reproduce", "--quick", "-j", "2", "-o", d.string()});
+    EXPECT_EQ(r.code, 0) << r.output;
+    return d;
+  }();
+  return dir;
+}
+
+std::string fmt_key(const std::string& e, int nb) { return "output.e" + e + ".nb" + std::to_string(nb); }
+
+nlohmann::json report() { return nlohmann::json::parse(read(quick_dir() / "report.json")); }
+
+const nlohmann::json& experiment(const nlohmann::json& report, const std::string& name) {
+  for (const auto& e : report.at("experiments")) {
+    if (e.at("name") == name) return e;
+  }
+  throw std::runtime_error("no experiment " + name);
+}
+
+TEST(Reproduce, QuickRunsOnLiggghtsAndEveryVerdictIsTheOneTheCatalogueExpects) {
+  const auto j = report();
+  EXPECT_EQ(j.at("engine"), "liggghts");
+  EXPECT_EQ(j.at("failed_cases"), 0);
+  int judged = 0;
+  for (const auto& e : j.at("experiments")) {
+    for (const auto& c : e.at("claims")) {
+      if (c.at("verdict") == "not measured") continue;
+      ++judged;
+      // The value is within [low, high] exactly when the verdict says so, and that is what the
+      // elastic model was measured to give (the catalogue's `expect`).
+      const double v = c.at("value"), low = c.at("band")[0], high = c.at("band")[1];
+      EXPECT_EQ(c.at("verdict") == "within", v >= low && v <= high) << c.dump();
+      EXPECT_EQ(c.at("verdict"), c.at("expect")) << c.at("id") << ": " << c.at("statement") << " measured " << v;
+    }
+  }
+  EXPECT_GE(judged, 17);  // fig2 (needed by fig4), fig3, fig4, eq3: every claim of theirs
+}
+
+TEST(Reproduce, TheNumbersObeyPhysicsComputedHere) {
+  const auto j = report();
+  // Eq. (3): v_f/v_i = (1 - 2 kappa cos^2 theta) / (1 + 2 kappa cos^2 theta), kappa = 1/8 and
+  // cos^2 theta = 8/9 for one material and radius ratio 2: 7/11. A Hertz collision turns the
+  // contact normals by ~1e-3 rad while it lasts (measured difference 1.2e-4).
+  const auto& eq3 = experiment(j, "eq3").at("values");
+  EXPECT_NEAR(eq3.at("v_ratio.steel_rho2").get<double>(), 7.0 / 11.0, 1e-3);
+  const double kappa = 2170.0 / 8000.0 / 8.0, k = 2.0 * kappa * 8.0 / 9.0;
+  EXPECT_NEAR(eq3.at("v_ratio.steel_on_teflon_rho2").get<double>(), (1 - k) / (1 + k), 1e-3);
+  // Fig. 3: the output falls with every block and with every step of damping.
+  const auto& fig3 = experiment(j, "fig3").at("values");
+  for (const char* e : {"1", "0.99", "0.95", "0.9"}) {
+    for (int nb = 1; nb < 4; ++nb) {
+      EXPECT_LT(fig3.at(fmt_key(e, nb + 1)).get<double>(), fig3.at(fmt_key(e, nb)).get<double>()) << e << " " << nb;
+    }
+  }
+  for (int nb = 1; nb <= 4; ++nb) EXPECT_LT(fig3.at(fmt_key("0.9", nb)).get<double>(), fig3.at(fmt_key("1", nb)).get<double>());
+  // A free-prefactor fit and the one through the origin agree for e = 1 within their errors' reach.
+  EXPECT_NEAR(fig3.at("alpha.e1.origin").get<double>(), fig3.at("alpha.e1.free").get<double>(), 0.1);
+}
+
+TEST(Reproduce, ARerunReusesEveryFinishedCaseAndRunsOnlyWhatIsMissing) {
+  const auto dir = quick_dir();
+  const auto case_dir = dir / "eq3" / "steel_rho2";
+  const auto before = fs::last_write_time(dir / "fig3" / "nb4_e1" / "run.json");
+  fs::remove_all(case_dir);  // as if the reproduction had been stopped before this case
+  const auto r = granstack({"reproduce", "--quick", "-o", dir.string()});
+  EXPECT_EQ(r.code, 0) << r.output;
+  // Exactly one case ran: the one that was missing.
+  const std::regex done_line("(^|\n)done ");
+  EXPECT_EQ(std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), done_line), std::sregex_iterator()), 1) << r.output;
+  EXPECT_NE(r.output.find("done     " + case_dir.string()), std::string::npos) << r.output;
+  EXPECT_EQ(fs::last_write_time(dir / "fig3" / "nb4_e1" / "run.json"), before);
+}
+
+TEST(Reproduce, AnUnknownExperimentAndADirectoryOfTheUsersAreRefused) {
+  auto r = granstack({"reproduce", "fig9", "-o", (work() / "never").string()});
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("unknown experiment 'fig9'; known: fig2, fig3, friction, fig4, sandwich, eq3, eq45"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(work() / "never"));
+  const auto mine = work() / "mine";
+  fs::remove_all(mine);
+  fs::create_directories(mine);
+  std::ofstream(mine / "thesis.tex") << "precious";
+  r = granstack({"reproduce", "eq3", "-o", mine.string()});
+  EXPECT_EQ(r.code, 3) << r.output;
+  EXPECT_NE(r.output.find("was not made by granstack"), std::string::npos) << r.output;
+  EXPECT_EQ(read(mine / "thesis.tex"), "precious");
+  EXPECT_EQ(std::distance(fs::directory_iterator(mine), fs::directory_iterator()), 1);
+}
+
+// The HTML report in a real browser (Debian's Chromium, headless, no network): it loads, every
+// figure is an inline SVG the browser parsed into drawn paths, and nothing is fetched from elsewhere.
+TEST(Reproduce, TheHtmlReportIsSelfContainedAndItsFiguresRenderInChromium) {
+  const auto chromium = os::find_program("chromium");
+  if (!chromium) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh --tests installs it)";
+  const auto html = quick_dir() / "report.html";
+  const auto text = read(html);
+  for (const char* fetch : {"<script", "<link", " src=", "url(", "@import"}) {
+    EXPECT_EQ(text.find(fetch), std::string::npos) << "the report loads something: " << fetch;
+  }
+  const auto r = run({*chromium, "--headless", "--no-sandbox", "--disable-gpu", "--host-resolver-rules=MAP * ~NOTFOUND",
+                      "--dump-dom", "file://" + fs::absolute(html).string()});
+  ASSERT_EQ(r.code, 0) << r.output.substr(0, 2000);
+  const auto j = report();
+  std::size_t figures = 0;
+  for (const auto& e : j.at("experiments")) figures += e.at("figures").size();
+  ASSERT_GE(figures, 4u);
+  // The DOM Chromium built: one <svg> per figure, each with drawn paths and its caption.
+  std::size_t svgs = 0, pos = 0;
+  while ((pos = r.output.find("<svg", pos)) != std::string::npos) {
+    const auto end = r.output.find("</svg>", pos);
+    ASSERT_NE(end, std::string::npos);
+    EXPECT_NE(r.output.substr(pos, end - pos).find("<path"), std::string::npos) << "figure " << svgs + 1 << " draws nothing";
+    ++svgs;
+    pos = end;
+  }
+  EXPECT_EQ(svgs, figures);
+  EXPECT_NE(r.output.find("<figcaption>Fig. 3 re-made"), std::string::npos);
+  EXPECT_NE(r.output.find("<td class=\"outside\">outside, by"), std::string::npos);  // the verdicts are marked
+}
+
+}  // namespace
