@@ -50,6 +50,7 @@ int reproduce(ReproduceFlags& f) {
     return kExists;
   }
   status.clear();
+  if (result.validated) fmt::print("\n{}\n", study::validation_summary(result));
   fmt::print("\n{}\nreport: {}/report.md, {}/report.html, {}/report.json ({:.1f} s)\n", study::summary_text(result), o.output,
              o.output, o.output, result.wall_seconds);
   if (result.failed_cases > 0) {

@@ -1,4 +1,5 @@
 #include <granstack/formats/files.hpp>
+#include <granstack/postproc/compare.hpp>
 #include <granstack/model/version.hpp>
 #include <granstack/study/report.hpp>
 
@@ -77,12 +78,14 @@ Table claim_table(const ExperimentResult& e) {
 
 Table case_table(const ExperimentResult& e, bool validated) {
   Table t{"The cases", {"case", "status", "output", "warnings"}, {}};
-  if (validated) t.header.push_back("validate (worst relative difference)");
+  if (validated) t.header.push_back(fmt::format("validate: worst relative difference (where), against {:g}", postproc::kDefaultTolerance));
   for (const auto& c : e.cases) {
     std::vector<std::string> row{c.name, c.status, c.reduction ? fmt::format("{:.4g}", c.reduction->output_fraction) : "-",
                                  c.reduction ? std::to_string(c.reduction->warnings.size()) : c.problem.substr(0, 120)};
     if (validated) {
-      row.push_back(c.validate_worst ? fmt::format("{:.2e} ({})", *c.validate_worst, c.validate_quantity) : "-");
+      row.push_back(!c.validate_worst ? "-"
+                    : fmt::format("{:.2e} ({}), {}", *c.validate_worst, c.validate_quantity,
+                                  *c.validate_worst <= postproc::kDefaultTolerance ? "agree" : "over"));
     }
     t.rows.push_back(row);
   }
@@ -98,6 +101,7 @@ std::vector<Block> document(const StudyResult& r) {
                         "elastic model gives, measured when the catalogue was written; a verdict that differs from it "
                         "means the physics changed. Where the model misses the paper, the experiment's section shows "
                         "the evidence and the likely reason."});
+  if (r.validated) d.push_back(Paragraph{validation_summary(r)});
   d.push_back(summary_table(r));
   for (const auto& e : r.experiments) {
     const auto& x = *e.experiment;
@@ -245,16 +249,42 @@ nlohmann::json report_json(const StudyResult& r) {
       cases.push_back({{"name", c.name}, {"dir", c.dir}, {"status", c.status}, {"problem", c.problem},
                        {"output_fraction", c.reduction ? json(c.reduction->output_fraction) : json(nullptr)},
                        {"warnings", c.reduction ? json(c.reduction->warnings) : json::array()},
-                       {"validate_worst", optional_json(c.validate_worst)}, {"validate_quantity", c.validate_quantity}});
+                       {"validate_worst", optional_json(c.validate_worst)}, {"validate_quantity", c.validate_quantity},
+                       {"validate_output_fraction", optional_json(c.validate_output)}});
     }
     json figures = json::array();
     for (const auto& f : e.figures) figures.push_back({{"file", f.file}, {"caption", f.caption}});
     experiments.push_back({{"name", e.experiment->name}, {"title", e.experiment->title}, {"source", e.experiment->source},
                            {"claims", claims}, {"values", values}, {"cases", cases}, {"figures", figures}, {"notes", e.notes}});
   }
-  return {{"granstack_version", std::string(version())}, {"git_commit", std::string(git_commit())}, {"engine", r.engine},
+  return {{"granstack_version", std::string(version())}, {"validation", r.validated ? json(validation_summary(r)) : json(nullptr)}, {"git_commit", std::string(git_commit())}, {"engine", r.engine},
           {"validated", r.validated}, {"quick", r.quick}, {"wall_seconds", r.wall_seconds},
           {"failed_cases", r.failed_cases}, {"interrupted", r.interrupted}, {"experiments", experiments}};
+}
+
+// How the two engines agreed over every case.
+std::string validation_summary(const StudyResult& r) {
+  int cases = 0, agree = 0, same_output = 0;
+  double worst = 0.0, worst_output = 0.0;
+  std::string where;
+  for (const auto& e : r.experiments) {
+    for (const auto& c : e.cases) {
+      if (!c.validate_worst) continue;
+      ++cases;
+      if (*c.validate_worst <= postproc::kDefaultTolerance) ++agree;
+      if (c.validate_output && *c.validate_output == 0.0) ++same_output;
+      if (c.validate_output) worst_output = std::max(worst_output, *c.validate_output);
+      if (!(*c.validate_worst <= worst)) {
+        worst = *c.validate_worst;
+        where = fmt::format("{}/{}, {}", e.experiment->name, c.name, c.validate_quantity);
+      }
+    }
+  }
+  return fmt::format("Validation: every case also ran on the other engine and every dumped column, series column and the "
+                     "output fraction were compared (granstack validate). {} of {} cases agree to a relative difference "
+                     "of at most {:g} (validate's default, round-off); the largest difference is {:.3g} ({}). The output "
+                     "fractions are identical in {} of {} cases and differ by at most {:.2g} (relative) in the others.",
+                     agree, cases, postproc::kDefaultTolerance, worst, where, same_output, cases, worst_output);
 }
 
 void write_report(const StudyResult& r, const std::string& dir) {

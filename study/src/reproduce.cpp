@@ -180,6 +180,7 @@ void validate_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o) 
     }
     const auto c = postproc::compare_runs(compared[i]->dir, copies[i]);
     compared[i]->validate_worst = c.worst();
+    compared[i]->validate_output = c.output_fraction.relative;
     compared[i]->validate_quantity = c.mismatches.empty() ? c.largest().quantity : c.mismatches.front();
   }
 }
@@ -218,7 +219,11 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& o) {
     er.experiment = e;
     for (const auto& c : e->cases) {
       if (o.quick && !c.quick) continue;
-      er.cases.push_back({c.name, (root / e->name / c.name).string(), "not run", 0.0, {}, {}, {}, {}});
+      CaseRecord record;
+      record.name = c.name;
+      record.dir = (root / e->name / c.name).string();
+      record.status = "not run";
+      er.cases.push_back(std::move(record));
       ensure_case(er.cases.back().dir, c, o.force, o);
     }
     for (auto& c : er.cases) records.push_back(&c);

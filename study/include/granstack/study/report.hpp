@@ -16,4 +16,7 @@ std::string summary_text(const StudyResult& result);
 
 nlohmann::json report_json(const StudyResult& result);
 
+// With --validate: how many cases the two engines agree on, and the largest difference.
+std::string validation_summary(const StudyResult& result);
+
 }  // namespace granstack::study

@@ -42,6 +42,7 @@ struct CaseRecord {
   double wall_seconds = 0.0;              // of this invocation's run (0 when reused)
   std::optional<double> validate_worst;   // with --validate: refsim against LIGGGHTS, worst relative difference
   std::string validate_quantity;          // and where
+  std::optional<double> validate_output;  // the output fractions' relative difference
   std::optional<postproc::CaseReduction> reduction;
   std::string problem;                    // why it has no reduction
 };
