@@ -342,7 +342,7 @@ void sandwich(const AnalysisInput& in, ExperimentResult& out) { sensitivity(in, 
 
 // eq3: the striker's speed after an isolated collision against the hard-sphere formula.
 void eq3(const AnalysisInput& in, ExperimentResult& out) {
-  Table t{"v_f/v_i of the striker: Eq. (3) against the measured (LIGGGHTS or the engine run)",
+  Table t{"v_f/v_i of the striker: Eq. (3) against the run (the engine that ran the cases)",
           {"case", "kappa", "theta (deg)", "Eq. (3)", "measured", "difference"}, {}};
   for (const auto& c : in.experiment.cases) {
     const auto* r = in.own(c.name);

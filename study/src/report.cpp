@@ -295,11 +295,13 @@ void write_report(const StudyResult& r, const std::string& dir) {
 }
 
 std::string summary_text(const StudyResult& r) {
-  std::string out = fmt::format("{:<12} {:>11} {:>11}  {:<24} {}\n", "claim", "paper", "granstack", "band", "verdict");
+  auto shorten = [](const std::string& text) { return text.size() <= 64 ? text : text.substr(0, 61) + "..."; };
+  std::string out = fmt::format("{:<11} {:>9} {:>10}  {:<18} {}\n", "claim", "paper", "granstack", "verdict", "the paper says");
   for (const auto& e : r.experiments) {
     for (const auto& v : e.verdicts) {
-      out += fmt::format("{:<12} {:>11} {:>11}  {:<24} {}{}\n", v.claim->id, value_text(v.claim->paper), value_text(v.value),
-                         band_text(*v.claim), verdict_text(v), v.verdict == v.claim->expect || v.verdict == "not measured" ? "" : "   (expected " + v.claim->expect + ")");
+      out += fmt::format("{:<11} {:>9} {:>10}  {:<18} {}{}\n", v.claim->id, value_text(v.claim->paper), value_text(v.value),
+                         verdict_text(v), shorten(v.claim->statement),
+                         v.verdict == v.claim->expect || v.verdict == "not measured" ? "" : "   (expected " + v.claim->expect + ")");
     }
   }
   return out;
