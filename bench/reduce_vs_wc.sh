@@ -10,10 +10,7 @@
 set -euo pipefail
 repeats=${1:-5}
 every=${2:-2}
-here=$(cd "$(dirname "$0")/.." && pwd)
-gs=${GRANSTACK:-$here/build/release/app/granstack}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/common.sh"
 for format in text binary; do
   for part in full quarter; do
     duration=()

@@ -16,10 +16,7 @@
 # Usage: bench/refsim_vs_liggghts.sh [REPEATS]   (about two minutes)
 set -euo pipefail
 repeats=${1:-7}
-here=$(cd "$(dirname "$0")/.." && pwd)
-gs=${GRANSTACK:-$here/build/release/app/granstack}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/common.sh"
 stack=(--blocks 4 --top-columns 8 --dump-every 1000000000 --series-every 1000000000)
 "$gs" generate -o "$work/case" "${stack[@]}" --duration 2e-4 >/dev/null
 "$gs" generate -o "$work/whole" "${stack[@]}" >/dev/null

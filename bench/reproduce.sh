@@ -8,10 +8,7 @@
 # Usage: bench/reproduce.sh [REPEATS]   (about five minutes with 3)
 set -euo pipefail
 repeats=${1:-3}
-here=$(cd "$(dirname "$0")/.." && pwd)
-gs=${GRANSTACK:-$here/build/release/app/granstack}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/common.sh"
 seconds() { local t0=$(date +%s.%N); "$@" >/dev/null; python3 -c "import sys,time; print(time.time() - float(sys.argv[1]))" "$t0"; }
 declare -A times
 "$gs" reproduce -o "$work/all" -j 2 >/dev/null  # the cases the baseline runs again
