@@ -22,6 +22,27 @@ ContactPair striker_contact(const Stack& stack) {
                        top.radius);
 }
 
+namespace {
+// The Hertz contact time of two equal spheres of the material, 1 m in radius, at speed v: the
+// contact time of any equal pair scales with the radius, so this orders materials by softness.
+double slowness(const Material& m, double v) { return hertz_contact_time(sphere_sphere(m, 1.0, m, 1.0), v); }
+}  // namespace
+
+bool has_soft_cavity(const Stack& stack) {
+  const auto& spec = stack.spec();
+  const auto lib = spec.material_library();
+  const double v = spec.striker_speed;
+  double stiffest_above = slowness(lib.at(spec.effective_striker_material()), v);
+  for (const auto& b : stack.blocks()) {
+    const double s = slowness(lib.at(b.material), v);
+    if (b.index < spec.blocks && stiffest_above < s && slowness(lib.at(stack.block(b.index + 1).material), v) < s) {
+      return true;
+    }
+    stiffest_above = std::min(stiffest_above, s);
+  }
+  return false;
+}
+
 Resolution resolve(const Stack& stack) {
   const auto& spec = stack.spec();
   const auto lib = spec.material_library();
@@ -64,11 +85,12 @@ Resolution resolve(const Stack& stack) {
                hertz_contact_time(sphere_sphere(m, b.radius, m, b.radius), v);
   }
   r.arrival_estimate = arrival;
+  r.soft_cavity = has_soft_cavity(stack);
 
   r.dt_auto = !spec.dt.has_value();
   r.duration_auto = !spec.duration.has_value();
   r.dt = spec.dt.value_or(r.min_contact_time / kStepsPerContact);
-  const double wanted = spec.duration.value_or(kDurationPerArrival * arrival);
+  const double wanted = spec.duration.value_or((r.soft_cavity ? kCavityDurationPerArrival : kDurationPerArrival) * arrival);
   // Counts beyond kMaxSteps are held just above it (check_resolution refuses them) rather than
   // overflowing.
   const double wanted_steps = std::ceil(wanted / r.dt - 1e-9);

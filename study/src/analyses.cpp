@@ -310,7 +310,8 @@ void sensitivity(const AnalysisInput& in, ExperimentResult& out, const std::stri
   }
   out.figures.push_back(output_figure(*main, output, k, in.figures_dir, main_name + "_output", in.gnuplot,
                                       "The output sphere's kinetic energy over E_in against time, its kicks marked; the "
-                                      "dashed line is the automatic duration's end"));
+                                      "dashed line is the estimated arrival of the pulse at the bottom face (the automatic duration is 2 of them, 7 "
+                                      "with a soft block between stiffer ones)"));
 }
 
 void fig4(const AnalysisInput& in, ExperimentResult& out) {

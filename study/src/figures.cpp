@@ -149,18 +149,16 @@ Figure output_figure(const postproc::CaseReduction& r, const Curve& output, cons
     marks += fmt::format("set label {} 'kick {}' at {:.6g}, {:.6g} offset 0.5, 0.8\n", i + 1, i + 1, kicks[i].end * 1e6,
                          kicks[i].after / r.e_in);
   }
-  auto spec = r.spec;
-  spec.duration.reset();
-  const double auto_end = model::resolve(model::Stack::build(spec)).duration * 1e6;
+  const double arrival = model::resolve(model::Stack::build(r.spec)).arrival_estimate * 1e6;
   std::string materials;
   for (int k = 1; k <= r.spec.blocks; ++k) materials += fmt::format("{}{}", k > 1 ? "/" : "", r.spec.block_material(k));
-  marks += fmt::format("set label 100 'automatic duration' at {:.6g}, graph 0.05 offset 0.5, 0 textcolor rgb 'gray40'\n", auto_end);
+  marks += fmt::format("set label 100 'estimated arrival' at {:.6g}, graph 0.05 offset 0.5, 0 textcolor rgb 'gray40'\n", arrival);
   const auto body = fmt::format(
       "set title 'Output sphere, {}, e = {}' noenhanced\nset xlabel 'time t (µs)'\nset ylabel 'E_k / E_{{in}}'\n"
       "set grid\nset key top left\nset yrange [0:*]\nset offsets 0, 0, graph 0.15, 0\n"
       "set arrow 100 from {:.6g}, graph 0 to {:.6g}, graph 1 nohead dashtype 2 linecolor rgb 'gray40'\n{}"
       "plot '{}.dat' using 1:2 with lines linewidth 2 title 'output sphere'\n",
-      materials, r.spec.restitution.value, auto_end, auto_end, marks, name);
+      materials, r.spec.restitution.value, arrival, arrival, marks, name);
   return render(dir, name, fmt::to_string(data), body, gnuplot, caption);
 }
 

@@ -78,6 +78,37 @@ TEST(Resolution, AutomaticTimeStepIsAFixedFractionOfTheShortestContact) {
   EXPECT_GT(r.duration, 390e-6);
 }
 
+// A soft block with stiffer ones above and below it holds the pulse and lets it out in bursts;
+// only such stacks get the longer automatic duration.
+TEST(Resolution, OnlyASoftBlockBetweenStifferOnesMakesACavityAndALongerRun) {
+  const std::pair<std::vector<std::string>, bool> stacks[] = {
+      {{"steel"}, false},
+      {{"steel", "teflon"}, false},
+      {{"teflon", "steel"}, false},  // the striker is Teflon too: nothing stiffer above
+      {{"teflon", "steel", "teflon"}, false},
+      {{"steel", "steel", "teflon", "teflon"}, false},
+      {{"steel", "teflon", "steel"}, true},
+      {{"steel", "teflon", "teflon", "steel"}, true},
+      {{"teflon", "steel", "teflon", "steel"}, true},
+  };
+  for (const auto& [materials, cavity] : stacks) {
+    StackSpec s;
+    s.materials = materials;
+    s.blocks = materials.size() == 1 ? 4 : static_cast<int>(materials.size());
+    const auto r = resolve(Stack::build(s));
+    EXPECT_EQ(has_soft_cavity(Stack::build(s)), cavity) << materials.size() << " " << materials.back();
+    EXPECT_EQ(r.soft_cavity, cavity);
+    const double per_arrival = cavity ? kCavityDurationPerArrival : kDurationPerArrival;
+    EXPECT_NEAR(r.duration / r.arrival_estimate, per_arrival, 1e-2);
+  }
+  // A steel striker on a Teflon block resting on steel: the striker is the stiffer thing above.
+  StackSpec s;
+  s.blocks = 2;
+  s.materials = {"teflon", "steel"};
+  s.striker_material = "steel";
+  EXPECT_TRUE(has_soft_cavity(Stack::build(s)));
+}
+
 TEST(Resolution, TimeStepScalesAsSpeedToTheMinusOneFifth) {
   StackSpec slow, fast;
   slow.striker_speed = 0.1;
