@@ -208,7 +208,7 @@ void friction(const AnalysisInput& in, ExperimentResult& out) {
       // The impact's own pulse: 1.5 striker contact times.
       const double window = 1.5 * model::hertz_contact_time(model::striker_contact(stack), base->spec.striker_speed);
       const double side0 = reduce_column(*base, "energy_parts", "top_row_sideways_J").max_until(window);
-      BarGroup g{fmt::format("{} sides\\n{} columns", sides, cols), {}};
+      BarGroup g{fmt::format("{}\\n{} columns", std::string(sides) == "free" ? "free sides" : "side walls", cols), {}};
       for (const double mu : {0.1, 0.25}) {
         const auto* r = in.own(fmt::format("{}_cols{}_mu{}", sides, cols, mu));
         if (r == nullptr) continue;

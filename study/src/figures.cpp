@@ -132,8 +132,9 @@ Figure bar_figure(const std::vector<BarGroup>& groups, const std::vector<std::st
   const auto body = fmt::format(
       "set title '{}' noenhanced\nset ylabel '{} (%)' noenhanced\nset yrange [0:100]\nset grid ytics\n"
       "set style data histogram\nset style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"
-      "set boxwidth 0.9\nset xtics noenhanced\nset key top left\n{}plot {}\n",
-      style.title, style.ylabel, references, plots);
+      "set boxwidth 0.9\nset xtics noenhanced\nset key top left\nset bmargin 5\n"
+      "# Room on the right for the reference lines' labels.\nset xrange [-0.6:{:.1f}]\n{}plot {}\n",
+      style.title, style.ylabel, static_cast<double>(groups.size()) + 1.2, references, plots);
   return render(dir, name, fmt::to_string(data), body, gnuplot, style.caption);
 }
 
