@@ -97,102 +97,129 @@ void fig2(const AnalysisInput& in, ExperimentResult& out) {
 }
 
 // fig3: output against N_B per e, and the decay fits both ways the study's form allows.
-void fig3(const AnalysisInput& in, ExperimentResult& out) {
-  struct Point {
-    double e;
-    int nb;
-    double f;
-  };
-  std::vector<Point> points;
-  std::vector<double> restitutions;
-  for (const auto& c : in.experiment.cases) {
-    const auto* r = in.own(c.name);
-    if (r == nullptr) continue;
-    const double e = c.spec.restitution.value;
-    points.push_back({e, c.spec.blocks, r->output_fraction});
-    out.values[fmt::format("output.e{}.nb{}", e, c.spec.blocks)] = r->output_fraction;
-    if (std::find(restitutions.begin(), restitutions.end(), e) == restitutions.end()) restitutions.push_back(e);
-  }
-  Table outputs{"Output fraction E_out/E_in (the output sphere after it left the free bottom)", {"N_B"}, {}};
-  Table fits{"Fits of ln(E_out/E_in) = ln A - (alpha/e) N_B per e: alpha (the study's, i.e. the slope times e) with its "
-             "standard error",
-             {"e", "alpha through the origin", "alpha, free A", "A", "points"}, {}};
-  for (const double e : restitutions) outputs.header.push_back(fmt::format("e = {}", e));
-  for (int nb = 1; nb <= 16; ++nb) {
-    std::vector<std::string> row{std::to_string(nb)};
-    bool any = false;
-    for (const double e : restitutions) {
-      const auto it = out.values.find(fmt::format("output.e{}.nb{}", e, nb));
-      any = any || it != out.values.end();
-      row.push_back(it == out.values.end() ? "-" : pct(it->second));
+// Fig. 3's outputs: e -> (N_B, E_out/E_in), e from 1 down.
+using OutputsByE = std::map<double, std::vector<std::pair<int, double>>, std::greater<>>;
+
+std::string with_error(const ExperimentResult& out, const std::string& key) {
+  const auto er = out.errors.find(key);
+  const double v = out.values.at(key);
+  return er == out.errors.end() ? num(v) : fmt::format("{:.4f} +- {:.4f}", v, er->second);
+}
+
+Table output_table(const OutputsByE& by_e) {
+  Table t{"Output fraction E_out/E_in (the output sphere after it left the free bottom)", {"N_B"}, {}};
+  std::map<int, std::vector<std::string>> rows;
+  std::size_t column = 0;
+  for (const auto& [e, points] : by_e) {
+    t.header.push_back(fmt::format("e = {}", e));
+    for (const auto& [nb, f] : points) {
+      auto& row = rows[nb];
+      row.resize(by_e.size(), "-");
+      row[column] = pct(f);
     }
-    if (any) outputs.rows.push_back(row);
+    ++column;
   }
-  for (const double e : restitutions) {
+  for (auto& [nb, row] : rows) {
+    row.insert(row.begin(), std::to_string(nb));
+    t.rows.push_back(row);
+  }
+  return t;
+}
+
+// Per e: ln f = ln A - (alpha/e) N_B with a free A and with A = 1; the values are the study's
+// alpha, the slope times e.
+void fit_per_e(const OutputsByE& by_e, ExperimentResult& out, Table& fits) {
+  for (const auto& [e, points] : by_e) {
+    if (points.size() < 2) continue;
     std::vector<int> nbs;
     std::vector<double> fs;
-    for (const auto& p : points) {
-      if (p.e == e) {
-        nbs.push_back(p.nb);
-        fs.push_back(p.f);
-      }
+    for (const auto& [nb, f] : points) {
+      nbs.push_back(nb);
+      fs.push_back(f);
     }
-    if (nbs.size() < 2) continue;
     const auto fit = postproc::fit_decay(nbs, fs);
     const auto key = fmt::format("alpha.e{}", e);
     out.values[key + ".origin"] = fit.alpha_origin * e;
     out.values[key + ".free"] = fit.alpha * e;
     if (fit.alpha_origin_error) out.errors[key + ".origin"] = *fit.alpha_origin_error * e;
     if (fit.alpha_error) out.errors[key + ".free"] = *fit.alpha_error * e;
-    auto with_error = [&](const std::string& k) {
-      const auto er = out.errors.find(k);
-      return er == out.errors.end() ? num(out.values[k]) : fmt::format("{:.4f} +- {:.4f}", out.values[k], er->second);
-    };
-    fits.rows.push_back({fmt::format("{}", e), with_error(key + ".origin"), with_error(key + ".free"), num(fit.prefactor),
-                         std::to_string(nbs.size())});
+    fits.rows.push_back({fmt::format("{}", e), with_error(out, key + ".origin"), with_error(out, key + ".free"),
+                         num(fit.prefactor), std::to_string(nbs.size())});
   }
-  // One alpha for every e: ln f = -alpha N/e (origin) and ln f = ln A - alpha N/e (free).
-  if (points.size() >= 3) {
-    const auto n = static_cast<Eigen::Index>(points.size());
-    Eigen::MatrixXd x0(n, 1), x1(n, 2);
-    Eigen::VectorXd y(n);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const auto& p = points[static_cast<std::size_t>(i)];
-      x0(i, 0) = -p.nb / p.e;
-      x1(i, 0) = 1.0;
-      x1(i, 1) = -p.nb / p.e;
-      y(i) = std::log(p.f);
-    }
-    const auto origin = postproc::least_squares(x0, y);
-    const auto free = postproc::least_squares(x1, y);
-    out.values["alpha.all.origin"] = origin.coefficients(0);
-    out.values["alpha.all.free"] = free.coefficients(1);
-    if (origin.covariance) out.errors["alpha.all.origin"] = origin.error(0);
-    if (free.covariance) out.errors["alpha.all.free"] = free.error(1);
-    out.values["rms_ln_residual.all.origin"] = std::sqrt(origin.rss / static_cast<double>(n));
-    out.values["rms_ln_residual.all.free"] = std::sqrt(free.rss / static_cast<double>(n));
-    fits.rows.push_back({"all, one alpha", fmt::format("{:.4f} +- {:.4f}", origin.coefficients(0), out.errors["alpha.all.origin"]),
-                         fmt::format("{:.4f} +- {:.4f}", free.coefficients(1), out.errors["alpha.all.free"]),
-                         num(std::exp(free.coefficients(0))), std::to_string(points.size())});
-    double lo = 1e300, hi = 0.0;
-    for (const double e : restitutions) {
-      const auto it = out.values.find(fmt::format("alpha.e{}.origin", e));
-      if (it == out.values.end()) continue;
-      lo = std::min(lo, it->second);
-      hi = std::max(hi, it->second);
-    }
-    out.notes.push_back(fmt::format(
-        "One alpha for all e: through the origin {:.3f}, the fit's logarithmic residuals {:.3f} RMS (a factor {:.2f} on "
-        "the output); alpha*e fitted per e ranges from {:.3f} to {:.3f}, so the form exp(-(alpha/e) N_B) describes the "
-        "damped stacks only roughly: damping removes energy at every contact, not in proportion to 1/e.",
-        origin.coefficients(0), out.values["rms_ln_residual.all.origin"], std::exp(out.values["rms_ln_residual.all.origin"]),
-        lo, hi));
-    std::map<double, std::vector<std::pair<int, double>>> by_e;
-    for (const auto& p : points) by_e[p.e].emplace_back(p.nb, p.f);
-    out.figures.push_back(decay_figure(by_e, origin.coefficients(0), in.figures_dir, in.gnuplot));
+}
+
+// One alpha for every e: ln f = -alpha N/e (origin) and ln f = ln A - alpha N/e (free A).
+void fit_all(const OutputsByE& by_e, ExperimentResult& out, Table& fits) {
+  std::vector<std::pair<double, double>> xy;  // N/e, ln f
+  for (const auto& [e, points] : by_e) {
+    for (const auto& [nb, f] : points) xy.emplace_back(nb / e, std::log(f));
   }
-  out.tables.push_back(outputs);
+  const auto n = static_cast<Eigen::Index>(xy.size());
+  Eigen::MatrixXd x0(n, 1), x1(n, 2);
+  Eigen::VectorXd y(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    x0(i, 0) = x1(i, 1) = -xy[static_cast<std::size_t>(i)].first;
+    x1(i, 0) = 1.0;
+    y(i) = xy[static_cast<std::size_t>(i)].second;
+  }
+  const auto origin = postproc::least_squares(x0, y);
+  const auto free = postproc::least_squares(x1, y);
+  out.values["alpha.all.origin"] = origin.coefficients(0);
+  out.values["alpha.all.free"] = free.coefficients(1);
+  if (origin.covariance) out.errors["alpha.all.origin"] = origin.error(0);
+  if (free.covariance) out.errors["alpha.all.free"] = free.error(1);
+  out.values["rms_ln_residual.all.origin"] = std::sqrt(origin.rss / static_cast<double>(n));
+  out.values["rms_ln_residual.all.free"] = std::sqrt(free.rss / static_cast<double>(n));
+  fits.rows.push_back({"all, one alpha", with_error(out, "alpha.all.origin"), with_error(out, "alpha.all.free"),
+                       num(std::exp(free.coefficients(0))), std::to_string(xy.size())});
+}
+
+// The spread of alpha fitted per e, one way ("origin" or "free").
+std::pair<double, double> alpha_range(const OutputsByE& by_e, const ExperimentResult& out, const std::string& way) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (const auto& [e, points] : by_e) {
+    const auto it = out.values.find(fmt::format("alpha.e{}.{}", e, way));
+    if (it == out.values.end()) continue;
+    lo = std::min(lo, it->second);
+    hi = std::max(hi, it->second);
+  }
+  return {lo, hi};
+}
+
+// fig3: output against N_B per e, and the decay fits both ways the study's form allows.
+void fig3(const AnalysisInput& in, ExperimentResult& out) {
+  OutputsByE by_e;
+  for (const auto& c : in.experiment.cases) {
+    const auto* r = in.own(c.name);
+    if (r == nullptr) continue;
+    const double e = c.spec.restitution.value;
+    by_e[e].emplace_back(c.spec.blocks, r->output_fraction);
+    out.values[fmt::format("output.e{}.nb{}", e, c.spec.blocks)] = r->output_fraction;
+  }
+  Table fits{"Fits of ln(E_out/E_in) = ln A - (alpha/e) N_B per e: alpha (the study's, i.e. the slope times e) with its "
+             "standard error",
+             {"e", "alpha through the origin", "alpha, free A", "A", "points"}, {}};
+  fit_per_e(by_e, out, fits);
+  out.tables.push_back(output_table(by_e));
+  std::size_t points = 0;
+  for (const auto& [e, p] : by_e) points += p.size();
+  if (points < 3) {
+    out.tables.push_back(fits);
+    return;
+  }
+  fit_all(by_e, out, fits);
   out.tables.push_back(fits);
+  const auto [lo0, hi0] = alpha_range(by_e, out, "origin");
+  const auto [lo1, hi1] = alpha_range(by_e, out, "free");
+  out.notes.push_back(fmt::format(
+      "How well one alpha describes every e: fitted per e, alpha ranges from {:.3f} to {:.3f} through the origin (the "
+      "form as written) but only from {:.3f} to {:.3f} with a free prefactor A, which falls with e (the table's A). "
+      "One alpha for all e through the origin, {:.3f}, leaves logarithmic residuals of {:.3f} RMS (a factor {:.2f} on "
+      "the output): exp(-(alpha/e) N_B) holds for the slope, while damping also takes a share at the first "
+      "block that the form without a prefactor does not have.",
+      lo0, hi0, lo1, hi1, out.values["alpha.all.origin"], out.values["rms_ln_residual.all.origin"],
+      std::exp(out.values["rms_ln_residual.all.origin"])));
+  out.figures.push_back(decay_figure(by_e, out.values["alpha.all.origin"], in.figures_dir, in.gnuplot));
 }
 
 // friction: how much of the top row's sideways energy friction removes, by width and walls.
@@ -249,69 +276,84 @@ std::string what_changed(const model::StackSpec& main, const model::StackSpec& s
   return parts.empty() ? "(the model as given)" : fmt::format("{}", fmt::join(parts, "; "));
 }
 
-// The output of the main case of fig4 or the sandwich read several ways, and the sensitivity runs.
-void sensitivity(const AnalysisInput& in, ExperimentResult& out, const std::string& main_name, double paper) {
-  const auto* main = in.own(main_name);
-  if (main == nullptr) return;
-  out.values["output." + main_name] = main->output_fraction;
-  // The paper's band for this output, from the catalogue's claim on it.
+// What in the Teflon experiments brings the output within the paper's band: the claim on the
+// main case's output gives the band; each finding is named with its value.
+struct BandMatches {
   const Claim* claim = nullptr;
-  for (const auto& c : in.experiment.claims) {
-    if (c.quantities.front() == "output." + main_name) claim = &c;
+  std::vector<std::string> found;
+  void check(double v, const std::string& what) {
+    if (claim != nullptr && v >= claim->low && v <= claim->high) found.push_back(fmt::format("{} ({})", what, pct(v)));
   }
-  auto in_band = [&](double v) { return claim != nullptr && v >= claim->low && v <= claim->high; };
+  std::string note() const {
+    const auto band = fmt::format("[{}, {}]", pct(claim->low), pct(claim->high));
+    return found.empty() ? fmt::format("No variation tried gives an output within the paper's band {}.", band)
+                         : fmt::format("Within the paper's band {}: {}; nothing else tried.", band, fmt::join(found, "; "));
+  }
+};
+
+// The sensitivity runs: every case of the experiment against the main one.
+void sensitivity_table(const AnalysisInput& in, ExperimentResult& out, const postproc::CaseReduction& main, double paper,
+                       BandMatches& matches) {
   Table s{fmt::format("Sensitivity: what moves the output (the paper: {})", pct(paper)),
           {"case", "changed", "output", "over the paper's", "block 2 peak/top"}, {}};
-  std::vector<std::string> matches;
   for (const auto& c : in.experiment.cases) {
     const auto* r = in.own(c.name);
     if (r == nullptr) continue;
     out.values["output." + c.name] = r->output_fraction;
     out.values["block2_peak." + c.name] = r->blocks.at(1).normalised;
-    s.rows.push_back({c.name, what_changed(main->spec, c.spec), pct(r->output_fraction), num(r->output_fraction / paper),
-                      num(r->blocks.at(1).normalised)});
-    if (in_band(r->output_fraction)) matches.push_back(fmt::format("{} ({})", what_changed(main->spec, c.spec), pct(r->output_fraction)));
+    const auto changed = what_changed(main.spec, c.spec);
+    s.rows.push_back({c.name, changed, pct(r->output_fraction), num(r->output_fraction / paper), num(r->blocks.at(1).normalised)});
+    matches.check(r->output_fraction, changed);
   }
   out.tables.push_back(s);
+}
 
-  const auto stack = model::Stack::build(main->spec);
-  const auto lib = main->spec.material_library();
+// The main case's output read other ways: definitions and the window after each kick.
+std::vector<Kick> output_readings(ExperimentResult& out, const postproc::CaseReduction& main, double paper, BandMatches& matches) {
+  const auto stack = model::Stack::build(main.spec);
+  const auto lib = main.spec.material_library();
   const auto& bottom = stack.blocks().back();
   const auto& m = lib.at(bottom.material);
-  const double tc = model::hertz_contact_time(model::sphere_sphere(m, bottom.radius, m, bottom.radius), main->spec.striker_speed);
-  const auto output = series_energy(*main, "output_sphere");
+  const double tc = model::hertz_contact_time(model::sphere_sphere(m, bottom.radius, m, bottom.radius), main.spec.striker_speed);
+  const auto output = series_energy(main, "output_sphere");
   const auto k = kicks(output, 2.0 * tc, 1e-4 * output.max());
   Table d{"The output read other ways (main case)", {"reading", "value", "over the paper's"}, {}};
   auto add = [&](const std::string& key, const std::string& label, double v) {
     out.values[key] = v;
     d.rows.push_back({label, pct(v), num(v / paper)});
   };
-  add("output_def.final", "output sphere, after it left (granstack's output_fraction)", main->output_fraction);
-  add("output_def.peak", "output sphere, peak kinetic energy", main->output_peak_fraction);
-  add("output_def.bottom_row_per_sphere", "bottom row's final energy per sphere", main->output_fraction_bottom_row_per_sphere);
+  add("output_def.final", "output sphere, after it left (granstack's output_fraction)", main.output_fraction);
+  add("output_def.peak", "output sphere, peak kinetic energy", main.output_peak_fraction);
+  add("output_def.bottom_row_per_sphere", "bottom row's final energy per sphere", main.output_fraction_bottom_row_per_sphere);
+  matches.check(main.output_fraction_bottom_row_per_sphere, "the bottom row's energy per sphere");
   for (std::size_t i = 0; i < k.size(); ++i) {
     add(fmt::format("output_def.after_kick{}", i + 1),
         fmt::format("output sphere after kick {} of {} (ends at {:.0f} us)", i + 1, k.size(), k[i].end * 1e6),
-        k[i].after / main->e_in);
+        k[i].after / main.e_in);
+    matches.check(k[i].after / main.e_in, fmt::format("reading the output after kick {}", i + 1));
   }
   out.values["kicks"] = static_cast<double>(k.size());
   out.tables.push_back(d);
-  for (std::size_t i = 0; i < k.size(); ++i) {
-    if (in_band(k[i].after / main->e_in)) matches.push_back(fmt::format("reading the output after kick {} ({})", i + 1, pct(k[i].after / main->e_in)));
+  return k;
+}
+
+// The output of the main case of fig4 or the sandwich read several ways, and the sensitivity runs.
+void sensitivity(const AnalysisInput& in, ExperimentResult& out, const std::string& main_name, double paper) {
+  const auto* main = in.own(main_name);
+  if (main == nullptr) return;
+  out.values["output." + main_name] = main->output_fraction;
+  BandMatches matches;
+  for (const auto& c : in.experiment.claims) {
+    if (c.quantities.front() == "output." + main_name) matches.claim = &c;
   }
-  if (in_band(main->output_fraction_bottom_row_per_sphere)) {
-    matches.push_back(fmt::format("the bottom row's energy per sphere ({})", pct(main->output_fraction_bottom_row_per_sphere)));
-  }
-  if (claim != nullptr) {
-    out.notes.push_back(matches.empty() ? fmt::format("No variation tried gives an output within the paper's band [{}, {}].",
-                                                      pct(claim->low), pct(claim->high))
-                                        : fmt::format("Within the paper's band [{}, {}]: {}; nothing else tried.", pct(claim->low),
-                                                      pct(claim->high), fmt::join(matches, "; ")));
-  }
-  out.figures.push_back(output_figure(*main, output, k, in.figures_dir, main_name + "_output", in.gnuplot,
+  sensitivity_table(in, out, *main, paper, matches);
+  const auto k = output_readings(out, *main, paper, matches);
+  if (matches.claim != nullptr) out.notes.push_back(matches.note());
+  out.figures.push_back(output_figure(*main, series_energy(*main, "output_sphere"), k, in.figures_dir, main_name + "_output",
+                                      in.gnuplot,
                                       "The output sphere's kinetic energy over E_in against time, its kicks marked; the "
-                                      "dashed line is the estimated arrival of the pulse at the bottom face (the automatic duration is 2 of them, 7 "
-                                      "with a soft block between stiffer ones)"));
+                                      "dashed line is the estimated arrival of the pulse at the bottom face (the automatic "
+                                      "duration is 2 of them, 7 with a soft block between stiffer ones)"));
 }
 
 void fig4(const AnalysisInput& in, ExperimentResult& out) {

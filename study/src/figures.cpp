@@ -77,13 +77,13 @@ Figure energy_figure(const postproc::CaseReduction& r, const std::string& dir, c
   return render(dir, name, fmt::to_string(data), body, gnuplot, caption);
 }
 
-Figure decay_figure(const std::map<double, std::vector<std::pair<int, double>>>& by_e, double alpha, const std::string& dir,
-                    const std::string& gnuplot) {
+Figure decay_figure(const std::map<double, std::vector<std::pair<int, double>>, std::greater<>>& by_e, double alpha,
+                    const std::string& dir, const std::string& gnuplot) {
   fmt::memory_buffer data;
   auto out = std::back_inserter(data);
   std::string plots;
   int index = 0, hi = 1;
-  for (auto it = by_e.rbegin(); it != by_e.rend(); ++it, ++index) {
+  for (auto it = by_e.begin(); it != by_e.end(); ++it, ++index) {
     const double e = it->first;
     fmt::format_to(out, "# e = {}: N_B, E_out/E_in\n", e);
     for (const auto& [nb, f] : it->second) {

@@ -5,6 +5,7 @@
 
 #include <granstack/study/reproduce.hpp>
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -18,8 +19,8 @@ Figure energy_figure(const postproc::CaseReduction& r, const std::string& dir, c
                      const std::string& gnuplot, const std::string& caption, bool impact_column = false);
 
 // Output against N_B on a log axis per e (points), with exp(-(alpha/e) N_B) for one alpha (Fig. 3).
-Figure decay_figure(const std::map<double, std::vector<std::pair<int, double>>>& by_e, double alpha, const std::string& dir,
-                    const std::string& gnuplot);
+Figure decay_figure(const std::map<double, std::vector<std::pair<int, double>>, std::greater<>>& by_e, double alpha,
+                    const std::string& dir, const std::string& gnuplot);
 
 struct BarGroup {
   std::string label;
