@@ -265,7 +265,7 @@ nlohmann::json report_json(const StudyResult& r) {
 // How the two engines agreed over every case.
 std::string validation_summary(const StudyResult& r) {
   int cases = 0, agree = 0, same_output = 0;
-  double worst = 0.0, worst_output = 0.0;
+  double worst = -1.0, worst_output = 0.0;
   std::string where;
   for (const auto& e : r.experiments) {
     for (const auto& c : e.cases) {
