@@ -91,8 +91,19 @@ Child start(const std::vector<std::string>& argv, const StartOptions& options) {
   for (auto& a : args) arg_ptrs.push_back(a.data());
   arg_ptrs.push_back(nullptr);
   std::vector<std::string> extra = options.extra_environment;
+  // A NAME=VALUE given replaces the inherited NAME (getenv finds the first of two).
+  auto overridden = [&](const char* e) {
+    const std::string_view entry(e);
+    for (const auto& x : extra) {
+      const auto eq = x.find('=');
+      if (eq != std::string::npos && entry.substr(0, eq + 1) == std::string_view(x).substr(0, eq + 1)) return true;
+    }
+    return false;
+  };
   std::vector<char*> env;
-  for (char** e = environ; *e != nullptr; ++e) env.push_back(*e);
+  for (char** e = environ; *e != nullptr; ++e) {
+    if (!overridden(*e)) env.push_back(*e);
+  }
   for (auto& e : extra) env.push_back(e.data());
   env.push_back(nullptr);
   // Absolute, since the child changes directory before it opens the output.

@@ -55,6 +55,9 @@ std::string recorded_status(const std::string& case_dir) {
 
 namespace {
 
+// How long (in 50 ms steps) a LIGGGHTS that quit of a signal waits for granstack's own.
+constexpr int kSignalGraceSteps = 20;
+
 void write_record(const fs::path& path, const json& record) {
   formats::write_file_atomically(path, record.dump(2) + "\n");
 }
@@ -252,6 +255,18 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
     result.record["failed_starts"].push_back(scanner.head());
   }
   result.record["starts"] = starts + 1;
+  // A scheduler (SLURM's scancel or time limit) signals every process of a job at once, so
+  // LIGGGHTS may end of the same signal before granstack's own handler has run: give that
+  // signal a moment to arrive, and call the run interrupted, not failed.
+  if (scanner.stopped_by_signal() || !signal_text.empty()) {
+    for (int i = 0; i < kSignalGraceSteps && os::interrupt_signal() == 0; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    if (os::interrupt_signal() != 0) {
+      result.interrupted = true;
+      return result;
+    }
+  }
 
   const auto& loop = scanner.loop_time();
   if (result.error.empty()) {

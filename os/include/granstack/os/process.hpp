@@ -17,7 +17,7 @@ std::optional<std::string> find_program(const std::string& program);
 struct StartOptions {
   std::filesystem::path cwd;                 // empty: granstack's own
   std::filesystem::path output;              // stdout and stderr go here (truncated); empty: /dev/null
-  std::vector<std::string> extra_environment;  // NAME=VALUE added to granstack's environment
+  std::vector<std::string> extra_environment;  // NAME=VALUE added to granstack's environment (replacing its NAME)
 };
 
 // A started child. It runs in a process group of its own (so a Ctrl-C at the terminal reaches

@@ -1,0 +1,72 @@
+// granstack submit: a sweep's pending cases as SLURM job arrays.
+#include "commands.hpp"
+
+#include <granstack/cluster/slurm.hpp>
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <memory>
+
+namespace granstack::app {
+
+namespace {
+
+struct SubmitFlags {
+  std::vector<std::string> targets;
+  cluster::SubmitOptions options;
+};
+
+int submit(SubmitFlags& f) {
+  auto& o = f.options;
+  o.granstack = std::filesystem::read_symlink("/proc/self/exe").string();
+  cluster::Submission s;
+  try {
+    s = cluster::submit(f.targets, o);
+  } catch (const cluster::SubmitError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return kCaseFailed;
+  }
+  if (s.cases.empty()) {
+    fmt::print("nothing to submit: every case is done (--force submits them again)\n");
+    return kOk;
+  }
+  const auto tasks = (s.cases.size() + static_cast<std::size_t>(o.cases_per_task) - 1) / static_cast<std::size_t>(o.cases_per_task);
+  fmt::print("{} {} cases in {} tasks of up to {} ({} array{}, MaxArraySize {}), {} per task; scripts in {}\n",
+             o.dry_run ? "would submit" : "submitted", s.cases.size(), tasks, o.cases_per_task, s.arrays.size(),
+             s.arrays.size() == 1 ? "" : "s", s.max_array_size, s.time, s.directory);
+  for (const auto& a : s.arrays) {
+    fmt::print("  {}  {}\n", a.job_id.empty() ? "(dry run)" : "job " + a.job_id, a.script);
+  }
+  if (!s.gather_script.empty()) {
+    fmt::print("  {}  {} (after the arrays: the table into {}/table)\n",
+               s.gather_job_id.empty() ? "(dry run)" : "job " + s.gather_job_id, s.gather_script, s.directory);
+  }
+  return kOk;
+}
+
+}  // namespace
+
+Command add_submit(CLI::App& app) {
+  auto f = std::make_shared<SubmitFlags>();
+  auto& o = f->options;
+  auto* cmd = app.add_subcommand("submit", "Submit the cases not yet done as SLURM job arrays");
+  cmd->add_option("cases", f->targets, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("--engine", o.engine, "liggghts or refsim [liggghts]")->check(CLI::IsMember({"liggghts", "refsim"}));
+  cmd->add_option("--np", o.ranks, "MPI ranks per case (the task's --ntasks) [1]")->check(CLI::Range(1, 4096));
+  cmd->add_option("--cases-per-task", o.cases_per_task, "Cases each array task runs, one after the other [1]")
+      ->check(CLI::Range(1, 1000000));
+  cmd->add_option("--max-parallel", o.max_parallel, "At most this many tasks at once (the array's %K) [no limit]")
+      ->check(CLI::Range(1, 1000000));
+  cmd->add_option("--partition", o.partition, "SLURM partition [the site's default]");
+  cmd->add_option("--time", o.time, "Wall time per task, HH:MM:SS [estimated from the cases, 3x the estimate, at least 5 min]");
+  cmd->add_option("--mem", o.mem_mb, "Memory per task, MB [the site's default]")->check(CLI::PositiveNumber);
+  cmd->add_option("--account", o.account, "SLURM account [the site's default]");
+  cmd->add_option("--sbatch-arg", o.sbatch_args, "An argument passed to sbatch as it is (repeatable)");
+  cmd->add_flag("--gather", o.gather, "Add a job that runs `table` over the targets once the arrays end");
+  cmd->add_flag("--dry-run", o.dry_run, "Write the scripts and say what would be submitted; submit nothing");
+  cmd->add_flag("--force", o.force, "Submit every case, done or not");
+  return {cmd, [f] { return submit(*f); }};
+}
+
+}  // namespace granstack::app
