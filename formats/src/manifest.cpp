@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 namespace granstack::formats {
 
@@ -198,12 +199,9 @@ std::string find_dump(const std::string& case_dir, const std::string& name) {
 std::vector<std::string> expand_case_dirs(const std::vector<std::string>& dirs) {
   namespace fs = std::filesystem;
   std::vector<std::string> out;
-  std::vector<fs::path> seen;  // a case named twice (directly and through its sweep) counts once
+  std::set<std::string> seen;  // a case named twice (directly and through its sweep) counts once
   auto add = [&](const std::string& dir) {
-    const auto canonical = fs::weakly_canonical(dir);
-    if (std::find(seen.begin(), seen.end(), canonical) != seen.end()) return;
-    seen.push_back(canonical);
-    out.push_back(dir);
+    if (seen.insert(fs::weakly_canonical(dir).string()).second) out.push_back(dir);
   };
   for (const auto& d : dirs) {
     if (fs::exists(fs::path(d) / "manifest.json")) {
