@@ -1,6 +1,8 @@
 // `granstack reproduce --quick` end to end on the real LIGGGHTS: the numbers against the
 // catalogue's bands and against physics computed here, reuse of finished cases, refusals, and the
 // HTML report opened in a real headless browser.
+#include "../support/program.hpp"
+
 #include <granstack/os/process.hpp>
 
 #include <gtest/gtest.h>
@@ -16,15 +18,8 @@ using namespace granstack;
 
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string output;
-};
-
-std::string read(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+using Result = test::ProgramResult;
+using test::read_bytes;
 
 const fs::path& work() {
   static const fs::path dir = fs::path(GRANSTACK_TEST_WORKDIR) / "reproduce";
@@ -32,16 +27,7 @@ const fs::path& work() {
 }
 
 // Runs a program from an argument vector, its stdout and stderr into a file.
-Result run(std::vector<std::string> argv) {
-  fs::create_directories(work());
-  const auto log = work() / "last_output.txt";
-  os::StartOptions o;
-  o.output = log;
-  std::string error;
-  const auto end = os::run(argv, o, &error);
-  EXPECT_TRUE(error.empty()) << error;
-  return {end.signal != 0 ? -end.signal : end.code, read(log)};
-}
+Result run(std::vector<std::string> argv) { return test::run_program(std::move(argv), work() / "last_output.txt"); }
 
 Result granstack(std::vector<std::string> args) {
   args.insert(args.begin(), GRANSTACK_EXE);
@@ -62,7 +48,7 @@ const fs::path& quick_dir() {
 
 std::string fmt_key(const std::string& e, int nb) { return "output.e" + e + ".nb" + std::to_string(nb); }
 
-nlohmann::json report() { return nlohmann::json::parse(read(quick_dir() / "report.json")); }
+nlohmann::json report() { return nlohmann::json::parse(read_bytes(quick_dir() / "report.json")); }
 
 const nlohmann::json& experiment(const nlohmann::json& report, const std::string& name) {
   for (const auto& e : report.at("experiments")) {
@@ -138,7 +124,7 @@ TEST(Reproduce, AnUnknownExperimentAndADirectoryOfTheUsersAreRefused) {
   r = granstack({"reproduce", "eq3", "-o", mine.string()});
   EXPECT_EQ(r.code, 3) << r.output;
   EXPECT_NE(r.output.find("was not made by granstack"), std::string::npos) << r.output;
-  EXPECT_EQ(read(mine / "thesis.tex"), "precious");
+  EXPECT_EQ(read_bytes(mine / "thesis.tex"), "precious");
   EXPECT_EQ(std::distance(fs::directory_iterator(mine), fs::directory_iterator()), 1);
 }
 
@@ -148,7 +134,7 @@ TEST(Reproduce, TheHtmlReportIsSelfContainedAndItsFiguresRenderInChromium) {
   const auto chromium = os::find_program("chromium");
   if (!chromium) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh --tests installs it)";
   const auto html = quick_dir() / "report.html";
-  const auto text = read(html);
+  const auto text = read_bytes(html);
   for (const char* fetch : {"<script", "<link", " src=", "url(", "@import"}) {
     EXPECT_EQ(text.find(fetch), std::string::npos) << "the report loads something: " << fetch;
   }

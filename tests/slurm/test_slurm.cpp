@@ -1,6 +1,8 @@
 // granstack submit and status on a real one-node SLURM (scripts/slurm-local.sh, started by the
 // ctest fixture slurm.start; SLURM_CONF points at it). Every check reads the cases' output
 // files, never only the jobs' states: a misconfigured node reports COMPLETED with no output.
+#include "../support/program.hpp"
+
 #include <granstack/os/process.hpp>
 
 #include <gtest/gtest.h>
@@ -18,15 +20,8 @@ using namespace granstack;
 
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string output;
-};
-
-std::string read(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+using Result = test::ProgramResult;
+using test::read_bytes;
 
 fs::path work(const std::string& name) {
   const auto d = fs::path(GRANSTACK_TEST_WORKDIR) / "slurm_tests" / name;
@@ -36,16 +31,7 @@ fs::path work(const std::string& name) {
 }
 
 Result run(std::vector<std::string> argv, const std::vector<std::string>& env = {}) {
-  const auto log = fs::path(GRANSTACK_TEST_WORKDIR) / "slurm_tests" / "last_output.txt";
-  fs::create_directories(log.parent_path());
-  os::StartOptions o;
-  o.output = log;
-  o.extra_environment = env;
-  std::string error;
-  if (const auto p = os::find_program(argv.front())) argv.front() = *p;
-  const auto end = os::run(argv, o, &error);
-  EXPECT_TRUE(error.empty()) << error;
-  return {end.signal != 0 ? -end.signal : end.code, read(log)};
+  return test::run_program(std::move(argv), fs::path(GRANSTACK_TEST_WORKDIR) / "slurm_tests" / "last_output.txt", env);
 }
 
 Result granstack(std::vector<std::string> args, const std::vector<std::string>& env = {}) {
@@ -76,14 +62,14 @@ bool wait_for(const std::vector<std::string>& ids, double seconds = 120) {
   return false;
 }
 
-nlohmann::json run_record(const fs::path& c) { return nlohmann::json::parse(read(c / "run.json")); }
+nlohmann::json run_record(const fs::path& c) { return nlohmann::json::parse(read_bytes(c / "run.json")); }
 
 // The case ran to its end: run.json says done and the dump holds the final frame.
 void expect_done_with_output(const fs::path& c) {
   ASSERT_TRUE(fs::exists(c / "run.json")) << c;
   EXPECT_EQ(run_record(c).value("status", ""), "done") << c;
-  const auto steps = nlohmann::json::parse(read(c / "manifest.json")).at("derived").at("steps").get<long>();
-  EXPECT_NE(read(c / "dumps" / "dump.txt").find("ITEM: TIMESTEP\n" + std::to_string(steps) + "\n"), std::string::npos) << c;
+  const auto steps = nlohmann::json::parse(read_bytes(c / "manifest.json")).at("derived").at("steps").get<long>();
+  EXPECT_NE(read_bytes(c / "dumps" / "dump.txt").find("ITEM: TIMESTEP\n" + std::to_string(steps) + "\n"), std::string::npos) << c;
 }
 
 std::string replace_all(std::string s, const std::string& from, const std::string& to) {
@@ -108,12 +94,12 @@ TEST(Slurm, AGatheredSweepGivesTheLocalTableByteForByte) {
   ASSERT_EQ(granstack({"run", "-j", "2", (d / "local").string()}).code, 0);
   ASSERT_EQ(granstack({"table", (d / "local").string(), "-o", (d / "local_table").string()}).code, 0);
   const auto gathered = d / "cluster" / "slurm" / "submit-1" / "table";
-  ASSERT_TRUE(fs::exists(gathered / "table.md")) << read(d / "cluster" / "slurm" / "submit-1" / "gather.out");
-  EXPECT_EQ(read(gathered / "table.md"), read(d / "local_table" / "table.md"));
-  EXPECT_EQ(read(gathered / "fits.csv"), read(d / "local_table" / "fits.csv"));
+  ASSERT_TRUE(fs::exists(gathered / "table.md")) << read_bytes(d / "cluster" / "slurm" / "submit-1" / "gather.out");
+  EXPECT_EQ(read_bytes(gathered / "table.md"), read_bytes(d / "local_table" / "table.md"));
+  EXPECT_EQ(read_bytes(gathered / "fits.csv"), read_bytes(d / "local_table" / "fits.csv"));
   // table.csv names each case's directory; with that the only difference, the bytes agree.
-  EXPECT_EQ(replace_all(read(gathered / "table.csv"), (d / "cluster").string(), "SWEEP"),
-            replace_all(read(d / "local_table" / "table.csv"), (d / "local").string(), "SWEEP"));
+  EXPECT_EQ(replace_all(read_bytes(gathered / "table.csv"), (d / "cluster").string(), "SWEEP"),
+            replace_all(read_bytes(d / "local_table" / "table.csv"), (d / "local").string(), "SWEEP"));
   const auto st = granstack({"status", (d / "cluster").string()});
   EXPECT_EQ(st.code, 0) << st.output;
   EXPECT_NE(st.output.find("6 cases: 6 done, 0 failed, 0 running, 0 interrupted, 0 pending"), std::string::npos) << st.output;
@@ -131,7 +117,7 @@ TEST(Slurm, ACancelledTaskIsInterruptedAndAResubmitRunsOnlyWhatDidNotFinish) {
   // Cancel task 0 once its LIGGGHTS is at work.
   const auto first = sweep / "e1";
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (std::chrono::steady_clock::now() < until && read(first / "liggghts.out").find("    Step    Atoms") == std::string::npos) {
+  while (std::chrono::steady_clock::now() < until && read_bytes(first / "liggghts.out").find("    Step    Atoms") == std::string::npos) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   ASSERT_EQ(run({"scancel", ids[0] + "_0"}).code, 0);
