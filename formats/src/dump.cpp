@@ -1,6 +1,7 @@
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/error.hpp>
 
+#include <fmt/compile.h>
 #include <fmt/format.h>
 
 #include <cerrno>
@@ -507,20 +508,50 @@ void DumpWriter::write(const DumpFrame& f) {
       integer[c] = f.columns[c] == "id" || f.columns[c] == "type";
     }
     buffer_ += " \n";
-    for (long a = 0; a < f.atoms; ++a) {
-      for (std::size_t c = 0; c < ncol; ++c) {
-        const double v = f.at(a, static_cast<int>(c));
-        if (integer[c]) {
-          fmt::format_to(out, "{} ", static_cast<long>(v));
-        } else {
-          fmt::format_to(out, "{:.17g} ", v);
-        }
-      }
-      buffer_ += '\n';
-    }
+    write_atoms(f, integer);
   }
   if (std::fwrite(buffer_.data(), 1, buffer_.size(), file_.get()) != buffer_.size()) {
     throw std::runtime_error(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
+  }
+}
+
+// Each value in the shortest text that reads back to the same double (LIGGGHTS writes %.17g).
+// A value equal to the bit to the same atom's and column's in the frame before (radius, mass,
+// zeros, spheres at rest) is copied from that frame's text instead of being formatted again.
+void DumpWriter::write_atoms(const DumpFrame& f, const std::vector<bool>& integer) {
+  const std::size_t ncol = f.columns.size();
+  const std::size_t n = static_cast<std::size_t>(f.atoms) * ncol;
+  const bool reuse = previous_values_.size() == n && f.values.size() == n;
+  text_.clear();
+  starts_.resize(n);
+  lengths_.resize(n);
+  auto out = std::back_inserter(text_);
+  std::size_t k = 0;
+  for (long a = 0; a < f.atoms; ++a) {
+    for (std::size_t c = 0; c < ncol; ++c, ++k) {
+      const double v = f.values[k];
+      const std::size_t start = text_.size();
+      if (reuse && std::memcmp(&v, &previous_values_[k], sizeof v) == 0) {
+        text_.append(previous_text_, previous_starts_[k], previous_lengths_[k]);
+      } else if (integer[c]) {
+        fmt::format_to(out, FMT_COMPILE("{} "), static_cast<long>(v));
+      } else {
+        fmt::format_to(out, FMT_COMPILE("{} "), v);
+      }
+      starts_[k] = static_cast<std::uint32_t>(start);
+      lengths_[k] = static_cast<std::uint8_t>(text_.size() - start);
+    }
+    text_ += '\n';
+  }
+  buffer_ += text_;
+  // Kept for the next frame while its text can be indexed (a frame below 4 GB of text).
+  if (text_.size() < std::numeric_limits<std::uint32_t>::max()) {
+    previous_values_.assign(f.values.begin(), f.values.end());
+    std::swap(previous_text_, text_);
+    std::swap(previous_starts_, starts_);
+    std::swap(previous_lengths_, lengths_);
+  } else {
+    previous_values_.clear();
   }
 }
 

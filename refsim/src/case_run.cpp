@@ -6,6 +6,7 @@
 #include <granstack/model/stack.hpp>
 #include <granstack/refsim/case_run.hpp>
 
+#include <fmt/compile.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -89,7 +90,8 @@ std::vector<Particle> particles_from(const formats::DataFile& data) {
 namespace {
 
 // The in-situ series of the generated deck: `fix print` of per-group ke and erotate/sphere,
-// summed in atom order and formatted %.20g, as compute_ke.cpp and compute_erotate_sphere.cpp.
+// summed in atom order as compute_ke.cpp and compute_erotate_sphere.cpp; each value written in
+// its shortest form that reads back to the same double (LIGGGHTS writes %.20g: the same values).
 class SeriesWriter {
  public:
   SeriesWriter(const std::string& path, const model::Stack& stack, const std::vector<std::string>& columns)
@@ -112,7 +114,8 @@ class SeriesWriter {
   }
 
   void write(const System& s) {
-    line_ = fmt::format("{:.20g}", static_cast<double>(s.step_count()));
+    line_.clear();
+    fmt::format_to(std::back_inserter(line_), FMT_COMPILE("{}"), s.step_count());
     for (const auto& g : groups_) {
       double ke = 0.0, rot = 0.0;
       for (const std::size_t i : g) {
@@ -121,7 +124,7 @@ class SeriesWriter {
         ke += s.mass(i) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         rot += (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) * s.radius(i) * s.radius(i) * s.mass(i);
       }
-      fmt::format_to(std::back_inserter(line_), " {:.20g} {:.20g}", ke * (0.5 * 1.0), rot * (0.5 * 1.0 * 0.4));
+      fmt::format_to(std::back_inserter(line_), FMT_COMPILE(" {} {}"), ke * (0.5 * 1.0), rot * (0.5 * 1.0 * 0.4));
     }
     line_ += '\n';
     std::fwrite(line_.data(), 1, line_.size(), file_.get());
@@ -133,47 +136,69 @@ class SeriesWriter {
   std::string line_;
 };
 
-void fill_frame(const System& s, const std::vector<std::string>& columns, const std::array<double, 6>& box0,
-                formats::DumpFrame& f) {
+// The quantities a dump column can hold, each column's resolved once per run (comparing column
+// names for every value took a fifth of a run's instructions).
+enum class Column { id, type, radius, mass, x, y, z, vx, vy, vz, omegax, omegay, omegaz, fx, fy, fz, tqx, tqy, tqz };
+
+std::vector<Column> resolve_columns(const std::vector<std::string>& columns) {
+  static const std::vector<std::pair<const char*, Column>> known{
+      {"id", Column::id},         {"type", Column::type},     {"radius", Column::radius}, {"mass", Column::mass},
+      {"x", Column::x},           {"y", Column::y},           {"z", Column::z},           {"vx", Column::vx},
+      {"vy", Column::vy},         {"vz", Column::vz},         {"omegax", Column::omegax}, {"omegay", Column::omegay},
+      {"omegaz", Column::omegaz}, {"fx", Column::fx},         {"fy", Column::fy},         {"fz", Column::fz},
+      {"tqx", Column::tqx},       {"tqy", Column::tqy},       {"tqz", Column::tqz}};
+  std::vector<Column> out;
+  for (const auto& c : columns) {
+    const auto it = std::find_if(known.begin(), known.end(), [&](const auto& k) { return c == k.first; });
+    if (it == known.end()) throw std::runtime_error(fmt::format("refsim cannot write the dump column '{}'", c));
+    out.push_back(it->second);
+  }
+  return out;
+}
+
+double column_value(const System& s, std::size_t i, Column c) {
+  switch (c) {
+    case Column::id: return static_cast<double>(i + 1);
+    case Column::type: return s.type(i);
+    case Column::radius: return s.radius(i);
+    case Column::mass: return s.mass(i);
+    case Column::x: return s.x(i)[0];
+    case Column::y: return s.x(i)[1];
+    case Column::z: return s.x(i)[2];
+    case Column::vx: return s.v(i)[0];
+    case Column::vy: return s.v(i)[1];
+    case Column::vz: return s.v(i)[2];
+    case Column::omegax: return s.omega(i)[0];
+    case Column::omegay: return s.omega(i)[1];
+    case Column::omegaz: return s.omega(i)[2];
+    case Column::fx: return s.force(i)[0];
+    case Column::fy: return s.force(i)[1];
+    case Column::fz: return s.force(i)[2];
+    case Column::tqx: return s.torque(i)[0];
+    case Column::tqy: return s.torque(i)[1];
+    case Column::tqz: return s.torque(i)[2];
+  }
+  return 0.0;
+}
+
+void fill_frame(const System& s, const std::vector<std::string>& columns, const std::vector<Column>& resolved,
+                const std::array<double, 6>& box0, formats::DumpFrame& f) {
   const std::size_t n = s.size();
   f.step = s.step_count();
   f.atoms = static_cast<long>(n);
   f.box_flags = "mm mm mm";
-  f.columns = columns;
+  if (f.columns != columns) f.columns = columns;
   f.values.resize(n * columns.size());
   // Shrink-wrapped with a minimum: the data file's box, grown to hold every sphere.
   f.box = box0;
   double* out = f.values.data();
   for (std::size_t i = 0; i < n; ++i) {
-    const auto x = s.x(i), v = s.v(i), w = s.omega(i), fo = s.force(i);
+    const auto x = s.x(i);
     for (int d = 0; d < 3; ++d) {
       f.box[static_cast<std::size_t>(2 * d)] = std::min(f.box[static_cast<std::size_t>(2 * d)], x[d]);
       f.box[static_cast<std::size_t>(2 * d + 1)] = std::max(f.box[static_cast<std::size_t>(2 * d + 1)], x[d]);
     }
-    for (const auto& c : columns) {
-      double value = 0.0;
-      if (c == "id") value = static_cast<double>(i + 1);
-      else if (c == "type") value = s.type(i);
-      else if (c == "radius") value = s.radius(i);
-      else if (c == "mass") value = s.mass(i);
-      else if (c == "x") value = x[0];
-      else if (c == "y") value = x[1];
-      else if (c == "z") value = x[2];
-      else if (c == "vx") value = v[0];
-      else if (c == "vy") value = v[1];
-      else if (c == "vz") value = v[2];
-      else if (c == "omegax") value = w[0];
-      else if (c == "omegay") value = w[1];
-      else if (c == "omegaz") value = w[2];
-      else if (c == "fx") value = fo[0];
-      else if (c == "fy") value = fo[1];
-      else if (c == "fz") value = fo[2];
-      else if (c == "tqx") value = s.torque(i)[0];
-      else if (c == "tqy") value = s.torque(i)[1];
-      else if (c == "tqz") value = s.torque(i)[2];
-      else throw std::runtime_error(fmt::format("refsim cannot write the dump column '{}'", c));
-      *out++ = value;
-    }
+    for (const auto c : resolved) *out++ = column_value(s, i, c);
   }
 }
 
@@ -194,9 +219,10 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   formats::DumpWriter dump((dir / manifest.files.dump).string(), manifest.spec.dump_format == model::DumpFormat::binary);
   SeriesWriter series((dir / manifest.files.series).string(), stack, manifest.files.series_columns);
   formats::DumpFrame frame;
+  const auto columns = resolve_columns(manifest.files.dump_columns);
 
   system.setup();
-  fill_frame(system, manifest.files.dump_columns, data.box, frame);
+  fill_frame(system, manifest.files.dump_columns, columns, data.box, frame);
   dump.write(frame);
   // As LIGGGHTS's "Loop time" (run.cpp): the setup force call and the step-0 output are not in it.
   const auto t0 = std::chrono::steady_clock::now();
@@ -208,7 +234,7 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
     step = next;
     if (step % res.series_every == 0) series.write(system);
     if (step % res.dump_every == 0) {
-      fill_frame(system, manifest.files.dump_columns, data.box, frame);
+      fill_frame(system, manifest.files.dump_columns, columns, data.box, frame);
       dump.write(frame);
     }
     if (options.on_progress && (step % 256 == 0 || step == res.steps)) options.on_progress(step, res.steps);

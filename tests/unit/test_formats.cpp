@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -220,6 +221,46 @@ std::string dump_text(int frames, int atoms) {
 }
 
 using BatchTest = TempDir;
+
+// The writer copies a value's text from the frame before when the value is the same to the bit;
+// read back, every frame holds exactly the doubles written, -0.0 and the last bit of a changed
+// value included, whichever frame they first appeared in.
+TEST(DumpWriter, TextReusedFromTheFrameBeforeReadsBackToTheExactDoubles) {
+  const auto path = fs::temp_directory_path() / ("granstack_dump_reuse_" + std::to_string(::getpid()));
+  std::vector<std::vector<double>> written;
+  {
+    formats::DumpWriter w(path.string(), false);
+    formats::DumpFrame f;
+    f.atoms = 3;
+    f.box_flags = "mm mm mm";
+    f.box = {-1, 1, -1, 1, -1, 1};
+    f.columns = {"id", "x", "vx"};
+    const double x = 0.1;
+    const std::vector<std::vector<double>> frames{{1, x, 0.0, 2, 1e-300, -0.0, 3, 5.0, 1.0 / 3.0},
+                                                  {1, x, -0.0, 2, 1e-300, 0.0, 3, 5.0, 1.0 / 3.0},
+                                                  {1, std::nextafter(x, 1.0), -0.0, 2, 2e-300, 0.0, 3, 5.0, 2.0 / 3.0},
+                                                  {1, x, -0.0, 2, 2e-300, 0.0, 3, 5.0, 2.0 / 3.0}};
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      f.step = static_cast<long>(k);
+      f.values = frames[k];
+      w.write(f);
+      written.push_back(frames[k]);
+    }
+  }
+  formats::TextDumpReader reader(path.string());
+  formats::DumpFrame f;
+  std::size_t k = 0;
+  while (reader.next(f)) {
+    ASSERT_LT(k, written.size());
+    ASSERT_EQ(f.values.size(), written[k].size());
+    for (std::size_t i = 0; i < f.values.size(); ++i) {
+      EXPECT_EQ(std::memcmp(&f.values[i], &written[k][i], sizeof(double)), 0) << "frame " << k << " value " << i;
+    }
+    ++k;
+  }
+  EXPECT_EQ(k, written.size());
+  fs::remove(path);
+}
 
 // Pieces cut at frame boundaries and parsed apart give what reading the whole file gives, for
 // any piece size, including the line numbers and words of every error.
