@@ -8,6 +8,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <csignal>
+#include <map>
+#include <thread>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -109,6 +113,51 @@ TEST(Reproduce, ARerunReusesEveryFinishedCaseAndRunsOnlyWhatIsMissing) {
   EXPECT_EQ(std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), done_line), std::sregex_iterator()), 1) << r.output;
   EXPECT_NE(r.output.find("done     " + case_dir.string()), std::string::npos) << r.output;
   EXPECT_EQ(fs::last_write_time(dir / "fig3" / "nb4_e1" / "run.json"), before);
+}
+
+// Ctrl-C in the middle: granstack stops (130), its finished cases stay done; the same command
+// again runs exactly the cases that were not done and writes the whole report.
+TEST(Reproduce, AStoppedReproductionContinuesWhereItStopped) {
+  const auto dir = work() / "stopped";
+  fs::remove_all(dir);
+  const auto log = work() / "stopped_first_run.txt";
+  os::StartOptions o;
+  o.output = log;
+  const auto child = os::start({GRANSTACK_EXE, "reproduce", "fig3", "eq3", "-o", dir.string()}, o);
+  ASSERT_GT(child.pid, 0) << child.error;
+  auto done_cases = [&] {
+    std::map<fs::path, fs::file_time_type> done;
+    if (!fs::exists(dir)) return done;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+      if (e.path().filename() == "run.json" && read_bytes(e.path()).find("\"status\": \"done\"") != std::string::npos) {
+        done[e.path()] = fs::last_write_time(e.path());
+      }
+    }
+    return done;
+  };
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (done_cases().size() < 3 && std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ::kill(child.pid, SIGINT);
+  const auto end = os::wait(child);
+  EXPECT_EQ(end.code, 130) << read_bytes(log);
+  const auto before = done_cases();
+  ASSERT_GE(before.size(), 3u);
+  ASSERT_LT(before.size(), 20u) << "the reproduction finished before it could be stopped";
+  const auto r = granstack({"reproduce", "fig3", "eq3", "-o", dir.string(), "-j", "2"});
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::regex done_line("(^|\n)done ");
+  EXPECT_EQ(std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), done_line), std::sregex_iterator()),
+            static_cast<long>(20 - before.size()))
+      << r.output;
+  for (const auto& [path, time] : before) EXPECT_EQ(fs::last_write_time(path), time) << path << " ran again";
+  EXPECT_EQ(done_cases().size(), 20u);
+  const auto j = nlohmann::json::parse(read_bytes(dir / "report.json"));
+  EXPECT_EQ(j.at("failed_cases"), 0);
+  for (const auto& e : j.at("experiments")) {
+    for (const auto& c : e.at("claims")) EXPECT_EQ(c.at("verdict"), c.at("expect")) << c.at("id");
+  }
 }
 
 TEST(Reproduce, AnUnknownExperimentAndADirectoryOfTheUsersAreRefused) {
