@@ -14,11 +14,9 @@ namespace granstack::cluster {
 
 namespace fs = std::filesystem;
 
-std::optional<std::string> find_slurm_program(const std::string& name) { return os::find_program(name); }
-
 SlurmResult run_slurm(const std::vector<std::string>& argv) {
   SlurmResult r;
-  const auto program = find_slurm_program(argv.front());
+  const auto program = os::find_program(argv.front());
   if (!program) {
     r.output = fmt::format("{} is not on PATH", argv.front());
     return r;

@@ -17,7 +17,6 @@ struct SlurmResult {
 };
 
 SlurmResult run_slurm(const std::vector<std::string>& argv);
-std::optional<std::string> find_slurm_program(const std::string& name);
 std::vector<std::string> lines(const std::string& text);
 
 }  // namespace granstack::cluster

@@ -3,6 +3,7 @@
 #include <granstack/cluster/slurm.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
+#include <granstack/os/process.hpp>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -54,7 +55,7 @@ StatusReport status(const std::vector<std::string>& targets, const std::string& 
   StatusReport r;
   for (const auto& d : formats::expand_case_dirs(targets)) r.cases.push_back(read_state(d));
   if (!targets.empty()) r.job_ids = last_job_ids(targets.front());
-  if (!r.job_ids.empty() && find_slurm_program(squeue)) {
+  if (!r.job_ids.empty() && os::find_program(squeue)) {
     const auto q = run_slurm({squeue, "-h", "-j", fmt::format("{}", fmt::join(r.job_ids, ",")), "-o", "%i %T %M %R"});
     // squeue exits non-zero when none of the jobs is known any more: an empty queue.
     r.squeue_available = q.started;

@@ -2,6 +2,7 @@
 
 #include <granstack/cluster/slurm.hpp>
 #include <granstack/formats/files.hpp>
+#include <granstack/os/process.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
@@ -162,7 +163,7 @@ Submission submit(const std::vector<std::string>& targets, const SubmitOptions& 
   Submission sub;
   sub.cases = pending_cases(targets, o.force);
   if (sub.cases.empty()) return sub;
-  if (!o.dry_run && !find_slurm_program(o.sbatch)) {
+  if (!o.dry_run && !os::find_program(o.sbatch)) {
     throw SubmitError(fmt::format("{} is not on PATH: install SLURM's client commands (Debian package slurm-client) or "
                                   "submit from a machine that has them; --dry-run writes the scripts without submitting",
                                   o.sbatch));

@@ -28,12 +28,6 @@ std::string pct(double f) { return fmt::format("{:.3g} %", 100.0 * f); }
 std::string num(double v) { return fmt::format("{:.4g}", v); }
 std::string num(const std::optional<double>& v) { return v ? num(*v) : "-"; }
 
-// The impact column's energy (reduce/column_ke.csv) of block k.
-Curve impact_column(const postproc::CaseReduction& r, int k) {
-  const auto stack = model::Stack::build(r.spec);
-  return reduce_column(r, "column_ke", fmt::format("ke_block{}_column{}_J", k, stack.impact_column(k)));
-}
-
 // fig2: the candidate readings of "10 and 3 %", and the wave speeds against Nesterenko.
 void fig2(const AnalysisInput& in, ExperimentResult& out) {
   Table readings{"Peak kinetic energy of block k over the peak of block 1, four readings, free bottom and bottom wall",
@@ -48,13 +42,14 @@ void fig2(const AnalysisInput& in, ExperimentResult& out) {
     const int nb = r->spec.blocks;
     std::map<std::string, std::vector<double>> v;
     const double top_block = r->blocks.front().peak_ke;
-    const auto top_column = impact_column(*r, 1);
-    for (int k = 1; k <= nb; ++k) {
-      const auto column = impact_column(*r, k);
-      v["whole_block"].push_back(r->blocks[static_cast<std::size_t>(k - 1)].normalised);
-      v["leading_peak"].push_back(series_energy(*r, fmt::format("block{}", k)).first_peak() / top_block);
-      v["column"].push_back(column.max() / top_column.max());
-      v["column_leading"].push_back(column.first_peak() / top_column.max());
+    const auto blocks = block_energies(*r);
+    const auto columns = impact_column_energies(*r);
+    const double top_column = columns.front().max();
+    for (std::size_t k = 0; k < static_cast<std::size_t>(nb); ++k) {
+      v["whole_block"].push_back(r->blocks[k].normalised);
+      v["leading_peak"].push_back(blocks[k].first_peak() / top_block);
+      v["column"].push_back(columns[k].max() / top_column);
+      v["column_leading"].push_back(columns[k].first_peak() / top_column);
     }
     for (const auto& [key, label] : names) {
       std::vector<std::string> row{label, variant};
@@ -309,13 +304,13 @@ void sensitivity_table(const AnalysisInput& in, ExperimentResult& out, const pos
 }
 
 // The main case's output read other ways: definitions and the window after each kick.
-std::vector<Kick> output_readings(ExperimentResult& out, const postproc::CaseReduction& main, double paper, BandMatches& matches) {
+std::vector<Kick> output_readings(ExperimentResult& out, const postproc::CaseReduction& main, const Curve& output, double paper,
+                                  BandMatches& matches) {
   const auto stack = model::Stack::build(main.spec);
   const auto lib = main.spec.material_library();
   const auto& bottom = stack.blocks().back();
   const auto& m = lib.at(bottom.material);
   const double tc = model::hertz_contact_time(model::sphere_sphere(m, bottom.radius, m, bottom.radius), main.spec.striker_speed);
-  const auto output = series_energy(main, "output_sphere");
   const auto k = kicks(output, 2.0 * tc, 1e-4 * output.max());
   Table d{"The output read other ways (main case)", {"reading", "value", "over the paper's"}, {}};
   auto add = [&](const std::string& key, const std::string& label, double v) {
@@ -347,9 +342,10 @@ void sensitivity(const AnalysisInput& in, ExperimentResult& out, const std::stri
     if (c.quantities.front() == "output." + main_name) matches.claim = &c;
   }
   sensitivity_table(in, out, *main, paper, matches);
-  const auto k = output_readings(out, *main, paper, matches);
+  const auto output = series_energy(*main, "output_sphere");
+  const auto k = output_readings(out, *main, output, paper, matches);
   if (matches.claim != nullptr) out.notes.push_back(matches.note());
-  out.figures.push_back(output_figure(*main, series_energy(*main, "output_sphere"), k, in.figures_dir, main_name + "_output",
+  out.figures.push_back(output_figure(*main, output, k, in.figures_dir, main_name + "_output",
                                       in.gnuplot,
                                       "The output sphere's kinetic energy over E_in against time, its kicks marked; the "
                                       "dashed line is the estimated arrival of the pulse at the bottom face (the automatic "
@@ -364,9 +360,11 @@ void fig4(const AnalysisInput& in, ExperimentResult& out) {
   out.values["pulses.teflon"] = teflon.pulses;
   if (const auto* f2 = in.reduction("fig2", "free")) {
     out.values["block2_peak_over_fig2"] = r->blocks.at(1).normalised / f2->blocks.at(1).normalised;
-    out.values["column_leading_over_fig2"] =
-        (impact_column(*r, 2).first_peak() / impact_column(*r, 1).max()) /
-        (impact_column(*f2, 2).first_peak() / impact_column(*f2, 1).max());
+    auto column_leading = [](const postproc::CaseReduction& c) {
+      const auto columns = impact_column_energies(c);
+      return columns.at(1).first_peak() / columns.front().max();
+    };
+    out.values["column_leading_over_fig2"] = column_leading(*r) / column_leading(*f2);
     const auto& steel = f2->waves.at(1);
     if (teflon.speed && steel.speed) out.values["speed.teflon_over_steel"] = *teflon.speed / *steel.speed;
     Table w{"Block 2: steel (Fig. 2) against Teflon (Fig. 4)", {"", "peak/top", "pulses", "speed (m/s)", "Nesterenko (m/s)"}, {}};
@@ -384,23 +382,41 @@ void fig4(const AnalysisInput& in, ExperimentResult& out) {
 void sandwich(const AnalysisInput& in, ExperimentResult& out) { sensitivity(in, out, "sandwich", 0.006); }
 
 // eq3: the striker's speed after an isolated collision against the hard-sphere formula.
+// A sphere resting on two smaller ones touching both (model::seat_height): the angle of the
+// contact normals from the vertical and the mass ratio kappa = m_small / m_large of Eq. (3).
+struct Seat {
+  double cos_theta = 0.0, kappa = 0.0;
+  double eq3() const {  // v_f / v_i of the large sphere
+    const double k = 2.0 * kappa * cos_theta * cos_theta;
+    return (1.0 - k) / (1.0 + k);
+  }
+  double eq5() const {  // transmitted amplitude per branch
+    return 0.25 * std::pow(2.0 * cos_theta / (1.0 + 2.0 * kappa * cos_theta * cos_theta), 1.2);
+  }
+  double eq4() const {  // the symmetric Y-branch of granular chains at the same angle
+    return std::pow(2.0 * cos_theta / (2.0 * cos_theta * cos_theta + 1.0), 1.2);
+  }
+};
+
+Seat seat(double upper_radius, double upper_mass, double lower_radius, double lower_mass) {
+  return {model::seat_height(lower_radius, upper_radius) / (upper_radius + lower_radius), lower_mass / upper_mass};
+}
+
+// eq3: the striker's speed after an isolated collision against the hard-sphere formula.
 void eq3(const AnalysisInput& in, ExperimentResult& out) {
   Table t{"v_f/v_i of the striker: Eq. (3) against the run (the engine that ran the cases)",
           {"case", "kappa", "theta (deg)", "Eq. (3)", "measured", "difference"}, {}};
   for (const auto& c : in.experiment.cases) {
     const auto* r = in.own(c.name);
     if (r == nullptr) continue;
-    const auto lib = c.spec.material_library();
-    const double rho = c.spec.striker_radius_ratio;
-    const double kappa = lib.at(c.spec.block_material(1)).density / lib.at(c.spec.effective_striker_material()).density /
-                         (rho * rho * rho);
-    const double sin_theta = 1.0 / (rho + 1.0);
-    const double k = 2.0 * kappa * (1.0 - sin_theta * sin_theta);
-    const double theory = (1.0 - k) / (1.0 + k);
+    const auto stack = model::Stack::build(c.spec);
+    const auto& top = stack.block(1);
+    const auto g = seat(stack.striker_radius(), stack.striker_mass(), top.radius, top.sphere_mass);
+    const double theory = g.eq3();
     out.values["v_ratio." + c.name] = r->striker_velocity_ratio;
     out.values["v_ratio_eq3." + c.name] = theory;
-    t.rows.push_back({c.name, num(kappa), fmt::format("{:.2f}", std::asin(sin_theta) * 180.0 / M_PI), fmt::format("{:.6f}", theory),
-                      fmt::format("{:.6f}", r->striker_velocity_ratio),
+    t.rows.push_back({c.name, num(g.kappa), fmt::format("{:.2f}", std::acos(g.cos_theta) * 180.0 / M_PI),
+                      fmt::format("{:.6f}", theory), fmt::format("{:.6f}", r->striker_velocity_ratio),
                       fmt::format("{:+.2e}", r->striker_velocity_ratio / theory - 1.0)});
   }
   out.tables.push_back(t);
@@ -412,22 +428,23 @@ void eq45(const AnalysisInput& in, ExperimentResult& out) {
   if (r == nullptr) return;
   Table t{"Peak Hertz force between vertical neighbours of the impact column, block k+1 over block k (Fig. 2's stack)",
           {"interface", "F_m above (N)", "F_m below (N)", "ratio", "Eq. (5)", "Eq. (4)"}, {}};
-  const double c2 = 8.0 / 9.0, kappa = 1.0 / 8.0;
-  const double eq5 = 0.25 * std::pow(2.0 * std::sqrt(c2) / (1.0 + 2.0 * kappa * c2), 1.2);
-  const double eq4 = std::pow(2.0 * std::sqrt(c2) / (2.0 * c2 + 1.0), 1.2);
+  const auto stack = model::Stack::build(r->spec);
   double sum = 0.0;
   int n = 0;
   for (std::size_t k = 0; k + 1 < r->waves.size(); ++k) {
+    const auto& upper = stack.blocks()[k];
+    const auto& lower = stack.blocks()[k + 1];
+    const auto g = seat(upper.radius, upper.sphere_mass, lower.radius, lower.sphere_mass);
     const double ratio = r->waves[k + 1].peak_force / r->waves[k].peak_force;
     out.values[fmt::format("force_ratio.b{}_b{}", k + 1, k + 2)] = ratio;
+    out.values["eq5"] = g.eq5();
+    out.values["eq4"] = g.eq4();
     sum += ratio;
     ++n;
     t.rows.push_back({fmt::format("{} -> {}", k + 1, k + 2), num(r->waves[k].peak_force), num(r->waves[k + 1].peak_force),
-                      fmt::format("{:.3f}", ratio), fmt::format("{:.3f}", eq5), fmt::format("{:.3f}", eq4)});
+                      fmt::format("{:.3f}", ratio), fmt::format("{:.3f}", g.eq5()), fmt::format("{:.3f}", g.eq4())});
   }
   if (n > 0) out.values["force_ratio.mean"] = sum / n;
-  out.values["eq5"] = eq5;
-  out.values["eq4"] = eq4;
   out.tables.push_back(t);
 }
 

@@ -17,10 +17,19 @@ struct Curve {
   double max_until(double t_end) const;
 };
 
-// A column of CASE/reduce/<table>.csv (block_ke, energy_parts, column_ke, row_ke) against time_s.
+// Columns of CASE/reduce/<table>.csv (block_ke, energy_parts, column_ke, row_ke) against time_s,
+// the file read once.
+std::vector<Curve> reduce_columns(const postproc::CaseReduction& r, const std::string& table,
+                                  const std::vector<std::string>& columns);
 Curve reduce_column(const postproc::CaseReduction& r, const std::string& table, const std::string& column);
-// Translational plus rotational energy of a group of the in-situ series ("block2", "output_sphere").
+// Translational plus rotational energy of groups of the in-situ series ("block2", "output_sphere"),
+// the file read once.
+std::vector<Curve> series_energies(const postproc::CaseReduction& r, const std::vector<std::string>& groups);
 Curve series_energy(const postproc::CaseReduction& r, const std::string& group);
+// Every block's energy (the series), and every block's impact column's (reduce/column_ke.csv),
+// top block first.
+std::vector<Curve> block_energies(const postproc::CaseReduction& r);
+std::vector<Curve> impact_column_energies(const postproc::CaseReduction& r);
 
 // The kicks a sphere receives: stretches of time in which its energy changes (by more than
 // `tolerance`), separated by quiet stretches of at least `min_gap` s; for each, when it ends and

@@ -30,12 +30,7 @@ Figure render(const std::string& dir, const std::string& name, const std::string
 Figure energy_figure(const postproc::CaseReduction& r, const std::string& dir, const std::string& name,
                      const std::string& gnuplot, const std::string& caption, bool impact_column) {
   const int nb = r.spec.blocks;
-  const auto stack = model::Stack::build(r.spec);
-  std::vector<Curve> curves;
-  for (int k = 1; k <= nb; ++k) {
-    curves.push_back(impact_column ? reduce_column(r, "column_ke", fmt::format("ke_block{}_column{}_J", k, stack.impact_column(k)))
-                                   : series_energy(r, fmt::format("block{}", k)));
-  }
+  const auto curves = impact_column ? impact_column_energies(r) : block_energies(r);
   const double top = curves.front().max();
   const std::size_t stride = std::max<std::size_t>(1, curves.front().t.size() / 3000);
   fmt::memory_buffer data;

@@ -26,12 +26,7 @@ struct Paragraph {
 };
 using Block = std::variant<Heading, Paragraph, Table, Figure>;
 
-std::string value_text(const std::optional<double>& v) {
-  if (!v) return "-";
-  const double x = *v;
-  if (x != 0.0 && std::fabs(x) < 1.0) return fmt::format("{:.4g}", x);
-  return fmt::format("{:.4g}", x);
-}
+std::string value_text(const std::optional<double>& v) { return v ? fmt::format("{:.4g}", *v) : "-"; }
 
 std::string band_text(const Claim& c) { return fmt::format("[{:.4g}, {:.4g}]", c.low, c.high); }
 
