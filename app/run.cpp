@@ -4,9 +4,11 @@
 
 #include <granstack/formats/manifest.hpp>
 #include <granstack/os/interrupt.hpp>
+#include <granstack/refsim/system.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cstdio>
 #include <memory>
@@ -70,6 +72,13 @@ void show_progress(runner::RunOptions& o, StatusLine& status, std::mutex& mutex,
   };
 }
 
+// --kernel's values: auto, reference and the vector instruction sets this CPU runs.
+std::vector<std::string> kernel_choices() {
+  std::vector<std::string> choices{"auto", "reference"};
+  for (const auto& k : refsim::vector_kernels()) choices.push_back(k);
+  return choices;
+}
+
 int run(const RunFlags& f) {
   const auto dirs = formats::expand_case_dirs(f.cases);
   runner::RunOptions o;
@@ -106,9 +115,10 @@ Command add_run(CLI::App& app) {
   cmd->add_option("--threads", f->threads, "Threads per case for --engine refsim (results do not depend on it) [1]")
       ->check(CLI::Range(1, 256));
   cmd->add_option("--kernel", f->kernel,
-                  "refsim's contact kernel: auto (AVX-512 where the CPU has it), reference (scalar) or avx512; "
-                  "all give the same bits [auto]")
-      ->check(CLI::IsMember({"auto", "reference", "avx512"}));
+                  fmt::format("refsim's kernels: auto (the best vector instruction set this CPU runs), reference (scalar) "
+                              "or one of this CPU's: {}; all give the same bits [auto]",
+                              fmt::join(refsim::vector_kernels(), ", ")))
+      ->check(CLI::IsMember(kernel_choices()));
   cmd->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
   cmd->add_option("--engine", f->engine, "liggghts (the real DEM code) or refsim (the in-house reference integrator) [liggghts]")
       ->check(CLI::IsMember({"liggghts", "refsim"}));

@@ -1,6 +1,7 @@
 // refsim's step loop alone, in this process: the 961-sphere stack (4 blocks, 8 top
-// columns, the default e = 1 and mu = 0, or e = 0.9 and mu = 0.25 with --damped), each
-// kernel run alternately, best of REPEATS. Steadier than timing whole `granstack run`s on a
+// columns, the default e = 1 and mu = 0, or e = 0.9 and mu = 0.25 with --damped), the
+// reference kernels and every vector instruction set this CPU runs, each run in turn, REPEATS
+// rounds; median (and best) time per step. Steadier than timing whole `granstack run`s on a
 // noisy machine, since nothing but System::advance is timed.
 // Usage: granstack_bench_refsim_steps [STEPS [REPEATS]] [--damped]
 #include <granstack/generator/case_writer.hpp>
@@ -12,8 +13,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
-#include <limits>
 #include <string_view>
+#include <vector>
 
 int main(int argc, char** argv) {
   using namespace granstack;
@@ -30,28 +31,31 @@ int main(int argc, char** argv) {
   }
   const auto stack = model::Stack::build(spec);
   const auto particles = refsim::particles_from(generator::data_file(stack, "bench"));
-  using Kernel = refsim::Parameters::Kernel;
-  const Kernel kernels[] = {Kernel::reference, Kernel::automatic};
-  double best[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-  bool avx512 = false;
+  std::vector<std::string> kernels{"reference"};
+  for (const auto& k : refsim::vector_kernels()) kernels.push_back(k);
+  std::vector<std::vector<double>> times(kernels.size());
   for (int r = 0; r < repeats; ++r) {
-    for (int k = 0; k < 2; ++k) {
+    for (std::size_t k = 0; k < kernels.size(); ++k) {
       auto params = refsim::case_parameters(stack);
       params.kernel = kernels[k];
       refsim::System s(particles, params);
-      if (k == 1) avx512 = s.uses_avx512();
       s.setup();
       const auto t0 = std::chrono::steady_clock::now();
       s.advance(steps);
-      best[k] = std::min(best[k], std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      times[k].push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
   }
   const double n = static_cast<double>(particles.size());
-  fmt::print("{} spheres, e = {}, mu = {}, {} steps, best of {}\n", particles.size(), damped ? 0.9 : 1.0,
+  fmt::print("{} spheres, e = {}, mu = {}, {} steps, {} rounds, median (best)\n", particles.size(), damped ? 0.9 : 1.0,
              damped ? 0.25 : 0.0, steps, repeats);
-  for (int k = 0; k < 2; ++k) {
-    fmt::print("  {:26s} {:6.2f} us per step, {:.3e} particle-steps/s\n",
-               k == 0 ? "reference kernel" : avx512 ? "automatic kernel (avx512)" : "automatic kernel (reference)",
-               best[k] / static_cast<double>(steps) * 1e6, n * static_cast<double>(steps) / best[k]);
+  double reference = 0.0;
+  for (std::size_t k = 0; k < kernels.size(); ++k) {
+    auto& t = times[k];
+    std::sort(t.begin(), t.end());
+    const double median = t.size() % 2 == 1 ? t[t.size() / 2] : 0.5 * (t[t.size() / 2 - 1] + t[t.size() / 2]);
+    if (k == 0) reference = median;
+    fmt::print("  {:10s} {:6.2f} us per step ({:6.2f}), {:.3e} particle-steps/s, {:5.1f}x the reference\n", kernels[k],
+               median / static_cast<double>(steps) * 1e6, t.front() / static_cast<double>(steps) * 1e6,
+               n * static_cast<double>(steps) / median, reference / median);
   }
 }

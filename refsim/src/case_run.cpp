@@ -246,7 +246,7 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   stats.particle_steps_per_second =
       stats.loop_seconds > 0 ? static_cast<double>(stats.steps) * static_cast<double>(stats.atoms) / stats.loop_seconds : 0.0;
   stats.neighbor_builds = system.neighbor_builds();
-  stats.kernel = system.uses_avx512() ? "avx512" : "reference";
+  stats.kernel = system.kernel();
   return stats;
 }
 

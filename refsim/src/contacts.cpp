@@ -108,7 +108,7 @@ void SumPlan::build(const std::vector<std::size_t>& offsets,
   const std::size_t n = offsets.size() - 1;
   first_round.assign(1, 0);
   first_added.clear();
-  for (auto* a : {&lanes_in, &lane}) a->clear();
+  lanes_in.clear();
   fetch.clear();
   window.clear();
   entry.clear();
@@ -154,7 +154,6 @@ void SumPlan::build(const std::vector<std::size_t>& offsets,
       for (std::size_t l = 0; l < kLanes; ++l) {
         const std::uint32_t e = in >> l & 1U ? round_entry[l] : lo;  // absent lanes read nothing
         entry.push_back(static_cast<std::int32_t>(e));
-        lane.push_back(static_cast<std::uint8_t>(e - lo));
       }
       subtracting += round_subtracts ? 1 : 0;
       in = 0;

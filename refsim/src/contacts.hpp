@@ -2,11 +2,13 @@
 // refsim's inner loops, private to refsim: the sphere-sphere contacts over candidate pairs in
 // structure-of-arrays form, each particle's force sums and the integrator's two halves, each in
 // two implementations, the scalar reference (contacts.cpp, the model written out line by line)
-// and AVX-512 (contacts_avx512.cpp, eight pairs or particles per instruction). Both perform
-// every floating-point operation of LIGGGHTS's hertz/history model and nve/sphere in its order,
-// so they give the same bits; a test holds them to that.
+// and the vector kernels (contacts_simd.cpp, one Highway source compiled for every instruction
+// set, up to eight pairs or particles per instruction). All perform every floating-point
+// operation of LIGGGHTS's hertz/history model and nve/sphere in its order, so they give the same
+// bits; a test holds every target this CPU runs to that.
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <granstack/refsim/aligned.hpp>
@@ -17,9 +19,10 @@ namespace granstack::refsim::detail {
 // window (two loads and a permutation); or at window + their lane number (one load).
 enum Fetch : std::uint8_t { kGather, kWindowed, kRun };
 
-// Vector lanes (doubles in an AVX-512 register), and pairs per step of the AVX-512 contact
-// kernel (two registers' worth). The tables are padded to whole blocks with entries of zero
-// radius that never touch.
+// The tables' groups (pairs or particles that share a window, a record, a sum plan's round: the
+// lanes of an AVX-512 register, two AVX2 registers, four SSE or NEON ones), and the pairs of an
+// elastic block (two groups). The tables are padded to whole blocks with entries of zero radius
+// that never touch.
 inline constexpr std::size_t kLanes = 8;
 inline constexpr std::size_t kPairBlock = 2 * kLanes;
 
@@ -104,7 +107,6 @@ struct SumPlan {
   AlignedVector<std::uint8_t> lanes_in;
   AlignedVector<Fetch> fetch;
   std::vector<std::int32_t> window;
-  AlignedVector<std::uint8_t> lane;    // kLanes per round: entry - window
   AlignedVector<std::int32_t> entry;   // kLanes per round
   // contributions[offsets[k] .. offsets[k + 1]]: particle k's (other particle, entry), in order.
   // From PairTable entries as the contributions give them (j's at padded + p, `j_side`).
@@ -112,11 +114,6 @@ struct SumPlan {
              std::size_t j_side);
 };
 
-// Adds up every particle's contributions in groups [group_begin, group_end) into f and t
-// (component-major, stride as ContactStep).
-// With pairs.torque_free and !zero_torques, t is left alone (it holds +0 already).
-void sum_contributions_avx512(const PairTable& pairs, const SumPlan& plan, double* f, double* t, std::size_t stride,
-                              std::size_t group_begin, std::size_t group_end, bool zero_torques);
 
 // One force call's inputs beyond the tables.
 struct ContactStep {
@@ -134,10 +131,8 @@ struct ContactStep {
   const std::uint8_t* position_changed = nullptr;
 };
 
-// Evaluates pairs [begin, end) of the table (both multiples of kPairBlock for the AVX-512 one).
+// Evaluates pairs [begin, end) of the table (both multiples of kPairBlock for the vector kernels).
 void contacts_reference(PairTable& pairs, const ContactStep& s, std::size_t begin, std::size_t end);
-void contacts_avx512(PairTable& pairs, const ContactStep& s, std::size_t begin, std::size_t end);
-bool avx512_available();  // this CPU runs contacts_avx512
 
 // The particle arrays nve/sphere updates (component-major, as ContactStep; every array holds
 // whole groups of kLanes particles, zero past the last).
@@ -150,15 +145,15 @@ struct Motion {
   const double* kick;       // dtf / m per particle
   const double* spin_kick;  // dtfrotate / (r^2 m) per particle
   const double* x_at_build;
-  // Written by the AVX-512 first halves: per group of kLanes particles, bit k set if particle
+  // Written by the vector first halves: per group of kLanes particles, bit k set if particle
   // kLanes * group + k has a new position (bitwise) after this drift.
   std::uint8_t* position_changed;
   std::size_t stride = 0;
   double dt = 0.0;
   double trigger = 0.0;  // (skin / 2)^2
   // False when every torque is +0 and stays so (no torque from any pair, no walls) and no
-  // angular velocity is -0: then w + (dtfrotate / (r^2 m)) * t leaves w as it is, and the AVX-512
-  // functions leave w and t alone.
+  // angular velocity is -0: then w + (dtfrotate / (r^2 m)) * t leaves w as it is, and the vector
+  // kernels leave w and t alone.
   bool spin = true;
 };
 
@@ -166,11 +161,27 @@ struct Motion {
 // of them is now more than half the skin from where it was at the last neighbour-list build.
 bool first_half_reference(const Motion& m, std::size_t begin, std::size_t end);
 void second_half_reference(const Motion& m, std::size_t begin, std::size_t end);  // final_integrate
-// The same on whole groups of particles: begin a multiple of kLanes, end rounded up to one.
-bool first_half_avx512(const Motion& m, std::size_t begin, std::size_t end);
-void second_half_avx512(const Motion& m, std::size_t begin, std::size_t end);
-// One step's second half and the next one's first half, each particle's operations in order.
-bool second_and_first_half_avx512(const Motion& m, std::size_t begin, std::size_t end);
+
+// The vector kernels of one instruction set (contacts_simd.cpp). The contacts take pairs in
+// whole kPairBlocks; the others take whole groups of particles (begin a multiple of kLanes, end
+// rounded up to one).
+struct VectorKernels {
+  void (*contacts)(PairTable& pairs, const ContactStep& s, std::size_t begin, std::size_t end) = nullptr;
+  // Adds up every particle's contributions in groups [group_begin, group_end) into f and t
+  // (component-major, stride as ContactStep). With pairs.torque_free and !zero_torques, t is
+  // left alone (it holds +0 already).
+  void (*sum_contributions)(const PairTable& pairs, const SumPlan& plan, double* f, double* t, std::size_t stride,
+                            std::size_t group_begin, std::size_t group_end, bool zero_torques) = nullptr;
+  bool (*first_half)(const Motion& m, std::size_t begin, std::size_t end) = nullptr;
+  void (*second_half)(const Motion& m, std::size_t begin, std::size_t end) = nullptr;
+  // One step's second half and the next one's first half, each particle's operations in order.
+  bool (*second_and_first_half)(const Motion& m, std::size_t begin, std::size_t end) = nullptr;
+};
+// The instruction sets this CPU runs the vector kernels in, best first ("avx512", "avx2",
+// "sse4", "ssse3", "neon", "scalar", as the build has them).
+std::vector<std::string> vector_targets();
+// The kernels of one of vector_targets(), or of the best with "".
+VectorKernels vector_kernels(const std::string& target);
 
 // The Hertz normal force with restitution damping, and the tangential stiffness and damping
 // (normal_model_hertz.h); shared by the pair kernel and the walls.

@@ -4,6 +4,9 @@
 
 #include "contacts.hpp"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -61,16 +64,28 @@ System::System(std::vector<Particle> particles, Parameters params)
     type_constants_.push_back({4. / 3. * p_.y_star[k], 2. * p_.y_star[k], 8. * p_.g_star[k], -2. * kSqrtFiveOverSix * p_.beta[k],
                                p_.friction[k]});
   }
-  using Kernel = Parameters::Kernel;
-  if (p_.kernel == Kernel::avx512 && !detail::avx512_available()) {
-    throw std::invalid_argument(
-        "refsim: the AVX-512 kernels were asked for (--kernel avx512), but this CPU has no AVX-512; "
-        "use --kernel auto or reference");
-  }
-  avx512_ = p_.kernel == Kernel::avx512 || (p_.kernel == Kernel::automatic && detail::avx512_available());
+  choose_kernels();
   build_pairs();
   threads_ = std::max(1, p_.threads);
   for (int t = 1; t < threads_; ++t) workers_.emplace_back([this, t] { worker(t); });
+}
+
+std::vector<std::string> vector_kernels() { return detail::vector_targets(); }
+
+void System::choose_kernels() {
+  const auto targets = detail::vector_targets();
+  if (p_.kernel == "reference") {
+    kernel_ = "reference";
+    return;
+  }
+  if (p_.kernel != "auto" && std::find(targets.begin(), targets.end(), p_.kernel) == targets.end()) {
+    throw std::invalid_argument(fmt::format(
+        "refsim: the {} kernels were asked for (--kernel {}), but this CPU and build run only {}; use --kernel auto, "
+        "reference or one of those",
+        p_.kernel, p_.kernel, fmt::join(targets, ", ")));
+  }
+  kernel_ = p_.kernel == "auto" ? targets.front() : p_.kernel;
+  vector_ = std::make_unique<detail::VectorKernels>(detail::vector_kernels(kernel_));
 }
 
 System::~System() {
@@ -222,7 +237,7 @@ void System::build_pairs() {
     contributions_.insert(contributions_.end(), l.begin(), l.end());
     contribution_offsets_.push_back(contributions_.size());
   }
-  if (avx512_) sum_plan_->build(contribution_offsets_, contributions_, side_j);
+  if (vector_) sum_plan_->build(contribution_offsets_, contributions_, side_j);
   x_at_build_ = x_;
   ++builds_;
 }
@@ -292,20 +307,20 @@ void System::sum_forces(std::size_t begin, std::size_t end, bool update_history,
   const auto& c = *pairs_;
   const auto m = motion();
   bool moved = false;
-  if (avx512_) {
+  if (vector_) {
     // In chunks that stay in the L1 cache from the sums to the kick.
     constexpr std::size_t chunk = 8 * detail::kLanes;
     for (std::size_t b = begin; b < end; b += chunk) {
       const std::size_t e = std::min(end, b + chunk);
-      detail::sum_contributions_avx512(c, *sum_plan_, f_.data(), t_.data(), stride_, b / detail::kLanes,
-                                       (e + detail::kLanes - 1) / detail::kLanes, m.spin);
+      vector_->sum_contributions(c, *sum_plan_, f_.data(), t_.data(), stride_, b / detail::kLanes,
+                                 (e + detail::kLanes - 1) / detail::kLanes, m.spin);
       if (external_) {
         for (std::size_t k = b; k < e; ++k) external_forces(k, update_history);
       }
       if (kick && drift) {
-        moved |= detail::second_and_first_half_avx512(m, b, e);
+        moved |= vector_->second_and_first_half(m, b, e);
       } else if (kick) {
-        detail::second_half_avx512(m, b, e);
+        vector_->second_half(m, b, e);
       }
     }
     if (moved) moved_.store(true, std::memory_order_relaxed);
@@ -351,8 +366,8 @@ void System::compute_forces(bool update_history, bool kick, bool drift) {
                         update_history, p_.tangential_damping, position_changed_.data()};
   auto& pairs = *pairs_;
   const auto contacts = [&](std::size_t begin, std::size_t end) {
-    if (avx512_) {
-      detail::contacts_avx512(pairs, s, begin, end);
+    if (vector_) {
+      vector_->contacts(pairs, s, begin, end);
     } else {
       detail::contacts_reference(pairs, s, begin, end);
     }
@@ -391,7 +406,7 @@ void System::advance(long steps) {
       for_shares(
           n_,
           [&](std::size_t begin, std::size_t end) {
-            if (avx512_ ? detail::first_half_avx512(m, begin, end) : detail::first_half_reference(m, begin, end)) {
+            if (vector_ ? vector_->first_half(m, begin, end) : detail::first_half_reference(m, begin, end)) {
               moved_.store(true, std::memory_order_relaxed);
             }
           },

@@ -321,10 +321,9 @@ EngineResult run_refsim(const fs::path& dir, const formats::Manifest& manifest, 
     return result;
   }
   try {
-    using Kernel = refsim::Parameters::Kernel;
     refsim::RunOptions ro;
     ro.threads = o.threads;
-    ro.kernel = o.kernel == "reference" ? Kernel::reference : o.kernel == "avx512" ? Kernel::avx512 : Kernel::automatic;
+    ro.kernel = o.kernel;
     ro.on_progress = [&](long step, long) {
       on_step(step);
       if (os::interrupt_signal() != 0) throw Interrupted();

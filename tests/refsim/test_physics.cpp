@@ -341,7 +341,7 @@ std::vector<KernelCase> kernel_cases() {
 
 // 3000 steps one at a time, or through advance() taking each step's end and the next one's
 // start together.
-std::unique_ptr<System> run_kernel(const KernelCase& c, refsim::Parameters::Kernel kernel, int threads, bool advance = false) {
+std::unique_ptr<System> run_kernel(const KernelCase& c, const std::string& kernel, int threads, bool advance = false) {
   auto params = refsim::case_parameters(c.stack);
   params.kernel = kernel;
   params.threads = threads;
@@ -360,58 +360,82 @@ void expect_same(const System& a, const System& reference) {
   EXPECT_EQ(a.step_count(), reference.step_count());
   EXPECT_EQ(a.neighbor_builds(), reference.neighbor_builds());
   for (std::size_t i = 0; i < reference.size(); ++i) {
-    ASSERT_EQ(a.x(i), reference.x(i)) << i;
-    ASSERT_EQ(a.v(i), reference.v(i)) << i;
-    ASSERT_EQ(a.omega(i), reference.omega(i)) << i;
-    ASSERT_EQ(a.force(i), reference.force(i)) << i;
-    ASSERT_EQ(a.torque(i), reference.torque(i)) << i;
+    ASSERT_EQ(a.x(i), reference.x(i)) << a.kernel() << ", sphere " << i;
+    ASSERT_EQ(a.v(i), reference.v(i)) << a.kernel() << ", sphere " << i;
+    ASSERT_EQ(a.omega(i), reference.omega(i)) << a.kernel() << ", sphere " << i;
+    ASSERT_EQ(a.force(i), reference.force(i)) << a.kernel() << ", sphere " << i;
+    ASSERT_EQ(a.torque(i), reference.torque(i)) << a.kernel() << ", sphere " << i;
   }
 }
 
 // The reference kernel gives the same bits on one or two threads, stepping or advancing.
 TEST(Kernels, TheReferenceKernelGivesTheSameBitsOnAnyThreadsAndStepping) {
   for (const auto& c : kernel_cases()) {
-    const auto reference = run_kernel(c, refsim::Parameters::Kernel::reference, 1);
-    EXPECT_FALSE(reference->uses_avx512());
+    const auto reference = run_kernel(c, "reference", 1);
+    EXPECT_EQ(reference->kernel(), "reference");
     EXPECT_GT(reference->neighbor_builds(), 1);  // histories carried across a rebuild too
     EXPECT_NE(reference->v(c.output), (refsim::Vec3{0, 0, 0}));  // the pulse got there
-    expect_same(*run_kernel(c, refsim::Parameters::Kernel::reference, 1, true), *reference);
-    expect_same(*run_kernel(c, refsim::Parameters::Kernel::reference, 2, true), *reference);
+    expect_same(*run_kernel(c, "reference", 1, true), *reference);
+    expect_same(*run_kernel(c, "reference", 2, true), *reference);
   }
 }
 
-bool cpu_has_avx512() {
-  const auto c = kernel_cases().front();
-  return run_kernel(c, refsim::Parameters::Kernel::automatic, 1)->uses_avx512();
-}
-
-// The AVX-512 kernels do the reference's operations lane by lane: the same bits.
-TEST(Kernels, TheAvx512KernelsGiveExactlyTheReferenceResult) {
-  if (!cpu_has_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: the AVX-512 kernels cannot run here";
+// The vector kernels do the reference's operations lane by lane: the same bits, on every
+// instruction set this CPU runs (each forced in turn), on one or two threads, stepping or
+// advancing. "auto" takes the best of them.
+TEST(Kernels, EveryVectorInstructionSetGivesExactlyTheReferenceResult) {
+  const auto targets = refsim::vector_kernels();
+  ASSERT_FALSE(targets.empty());
+  EXPECT_EQ(targets.back(), "scalar");  // Highway's fallback, there on every CPU
   for (const auto& c : kernel_cases()) {
-    const auto reference = run_kernel(c, refsim::Parameters::Kernel::reference, 1);
-    const auto automatic = run_kernel(c, refsim::Parameters::Kernel::automatic, 1);
-    EXPECT_TRUE(automatic->uses_avx512());
+    const auto reference = run_kernel(c, "reference", 1);
+    const auto automatic = run_kernel(c, "auto", 1);
+    EXPECT_EQ(automatic->kernel(), targets.front());
     expect_same(*automatic, *reference);
-    for (const int threads : {1, 2}) {
-      for (const bool advance : {false, true}) {
-        expect_same(*run_kernel(c, refsim::Parameters::Kernel::avx512, threads, advance), *reference);
+    for (const auto& target : targets) {
+      for (const int threads : {1, 2}) {
+        for (const bool advance : {false, true}) expect_same(*run_kernel(c, target, threads, advance), *reference);
       }
     }
   }
 }
 
-// A CPU without AVX-512 runs the reference kernel, and refuses a request for AVX-512 with the fix.
-TEST(Kernels, WithoutAvx512TheAvx512KernelIsRefused) {
-  if (cpu_has_avx512()) GTEST_SKIP() << "this CPU has AVX-512: the fallback is not taken here";
+// On x86-64 the build offers every vector instruction set the CPU has, so that a laptop's AVX2
+// runs its own kernels, not the scalar fallback.
+TEST(Kernels, TheInstructionSetsThisCpuHasAreOffered) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  const auto targets = refsim::vector_kernels();
+  const auto offered = [&](const char* name) { return std::find(targets.begin(), targets.end(), name) != targets.end(); };
+  __builtin_cpu_init();
+  EXPECT_EQ(offered("avx2"), __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") != 0);
+  EXPECT_EQ(offered("avx512"), __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+                                   __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw"));
+  EXPECT_EQ(offered("sse4"), __builtin_cpu_supports("sse4.2") != 0);
+#else
+  GTEST_SKIP() << "the CPU's instruction sets are checked on x86-64 only";
+#endif
+}
+
+// A kernel this CPU cannot run is refused, naming those it can.
+TEST(Kernels, AnInstructionSetThisCpuLacksIsRefused) {
+  const auto targets = refsim::vector_kernels();
+  std::string missing;
+  for (const char* name : {"neon", "avx512", "avx2", "sse4"}) {
+    if (std::find(targets.begin(), targets.end(), name) == targets.end()) {
+      missing = name;
+      break;
+    }
+  }
+  ASSERT_FALSE(missing.empty());
   const auto c = kernel_cases().front();
   auto params = refsim::case_parameters(c.stack);
-  params.kernel = refsim::Parameters::Kernel::avx512;
+  params.kernel = missing;
   try {
     System refused(c.particles, params);
-    ADD_FAILURE() << "--kernel avx512 accepted on a CPU without AVX-512";
+    ADD_FAILURE() << "--kernel " << missing << " accepted on a CPU that runs only " << targets.size() << " others";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("use --kernel auto or reference"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("use --kernel auto, reference or one of those"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(targets.front()), std::string::npos) << e.what();
   }
 }
 

@@ -19,7 +19,7 @@ namespace granstack::refsim {
 
 struct RunOptions {
   int threads = 1;
-  Parameters::Kernel kernel = Parameters::Kernel::automatic;
+  std::string kernel = "auto";  // Parameters::kernel
   std::function<void(long step, long total)> on_progress;  // called every few hundred steps
 };
 
@@ -29,7 +29,7 @@ struct RunStats {
   double loop_seconds = 0.0;               // wall time of the step loop, as LIGGGHTS's "Loop time"
   double particle_steps_per_second = 0.0;
   long neighbor_builds = 0;
-  std::string kernel;                      // the contact kernel that ran: "avx512" or "reference"
+  std::string kernel;                      // the kernels that ran: "reference" or a vector instruction set
 };
 
 // The parameters a case's deck gives LIGGGHTS: time step, skin, property tables per atom

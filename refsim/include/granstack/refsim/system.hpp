@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -19,6 +20,7 @@ struct PairTable;
 struct PairConstants;
 struct Motion;
 struct SumPlan;
+struct VectorKernels;
 }  // namespace detail
 
 using Vec3 = std::array<double, 3>;
@@ -44,10 +46,15 @@ struct Parameters {
   // Threads for the force and integration loops. Every per-particle sum keeps the pair order
   // of one thread, so the result does not depend on the thread count, to the bit.
   int threads = 1;
-  // The contact kernel: the scalar reference, or eight pairs per instruction with AVX-512 (same
-  // operations in the same order, so the same bits); automatic takes AVX-512 where the CPU has it.
-  enum class Kernel { automatic, reference, avx512 } kernel = Kernel::automatic;
+  // The kernels: "reference" (scalar, the model written out), a vector instruction set of
+  // vector_kernels() (same operations in the same order, so the same bits), or "auto", the
+  // first of vector_kernels().
+  std::string kernel = "auto";
 };
+
+// The instruction sets this CPU runs refsim's vector kernels in, best first ("avx512", "avx2",
+// "sse4", "ssse3" on x86, "neon" on ARM, "scalar" everywhere: those this build has).
+std::vector<std::string> vector_kernels();
 
 struct Particle {
   int type = 1;
@@ -83,10 +90,11 @@ class System {
   Vec3 force(std::size_t i) const { return get(f_, i); }
   Vec3 torque(std::size_t i) const { return get(t_, i); }
   long neighbor_builds() const { return builds_; }
-  bool uses_avx512() const { return avx512_; }
+  const std::string& kernel() const { return kernel_; }  // "reference" or a vector instruction set
 
  private:
   Vec3 get(const detail::AlignedVector<double>& a, std::size_t i) const { return {a[i], a[stride_ + i], a[2 * stride_ + i]}; }
+  void choose_kernels();
   void build_pairs();
   void compute_forces(bool update_history, bool kick, bool drift);
   void sum_forces(std::size_t begin, std::size_t end, bool update_history, bool kick, bool drift);
@@ -113,7 +121,7 @@ class System {
   std::size_t stride_ = 0;
   detail::AlignedVector<double> x_, v_, w_, f_, t_, x_at_build_;
   // Per group of eight particles, bit k: particle 8 * group + k got a new position in the last
-  // drift (the AVX-512 first halves write it; the elastic contact kernel skips still pairs).
+  // drift (the vector first halves write it; the elastic contact kernel skips still pairs).
   std::vector<std::uint8_t> position_changed_;
 
   std::vector<detail::PairConstants> type_constants_;  // per type pair, (a - 1) * types + (b - 1)
@@ -123,14 +131,15 @@ class System {
   // LIGGGHTS's pair order: contributions_[contribution_offsets_[k] .. contribution_offsets_[k + 1]].
   std::vector<std::size_t> contribution_offsets_;
   std::vector<std::pair<std::int32_t, std::uint32_t>> contributions_;
-  std::unique_ptr<detail::SumPlan> sum_plan_;  // the same sums eight particles at a time (AVX-512)
+  std::unique_ptr<detail::SumPlan> sum_plan_;  // the same sums a group of particles at a time (vector kernels)
   // Particles in tiles of kTile; the pairs whose i is in tile t are [tile_first_[t], tile_first_[t + 1]).
   static constexpr std::size_t kTile = 64;
   std::vector<std::size_t> tile_first_;
   std::vector<double> wall_history_;  // 3 per particle and wall
   bool external_ = false;             // walls or gravity
   bool negative_zero_spin_ = false;   // an angular velocity component starts at -0
-  bool avx512_ = false;
+  std::string kernel_;
+  std::unique_ptr<detail::VectorKernels> vector_;  // the vector kernels, unless the reference runs
 
   long step_ = 0;
   long builds_ = 0;

@@ -44,7 +44,7 @@ struct RunOptions {
   int jobs = 1;           // cases run at the same time
   int ranks = 1;          // MPI ranks per case (mpirun when > 1; LIGGGHTS only)
   int threads = 1;        // threads per case (refsim only)
-  std::string kernel = "auto";  // refsim's contact kernel: auto, reference or avx512
+  std::string kernel = "auto";  // refsim's kernels: auto, reference or a vector instruction set (refsim::vector_kernels())
   bool force = false;     // rerun cases that finished
   std::string liggghts = "liggghts";
   std::string mpirun = "mpirun";
