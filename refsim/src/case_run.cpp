@@ -89,24 +89,28 @@ std::vector<Particle> particles_from(const formats::DataFile& data) {
 
 namespace {
 
-// The in-situ series of the generated deck: `fix print` of per-group ke and erotate/sphere,
-// summed in atom order as compute_ke.cpp and compute_erotate_sphere.cpp; each value written in
-// its shortest form that reads back to the same double (LIGGGHTS writes %.20g: the same values).
+// The in-situ series of the generated deck: `fix print` of per-group ke and erotate/sphere
+// (compute_ke.cpp and compute_erotate_sphere.cpp), each group's sums taken over its runs of
+// consecutive atoms in System::kinetic_energy's order (LIGGGHTS sums in its own atom order:
+// the sums agree to round-off); each value written in its shortest form that reads back to the
+// same double (LIGGGHTS writes %.20g).
 class SeriesWriter {
  public:
   SeriesWriter(const std::string& path, const model::Stack& stack, const std::vector<std::string>& columns)
       : file_(std::fopen(path.c_str(), "w"), &std::fclose) {
     if (!file_) throw std::runtime_error(fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
     std::fprintf(file_.get(), "# %s\n", fmt::format("{}", fmt::join(columns, " ")).c_str());
-    for (const auto& b : stack.blocks()) {
-      std::vector<std::size_t> g;
-      for (int id = b.first_id; id <= b.last_id(); ++id) g.push_back(static_cast<std::size_t>(id - 1));
-      groups_.push_back(std::move(g));
+    for (const auto& b : stack.blocks()) groups_.push_back(runs(b.first_id, b.last_id()));
+    groups_.push_back(runs(model::Stack::striker_id(), model::Stack::striker_id()));
+    groups_.push_back(runs(stack.output_sphere_id(), stack.output_sphere_id()));
+    std::vector<Run> bottom;
+    for (int id : stack.bottom_row_ids()) {
+      if (!bottom.empty() && bottom.back().second == static_cast<std::size_t>(id - 1)) {
+        ++bottom.back().second;
+      } else {
+        bottom.push_back(runs(id, id).front());
+      }
     }
-    groups_.push_back({static_cast<std::size_t>(model::Stack::striker_id() - 1)});
-    groups_.push_back({static_cast<std::size_t>(stack.output_sphere_id() - 1)});
-    std::vector<std::size_t> bottom;
-    for (int id : stack.bottom_row_ids()) bottom.push_back(static_cast<std::size_t>(id - 1));
     groups_.push_back(std::move(bottom));
     if (columns.size() != 1 + 2 * groups_.size()) {
       throw std::runtime_error("refsim: the manifest's series columns do not match the stack's groups");
@@ -114,25 +118,30 @@ class SeriesWriter {
   }
 
   void write(const System& s) {
-    line_.clear();
-    fmt::format_to(std::back_inserter(line_), FMT_COMPILE("{}"), s.step_count());
+    // Formatted straight into a buffer long enough for any line (a number takes at most 24
+    // characters and its space).
+    line_.resize(25 * (1 + 2 * groups_.size()) + 1);
+    char* out = fmt::format_to(line_.data(), FMT_COMPILE("{}"), s.step_count());
     for (const auto& g : groups_) {
       double ke = 0.0, rot = 0.0;
-      for (const std::size_t i : g) {
-        const auto v = s.v(i);
-        const auto w = s.omega(i);
-        ke += s.mass(i) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        rot += (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) * s.radius(i) * s.radius(i) * s.mass(i);
+      for (const auto& [begin, end] : g) {
+        const auto e = s.kinetic_energy(begin, end);
+        ke += e[0];
+        rot += e[1];
       }
-      fmt::format_to(std::back_inserter(line_), FMT_COMPILE(" {} {}"), ke * (0.5 * 1.0), rot * (0.5 * 1.0 * 0.4));
+      out = fmt::format_to(out, FMT_COMPILE(" {} {}"), ke, rot);
     }
-    line_ += '\n';
-    std::fwrite(line_.data(), 1, line_.size(), file_.get());
+    *out++ = '\n';
+    std::fwrite(line_.data(), 1, static_cast<std::size_t>(out - line_.data()), file_.get());
   }
 
  private:
+  using Run = std::pair<std::size_t, std::size_t>;  // particles [first, second)
+  static std::vector<Run> runs(int first_id, int last_id) {
+    return {{static_cast<std::size_t>(first_id - 1), static_cast<std::size_t>(last_id)}};
+  }
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
-  std::vector<std::vector<std::size_t>> groups_;
+  std::vector<std::vector<Run>> groups_;  // each group's runs of consecutive particles
   std::string line_;
 };
 

@@ -329,4 +329,14 @@ void second_half_reference(const Motion& m, std::size_t begin, std::size_t end) 
   }
 }
 
+void kinetic_sums_reference(const KineticInput& in, std::size_t begin, std::size_t end, double* translational,
+                            double* rotational) {
+  const std::size_t y = in.stride, z = 2 * in.stride;
+  for (std::size_t i = begin; i < end; ++i) {
+    const std::size_t k = (i - begin) % kLanes;
+    translational[k] += in.mass[i] * (in.v[i] * in.v[i] + in.v[y + i] * in.v[y + i] + in.v[z + i] * in.v[z + i]);
+    rotational[k] += (in.w[i] * in.w[i] + in.w[y + i] * in.w[y + i] + in.w[z + i] * in.w[z + i]) * in.radius[i] * in.radius[i] * in.mass[i];
+  }
+}
+
 }  // namespace granstack::refsim::detail

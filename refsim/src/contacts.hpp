@@ -162,6 +162,20 @@ struct Motion {
 bool first_half_reference(const Motion& m, std::size_t begin, std::size_t end);
 void second_half_reference(const Motion& m, std::size_t begin, std::size_t end);  // final_integrate
 
+// What the in-situ series adds up over particles [begin, end): m |v|^2 and |w|^2 r^2 m, particle
+// begin + k into partial sum k mod kLanes (added to what the kLanes sums of `translational` and
+// `rotational` hold), in the vector kernels' order lane by lane. m and r: per particle; v and w:
+// component-major, as ContactStep; every array holds whole groups of kLanes particles.
+struct KineticInput {
+  const double* mass;
+  const double* radius;
+  const double* v;
+  const double* w;
+  std::size_t stride;
+};
+void kinetic_sums_reference(const KineticInput& in, std::size_t begin, std::size_t end, double* translational,
+                            double* rotational);
+
 // The vector kernels of one instruction set (contacts_simd.cpp). The contacts take pairs in
 // whole kPairBlocks; the others take whole groups of particles (begin a multiple of kLanes, end
 // rounded up to one).
@@ -176,6 +190,8 @@ struct VectorKernels {
   void (*second_half)(const Motion& m, std::size_t begin, std::size_t end) = nullptr;
   // One step's second half and the next one's first half, each particle's operations in order.
   bool (*second_and_first_half)(const Motion& m, std::size_t begin, std::size_t end) = nullptr;
+  void (*kinetic_sums)(const KineticInput& in, std::size_t begin, std::size_t end, double* translational,
+                       double* rotational) = nullptr;
 };
 // The instruction sets this CPU runs the vector kernels in, best first ("avx512", "avx2",
 // "sse4", "ssse3", "neon", "scalar", as the build has them).

@@ -481,7 +481,34 @@ void second_half(const Motion& m, std::size_t begin, std::size_t end) {
   }
 }
 
-VectorKernels kernels() { return {&contacts, &sum_contributions, &first_half_only, &second_half, &second_and_first_half}; }
+void kinetic_sums(const KineticInput& in, std::size_t begin, std::size_t end, double* translational, double* rotational) {
+  V ke[kSub], rot[kSub];
+  for (std::size_t k = 0; k < kSub; ++k) {
+    ke[k] = load(translational + k * kN);
+    rot[k] = load(rotational + k * kN);
+  }
+  const std::size_t y = in.stride, z = 2 * in.stride;
+  for (std::size_t i = begin; i < end; i += kLanes) {
+    for (std::size_t k = 0; k < kSub && i + k * kN < end; ++k) {
+      // Past `end` the lanes add +0 (every array holds whole groups of particles).
+      const std::size_t at = i + k * kN;
+      const M in_range = hn::FirstN(D(), end - at);
+      const V m = load(in.mass + at), r = load(in.radius + at);
+      const V vx = load(in.v + at), vy = load(in.v + y + at), vz = load(in.v + z + at);
+      const V wx = load(in.w + at), wy = load(in.w + y + at), wz = load(in.w + z + at);
+      ke[k] = ke[k] + hn::IfThenElseZero(in_range, m * (vx * vx + vy * vy + vz * vz));
+      rot[k] = rot[k] + hn::IfThenElseZero(in_range, (wx * wx + wy * wy + wz * wz) * r * r * m);
+    }
+  }
+  for (std::size_t k = 0; k < kSub; ++k) {
+    store(translational + k * kN, ke[k]);
+    store(rotational + k * kN, rot[k]);
+  }
+}
+
+VectorKernels kernels() {
+  return {&contacts, &sum_contributions, &first_half_only, &second_half, &second_and_first_half, &kinetic_sums};
+}
 
 }  // namespace HWY_NAMESPACE
 }  // namespace granstack::refsim::detail

@@ -32,9 +32,9 @@ System::System(std::vector<Particle> particles, Parameters params)
     throw std::invalid_argument("refsim: every property table needs types x types entries");
   }
   type_.resize(n_);
-  radius_.resize(n_);
-  mass_.resize(n_);
   stride_ = (n_ + detail::kLanes - 1) / detail::kLanes * detail::kLanes + 2 * detail::kLanes;
+  radius_.assign(stride_, 0.0);  // zeros past the last particle, for whole vectors of them
+  mass_.assign(stride_, 0.0);
   for (auto* a : {&x_, &v_, &w_, &f_, &t_}) a->assign(3 * stride_, 0.0);
   position_changed_.assign(stride_ / detail::kLanes + sizeof(std::uint32_t), 0xff);
   for (std::size_t i = 0; i < n_; ++i) {
@@ -388,6 +388,19 @@ void System::compute_forces(bool update_history, bool kick, bool drift) {
 
 void System::setup() { compute_forces(false, false, false); }
 
+
+std::array<double, 2> System::kinetic_energy(std::size_t begin, std::size_t end) const {
+  double ke[detail::kLanes] = {}, rot[detail::kLanes] = {};
+  const detail::KineticInput in{mass_.data(), radius_.data(), v_.data(), w_.data(), stride_};
+  if (vector_) {
+    vector_->kinetic_sums(in, begin, end, ke, rot);
+  } else {
+    detail::kinetic_sums_reference(in, begin, end, ke, rot);
+  }
+  static_assert(detail::kLanes == 8, "the pairwise order below is written for eight partial sums");
+  const auto total = [](const double* s) { return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7])); };
+  return {total(ke) * (0.5 * 1.0), total(rot) * (0.5 * 1.0 * kInertia)};
+}
 
 detail::Motion System::motion() {
   const double half = 0.5 * p_.skin;

@@ -366,6 +366,33 @@ void expect_same(const System& a, const System& reference) {
     ASSERT_EQ(a.force(i), reference.force(i)) << a.kernel() << ", sphere " << i;
     ASSERT_EQ(a.torque(i), reference.torque(i)) << a.kernel() << ", sphere " << i;
   }
+  // The series' energies: whole groups and ranges that start and end inside a vector.
+  const std::size_t n = reference.size();
+  for (const auto& [begin, end] : {std::pair<std::size_t, std::size_t>{0, n}, {3, 17}, {5, 6}, {9, n - 2}, {n - 1, n}}) {
+    EXPECT_EQ(a.kinetic_energy(begin, end), reference.kinetic_energy(begin, end)) << a.kernel() << ", " << begin << ".." << end;
+  }
+}
+
+// The series' kinetic energies: one sphere's is its 0.5 m |v|^2 to the bit, and a block's the
+// plain sum of its spheres' to round-off (the eight partial sums change only the rounding).
+TEST(Kernels, KineticEnergiesAreTheSpheresSums) {
+  const auto c = kernel_cases().front();
+  const auto s = run_kernel(c, "auto", 1);
+  const std::size_t n = s->size();
+  double ke = 0.0, rot = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto v = s->v(i), w = s->omega(i);
+    const double m = s->mass(i), r = s->radius(i);
+    const auto one = s->kinetic_energy(i, i + 1);
+    EXPECT_EQ(one[0], m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * 0.5) << i;
+    EXPECT_EQ(one[1], (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) * r * r * m * 0.2) << i;
+    ke += one[0];
+    rot += one[1];
+  }
+  const auto all = s->kinetic_energy(0, n);
+  EXPECT_GT(rot, 0.0);  // the frictional case spins its spheres
+  EXPECT_NEAR(all[0], ke, 1e-14 * ke);
+  EXPECT_NEAR(all[1], rot, 1e-14 * rot);
 }
 
 // The reference kernel gives the same bits on one or two threads, stepping or advancing.

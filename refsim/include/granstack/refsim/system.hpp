@@ -90,6 +90,12 @@ class System {
   Vec3 force(std::size_t i) const { return get(f_, i); }
   Vec3 torque(std::size_t i) const { return get(t_, i); }
   long neighbor_builds() const { return builds_; }
+  // The kinetic energies of particles [begin, end), translational and rotational, as the
+  // in-situ series reports them (0.5 m |v|^2 and 0.5 I |w|^2 with I = 0.4 m r^2, fix
+  // nve/sphere's solid spheres). Each sum is taken in eight partial sums (particle begin + k
+  // into sum k mod 8) added pairwise, ((s0 + s1) + (s2 + s3)) + ((s4 + s5) + (s6 + s7)): the same
+  // bits with every kernel.
+  std::array<double, 2> kinetic_energy(std::size_t begin, std::size_t end) const;
   const std::string& kernel() const { return kernel_; }  // "reference" or a vector instruction set
 
  private:
