@@ -1,7 +1,7 @@
 // granstack: the one program, a table of subcommands. Each command lives in its own file in
 // app/ and only wires the pipeline's libraries together: generate (generator) -> run (runner)
-// -> reduce, table, plot (postproc); validate (runner, refsim, postproc); reproduce (study);
-// submit, status (cluster: SLURM).
+// -> reduce, table, plot, export (postproc); validate (runner, refsim, postproc); reproduce
+// (study); submit, status (cluster: SLURM).
 #include "commands.hpp"
 
 #include <granstack/formats/error.hpp>
@@ -44,7 +44,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", fmt::format("granstack {} (commit {})", version(), git_commit()));
   const app::Command commands[] = {app::add_generate(app, args), app::add_run(app),   app::add_reduce(app),
                                    app::add_table(app),          app::add_plot(app),  app::add_validate(app),
-                                   app::add_reproduce(app),      app::add_submit(app), app::add_status(app)};
+                                   app::add_reproduce(app),      app::add_submit(app), app::add_status(app),
+                                   app::add_export(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -17,6 +17,7 @@ packages=(
 if [ "${1:-}" = "--tests" ]; then
   packages+=(
     chromium                 # reproduce's HTML report, opened in a real headless browser
+    python3-vtk9             # granstack export read back with VTK's own reader
     slurmctld slurmd slurm-client munge   # a real one-node SLURM (scripts/slurm-local.sh) for submit and status
   )
 fi

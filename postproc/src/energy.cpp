@@ -92,8 +92,12 @@ double FrameView::rotational_energy(const formats::DumpFrame& f, long r) const {
   return rotational(f.at(r, c_mass_), f.at(r, c_radius_), f.at(r, c_wx_), f.at(r, c_wy_), f.at(r, c_wz_));
 }
 
+double FrameView::translational_energy(const formats::DumpFrame& f, long r) const {
+  return translational(f.at(r, c_mass_), f.at(r, c_vx_), f.at(r, c_vy_), f.at(r, c_vz_));
+}
+
 double FrameView::kinetic_energy(const formats::DumpFrame& f, long r) const {
-  return translational(f.at(r, c_mass_), f.at(r, c_vx_), f.at(r, c_vy_), f.at(r, c_vz_)) + rotational_energy(f, r);
+  return translational_energy(f, r) + rotational_energy(f, r);
 }
 
 namespace {

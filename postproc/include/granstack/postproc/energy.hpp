@@ -42,6 +42,7 @@ class FrameView {
   // 1/2 m v^2 + 1/2 (2/5 m R^2) w^2, and the rotational part alone.
   double kinetic_energy(const formats::DumpFrame& f, long row) const;
   double rotational_energy(const formats::DumpFrame& f, long row) const;
+  double translational_energy(const formats::DumpFrame& f, long row) const;
 
  private:
   const model::Stack& stack_;
