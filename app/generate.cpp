@@ -98,6 +98,7 @@ Command add_generate(CLI::App& app, const std::vector<std::string>& argv) {
     const char* help;
   };
   const Flag flags[] = {
+      {"--geometry", "geometry", "strip (the study's, one sphere thick) | nested3d (cubic blocks, C x C columns) [strip]"},
       {"--blocks", "blocks", "Number of blocks N_B (sweepable: 1,2,3,4) [4]"},
       {"--rows", "rows", "Rows (spheres per column) in every block (sweepable) [8]"},
       {"--top-columns", "top_columns", "Columns of the top block, even (sweepable) [2]"},

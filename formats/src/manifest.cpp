@@ -49,7 +49,8 @@ json spec_to_json(const model::StackSpec& s) {
     mats[m.name] = {{"density", m.density}, {"youngs_modulus", m.youngs_modulus}, {"poisson_ratio", m.poisson_ratio}};
   }
   auto opt = [](const auto& o) -> json { return o ? json(*o) : json("auto"); };
-  return {{"blocks", s.blocks},
+  return {{"geometry", model::to_string(s.geometry)},
+          {"blocks", s.blocks},
           {"rows", s.rows},
           {"top_columns", s.top_columns},
           {"bottom_radius", s.bottom_radius},
@@ -77,6 +78,12 @@ json spec_to_json(const model::StackSpec& s) {
 
 model::StackSpec spec_from_json(const json& j, const std::string& source) {
   model::StackSpec s;
+  // Absent from manifests written before 3D nests: the strip.
+  if (j.contains("geometry")) {
+    const auto g = model::parse_geometry(get<std::string>(j, "geometry", source));
+    if (!g) throw FormatError(source, 0, "field 'geometry' is 'strip' or 'nested3d'");
+    s.geometry = *g;
+  }
   s.blocks = get<int>(j, "blocks", source);
   s.rows = get<int>(j, "rows", source);
   s.top_columns = get<int>(j, "top_columns", source);

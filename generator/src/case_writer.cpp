@@ -106,12 +106,14 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
   std::string walls;
   const std::string wall_fix = "all wall/gran model hertz tangential history primitive type";
   for (const auto& w : stack.walls()) {
-    walls += fmt::format("fix             {} {} {} {}plane {}\n", w.name, wall_fix, stack.wall_type(), w.axis == 0 ? 'x' : 'z',
+    walls += fmt::format("fix             {} {} {} {}plane {}\n", w.name, wall_fix, stack.wall_type(), "xyz"[w.axis],
                          w.position);
   }
   v["walls"] = walls.empty() ? "# free bottom and free sides: no walls" : walls.substr(0, walls.size() - 1);
   v["gravity"] = spec.gravity > 0.0 ? fmt::format("fix             gravity all gravity {} vector 0 0 -1", spec.gravity)
                                     : std::string("# no gravity");
+  v["processors"] = stack.three_d() ? "# A 3D nest: MPI ranks split x, y and z.\nprocessors      * * *"
+                                    : "# The stack is one sphere thick in y: MPI ranks split x and z, never y.\nprocessors      * 1 *";
   v["dt"] = fmt::format("{}", res.dt);
   v["steps"] = std::to_string(res.steps);
   v["thermo_every"] = std::to_string(res.thermo_every);
@@ -173,7 +175,8 @@ formats::DataFile data_file(const model::Stack& stack, const std::string& case_n
   d.title = fmt::format("granstack {} case {}: LIGGGHTS data file for atom_style granular, SI units", version(), case_name);
   d.atom_types = stack.atom_types();
   const double r1 = stack.block(1).radius;
-  d.box = {-stack.half_width() - r1, stack.half_width() + r1, -r1, r1, -r1, stack.top_z() + r1};
+  const double half_y = stack.three_d() ? stack.half_depth() + r1 : stack.half_depth();
+  d.box = {-stack.half_width() - r1, stack.half_width() + r1, -half_y, half_y, -r1, stack.top_z() + r1};
   for (const auto& s : stack.spheres()) {
     formats::DataAtom a;
     a.id = s.id;
@@ -181,6 +184,7 @@ formats::DataFile data_file(const model::Stack& stack, const std::string& case_n
     a.diameter = 2.0 * s.radius;
     a.density = lib.at(types[static_cast<std::size_t>(s.atom_type - 1)]).density;
     a.x = s.x;
+    a.y = s.y;
     a.z = s.z;
     if (s.id == model::Stack::striker_id()) a.vz = -spec.striker_speed;
     d.atoms.push_back(a);
@@ -220,7 +224,7 @@ json layout_json(const model::Stack& stack) {
   json blocks = json::array();
   for (const auto& b : stack.blocks()) {
     blocks.push_back({{"block", b.index}, {"material", b.material}, {"radius", b.radius}, {"rows", b.rows},
-                      {"columns", b.columns}, {"first_id", b.first_id}, {"last_id", b.last_id()},
+                      {"columns", b.columns}, {"depth", b.depth}, {"first_id", b.first_id}, {"last_id", b.last_id()},
                       {"atom_type", b.atom_type}, {"sphere_mass", b.sphere_mass}});
   }
   json types = json::array();
@@ -232,8 +236,10 @@ json layout_json(const model::Stack& stack) {
   }
   const auto& striker = stack.sphere(model::Stack::striker_id());
   const auto bottom = stack.bottom_row_ids();
-  return {{"id_order", "id 1 = striker; then blocks top to bottom, rows top to bottom, columns by increasing x: "
-                       "id = first_id + (row - 1) * columns + (column - 1)"},
+  return {{"geometry", model::to_string(stack.spec().geometry)},
+          {"id_order", "id 1 = striker; then blocks top to bottom, rows (layers) top to bottom, y-columns by increasing "
+                       "y, columns by increasing x: id = first_id + (row - 1) * columns * depth + (column_y - 1) * "
+                       "columns + (column - 1)"},
           {"striker", {{"id", striker.id}, {"atom_type", striker.atom_type}, {"radius", striker.radius},
                        {"mass", stack.striker_mass()}, {"x", striker.x}, {"z", striker.z}}},
           {"output_sphere_id", stack.output_sphere_id()},
@@ -241,7 +247,8 @@ json layout_json(const model::Stack& stack) {
           {"blocks", blocks},
           {"atom_types", types},
           {"wall_type", stack.wall_type()},
-          {"half_width", stack.half_width()}};
+          {"half_width", stack.half_width()},
+          {"half_depth", stack.half_depth()}};
 }
 
 namespace {

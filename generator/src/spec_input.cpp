@@ -19,7 +19,7 @@ const std::vector<std::string>& spec_fields() {
       "materials",     "restitution",   "friction",        "striker_speed",     "striker_radius_ratio", "striker_material", "bottom",
       "sides",         "wall_material", "gravity",         "dt",                "duration",
       "dump_every",    "series_every",  "dump_format",     "dump_files",        "restitution_pairs",
-      "friction_pairs", "custom_materials"};
+      "friction_pairs", "custom_materials", "geometry"};
   return fields;
 }
 
@@ -262,6 +262,12 @@ Sweep build_sweep(const RawSpec& raw) {
       if (const auto* t = single()) p.whole(field, *t, s.radius_ratio);
     } else if (field == "materials") {
       s.materials = tokens;
+    } else if (field == "geometry") {
+      if (const auto* t = single()) {
+        auto g = model::parse_geometry(*t);
+        if (!g) p.bad(field, fmt::format("'{}' is not 'strip' or 'nested3d'", *t));
+        else s.geometry = *g;
+      }
     } else if (field == "bottom" || field == "sides") {
       if (const auto* t = single()) {
         auto b = model::parse_boundary(*t);

@@ -17,6 +17,14 @@ std::optional<Boundary> parse_boundary(std::string_view s) {
   return std::nullopt;
 }
 
+std::string_view to_string(Geometry g) { return g == Geometry::nested3d ? "nested3d" : "strip"; }
+
+std::optional<Geometry> parse_geometry(std::string_view s) {
+  if (s == "strip") return Geometry::strip;
+  if (s == "nested3d") return Geometry::nested3d;
+  return std::nullopt;
+}
+
 std::optional<DumpFormat> parse_dump_format(std::string_view s) {
   if (s == "text") return DumpFormat::text;
   if (s == "binary") return DumpFormat::binary;
@@ -79,7 +87,7 @@ long sphere_count(const StackSpec& spec) {
   long total = 1;
   long columns = spec.top_columns;
   for (int k = 1; k <= spec.blocks; ++k) {
-    total += columns * spec.rows;
+    total += columns * (spec.geometry == Geometry::nested3d ? columns : 1) * spec.rows;
     if (total > kMaxSpheres || columns > kMaxSpheres) return kMaxSpheres + 1;
     columns *= spec.radius_ratio;
   }
@@ -174,7 +182,7 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
   if (!within(s.striker_radius_ratio, 1.0, kMaxStrikerRadiusRatio)) {
     bad("striker_radius_ratio", fmt::format("{} must be in [1, {:g}] (the striker's radius over the top spheres')",
                                             s.striker_radius_ratio, kMaxStrikerRadiusRatio));
-  } else if (s.sides == Boundary::wall && !(s.striker_radius_ratio < s.top_columns)) {
+  } else if (s.sides == Boundary::wall && !(s.striker_radius_ratio < s.top_columns)) {  // x and, in 3D, y
     bad("striker_radius_ratio", fmt::format("{} would make the striker touch the side walls (at -+{} top radii): use "
                                             "a smaller striker, more top columns or free sides",
                                             s.striker_radius_ratio, s.top_columns));

@@ -12,6 +12,10 @@
 namespace granstack::model {
 
 enum class Boundary { free_surface, wall };
+// The study's strip (one sphere thick, every centre at y = 0), or nested 3D blocks: each block
+// a cubic lattice of C_k x C_k columns, each sphere of a block's bottom layer resting on four of
+// the block below (Sen, Krishna Mohan and Tiwari's 3D nests).
+enum class Geometry { strip, nested3d };
 enum class DumpFormat { text, binary };
 // One dump file; one per dumped step (LIGGGHTS's '*'); one per MPI rank (its '%').
 enum class DumpFiles { single, per_step, per_rank };
@@ -19,6 +23,8 @@ enum class DumpFiles { single, per_step, per_rank };
 std::string_view to_string(Boundary b);       // "free" | "wall"
 std::string_view to_string(DumpFormat f);     // "text" | "binary"
 std::optional<Boundary> parse_boundary(std::string_view s);
+std::string_view to_string(Geometry g);
+std::optional<Geometry> parse_geometry(std::string_view s);
 std::optional<DumpFormat> parse_dump_format(std::string_view s);
 std::string_view to_string(DumpFiles f);      // "single" | "per_step" | "per_rank"
 std::optional<DumpFiles> parse_dump_files(std::string_view s);
@@ -35,9 +41,10 @@ struct PairTable {
 };
 
 struct StackSpec {
+  Geometry geometry = Geometry::strip;
   int blocks = 4;                              // N_B; block 1 is the top (impacted) block
   int rows = 8;                                // spheres per column, the same in every block
-  int top_columns = 2;                         // columns of block 1 (even); block k has top_columns * ratio^(k-1)
+  int top_columns = 2;                         // columns of block 1 (even; per direction in 3D); block k has top_columns * ratio^(k-1)
   double bottom_radius = 1e-3;                 // m, radius of the bottom block's spheres
   int radius_ratio = 2;                        // R_k / R_{k+1}
   std::vector<std::string> materials{"steel"}; // per block, top first; one name means every block
@@ -46,7 +53,7 @@ struct StackSpec {
   PairTable friction{0.0, {}};                 // Coulomb mu >= 0
   double striker_speed = 1.0;                  // m/s, along -z
   // The striker's radius over the top block's, from 1 to 16: it rests on the two central top
-  // spheres (seat_height). 2 with one row of two spheres is the isolated collision of physics.md
+  // spheres (the four in 3D; seat_height). 2 with one row of two spheres is the isolated collision of physics.md
   // section 5 (a large sphere on two small ones, the interface's geometry).
   double striker_radius_ratio = 1.0;
   std::string striker_material;                // empty: the top block's material

@@ -2,12 +2,15 @@
 // The nested-stack geometry of physics.md section 1, laid out in double precision with
 // exactly touching spheres, and the index of which ids form each block, row and column.
 //
-// Coordinates: x horizontal, z vertical (the striker moves along -z), y = 0 for every centre.
-// The lattice is centred on x = 0; the bottom face of the bottom block is the plane z = 0.
+// Coordinates: x horizontal, z vertical (the striker moves along -z); the strip has y = 0 for
+// every centre, a 3D nest is a cubic lattice in x and y too. The lattice is centred on x = 0
+// (and y = 0); the bottom face of the bottom block is the plane z = 0.
 //
 // Id order (documented, stable): id 1 is the striker; then block 1 (top) to block N_B; within
-// a block row 1 (its top row) to its bottom row; within a row column 1 (smallest x) upwards:
-//   id(block k, row i, column j) = first_id(k) + (i - 1) * columns(k) + (j - 1).
+// a block row 1 (its top row, or layer) to its bottom row; within a row, y-column 1 (smallest
+// y; the strip has one) upwards, and within it column 1 (smallest x) upwards:
+//   id(block k, row i, column j, y-column l) = first_id(k) + (i - 1) * columns(k) * depth(k)
+//                                              + (l - 1) * columns(k) + (j - 1).
 // LIGGGHTS atom types: block k has type k, the striker N_B + 1, a wall (if any) N_B + 2.
 #include <granstack/model/spec.hpp>
 
@@ -21,16 +24,18 @@ struct Sphere {
   int block = 0;   // 1 = top; 0 for the striker
   int row = 0;     // 1 = top row of its block; 0 for the striker
   int column = 0;  // 1 = smallest x; 0 for the striker
+  int column_y = 0;  // 1 = smallest y (the strip's only one); 0 for the striker
   int atom_type = 0;
   double radius = 0.0;  // m
   double x = 0.0;       // m
+  double y = 0.0;       // m
   double z = 0.0;       // m
 };
 
-// A planar wall (LIGGGHTS wall/gran ... primitive xplane/zplane): the plane where coordinate
-// `axis` (0 = x, 2 = z) equals `position`, in m.
+// A planar wall (LIGGGHTS wall/gran ... primitive xplane/yplane/zplane): the plane where
+// coordinate `axis` (0 = x, 1 = y, 2 = z) equals `position`, in m.
 struct Wall {
-  std::string name;  // the deck's fix id: wall_bottom, wall_left, wall_right
+  std::string name;  // the deck's fix id: wall_bottom, wall_left, wall_right (3D: wall_front, wall_back)
   int axis = 2;
   double position = 0.0;
 };
@@ -40,11 +45,13 @@ struct Block {
   std::string material;
   double radius = 0.0;       // m
   int rows = 0;
-  int columns = 0;
+  int columns = 0;           // along x
+  int depth = 1;             // columns along y: 1 in the strip, `columns` in a 3D nest
   int first_id = 0;
   int atom_type = 0;
   double sphere_mass = 0.0;  // kg
-  int count() const { return rows * columns; }
+  int layer() const { return columns * depth; }  // spheres per row (per layer in 3D)
+  int count() const { return rows * layer(); }
   int last_id() const { return first_id + count() - 1; }
 };
 
@@ -59,24 +66,28 @@ class Stack {
   const std::vector<Block>& blocks() const { return blocks_; }     // top first
   const Block& block(int k) const { return blocks_.at(static_cast<std::size_t>(k - 1)); }
 
-  int id_of(int block, int row, int column) const;
+  int id_of(int block, int row, int column, int column_y = 1) const;
+  bool three_d() const { return spec_.geometry == Geometry::nested3d; }
   static constexpr int striker_id() { return 1; }
   // The column of block k on the impact path, the chain of contacts down from the top block's
   // right central sphere (x = R_1): with an even radius ratio each sphere rests on two and the
   // path takes the inner one (for the study's ratio 2, the central column just right of the
   // axis in every block); with an odd ratio each rests on the one straight below (x = R_1 in
-  // every block), and its side neighbours receive no downward push.
+  // every block), and its side neighbours receive no downward push. In a 3D nest the path starts
+  // at the central top sphere at (R_1, R_1) and follows the same rule along x and along y, so
+  // its y-column is this column too.
   int impact_column(int block) const;
-  // The bottom sphere of the impact column of the bottom block (physics.md section 4).
+  // The bottom sphere of the impact column of the bottom block (physics.md section 4; in 3D the
+  // bottom sphere of the impact path, the same definition along y).
   int output_sphere_id() const;
-  std::vector<int> bottom_row_ids() const;
+  std::vector<int> bottom_row_ids() const;  // the bottom row (in 3D the bottom layer), in id order
 
   int striker_type() const { return static_cast<int>(blocks_.size()) + 1; }
   // 0 when the spec has no wall.
   int wall_type() const { return has_walls() ? striker_type() + 1 : 0; }
   // Where the spec's walls stand, touching the lattice: the bottom face z = 0, the sides
-  // x = -+half_width; in the deck's order (bottom, left, right). The generator, refsim and the
-  // post-processor all place walls through this.
+  // x = -+half_width (and in 3D y = -+half_depth); in the deck's order (bottom, left, right,
+  // front, back). The generator, refsim and the post-processor all place walls through this.
   std::vector<Wall> walls() const;
   bool has_walls() const;
   int atom_types() const { return has_walls() ? striker_type() + 1 : striker_type(); }
@@ -84,12 +95,14 @@ class Stack {
   std::vector<std::string> type_materials() const;
 
   double half_width() const;       // m: the lattice spans -half_width..half_width in x (C R_1)
+  double half_depth() const;       // m: and -half_depth..half_depth in y (R_1 in the strip, C R_1 in 3D)
   double top_z() const;            // m: the top of the striker
   double striker_radius() const;   // m
   double striker_mass() const;     // kg
   double incident_energy() const;  // E_in = 1/2 m_s v^2, J
 
  private:
+  static int id_of(const Block& b, int row, int column, int column_y);
   StackSpec spec_;
   double striker_mass_ = 0.0;
   std::vector<Sphere> spheres_;
@@ -99,12 +112,14 @@ class Stack {
 // The vertical distance between the centre of a sphere of radius R_k and the centres it rests
 // on in the block below (radius R_k / n): with n even it rests on two spheres at +-R_{k+1}
 // (sqrt((n+1)^2 - 1) R_{k+1}, 2 sqrt(2) R_{k+1} for the study's n = 2), with n odd on the one
-// directly below ((n+1) R_{k+1}).
-double interface_height(double lower_radius, int radius_ratio);
-// The height of the centre of a sphere of radius `upper_radius` above the centres of two
-// touching spheres of radius `lower_radius` (at -+lower_radius) it rests on, touching both:
-// sqrt((R_u + R_l)^2 - R_l^2). The striker's seat (sqrt(3) R_1 for the study's striker) and
-// the even-ratio interface.
-double seat_height(double lower_radius, double upper_radius);
+// directly below ((n+1) R_{k+1}). In a 3D nest (supports = 4) an even ratio rests it on four.
+double interface_height(double lower_radius, int radius_ratio, int supports = 2);
+// The height of the centre of a sphere of radius `upper_radius` above the centres of the
+// touching spheres of radius `lower_radius` it rests on, touching each: two at -+lower_radius
+// (supports = 2), sqrt((R_u + R_l)^2 - R_l^2); or the four of a square pocket at (-+R_l, -+R_l)
+// (supports = 4, a 3D nest), sqrt((R_u + R_l)^2 - 2 R_l^2). The striker's seat (sqrt(3) R_1 for
+// the study's striker, sqrt(2) R_1 in 3D) and the even-ratio interface (2 sqrt(2) R_{k+1},
+// sqrt(7) R_{k+1} in 3D).
+double seat_height(double lower_radius, double upper_radius, int supports = 2);
 
 }  // namespace granstack::model
