@@ -179,20 +179,23 @@ TEST_F(Cli, BadDumpFilesGiveClearErrors) {
   expect_contains(r, "cannot open");
 }
 
-// validate on the small stacks, elastic, damped, frictional, with walls and gravity: they agree
-// to round-off (at most 3.4e-16 measured; gated at 1e-14) and so at the default tolerance; a
-// tolerance below round-off fails with its own exit code.
+// validate on the small stacks, elastic, damped, frictional, with walls and gravity, strips and
+// 3D nests (walls on four sides): they agree to round-off (at most 3.4e-16 measured; gated at
+// 1e-14) and so at the default tolerance; a tolerance below round-off fails with its own exit code.
 TEST_F(Cli, ValidateFindsLiggghtsAndRefsimAgreeToRoundOffOnSmallStacks) {
   ASSERT_EQ(granstack("generate -o " + path("sweep") + " --blocks 1,2 --restitution 1,0.9 --friction 0,0.25").code, 0);
   ASSERT_EQ(granstack("generate -o " + path("walls") + " --blocks 1,2 --restitution 0.9 --friction 0.25 --bottom wall "
                       "--sides wall --gravity").code,
             0);
-  for (const auto* dir : {"sweep", "walls"}) {
+  ASSERT_EQ(granstack("generate -o " + path("nests") + " --geometry nested3d --blocks 1,2 --rows 3 --restitution 1,0.9 "
+                      "--friction 0,0.25 --sides wall --bottom wall --gravity").code,
+            0);
+  for (const auto* dir : {"sweep", "walls", "nests"}) {
     const auto r = granstack("validate -j 2 --tolerance 1e-14 " + path(dir));
     EXPECT_EQ(r.code, 0) << r.output;
     std::size_t agree = 0;
     for (auto pos = r.output.find("\nagree: "); pos != std::string::npos; pos = r.output.find("\nagree: ", pos + 1)) ++agree;
-    EXPECT_EQ(agree, std::string(dir) == "sweep" ? 8u : 2u) << r.output;
+    EXPECT_EQ(agree, std::string(dir) == "walls" ? 2u : 8u) << r.output;
     expect_contains(r, "the tolerance 1e-14");
     EXPECT_EQ(r.output.find("OVER"), std::string::npos) << r.output;
   }
