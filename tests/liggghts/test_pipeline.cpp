@@ -110,7 +110,7 @@ double brute_force_energy(const model::Stack& stack, const formats::DumpFrame& f
       energy += model::hertz_elastic_energy(model::effective_youngs_modulus(material(i), material(j)), r_star, overlap);
     }
     for (const auto& wall : stack.walls()) {
-      const double overlap = f.at(i, r) - std::fabs(f.at(i, wall.axis == 0 ? x : z) - wall.position);
+      const double overlap = f.at(i, r) - std::fabs(f.at(i, wall.axis == 0 ? x : wall.axis == 1 ? y : z) - wall.position);
       if (overlap <= 0) continue;
       const auto& wall_material = lib.at(stack.spec().effective_wall_material());
       energy += model::hertz_elastic_energy(model::effective_youngs_modulus(material(i), wall_material), f.at(i, r), overlap);
@@ -345,6 +345,24 @@ TEST(Physics, WallsConserveEnergyWithTheirElasticEnergyCounted) {
   EXPECT_EQ(r.output_fraction, series_peak(dir, "output_sphere") / model::Stack::build(spec).incident_energy());
   EXPECT_GT(r.output_fraction, 0.0);
   EXPECT_LT(r.output_fraction, 1.0);
+}
+
+// A 3D nest between walls on all four sides and the bottom, e = 1: kinetic plus elastic energy
+// (sphere pairs and every wall, the y walls too) stays E_in, by reduce's own check and by the
+// brute-force sum over every pair here, and reduce's figure is the brute-force one.
+TEST(Physics, ANestBetweenWallsOnEverySideConservesEnergy) {
+  auto spec = blocks(2);
+  spec.geometry = model::Geometry::nested3d;
+  spec.rows = 4;
+  spec.bottom = model::Boundary::wall;
+  spec.sides = model::Boundary::wall;
+  const auto dir = run_case("nest_walls", spec);
+  const double drift = brute_force_drift(dir);
+  EXPECT_LT(drift, kEnergyTolerance);
+  const auto r = postproc::reduce_case(dir);
+  ASSERT_TRUE(r.energy_drift.has_value());
+  EXPECT_NEAR(*r.energy_drift, drift, 1e-12);
+  EXPECT_GT(r.output_fraction, 0.0);
 }
 
 // The steel/Teflon/steel sandwich (refsim, quick): its output sphere is kicked until about 1.8

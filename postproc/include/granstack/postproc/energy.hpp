@@ -59,16 +59,17 @@ class FrameView {
 class ContactCandidates {
  public:
   explicit ContactCandidates(const model::Stack& stack);
-  // Pairs (i, j), i < j by index, that may overlap at positions x, z (y plays no part: the
-  // caller checks full distances).
-  const std::vector<std::pair<std::size_t, std::size_t>>& pairs(const std::vector<double>& x, const std::vector<double>& z);
+  // Pairs (i, j), i < j by index, that may overlap at positions x, y, z (and some farther
+  // ones: the caller checks distances).
+  const std::vector<std::pair<std::size_t, std::size_t>>& pairs(const std::vector<double>& x, const std::vector<double>& y,
+                                                                const std::vector<double>& z);
   long builds() const { return builds_; }
 
  private:
   const model::Stack& stack_;
   double skin_;
   std::vector<std::pair<std::size_t, std::size_t>> pairs_;
-  std::vector<double> x_at_build_, z_at_build_;
+  std::vector<double> x_at_build_, y_at_build_, z_at_build_;
   long builds_ = 0;
 };
 
