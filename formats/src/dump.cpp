@@ -520,47 +520,44 @@ void DumpWriter::write(const DumpFrame& f) {
 
 // Each value in the shortest text that reads back to the same double (LIGGGHTS writes %.17g).
 // A value equal to the bit to the same atom's and column's in the frame before (radius, mass,
-// zeros, spheres at rest) is copied from that frame's text instead of being formatted again.
+// zeros, spheres at rest) is copied from that frame's text instead of being formatted again;
+// the frame before's values are read in order, so their lengths say where each one starts.
 void DumpWriter::write_atoms(const DumpFrame& f, const std::vector<bool>& integer) {
   const std::size_t ncol = f.columns.size();
   const std::size_t n = static_cast<std::size_t>(f.atoms) * ncol;
   const bool reuse = previous_values_.size() == n && f.values.size() == n;
-  starts_.resize(n);
   lengths_.resize(n);
-  // Formatted straight into a buffer large enough for any frame (a value takes at most 24
-  // characters and its space; a line its newline), a third faster than through an iterator.
+  // Formatted straight into the buffer (a third faster than through an iterator), grown as the
+  // lines need it: a value takes at most 24 characters and its space, a line its newline.
   constexpr std::size_t kLongestValue = 25;
-  text_.resize(n * kLongestValue + static_cast<std::size_t>(f.atoms));
-  char* const first = text_.data();
-  char* out = first;
-  std::size_t k = 0;
+  const std::size_t longest_line = ncol * kLongestValue + 1;
+  std::size_t used = 0, previous_at = 0, k = 0;
   for (long a = 0; a < f.atoms; ++a) {
+    if (text_.size() < used + longest_line) text_.resize(std::max(2 * text_.size(), used + longest_line));
+    char* const first = text_.data();
+    char* out = first + used;
     for (std::size_t c = 0; c < ncol; ++c, ++k) {
       const double v = f.values[k];
       char* const start = out;
       if (reuse && std::memcmp(&v, &previous_values_[k], sizeof v) == 0) {
-        out = std::copy_n(previous_text_.data() + previous_starts_[k], previous_lengths_[k], out);
+        out = std::copy_n(previous_text_.data() + previous_at, previous_lengths_[k], out);
       } else if (integer[c]) {
         out = fmt::format_to(out, FMT_COMPILE("{} "), static_cast<long>(v));
       } else {
         out = fmt::format_to(out, FMT_COMPILE("{} "), v);
       }
-      starts_[k] = static_cast<std::uint32_t>(start - first);
+      if (reuse) previous_at += previous_lengths_[k];
       lengths_[k] = static_cast<std::uint8_t>(out - start);
     }
     *out++ = '\n';
+    if (reuse) ++previous_at;  // the frame before's newline
+    used = static_cast<std::size_t>(out - first);
   }
-  text_.resize(static_cast<std::size_t>(out - first));
-  // The text is written from previous_text_; its values are kept for the next frame while
-  // the text can be indexed (a frame below 4 GB of text).
+  text_.resize(used);
+  // The text is written from previous_text_; its values and lengths are kept for the next frame.
   std::swap(previous_text_, text_);
-  if (previous_text_.size() < std::numeric_limits<std::uint32_t>::max()) {
-    previous_values_.assign(f.values.begin(), f.values.end());
-    std::swap(previous_starts_, starts_);
-    std::swap(previous_lengths_, lengths_);
-  } else {
-    previous_values_.clear();
-  }
+  previous_values_.assign(f.values.begin(), f.values.end());
+  std::swap(previous_lengths_, lengths_);
 }
 
 void DumpWriter::flush() { std::fflush(file_.get()); }

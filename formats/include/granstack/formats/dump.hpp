@@ -162,10 +162,9 @@ class DumpWriter {
   bool per_step_ = false;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
   std::string buffer_;
-  // The text of the atoms of this frame and the frame before, where each value starts and its
-  // length (a value's text is at most 25 characters), and the frame before's values.
+  // The text of the atoms of this frame and the frame before, each value's length (at most 25
+  // characters), and the frame before's values.
   std::string text_, previous_text_;
-  std::vector<std::uint32_t> starts_, previous_starts_;
   std::vector<std::uint8_t> lengths_, previous_lengths_;
   std::vector<double> previous_values_;
 };
