@@ -270,7 +270,7 @@ struct FrameAnalyser::Constants {
   ContactEnergy contacts;
   // Per sphere, in the stack's order: its block (index 0 = block 1; -1 for the striker), its
   // row and column (index 0 = 1), and whether it is in the top row of block 1.
-  std::vector<int> block, row, column;
+  std::vector<int> block, row, column, column_y;
   std::vector<char> top_row;
   std::vector<double> radius;
 };
@@ -282,6 +282,7 @@ FrameAnalyser::FrameAnalyser(const model::Stack& stack, const std::string& path)
     c.block.push_back(s.block - 1);
     c.row.push_back(s.row - 1);
     c.column.push_back(s.column - 1);
+    c.column_y.push_back(s.column_y - 1);
     c.top_row.push_back(s.block == 1 && s.row == 1 ? 1 : 0);
     c.radius.push_back(s.radius);
   }
@@ -301,9 +302,11 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
   }
   e.row_ke.resize(nb);
   e.column_ke.resize(nb);
+  e.column_y_ke.resize(nb);
   for (std::size_t k = 0; k < nb; ++k) {
     e.row_ke[k].assign(static_cast<std::size_t>(stack.blocks()[k].rows), 0.0);
     e.column_ke[k].assign(static_cast<std::size_t>(stack.blocks()[k].columns), 0.0);
+    e.column_y_ke[k].assign(static_cast<std::size_t>(stack.blocks()[k].depth), 0.0);
   }
   e.top_row_sideways = e.top_row_downward = e.striker_ke = e.output_sphere_ke = e.bottom_row_ke = 0.0;
   e.kinetic = e.elastic = e.striker_vz = 0.0;
@@ -346,6 +349,7 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
       e.block_ke_rotational[k] += rot;
       e.row_ke[k][static_cast<std::size_t>(c.row[i])] += ke;
       e.column_ke[k][static_cast<std::size_t>(c.column[i])] += ke;
+      e.column_y_ke[k][static_cast<std::size_t>(c.column_y[i])] += ke;
       if (c.top_row[i] != 0) {
         e.top_row_sideways += sideways;
         e.top_row_downward += downward;

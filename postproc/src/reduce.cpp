@@ -330,17 +330,23 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   StreamedTable parts_table(rdir / "energy_parts.csv", options.write_files);
   StreamedTable rows_table(rdir / "row_ke.csv", options.write_files);
   StreamedTable columns_table(rdir / "column_ke.csv", options.write_files);
+  // A 3D nest's columns along y too (the strip has one per block).
+  StreamedTable y_columns_table(rdir / "column_y_ke.csv", options.write_files && stack.three_d());
   auto parts = parts_table.out();
   auto rows = rows_table.out();
   auto columns = columns_table.out();
+  auto y_columns = y_columns_table.out();
   fmt::format_to(parts, "step,time_s");
+  fmt::format_to(y_columns, "step,time_s");
   fmt::format_to(rows, "step,time_s");
   fmt::format_to(columns, "step,time_s");
   for (const auto& b : stack.blocks()) {
     fmt::format_to(parts, ",ke_sideways_block{0}_J,ke_downward_block{0}_J,ke_rotational_block{0}_J", b.index);
     for (int i = 1; i <= b.rows; ++i) fmt::format_to(rows, ",ke_block{}_row{}_J", b.index, i);
     for (int j = 1; j <= b.columns; ++j) fmt::format_to(columns, ",ke_block{}_column{}_J", b.index, j);
+    for (int l = 1; l <= b.depth; ++l) fmt::format_to(y_columns, ",ke_block{}_column_y{}_J", b.index, l);
   }
+  fmt::format_to(y_columns, "\n");
   fmt::format_to(parts, ",top_row_sideways_J,top_row_downward_J,dissipated_J\n");
   fmt::format_to(rows, "\n");
   fmt::format_to(columns, "\n");
@@ -350,7 +356,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   struct FrameResult {
     FrameEnergy e;
     std::vector<double> wave_samples;
-    fmt::memory_buffer block_row, parts_row, rows_row, columns_row;
+    fmt::memory_buffer block_row, parts_row, rows_row, columns_row, y_columns_row;
     std::optional<bool> separated;  // for the last frame of a batch
   };
   const double e_in = r.e_in;
@@ -361,7 +367,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     fr.separated.reset();
     if (last_of_batch) fr.separated = a.has_separated(frame, stack.output_sphere_id());
     const double t = static_cast<double>(frame.step) * res.dt;
-    for (auto* b : {&fr.block_row, &fr.parts_row, &fr.rows_row, &fr.columns_row}) {
+    for (auto* b : {&fr.block_row, &fr.parts_row, &fr.rows_row, &fr.columns_row, &fr.y_columns_row}) {
       b->clear();
       fmt::format_to(std::back_inserter(*b), FMT_COMPILE("{},{}"), frame.step, t);
     }
@@ -372,14 +378,17 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     auto parts_row = std::back_inserter(fr.parts_row);
     auto rows_row = std::back_inserter(fr.rows_row);
     auto columns_row = std::back_inserter(fr.columns_row);
+    auto y_columns_row = std::back_inserter(fr.y_columns_row);
     for (std::size_t k = 0; k < e.block_ke.size(); ++k) {
       fmt::format_to(parts_row, FMT_COMPILE(",{},{},{}"), e.block_ke_sideways[k], e.block_ke_downward[k], e.block_ke_rotational[k]);
       for (const double x : e.row_ke[k]) fmt::format_to(rows_row, FMT_COMPILE(",{}"), x);
       for (const double x : e.column_ke[k]) fmt::format_to(columns_row, FMT_COMPILE(",{}"), x);
+      for (const double x : e.column_y_ke[k]) fmt::format_to(y_columns_row, FMT_COMPILE(",{}"), x);
     }
     fmt::format_to(parts_row, FMT_COMPILE(",{},{},{}\n"), e.top_row_sideways, e.top_row_downward, e_in - e.kinetic - e.elastic);
     fmt::format_to(rows_row, FMT_COMPILE("\n"));
     fmt::format_to(columns_row, FMT_COMPILE("\n"));
+    fmt::format_to(y_columns_row, FMT_COMPILE("\n"));
   };
   FrameEnergy last_energy;
   long last_step = 0;
@@ -398,7 +407,8 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     r.top_row_downward_peak = std::max(r.top_row_downward_peak, e.top_row_downward);
     waves.add(e.step, fr.wave_samples);
     const std::pair<StreamedTable*, fmt::memory_buffer*> tables[] = {
-        {&block_table, &fr.block_row}, {&parts_table, &fr.parts_row}, {&rows_table, &fr.rows_row}, {&columns_table, &fr.columns_row}};
+        {&block_table, &fr.block_row},     {&parts_table, &fr.parts_row},         {&rows_table, &fr.rows_row},
+        {&columns_table, &fr.columns_row}, {&y_columns_table, &fr.y_columns_row}};
     for (const auto& [table, row] : tables) {
       table->append(*row);
       table->row_done();
@@ -466,7 +476,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
 
   r.waves = waves.finish(series);
 
-  for (auto* table : {&block_table, &parts_table, &rows_table, &columns_table}) table->finish();
+  for (auto* table : {&block_table, &parts_table, &rows_table, &columns_table, &y_columns_table}) table->finish();
   if (options.write_files) {
     fs::create_directories(rdir);
     r.csv_path = (rdir / "block_ke.csv").string();

@@ -22,6 +22,7 @@
 #include <functional>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 using namespace granstack;
 namespace fs = std::filesystem;
@@ -130,6 +131,32 @@ double brute_force_drift(const std::string& dir) {
     drift = std::max(drift, std::fabs(brute_force_energy(stack, f) - stack.incident_energy()) / stack.incident_energy());
   }
   return drift;
+}
+
+// A CSV table reduce writes: its header and its rows of numbers.
+struct Csv {
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+};
+
+Csv read_csv(const fs::path& path) {
+  std::ifstream in(path);
+  Csv csv;
+  std::string line;
+  const auto split = [](const std::string& text) {
+    std::vector<std::string> cells;
+    std::stringstream ss(text);
+    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
+    return cells;
+  };
+  if (std::getline(in, line)) csv.header = split(line);
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    for (const auto& cell : split(line)) row.push_back(std::stod(cell));
+    csv.rows.push_back(std::move(row));
+  }
+  EXPECT_FALSE(csv.header.empty()) << path;
+  return csv;
 }
 
 // The peak over the in-situ series of translational plus rotational KE of a group.
@@ -363,6 +390,44 @@ TEST(Physics, ANestBetweenWallsOnEverySideConservesEnergy) {
   ASSERT_TRUE(r.energy_drift.has_value());
   EXPECT_NEAR(*r.energy_drift, drift, 1e-12);
   EXPECT_GT(r.output_fraction, 0.0);
+  // The nest is symmetric under swapping x and y (the striker in the central pocket, walls on
+  // every side): each block's energy per y-column is its energy per x-column, to round-off, and
+  // both add up to the block's.
+  const auto x_columns = read_csv(fs::path(dir) / "reduce" / "column_ke.csv");
+  const auto y_columns = read_csv(fs::path(dir) / "reduce" / "column_y_ke.csv");
+  const auto blocks_ke = read_csv(fs::path(dir) / "reduce" / "block_ke.csv");
+  ASSERT_EQ(x_columns.rows.size(), y_columns.rows.size());
+  ASSERT_EQ(x_columns.header.size(), y_columns.header.size());
+  for (std::size_t f = 0; f < x_columns.rows.size(); ++f) {
+    const double total = blocks_ke.rows[f][2] + blocks_ke.rows[f][3];  // ke_block1_J, ke_block2_J
+    double x_sum = 0.0, y_sum = 0.0;
+    for (std::size_t c = 2; c < x_columns.header.size(); ++c) {
+      EXPECT_NEAR(y_columns.rows[f][c], x_columns.rows[f][c], 1e-9 * total) << y_columns.header[c] << ", frame " << f;
+      x_sum += x_columns.rows[f][c];
+      y_sum += y_columns.rows[f][c];
+    }
+    EXPECT_NEAR(x_sum, total, 1e-12 * total);
+    EXPECT_NEAR(y_sum, total, 1e-12 * total);
+  }
+  // The last frame's y-columns summed here from the dump, sphere by sphere (y = (2 l - 1 - D) R).
+  const auto stack = model::Stack::build(spec);
+  formats::TextDumpReader reader((fs::path(dir) / formats::read_manifest(dir).files.dump).string());
+  formats::DumpFrame f, last;
+  while (reader.next(f)) last = f;
+  std::map<std::string, double> by_column;
+  for (long row = 0; row < last.atoms; ++row) {
+    const auto& s = stack.sphere(static_cast<int>(last.at(row, last.column("id"))));
+    if (s.block == 0) continue;
+    const double m = last.at(row, last.column("mass")), rad = last.at(row, last.column("radius"));
+    const int l = static_cast<int>(std::lround((last.at(row, last.column("y")) / rad + stack.block(s.block).depth + 1) / 2));
+    double ke = 0.0;
+    for (const char* v : {"vx", "vy", "vz"}) ke += 0.5 * m * last.at(row, last.column(v)) * last.at(row, last.column(v));
+    for (const char* w : {"omegax", "omegay", "omegaz"}) ke += 0.2 * m * rad * rad * last.at(row, last.column(w)) * last.at(row, last.column(w));
+    by_column[fmt::format("ke_block{}_column_y{}_J", s.block, l)] += ke;
+  }
+  for (std::size_t c = 2; c < y_columns.header.size(); ++c) {
+    EXPECT_NEAR(y_columns.rows.back()[c], by_column[y_columns.header[c]], 1e-12 * blocks_ke.rows.back()[2]) << y_columns.header[c];
+  }
 }
 
 // The steel/Teflon/steel sandwich (refsim, quick): its output sphere is kicked until about 1.8

@@ -2,7 +2,9 @@
 // touching or overlapping, counts and ids as documented, mirror symmetry in x and y, the
 // four-sphere seats (sqrt(2) R_1 for the striker, sqrt(7) R_{k+1} at a ratio-2 interface), the
 // impact path a chain of contacts, the walls.
+#include <granstack/formats/dump.hpp>
 #include <granstack/model/stack.hpp>
+#include <granstack/postproc/energy.hpp>
 
 #include <gtest/gtest.h>
 
@@ -191,6 +193,38 @@ TEST(Geometry3d, WallsTouchTheNestOnEverySide) {
   EXPECT_EQ(walls[3].name, "wall_front");
   EXPECT_EQ(walls[3].axis, 1);
   EXPECT_EQ(walls[4].position, stack.half_depth());
+}
+
+}  // namespace
+
+namespace {
+
+// reduce's per-column energies of a 3D nest, on a frame made here: the nest at rest but for one
+// sphere off the diagonal, whose 1/2 m v^2 lands in its own x-column and its own y-column.
+TEST(Geometry3d, ASpheresEnergyLandsInItsOwnColumnAlongXAndAlongY) {
+  const auto stack = build({2, 2, 2, 2});
+  granstack::formats::DumpFrame f;
+  f.columns = {"id", "mass", "radius", "x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz"};
+  f.atoms = static_cast<long>(stack.spheres().size());
+  const int mover = stack.id_of(2, 1, 3, 1);  // block 2, x-column 3, y-column 1
+  for (const auto& s : stack.spheres()) {
+    const double mass = s.id == 1 ? stack.striker_mass() : stack.block(s.block).sphere_mass;
+    const double vz = s.id == mover ? -2.0 : 0.0;
+    for (const double v : {static_cast<double>(s.id), mass, s.radius, s.x, s.y, s.z, 0.0, 0.0, vz, 0.0, 0.0, 0.0}) {
+      f.values.push_back(v);
+    }
+  }
+  granstack::postproc::FrameAnalyser analyser(stack, "made-here");
+  granstack::postproc::FrameEnergy e;
+  analyser.analyse(f, e);
+  const double ke = 0.5 * stack.block(2).sphere_mass * 4.0;
+  ASSERT_EQ(e.column_y_ke.size(), 2U);
+  ASSERT_EQ(e.column_y_ke[1].size(), 4U);
+  for (std::size_t c = 0; c < 4; ++c) {
+    EXPECT_EQ(e.column_ke[1][c], c == 2 ? ke : 0.0) << "x-column " << c + 1;
+    EXPECT_EQ(e.column_y_ke[1][c], c == 0 ? ke : 0.0) << "y-column " << c + 1;
+  }
+  EXPECT_EQ(e.block_ke[1], ke);
 }
 
 }  // namespace

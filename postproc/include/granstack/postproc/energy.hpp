@@ -13,8 +13,10 @@ struct FrameEnergy {
   std::vector<double> block_ke;  // translational + rotational, index 0 = block 1 (top)
   // Its parts: translational sideways (x, y), translational downward (z), rotational.
   std::vector<double> block_ke_sideways, block_ke_downward, block_ke_rotational;
-  // Per row and per column of each block (translational + rotational), [block - 1][row - 1].
-  std::vector<std::vector<double>> row_ke, column_ke;
+  // Per row and per column of each block (translational + rotational), [block - 1][row - 1]; a
+  // column (along x) sums every y-column in a 3D nest, whose y-columns (along y, summing every
+  // x-column) are column_y_ke (one per block, the whole block, in the strip).
+  std::vector<std::vector<double>> row_ke, column_ke, column_y_ke;
   // The friction study's quantities: the top row of the top block, 1/2 m vx^2 (+ vy^2) against
   // 1/2 m vz^2 (physics.md section 4).
   double top_row_sideways = 0.0, top_row_downward = 0.0;

@@ -57,7 +57,8 @@ struct CaseReduction {
 };
 
 struct ReduceOptions {
-  // CASE/reduce/ (or output_dir): block_ke.csv, energy_parts.csv, row_ke.csv, column_ke.csv, summary.json
+  // CASE/reduce/ (or output_dir): block_ke.csv, energy_parts.csv, row_ke.csv, column_ke.csv (and
+  // for a 3D nest column_y_ke.csv), summary.json
   bool write_files = true;
   std::string output_dir;  // empty: CASE/reduce
   // Called after every frame read (frames so far), on the calling thread.
