@@ -87,6 +87,7 @@ formats::VtkPoints frame_points(const model::Stack& stack, const formats::DumpFr
   const auto column = [&](const char* name) { return f.column(name); };
   const int cx = column("x"), cy = column("y"), cz = column("z");
   formats::VtkArray id{"id", 1, {}, {}}, type{"type", 1, {}, {}}, block{"block", 1, {}, {}};
+  formats::VtkArray row_index{"row", 1, {}, {}}, x_column{"column", 1, {}, {}}, y_column{"column_y", 1, {}, {}};
   formats::VtkArray radius{"radius", 1, {}, {}}, mass{"mass", 1, {}, {}};
   formats::VtkArray ke{"kinetic_energy", 1, {}, {}}, ke_t{"kinetic_energy_translational", 1, {}, {}},
       ke_r{"kinetic_energy_rotational", 1, {}, {}};
@@ -106,7 +107,11 @@ formats::VtkPoints frame_points(const model::Stack& stack, const formats::DumpFr
     for (const int c : {cx, cy, cz}) p.xyz.push_back(f.at(r, c));
     id.integers.push_back(sid);
     type.integers.push_back(ctype >= 0 ? static_cast<std::int64_t>(f.at(r, ctype)) : 0);
-    block.integers.push_back(stack.spheres()[static_cast<std::size_t>(sid - 1)].block);
+    const auto& sphere = stack.spheres()[static_cast<std::size_t>(sid - 1)];
+    block.integers.push_back(sphere.block);
+    row_index.integers.push_back(sphere.row);
+    x_column.integers.push_back(sphere.column);
+    y_column.integers.push_back(sphere.column_y);
     radius.reals.push_back(f.at(r, column("radius")));
     mass.reals.push_back(f.at(r, column("mass")));
     ke.reals.push_back(view.kinetic_energy(f, r));
@@ -116,8 +121,8 @@ formats::VtkPoints frame_points(const model::Stack& stack, const formats::DumpFr
       for (const int c : v.c) v.array.reals.push_back(f.at(r, c));
     }
   }
-  p.arrays = {std::move(id), std::move(type), std::move(block), std::move(radius), std::move(mass), std::move(ke),
-              std::move(ke_t), std::move(ke_r)};
+  p.arrays = {std::move(id),     std::move(type), std::move(block), std::move(row_index), std::move(x_column), std::move(y_column),
+              std::move(radius), std::move(mass), std::move(ke),    std::move(ke_t), std::move(ke_r)};
   for (auto& v : vectors) p.arrays.push_back(std::move(v.array));
   return p;
 }
@@ -132,9 +137,8 @@ ExportResult export_case(const std::string& case_dir, const ExportOptions& o) {
   const long count = steps / every + 1;  // frames at steps 0, every, 2 every, ..., up to the run's end
   const auto picked = select_frames(o.frames, count);
   const fs::path out = o.output_dir.empty() ? fs::path(case_dir) / "paraview" : fs::path(o.output_dir);
-  const std::string name = fs::path(case_dir).lexically_normal().filename().empty()
-                               ? fs::path(case_dir).lexically_normal().parent_path().filename().string()
-                               : fs::path(case_dir).lexically_normal().filename().string();
+  // The case directory's own name, however it was written ("runs/a/", ".", "../a").
+  const std::string name = fs::weakly_canonical(fs::absolute(case_dir)).filename().string();
   const int width = static_cast<int>(std::to_string(steps).size());
   const auto frame_file = [&](long step) { return fmt::format("{}_{:0{}}.vtp", name, step, width); };
   std::vector<std::string> names{name + ".pvd"};

@@ -180,3 +180,27 @@ TEST(Export, RefusesWhatItMustNotDoAndLosesNothing) {
 }
 
 }  // namespace
+
+namespace {
+
+// A 3D nest exports its y positions and y-columns too.
+TEST(Export, ANestExportsItsThirdDimension) {
+  if (!fs::exists("/usr/bin/python3")) GTEST_SKIP() << "no /usr/bin/python3: VTK's reader cannot run";
+  const auto dir = work() / "nest";
+  ASSERT_EQ(granstack({"generate", "-o", dir.string(), "--geometry", "nested3d", "--blocks", "2", "--rows", "2", "--force"}).code, 0);
+  ASSERT_EQ(granstack({"run", "--force", dir.string()}).code, 0);
+  ASSERT_EQ(granstack({"export", dir.string(), "--frames", "-1", "--force"}).code, 0);
+  const auto vtk = read_with_vtk(dir / "paraview" / "nest.pvd");
+  if (vtk.contains("skip")) GTEST_SKIP() << vtk.at("skip").get<std::string>();
+  const auto stack = model::Stack::build(formats::read_manifest(dir.string()).spec);
+  const auto& frame = vtk.at("frames").at(0);
+  ASSERT_EQ(frame.at("points").get<std::size_t>(), stack.spheres().size());
+  const auto last = dump_frames(dir).rbegin()->second;
+  for (long row = 0; row < last.atoms; ++row) {
+    const auto id = static_cast<std::size_t>(last.at(row, last.column("id")));
+    EXPECT_EQ(frame.at("xyz")[3 * (id - 1) + 1].get<double>(), last.at(row, last.column("y"))) << id;
+    EXPECT_EQ(frame.at("arrays").at("column_y")[id - 1].get<double>(), stack.sphere(static_cast<int>(id)).column_y) << id;
+  }
+}
+
+}  // namespace

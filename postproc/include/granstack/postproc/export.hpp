@@ -1,6 +1,7 @@
 #pragma once
 // A run case's dump as ParaView files (formats/vtk.hpp): per frame one .vtp of its spheres, in
-// id order, with each sphere's id, type, block (1 = the top block, 0 = the striker), radius,
+// id order, with each sphere's id, type, block (1 = the top block, 0 = the striker), row,
+// column and y-column (as the stack numbers them; 0 for the striker), radius,
 // mass, velocity, angular velocity, force, and translational, rotational and total kinetic
 // energy (SI units, as the dump); and a .pvd listing the frames with their times (step x dt).
 #include <functional>
