@@ -56,9 +56,11 @@ HWY_INLINE M mask(unsigned b) {
   return hn::LoadMaskBits(D(), byte);
 }
 
-struct Vec {
-  V x, y, z;
+template <class T>
+struct Vec3 {
+  T x, y, z;
 };
+using Vec = Vec3<V>;
 
 // Where kN pairs from p find one side's particles: at a run's window plus their lane (one
 // load), else gathered by index.
@@ -103,22 +105,98 @@ HWY_INLINE Record record(const PairTable& t, std::size_t p) {
   return {nullptr, table, hn::Add(hn::ShiftLeft<3>(r), r)};
 }
 
+// The contact model below is written once for kN pairs in one vector (V, M) and for 2 kN in
+// two vectors side by side (W, WM: every operation issued for both halves, so that their chains
+// of square roots and divisions overlap), through these names.
+struct W {
+  V a, b;
+};
+struct WM {
+  M a, b;
+};
+HWY_INLINE W operator+(const W& x, const W& y) { return {x.a + y.a, x.b + y.b}; }
+HWY_INLINE W operator-(const W& x, const W& y) { return {x.a - y.a, x.b - y.b}; }
+HWY_INLINE W operator*(const W& x, const W& y) { return {x.a * y.a, x.b * y.b}; }
+HWY_INLINE W operator/(const W& x, const W& y) { return {x.a / y.a, x.b / y.b}; }
+HWY_INLINE V negate(V x) { return hn::Neg(x); }
+HWY_INLINE W negate(const W& x) { return {hn::Neg(x.a), hn::Neg(x.b)}; }
+HWY_INLINE V root(V x) { return hn::Sqrt(x); }
+HWY_INLINE W root(const W& x) { return {hn::Sqrt(x.a), hn::Sqrt(x.b)}; }
+HWY_INLINE V magnitude(V x) { return hn::Abs(x); }
+HWY_INLINE W magnitude(const W& x) { return {hn::Abs(x.a), hn::Abs(x.b)}; }
+HWY_INLINE M less(V x, V y) { return hn::Lt(x, y); }
+HWY_INLINE WM less(const W& x, const W& y) { return {hn::Lt(x.a, y.a), hn::Lt(x.b, y.b)}; }
+HWY_INLINE M greater(V x, V y) { return hn::Gt(x, y); }
+HWY_INLINE WM greater(const W& x, const W& y) { return {hn::Gt(x.a, y.a), hn::Gt(x.b, y.b)}; }
+HWY_INLINE M equal(V x, V y) { return hn::Eq(x, y); }
+HWY_INLINE WM equal(const W& x, const W& y) { return {hn::Eq(x.a, y.a), hn::Eq(x.b, y.b)}; }
+HWY_INLINE WM not_equal(const W& x, const W& y) { return {not_equal(x.a, y.a), not_equal(x.b, y.b)}; }
+HWY_INLINE M both(M x, M y) { return hn::And(x, y); }
+HWY_INLINE WM both(const WM& x, const WM& y) { return {hn::And(x.a, y.a), hn::And(x.b, y.b)}; }
+HWY_INLINE M either(M x, M y) { return hn::Or(x, y); }
+HWY_INLINE WM either(const WM& x, const WM& y) { return {hn::Or(x.a, y.a), hn::Or(x.b, y.b)}; }
+HWY_INLINE M but_not(M no, M x) { return hn::AndNot(no, x); }  // x and not `no`
+HWY_INLINE WM but_not(const WM& no, const WM& x) { return {hn::AndNot(no.a, x.a), hn::AndNot(no.b, x.b)}; }
+HWY_INLINE bool none(M m) { return hn::AllFalse(D(), m); }
+HWY_INLINE bool none(const WM& m) { return hn::AllFalse(D(), m.a) && hn::AllFalse(D(), m.b); }
+HWY_INLINE V pick(M m, V yes, V no) { return hn::IfThenElse(m, yes, no); }
+HWY_INLINE W pick(const WM& m, const W& yes, const W& no) { return {hn::IfThenElse(m.a, yes.a, no.a), hn::IfThenElse(m.b, yes.b, no.b)}; }
+HWY_INLINE V zero_unless(M m, V x) { return hn::IfThenElseZero(m, x); }
+HWY_INLINE W zero_unless(const WM& m, const W& x) { return {hn::IfThenElseZero(m.a, x.a), hn::IfThenElseZero(m.b, x.b)}; }
+
+// Per lane type: how many pairs, constants, masks, and the table's memory at entry p.
+template <class T>
+struct Lanes;
+template <>
+struct Lanes<V> {
+  using Mask = M;
+  static constexpr std::size_t kCount = kN;
+  static V filled(double v) { return broadcast(v); }
+  static M nothing() { return hn::FirstN(D(), 0); }
+  static V at(const double* p) { return load(p); }
+  static void put(double* p, V x) { store(p, x); }
+  static void put_where(double* p, M m, V x) { hn::BlendedStore(x, m, D(), p); }
+};
+template <>
+struct Lanes<W> {
+  using Mask = WM;
+  static constexpr std::size_t kCount = 2 * kN;
+  static W filled(double v) { return {broadcast(v), broadcast(v)}; }
+  static WM nothing() { return {hn::FirstN(D(), 0), hn::FirstN(D(), 0)}; }
+  static W at(const double* p) { return {load(p), load(p + kN)}; }
+  static void put(double* p, const W& x) {
+    store(p, x.a);
+    store(p + kN, x.b);
+  }
+  static void put_where(double* p, const WM& m, const W& x) {
+    hn::BlendedStore(x.a, m.a, D(), p);
+    hn::BlendedStore(x.b, m.b, D(), p + kN);
+  }
+};
+
+template <class T, class TM>
+HWY_INLINE Vec3<T> select(const TM& m, const Vec3<T>& yes, const Vec3<T>& no) {
+  return {pick(m, yes.x, no.x), pick(m, yes.y, no.y), pick(m, yes.z, no.z)};
+}
+
 // Force on i (the sums subtract it from j's), zero where not touching.
-HWY_INLINE void store_forces(PairTable& t, std::size_t p, M touching, const Vec& f) {
-  store(&t.fx[p], hn::IfThenElseZero(touching, f.x));
-  store(&t.fy[p], hn::IfThenElseZero(touching, f.y));
-  store(&t.fz[p], hn::IfThenElseZero(touching, f.z));
+template <class T, class TM>
+HWY_INLINE void store_forces(PairTable& t, std::size_t p, const TM& touching, const Vec3<T>& f) {
+  Lanes<T>::put(&t.fx[p], zero_unless(touching, f.x));
+  Lanes<T>::put(&t.fy[p], zero_unless(touching, f.y));
+  Lanes<T>::put(&t.fz[p], zero_unless(touching, f.z));
 }
 
 // Torques on i and on j, zero where not touching.
-HWY_INLINE void store_torques(PairTable& t, std::size_t p, M touching, const Vec& ti, const Vec& tj) {
+template <class T, class TM>
+HWY_INLINE void store_torques(PairTable& t, std::size_t p, const TM& touching, const Vec3<T>& ti, const Vec3<T>& tj) {
   const std::size_t q = t.padded() + p;
-  store(&t.tx[p], hn::IfThenElseZero(touching, ti.x));
-  store(&t.ty[p], hn::IfThenElseZero(touching, ti.y));
-  store(&t.tz[p], hn::IfThenElseZero(touching, ti.z));
-  store(&t.tx[q], hn::IfThenElseZero(touching, tj.x));
-  store(&t.ty[q], hn::IfThenElseZero(touching, tj.y));
-  store(&t.tz[q], hn::IfThenElseZero(touching, tj.z));
+  Lanes<T>::put(&t.tx[p], zero_unless(touching, ti.x));
+  Lanes<T>::put(&t.ty[p], zero_unless(touching, ti.y));
+  Lanes<T>::put(&t.tz[p], zero_unless(touching, ti.z));
+  Lanes<T>::put(&t.tx[q], zero_unless(touching, tj.x));
+  Lanes<T>::put(&t.ty[q], zero_unless(touching, tj.y));
+  Lanes<T>::put(&t.tz[q], zero_unless(touching, tj.z));
 }
 
 // The touching flags of kN pairs: set where touching, cleared where only close.
@@ -131,6 +209,10 @@ HWY_INLINE void update_flags(std::uint8_t* flags, M touching, M close) {
       flags[k] = 0;
     }
   }
+}
+HWY_INLINE void update_flags(std::uint8_t* flags, const WM& touching, const WM& close) {
+  update_flags(flags, touching.a, close.a);
+  update_flags(flags + kN, touching.b, close.b);
 }
 
 // What both kernels find first of kN pairs from p: where their spheres are, their records,
@@ -155,133 +237,177 @@ HWY_INLINE Found find(const PairTable& t, const ContactStep& s, std::size_t p) {
   return {si, sj, rec, delx, dely, delz, rsq, radi, radj, radsum, hn::Lt(rsq, radsum * radsum)};
 }
 
-HWY_INLINE Vec select(M m, const Vec& yes, const Vec& no) {
-  return {hn::IfThenElse(m, yes.x, no.x), hn::IfThenElse(m, yes.y, no.y), hn::IfThenElse(m, yes.z, no.z)};
+// find() of the pairs from p in T's lanes, and what else the model reads of their spheres and
+// records.
+template <class T>
+struct Pairs;
+template <>
+struct Pairs<V> {
+  Found f;
+  Pairs(const PairTable& t, const ContactStep& s, std::size_t p) : f(find(t, s, p)) {}
+  V delx() const { return f.delx; }
+  V dely() const { return f.dely; }
+  V delz() const { return f.delz; }
+  V rsq() const { return f.rsq; }
+  V radi() const { return f.radi; }
+  V radj() const { return f.radj; }
+  V radsum() const { return f.radsum; }
+  M touching() const { return f.touching; }
+  V field(std::size_t offset) const { return f.rec.field(offset); }
+  Vec3<V> i(const double* a, std::size_t stride) const { return fetch(a, stride, f.si); }
+  Vec3<V> j(const double* a, std::size_t stride) const { return fetch(a, stride, f.sj); }
+};
+template <>
+struct Pairs<W> {
+  Found a, b;
+  Pairs(const PairTable& t, const ContactStep& s, std::size_t p) : a(find(t, s, p)), b(find(t, s, p + kN)) {}
+  W delx() const { return {a.delx, b.delx}; }
+  W dely() const { return {a.dely, b.dely}; }
+  W delz() const { return {a.delz, b.delz}; }
+  W rsq() const { return {a.rsq, b.rsq}; }
+  W radi() const { return {a.radi, b.radi}; }
+  W radj() const { return {a.radj, b.radj}; }
+  W radsum() const { return {a.radsum, b.radsum}; }
+  WM touching() const { return {a.touching, b.touching}; }
+  W field(std::size_t offset) const { return {a.rec.field(offset), b.rec.field(offset)}; }
+  static Vec3<W> join(const Vec& x, const Vec& y) { return {{x.x, y.x}, {x.y, y.y}, {x.z, y.z}}; }
+  Vec3<W> i(const double* p, std::size_t stride) const { return join(fetch(p, stride, a.si), fetch(p, stride, b.si)); }
+  Vec3<W> j(const double* p, std::size_t stride) const { return join(fetch(p, stride, a.sj), fetch(p, stride, b.sj)); }
+};
+
+template <class T>
+HWY_INLINE void store_history(PairTable& t, std::size_t p, const Vec3<T>& h) {
+  Lanes<T>::put(&t.shear_x[p], h.x);
+  Lanes<T>::put(&t.shear_y[p], h.y);
+  Lanes<T>::put(&t.shear_z[p], h.z);
 }
 
-HWY_INLINE void store_history(PairTable& t, std::size_t p, const Vec& h) {
-  store(&t.shear_x[p], h.x);
-  store(&t.shear_y[p], h.y);
-  store(&t.shear_z[p], h.z);
+template <class T, class TM>
+HWY_INLINE void clear_history_where(PairTable& t, std::size_t p, const TM& m) {
+  const T zero = Lanes<T>::filled(0.0);
+  for (double* a : {&t.shear_x[p], &t.shear_y[p], &t.shear_z[p]}) Lanes<T>::put_where(a, m, zero);
 }
 
-HWY_INLINE void clear_history_where(PairTable& t, std::size_t p, M m) {
-  const V zero = hn::Zero(D());
-  for (double* a : {&t.shear_x[p], &t.shear_y[p], &t.shear_z[p]}) hn::BlendedStore(zero, m, D(), a);
-}
-
-// The tangential history spring of tangential_force (contacts.cpp) on kN pairs: increment,
+// The tangential history spring of tangential_force (contacts.cpp) on T's pairs: increment,
 // projection, Coulomb truncation or the frictionless slide, then the damping of sticking pairs.
 // Returns the tangential force on i; `shear` becomes the new history where touching.
-HWY_INLINE Vec tangential(Vec& shear, const Vec& en, const Vec& vtr, V kt, V gammat, V fn, V mu, M touching,
-                          const ContactStep& s) {
-  const V zero = hn::Zero(D());
+template <class T, class TM>
+HWY_INLINE Vec3<T> tangential(Vec3<T>& shear, const Vec3<T>& en, const Vec3<T>& vtr, const T& kt, const T& gammat, const T& fn,
+                              const T& mu, const TM& touching, const ContactStep& s) {
+  const T zero = Lanes<T>::filled(0.0);
   if (s.update_history) {
-    const V dt = broadcast(s.dt);
+    const T dt = Lanes<T>::filled(s.dt);
     shear = {shear.x + vtr.x * dt, shear.y + vtr.y * dt, shear.z + vtr.z * dt};
-    const V rsht = shear.x * en.x + shear.y * en.y + shear.z * en.z;
+    const T rsht = shear.x * en.x + shear.y * en.y + shear.z * en.z;
     shear = {shear.x - rsht * en.x, shear.y - rsht * en.y, shear.z - rsht * en.z};
   }
-  const V shear_sq = shear.x * shear.x + shear.y * shear.y + shear.z * shear.z;
-  Vec ft{hn::Neg(kt * shear.x), hn::Neg(kt * shear.y), hn::Neg(kt * shear.z)};
-  const M frictionless = hn::Eq(mu, zero);
+  const T shear_sq = shear.x * shear.x + shear.y * shear.y + shear.z * shear.z;
+  Vec3<T> ft{negate(kt * shear.x), negate(kt * shear.y), negate(kt * shear.z)};
+  const TM frictionless = equal(mu, zero);
   // Frictionless sliding leaves a zero force and a zero history (as the reference).
-  const M zero_slide = hn::And(hn::And(touching, frictionless), hn::And(hn::Gt(kt, zero), hn::Gt(shear_sq, zero)));
+  const TM zero_slide = both(both(touching, frictionless), both(greater(kt, zero), greater(shear_sq, zero)));
   // A frictionless pair that does not slide sticks: its kt |xi| is 0, not above mu |fn| = 0.
-  const M coulomb = hn::AndNot(frictionless, touching);
-  M sliding = hn::FirstN(D(), 0);
-  const Vec zeros{zero, zero, zero};
-  if (!hn::AllFalse(D(), coulomb)) {
-    const V shrmag = hn::Sqrt(shear_sq);
-    const V ft_shear = kt * shrmag;
-    const V ft_friction = mu * hn::Abs(fn);
-    sliding = hn::And(coulomb, hn::Gt(ft_shear, ft_friction));
-    if (!hn::AllFalse(D(), sliding)) {
+  const TM coulomb = but_not(frictionless, touching);
+  TM sliding = Lanes<T>::nothing();
+  const Vec3<T> zeros{zero, zero, zero};
+  if (!none(coulomb)) {
+    const T shrmag = root(shear_sq);
+    const T ft_shear = kt * shrmag;
+    const T ft_friction = mu * magnitude(fn);
+    sliding = both(coulomb, greater(ft_shear, ft_friction));
+    if (!none(sliding)) {
       // Sliding: scaled down to the Coulomb limit, or zero if there is no displacement to scale.
-      const M scaled = hn::And(sliding, not_equal(shrmag, zero));
-      const V ratio = ft_friction / ft_shear;
-      ft = select(scaled, Vec{ft.x * ratio, ft.y * ratio, ft.z * ratio}, select(sliding, zeros, ft));
+      const TM scaled = both(sliding, not_equal(shrmag, zero));
+      const T ratio = ft_friction / ft_shear;
+      ft = select(scaled, Vec3<T>{ft.x * ratio, ft.y * ratio, ft.z * ratio}, select(sliding, zeros, ft));
       if (s.update_history) {
-        shear = select(scaled, Vec{hn::Neg(ft.x) / kt, hn::Neg(ft.y) / kt, hn::Neg(ft.z) / kt}, shear);
+        shear = select(scaled, Vec3<T>{negate(ft.x) / kt, negate(ft.y) / kt, negate(ft.z) / kt}, shear);
       }
     }
   }
-  if (!hn::AllFalse(D(), zero_slide)) {
+  if (!none(zero_slide)) {
     ft = select(zero_slide, zeros, ft);
     if (s.update_history) shear = select(zero_slide, zeros, shear);
   }
-  const M sticking = hn::AndNot(hn::Or(zero_slide, sliding), touching);
-  return select(sticking, Vec{ft.x - gammat * vtr.x, ft.y - gammat * vtr.y, ft.z - gammat * vtr.z}, ft);
+  const TM sticking = but_not(either(zero_slide, sliding), touching);
+  return select(sticking, Vec3<T>{ft.x - gammat * vtr.x, ft.y - gammat * vtr.y, ft.z - gammat * vtr.z}, ft);
 }
 
-// contacts.cpp's pair_force on the kN pairs from p.
+// contacts.cpp's pair_force on the pairs from p in T's lanes (kN, or 2 kN side by side).
+template <class T>
 HWY_INLINE void pair_block(PairTable& t, const ContactStep& s, std::size_t p) {
-  const auto [si, sj, rec, delx, dely, delz, rsq, radi, radj, radsum, touching] = find(t, s, p);
-  const V cdf = broadcast(s.contact_distance_factor);
+  using L = Lanes<T>;
+  using TM = typename L::Mask;
+  const Pairs<T> pairs(t, s, p);
+  const T delx = pairs.delx(), dely = pairs.dely(), delz = pairs.delz(), radsum = pairs.radsum();
+  const TM touching = pairs.touching();
+  const T cdf = L::filled(s.contact_distance_factor);
   // Close but not touching: the history is reset (surfacesClose); farther: left alone.
-  const M close = hn::AndNot(touching, hn::Lt(rsq, cdf * cdf * radsum * radsum));
+  const TM close = but_not(touching, less(pairs.rsq(), cdf * cdf * radsum * radsum));
   update_flags(&t.touching[p], touching, close);
-  const V zero = hn::Zero(D());
-  const Vec zeros{zero, zero, zero};
-  if (hn::AllFalse(D(), touching)) {
-    clear_history_where(t, p, close);
+  const T zero = L::filled(0.0);
+  const Vec3<T> zeros{zero, zero, zero};
+  if (none(touching)) {
+    clear_history_where<T>(t, p, close);
     store_forces(t, p, touching, zeros);
     store_torques(t, p, touching, zeros, zeros);
     return;
   }
-  const V r = hn::Sqrt(rsq);
-  const V rinv = broadcast(1.0) / r;
-  const Vec en{delx * rinv, dely * rinv, delz * rinv};
-  const V deltan = radsum - r;
-  if (t.elastic_frictionless[p / kLanes] != 0) {
+  const T r = root(pairs.rsq());
+  const T rinv = L::filled(1.0) / r;
+  const Vec3<T> en{delx * rinv, dely * rinv, delz * rinv};
+  const T deltan = radsum - r;
+  bool elastic = true;
+  for (std::size_t g = p / kLanes; g * kLanes < p + L::kCount; ++g) elastic = elastic && t.elastic_frictionless[g] != 0;
+  if (elastic) {
     // kn delta n: the reference's -gamman vn and ft are +-0 here (PairRecord::elastic_frictionless).
-    const V fn = rec.field(offsetof(PairRecord, kn_factor)) * hn::Sqrt(rec.field(offsetof(PairRecord, reff)) * deltan) * deltan;
+    const T fn = pairs.field(offsetof(PairRecord, kn_factor)) * root(pairs.field(offsetof(PairRecord, reff)) * deltan) * deltan;
     // The history never acts on such a pair; it is cleared where the reference's slide clears it.
-    clear_history_where(t, p, s.update_history ? hn::Or(close, touching) : close);
-    store_forces(t, p, touching, {fn * en.x, fn * en.y, fn * en.z});
+    clear_history_where<T>(t, p, s.update_history ? either(close, touching) : close);
+    store_forces(t, p, touching, Vec3<T>{fn * en.x, fn * en.y, fn * en.z});
     // The torque entries: zero since the table was built, unless other pairs may write them.
     if (!t.torque_free) store_torques(t, p, touching, zeros, zeros);
     return;
   }
 
   // Relative velocity at the contact point; lever arms shortened by half the overlap.
-  const Vec vi = fetch(s.v, s.stride, si), vj = fetch(s.v, s.stride, sj);
-  const V vr1 = vi.x - vj.x, vr2 = vi.y - vj.y, vr3 = vi.z - vj.z;
-  const V vn = vr1 * en.x + vr2 * en.y + vr3 * en.z;
-  const V vt1 = vr1 - vn * en.x, vt2 = vr2 - vn * en.y, vt3 = vr3 - vn * en.z;
-  const V half = broadcast(0.5);
-  const V cri = radi - half * deltan;
-  const V crj = radj - half * deltan;
-  const Vec wi = fetch(s.w, s.stride, si), wj = fetch(s.w, s.stride, sj);
-  const V wr1 = (cri * wi.x + crj * wj.x) * rinv;
-  const V wr2 = (cri * wi.y + crj * wj.y) * rinv;
-  const V wr3 = (cri * wi.z + crj * wj.z) * rinv;
-  const Vec vtr{vt1 - (delz * wr2 - dely * wr3), vt2 - (delx * wr3 - delz * wr1), vt3 - (dely * wr1 - delx * wr2)};
+  const Vec3<T> vi = pairs.i(s.v, s.stride), vj = pairs.j(s.v, s.stride);
+  const T vr1 = vi.x - vj.x, vr2 = vi.y - vj.y, vr3 = vi.z - vj.z;
+  const T vn = vr1 * en.x + vr2 * en.y + vr3 * en.z;
+  const T vt1 = vr1 - vn * en.x, vt2 = vr2 - vn * en.y, vt3 = vr3 - vn * en.z;
+  const T half = L::filled(0.5);
+  const T cri = pairs.radi() - half * deltan;
+  const T crj = pairs.radj() - half * deltan;
+  const Vec3<T> wi = pairs.i(s.w, s.stride), wj = pairs.j(s.w, s.stride);
+  const T wr1 = (cri * wi.x + crj * wj.x) * rinv;
+  const T wr2 = (cri * wi.y + crj * wj.y) * rinv;
+  const T wr3 = (cri * wi.z + crj * wj.z) * rinv;
+  const Vec3<T> vtr{vt1 - (delz * wr2 - dely * wr3), vt2 - (delx * wr3 - delz * wr1), vt3 - (dely * wr1 - delx * wr2)};
 
   // hertz_normal
-  const V meff = rec.field(offsetof(PairRecord, meff));
-  const V damping = rec.field(offsetof(PairRecord, damping_factor));
-  const V sqrtval = hn::Sqrt(rec.field(offsetof(PairRecord, reff)) * deltan);
-  const V kt = rec.field(offsetof(PairRecord, st_factor)) * sqrtval;
-  const V kn = rec.field(offsetof(PairRecord, kn_factor)) * sqrtval;
-  const M damped = hn::And(touching, not_equal(damping, zero));
-  V gamman = damping, gammat = s.tangential_damping ? damping : zero;
-  if (!hn::AllFalse(D(), damped)) {
-    gamman = hn::IfThenElse(damped, damping * hn::Sqrt(rec.field(offsetof(PairRecord, sn_factor)) * sqrtval * meff), gamman);
-    if (s.tangential_damping) gammat = hn::IfThenElse(damped, damping * hn::Sqrt(kt * meff), gammat);
+  const T meff = pairs.field(offsetof(PairRecord, meff));
+  const T damping = pairs.field(offsetof(PairRecord, damping_factor));
+  const T sqrtval = root(pairs.field(offsetof(PairRecord, reff)) * deltan);
+  const T kt = pairs.field(offsetof(PairRecord, st_factor)) * sqrtval;
+  const T kn = pairs.field(offsetof(PairRecord, kn_factor)) * sqrtval;
+  const TM damped = both(touching, not_equal(damping, zero));
+  T gamman = damping, gammat = s.tangential_damping ? damping : zero;
+  if (!none(damped)) {
+    gamman = pick(damped, damping * root(pairs.field(offsetof(PairRecord, sn_factor)) * sqrtval * meff), gamman);
+    if (s.tangential_damping) gammat = pick(damped, damping * root(kt * meff), gammat);
   }
-  const V fn = hn::Neg(gamman) * vn + kn * deltan;
+  const T fn = negate(gamman) * vn + kn * deltan;
 
-  const Vec shear_before{load(&t.shear_x[p]), load(&t.shear_y[p]), load(&t.shear_z[p])};
-  Vec shear = shear_before;
-  const Vec ft = tangential(shear, en, vtr, kt, gammat, fn, rec.field(offsetof(PairRecord, friction)), touching, s);
-  const Vec tor{en.y * ft.z - en.z * ft.y, en.z * ft.x - en.x * ft.z, en.x * ft.y - en.y * ft.x};
+  const Vec3<T> shear_before{L::at(&t.shear_x[p]), L::at(&t.shear_y[p]), L::at(&t.shear_z[p])};
+  Vec3<T> shear = shear_before;
+  const Vec3<T> ft = tangential(shear, en, vtr, kt, gammat, fn, pairs.field(offsetof(PairRecord, friction)), touching, s);
+  const Vec3<T> tor{en.y * ft.z - en.z * ft.y, en.z * ft.x - en.x * ft.z, en.x * ft.y - en.y * ft.x};
 
   // The history: the new one where touching, zero where close, unchanged farther away.
   store_history(t, p, select(touching, shear, select(close, zeros, shear_before)));
-  store_forces(t, p, touching, {fn * en.x + ft.x, fn * en.y + ft.y, fn * en.z + ft.z});
-  store_torques(t, p, touching, {hn::Neg(cri) * tor.x, hn::Neg(cri) * tor.y, hn::Neg(cri) * tor.z},
-                {hn::Neg(crj) * tor.x, hn::Neg(crj) * tor.y, hn::Neg(crj) * tor.z});
+  store_forces(t, p, touching, Vec3<T>{fn * en.x + ft.x, fn * en.y + ft.y, fn * en.z + ft.z});
+  store_torques(t, p, touching, Vec3<T>{negate(cri) * tor.x, negate(cri) * tor.y, negate(cri) * tor.z},
+                Vec3<T>{negate(crj) * tor.x, negate(crj) * tor.y, negate(crj) * tor.z});
 }
 
 // Particles window .. window + 15 of Motion::position_changed, as bits 0 .. 15.
@@ -318,7 +444,7 @@ HWY_INLINE void elastic_block(PairTable& t, const ContactStep& s, std::size_t p)
     if (hn::AllFalse(D(), touching)) {
       if (stored != 0) {
         const V zero = hn::Zero(D());
-        store_forces(t, q, touching, {zero, zero, zero});
+        store_forces(t, q, touching, Vec{zero, zero, zero});
       }
       continue;
     }
@@ -327,7 +453,7 @@ HWY_INLINE void elastic_block(PairTable& t, const ContactStep& s, std::size_t p)
     const V rinv = broadcast(1.0) / r;
     const V deltan = radsum - r;
     const V fn = rec.field(offsetof(PairRecord, kn_factor)) * hn::Sqrt(rec.field(offsetof(PairRecord, reff)) * deltan) * deltan;
-    store_forces(t, q, touching, {fn * (delx * rinv), fn * (dely * rinv), fn * (delz * rinv)});
+    store_forces(t, q, touching, Vec{fn * (delx * rinv), fn * (dely * rinv), fn * (delz * rinv)});
   }
   stored = any ? 1 : 0;
 }
@@ -337,7 +463,13 @@ void contacts(PairTable& t, const ContactStep& s, std::size_t begin, std::size_t
     for (std::size_t p = begin; p < end; p += kPairBlock) elastic_block(t, s, p);
     return;
   }
-  for (std::size_t p = begin; p < end; p += kN) pair_block(t, s, p);
+  // Two vectors side by side where a vector holds at least four pairs (their sixteen registers
+  // and more hold both halves; with two or one pairs a vector, one at a time).
+  if constexpr (kN >= 4) {
+    for (std::size_t p = begin; p < end; p += 2 * kN) pair_block<W>(t, s, p);
+  } else {
+    for (std::size_t p = begin; p < end; p += kN) pair_block<V>(t, s, p);
+  }
 }
 
 // The plan's arrays as plain pointers, which the compiler keeps in registers.
