@@ -156,8 +156,16 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
                                      kMaxRadius));
   }
   if (issues.empty() && sphere_count(s) > kMaxSpheres) {
-    bad("blocks", fmt::format("this stack would have more than {} spheres; use fewer blocks, rows or columns",
-                              kMaxSpheres));
+    // Counted in floating point: the whole count may not fit a long.
+    double count = 1.0, columns = s.top_columns;
+    for (int k = 1; k <= s.blocks; ++k, columns *= s.radius_ratio) {
+      count += columns * (s.geometry == Geometry::nested3d ? columns : 1.0) * s.rows;
+    }
+    bad("blocks", fmt::format("this stack would have {:.3g} spheres, more than the {} granstack builds; refsim alone "
+                              "would need about {:.3g} GB ({} GB per million spheres, measured); use fewer blocks, rows or "
+                              "columns",
+                              count, kMaxSpheres, count * kRefsimGigabytesPerMillionSpheres / 1e6,
+                              kRefsimGigabytesPerMillionSpheres));
   }
 
   const auto lib = s.material_library();

@@ -76,6 +76,10 @@ TEST_F(Cli, InvalidSpecsExitWith2NameTheFieldAndWriteNothing) {
       {"--blocks two", "blocks: 'two' is not a number"},
       {"--custom-material foam:1:2", "is not NAME:DENSITY:YOUNGS_MODULUS:POISSON_RATIO"},
       {"--restitution-pair steel=0.5", "is not MATERIAL_A:MATERIAL_B=VALUE"},
+      {"--geometry cube", "geometry: 'cube' is not 'strip' or 'nested3d'"},
+      // Blocks of 4 x 4 to 1024 x 1024 columns of 8 layers: refused with the memory it would take.
+      {"--geometry nested3d --blocks 9 --top-columns 4", "this stack would have 1.12e+07 spheres, more than the 4000000"},
+      {"--geometry nested3d --blocks 9 --top-columns 4", "refsim alone would need about 16.8 GB"},
   };
   for (const auto& c : cases) {
     const auto r = granstack("generate -o " + path("case") + " " + c.flags);

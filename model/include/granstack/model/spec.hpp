@@ -115,6 +115,8 @@ inline constexpr double kMinDensity = 1.0, kMaxDensity = 1e5;
 inline constexpr double kMinYoungsModulus = 1e3, kMaxYoungsModulus = 1e13;
 
 // The most spheres granstack will lay out in one case (a guard against typos such as 40 blocks).
+// refsim's peak memory per million spheres of a 3D nest (bench/nest_scale.sh: 1.51 GB at 1 048 513).
+inline constexpr double kRefsimGigabytesPerMillionSpheres = 1.5;
 inline constexpr long kMaxSpheres = 4'000'000;
 // True when nothing dissipates or adds energy: restitution 1 and friction 0 for every material
 // pair, and no gravity. Then kinetic plus Hertz elastic energy must stay at E_in.
