@@ -129,6 +129,10 @@ struct ContactStep {
   bool tangential_damping = true;
   // Motion::position_changed of the last drift, with room for a 4-byte read past its last byte.
   const std::uint8_t* position_changed = nullptr;
+  // If not null, per group of kLanes particles: set to 1 for the groups of both spheres of every
+  // pair the elastic kernel evaluates (a group left at 0 has the contributions it had at the
+  // last step, so its sums need not be taken again).
+  std::uint8_t* sums_due = nullptr;
 };
 
 // Evaluates pairs [begin, end) of the table (both multiples of kPairBlock for the vector kernels).

@@ -418,12 +418,22 @@ HWY_INLINE std::uint32_t changed_in_window(const std::uint8_t* changed, std::int
   return word >> (w % 8);
 }
 
-// Whether no particle of the kLanes pairs from g * kLanes has a new position since they were
-// last evaluated (as far as windows can tell; a gathered side is never still).
+// Whether none of one side's particles of the kLanes pairs from g * kLanes has a new position
+// since they were last evaluated: by its window, or particle by particle for a gathered side
+// (the pairs between blocks, whose particles lie far apart).
+HWY_INLINE bool side_still(const std::uint8_t* changed, Fetch how, std::int32_t window, std::uint16_t particles,
+                           const std::int32_t* index) {
+  if (how != kGather) return (changed_in_window(changed, window) & particles) == 0;
+  for (std::size_t k = 0; k < kLanes; ++k) {
+    const auto i = static_cast<std::size_t>(index[k]);
+    if ((changed[i / 8] >> (i % 8) & 1U) != 0) return false;
+  }
+  return true;
+}
+
 HWY_INLINE bool still(const PairTable& t, const std::uint8_t* changed, std::size_t g) {
-  return t.fetch_i[g] != kGather && t.fetch_j[g] != kGather &&
-         (changed_in_window(changed, t.window_i[g]) & t.particles_i[g]) == 0 &&
-         (changed_in_window(changed, t.window_j[g]) & t.particles_j[g]) == 0;
+  return side_still(changed, t.fetch_i[g], t.window_i[g], t.particles_i[g], &t.i[g * kLanes]) &&
+         side_still(changed, t.fetch_j[g], t.window_j[g], t.particles_j[g], &t.j[g * kLanes]);
 }
 
 // pairs() for a table whose every pair is elastic and frictionless (PairTable::torque_free):
@@ -437,6 +447,12 @@ HWY_INLINE void elastic_block(PairTable& t, const ContactStep& s, std::size_t p)
   std::uint8_t& evaluated = t.evaluated[p / kPairBlock];
   if (evaluated != 0 && still(t, s.position_changed, p / kLanes) && still(t, s.position_changed, p / kLanes + 1)) return;
   evaluated = 1;
+  if (s.sums_due != nullptr) {
+    for (std::size_t q = p; q < p + kPairBlock; ++q) {
+      s.sums_due[static_cast<std::size_t>(t.i[q]) / kLanes] = 1;
+      s.sums_due[static_cast<std::size_t>(t.j[q]) / kLanes] = 1;
+    }
+  }
   std::uint8_t& stored = t.forces_stored[p / kPairBlock];  // else every entry of the block is +0
   bool any = false;
   for (std::size_t q = p; q < p + kPairBlock; q += kN) {

@@ -37,6 +37,7 @@ System::System(std::vector<Particle> particles, Parameters params)
   mass_.assign(stride_, 0.0);
   for (auto* a : {&x_, &v_, &w_, &f_, &t_}) a->assign(3 * stride_, 0.0);
   position_changed_.assign(stride_ / detail::kLanes + sizeof(std::uint32_t), 0xff);
+  sums_due_.assign(stride_ / detail::kLanes, 1);
   for (std::size_t i = 0; i < n_; ++i) {
     const auto& pa = particles[i];
     if (pa.type < 1 || pa.type > p_.types) throw std::invalid_argument("refsim: particle type outside the tables");
@@ -312,8 +313,18 @@ void System::sum_forces(std::size_t begin, std::size_t end, bool update_history,
     constexpr std::size_t chunk = 8 * detail::kLanes;
     for (std::size_t b = begin; b < end; b += chunk) {
       const std::size_t e = std::min(end, b + chunk);
-      vector_->sum_contributions(c, *sum_plan_, f_.data(), t_.data(), stride_, b / detail::kLanes,
-                                 (e + detail::kLanes - 1) / detail::kLanes, m.spin);
+      // The groups due, in runs.
+      const std::size_t last = (e + detail::kLanes - 1) / detail::kLanes;
+      for (std::size_t g = b / detail::kLanes; g < last;) {
+        if (skip_sums_ && sums_due_[g] == 0) {
+          ++g;
+          continue;
+        }
+        std::size_t h = g + 1;
+        while (h < last && (!skip_sums_ || sums_due_[h] != 0)) ++h;
+        vector_->sum_contributions(c, *sum_plan_, f_.data(), t_.data(), stride_, g, h, m.spin);
+        g = h;
+      }
       if (external_) {
         for (std::size_t k = b; k < e; ++k) external_forces(k, update_history);
       }
@@ -364,6 +375,15 @@ void System::compute_forces(bool update_history, bool kick, bool drift) {
   detail::ContactStep s{x_.data(),      v_.data(),           w_.data(),
                         stride_,        p_.dt,               p_.contact_distance_factor,
                         update_history, p_.tangential_damping, position_changed_.data()};
+  // One thread, elastic frictionless pairs and nothing else acting: a group of particles none of
+  // whose pairs was evaluated again keeps its force sums (the same contributions in the same
+  // order give the same bits), so they are not taken again (sum_forces). Its pairs all lie in
+  // tiles up to its own, so by its tile's sums their evaluation is known.
+  skip_sums_ = vector_ && threads_ == 1 && pairs_->torque_free && !external_;
+  if (skip_sums_) {
+    std::fill(sums_due_.begin(), sums_due_.end(), std::uint8_t{0});
+    s.sums_due = sums_due_.data();
+  }
   auto& pairs = *pairs_;
   const auto contacts = [&](std::size_t begin, std::size_t end) {
     if (vector_) {

@@ -129,6 +129,10 @@ class System {
   // Per group of eight particles, bit k: particle 8 * group + k got a new position in the last
   // drift (the vector first halves write it; the elastic contact kernel skips still pairs).
   std::vector<std::uint8_t> position_changed_;
+  // Per group of eight particles: whether its force sums must be taken again this step (the
+  // elastic kernel evaluated one of its pairs); skip_sums_ when that is known (compute_forces).
+  std::vector<std::uint8_t> sums_due_;
+  bool skip_sums_ = false;
 
   std::vector<detail::PairConstants> type_constants_;  // per type pair, (a - 1) * types + (b - 1)
   // Candidate pairs (i < j), rebuilt when a particle has moved more than half the skin.
