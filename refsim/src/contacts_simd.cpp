@@ -18,6 +18,7 @@
 
 #include "contacts.hpp"
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -448,9 +449,11 @@ HWY_INLINE void elastic_block(PairTable& t, const ContactStep& s, std::size_t p)
   if (evaluated != 0 && still(t, s.position_changed, p / kLanes) && still(t, s.position_changed, p / kLanes + 1)) return;
   evaluated = 1;
   if (s.sums_due != nullptr) {
+    // Other threads may mark the same groups (with the same value): relaxed atomic stores.
     for (std::size_t q = p; q < p + kPairBlock; ++q) {
-      s.sums_due[static_cast<std::size_t>(t.i[q]) / kLanes] = 1;
-      s.sums_due[static_cast<std::size_t>(t.j[q]) / kLanes] = 1;
+      for (const std::int32_t k : {t.i[q], t.j[q]}) {
+        std::atomic_ref<std::uint8_t>(s.sums_due[static_cast<std::size_t>(k) / kLanes]).store(1, std::memory_order_relaxed);
+      }
     }
   }
   std::uint8_t& stored = t.forces_stored[p / kPairBlock];  // else every entry of the block is +0

@@ -375,11 +375,12 @@ void System::compute_forces(bool update_history, bool kick, bool drift) {
   detail::ContactStep s{x_.data(),      v_.data(),           w_.data(),
                         stride_,        p_.dt,               p_.contact_distance_factor,
                         update_history, p_.tangential_damping, position_changed_.data()};
-  // One thread, elastic frictionless pairs and nothing else acting: a group of particles none of
-  // whose pairs was evaluated again keeps its force sums (the same contributions in the same
-  // order give the same bits), so they are not taken again (sum_forces). Its pairs all lie in
-  // tiles up to its own, so by its tile's sums their evaluation is known.
-  skip_sums_ = vector_ && threads_ == 1 && pairs_->torque_free && !external_;
+  // Elastic frictionless pairs and nothing else acting: a group of particles none of whose pairs
+  // was evaluated again keeps its force sums (the same contributions in the same order give the
+  // same bits), so they are not taken again (sum_forces). On one thread its pairs all lie in
+  // tiles up to its own, so by its tile's sums their evaluation is known; on several, every
+  // pair is evaluated before any sum is taken.
+  skip_sums_ = vector_ && pairs_->torque_free && !external_;
   if (skip_sums_) {
     std::fill(sums_due_.begin(), sums_due_.end(), std::uint8_t{0});
     s.sums_due = sums_due_.data();
