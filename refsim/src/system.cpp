@@ -309,6 +309,7 @@ void System::sum_forces(std::size_t begin, std::size_t end, bool update_history,
   const auto m = motion();
   bool moved = false;
   if (vector_) {
+    std::size_t kept = 0;  // groups whose sums were kept
     // In chunks that stay in the L1 cache from the sums to the kick.
     constexpr std::size_t chunk = 8 * detail::kLanes;
     for (std::size_t b = begin; b < end; b += chunk) {
@@ -318,6 +319,7 @@ void System::sum_forces(std::size_t begin, std::size_t end, bool update_history,
       for (std::size_t g = b / detail::kLanes; g < last;) {
         if (skip_sums_ && sums_due_[g] == 0) {
           ++g;
+          ++kept;
           continue;
         }
         std::size_t h = g + 1;
@@ -334,6 +336,7 @@ void System::sum_forces(std::size_t begin, std::size_t end, bool update_history,
         vector_->second_half(m, b, e);
       }
     }
+    if (kept > 0) kept_sums_.fetch_add(kept, std::memory_order_relaxed);
     if (moved) moved_.store(true, std::memory_order_relaxed);
     return;
   }
@@ -380,7 +383,15 @@ void System::compute_forces(bool update_history, bool kick, bool drift) {
   // same bits), so they are not taken again (sum_forces). On one thread its pairs all lie in
   // tiles up to its own, so by its tile's sums their evaluation is known; on several, every
   // pair is evaluated before any sum is taken.
-  skip_sums_ = vector_ && pairs_->torque_free && !external_;
+  // Marking the groups costs about as much as it saves once most spheres move: it is tried for
+  // a step every kSumsProbe steps, and kept on while it keeps a quarter of the sums or more.
+  constexpr long kSumsProbe = 64;
+  const bool may_skip = vector_ && pairs_->torque_free && !external_;
+  const std::size_t groups = sums_due_.size();
+  if (skip_sums_) skip_sums_ = 4 * kept_sums_.load(std::memory_order_relaxed) >= groups;  // the last step's
+  if (!skip_sums_) skip_sums_ = step_ % kSumsProbe == 0;
+  skip_sums_ = skip_sums_ && may_skip;
+  kept_sums_.store(0, std::memory_order_relaxed);
   if (skip_sums_) {
     std::fill(sums_due_.begin(), sums_due_.end(), std::uint8_t{0});
     s.sums_due = sums_due_.data();

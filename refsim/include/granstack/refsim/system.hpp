@@ -133,6 +133,7 @@ class System {
   // elastic kernel evaluated one of its pairs); skip_sums_ when that is known (compute_forces).
   std::vector<std::uint8_t> sums_due_;
   bool skip_sums_ = false;
+  std::atomic<std::size_t> kept_sums_{0};  // groups whose sums the step kept
 
   std::vector<detail::PairConstants> type_constants_;  // per type pair, (a - 1) * types + (b - 1)
   // Candidate pairs (i < j), rebuilt when a particle has moved more than half the skin.
