@@ -3,10 +3,10 @@
 # the 4-block stack with 8 top columns (961 spheres), the automatic dt, no dumps or series in
 # the loop (one frame at each end). Runs the engines alternately REPEATS times and reports the
 # median particle-steps per second of each and their ratio, for 1 LIGGGHTS rank against
-# 1 refsim thread, and 2 ranks against 2 threads. refsim runs its automatic kernels (AVX-512
-# where the CPU has it); its scalar reference kernel is timed too.
+# 1 refsim thread, and 2 ranks against 2 threads. refsim runs its automatic kernels (the best
+# vector instruction set the CPU runs); its scalar reference kernel is timed too.
 # The case is the default spec (e = 1, mu = 0: elastic, frictionless contacts, which
-# refsim's AVX-512 kernel computes without the tangential model), over two spans:
+# refsim's vector kernels compute without the tangential model), over two spans:
 # - the first 2e-4 s (3190 steps): the pulse is still in the top blocks and most spheres are
 #   at rest to the bit, pairs refsim's elastic kernel need not recompute (LIGGGHTS does);
 # - the whole impact, the spec's default duration (16200 steps), 59 % of the spheres moving
