@@ -83,15 +83,21 @@ std::string join_issues(const std::vector<SpecIssue>& issues) {
 
 SpecError::SpecError(std::vector<SpecIssue> issues) : std::runtime_error(join_issues(issues)), issues_(std::move(issues)) {}
 
-long sphere_count(const StackSpec& spec) {
-  long total = 1;
-  long columns = spec.top_columns;
-  for (int k = 1; k <= spec.blocks; ++k) {
-    total += columns * (spec.geometry == Geometry::nested3d ? columns : 1) * spec.rows;
-    if (total > kMaxSpheres || columns > kMaxSpheres) return kMaxSpheres + 1;
-    columns *= spec.radius_ratio;
+namespace {
+// The spheres of the stack, counted in floating point (exact below 2^53; a stack far too large
+// to build does not overflow).
+double spheres(const StackSpec& spec) {
+  double count = 1.0, columns = spec.top_columns;
+  for (int k = 1; k <= spec.blocks; ++k, columns *= spec.radius_ratio) {
+    count += columns * (spec.geometry == Geometry::nested3d ? columns : 1.0) * spec.rows;
   }
-  return total;
+  return count;
+}
+}  // namespace
+
+long sphere_count(const StackSpec& spec) {
+  const double count = spheres(spec);
+  return count > static_cast<double>(kMaxSpheres) ? kMaxSpheres + 1 : static_cast<long>(count);
 }
 
 bool is_conservative(const StackSpec& s) {
@@ -155,12 +161,8 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
                                      s.bottom_radius * std::pow(static_cast<double>(s.radius_ratio), s.blocks - 1),
                                      kMaxRadius));
   }
-  if (issues.empty() && sphere_count(s) > kMaxSpheres) {
-    // Counted in floating point: the whole count may not fit a long.
-    double count = 1.0, columns = s.top_columns;
-    for (int k = 1; k <= s.blocks; ++k, columns *= s.radius_ratio) {
-      count += columns * (s.geometry == Geometry::nested3d ? columns : 1.0) * s.rows;
-    }
+  // Counted only for an otherwise valid spec (its blocks, rows and columns in range).
+  if (const double count = issues.empty() ? spheres(s) : 0.0; count > static_cast<double>(kMaxSpheres)) {
     bad("blocks", fmt::format("this stack would have {:.3g} spheres, more than the {} granstack builds; refsim alone "
                               "would need about {:.3g} GB ({} GB per million spheres, measured); use fewer blocks, rows or "
                               "columns",

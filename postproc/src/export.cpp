@@ -101,7 +101,7 @@ formats::VtkPoints frame_points(const model::Stack& stack, const formats::DumpFr
                                       {"force", "fx", "fy", "fz"}, {"torque", "tqx", "tqy", "tqz"}}) {
     if (column(a) >= 0 && column(b) >= 0 && column(c) >= 0) vectors.push_back({{name, 3, {}, {}}, {column(a), column(b), column(c)}});
   }
-  const int ctype = column("type");
+  const int ctype = column("type"), cradius = column("radius"), cmass = column("mass");
   for (int sid = 1; sid <= n; ++sid) {
     const long r = view.row(sid);
     for (const int c : {cx, cy, cz}) p.xyz.push_back(f.at(r, c));
@@ -112,11 +112,12 @@ formats::VtkPoints frame_points(const model::Stack& stack, const formats::DumpFr
     row_index.integers.push_back(sphere.row);
     x_column.integers.push_back(sphere.column);
     y_column.integers.push_back(sphere.column_y);
-    radius.reals.push_back(f.at(r, column("radius")));
-    mass.reals.push_back(f.at(r, column("mass")));
-    ke.reals.push_back(view.kinetic_energy(f, r));
+    radius.reals.push_back(f.at(r, cradius));
+    mass.reals.push_back(f.at(r, cmass));
+    // Their sum, as FrameView::kinetic_energy adds them.
     ke_t.reals.push_back(view.translational_energy(f, r));
     ke_r.reals.push_back(view.rotational_energy(f, r));
+    ke.reals.push_back(ke_t.reals.back() + ke_r.reals.back());
     for (auto& v : vectors) {
       for (const int c : v.c) v.array.reals.push_back(f.at(r, c));
     }

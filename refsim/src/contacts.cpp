@@ -69,8 +69,6 @@ void PairTable::finish() {
   elastic_frictionless.clear();
   torque_free = std::all_of(record.begin(), record.end(),
                             [&](std::int32_t r) { return records[static_cast<std::size_t>(r)].elastic_frictionless(); });
-  lane_i.resize(n);
-  lane_j.resize(n);
   for (std::size_t b = 0; b < n; b += kLanes) {
     const auto [i_lo, i_hi] = std::minmax_element(i.begin() + static_cast<std::ptrdiff_t>(b),
                                                   i.begin() + static_cast<std::ptrdiff_t>(b + kLanes));
@@ -88,18 +86,18 @@ void PairTable::finish() {
     // One side: its lanes and particles in the window, and how to fetch them. Padding lanes
     // (record 0, zero radii) never touch, whatever particles a run reads for them.
     const auto side = [&](const AlignedVector<std::int32_t>& index, std::int32_t lo, std::int32_t hi,
-                          AlignedVector<std::uint8_t>& lanes, std::vector<std::uint16_t>& particles) {
+                          std::vector<std::uint16_t>& particles) {
       if (hi - lo >= kWindow) return kGather;
       bool run = true;
       for (std::size_t k = 0; k < kLanes; ++k) {
-        lanes[b + k] = static_cast<std::uint8_t>(index[b + k] - lo);
-        particles[b / kLanes] = static_cast<std::uint16_t>(particles[b / kLanes] | 1U << lanes[b + k]);
-        run = run && (record[b + k] == 0 || lanes[b + k] == k);
+        const auto lane = static_cast<std::uint32_t>(index[b + k] - lo);
+        particles[b / kLanes] = static_cast<std::uint16_t>(particles[b / kLanes] | 1U << lane);
+        run = run && (record[b + k] == 0 || lane == k);
       }
       return run ? kRun : kWindowed;
     };
-    fetch_i.push_back(side(i, *i_lo, *i_hi, lane_i, particles_i));
-    fetch_j.push_back(side(j, *j_lo, *j_hi, lane_j, particles_j));
+    fetch_i.push_back(side(i, *i_lo, *i_hi, particles_i));
+    fetch_j.push_back(side(j, *j_lo, *j_hi, particles_j));
   }
 }
 
@@ -136,23 +134,22 @@ void SumPlan::build(const std::vector<std::size_t>& offsets,
     std::size_t subtracting = 0;
     auto close = [&] {
       if (in == 0) return;
-      std::uint32_t lo = 0xffffffffU, hi = 0;
+      std::uint32_t lo = 0xffffffffU;
       std::int64_t base = -1;  // entry - lane, if the same for every lane in the round
       bool run = true;
       for (std::size_t l = 0; l < kLanes; ++l) {
         if (in >> l & 1U) {
           lo = std::min(lo, round_entry[l]);
-          hi = std::max(hi, round_entry[l]);
           const std::int64_t b = static_cast<std::int64_t>(round_entry[l]) - static_cast<std::int64_t>(l);
           run = run && (base < 0 || b == base) && b >= 0;
           base = b;
         }
       }
       lanes_in.push_back(static_cast<std::uint8_t>(in));
-      fetch.push_back(run ? kRun : hi - lo < static_cast<std::uint32_t>(PairTable::kWindow) ? kWindowed : kGather);
+      fetch.push_back(run ? kRun : kGather);
       window.push_back(static_cast<std::int32_t>(run ? static_cast<std::uint32_t>(base) : lo));
       for (std::size_t l = 0; l < kLanes; ++l) {
-        const std::uint32_t e = in >> l & 1U ? round_entry[l] : lo;  // absent lanes read nothing
+        const std::uint32_t e = in >> l & 1U ? round_entry[l] : lo;  // absent lanes read a real entry, unused
         entry.push_back(static_cast<std::int32_t>(e));
       }
       subtracting += round_subtracts ? 1 : 0;

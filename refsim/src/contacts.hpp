@@ -15,8 +15,9 @@
 
 namespace granstack::refsim::detail {
 
-// How eight lanes find their values in an array: gathered; within kWindow entries of a
-// window (two loads and a permutation); or at window + their lane number (one load).
+// Where eight lanes' values lie in an array: anywhere; within kWindow entries of a window; or
+// at window + their lane number. The vector kernels load a run and gather the others; a window
+// also tells which particles a block of pairs uses (the still test of the elastic kernel).
 enum Fetch : std::uint8_t { kGather, kWindowed, kRun };
 
 // The tables' groups (pairs or particles that share a window, a record, a sum plan's round: the
@@ -52,7 +53,7 @@ struct PairRecord {
 // The order of the pairs is free (each particle adds its contributions in its own order), so
 // they are ordered by the tile of i (System), then j - i, then i: in a lattice, eight
 // consecutive pairs then mostly have consecutive i and consecutive j, which one load fetches
-// (else within 16 particles: two loads and a permutation). The arrays start on cache lines
+// (else mostly within 16 particles). The arrays start on cache lines
 // (aligned.hpp) and blocks of pairs at multiples of kLanes, so the kernels' 64-byte accesses
 // to a block's entries never split a line.
 struct PairTable {
@@ -64,17 +65,15 @@ struct PairTable {
   // At its last evaluation (kept across rebuilds); not kept for a torque_free table, whose
   // history is +0 throughout, so that which history survives a rebuild does not matter.
   std::vector<std::uint8_t> touching;
-  // Per kLanes pairs: the lowest i and j (the windows), how each side fetches its particles
-  // (kRun if every real pair's is the window plus its lane, kWindowed if all lie within
-  // kWindow of it), whether they are all elastic and frictionless, and the record they share;
-  // per pair, its i and j less those lowest.
+  // Per kLanes pairs: the lowest i and j (the windows), where each side's particles lie (kRun
+  // if every real pair's is the window plus its lane, kWindowed if all lie within kWindow of
+  // it), whether they are all elastic and frictionless, and the record they share.
   static constexpr std::int32_t kWindow = 2 * static_cast<std::int32_t>(kLanes);
   std::vector<std::int32_t> window_i, window_j;
   std::vector<Fetch> fetch_i, fetch_j;
   std::vector<std::uint8_t> elastic_frictionless;
   std::vector<std::int32_t> shared_record;  // the record all real pairs of the eight share, or -1
   bool torque_free = false;  // every pair elastic and frictionless: no torque anywhere
-  AlignedVector<std::uint8_t> lane_i, lane_j;
   std::vector<std::uint8_t> forces_stored;  // per kPairBlock pairs: a force entry may be nonzero
   // Per kPairBlock pairs: its force entries are those of the positions it was last evaluated
   // at (cleared by finish()). Per kLanes pairs: which particles of the windows they use (bit
@@ -103,7 +102,8 @@ struct PairTable {
 struct SumPlan {
   std::vector<std::size_t> first_round;  // per group of kLanes particles, and one past the last
   std::vector<std::size_t> first_added;  // per group, its first round of positive offsets
-  // Per round: which lanes take part, and how their force entries are fetched (from `window`).
+  // Per round: which lanes take part, and whether their entries are a run (at `window` plus
+  // their lane: one load) or gathered (`entry`).
   AlignedVector<std::uint8_t> lanes_in;
   AlignedVector<Fetch> fetch;
   std::vector<std::int32_t> window;

@@ -2,6 +2,8 @@
 // mirror symmetry, the striker's seat and the interface angle.
 #include <granstack/model/stack.hpp>
 
+#include "touching.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,10 +13,6 @@ using granstack::model::Stack;
 using granstack::model::StackSpec;
 
 namespace {
-
-// Relative tolerance for "exactly touching" in double precision (issue #2): coordinates are
-// sums of a few exactly representable multiples of R and one sqrt, so round-off is ~1e-16.
-constexpr double kTouchTolerance = 1e-12;
 
 struct Layout {
   int blocks;
@@ -35,13 +33,9 @@ class GeometryTest : public ::testing::TestWithParam<Layout> {
   }
 };
 
-double gap(const granstack::model::Sphere& a, const granstack::model::Sphere& b) {
-  return std::hypot(a.x - b.x, a.z - b.z) - (a.radius + b.radius);
-}
-
-bool touching(const granstack::model::Sphere& a, const granstack::model::Sphere& b) {
-  return std::fabs(gap(a, b)) <= kTouchTolerance * (a.radius + b.radius);
-}
+using granstack::test::gap;
+using granstack::test::touching;
+using granstack::test::touching_pairs;
 
 TEST_P(GeometryTest, EveryDesignedContactTouchesExactlyAndNothingElseTouchesOrOverlaps) {
   const auto stack = build();
@@ -77,18 +71,7 @@ TEST_P(GeometryTest, EveryDesignedContactTouchesExactlyAndNothingElseTouchesOrOv
   expect_touch(Stack::striker_id(), stack.id_of(1, 1, c / 2));
   expect_touch(Stack::striker_id(), stack.id_of(1, 1, c / 2 + 1));
 
-  long touching_pairs = 0;
-  const auto& s = stack.spheres();
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    for (std::size_t j = i + 1; j < s.size(); ++j) {
-      if (touching(s[i], s[j])) {
-        ++touching_pairs;
-      } else {
-        ASSERT_GT(gap(s[i], s[j]), 0.0) << "ids " << s[i].id << " and " << s[j].id << " overlap";
-      }
-    }
-  }
-  EXPECT_EQ(touching_pairs, designed);
+  EXPECT_EQ(touching_pairs(stack), designed);
 }
 
 TEST_P(GeometryTest, CountsIdsAndLayoutFollowTheDocumentedOrder) {

@@ -6,6 +6,8 @@
 #include <granstack/model/stack.hpp>
 #include <granstack/postproc/energy.hpp>
 
+#include "touching.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,7 +19,6 @@ using granstack::model::StackSpec;
 
 namespace {
 
-constexpr double kTouchTolerance = 1e-12;  // as the strip's (test_geometry.cpp)
 
 struct Nest {
   int blocks, top_columns, rows, ratio;
@@ -34,11 +35,9 @@ Stack build(const Nest& p, bool walls = false) {
   return Stack::build(s);
 }
 
-double gap(const Sphere& a, const Sphere& b) {
-  return std::sqrt((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) + (a.z - b.z) * (a.z - b.z)) - (a.radius + b.radius);
-}
-
-bool touching(const Sphere& a, const Sphere& b) { return std::fabs(gap(a, b)) <= kTouchTolerance * (a.radius + b.radius); }
+using granstack::test::gap;
+using granstack::test::touching;
+using granstack::test::touching_pairs;
 
 class Geometry3dTest : public ::testing::TestWithParam<Nest> {};
 
@@ -83,18 +82,7 @@ TEST_P(Geometry3dTest, EveryDesignedContactTouchesExactlyAndNothingElseTouchesOr
   for (const int dx : {0, 1}) {
     for (const int dy : {0, 1}) expect_touch(Stack::striker_id(), stack.id_of(1, 1, c + dx, c + dy));
   }
-  long touching_pairs = 0;
-  const auto& s = stack.spheres();
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    for (std::size_t j = i + 1; j < s.size(); ++j) {
-      if (touching(s[i], s[j])) {
-        ++touching_pairs;
-      } else {
-        ASSERT_GT(gap(s[i], s[j]), 0.0) << "ids " << s[i].id << " and " << s[j].id << " overlap";
-      }
-    }
-  }
-  EXPECT_EQ(touching_pairs, designed);
+  EXPECT_EQ(touching_pairs(stack), designed);
 }
 
 TEST_P(Geometry3dTest, CountsIdsSymmetryAndTheImpactPath) {

@@ -1,0 +1,43 @@
+#pragma once
+// "Exactly touching" for the geometry tests of the strip and of the 3D nest.
+#include <granstack/model/stack.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace granstack::test {
+
+// Relative tolerance for "exactly touching" in double precision (issue #2): coordinates are
+// sums of a few exactly representable multiples of R and one sqrt, so round-off is ~1e-16.
+inline constexpr double kTouchTolerance = 1e-12;
+
+// Centre distance less the radii (the strip's centres all have y = 0).
+inline double gap(const model::Sphere& a, const model::Sphere& b) {
+  const double dx = a.x - b.x, dy = a.y - b.y, dz = a.z - b.z;
+  return std::sqrt(dx * dx + dy * dy + dz * dz) - (a.radius + b.radius);
+}
+
+inline bool touching(const model::Sphere& a, const model::Sphere& b) {
+  return std::fabs(gap(a, b)) <= kTouchTolerance * (a.radius + b.radius);
+}
+
+// The pairs of the stack's spheres that touch, every pair tried; a pair that overlaps fails
+// the test, naming it.
+inline long touching_pairs(const model::Stack& stack) {
+  long count = 0;
+  const auto& s = stack.spheres();
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    for (std::size_t j = i + 1; j < s.size(); ++j) {
+      if (touching(s[i], s[j])) {
+        ++count;
+      } else if (!(gap(s[i], s[j]) > 0.0)) {
+        ADD_FAILURE() << "ids " << s[i].id << " and " << s[j].id << " overlap by " << -gap(s[i], s[j]);
+        return -1;
+      }
+    }
+  }
+  return count;
+}
+
+}  // namespace granstack::test
