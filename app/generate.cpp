@@ -98,7 +98,12 @@ Command add_generate(CLI::App& app, const std::vector<std::string>& argv) {
     const char* help;
   };
   const Flag flags[] = {
-      {"--geometry", "geometry", "strip (the study's, one sphere thick) | nested3d (cubic blocks, C x C columns) [strip]"},
+      {"--geometry", "geometry",
+       "strip (the study's, one sphere thick) | nested3d (cubic blocks, C x C columns) | panels (the study's container) [strip]"},
+      {"--panels", "panels", "geometry = panels: strips side by side along y, 2..64"},
+      {"--impact-panel", "impact_panel", "geometry = panels: the panel the striker hits, 1 = smallest y [the centre one]"},
+      {"--separator", "separator", "geometry = panels: matrix (soft sphere chains) | walls (rigid) | none [matrix]"},
+      {"--matrix-material", "matrix_material", "geometry = panels: the matrix's material [teflon]"},
       {"--blocks", "blocks", "Number of blocks N_B (sweepable: 1,2,3,4) [4]"},
       {"--rows", "rows", "Rows (spheres per column) in every block (sweepable) [8]"},
       {"--top-columns", "top_columns", "Columns of the top block, even (sweepable) [2]"},

@@ -49,7 +49,7 @@ json spec_to_json(const model::StackSpec& s) {
     mats[m.name] = {{"density", m.density}, {"youngs_modulus", m.youngs_modulus}, {"poisson_ratio", m.poisson_ratio}};
   }
   auto opt = [](const auto& o) -> json { return o ? json(*o) : json("auto"); };
-  return {{"geometry", model::to_string(s.geometry)},
+  json j = {{"geometry", model::to_string(s.geometry)},
           {"blocks", s.blocks},
           {"rows", s.rows},
           {"top_columns", s.top_columns},
@@ -74,6 +74,13 @@ json spec_to_json(const model::StackSpec& s) {
           {"series_every", opt(s.series_every)},
           {"dump_format", model::to_string(s.dump_format)},
           {"dump_files", model::to_string(s.dump_files)}};
+  if (s.geometry == model::Geometry::panels) {
+    j["panels"] = s.panels;
+    j["impact_panel"] = s.impact_panel;
+    j["separator"] = model::to_string(s.separator);
+    j["matrix_material"] = s.matrix_material;
+  }
+  return j;
 }
 
 model::StackSpec spec_from_json(const json& j, const std::string& source) {
@@ -81,9 +88,18 @@ model::StackSpec spec_from_json(const json& j, const std::string& source) {
   // Absent from manifests written before 3D nests: the strip.
   if (j.contains("geometry")) {
     const auto g = model::parse_geometry(get<std::string>(j, "geometry", source));
-    if (!g) throw FormatError(source, 0, "field 'geometry' is 'strip' or 'nested3d'");
+    if (!g) throw FormatError(source, 0, "field 'geometry' is 'strip', 'nested3d' or 'panels'");
     s.geometry = *g;
   }
+  // Written for containers only.
+  if (j.contains("panels")) s.panels = get<int>(j, "panels", source);
+  if (j.contains("impact_panel")) s.impact_panel = get<int>(j, "impact_panel", source);
+  if (j.contains("separator")) {
+    const auto sep = model::parse_separator(get<std::string>(j, "separator", source));
+    if (!sep) throw FormatError(source, 0, "field 'separator' is 'matrix', 'walls' or 'none'");
+    s.separator = *sep;
+  }
+  if (j.contains("matrix_material")) s.matrix_material = get<std::string>(j, "matrix_material", source);
   s.blocks = get<int>(j, "blocks", source);
   s.rows = get<int>(j, "rows", source);
   s.top_columns = get<int>(j, "top_columns", source);

@@ -114,8 +114,9 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
                                     : std::string("# no gravity");
   // A nest's blocks hold very different numbers of spheres (the bottom one most), so a split
   // along z would leave one rank most of the work: 1.01x on 2 ranks against 1.6x splitting x.
-  v["processors"] = stack.three_d() ? "# A 3D nest: MPI ranks split x and y, never z (its blocks differ in size).\nprocessors      * * 1"
-                                    : "# The stack is one sphere thick in y: MPI ranks split x and z, never y.\nprocessors      * 1 *";
+  v["processors"] = stack.three_d()     ? "# A 3D nest: MPI ranks split x and y, never z (its blocks differ in size).\nprocessors      * * 1"
+                    : stack.container() ? "# A container: MPI ranks split x and y (across panels), never z.\nprocessors      * * 1"
+                                        : "# The stack is one sphere thick in y: MPI ranks split x and z, never y.\nprocessors      * 1 *";
   v["dt"] = fmt::format("{}", res.dt);
   v["steps"] = std::to_string(res.steps);
   v["thermo_every"] = std::to_string(res.thermo_every);
@@ -177,7 +178,7 @@ formats::DataFile data_file(const model::Stack& stack, const std::string& case_n
   d.title = fmt::format("granstack {} case {}: LIGGGHTS data file for atom_style granular, SI units", version(), case_name);
   d.atom_types = stack.atom_types();
   const double r1 = stack.block(1).radius;
-  const double half_y = stack.three_d() ? stack.half_depth() + r1 : stack.half_depth();
+  const double half_y = stack.three_d() || stack.container() ? stack.half_depth() + r1 : stack.half_depth();
   d.box = {-stack.half_width() - r1, stack.half_width() + r1, -half_y, half_y, -r1, stack.top_z() + r1};
   for (const auto& s : stack.spheres()) {
     formats::DataAtom a;
@@ -233,12 +234,15 @@ json layout_json(const model::Stack& stack) {
   const auto mats = stack.type_materials();
   for (std::size_t i = 0; i < mats.size(); ++i) {
     const int t = static_cast<int>(i) + 1;
-    const char* role = t == stack.striker_type() ? "striker" : t == stack.wall_type() ? "wall" : "block";
+    const char* role = t == stack.striker_type() ? "striker"
+                       : t == stack.wall_type()  ? "wall"
+                       : t == stack.matrix_type() ? "matrix"
+                                                  : "block";
     types.push_back({{"type", t}, {"material", mats[i]}, {"role", role}});
   }
   const auto& striker = stack.sphere(model::Stack::striker_id());
   const auto bottom = stack.bottom_row_ids();
-  return {{"geometry", model::to_string(stack.spec().geometry)},
+  json layout = {{"geometry", model::to_string(stack.spec().geometry)},
           {"id_order", "id 1 = striker; then blocks top to bottom, rows (layers) top to bottom, y-columns by increasing "
                        "y, columns by increasing x: id = first_id + (row - 1) * columns * depth + (column_y - 1) * "
                        "columns + (column - 1)"},
@@ -251,6 +255,22 @@ json layout_json(const model::Stack& stack) {
           {"wall_type", stack.wall_type()},
           {"half_width", stack.half_width()},
           {"half_depth", stack.half_depth()}};
+  if (stack.container()) {
+    json chains = json::array();
+    for (const auto& b : stack.blocks()) {
+      const auto c = model::matrix_chain(b.radius, stack.block(1).radius);
+      chains.push_back({{"block", b.index}, {"count", stack.has_matrix() ? c.count : 0}, {"radius", c.radius},
+                        {"offset", c.offset}});
+    }
+    layout["panels"] = {{"count", stack.panels()},
+                        {"impact_panel", stack.impact_panel()},
+                        {"pitch", 2.0 * stack.block(1).radius},
+                        {"separator", model::to_string(stack.spec().separator)},
+                        {"matrix_type", stack.matrix_type()},
+                        {"first_matrix_id", stack.has_matrix() ? stack.first_matrix_id() : 0},
+                        {"matrix_chains", chains}};
+  }
+  return layout;
 }
 
 namespace {

@@ -19,7 +19,7 @@ const std::vector<std::string>& spec_fields() {
       "materials",     "restitution",   "friction",        "striker_speed",     "striker_radius_ratio", "striker_material", "bottom",
       "sides",         "wall_material", "gravity",         "dt",                "duration",
       "dump_every",    "series_every",  "dump_format",     "dump_files",        "restitution_pairs",
-      "friction_pairs", "custom_materials", "geometry"};
+      "friction_pairs", "custom_materials", "geometry", "panels", "impact_panel", "separator", "matrix_material"};
   return fields;
 }
 
@@ -265,9 +265,19 @@ Sweep build_sweep(const RawSpec& raw) {
     } else if (field == "geometry") {
       if (const auto* t = single()) {
         auto g = model::parse_geometry(*t);
-        if (!g) p.bad(field, fmt::format("'{}' is not 'strip' or 'nested3d'", *t));
+        if (!g) p.bad(field, fmt::format("'{}' is not 'strip', 'nested3d' or 'panels'", *t));
         else s.geometry = *g;
       }
+    } else if (field == "panels" || field == "impact_panel") {
+      if (const auto* t = single()) p.whole(field, *t, field == "panels" ? s.panels : s.impact_panel);
+    } else if (field == "separator") {
+      if (const auto* t = single()) {
+        auto sep = model::parse_separator(*t);
+        if (!sep) p.bad(field, fmt::format("'{}' is not 'matrix', 'walls' or 'none'", *t));
+        else s.separator = *sep;
+      }
+    } else if (field == "matrix_material") {
+      if (const auto* t = single()) s.matrix_material = *t;
     } else if (field == "bottom" || field == "sides") {
       if (const auto* t = single()) {
         auto b = model::parse_boundary(*t);

@@ -1,4 +1,5 @@
 #include <granstack/model/spec.hpp>
+#include <granstack/model/stack.hpp>
 
 #include <fmt/format.h>
 
@@ -17,11 +18,25 @@ std::optional<Boundary> parse_boundary(std::string_view s) {
   return std::nullopt;
 }
 
-std::string_view to_string(Geometry g) { return g == Geometry::nested3d ? "nested3d" : "strip"; }
+std::string_view to_string(Geometry g) {
+  return g == Geometry::nested3d ? "nested3d" : g == Geometry::panels ? "panels" : "strip";
+}
 
 std::optional<Geometry> parse_geometry(std::string_view s) {
   if (s == "strip") return Geometry::strip;
   if (s == "nested3d") return Geometry::nested3d;
+  if (s == "panels") return Geometry::panels;
+  return std::nullopt;
+}
+
+std::string_view to_string(Separator s) {
+  return s == Separator::walls ? "walls" : s == Separator::none ? "none" : "matrix";
+}
+
+std::optional<Separator> parse_separator(std::string_view s) {
+  if (s == "matrix") return Separator::matrix;
+  if (s == "walls") return Separator::walls;
+  if (s == "none") return Separator::none;
   return std::nullopt;
 }
 
@@ -67,6 +82,11 @@ const std::string& StackSpec::effective_striker_material() const {
   return striker_material.empty() ? block_material(1) : striker_material;
 }
 
+const std::string& StackSpec::effective_matrix_material() const {
+  static const std::string teflon = "teflon";
+  return matrix_material.empty() ? teflon : matrix_material;
+}
+
 MaterialLibrary StackSpec::material_library() const {
   auto lib = MaterialLibrary::builtin();
   for (const auto& m : custom_materials) lib.add(m);
@@ -87,9 +107,14 @@ namespace {
 // The spheres of the stack, counted in floating point (exact below 2^53; a stack far too large
 // to build does not overflow).
 double spheres(const StackSpec& spec) {
-  double count = 1.0, columns = spec.top_columns;
-  for (int k = 1; k <= spec.blocks; ++k, columns *= spec.radius_ratio) {
-    count += columns * (spec.geometry == Geometry::nested3d ? columns : 1.0) * spec.rows;
+  const bool container = spec.geometry == Geometry::panels;
+  const double panels = container ? spec.panels : 1.0;
+  double count = 1.0, columns = spec.top_columns, radius = 1.0;
+  for (int k = 1; k <= spec.blocks; ++k, columns *= spec.radius_ratio, radius /= spec.radius_ratio) {
+    count += columns * (spec.geometry == Geometry::nested3d ? columns : panels) * spec.rows;
+    if (container && spec.separator == Separator::matrix) {
+      count += (panels - 1.0) * (spec.rows - 1) * (columns - 1.0) * matrix_chain(radius, 1.0).count;
+    }
   }
   return count;
 }
@@ -110,6 +135,43 @@ bool is_conservative(const StackSpec& s) {
   };
   return all(s.restitution, 1.0) && all(s.friction, 0.0) && s.gravity == 0.0;
 }
+
+namespace {
+// The container's fields: refused on any other geometry (naming the field), in range on it.
+template <typename Bad, typename Known>
+void validate_container(const StackSpec& s, Bad&& bad, Known&& known, const std::string& known_list) {
+  if (s.geometry != Geometry::panels) {
+    const auto only = [&](const char* field) {
+      bad(field, fmt::format("applies to geometry = panels only (this spec's geometry is {}): remove it, or set "
+                             "geometry = panels",
+                             to_string(s.geometry)));
+    };
+    if (s.panels != 0) only("panels");
+    if (s.impact_panel != 0) only("impact_panel");
+    if (s.separator != Separator::matrix) only("separator");
+    if (!s.matrix_material.empty()) only("matrix_material");
+    return;
+  }
+  if (s.panels < 2 || s.panels > kMaxPanels) {
+    bad("panels", fmt::format("{} must be in [2, {}] (the panels side by side; one panel is geometry = strip)", s.panels,
+                              kMaxPanels));
+  } else if (s.impact_panel < 0 || s.impact_panel > s.panels) {
+    bad("impact_panel", fmt::format("{} must be in [1, {}] (the panel the striker hits, 1 = smallest y), or 0 for the "
+                                    "centre one",
+                                    s.impact_panel, s.panels));
+  }
+  if (s.separator != Separator::matrix && !s.matrix_material.empty()) {
+    bad("matrix_material", fmt::format("applies to separator = matrix only (this spec's separator is {})",
+                                       to_string(s.separator)));
+  } else if (!known(s.effective_matrix_material())) {
+    bad("matrix_material", fmt::format("unknown material '{}' (known: {})", s.matrix_material, known_list));
+  }
+  if (s.separator == Separator::matrix && s.gravity > 0.0) {
+    bad("gravity", "the matrix's chains hang between the panels on contacts at zero load, and the inner spheres of a "
+                   "chain rest on nothing: with gravity use separator = walls or none");
+  }
+}
+}  // namespace
 
 std::vector<SpecIssue> validate(const StackSpec& s) {
   std::vector<SpecIssue> issues;
@@ -198,10 +260,14 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
                                             s.striker_radius_ratio, s.top_columns));
   }
 
-  // The materials the stack is made of: its blocks, its striker and its walls.
+  validate_container(s, bad, known, known_list);
+
+  // The materials the stack is made of: its blocks, its striker, its walls and its matrix.
   std::vector<std::string> used = s.materials;
   if (!s.striker_material.empty()) used.push_back(s.striker_material);
-  if (s.bottom == Boundary::wall || s.sides == Boundary::wall) {
+  if (s.geometry == Geometry::panels && s.separator == Separator::matrix) used.push_back(s.effective_matrix_material());
+  if (s.bottom == Boundary::wall || s.sides == Boundary::wall ||
+      (s.geometry == Geometry::panels && s.separator == Separator::walls)) {
     used.push_back(!s.wall_material.empty() ? s.wall_material : s.materials.empty() ? "" : s.materials.back());
   }
   std::sort(used.begin(), used.end());

@@ -1,6 +1,8 @@
 #include <granstack/model/contact.hpp>
 #include <granstack/model/stack.hpp>
 
+#include <fmt/format.h>
+
 #include <cmath>
 
 namespace granstack::model {
@@ -14,6 +16,27 @@ double seat_height(double lower_radius, double upper_radius, int supports) {
 double interface_height(double lower_radius, int n, int supports) {
   if (n % 2 == 0) return seat_height(lower_radius, n * lower_radius, supports);
   return static_cast<double>(n + 1) * lower_radius;
+}
+
+MatrixChain matrix_chain(double block_radius, double half_pitch) {
+  const double n = half_pitch / block_radius;
+  if (!(n > 1.0)) return {};
+  MatrixChain c;
+  c.count = static_cast<int>(std::ceil(n + 1.0 - std::sqrt(2.0)));
+  // In units of R: the offset sqrt((1 + r)^2 - 2) and the chain's (count - 1) 2 r span the half
+  // pitch twice over, n = offset + (count - 1) r; the left side grows with r, from below n at
+  // r = sqrt(2) - 1 to at least n at r = 1 (the count's choice): bisection to the last bit.
+  const double links = c.count - 1;
+  const auto offset = [](double r) { return std::sqrt((1.0 + r) * (1.0 + r) - 2.0); };
+  double lo = std::sqrt(2.0) - 1.0, hi = 1.0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    (offset(mid) + links * mid < n ? lo : hi) = mid;
+  }
+  c.radius = hi * block_radius;
+  c.offset = offset(hi) * block_radius;
+  return c;
 }
 
 Stack Stack::build(const StackSpec& spec) {
@@ -35,7 +58,7 @@ Stack Stack::build(const StackSpec& spec) {
     b.radius = spec.bottom_radius * std::pow(static_cast<double>(n), nb - k);
     b.rows = spec.rows;
     b.columns = columns;
-    b.depth = s.three_d() ? columns : 1;
+    b.depth = s.three_d() ? columns : s.panels();
     b.first_id = first_id;
     b.atom_type = k;
     b.sphere_mass = sphere_mass(b.radius, lib.at(b.material).density);
@@ -60,22 +83,61 @@ Stack Stack::build(const StackSpec& spec) {
   // (-+R_1, -+R_1)): sqrt(3) R_1 above their row for the study's striker (sqrt(2) R_1 in 3D).
   const double striker_radius = spec.striker_radius_ratio * top.radius;
   s.striker_mass_ = sphere_mass(striker_radius, lib.at(spec.effective_striker_material()).density);
-  s.spheres_.push_back({1, 0, 0, 0, 0, s.striker_type(), striker_radius, 0.0, 0.0,
+  s.spheres_.push_back({1, 0, 0, 0, 0, 0, s.striker_type(), striker_radius, 0.0, s.panel_y(s.impact_panel()),
                         top_row_z + seat_height(top.radius, striker_radius, supports)});
-  // Centres at odd multiples of the radius about the axis: (2 j - 1 - C) R.
-  const auto centre = [](int j, int count, double radius) { return static_cast<double>(2 * j - 1 - count) * radius; };
+  const auto row_z = [&](const Block& b, int i) {
+    return bottom_row_z[static_cast<std::size_t>(b.index)] + 2.0 * b.radius * (b.rows - i);
+  };
   for (const auto& b : s.blocks_) {
     for (int i = 1; i <= b.rows; ++i) {
-      const double z = bottom_row_z[static_cast<std::size_t>(b.index)] + 2.0 * b.radius * (b.rows - i);
       for (int l = 1; l <= b.depth; ++l) {
+        const double y = s.container() ? s.panel_y(l) : lattice_centre(l, b.depth, b.radius);
         for (int j = 1; j <= b.columns; ++j) {
-          s.spheres_.push_back({s.id_of(b, i, j, l), b.index, i, j, l, b.atom_type, b.radius, centre(j, b.columns, b.radius),
-                                centre(l, b.depth, b.radius), z});
+          s.spheres_.push_back({s.id_of(b, i, j, l), b.index, i, j, l, 0, b.atom_type, b.radius,
+                                lattice_centre(j, b.columns, b.radius), y, row_z(b, i)});
         }
       }
     }
   }
+  if (s.has_matrix()) s.add_matrix(row_z);
   return s;
+}
+
+template <typename RowZ>
+void Stack::add_matrix(const RowZ& row_z) {
+  // Each pocket of a panel's block (between rows i and i + 1, columns j and j + 1) holds a
+  // chain to the same pocket of the next panel.
+  const double half_pitch = block(1).radius;
+  int id = first_matrix_id();
+  for (const auto& b : blocks_) {
+    const auto chain = matrix_chain(b.radius, half_pitch);
+    for (int g = 1; g < panels(); ++g) {
+      for (int i = 1; i < b.rows; ++i) {
+        for (int j = 1; j < b.columns; ++j) {
+          for (int m = 1; m <= chain.count; ++m) {
+            const double y = panel_y(g) + chain.offset + 2.0 * chain.radius * (m - 1);
+            spheres_.push_back({id++, b.index, i, j, g, m, matrix_type(), chain.radius,
+                                0.5 * (lattice_centre(j, b.columns, b.radius) + lattice_centre(j + 1, b.columns, b.radius)),
+                                y, row_z(b, i) - b.radius});
+          }
+        }
+      }
+    }
+  }
+}
+
+double Stack::lattice_centre(int j, int count, double radius) {
+  // Centres at odd multiples of the radius about the axis: (2 j - 1 - C) R.
+  return static_cast<double>(2 * j - 1 - count) * radius;
+}
+
+int Stack::impact_panel() const {
+  if (!container()) return 1;
+  return spec_.impact_panel > 0 ? spec_.impact_panel : (spec_.panels + 1) / 2;
+}
+
+double Stack::panel_y(int panel) const {
+  return container() ? lattice_centre(panel, spec_.panels, block(1).radius) : 0.0;
 }
 
 int Stack::id_of(const Block& b, int row, int column, int column_y) {
@@ -104,13 +166,14 @@ int Stack::impact_column(int block_index) const {
 int Stack::output_sphere_id() const {
   const auto& b = blocks_.back();
   const int c = impact_column(b.index);
-  return id_of(b.index, b.rows, c, three_d() ? c : 1);
+  return id_of(b.index, b.rows, c, three_d() ? c : impact_panel());
 }
 
 std::vector<int> Stack::bottom_row_ids() const {
   const auto& b = blocks_.back();
   std::vector<int> ids;
   for (int l = 1; l <= b.depth; ++l) {
+    if (container() && l != impact_panel()) continue;
     for (int j = 1; j <= b.columns; ++j) ids.push_back(id_of(b.index, b.rows, j, l));
   }
   return ids;
@@ -122,16 +185,20 @@ std::vector<Wall> Stack::walls() const {
   if (spec_.sides == Boundary::wall) {
     w.push_back({"wall_left", 0, -half_width()});
     w.push_back({"wall_right", 0, half_width()});
-    if (three_d()) {
+    if (three_d() || container()) {
       w.push_back({"wall_front", 1, -half_depth()});
       w.push_back({"wall_back", 1, half_depth()});
     }
+  }
+  if (container() && spec_.separator == Separator::walls) {
+    for (int g = 1; g < panels(); ++g) w.push_back({fmt::format("wall_separator{}", g), 1, panel_y(g) + block(1).radius});
   }
   return w;
 }
 
 bool Stack::has_walls() const {
-  return spec_.bottom == Boundary::wall || spec_.sides == Boundary::wall;
+  return spec_.bottom == Boundary::wall || spec_.sides == Boundary::wall ||
+         (container() && spec_.separator == Separator::walls);
 }
 
 std::vector<std::string> Stack::type_materials() const {
@@ -139,11 +206,14 @@ std::vector<std::string> Stack::type_materials() const {
   for (const auto& b : blocks_) out.push_back(b.material);
   out.push_back(spec_.effective_striker_material());
   if (has_walls()) out.push_back(spec_.effective_wall_material());
+  if (has_matrix()) out.push_back(spec_.effective_matrix_material());
   return out;
 }
 
 double Stack::half_width() const { return spec_.top_columns * block(1).radius; }
-double Stack::half_depth() const { return three_d() ? half_width() : block(1).radius; }
+double Stack::half_depth() const {
+  return three_d() ? half_width() : static_cast<double>(panels()) * block(1).radius;
+}
 double Stack::top_z() const { return spheres_.front().z + spheres_.front().radius; }
 double Stack::striker_radius() const { return spheres_.front().radius; }
 double Stack::striker_mass() const { return striker_mass_; }

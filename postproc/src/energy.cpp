@@ -268,10 +268,12 @@ const std::vector<std::pair<std::size_t, std::size_t>>& ContactCandidates::pairs
 struct FrameAnalyser::Constants {
   explicit Constants(const model::Stack& stack) : contacts(stack) {}
   ContactEnergy contacts;
-  // Per sphere, in the stack's order: its block (index 0 = block 1; -1 for the striker), its
-  // row and column (index 0 = 1), and whether it is in the top row of block 1.
+  // Per sphere, in the stack's order: its block (index 0 = block 1; kStriker, kMatrix), its
+  // row and column (index 0 = 1), and whether it is in the top row of block 1 and in the bottom
+  // row of Stack::bottom_row_ids.
+  static constexpr int kStriker = -1, kMatrix = -2;
   std::vector<int> block, row, column, column_y;
-  std::vector<char> top_row;
+  std::vector<char> top_row, bottom_row;
   std::vector<double> radius;
 };
 
@@ -279,13 +281,15 @@ FrameAnalyser::FrameAnalyser(const model::Stack& stack, const std::string& path)
     : stack_(stack), view_(stack, path), candidates_(stack), constants_(std::make_unique<Constants>(stack)) {
   auto& c = *constants_;
   for (const auto& s : stack.spheres()) {
-    c.block.push_back(s.block - 1);
+    c.block.push_back(stack.is_matrix(s) ? Constants::kMatrix : s.block - 1);
     c.row.push_back(s.row - 1);
     c.column.push_back(s.column - 1);
     c.column_y.push_back(s.column_y - 1);
     c.top_row.push_back(s.block == 1 && s.row == 1 ? 1 : 0);
     c.radius.push_back(s.radius);
   }
+  c.bottom_row.assign(stack.spheres().size(), 0);
+  for (const int id : stack.bottom_row_ids()) c.bottom_row[static_cast<std::size_t>(id - 1)] = 1;
 }
 
 FrameAnalyser::~FrameAnalyser() = default;
@@ -309,9 +313,8 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     e.column_y_ke[k].assign(static_cast<std::size_t>(stack.blocks()[k].depth), 0.0);
   }
   e.top_row_sideways = e.top_row_downward = e.striker_ke = e.output_sphere_ke = e.bottom_row_ke = 0.0;
-  e.kinetic = e.elastic = e.striker_vz = 0.0;
+  e.kinetic = e.elastic = e.striker_vz = e.matrix_ke = 0.0;
   const auto out_index = static_cast<std::size_t>(stack.output_sphere_id() - 1);
-  const auto bottom_first = static_cast<std::size_t>(stack.bottom_row_ids().front() - 1);
   const auto& spheres = stack.spheres();
   const std::size_t n = spheres.size();
   x_.resize(n);
@@ -337,9 +340,11 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     const double ke = translational(m, vx, vy, vz) + rot;
     e.kinetic += ke;
     const int b = c.block[i];
-    if (b < 0) {
+    if (b == Constants::kStriker) {
       e.striker_ke += ke;
       e.striker_vz = vz;
+    } else if (b == Constants::kMatrix) {
+      e.matrix_ke += ke;
     } else {
       const auto k = static_cast<std::size_t>(b);
       const double sideways = 0.5 * m * (vx * vx + vy * vy), downward = 0.5 * m * vz * vz;
@@ -356,7 +361,7 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
       }
     }
     if (i == out_index) e.output_sphere_ke = ke;
-    if (i >= bottom_first) e.bottom_row_ke += ke;
+    if (c.bottom_row[i] != 0) e.bottom_row_ke += ke;
   }
   for (const auto& [i, j] : candidates_.pairs(x_, y_, z_)) {
     const double dx = x_[i] - x_[j], dy = y_[i] - y_[j], dz = z_[i] - z_[j];

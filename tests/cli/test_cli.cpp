@@ -76,10 +76,22 @@ TEST_F(Cli, InvalidSpecsExitWith2NameTheFieldAndWriteNothing) {
       {"--blocks two", "blocks: 'two' is not a number"},
       {"--custom-material foam:1:2", "is not NAME:DENSITY:YOUNGS_MODULUS:POISSON_RATIO"},
       {"--restitution-pair steel=0.5", "is not MATERIAL_A:MATERIAL_B=VALUE"},
-      {"--geometry cube", "geometry: 'cube' is not 'strip' or 'nested3d'"},
+      {"--geometry cube", "geometry: 'cube' is not 'strip', 'nested3d' or 'panels'"},
       // Blocks of 4 x 4 to 1024 x 1024 columns of 8 layers: refused with the memory it would take.
       {"--geometry nested3d --blocks 9 --top-columns 4", "this stack would have 1.12e+07 spheres, more than the 4000000"},
       {"--geometry nested3d --blocks 9 --top-columns 4", "refsim alone would need about 16.8 GB"},
+      // The container's fields belong to the container; in range there.
+      {"--panels 3", "panels: applies to geometry = panels only (this spec's geometry is strip)"},
+      {"--geometry nested3d --separator walls", "separator: applies to geometry = panels only"},
+      {"--matrix-material steel", "matrix_material: applies to geometry = panels only"},
+      {"--impact-panel 2", "impact_panel: applies to geometry = panels only"},
+      {"--geometry panels", "panels: 0 must be in [2, 64]"},
+      {"--geometry panels --panels 3 --impact-panel 4", "impact_panel: 4 must be in [1, 3]"},
+      {"--geometry panels --panels 3 --separator foam", "separator: 'foam' is not 'matrix', 'walls' or 'none'"},
+      {"--geometry panels --panels 3 --matrix-material cork", "matrix_material: unknown material 'cork'"},
+      {"--geometry panels --panels 3 --separator walls --matrix-material steel",
+       "matrix_material: applies to separator = matrix only (this spec's separator is walls)"},
+      {"--geometry panels --panels 3 --gravity", "gravity: the matrix's chains hang between the panels"},
   };
   for (const auto& c : cases) {
     const auto r = granstack("generate -o " + path("case") + " " + c.flags);
@@ -183,9 +195,10 @@ TEST_F(Cli, BadDumpFilesGiveClearErrors) {
   expect_contains(r, "cannot open");
 }
 
-// validate on the small stacks, elastic, damped, frictional, with walls and gravity, strips and
-// 3D nests (walls on four sides): they agree to round-off (at most 3.4e-16 measured; gated at
-// 1e-14) and so at the default tolerance; a tolerance below round-off fails with its own exit code.
+// validate on the small stacks, elastic, damped, frictional, with walls and gravity, strips,
+// 3D nests (walls on four sides) and containers (a matrix; rigid separators): they agree to
+// round-off (at most 4.0e-16 measured; gated at 1e-14) and so at the default tolerance; a
+// tolerance below round-off fails with its own exit code.
 TEST_F(Cli, ValidateFindsLiggghtsAndRefsimAgreeToRoundOffOnSmallStacks) {
   ASSERT_EQ(granstack("generate -o " + path("sweep") + " --blocks 1,2 --restitution 1,0.9 --friction 0,0.25").code, 0);
   ASSERT_EQ(granstack("generate -o " + path("walls") + " --blocks 1,2 --restitution 0.9 --friction 0.25 --bottom wall "
@@ -194,12 +207,19 @@ TEST_F(Cli, ValidateFindsLiggghtsAndRefsimAgreeToRoundOffOnSmallStacks) {
   ASSERT_EQ(granstack("generate -o " + path("nests") + " --geometry nested3d --blocks 1,2 --rows 3 --restitution 1,0.9 "
                       "--friction 0,0.25 --sides wall --bottom wall --gravity").code,
             0);
-  for (const auto* dir : {"sweep", "walls", "nests"}) {
+  ASSERT_EQ(granstack("generate -o " + path("containers") + " --geometry panels --panels 3 --blocks 1,2 --rows 3 "
+                      "--restitution 1,0.9 --friction 0,0.25").code,
+            0);
+  ASSERT_EQ(granstack("generate -o " + path("separators") + " --geometry panels --panels 2 --blocks 2 --rows 3 "
+                      "--restitution 0.9 --friction 0.25 --separator walls --sides wall --bottom wall --gravity").code,
+            0);
+  for (const auto* dir : {"sweep", "walls", "nests", "containers", "separators"}) {
     const auto r = granstack("validate -j 2 --tolerance 1e-14 " + path(dir));
     EXPECT_EQ(r.code, 0) << r.output;
     std::size_t agree = 0;
     for (auto pos = r.output.find("\nagree: "); pos != std::string::npos; pos = r.output.find("\nagree: ", pos + 1)) ++agree;
-    EXPECT_EQ(agree, std::string(dir) == "walls" ? 2u : 8u) << r.output;
+    const std::string d = dir;
+    EXPECT_EQ(agree, d == "walls" ? 2u : d == "separators" ? 1u : 8u) << r.output;
     expect_contains(r, "the tolerance 1e-14");
     EXPECT_EQ(r.output.find("OVER"), std::string::npos) << r.output;
   }

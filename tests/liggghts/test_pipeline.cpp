@@ -430,6 +430,62 @@ TEST(Physics, ANestBetweenWallsOnEverySideConservesEnergy) {
   }
 }
 
+// The container's rigid-separator limit (walls midway between the panels, no matrix), e = 1: the
+// panels' contacts with each other and with the walls lie along y and carry no load, and a strip
+// hit in its plane pushes nothing along y, so the impacted panel is the study's strip: every
+// block's peak and the output fraction equal the strip's to round-off (sums taken in another
+// order; measured identical), and the other panels get nothing but round-off overlaps (2e-35 of
+// E_in measured).
+TEST(Physics, RigidSeparatorsLeaveTheImpactedPanelTheStudysStrip) {
+  auto strip = blocks(3);
+  strip.rows = 4;
+  auto container = strip;
+  container.geometry = model::Geometry::panels;
+  container.panels = 3;
+  container.separator = model::Separator::walls;
+  const auto s = postproc::reduce_case(run_case("strip", strip));
+  const auto c = postproc::reduce_case(run_case("container", container));
+  EXPECT_NEAR(c.output_fraction, s.output_fraction, 1e-12 * s.output_fraction);
+  ASSERT_EQ(c.blocks.size(), s.blocks.size());
+  for (std::size_t k = 0; k < s.blocks.size(); ++k) {
+    EXPECT_NEAR(c.blocks[k].peak_ke, s.blocks[k].peak_ke, 1e-12 * s.blocks[k].peak_ke) << "block " << k + 1;
+  }
+  ASSERT_EQ(c.panel_peak_fraction.size(), 3U);
+  EXPECT_LT(c.leaked_peak_fraction, 1e-20);
+  EXPECT_GT(c.panel_peak_fraction[1], 0.5);
+}
+
+// A container with its soft matrix (Teflon chains between steel panels), e = 1: kinetic plus
+// elastic energy, matrix contacts included, stays E_in (reduce's check and the brute-force sum
+// over every pair); the panels either side of the centre one get the same energy (mirror
+// symmetry, to round-off); panels, matrix and striker add up to the whole; and the matrix takes
+// a share of the impact (10.9 % of E_in measured at the last frame).
+TEST(Physics, AContainersMatrixTakesEnergyConservedAndShared) {
+  auto spec = blocks(2);
+  spec.rows = 4;
+  spec.geometry = model::Geometry::panels;
+  spec.panels = 3;
+  const auto dir = run_case("container", spec);
+  EXPECT_LT(brute_force_drift(dir), kEnergyTolerance);
+  const auto r = postproc::reduce_case(dir);
+  ASSERT_TRUE(r.energy_drift.has_value());
+  EXPECT_LT(*r.energy_drift, kEnergyTolerance);
+  const auto panels = read_csv(fs::path(dir) / "reduce" / "panel_ke.csv");
+  const auto whole = read_csv(fs::path(dir) / "reduce" / "block_ke.csv");
+  ASSERT_EQ(panels.header[2], "ke_panel1_J");
+  ASSERT_EQ(panels.header[5], "ke_matrix_J");
+  ASSERT_EQ(whole.header[4], "ke_striker_J");
+  ASSERT_EQ(whole.header[7], "ke_total_J");
+  ASSERT_EQ(panels.rows.size(), whole.rows.size());
+  for (std::size_t f = 0; f < panels.rows.size(); ++f) {
+    const auto& p = panels.rows[f];
+    const double total = whole.rows[f][7];
+    EXPECT_NEAR(p[2], p[4], 1e-9 * r.e_in) << "frame " << f;
+    EXPECT_NEAR(p[2] + p[3] + p[4] + p[5] + whole.rows[f][4], total, 1e-12 * r.e_in) << "frame " << f;
+  }
+  EXPECT_GT(r.matrix_final_fraction, 0.01);
+}
+
 // The steel/Teflon/steel sandwich (refsim, quick): its output sphere is kicked until about 1.8
 // estimated arrivals, so the automatic duration leaves too little room and reduce says so; with
 // a longer run it does not. Its bottom steel block, loaded slowly through the soft one, carries

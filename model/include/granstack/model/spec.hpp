@@ -12,10 +12,15 @@
 namespace granstack::model {
 
 enum class Boundary { free_surface, wall };
-// The study's strip (one sphere thick, every centre at y = 0), or nested 3D blocks: each block
+// The study's strip (one sphere thick, every centre at y = 0); nested 3D blocks: each block
 // a cubic lattice of C_k x C_k columns, each sphere of a block's bottom layer resting on four of
-// the block below (Sen, Krishna Mohan and Tiwari's 3D nests).
-enum class Geometry { strip, nested3d };
+// the block below (Sen, Krishna Mohan and Tiwari's 3D nests); or the study's container: P strips
+// side by side along y at a pitch of the top spheres' diameter, with a separator between them.
+enum class Geometry { strip, nested3d, panels };
+// What fills the step-shaped gap between neighbouring panels: a matrix of soft spheres (chains
+// bridging each pocket of a panel to the same pocket of the next), rigid walls (planes midway
+// between panels), or nothing.
+enum class Separator { matrix, walls, none };
 enum class DumpFormat { text, binary };
 // One dump file; one per dumped step (LIGGGHTS's '*'); one per MPI rank (its '%').
 enum class DumpFiles { single, per_step, per_rank };
@@ -25,6 +30,8 @@ std::string_view to_string(DumpFormat f);     // "text" | "binary"
 std::optional<Boundary> parse_boundary(std::string_view s);
 std::string_view to_string(Geometry g);
 std::optional<Geometry> parse_geometry(std::string_view s);
+std::string_view to_string(Separator s);  // "matrix" | "walls" | "none"
+std::optional<Separator> parse_separator(std::string_view s);
 std::optional<DumpFormat> parse_dump_format(std::string_view s);
 std::string_view to_string(DumpFiles f);      // "single" | "per_step" | "per_rank"
 std::optional<DumpFiles> parse_dump_files(std::string_view s);
@@ -42,6 +49,13 @@ struct PairTable {
 
 struct StackSpec {
   Geometry geometry = Geometry::strip;
+  // geometry = panels only (refused elsewhere when set): the number of panels P, 2..kMaxPanels;
+  // the panel the striker hits (1 = smallest y; 0 = the centre one, (P + 1) / 2); what separates
+  // them; and the matrix's material (empty: the study's soft material, teflon).
+  int panels = 0;
+  int impact_panel = 0;
+  Separator separator = Separator::matrix;
+  std::string matrix_material;
   int blocks = 4;                              // N_B; block 1 is the top (impacted) block
   int rows = 8;                                // spheres per column, the same in every block
   int top_columns = 2;                         // columns of block 1 (even; per direction in 3D); block k has top_columns * ratio^(k-1)
@@ -74,6 +88,8 @@ struct StackSpec {
   const std::string& effective_wall_material() const;
   // The striker's material name (striker_material, or the top block's).
   const std::string& effective_striker_material() const;
+  // The matrix's material name (matrix_material, or teflon).
+  const std::string& effective_matrix_material() const;
   // Built-in materials plus custom_materials.
   MaterialLibrary material_library() const;
   bool operator==(const StackSpec&) const = default;
@@ -113,6 +129,8 @@ inline constexpr double kMaxStrikerRadiusRatio = 16.0;
 // 10 TPa (diamond is 1.2 TPa).
 inline constexpr double kMinDensity = 1.0, kMaxDensity = 1e5;
 inline constexpr double kMinYoungsModulus = 1e3, kMaxYoungsModulus = 1e13;
+// The most panels side by side (a container of the study's Fig. 1b has a handful).
+inline constexpr int kMaxPanels = 64;
 
 // The most spheres granstack will lay out in one case (a guard against typos such as 40 blocks).
 // refsim's peak memory per million spheres of a 3D nest (bench/nest_scale.sh: 1.51 GB at 1 048 513).

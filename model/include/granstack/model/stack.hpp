@@ -11,9 +11,17 @@
 // y; the strip has one) upwards, and within it column 1 (smallest x) upwards:
 //   id(block k, row i, column j, y-column l) = first_id(k) + (i - 1) * columns(k) * depth(k)
 //                                              + (l - 1) * columns(k) + (j - 1).
-// LIGGGHTS atom types: block k has type k, the striker N_B + 1, a wall (if any) N_B + 2.
+// LIGGGHTS atom types: block k has type k, the striker N_B + 1, a wall (if any) N_B + 2, the
+// matrix of a container (if any) the next.
+//
+// The container (geometry = panels): P strips side by side along y, panel p centred on
+// y_p = (2p - 1 - P) R_1, so neighbouring top blocks touch; a panel is the y-column p of every
+// block (column_y = p, the id formula above). The matrix spheres follow the last block: block
+// region 2 to N_B, gap g (between panels g and g + 1), pocket row i (below row i), pocket column
+// j (between columns j and j + 1), then m along the chain (increasing y).
 #include <granstack/model/spec.hpp>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -24,7 +32,11 @@ struct Sphere {
   int block = 0;   // 1 = top; 0 for the striker
   int row = 0;     // 1 = top row of its block; 0 for the striker
   int column = 0;  // 1 = smallest x; 0 for the striker
-  int column_y = 0;  // 1 = smallest y (the strip's only one); 0 for the striker
+  int column_y = 0;  // 1 = smallest y (the strip's only one; the panel in a container); 0 for the striker
+  // A container's matrix sphere: block is the block it lies beside, row and column its pocket's
+  // (below row `row`, right of column `column`), column_y the gap g (between panels g and g + 1)
+  // and chain its place along the chain (1 = smallest y). 0 for every other sphere.
+  int chain = 0;
   int atom_type = 0;
   double radius = 0.0;  // m
   double x = 0.0;       // m
@@ -68,6 +80,16 @@ class Stack {
 
   int id_of(int block, int row, int column, int column_y = 1) const;
   bool three_d() const { return spec_.geometry == Geometry::nested3d; }
+  bool container() const { return spec_.geometry == Geometry::panels; }
+  int panels() const { return container() ? spec_.panels : 1; }
+  // The panel the striker hits: 1 outside a container.
+  int impact_panel() const;
+  // The plane of panel p (y_p; 0 outside a container).
+  double panel_y(int panel) const;
+  bool has_matrix() const { return container() && spec_.separator == Separator::matrix; }
+  // The matrix spheres, in id order after the last block (empty without a matrix).
+  int first_matrix_id() const { return blocks_.back().last_id() + 1; }
+  bool is_matrix(const Sphere& s) const { return s.chain > 0; }
   static constexpr int striker_id() { return 1; }
   // The column of block k on the impact path, the chain of contacts down from the top block's
   // right central sphere (x = R_1): with an even radius ratio each sphere rests on two and the
@@ -86,16 +108,20 @@ class Stack {
   // 0 when the spec has no wall.
   int wall_type() const { return has_walls() ? striker_type() + 1 : 0; }
   // Where the spec's walls stand, touching the lattice: the bottom face z = 0, the sides
-  // x = -+half_width (and in 3D y = -+half_depth); in the deck's order (bottom, left, right,
-  // front, back). The generator, refsim and the post-processor all place walls through this.
+  // x = -+half_width (and in 3D and in a container y = -+half_depth), a container's rigid
+  // separators midway between its panels; in the deck's order (bottom, left, right, front,
+  // back, separators by increasing y). The generator, refsim and the post-processor all place
+  // walls through this.
   std::vector<Wall> walls() const;
   bool has_walls() const;
-  int atom_types() const { return has_walls() ? striker_type() + 1 : striker_type(); }
+  // 0 without a matrix.
+  int matrix_type() const { return has_matrix() ? (has_walls() ? wall_type() : striker_type()) + 1 : 0; }
+  int atom_types() const { return std::max({striker_type(), wall_type(), matrix_type()}); }
   // The material of each LIGGGHTS atom type, index 0 = type 1.
   std::vector<std::string> type_materials() const;
 
   double half_width() const;       // m: the lattice spans -half_width..half_width in x (C R_1)
-  double half_depth() const;       // m: and -half_depth..half_depth in y (R_1 in the strip, C R_1 in 3D)
+  double half_depth() const;       // m: and -half_depth..half_depth in y (R_1 in the strip, C R_1 in 3D, P R_1 in a container)
   double top_z() const;            // m: the top of the striker
   double striker_radius() const;   // m
   double striker_mass() const;     // kg
@@ -103,6 +129,9 @@ class Stack {
 
  private:
   static int id_of(const Block& b, int row, int column, int column_y);
+  static double lattice_centre(int j, int count, double radius);
+  template <typename RowZ>
+  void add_matrix(const RowZ& row_z);
   StackSpec spec_;
   double striker_mass_ = 0.0;
   std::vector<Sphere> spheres_;
@@ -121,5 +150,18 @@ double interface_height(double lower_radius, int radius_ratio, int supports = 2)
 // the study's striker, sqrt(2) R_1 in 3D) and the even-ratio interface (2 sqrt(2) R_{k+1},
 // sqrt(7) R_{k+1} in 3D).
 double seat_height(double lower_radius, double upper_radius, int supports = 2);
+
+// A container's matrix in one pocket of a panel's block (radius R), bridging it to the same
+// pocket of the next panel, whose plane lies 2 N R away (N = R_1 / R): `count` spheres of
+// `radius` in a row along y, each touching the next, the first `offset` from the panel's plane
+// so that it touches the four spheres around the pocket (sqrt((R + r)^2 - 2 R^2)), the last
+// likewise on the other panel. count is the fewest that keeps r below R, ceil(N + 1 - sqrt(2)),
+// so the chains of neighbouring pockets never touch; none where the panels touch (N = 1).
+struct MatrixChain {
+  int count = 0;
+  double radius = 0.0;  // m
+  double offset = 0.0;  // m
+};
+MatrixChain matrix_chain(double block_radius, double half_pitch);
 
 }  // namespace granstack::model

@@ -14,9 +14,11 @@ struct FrameEnergy {
   // Its parts: translational sideways (x, y), translational downward (z), rotational.
   std::vector<double> block_ke_sideways, block_ke_downward, block_ke_rotational;
   // Per row and per column of each block (translational + rotational), [block - 1][row - 1]; a
-  // column (along x) sums every y-column in a 3D nest, whose y-columns (along y, summing every
-  // x-column) are column_y_ke (one per block, the whole block, in the strip).
+  // column (along x) sums every y-column in a 3D nest (every panel in a container), whose
+  // y-columns (along y, summing every x-column) are column_y_ke (one per block, the whole block,
+  // in the strip; one per panel in a container). A container's matrix is in none of them.
   std::vector<std::vector<double>> row_ke, column_ke, column_y_ke;
+  double matrix_ke = 0.0;        // a container's matrix spheres
   // The friction study's quantities: the top row of the top block, 1/2 m vx^2 (+ vy^2) against
   // 1/2 m vz^2 (physics.md section 4).
   double top_row_sideways = 0.0, top_row_downward = 0.0;

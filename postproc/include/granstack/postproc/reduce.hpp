@@ -52,13 +52,19 @@ struct CaseReduction {
   // defined with gravity (its potential energy is not counted).
   std::optional<double> dissipated_fraction;
   std::vector<BlockWaves> waves;        // top block first
+  // A container (geometry = panels), over the dump frames: each panel's kinetic energy at the
+  // last frame and its peak, / E_in (index 0 = panel 1); the matrix's; and the leak, the kinetic
+  // energy outside the impacted panel and the striker (the other panels and the matrix).
+  std::vector<double> panel_final_fraction, panel_peak_fraction;
+  double matrix_final_fraction = 0.0, matrix_peak_fraction = 0.0;
+  double leaked_final_fraction = 0.0, leaked_peak_fraction = 0.0;
   std::vector<std::string> warnings;
   std::string csv_path;                // the per-block energy table written (reduce/block_ke.csv)
 };
 
 struct ReduceOptions {
   // CASE/reduce/ (or output_dir): block_ke.csv, energy_parts.csv, row_ke.csv, column_ke.csv (and
-  // for a 3D nest column_y_ke.csv), summary.json
+  // for a 3D nest column_y_ke.csv, for a container panel_ke.csv), summary.json
   bool write_files = true;
   std::string output_dir;  // empty: CASE/reduce
   // Called after every frame read (frames so far), on the calling thread.
