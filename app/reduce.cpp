@@ -158,6 +158,8 @@ int plot(const PlotFlags& f) {
   std::vector<std::string> names;
   for (const auto& r : results) {
     for (const auto& n : postproc::plot_files(postproc::energy_plot_name(r.case_name), o)) names.push_back(n);
+    if (r.panel_frames.empty()) continue;
+    for (const auto& n : postproc::plot_files(postproc::panel_plot_name(r.case_name), o)) names.push_back(n);
   }
   const auto t = postproc::build_table(results);
   const bool any_fit = std::any_of(t.groups.begin(), t.groups.end(), [](const auto& g) { return g.cases.size() > 1; });
@@ -169,7 +171,10 @@ int plot(const PlotFlags& f) {
   }
   if (results.empty()) return rc;
   formats::prepare_output_directory(f.output, names, f.force, "granstack plot -o");
-  for (const auto& r : results) fmt::print("{}\n", postproc::plot_block_energy(r.case_dir, r.case_name, f.output, o));
+  for (const auto& r : results) {
+    fmt::print("{}\n", postproc::plot_block_energy(r.case_dir, r.case_name, f.output, o));
+    if (!r.panel_frames.empty()) fmt::print("{}\n", postproc::plot_panel_energy(r, r.case_name, f.output, o));
+  }
   if (any_fit) fmt::print("{}\n", postproc::plot_decay(t, f.output, o));
   return rc;
 }

@@ -163,11 +163,12 @@ int Stack::impact_column(int block_index) const {
   return static_cast<int>((u + 1 + block(block_index).columns) / 2);
 }
 
-int Stack::output_sphere_id() const {
-  const auto& b = blocks_.back();
-  const int c = impact_column(b.index);
-  return id_of(b.index, b.rows, c, three_d() ? c : impact_panel());
+int Stack::impact_path_id(int block_index, int row) const {
+  const int c = impact_column(block_index);
+  return id_of(block_index, row, c, three_d() ? c : impact_panel());
 }
+
+int Stack::output_sphere_id() const { return impact_path_id(spec_.blocks, blocks_.back().rows); }
 
 std::vector<int> Stack::bottom_row_ids() const {
   const auto& b = blocks_.back();

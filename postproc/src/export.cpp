@@ -88,6 +88,7 @@ formats::VtkPoints frame_points(const model::Stack& stack, const formats::DumpFr
   const int cx = column("x"), cy = column("y"), cz = column("z");
   formats::VtkArray id{"id", 1, {}, {}}, type{"type", 1, {}, {}}, block{"block", 1, {}, {}};
   formats::VtkArray row_index{"row", 1, {}, {}}, x_column{"column", 1, {}, {}}, y_column{"column_y", 1, {}, {}};
+  formats::VtkArray panel{"panel", 1, {}, {}}, chain{"matrix_chain", 1, {}, {}};
   formats::VtkArray radius{"radius", 1, {}, {}}, mass{"mass", 1, {}, {}};
   formats::VtkArray ke{"kinetic_energy", 1, {}, {}}, ke_t{"kinetic_energy_translational", 1, {}, {}},
       ke_r{"kinetic_energy_rotational", 1, {}, {}};
@@ -112,6 +113,8 @@ formats::VtkPoints frame_points(const model::Stack& stack, const formats::DumpFr
     row_index.integers.push_back(sphere.row);
     x_column.integers.push_back(sphere.column);
     y_column.integers.push_back(sphere.column_y);
+    panel.integers.push_back(stack.panel_of(sphere));
+    chain.integers.push_back(sphere.chain);
     radius.reals.push_back(f.at(r, cradius));
     mass.reals.push_back(f.at(r, cmass));
     // Their sum, as FrameView::kinetic_energy adds them.
@@ -122,8 +125,9 @@ formats::VtkPoints frame_points(const model::Stack& stack, const formats::DumpFr
       for (const int c : v.c) v.array.reals.push_back(f.at(r, c));
     }
   }
-  p.arrays = {std::move(id),     std::move(type), std::move(block), std::move(row_index), std::move(x_column), std::move(y_column),
-              std::move(radius), std::move(mass), std::move(ke),    std::move(ke_t), std::move(ke_r)};
+  p.arrays = {std::move(id),    std::move(type),  std::move(block), std::move(row_index), std::move(x_column),
+              std::move(y_column), std::move(panel), std::move(chain), std::move(radius), std::move(mass),
+              std::move(ke),    std::move(ke_t),  std::move(ke_r)};
   for (auto& v : vectors) p.arrays.push_back(std::move(v.array));
   return p;
 }

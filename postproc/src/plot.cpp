@@ -126,6 +126,39 @@ std::string plot_block_energy(const std::string& case_dir, const std::string& la
   return render_gnuplot(out_dir, name, fmt::to_string(data), script, o);
 }
 
+std::string panel_plot_name(const std::string& label) { return "panels_" + safe_name(label); }
+
+std::string plot_panel_energy(const CaseReduction& r, const std::string& label, const std::string& out_dir,
+                              const PlotOptions& o) {
+  if (r.panel_frames.empty()) throw std::runtime_error(fmt::format("{}: not a container (geometry = panels)", r.case_dir));
+  const int panels = r.spec.panels;
+  fmt::memory_buffer data;
+  auto out = std::back_inserter(data);
+  fmt::format_to(out, "# case {}: time (us), then panel 1 .. {} and the matrix: KE / E_in ({:.6g} J)\n", safe_name(label),
+                 panels, r.e_in);
+  for (const auto& frame : r.panel_frames) {
+    fmt::format_to(out, "{:.6g}", frame[0] * 1e6);
+    for (std::size_t i = 1; i < frame.size(); ++i) fmt::format_to(out, " {:.6g}", frame[i] / r.e_in);
+    fmt::format_to(out, "\n");
+  }
+  const auto name = panel_plot_name(label);
+  const int hit = r.spec.impact_panel > 0 ? r.spec.impact_panel : (panels + 1) / 2;
+  const auto script = fmt::format(
+      "# granstack: kinetic energy of each panel of the container {} and of its matrix, over E_in.\n"
+      "# Data: {}.dat (time in us, then panel 1 (smallest y) .. {}, then the matrix). The striker hits panel {}.\n"
+      "# Restyle at will, then run: gnuplot {}.gp\n"
+      "{}\nset output '{}.{}'\n"
+      "set title 'Kinetic energy per panel: {} panels, {} block{}, separator {}, striker on panel {}'\n"
+      "set xlabel 'time t (µs)'\nset ylabel 'E_k / E_{{in}}'\n"
+      "set grid\nset key outside right top\nset logscale y\nset format y '10^{{%L}}'\nset yrange [1e-6:2]\n"
+      "set autoscale xfix\n"
+      "plot for [p=1:{}] '{}.dat' using 1:(column(p+1)) with lines title sprintf('panel %d', p), \\\n"
+      "     '{}.dat' using 1:{} with lines dashtype 2 linecolor 'black' title 'matrix'\n",
+      safe_name(label), name, panels, hit, name, gnuplot_terminal(o), name, o.format, panels, r.spec.blocks,
+      r.spec.blocks == 1 ? "" : "s", model::to_string(r.spec.separator), hit, panels, name, name, panels + 2);
+  return render_gnuplot(out_dir, name, fmt::to_string(data), script, o);
+}
+
 std::string plot_decay(const OutputTable& t, const std::string& out_dir, const PlotOptions& o) {
   fmt::memory_buffer data;
   auto out = std::back_inserter(data);

@@ -301,8 +301,11 @@ double leaked_energy(const FrameEnergy& e, const model::Stack& stack) {
   return leaked;
 }
 
-void track_panels(const FrameEnergy& e, const model::Stack& stack, CaseReduction& r) {
+void track_panels(const FrameEnergy& e, const model::Stack& stack, double time, CaseReduction& r) {
   const auto panels = panel_energies(e);
+  auto& frame = r.panel_frames.emplace_back(1, time);
+  frame.insert(frame.end(), panels.begin(), panels.end());
+  frame.push_back(e.matrix_ke);
   r.panel_peak_fraction.resize(panels.size(), 0.0);
   for (std::size_t p = 0; p < panels.size(); ++p) {
     r.panel_peak_fraction[p] = std::max(r.panel_peak_fraction[p], panels[p] / r.e_in);
@@ -448,7 +451,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     r.top_row_sideways_peak = std::max(r.top_row_sideways_peak, e.top_row_sideways);
     r.top_row_downward_peak = std::max(r.top_row_downward_peak, e.top_row_downward);
     waves.add(e.step, fr.wave_samples);
-    if (container) track_panels(e, stack, r);
+    if (container) track_panels(e, stack, static_cast<double>(e.step) * res.dt, r);
     const std::pair<StreamedTable*, fmt::memory_buffer*> tables[] = {
         {&block_table, &fr.block_row},     {&parts_table, &fr.parts_row},         {&rows_table, &fr.rows_row},
         {&columns_table, &fr.columns_row}, {&y_columns_table, &fr.y_columns_row}};
@@ -643,12 +646,16 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
   auto out = std::back_inserter(b);
   std::size_t w = 4;
   for (const auto& r : rs) w = std::max(w, r.case_name.size());
-  fmt::format_to(out, "{:<{}}  {:>3}  {:>6}  {:>6}  {:>7}  {:>11}  {:>12}  {:>12}  {:>12}\n", "case", w, "N_B", "e", "mu",
-                 "v(m/s)", "E_in (J)", "output", "bottom row", "per sphere");
+  // Containers add what leaked out of the impacted panel (into the matrix and the other panels).
+  const bool containers = std::any_of(rs.begin(), rs.end(), [](const auto& r) { return !r.panel_frames.empty(); });
+  fmt::format_to(out, "{:<{}}  {:>3}  {:>6}  {:>6}  {:>7}  {:>11}  {:>12}  {:>12}  {:>12}{}\n", "case", w, "N_B", "e", "mu",
+                 "v(m/s)", "E_in (J)", "output", "bottom row", "per sphere", containers ? "        leaked" : "");
   for (const auto& r : rs) {
-    fmt::format_to(out, "{:<{}}  {:>3}  {:>6}  {:>6}  {:>7}  {:>11.5g}  {:>12.6g}  {:>12.6g}  {:>12.6g}{}\n", r.case_name, w,
+    fmt::format_to(out, "{:<{}}  {:>3}  {:>6}  {:>6}  {:>7}  {:>11.5g}  {:>12.6g}  {:>12.6g}  {:>12.6g}{}{}\n", r.case_name, w,
                    r.spec.blocks, r.spec.restitution.value, r.spec.friction.value, r.spec.striker_speed, r.e_in,
                    r.output_fraction, r.output_fraction_bottom_row, r.output_fraction_bottom_row_per_sphere,
+                   !containers ? "" : r.panel_frames.empty() ? fmt::format("  {:>12}", "-")
+                                                             : fmt::format("  {:>12.6g}", r.leaked_final_fraction),
                    r.output_separated || r.spec.bottom == model::Boundary::wall ? "" : "  (not separated)");
   }
   if (rs.size() == 1) {
@@ -671,6 +678,18 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
       if (!wave.note.empty()) fmt::format_to(out, "note: block {}: {}\n", wave.block, wave.note);
     }
     fmt::format_to(out, "output fraction: {:.6g} ({})\n", r.output_fraction, r.output_definition);
+    if (!r.panel_frames.empty()) {
+      // The blocks above are every panel's together; the panels one by one:
+      const int hit = r.spec.impact_panel > 0 ? r.spec.impact_panel : (r.spec.panels + 1) / 2;
+      fmt::format_to(out, "per panel, kinetic energy / E_in at the last frame (peak), the blocks above summing every panel:\n");
+      for (std::size_t p = 0; p < r.panel_final_fraction.size(); ++p) {
+        fmt::format_to(out, "  panel {:>2}{}  {:.6g} ({:.6g})\n", p + 1, static_cast<int>(p) + 1 == hit ? " (hit)" : "      ",
+                       r.panel_final_fraction[p], r.panel_peak_fraction[p]);
+      }
+      fmt::format_to(out, "  matrix    {:>6}  {:.6g} ({:.6g})\n", "", r.matrix_final_fraction, r.matrix_peak_fraction);
+      fmt::format_to(out, "leaked into the matrix and the other panels: {:.6g} of E_in at the last frame (peak {:.6g})\n",
+                     r.leaked_final_fraction, r.leaked_peak_fraction);
+    }
   }
   for (const auto& r : rs) {
     for (const auto& warn : r.warnings) fmt::format_to(out, "warning: {}: {}\n", r.case_name, warn);

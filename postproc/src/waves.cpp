@@ -37,7 +37,7 @@ std::vector<std::size_t> prominent_peaks(const std::vector<double>& y, double mi
 WaveTracker::WaveTracker(const model::Stack& stack, double dt) : stack_(stack), dt_(dt) {
   for (const auto& b : stack.blocks()) {
     Column c;
-    for (int i = 1; i <= b.rows; ++i) c.ids.push_back(stack.id_of(b.index, i, stack.impact_column(b.index)));
+    for (int i = 1; i <= b.rows; ++i) c.ids.push_back(stack.impact_path_id(b.index, i));
     for (std::size_t r = 0; r + 1 < c.ids.size(); ++r) {
       c.radius_sum.push_back(stack.sphere(c.ids[r]).radius + stack.sphere(c.ids[r + 1]).radius);
     }

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 namespace fs = std::filesystem;
 using namespace granstack;
@@ -201,6 +202,64 @@ TEST(Export, ANestExportsItsThirdDimension) {
     EXPECT_EQ(frame.at("xyz")[3 * (id - 1) + 1].get<double>(), last.at(row, last.column("y"))) << id;
     EXPECT_EQ(frame.at("arrays").at("column_y")[id - 1].get<double>(), stack.sphere(static_cast<int>(id)).column_y) << id;
   }
+}
+
+}  // namespace
+
+namespace {
+
+// A container exports each sphere's panel and matrix chain: the per-sphere kinetic energies VTK
+// reads, summed by panel and over the matrix, are reduce's panel_ke.csv at the last frame (to
+// round-off: two sums of the same numbers in another order); and `plot` draws the panels.
+TEST(Export, AContainerExportsItsPanelsAndMatrixAndPlotsThem) {
+  if (!fs::exists("/usr/bin/python3")) GTEST_SKIP() << "no /usr/bin/python3: VTK's reader cannot run";
+  const auto dir = work() / "container";
+  ASSERT_EQ(granstack({"generate", "-o", dir.string(), "--geometry", "panels", "--panels", "3", "--blocks", "2", "--rows",
+                       "3", "--impact-panel", "1", "--force"})
+                .code,
+            0);
+  ASSERT_EQ(granstack({"run", "--force", dir.string()}).code, 0);
+  ASSERT_EQ(granstack({"reduce", dir.string()}).code, 0);
+  ASSERT_EQ(granstack({"export", dir.string(), "--frames", "-1", "--force"}).code, 0);
+  const auto vtk = read_with_vtk(dir / "paraview" / "container.pvd");
+  if (vtk.contains("skip")) GTEST_SKIP() << vtk.at("skip").get<std::string>();
+  const auto stack = model::Stack::build(formats::read_manifest(dir.string()).spec);
+  const auto& arrays = vtk.at("frames").at(0).at("arrays");
+  std::vector<double> panels(4, 0.0);  // index 0: the matrix
+  double striker = 0.0;
+  for (const auto& s : stack.spheres()) {
+    const auto i = static_cast<std::size_t>(s.id - 1);
+    const auto panel = static_cast<std::size_t>(arrays.at("panel")[i].get<double>());
+    const bool matrix = arrays.at("matrix_chain")[i].get<double>() > 0;
+    EXPECT_EQ(matrix, stack.is_matrix(s)) << s.id;
+    ASSERT_LE(panel, 3U);
+    EXPECT_EQ(panel == 0, matrix || s.block == 0) << s.id;
+    (s.block == 0 ? striker : panels[panel]) += arrays.at("kinetic_energy")[i].get<double>();
+  }
+  std::ifstream csv(dir / "reduce" / "panel_ke.csv");
+  std::string header, line, last;
+  std::getline(csv, header);
+  while (std::getline(csv, line)) last = line;
+  EXPECT_EQ(header.substr(0, 62), "step,time_s,ke_panel1_J,ke_panel2_J,ke_panel3_J,ke_matrix_J,ke");
+  std::vector<double> values;
+  std::stringstream ss(last);
+  for (std::string cell; std::getline(ss, cell, ',');) values.push_back(std::stod(cell));
+  const double e_in = stack.incident_energy();
+  for (std::size_t p = 1; p <= 3; ++p) EXPECT_NEAR(panels[p], values[1 + p], 1e-13 * e_in) << "panel " << p;
+  EXPECT_NEAR(panels[0], values[5], 1e-13 * e_in) << "matrix";
+  EXPECT_GT(panels[1], panels[3]);  // the striker hit panel 1
+  EXPECT_GT(panels[0], 0.0);
+
+  const auto figures = work() / "container_plots";
+  ASSERT_EQ(granstack({"plot", dir.string(), "-o", figures.string(), "--force"}).code, 0);
+  std::ifstream png(figures / "panels_container.png", std::ios::binary);
+  std::string magic(8, '\0');
+  png.read(magic.data(), 8);
+  EXPECT_EQ(magic, "\x89PNG\r\n\x1a\n");
+  std::ifstream data(figures / "panels_container.dat");
+  std::getline(data, line);
+  std::getline(data, line);
+  EXPECT_EQ(std::count(line.begin(), line.end(), ' '), 4) << line;  // time, 3 panels, the matrix
 }
 
 }  // namespace

@@ -434,8 +434,8 @@ TEST(Physics, ANestBetweenWallsOnEverySideConservesEnergy) {
 // panels' contacts with each other and with the walls lie along y and carry no load, and a strip
 // hit in its plane pushes nothing along y, so the impacted panel is the study's strip: every
 // block's peak and the output fraction equal the strip's to round-off (sums taken in another
-// order; measured identical), and the other panels get nothing but round-off overlaps (2e-35 of
-// E_in measured).
+// order; measured identical), so are its waves, and the other panels get nothing but round-off
+// overlaps (2e-35 of E_in measured).
 TEST(Physics, RigidSeparatorsLeaveTheImpactedPanelTheStudysStrip) {
   auto strip = blocks(3);
   strip.rows = 4;
@@ -449,6 +449,10 @@ TEST(Physics, RigidSeparatorsLeaveTheImpactedPanelTheStudysStrip) {
   ASSERT_EQ(c.blocks.size(), s.blocks.size());
   for (std::size_t k = 0; k < s.blocks.size(); ++k) {
     EXPECT_NEAR(c.blocks[k].peak_ke, s.blocks[k].peak_ke, 1e-12 * s.blocks[k].peak_ke) << "block " << k + 1;
+    // The waves are timed along the impacted panel's impact column, as along the strip's.
+    ASSERT_EQ(c.waves[k].speed.has_value(), s.waves[k].speed.has_value()) << "block " << k + 1;
+    if (s.waves[k].speed) EXPECT_NEAR(*c.waves[k].speed, *s.waves[k].speed, 1e-9 * *s.waves[k].speed) << "block " << k + 1;
+    EXPECT_EQ(c.waves[k].pulses, s.waves[k].pulses) << "block " << k + 1;
   }
   ASSERT_EQ(c.panel_peak_fraction.size(), 3U);
   EXPECT_LT(c.leaked_peak_fraction, 1e-20);

@@ -90,6 +90,11 @@ class Stack {
   // The matrix spheres, in id order after the last block (empty without a matrix).
   int first_matrix_id() const { return blocks_.back().last_id() + 1; }
   bool is_matrix(const Sphere& s) const { return s.chain > 0; }
+  // The panel a sphere belongs to: column_y in a container, 1 for every block sphere of a strip
+  // or nest (one panel); 0 for the striker and the matrix.
+  int panel_of(const Sphere& s) const {
+    return s.block == 0 || is_matrix(s) ? 0 : container() ? s.column_y : 1;
+  }
   static constexpr int striker_id() { return 1; }
   // The column of block k on the impact path, the chain of contacts down from the top block's
   // right central sphere (x = R_1): with an even radius ratio each sphere rests on two and the
@@ -99,6 +104,9 @@ class Stack {
   // at the central top sphere at (R_1, R_1) and follows the same rule along x and along y, so
   // its y-column is this column too.
   int impact_column(int block) const;
+  // The sphere of row `row` of block k on the impact path: the impact column, in 3D its y-column
+  // along the same rule, in a container the impacted panel.
+  int impact_path_id(int block, int row) const;
   // The bottom sphere of the impact column of the bottom block (physics.md section 4; in 3D the
   // bottom sphere of the impact path, the same definition along y).
   int output_sphere_id() const;

@@ -33,6 +33,13 @@ std::vector<std::string> plot_files(const std::string& name, const PlotOptions& 
 std::string plot_block_energy(const std::string& case_dir, const std::string& label, const std::string& out_dir,
                               const PlotOptions& options);
 
+// A container's panels: each panel's kinetic energy and the matrix's over time, / E_in, on a log
+// axis (the leak into the neighbours is orders below the impacted panel), from the reduction's
+// panel_frames. Named panels_LABEL. Returns the image path.
+std::string panel_plot_name(const std::string& label);
+std::string plot_panel_energy(const CaseReduction& reduction, const std::string& label, const std::string& out_dir,
+                              const PlotOptions& options);
+
 // Output fraction against N_B on a log axis, one series per group with its fitted line.
 std::string plot_decay(const OutputTable& table, const std::string& out_dir, const PlotOptions& options);
 

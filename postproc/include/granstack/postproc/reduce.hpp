@@ -58,6 +58,8 @@ struct CaseReduction {
   std::vector<double> panel_final_fraction, panel_peak_fraction;
   double matrix_final_fraction = 0.0, matrix_peak_fraction = 0.0;
   double leaked_final_fraction = 0.0, leaked_peak_fraction = 0.0;
+  // ... and per dump frame: the time (s), each panel's kinetic energy and the matrix's (J).
+  std::vector<std::vector<double>> panel_frames;
   std::vector<std::string> warnings;
   std::string csv_path;                // the per-block energy table written (reduce/block_ke.csv)
 };
