@@ -76,7 +76,7 @@ json spec_to_json(const model::StackSpec& s) {
           {"dump_files", model::to_string(s.dump_files)}};
   if (s.geometry == model::Geometry::panels) {
     j["panels"] = s.panels;
-    j["impact_panel"] = s.impact_panel;
+    j["impact_panel"] = s.strikes_every_panel() ? json("all") : json(s.impact_panel);
     j["separator"] = model::to_string(s.separator);
     j["matrix_material"] = s.matrix_material;
   }
@@ -93,7 +93,10 @@ model::StackSpec spec_from_json(const json& j, const std::string& source) {
   }
   // Written for containers only.
   if (j.contains("panels")) s.panels = get<int>(j, "panels", source);
-  if (j.contains("impact_panel")) s.impact_panel = get<int>(j, "impact_panel", source);
+  if (j.contains("impact_panel")) {
+    const auto& v = j.at("impact_panel");
+    s.impact_panel = v.is_string() && v.get<std::string>() == "all" ? model::kAllPanels : get<int>(j, "impact_panel", source);
+  }
   if (j.contains("separator")) {
     const auto sep = model::parse_separator(get<std::string>(j, "separator", source));
     if (!sep) throw FormatError(source, 0, "field 'separator' is 'matrix', 'walls' or 'none'");

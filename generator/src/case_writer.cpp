@@ -189,7 +189,7 @@ formats::DataFile data_file(const model::Stack& stack, const std::string& case_n
     a.x = s.x;
     a.y = s.y;
     a.z = s.z;
-    if (s.id == model::Stack::striker_id()) a.vz = -spec.striker_speed;
+    if (s.block == 0) a.vz = -spec.striker_speed;  // every striker
     d.atoms.push_back(a);
   }
   return d;
@@ -264,6 +264,7 @@ json layout_json(const model::Stack& stack) {
     }
     layout["panels"] = {{"count", stack.panels()},
                         {"impact_panel", stack.impact_panel()},
+                        {"strikers", stack.strikers()},
                         {"pitch", 2.0 * stack.block(1).radius},
                         {"separator", model::to_string(stack.spec().separator)},
                         {"matrix_type", stack.matrix_type()},

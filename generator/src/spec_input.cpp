@@ -268,8 +268,13 @@ Sweep build_sweep(const RawSpec& raw) {
         if (!g) p.bad(field, fmt::format("'{}' is not 'strip', 'nested3d' or 'panels'", *t));
         else s.geometry = *g;
       }
-    } else if (field == "panels" || field == "impact_panel") {
-      if (const auto* t = single()) p.whole(field, *t, field == "panels" ? s.panels : s.impact_panel);
+    } else if (field == "panels") {
+      if (const auto* t = single()) p.whole(field, *t, s.panels);
+    } else if (field == "impact_panel") {
+      if (const auto* t = single()) {
+        if (*t == "all") s.impact_panel = model::kAllPanels;
+        else p.whole(field, *t, s.impact_panel);
+      }
     } else if (field == "separator") {
       if (const auto* t = single()) {
         auto sep = model::parse_separator(*t);

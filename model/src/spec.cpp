@@ -87,6 +87,13 @@ const std::string& StackSpec::effective_matrix_material() const {
   return matrix_material.empty() ? teflon : matrix_material;
 }
 
+int StackSpec::measured_panel() const {
+  if (geometry != Geometry::panels) return 1;
+  return impact_panel > 0 ? impact_panel : (panels + 1) / 2;
+}
+
+bool StackSpec::strikes_every_panel() const { return geometry == Geometry::panels && impact_panel == kAllPanels; }
+
 MaterialLibrary StackSpec::material_library() const {
   auto lib = MaterialLibrary::builtin();
   for (const auto& m : custom_materials) lib.add(m);
@@ -109,7 +116,7 @@ namespace {
 double spheres(const StackSpec& spec) {
   const bool container = spec.geometry == Geometry::panels;
   const double panels = container ? spec.panels : 1.0;
-  double count = 1.0, columns = spec.top_columns, radius = 1.0;
+  double count = spec.strikes_every_panel() ? panels : 1.0, columns = spec.top_columns, radius = 1.0;
   for (int k = 1; k <= spec.blocks; ++k, columns *= spec.radius_ratio, radius /= spec.radius_ratio) {
     count += columns * (spec.geometry == Geometry::nested3d ? columns : panels) * spec.rows;
     if (container && spec.separator == Separator::matrix) {
@@ -155,10 +162,15 @@ void validate_container(const StackSpec& s, Bad&& bad, Known&& known, const std:
   if (s.panels < 2 || s.panels > kMaxPanels) {
     bad("panels", fmt::format("{} must be in [2, {}] (the panels side by side; one panel is geometry = strip)", s.panels,
                               kMaxPanels));
-  } else if (s.impact_panel < 0 || s.impact_panel > s.panels) {
-    bad("impact_panel", fmt::format("{} must be in [1, {}] (the panel the striker hits, 1 = smallest y), or 0 for the "
-                                    "centre one",
+  } else if (s.impact_panel < kAllPanels || s.impact_panel > s.panels) {
+    bad("impact_panel", fmt::format("{} must be in [1, {}] (the panel the striker hits, 1 = smallest y), or 'all' (a "
+                                    "striker on every panel)",
                                     s.impact_panel, s.panels));
+  }
+  if (s.impact_panel == kAllPanels && s.striker_radius_ratio > 1.0) {
+    bad("striker_radius_ratio", fmt::format("{} with a striker on every panel: strikers wider than the top spheres would "
+                                            "overlap across the pitch (2 R_1); use 1, or hit one panel",
+                                            s.striker_radius_ratio));
   }
   if (s.separator != Separator::matrix && !s.matrix_material.empty()) {
     bad("matrix_material", fmt::format("applies to separator = matrix only (this spec's separator is {})",

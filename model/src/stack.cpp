@@ -49,7 +49,7 @@ Stack Stack::build(const StackSpec& spec) {
   const int supports = s.three_d() ? 4 : 2;
 
   // Radii and columns, top block first: R_k = r n^(N_B - k), C_k = C n^(k-1).
-  int first_id = 2;
+  int first_id = 1 + s.strikers();
   int columns = spec.top_columns;
   for (int k = 1; k <= nb; ++k) {
     Block b;
@@ -83,8 +83,11 @@ Stack Stack::build(const StackSpec& spec) {
   // (-+R_1, -+R_1)): sqrt(3) R_1 above their row for the study's striker (sqrt(2) R_1 in 3D).
   const double striker_radius = spec.striker_radius_ratio * top.radius;
   s.striker_mass_ = sphere_mass(striker_radius, lib.at(spec.effective_striker_material()).density);
-  s.spheres_.push_back({1, 0, 0, 0, 0, 0, s.striker_type(), striker_radius, 0.0, s.panel_y(s.impact_panel()),
-                        top_row_z + seat_height(top.radius, striker_radius, supports)});
+  for (int p = 1; p <= s.panels(); ++p) {
+    if (!s.struck(p)) continue;
+    s.spheres_.push_back({static_cast<int>(s.spheres_.size()) + 1, 0, 0, 0, 0, 0, s.striker_type(), striker_radius, 0.0,
+                          s.panel_y(p), top_row_z + seat_height(top.radius, striker_radius, supports)});
+  }
   const auto row_z = [&](const Block& b, int i) {
     return bottom_row_z[static_cast<std::size_t>(b.index)] + 2.0 * b.radius * (b.rows - i);
   };
@@ -129,11 +132,6 @@ void Stack::add_matrix(const RowZ& row_z) {
 double Stack::lattice_centre(int j, int count, double radius) {
   // Centres at odd multiples of the radius about the axis: (2 j - 1 - C) R.
   return static_cast<double>(2 * j - 1 - count) * radius;
-}
-
-int Stack::impact_panel() const {
-  if (!container()) return 1;
-  return spec_.impact_panel > 0 ? spec_.impact_panel : (spec_.panels + 1) / 2;
 }
 
 double Stack::panel_y(int panel) const {
@@ -218,6 +216,8 @@ double Stack::half_depth() const {
 double Stack::top_z() const { return spheres_.front().z + spheres_.front().radius; }
 double Stack::striker_radius() const { return spheres_.front().radius; }
 double Stack::striker_mass() const { return striker_mass_; }
-double Stack::incident_energy() const { return 0.5 * striker_mass() * spec_.striker_speed * spec_.striker_speed; }
+double Stack::incident_energy() const {
+  return strikers() * (0.5 * striker_mass() * spec_.striker_speed * spec_.striker_speed);
+}
 
 }  // namespace granstack::model

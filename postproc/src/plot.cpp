@@ -142,13 +142,13 @@ std::string plot_panel_energy(const CaseReduction& r, const std::string& label, 
     fmt::format_to(out, "\n");
   }
   const auto name = panel_plot_name(label);
-  const int hit = r.spec.impact_panel > 0 ? r.spec.impact_panel : (panels + 1) / 2;
+  const std::string hit = r.spec.strikes_every_panel() ? "every panel" : fmt::format("panel {}", r.spec.measured_panel());
   const auto script = fmt::format(
       "# granstack: kinetic energy of each panel of the container {} and of its matrix, over E_in.\n"
-      "# Data: {}.dat (time in us, then panel 1 (smallest y) .. {}, then the matrix). The striker hits panel {}.\n"
+      "# Data: {}.dat (time in us, then panel 1 (smallest y) .. {}, then the matrix). The striker hits {}.\n"
       "# Restyle at will, then run: gnuplot {}.gp\n"
       "{}\nset output '{}.{}'\n"
-      "set title 'Kinetic energy per panel: {} panels, {} block{}, separator {}, striker on panel {}'\n"
+      "set title 'Kinetic energy per panel: {} panels, {} block{}, separator {}, striker on {}'\n"
       "set xlabel 'time t (µs)'\nset ylabel 'E_k / E_{{in}}'\n"
       "set grid\nset key outside right top\nset logscale y\nset format y '10^{{%L}}'\nset yrange [1e-6:2]\n"
       "set autoscale xfix\n"

@@ -291,12 +291,12 @@ std::vector<double> panel_energies(const FrameEnergy& e) {
   return panels;
 }
 
-// A container's leak: the kinetic energy of the panels the striker did not hit and of the matrix.
+// A container's leak: the kinetic energy of the panels no striker hit and of the matrix.
 double leaked_energy(const FrameEnergy& e, const model::Stack& stack) {
   const auto panels = panel_energies(e);
   double leaked = e.matrix_ke;
   for (std::size_t p = 0; p < panels.size(); ++p) {
-    if (static_cast<int>(p) + 1 != stack.impact_panel()) leaked += panels[p];
+    if (!stack.struck(static_cast<int>(p) + 1)) leaked += panels[p];
   }
   return leaked;
 }
@@ -680,7 +680,7 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
     fmt::format_to(out, "output fraction: {:.6g} ({})\n", r.output_fraction, r.output_definition);
     if (!r.panel_frames.empty()) {
       // The blocks above are every panel's together; the panels one by one:
-      const int hit = r.spec.impact_panel > 0 ? r.spec.impact_panel : (r.spec.panels + 1) / 2;
+      const int hit = r.spec.strikes_every_panel() ? 0 : r.spec.measured_panel();
       fmt::format_to(out, "per panel, kinetic energy / E_in at the last frame (peak), the blocks above summing every panel:\n");
       for (std::size_t p = 0; p < r.panel_final_fraction.size(); ++p) {
         fmt::format_to(out, "  panel {:>2}{}  {:.6g} ({:.6g})\n", p + 1, static_cast<int>(p) + 1 == hit ? " (hit)" : "      ",

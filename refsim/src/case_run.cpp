@@ -101,7 +101,7 @@ class SeriesWriter {
     if (!file_) throw std::runtime_error(fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
     std::fprintf(file_.get(), "# %s\n", fmt::format("{}", fmt::join(columns, " ")).c_str());
     for (const auto& b : stack.blocks()) groups_.push_back(runs(b.first_id, b.last_id()));
-    groups_.push_back(runs(model::Stack::striker_id(), model::Stack::striker_id()));
+    groups_.push_back(runs(model::Stack::striker_id(), stack.strikers()));
     groups_.push_back(runs(stack.output_sphere_id(), stack.output_sphere_id()));
     std::vector<Run> bottom;
     for (int id : stack.bottom_row_ids()) {

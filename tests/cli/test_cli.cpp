@@ -87,6 +87,8 @@ TEST_F(Cli, InvalidSpecsExitWith2NameTheFieldAndWriteNothing) {
       {"--impact-panel 2", "impact_panel: applies to geometry = panels only"},
       {"--geometry panels", "panels: 0 must be in [2, 64]"},
       {"--geometry panels --panels 3 --impact-panel 4", "impact_panel: 4 must be in [1, 3]"},
+      {"--geometry panels --panels 3 --impact-panel -2", "or 'all' (a striker on every panel)"},
+      {"--geometry panels --panels 3 --impact-panel all --striker-radius-ratio 2", "strikers wider than the top spheres"},
       {"--geometry panels --panels 3 --separator foam", "separator: 'foam' is not 'matrix', 'walls' or 'none'"},
       {"--geometry panels --panels 3 --matrix-material cork", "matrix_material: unknown material 'cork'"},
       {"--geometry panels --panels 3 --separator walls --matrix-material steel",
@@ -196,7 +198,8 @@ TEST_F(Cli, BadDumpFilesGiveClearErrors) {
 }
 
 // validate on the small stacks, elastic, damped, frictional, with walls and gravity, strips,
-// 3D nests (walls on four sides) and containers (a matrix; rigid separators): they agree to
+// 3D nests (walls on four sides) and containers (a matrix; rigid separators; a striker on every
+// panel): they agree to
 // round-off (at most 4.0e-16 measured; gated at 1e-14) and so at the default tolerance; a
 // tolerance below round-off fails with its own exit code.
 TEST_F(Cli, ValidateFindsLiggghtsAndRefsimAgreeToRoundOffOnSmallStacks) {
@@ -213,13 +216,16 @@ TEST_F(Cli, ValidateFindsLiggghtsAndRefsimAgreeToRoundOffOnSmallStacks) {
   ASSERT_EQ(granstack("generate -o " + path("separators") + " --geometry panels --panels 2 --blocks 2 --rows 3 "
                       "--restitution 0.9 --friction 0.25 --separator walls --sides wall --bottom wall --gravity").code,
             0);
-  for (const auto* dir : {"sweep", "walls", "nests", "containers", "separators"}) {
+  ASSERT_EQ(granstack("generate -o " + path("struck") + " --geometry panels --panels 3 --blocks 2 --rows 3 --impact-panel all "
+                      "--restitution 0.9 --friction 0.25").code,
+            0);
+  for (const auto* dir : {"sweep", "walls", "nests", "containers", "separators", "struck"}) {
     const auto r = granstack("validate -j 2 --tolerance 1e-14 " + path(dir));
     EXPECT_EQ(r.code, 0) << r.output;
     std::size_t agree = 0;
     for (auto pos = r.output.find("\nagree: "); pos != std::string::npos; pos = r.output.find("\nagree: ", pos + 1)) ++agree;
     const std::string d = dir;
-    EXPECT_EQ(agree, d == "walls" ? 2u : d == "separators" ? 1u : 8u) << r.output;
+    EXPECT_EQ(agree, d == "walls" ? 2u : d == "separators" || d == "struck" ? 1u : 8u) << r.output;
     expect_contains(r, "the tolerance 1e-14");
     EXPECT_EQ(r.output.find("OVER"), std::string::npos) << r.output;
   }

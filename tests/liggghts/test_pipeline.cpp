@@ -435,7 +435,7 @@ TEST(Physics, ANestBetweenWallsOnEverySideConservesEnergy) {
 // hit in its plane pushes nothing along y, so the impacted panel is the study's strip: every
 // block's peak and the output fraction equal the strip's to round-off (sums taken in another
 // order; measured identical), so are its waves, and the other panels get nothing but round-off
-// overlaps (2e-35 of E_in measured).
+// overlaps (2e-35 of E_in measured). With a striker on every panel, every panel is that strip.
 TEST(Physics, RigidSeparatorsLeaveTheImpactedPanelTheStudysStrip) {
   auto strip = blocks(3);
   strip.rows = 4;
@@ -459,6 +459,14 @@ TEST(Physics, RigidSeparatorsLeaveTheImpactedPanelTheStudysStrip) {
   ASSERT_EQ(c.panel_peak_fraction.size(), 3U);
   EXPECT_LT(c.leaked_peak_fraction, 1e-20);
   EXPECT_GT(c.panel_peak_fraction[1], 0.5);
+  // A striker on every panel: each panel is that strip again, with a third of E_in.
+  container.impact_panel = model::kAllPanels;
+  const auto all = postproc::reduce_case(run_case("all", container));
+  EXPECT_NEAR(3 * all.output_fraction, s.output_fraction, 1e-12 * s.output_fraction);
+  for (std::size_t p = 0; p < 3; ++p) {
+    EXPECT_NEAR(3 * all.panel_final_fraction[p], c.panel_final_fraction[1], 1e-12) << "panel " << p + 1;
+  }
+  EXPECT_LT(all.leaked_peak_fraction, 1e-20);
 }
 
 // A container with its soft matrix (Teflon chains between steel panels), e = 1: kinetic plus

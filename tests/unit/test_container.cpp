@@ -78,7 +78,12 @@ TEST_P(ContainerTest, EveryDesignedContactTouchesExactlyAndNothingElseTouchesOrO
       }
     }
   }
-  for (const int d : {0, 1}) expect_touch(Stack::striker_id(), stack.id_of(1, 1, p.top_columns / 2 + d, stack.impact_panel()));
+  // Each striker on the two central top spheres of its panel.
+  for (int id = 1; id <= stack.strikers(); ++id) {
+    const int panel = p.impact_panel == granstack::model::kAllPanels ? id : stack.impact_panel();
+    for (const int d : {0, 1}) expect_touch(id, stack.id_of(1, 1, p.top_columns / 2 + d, panel));
+    if (id > 1) expect_touch(id - 1, id);  // strikers of neighbouring panels, like their top blocks
+  }
   // The chains: each sphere on the next, the first and the last on the four spheres around
   // their panel's pocket.
   for (std::size_t i = static_cast<std::size_t>(stack.first_matrix_id() - 1); i < stack.spheres().size(); ++i) {
@@ -103,18 +108,26 @@ TEST_P(ContainerTest, CountsIdsSymmetryAndTheImpactedPanel) {
     panel_spheres += p.panels * columns * p.rows;
     matrix += (p.panels - 1) * (columns - 1) * (p.rows - 1) * chain_count(n);
   }
-  ASSERT_EQ(static_cast<long>(stack.spheres().size()), 1 + panel_spheres + matrix);
-  EXPECT_EQ(granstack::model::sphere_count(stack.spec()), 1 + panel_spheres + matrix);
-  EXPECT_EQ(stack.first_matrix_id(), 2 + panel_spheres);
+  const bool all = p.impact_panel == granstack::model::kAllPanels;
+  const long strikers = all ? p.panels : 1;
+  ASSERT_EQ(stack.strikers(), strikers);
+  ASSERT_EQ(static_cast<long>(stack.spheres().size()), strikers + panel_spheres + matrix);
+  EXPECT_EQ(granstack::model::sphere_count(stack.spec()), strikers + panel_spheres + matrix);
+  EXPECT_EQ(stack.block(1).first_id, strikers + 1);
+  EXPECT_EQ(stack.first_matrix_id(), strikers + 1 + panel_spheres);
+  // The measured panel: the one hit, the centre one by default and when every panel is hit.
   const int impact = p.impact_panel > 0 ? p.impact_panel : (p.panels + 1) / 2;
   EXPECT_EQ(stack.impact_panel(), impact);
   const double r1 = stack.block(1).radius;
   for (const auto& sp : stack.spheres()) {
     ASSERT_EQ(&sp - stack.spheres().data() + 1, sp.id);
     if (sp.block == 0) {
-      EXPECT_EQ(sp.y, (2 * impact - 1 - p.panels) * r1);
+      // Strikers first, one per panel hit, in panel order.
+      ASSERT_LE(sp.id, strikers);
+      EXPECT_EQ(sp.y, (2 * (all ? sp.id : impact) - 1 - p.panels) * r1);
       continue;
     }
+    EXPECT_GT(sp.id, strikers);
     if (stack.is_matrix(sp)) {
       EXPECT_GE(sp.id, stack.first_matrix_id());
       EXPECT_EQ(sp.atom_type, stack.matrix_type());
@@ -145,14 +158,16 @@ TEST_P(ContainerTest, CountsIdsSymmetryAndTheImpactedPanel) {
 std::string container_name(const ::testing::TestParamInfo<Container>& info) {
   const auto& p = info.param;
   return "p" + std::to_string(p.panels) + "_nb" + std::to_string(p.blocks) + "_c" + std::to_string(p.top_columns) + "_rows" +
-         std::to_string(p.rows) + "_ratio" + std::to_string(p.ratio) + "_hit" + std::to_string(p.impact_panel);
+         std::to_string(p.rows) + "_ratio" + std::to_string(p.ratio) + "_hit" +
+         (p.impact_panel == granstack::model::kAllPanels ? std::string("all") : std::to_string(p.impact_panel));
 }
 
 INSTANTIATE_TEST_SUITE_P(Containers, ContainerTest,
                          ::testing::Values(Container{2, 2, 2, 3, 2, 0}, Container{3, 3, 2, 3, 2, 0},
                                            Container{3, 4, 2, 2, 2, 1}, Container{4, 2, 4, 3, 2, 4},
                                            Container{2, 2, 2, 3, 3, 0}, Container{2, 2, 2, 2, 4, 2},
-                                           Container{3, 3, 2, 2, 3, 0}),
+                                           Container{3, 3, 2, 2, 3, 0}, Container{3, 2, 2, 3, 2, -1},
+                                           Container{2, 3, 2, 2, 2, -1}),
                          container_name);
 
 // The chains' own geometry: the study's ratio 2 puts two spheres of 5/6 R_2 in a block-2 pocket
@@ -199,6 +214,18 @@ TEST(Container, SeparatorWallsStandMidwayAndTouchTheTopBlocks) {
     }
     EXPECT_NEAR(nearest, 0.0, 1e-15) << w.name;
   }
+}
+
+// A striker on every panel: E_in is every striker's, and the measured panel the centre one.
+TEST(Container, AStrikerOnEveryPanelBringsEachItsEnergy) {
+  auto s = spec_of({3, 2, 2, 3, 2, 0});
+  const auto one = Stack::build(s);
+  s.impact_panel = granstack::model::kAllPanels;
+  const auto all = Stack::build(s);
+  EXPECT_EQ(all.incident_energy(), 3 * one.incident_energy());
+  EXPECT_EQ(all.impact_panel(), 2);
+  EXPECT_TRUE(all.struck(1) && all.struck(2) && all.struck(3));
+  EXPECT_TRUE(!one.struck(1) && one.struck(2) && !one.struck(3));
 }
 
 // The time step sees the matrix's contacts: a matrix far softer than the panels leaves dt alone;

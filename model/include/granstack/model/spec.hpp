@@ -50,8 +50,9 @@ struct PairTable {
 struct StackSpec {
   Geometry geometry = Geometry::strip;
   // geometry = panels only (refused elsewhere when set): the number of panels P, 2..kMaxPanels;
-  // the panel the striker hits (1 = smallest y; 0 = the centre one, (P + 1) / 2); what separates
-  // them; and the matrix's material (empty: the study's soft material, teflon).
+  // the panel the striker hits (1 = smallest y; 0 = the centre one, (P + 1) / 2; kAllPanels: a
+  // striker on every panel); what separates them; and the matrix's material (empty: the
+  // study's soft material, teflon).
   int panels = 0;
   int impact_panel = 0;
   Separator separator = Separator::matrix;
@@ -90,6 +91,10 @@ struct StackSpec {
   const std::string& effective_striker_material() const;
   // The matrix's material name (matrix_material, or teflon).
   const std::string& effective_matrix_material() const;
+  // A container's panel whose impact path, output sphere and bottom row are measured: the one
+  // the striker hits, the centre one by default and when every panel is hit; 1 otherwise.
+  int measured_panel() const;
+  bool strikes_every_panel() const;
   // Built-in materials plus custom_materials.
   MaterialLibrary material_library() const;
   bool operator==(const StackSpec&) const = default;
@@ -131,6 +136,8 @@ inline constexpr double kMinDensity = 1.0, kMaxDensity = 1e5;
 inline constexpr double kMinYoungsModulus = 1e3, kMaxYoungsModulus = 1e13;
 // The most panels side by side (a container of the study's Fig. 1b has a handful).
 inline constexpr int kMaxPanels = 64;
+// impact_panel's value for a striker on every panel (spec files and flags: "all").
+inline constexpr int kAllPanels = -1;
 
 // The most spheres granstack will lay out in one case (a guard against typos such as 40 blocks).
 // refsim's peak memory per million spheres of a 3D nest (bench/nest_scale.sh: 1.51 GB at 1 048 513).

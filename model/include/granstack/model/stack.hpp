@@ -6,7 +6,8 @@
 // every centre, a 3D nest is a cubic lattice in x and y too. The lattice is centred on x = 0
 // (and y = 0); the bottom face of the bottom block is the plane z = 0.
 //
-// Id order (documented, stable): id 1 is the striker; then block 1 (top) to block N_B; within
+// Id order (documented, stable): id 1 is the striker (a container struck on every panel has one
+// striker per panel, ids 1..P by panel); then block 1 (top) to block N_B; within
 // a block row 1 (its top row, or layer) to its bottom row; within a row, y-column 1 (smallest
 // y; the strip has one) upwards, and within it column 1 (smallest x) upwards:
 //   id(block k, row i, column j, y-column l) = first_id(k) + (i - 1) * columns(k) * depth(k)
@@ -82,8 +83,12 @@ class Stack {
   bool three_d() const { return spec_.geometry == Geometry::nested3d; }
   bool container() const { return spec_.geometry == Geometry::panels; }
   int panels() const { return container() ? spec_.panels : 1; }
-  // The panel the striker hits: 1 outside a container.
-  int impact_panel() const;
+  // The panel whose impact path, output sphere and bottom row are measured (the one the striker
+  // hits; the centre one when a striker hits every panel): 1 outside a container.
+  int impact_panel() const { return spec_.measured_panel(); }
+  // Whether a striker hits panel p; the strikers, one per panel hit, hold ids 1..strikers().
+  bool struck(int panel) const { return spec_.strikes_every_panel() || panel == impact_panel(); }
+  int strikers() const { return spec_.strikes_every_panel() ? spec_.panels : 1; }
   // The plane of panel p (y_p; 0 outside a container).
   double panel_y(int panel) const;
   bool has_matrix() const { return container() && spec_.separator == Separator::matrix; }
@@ -95,7 +100,7 @@ class Stack {
   int panel_of(const Sphere& s) const {
     return s.block == 0 || is_matrix(s) ? 0 : container() ? s.column_y : 1;
   }
-  static constexpr int striker_id() { return 1; }
+  static constexpr int striker_id() { return 1; }  // the first striker
   // The column of block k on the impact path, the chain of contacts down from the top block's
   // right central sphere (x = R_1): with an even radius ratio each sphere rests on two and the
   // path takes the inner one (for the study's ratio 2, the central column just right of the
@@ -133,7 +138,7 @@ class Stack {
   double top_z() const;            // m: the top of the striker
   double striker_radius() const;   // m
   double striker_mass() const;     // kg
-  double incident_energy() const;  // E_in = 1/2 m_s v^2, J
+  double incident_energy() const;  // E_in = 1/2 m_s v^2 (times the strikers), J
 
  private:
   static int id_of(const Block& b, int row, int column, int column_y);
