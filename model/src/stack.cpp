@@ -68,48 +68,56 @@ Stack Stack::build(const StackSpec& spec) {
   }
 
   // Row-centre heights, from the bottom face (z = 0) up.
-  std::vector<double> bottom_row_z(static_cast<std::size_t>(nb + 1));
-  bottom_row_z[static_cast<std::size_t>(nb)] = s.block(nb).radius;
+  s.blocks_.back().bottom_row_z = s.block(nb).radius;
   for (int k = nb - 1; k >= 1; --k) {
     const auto& below = s.block(k + 1);
-    const double top_row_below = bottom_row_z[static_cast<std::size_t>(k + 1)] + 2.0 * below.radius * (below.rows - 1);
-    bottom_row_z[static_cast<std::size_t>(k)] = top_row_below + interface_height(below.radius, n, supports);
+    const double top_row_below = below.bottom_row_z + 2.0 * below.radius * (below.rows - 1);
+    s.blocks_[static_cast<std::size_t>(k - 1)].bottom_row_z = top_row_below + interface_height(below.radius, n, supports);
   }
 
   s.spheres_.reserve(static_cast<std::size_t>(first_id - 1));
   const auto& top = s.block(1);
-  const double top_row_z = bottom_row_z[1] + 2.0 * top.radius * (top.rows - 1);
   // The striker rests on the two central top spheres (at x = -+R_1; in 3D the four at
   // (-+R_1, -+R_1)): sqrt(3) R_1 above their row for the study's striker (sqrt(2) R_1 in 3D).
   const double striker_radius = spec.striker_radius_ratio * top.radius;
   s.striker_mass_ = sphere_mass(striker_radius, lib.at(spec.effective_striker_material()).density);
+  const double seat = seat_height(top.radius, striker_radius, supports);
   for (int p = 1; p <= s.panels(); ++p) {
     if (!s.struck(p)) continue;
-    s.spheres_.push_back({static_cast<int>(s.spheres_.size()) + 1, 0, 0, 0, 0, 0, s.striker_type(), striker_radius, 0.0,
-                          s.panel_y(p), top_row_z + seat_height(top.radius, striker_radius, supports)});
+    // Above the midpoint of the central top row (x = 0, on the panel's plane).
+    const Eigen::Vector3d below{0.0, s.panel_y(p), s.site(top, 1, 1, 1).z()};
+    s.add({static_cast<int>(s.spheres_.size()) + 1, 0, 0, 0, 0, 0, s.striker_type(), striker_radius},
+          below + seat * Eigen::Vector3d::UnitZ());
   }
-  const auto row_z = [&](const Block& b, int i) {
-    return bottom_row_z[static_cast<std::size_t>(b.index)] + 2.0 * b.radius * (b.rows - i);
-  };
   for (const auto& b : s.blocks_) {
     for (int i = 1; i <= b.rows; ++i) {
       for (int l = 1; l <= b.depth; ++l) {
-        const double y = s.container() ? s.panel_y(l) : lattice_centre(l, b.depth, b.radius);
         for (int j = 1; j <= b.columns; ++j) {
-          s.spheres_.push_back({s.id_of(b, i, j, l), b.index, i, j, l, 0, b.atom_type, b.radius,
-                                lattice_centre(j, b.columns, b.radius), y, row_z(b, i)});
+          s.add({s.id_of(b, i, j, l), b.index, i, j, l, 0, b.atom_type, b.radius}, s.site(b, i, j, l));
         }
       }
     }
   }
-  if (s.has_matrix()) s.add_matrix(row_z);
+  if (s.has_matrix()) s.add_matrix();
   return s;
 }
 
-template <typename RowZ>
-void Stack::add_matrix(const RowZ& row_z) {
-  // Each pocket of a panel's block (between rows i and i + 1, columns j and j + 1) holds a
-  // chain to the same pocket of the next panel.
+Eigen::Vector3d Stack::site(const Block& b, int row, int column, int column_y) const {
+  return {lattice_centre(column, b.columns, b.radius),
+          container() ? panel_y(column_y) : lattice_centre(column_y, b.depth, b.radius),
+          b.bottom_row_z + 2.0 * b.radius * (b.rows - row)};
+}
+
+void Stack::add(Sphere s, const Eigen::Vector3d& centre) {
+  s.x = centre.x();
+  s.y = centre.y();
+  s.z = centre.z();
+  spheres_.push_back(s);
+}
+
+void Stack::add_matrix() {
+  // Each pocket of a panel's block (the centre of four sites: rows i and i + 1, columns j and
+  // j + 1) holds a chain along y to the same pocket of the next panel.
   const double half_pitch = block(1).radius;
   int id = first_matrix_id();
   for (const auto& b : blocks_) {
@@ -117,11 +125,10 @@ void Stack::add_matrix(const RowZ& row_z) {
     for (int g = 1; g < panels(); ++g) {
       for (int i = 1; i < b.rows; ++i) {
         for (int j = 1; j < b.columns; ++j) {
+          const Eigen::Vector3d pocket = 0.5 * (site(b, i, j, g) + site(b, i + 1, j + 1, g));
           for (int m = 1; m <= chain.count; ++m) {
-            const double y = panel_y(g) + chain.offset + 2.0 * chain.radius * (m - 1);
-            spheres_.push_back({id++, b.index, i, j, g, m, matrix_type(), chain.radius,
-                                0.5 * (lattice_centre(j, b.columns, b.radius) + lattice_centre(j + 1, b.columns, b.radius)),
-                                y, row_z(b, i) - b.radius});
+            add({id++, b.index, i, j, g, m, matrix_type(), chain.radius},
+                pocket + (chain.offset + 2.0 * chain.radius * (m - 1)) * Eigen::Vector3d::UnitY());
           }
         }
       }

@@ -12,10 +12,9 @@ namespace granstack::test {
 // sums of a few exactly representable multiples of R and one sqrt, so round-off is ~1e-16.
 inline constexpr double kTouchTolerance = 1e-12;
 
-// Centre distance less the radii (the strip's centres all have y = 0).
+// Centre distance less the radii.
 inline double gap(const model::Sphere& a, const model::Sphere& b) {
-  const double dx = a.x - b.x, dy = a.y - b.y, dz = a.z - b.z;
-  return std::sqrt(dx * dx + dy * dy + dz * dz) - (a.radius + b.radius);
+  return (a.centre() - b.centre()).norm() - (a.radius + b.radius);
 }
 
 inline bool touching(const model::Sphere& a, const model::Sphere& b) {

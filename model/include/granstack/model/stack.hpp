@@ -22,6 +22,8 @@
 // j (between columns j and j + 1), then m along the chain (increasing y).
 #include <granstack/model/spec.hpp>
 
+#include <Eigen/Core>
+
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -43,6 +45,7 @@ struct Sphere {
   double x = 0.0;       // m
   double y = 0.0;       // m
   double z = 0.0;       // m
+  Eigen::Vector3d centre() const { return {x, y, z}; }
 };
 
 // A planar wall (LIGGGHTS wall/gran ... primitive xplane/yplane/zplane): the plane where
@@ -63,6 +66,7 @@ struct Block {
   int first_id = 0;
   int atom_type = 0;
   double sphere_mass = 0.0;  // kg
+  double bottom_row_z = 0.0;  // m: the height of its bottom row's centres
   int layer() const { return columns * depth; }  // spheres per row (per layer in 3D)
   int count() const { return rows * layer(); }
   int last_id() const { return first_id + count() - 1; }
@@ -143,8 +147,11 @@ class Stack {
  private:
   static int id_of(const Block& b, int row, int column, int column_y);
   static double lattice_centre(int j, int count, double radius);
-  template <typename RowZ>
-  void add_matrix(const RowZ& row_z);
+  // The centre of the lattice site of block b in row i, column j and y-column l (in a container
+  // the panel l's plane).
+  Eigen::Vector3d site(const Block& b, int row, int column, int column_y) const;
+  void add(Sphere s, const Eigen::Vector3d& centre);
+  void add_matrix();
   StackSpec spec_;
   double striker_mass_ = 0.0;
   std::vector<Sphere> spheres_;
