@@ -203,29 +203,29 @@ TEST_F(Cli, BadDumpFilesGiveClearErrors) {
 // round-off (at most 4.0e-16 measured; gated at 1e-14) and so at the default tolerance; a
 // tolerance below round-off fails with its own exit code.
 TEST_F(Cli, ValidateFindsLiggghtsAndRefsimAgreeToRoundOffOnSmallStacks) {
-  ASSERT_EQ(granstack("generate -o " + path("sweep") + " --blocks 1,2 --restitution 1,0.9 --friction 0,0.25").code, 0);
-  ASSERT_EQ(granstack("generate -o " + path("walls") + " --blocks 1,2 --restitution 0.9 --friction 0.25 --bottom wall "
-                      "--sides wall --gravity").code,
-            0);
-  ASSERT_EQ(granstack("generate -o " + path("nests") + " --geometry nested3d --blocks 1,2 --rows 3 --restitution 1,0.9 "
-                      "--friction 0,0.25 --sides wall --bottom wall --gravity").code,
-            0);
-  ASSERT_EQ(granstack("generate -o " + path("containers") + " --geometry panels --panels 3 --blocks 1,2 --rows 3 "
-                      "--restitution 1,0.9 --friction 0,0.25").code,
-            0);
-  ASSERT_EQ(granstack("generate -o " + path("separators") + " --geometry panels --panels 2 --blocks 2 --rows 3 "
-                      "--restitution 0.9 --friction 0.25 --separator walls --sides wall --bottom wall --gravity").code,
-            0);
-  ASSERT_EQ(granstack("generate -o " + path("struck") + " --geometry panels --panels 3 --blocks 2 --rows 3 --impact-panel all "
-                      "--restitution 0.9 --friction 0.25").code,
-            0);
-  for (const auto* dir : {"sweep", "walls", "nests", "containers", "separators", "struck"}) {
+  struct Set {
+    const char* dir;
+    const char* flags;
+    std::size_t cases;
+  };
+  const Set sets[] = {
+      {"sweep", "--blocks 1,2 --restitution 1,0.9 --friction 0,0.25", 8},
+      {"walls", "--blocks 1,2 --restitution 0.9 --friction 0.25 --bottom wall --sides wall --gravity", 2},
+      {"nests", "--geometry nested3d --blocks 1,2 --rows 3 --restitution 1,0.9 --friction 0,0.25 --sides wall --bottom wall "
+                "--gravity", 8},
+      {"containers", "--geometry panels --panels 3 --blocks 1,2 --rows 3 --restitution 1,0.9 --friction 0,0.25", 8},
+      {"separators", "--geometry panels --panels 2 --blocks 2 --rows 3 --restitution 0.9 --friction 0.25 --separator walls "
+                     "--sides wall --bottom wall --gravity", 1},
+      {"struck", "--geometry panels --panels 3 --blocks 2 --rows 3 --impact-panel all --restitution 0.9 --friction 0.25", 1},
+  };
+  for (const auto& set : sets) {
+    const std::string dir = set.dir;
+    ASSERT_EQ(granstack("generate -o " + path(dir) + " " + set.flags).code, 0) << dir;
     const auto r = granstack("validate -j 2 --tolerance 1e-14 " + path(dir));
     EXPECT_EQ(r.code, 0) << r.output;
     std::size_t agree = 0;
     for (auto pos = r.output.find("\nagree: "); pos != std::string::npos; pos = r.output.find("\nagree: ", pos + 1)) ++agree;
-    const std::string d = dir;
-    EXPECT_EQ(agree, d == "walls" ? 2u : d == "separators" || d == "struck" ? 1u : 8u) << r.output;
+    EXPECT_EQ(agree, set.cases) << r.output;
     expect_contains(r, "the tolerance 1e-14");
     EXPECT_EQ(r.output.find("OVER"), std::string::npos) << r.output;
   }

@@ -48,12 +48,8 @@ class ContainerTest : public ::testing::TestWithParam<Container> {};
 TEST_P(ContainerTest, EveryDesignedContactTouchesExactlyAndNothingElseTouchesOrOverlaps) {
   const auto& p = GetParam();
   const auto stack = Stack::build(spec_of(p));
-  long designed = 0;
-  auto expect_touch = [&](int a, int b) {
-    EXPECT_TRUE(touching(stack.sphere(a), stack.sphere(b))) << "ids " << a << " and " << b << " gap "
-                                                            << gap(stack.sphere(a), stack.sphere(b));
-    ++designed;
-  };
+  granstack::test::DesignedContacts designed(stack);
+  const auto expect_touch = [&](int a, int b) { designed.expect(a, b); };
   for (const auto& b : stack.blocks()) {
     ASSERT_EQ(b.depth, p.panels);
     for (int l = 1; l <= p.panels; ++l) {
@@ -97,7 +93,7 @@ TEST_P(ContainerTest, EveryDesignedContactTouchesExactlyAndNothingElseTouchesOrO
       }
     }
   }
-  EXPECT_EQ(touching_pairs(stack), designed);
+  EXPECT_EQ(touching_pairs(stack), designed.count());
 }
 
 TEST_P(ContainerTest, CountsIdsSymmetryAndTheImpactedPanel) {

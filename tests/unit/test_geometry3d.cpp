@@ -44,12 +44,8 @@ class Geometry3dTest : public ::testing::TestWithParam<Nest> {};
 TEST_P(Geometry3dTest, EveryDesignedContactTouchesExactlyAndNothingElseTouchesOrOverlaps) {
   const auto& p = GetParam();
   const auto stack = build(p);
-  long designed = 0;
-  auto expect_touch = [&](int a, int b) {
-    EXPECT_TRUE(touching(stack.sphere(a), stack.sphere(b))) << "ids " << a << " and " << b << " gap "
-                                                            << gap(stack.sphere(a), stack.sphere(b));
-    ++designed;
-  };
+  granstack::test::DesignedContacts designed(stack);
+  const auto expect_touch = [&](int a, int b) { designed.expect(a, b); };
   for (const auto& b : stack.blocks()) {
     ASSERT_EQ(b.depth, b.columns);
     for (int i = 1; i <= b.rows; ++i) {
@@ -82,7 +78,7 @@ TEST_P(Geometry3dTest, EveryDesignedContactTouchesExactlyAndNothingElseTouchesOr
   for (const int dx : {0, 1}) {
     for (const int dy : {0, 1}) expect_touch(Stack::striker_id(), stack.id_of(1, 1, c + dx, c + dy));
   }
-  EXPECT_EQ(touching_pairs(stack), designed);
+  EXPECT_EQ(touching_pairs(stack), designed.count());
 }
 
 TEST_P(Geometry3dTest, CountsIdsSymmetryAndTheImpactPath) {

@@ -21,6 +21,23 @@ inline bool touching(const model::Sphere& a, const model::Sphere& b) {
   return std::fabs(gap(a, b)) <= kTouchTolerance * (a.radius + b.radius);
 }
 
+// The contacts a geometry test designs: each checked to touch exactly, and counted, to be
+// compared with touching_pairs (nothing else may touch).
+class DesignedContacts {
+ public:
+  explicit DesignedContacts(const model::Stack& stack) : stack_(stack) {}
+  void expect(int a, int b) {
+    EXPECT_TRUE(touching(stack_.sphere(a), stack_.sphere(b))) << "ids " << a << " and " << b << " gap "
+                                                              << gap(stack_.sphere(a), stack_.sphere(b));
+    ++count_;
+  }
+  long count() const { return count_; }
+
+ private:
+  const model::Stack& stack_;
+  long count_ = 0;
+};
+
 // The pairs of the stack's spheres that touch, every pair tried; a pair that overlaps fails
 // the test, naming it.
 inline long touching_pairs(const model::Stack& stack) {
