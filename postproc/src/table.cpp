@@ -47,12 +47,29 @@ OutputTable build_table(const std::vector<CaseReduction>& reductions) {
     by_key[text].push_back(&r);
     keys[text] = key;
   }
-  // The fields whose values differ between groups name them.
+  // The fields whose values differ between groups name them; a custom material's constants
+  // by material and constant (`matrix.youngs_modulus`), where two groups define one name apart.
   std::set<std::string> differing;
+  const auto constant = [&](const json& key, const std::string& path) {
+    return key.value(json::json_pointer("/custom_materials/" + path), json());
+  };
+  std::set<std::string> constants;  // "NAME/constant" of every custom material of any group
   for (const auto& [text, key] : keys) {
     for (const auto& [field, value] : key.items()) {
       if (keys.begin()->second.value(field, json()) != value) differing.insert(field);
     }
+    const json custom = key.value("custom_materials", json::object());
+    for (const auto& [name, m] : custom.items()) {
+      for (const auto& [c, v] : m.items()) constants.insert(name + "/" + c);
+    }
+  }
+  std::set<std::string> differing_constants;  // between groups that both define the material
+  for (const auto& path : constants) {
+    std::set<std::string> values;
+    for (const auto& [text, key] : keys) {
+      if (const auto v = constant(key, path); !v.is_null()) values.insert(v.dump());
+    }
+    if (values.size() > 1) differing_constants.insert(path);
   }
   OutputTable t;
   std::set<int> all_blocks;
@@ -66,10 +83,16 @@ OutputTable build_table(const std::vector<CaseReduction>& reductions) {
     json sort_key = json::array();
     for (const auto& field : differing) {
       sort_key.push_back(keys[text][field]);
-      // A custom material's constants are named by the material that uses them.
-      if (field == "custom_materials") continue;
+      if (field == "custom_materials") continue;  // named constant by constant below
       const auto value = value_text(keys[text][field]);
       parts.push_back(short_name(field) + "=" + (value.empty() ? "default" : value));
+    }
+    for (const auto& path : differing_constants) {
+      const auto v = constant(keys[text], path);
+      sort_key.push_back(v);
+      auto name = path;
+      name[name.find('/')] = '.';
+      if (!v.is_null()) parts.push_back(name + "=" + value_text(v));
     }
     sort_keys.push_back(std::move(sort_key));
     g.label = parts.empty() ? fmt::format("e={}", g.restitution) : fmt::format("{}", fmt::join(parts, ", "));

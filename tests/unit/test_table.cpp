@@ -89,6 +89,29 @@ TEST(OutputTable, OrdersGroupsByValue) {
   EXPECT_EQ(t.groups[2].label, "rows=12");
 }
 
+// Containers whose matrix is one custom material defined apart (the stiffness study): the groups
+// are told apart by the constant that differs, ordered by its value; a group without the
+// material is named by the field that uses it.
+TEST(OutputTable, NamesTheCustomMaterialConstantThatTellsGroupsApart) {
+  std::vector<postproc::CaseReduction> rs;
+  const auto container = [&](double fraction) {
+    rs.push_back(reduction(3, 1.0, fraction));
+    rs.back().spec.geometry = granstack::model::Geometry::panels;
+    rs.back().spec.panels = 3;
+  };
+  for (const double y : {1e9, 1e7}) {
+    container(0.03);
+    rs.back().spec.custom_materials = {{"matrix", 2170.0, y, 0.46}};
+    rs.back().spec.matrix_material = "matrix";
+  }
+  container(0.034);
+  const auto t = postproc::build_table(rs);
+  ASSERT_EQ(t.groups.size(), 3u);
+  EXPECT_EQ(t.groups[0].label, "matrix_material=default");
+  EXPECT_EQ(t.groups[1].label, "matrix_material=matrix, matrix.youngs_modulus=10000000");
+  EXPECT_EQ(t.groups[2].label, "matrix_material=matrix, matrix.youngs_modulus=1000000000");
+}
+
 TEST(Peaks, ProminenceRuleKeepsDistinctPeaksAndDropsRipples) {
   // Two clear peaks (1.0 and 0.6) separated by a dip to 0.2, with a ripple of 0.02 on the first.
   const std::vector<double> y{0.0, 0.5, 0.98, 0.96, 1.0, 0.7, 0.2, 0.4, 0.6, 0.3, 0.0};
