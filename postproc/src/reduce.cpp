@@ -282,6 +282,7 @@ void require_energy_balance(const FrameEnergy& e, const model::StackSpec& spec, 
 }
 }  // namespace
 
+namespace {
 // Each panel's kinetic energy (every block's part of it), index 0 = panel 1.
 std::vector<double> panel_energies(const FrameEnergy& e) {
   std::vector<double> panels(e.column_y_ke.empty() ? 0 : e.column_y_ke.front().size(), 0.0);
@@ -292,9 +293,8 @@ std::vector<double> panel_energies(const FrameEnergy& e) {
 }
 
 // A container's leak: the kinetic energy of the panels no striker hit and of the matrix.
-double leaked_energy(const FrameEnergy& e, const model::Stack& stack) {
-  const auto panels = panel_energies(e);
-  double leaked = e.matrix_ke;
+double leaked_energy(const std::vector<double>& panels, double matrix_ke, const model::Stack& stack) {
+  double leaked = matrix_ke;
   for (std::size_t p = 0; p < panels.size(); ++p) {
     if (!stack.struck(static_cast<int>(p) + 1)) leaked += panels[p];
   }
@@ -311,8 +311,9 @@ void track_panels(const FrameEnergy& e, const model::Stack& stack, double time, 
     r.panel_peak_fraction[p] = std::max(r.panel_peak_fraction[p], panels[p] / r.e_in);
   }
   r.matrix_peak_fraction = std::max(r.matrix_peak_fraction, e.matrix_ke / r.e_in);
-  r.leaked_peak_fraction = std::max(r.leaked_peak_fraction, leaked_energy(e, stack) / r.e_in);
+  r.leaked_peak_fraction = std::max(r.leaked_peak_fraction, leaked_energy(panels, e.matrix_ke, stack) / r.e_in);
 }
+}  // namespace
 
 // Frames are handed to threads in batches of about this many bytes: a text piece large enough to
 // hold many frames (each reuses the previous frame's repeated numbers; the first of a piece has
@@ -525,7 +526,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     const auto panels = panel_energies(last_energy);
     for (const double ke : panels) r.panel_final_fraction.push_back(ke / r.e_in);
     r.matrix_final_fraction = last_energy.matrix_ke / r.e_in;
-    r.leaked_final_fraction = leaked_energy(last_energy, stack) / r.e_in;
+    r.leaked_final_fraction = leaked_energy(panels, last_energy.matrix_ke, stack) / r.e_in;
   }
 
   for (auto* table : {&block_table, &parts_table, &rows_table, &columns_table, &y_columns_table}) table->finish();
