@@ -81,6 +81,7 @@ Stack Stack::build(const StackSpec& spec) {
   // (-+R_1, -+R_1)): sqrt(3) R_1 above their row for the study's striker (sqrt(2) R_1 in 3D).
   const double striker_radius = spec.striker_radius_ratio * top.radius;
   s.striker_mass_ = sphere_mass(striker_radius, lib.at(spec.effective_striker_material()).density);
+  if (s.has_matrix()) s.matrix_density_ = lib.at(spec.effective_matrix_material()).density;
   const double seat = seat_height(top.radius, striker_radius, supports);
   for (int p = 1; p <= s.panels(); ++p) {
     if (!s.struck(p)) continue;
@@ -223,6 +224,11 @@ double Stack::half_depth() const {
 double Stack::top_z() const { return spheres_.front().z + spheres_.front().radius; }
 double Stack::striker_radius() const { return spheres_.front().radius; }
 double Stack::striker_mass() const { return striker_mass_; }
+
+double Stack::mass(const Sphere& s) const {
+  if (is_matrix(s)) return sphere_mass(s.radius, matrix_density_);
+  return s.block > 0 ? block(s.block).sphere_mass : striker_mass_;
+}
 double Stack::incident_energy() const {
   return strikers() * (0.5 * striker_mass() * spec_.striker_speed * spec_.striker_speed);
 }

@@ -187,7 +187,7 @@ void require_series_matches_run(const formats::Series& series, const SeriesColum
 void require_series_physical(const formats::Series& series, const std::string& path, const model::Stack& stack) {
   double available = stack.incident_energy();
   for (const auto& sp : stack.spheres()) {
-    const double mass = sp.block > 0 ? stack.block(sp.block).sphere_mass : stack.striker_mass();
+    const double mass = stack.mass(sp);
     available += stack.spec().gravity * mass * std::max(0.0, sp.z);
   }
   const double limit = available * (1.0 + kEnergyBalanceBound);

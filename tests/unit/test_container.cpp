@@ -2,6 +2,8 @@
 // spheres' diameter, with a matrix of soft-sphere chains, rigid walls or nothing between them.
 // Every designed contact exact, nothing else touching or overlapping (every pair tried), counts by
 // formula, ids, the mirror symmetry between panels, the chains' geometry, the separators.
+#include <granstack/generator/case_writer.hpp>
+#include <granstack/model/contact.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
 
@@ -222,6 +224,19 @@ TEST(Container, AStrikerOnEveryPanelBringsEachItsEnergy) {
   EXPECT_EQ(all.impact_panel(), 2);
   EXPECT_TRUE(all.struck(1) && all.struck(2) && all.struck(3));
   EXPECT_TRUE(!one.struck(1) && one.struck(2) && !one.struck(3));
+}
+
+// Every sphere's mass, as the data file gives LIGGGHTS and refsim (its type's density and its
+// diameter), is Stack::mass's: the matrix's spheres weigh as Teflon, the panels as steel.
+TEST(Container, MassesAreTheDataFilesForEverySphere) {
+  const auto stack = Stack::build(spec_of({3, 3, 2, 3, 2, 0}));
+  const auto data = granstack::generator::data_file(stack, "masses");
+  ASSERT_EQ(data.atoms.size(), stack.spheres().size());
+  for (const auto& a : data.atoms) {
+    const auto& s = stack.sphere(static_cast<int>(a.id));
+    EXPECT_EQ(granstack::model::sphere_mass(0.5 * a.diameter, a.density), stack.mass(s)) << s.id;
+    EXPECT_EQ(a.density, stack.is_matrix(s) ? 2170.0 : 8000.0) << s.id;
+  }
 }
 
 // The time step sees the matrix's contacts: a matrix far softer than the panels leaves dt alone;

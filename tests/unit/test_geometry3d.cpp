@@ -192,7 +192,7 @@ TEST(Geometry3d, ASpheresEnergyLandsInItsOwnColumnAlongXAndAlongY) {
   f.atoms = static_cast<long>(stack.spheres().size());
   const int mover = stack.id_of(2, 1, 3, 1);  // block 2, x-column 3, y-column 1
   for (const auto& s : stack.spheres()) {
-    const double mass = s.id == 1 ? stack.striker_mass() : stack.block(s.block).sphere_mass;
+    const double mass = stack.mass(s);
     const double vz = s.id == mover ? -2.0 : 0.0;
     for (const double v : {static_cast<double>(s.id), mass, s.radius, s.x, s.y, s.z, 0.0, 0.0, vz, 0.0, 0.0, 0.0}) {
       f.values.push_back(v);

@@ -142,6 +142,7 @@ class Stack {
   double top_z() const;            // m: the top of the striker
   double striker_radius() const;   // m
   double striker_mass() const;     // kg
+  double mass(const Sphere& s) const;  // kg: the striker's, its block's or a matrix sphere's
   double incident_energy() const;  // E_in = 1/2 m_s v^2 (times the strikers), J
 
  private:
@@ -154,6 +155,7 @@ class Stack {
   void add_matrix();
   StackSpec spec_;
   double striker_mass_ = 0.0;
+  double matrix_density_ = 0.0;  // kg/m^3
   std::vector<Sphere> spheres_;
   std::vector<Block> blocks_;
 };
