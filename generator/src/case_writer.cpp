@@ -258,8 +258,8 @@ json layout_json(const model::Stack& stack) {
   if (stack.container()) {
     json chains = json::array();
     for (const auto& b : stack.blocks()) {
-      const auto c = model::matrix_chain(b.radius, stack.block(1).radius);
-      chains.push_back({{"block", b.index}, {"count", stack.has_matrix() ? c.count : 0}, {"radius", c.radius},
+      const auto c = stack.chain_beside(b);
+      chains.push_back({{"block", b.index}, {"count", c.count}, {"radius", c.radius},
                         {"offset", c.offset}});
     }
     layout["panels"] = {{"count", stack.panels()},

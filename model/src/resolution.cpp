@@ -73,7 +73,7 @@ Resolution resolve(const Stack& stack) {
       consider(sphere_wall(m, b.radius, lib.at(spec.effective_wall_material())), fmt::format("block {} - wall", b.index));
     }
     min_rayleigh = std::min(min_rayleigh, rayleigh_time(m, b.radius));
-    if (const auto chain = matrix_chain(b.radius, stack.block(1).radius); stack.has_matrix() && chain.count > 0) {
+    if (const auto chain = stack.chain_beside(b); chain.count > 0) {
       const auto& matrix = lib.at(spec.effective_matrix_material());
       consider(sphere_sphere(m, b.radius, matrix, chain.radius), fmt::format("block {} - matrix", b.index));
       consider(sphere_sphere(matrix, chain.radius, matrix, chain.radius), fmt::format("matrix beside block {}", b.index));

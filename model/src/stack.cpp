@@ -103,6 +103,10 @@ Stack Stack::build(const StackSpec& spec) {
   return s;
 }
 
+MatrixChain Stack::chain_beside(const Block& b) const {
+  return has_matrix() ? matrix_chain(b.radius, block(1).radius) : MatrixChain{};
+}
+
 Eigen::Vector3d Stack::site(const Block& b, int row, int column, int column_y) const {
   return {lattice_centre(column, b.columns, b.radius),
           container() ? panel_y(column_y) : lattice_centre(column_y, b.depth, b.radius),
@@ -119,10 +123,9 @@ void Stack::add(Sphere s, const Eigen::Vector3d& centre) {
 void Stack::add_matrix() {
   // Each pocket of a panel's block (the centre of four sites: rows i and i + 1, columns j and
   // j + 1) holds a chain along y to the same pocket of the next panel.
-  const double half_pitch = block(1).radius;
   int id = first_matrix_id();
   for (const auto& b : blocks_) {
-    const auto chain = matrix_chain(b.radius, half_pitch);
+    const auto chain = chain_beside(b);
     for (int g = 1; g < panels(); ++g) {
       for (int i = 1; i < b.rows; ++i) {
         for (int j = 1; j < b.columns; ++j) {

@@ -72,6 +72,19 @@ struct Block {
   int last_id() const { return first_id + count() - 1; }
 };
 
+// A container's matrix in one pocket of a panel's block (radius R), bridging it to the same
+// pocket of the next panel, whose plane lies 2 N R away (N = R_1 / R): `count` spheres of
+// `radius` in a row along y, each touching the next, the first `offset` from the panel's plane
+// so that it touches the four spheres around the pocket (sqrt((R + r)^2 - 2 R^2)), the last
+// likewise on the other panel. count is the fewest that keeps r below R, ceil(N + 1 - sqrt(2)),
+// so the chains of neighbouring pockets never touch; none where the panels touch (N = 1).
+struct MatrixChain {
+  int count = 0;
+  double radius = 0.0;  // m
+  double offset = 0.0;  // m
+};
+MatrixChain matrix_chain(double block_radius, double half_pitch);
+
 class Stack {
  public:
   // Throws SpecError when the spec is invalid.
@@ -96,6 +109,9 @@ class Stack {
   // The plane of panel p (y_p; 0 outside a container).
   double panel_y(int panel) const;
   bool has_matrix() const { return container() && spec_.separator == Separator::matrix; }
+  // The matrix chain in each pocket of block b (matrix_chain at the container's pitch); none
+  // without a matrix.
+  MatrixChain chain_beside(const Block& b) const;
   // The matrix spheres, in id order after the last block (empty without a matrix).
   int first_matrix_id() const { return blocks_.back().last_id() + 1; }
   bool is_matrix(const Sphere& s) const { return s.chain > 0; }
@@ -172,18 +188,5 @@ double interface_height(double lower_radius, int radius_ratio, int supports = 2)
 // the study's striker, sqrt(2) R_1 in 3D) and the even-ratio interface (2 sqrt(2) R_{k+1},
 // sqrt(7) R_{k+1} in 3D).
 double seat_height(double lower_radius, double upper_radius, int supports = 2);
-
-// A container's matrix in one pocket of a panel's block (radius R), bridging it to the same
-// pocket of the next panel, whose plane lies 2 N R away (N = R_1 / R): `count` spheres of
-// `radius` in a row along y, each touching the next, the first `offset` from the panel's plane
-// so that it touches the four spheres around the pocket (sqrt((R + r)^2 - 2 R^2)), the last
-// likewise on the other panel. count is the fewest that keeps r below R, ceil(N + 1 - sqrt(2)),
-// so the chains of neighbouring pockets never touch; none where the panels touch (N = 1).
-struct MatrixChain {
-  int count = 0;
-  double radius = 0.0;  // m
-  double offset = 0.0;  // m
-};
-MatrixChain matrix_chain(double block_radius, double half_pitch);
 
 }  // namespace granstack::model
