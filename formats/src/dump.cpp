@@ -1,5 +1,6 @@
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/error.hpp>
+#include <granstack/formats/files.hpp>
 
 #include <fmt/compile.h>
 #include <fmt/format.h>
@@ -468,8 +469,14 @@ DumpWriter::DumpWriter(const std::string& path, bool binary)
 }
 
 void DumpWriter::open(const std::string& path) {
+  close();
   file_.reset(std::fopen(path.c_str(), "wb"));
   if (!file_) throw std::runtime_error(fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
+  current_ = path;
+}
+
+void DumpWriter::close() {
+  if (file_) close_written(file_.release(), current_);
 }
 
 void DumpWriter::write(const DumpFrame& f) {
@@ -514,7 +521,7 @@ void DumpWriter::write(const DumpFrame& f) {
   const bool text = !binary_;
   if (std::fwrite(buffer_.data(), 1, buffer_.size(), file_.get()) != buffer_.size() ||
       (text && std::fwrite(previous_text_.data(), 1, previous_text_.size(), file_.get()) != previous_text_.size())) {
-    throw std::runtime_error(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
+    throw std::runtime_error(fmt::format("{}: cannot write: {}", current_, std::strerror(errno)));
   }
 }
 
@@ -559,8 +566,6 @@ void DumpWriter::write_atoms(const DumpFrame& f, const std::vector<bool>& intege
   previous_values_.assign(f.values.begin(), f.values.end());
   std::swap(previous_lengths_, lengths_);
 }
-
-void DumpWriter::flush() { std::fflush(file_.get()); }
 
 std::vector<std::string> dump_files_matching(const std::string& pattern) {
   namespace fs = std::filesystem;

@@ -14,6 +14,15 @@
 
 namespace granstack::formats {
 
+void close_written(std::FILE* file, const std::string& path) {
+  const bool flushed = std::fflush(file) == 0 && std::ferror(file) == 0;
+  const int flush_error = errno;
+  const bool closed = std::fclose(file) == 0;
+  if (!flushed || !closed) {
+    throw std::runtime_error(fmt::format("{}: cannot write: {}", path, std::strerror(flushed ? errno : flush_error)));
+  }
+}
+
 void write_file_atomically(const std::filesystem::path& path, std::string_view text) {
   const auto tmp = path.string() + ".tmp";
   {

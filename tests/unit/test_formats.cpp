@@ -222,6 +222,28 @@ std::string dump_text(int frames, int atoms) {
 
 using BatchTest = TempDir;
 
+// A frame small enough to sit in the stdio buffer is written out at the close: a full disk
+// (/dev/full) must fail there, naming the file, not pass unseen.
+TEST(DumpWriter, AWriteThatFailsAtTheCloseIsAnError) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "this system has no /dev/full to fill";
+  for (const bool binary : {false, true}) {
+    formats::DumpWriter w("/dev/full", binary);
+    formats::DumpFrame f;
+    f.atoms = 1;
+    f.box_flags = "mm mm mm";
+    f.box = {-1, 1, -1, 1, -1, 1};
+    f.columns = {"id", "x"};
+    f.values = {1, 0.5};
+    w.write(f);  // 150 bytes: buffered
+    try {
+      w.close();
+      ADD_FAILURE() << "closing a dump on /dev/full succeeded";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "/dev/full: cannot write: No space left on device");
+    }
+  }
+}
+
 // The writer copies a value's text from the frame before when the value is the same to the bit;
 // read back, every frame holds exactly the doubles written, -0.0 and the last bit of a changed
 // value included, whichever frame they first appeared in.

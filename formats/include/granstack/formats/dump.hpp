@@ -152,12 +152,14 @@ class DumpWriter {
   // A '*' in `path` writes a file per frame (the step in its place); a '%' stands for rank 0.
   DumpWriter(const std::string& path, bool binary);  // throws std::runtime_error
   void write(const DumpFrame& frame);
-  void flush();
+  // Writes out what is buffered and closes the file; throws std::runtime_error naming it if
+  // the system could not write all of it (a full disk). The destructor closes without checking.
+  void close();
 
  private:
   void open(const std::string& path);
   void write_atoms(const DumpFrame& f, const std::vector<bool>& integer);
-  std::string path_;
+  std::string path_, current_;  // the path given, and the file open now
   bool binary_;
   bool per_step_ = false;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;

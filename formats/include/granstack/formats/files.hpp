@@ -1,5 +1,6 @@
 #pragma once
 // Small file utilities shared by the stages.
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -14,6 +15,10 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view t
 void require_regular_file(const std::string& path);
 // Reads a whole regular file. Throws std::runtime_error naming the path.
 std::string read_file(const std::filesystem::path& path);
+// Writes out what `file` (written with stdio, named `path`) holds buffered and closes it. Throws
+// std::runtime_error naming the path if the system could not write all of it (a full disk),
+// which fwrite alone does not tell: the last buffer goes out at the close.
+void close_written(std::FILE* file, const std::string& path);
 // The current time as ISO 8601 UTC, e.g. "2026-11-22T00:35:28Z".
 std::string utc_timestamp();
 
