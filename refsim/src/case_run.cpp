@@ -1,5 +1,6 @@
 #include <granstack/formats/data_file.hpp>
 #include <granstack/formats/dump.hpp>
+#include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/model/contact.hpp>
 #include <granstack/model/resolution.hpp>
@@ -12,9 +13,14 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <condition_variable>
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <mutex>
+#include <vector>
+
+#include "write_behind.hpp"
 
 namespace granstack::refsim {
 
@@ -97,7 +103,7 @@ namespace {
 class SeriesWriter {
  public:
   SeriesWriter(const std::string& path, const model::Stack& stack, const std::vector<std::string>& columns)
-      : file_(std::fopen(path.c_str(), "w"), &std::fclose) {
+      : path_(path), file_(std::fopen(path.c_str(), "w"), &std::fclose) {
     if (!file_) throw std::runtime_error(fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
     std::fprintf(file_.get(), "# %s\n", fmt::format("{}", fmt::join(columns, " ")).c_str());
     for (const auto& b : stack.blocks()) groups_.push_back(runs(b.first_id, b.last_id()));
@@ -117,11 +123,10 @@ class SeriesWriter {
     }
   }
 
-  void write(const System& s) {
-    // Formatted straight into a buffer long enough for any line (a number takes at most 24
-    // characters and its space).
-    line_.resize(25 * (1 + 2 * groups_.size()) + 1);
-    char* out = fmt::format_to(line_.data(), FMT_COMPILE("{}"), s.step_count());
+  // The series line of the system's state now: its step, then each group's two sums
+  // (kinetic_energy, on the thread that steps it), appended to `batch`.
+  void sample(const System& s, std::vector<double>& batch) const {
+    batch.push_back(static_cast<double>(s.step_count()));  // exact: steps stay far below 2^53
     for (const auto& g : groups_) {
       double ke = 0.0, rot = 0.0;
       for (const auto& [begin, end] : g) {
@@ -129,17 +134,36 @@ class SeriesWriter {
         ke += e[0];
         rot += e[1];
       }
-      out = fmt::format_to(out, FMT_COMPILE(" {} {}"), ke, rot);
+      batch.push_back(ke);
+      batch.push_back(rot);
     }
-    *out++ = '\n';
-    std::fwrite(line_.data(), 1, static_cast<std::size_t>(out - line_.data()), file_.get());
   }
+
+  // The lines of samples taken by sample().
+  void write(const std::vector<double>& batch) {
+    const std::size_t per_line = 1 + 2 * groups_.size();
+    // Formatted straight into a buffer long enough for any line (a number takes at most 24
+    // characters and its space).
+    line_.resize(25 * per_line + 1);
+    for (std::size_t at = 0; at + per_line <= batch.size(); at += per_line) {
+      char* out = fmt::format_to(line_.data(), FMT_COMPILE("{}"), static_cast<long>(batch[at]));
+      for (std::size_t k = at + 1; k < at + per_line; k += 2) out = fmt::format_to(out, FMT_COMPILE(" {} {}"), batch[k], batch[k + 1]);
+      *out++ = '\n';
+      const auto length = static_cast<std::size_t>(out - line_.data());
+      if (std::fwrite(line_.data(), 1, length, file_.get()) != length) fail();
+    }
+  }
+
+  // Writes out what is buffered and closes the file; throws if not all of it was written.
+  void close() { formats::close_written(file_.release(), path_); }
 
  private:
   using Run = std::pair<std::size_t, std::size_t>;  // particles [first, second)
   static std::vector<Run> runs(int first_id, int last_id) {
     return {{static_cast<std::size_t>(first_id - 1), static_cast<std::size_t>(last_id)}};
   }
+  [[noreturn]] void fail() const { throw std::runtime_error(fmt::format("{}: cannot write: {}", path_, std::strerror(errno))); }
+  std::string path_;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
   std::vector<std::vector<Run>> groups_;  // each group's runs of consecutive particles
   std::string line_;
@@ -211,6 +235,40 @@ void fill_frame(const System& s, const std::vector<std::string>& columns, const 
   }
 }
 
+// The dump frames of a run, at most two at a time (at a million spheres a frame holds 150 MB):
+// one filled by the steps' thread while the other is written. A frame comes back when the last
+// copy of its pointer goes (written, or dropped with the writing's jobs after an error).
+class FramePool {
+ public:
+  std::shared_ptr<formats::DumpFrame> take() {
+    std::unique_lock<std::mutex> lock(m_);
+    returned_.wait(lock, [&] { return !free_.empty() || made_ < kFrames; });
+    std::unique_ptr<formats::DumpFrame> f;
+    if (free_.empty()) {
+      f = std::make_unique<formats::DumpFrame>();
+      ++made_;
+    } else {
+      f = std::move(free_.back());
+      free_.pop_back();
+    }
+    return {f.release(), [this](formats::DumpFrame* back) { give(back); }};
+  }
+
+ private:
+  static constexpr int kFrames = 2;
+  void give(formats::DumpFrame* f) {
+    {
+      const std::lock_guard<std::mutex> lock(m_);
+      free_.emplace_back(f);
+    }
+    returned_.notify_one();
+  }
+  std::mutex m_;
+  std::condition_variable returned_;
+  std::vector<std::unique_ptr<formats::DumpFrame>> free_;
+  int made_ = 0;
+};
+
 }  // namespace
 
 RunStats run_case(const std::string& case_dir, const RunOptions& options) {
@@ -232,13 +290,26 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   fs::create_directories((dir / manifest.files.dump).parent_path());
   formats::DumpWriter dump((dir / manifest.files.dump).string(), manifest.spec.dump_format == model::DumpFormat::binary);
   SeriesWriter series((dir / manifest.files.series).string(), stack, manifest.files.series_columns);
-  formats::DumpFrame frame;
   const auto columns = resolve_columns(manifest.files.dump_columns);
+  FramePool frames;
+  std::vector<double> samples;
+  // Declared last, so that it ends (its jobs done) before what they write to.
+  detail::WriteBehind out(options.write_behind);
+  const auto write_frame = [&] {
+    auto frame = frames.take();
+    fill_frame(system, manifest.files.dump_columns, columns, box, *frame);
+    out.submit([&dump, frame = std::move(frame)] { dump.write(*frame); });
+  };
+  const auto write_samples = [&] {
+    if (samples.empty()) return;
+    out.submit([&series, batch = std::move(samples)] { series.write(batch); });
+    samples.clear();
+  };
 
   system.setup();
-  fill_frame(system, manifest.files.dump_columns, columns, box, frame);
-  dump.write(frame);
-  // As LIGGGHTS's "Loop time" (run.cpp): the setup force call and the step-0 output are not in it.
+  write_frame();
+  // As LIGGGHTS's "Loop time" (run.cpp): the setup force call and the step-0 output are not in
+  // it; the writing of the outputs of its steps is.
   const auto t0 = std::chrono::steady_clock::now();
   for (long step = 1; step <= res.steps; ++step) {
     // Up to the next step with output, a progress report or the end, in one go.
@@ -246,21 +317,26 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
                                 (step + res.dump_every - 1) / res.dump_every * res.dump_every, (step + 255) / 256 * 256});
     system.advance(next - step + 1);
     step = next;
-    if (step % res.series_every == 0) series.write(system);
-    if (step % res.dump_every == 0) {
-      fill_frame(system, manifest.files.dump_columns, columns, box, frame);
-      dump.write(frame);
+    if (step % res.series_every == 0) series.sample(system, samples);
+    if (step % res.dump_every == 0) write_frame();
+    if (step % 256 == 0 || step == res.steps) {
+      write_samples();  // in batches: a line each would cost the thread a wake-up each
+      if (options.on_progress) options.on_progress(step, res.steps);
     }
-    if (options.on_progress && (step % 256 == 0 || step == res.steps)) options.on_progress(step, res.steps);
   }
+  out.finish();
+  const double loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  dump.close();
+  series.close();
   RunStats stats;
-  stats.loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  stats.loop_seconds = loop_seconds;
   stats.steps = res.steps;
   stats.atoms = static_cast<long>(system.size());
   stats.particle_steps_per_second =
       stats.loop_seconds > 0 ? static_cast<double>(stats.steps) * static_cast<double>(stats.atoms) / stats.loop_seconds : 0.0;
   stats.neighbor_builds = system.neighbor_builds();
   stats.kernel = system.kernel();
+  stats.write_behind = options.write_behind;
   return stats;
 }
 

@@ -49,4 +49,8 @@ std::optional<Exit> poll(const Child& child);
 // Runs argv to completion (start + wait); output as in StartOptions.
 Exit run(const std::vector<std::string>& argv, const StartOptions& options, std::string* start_error = nullptr);
 
+// The CPUs granstack may run on: its affinity mask's (what taskset or a SLURM allocation leaves
+// it), at least 1.
+int usable_cpus();
+
 }  // namespace granstack::os

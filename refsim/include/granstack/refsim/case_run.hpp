@@ -21,6 +21,9 @@ struct RunOptions {
   int threads = 1;
   std::string kernel = "auto";  // Parameters::kernel
   std::function<void(long step, long total)> on_progress;  // called every few hundred steps
+  // Format and write the dumps and the series on a thread of their own, beside the steps (the
+  // same files): for a core the steps leave free.
+  bool write_behind = false;
 };
 
 struct RunStats {
@@ -30,6 +33,7 @@ struct RunStats {
   double particle_steps_per_second = 0.0;
   long neighbor_builds = 0;
   std::string kernel;                      // the kernels that ran: "reference" or a vector instruction set
+  bool write_behind = false;               // the outputs were written on a thread of their own
 };
 
 // The parameters a case's deck gives LIGGGHTS: time step, skin, property tables per atom
