@@ -2,8 +2,9 @@
 // columns, the default e = 1 and mu = 0, or e = 0.9 and mu = 0.25 with --damped), the
 // reference kernels and every vector instruction set this CPU runs, each run in turn, REPEATS
 // rounds; median (and best) time per step. Steadier than timing whole `granstack run`s on a
-// noisy machine, since nothing but System::advance is timed.
-// Usage: granstack_bench_refsim_steps [STEPS [REPEATS]] [--damped]
+// noisy machine, since nothing but System::advance is timed. With --threads, the best vector
+// kernels on one thread and on two instead, alternately.
+// Usage: granstack_bench_refsim_steps [STEPS [REPEATS]] [--damped] [--threads]
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/stack.hpp>
 #include <granstack/refsim/case_run.hpp>
@@ -13,15 +14,33 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <string>
 #include <string_view>
 #include <vector>
 
+namespace {
+struct Run {
+  std::string label, kernel;
+  int threads;
+};
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace granstack;
-  const bool damped = argc > 1 && std::string_view(argv[argc - 1]) == "--damped";
-  const int positional = argc - 1 - (damped ? 1 : 0);
-  const long steps = positional >= 1 ? std::atol(argv[1]) : 3190;
-  const int repeats = positional >= 2 ? std::atoi(argv[2]) : 9;
+  bool damped = false, threads = false;
+  std::vector<std::string_view> positional;
+  for (int a = 1; a < argc; ++a) {
+    const std::string_view arg(argv[a]);
+    if (arg == "--damped") {
+      damped = true;
+    } else if (arg == "--threads") {
+      threads = true;
+    } else {
+      positional.push_back(arg);
+    }
+  }
+  const long steps = !positional.empty() ? std::atol(positional[0].data()) : 3190;
+  const int repeats = positional.size() >= 2 ? std::atoi(positional[1].data()) : 9;
   model::StackSpec spec;
   spec.blocks = 4;
   spec.top_columns = 8;
@@ -31,13 +50,20 @@ int main(int argc, char** argv) {
   }
   const auto stack = model::Stack::build(spec);
   const auto particles = refsim::particles_from(generator::data_file(stack, "bench"));
-  std::vector<std::string> kernels{"reference"};
-  for (const auto& k : refsim::vector_kernels()) kernels.push_back(k);
-  std::vector<std::vector<double>> times(kernels.size());
+  std::vector<Run> runs;
+  if (threads) {
+    const std::string best = refsim::vector_kernels().front();
+    runs = {{best + ", 1 thread", best, 1}, {best + ", 2 threads", best, 2}};
+  } else {
+    runs.push_back({"reference", "reference", 1});
+    for (const auto& k : refsim::vector_kernels()) runs.push_back({k, k, 1});
+  }
+  std::vector<std::vector<double>> times(runs.size());
   for (int r = 0; r < repeats; ++r) {
-    for (std::size_t k = 0; k < kernels.size(); ++k) {
+    for (std::size_t k = 0; k < runs.size(); ++k) {
       auto params = refsim::case_parameters(stack);
-      params.kernel = kernels[k];
+      params.kernel = runs[k].kernel;
+      params.threads = runs[k].threads;
       refsim::System s(particles, params);
       s.setup();
       const auto t0 = std::chrono::steady_clock::now();
@@ -49,12 +75,12 @@ int main(int argc, char** argv) {
   fmt::print("{} spheres, e = {}, mu = {}, {} steps, {} rounds, median (best)\n", particles.size(), damped ? 0.9 : 1.0,
              damped ? 0.25 : 0.0, steps, repeats);
   double reference = 0.0;
-  for (std::size_t k = 0; k < kernels.size(); ++k) {
+  for (std::size_t k = 0; k < runs.size(); ++k) {
     auto& t = times[k];
     std::sort(t.begin(), t.end());
     const double median = t.size() % 2 == 1 ? t[t.size() / 2] : 0.5 * (t[t.size() / 2 - 1] + t[t.size() / 2]);
     if (k == 0) reference = median;
-    fmt::print("  {:10s} {:6.2f} us per step ({:6.2f}), {:.3e} particle-steps/s, {:5.1f}x the reference\n", kernels[k],
+    fmt::print("  {:18s} {:6.2f} us per step ({:6.2f}), {:.3e} particle-steps/s, {:5.2f}x the first\n", runs[k].label,
                median / static_cast<double>(steps) * 1e6, t.front() / static_cast<double>(steps) * 1e6,
                n * static_cast<double>(steps) / median, reference / median);
   }
