@@ -11,10 +11,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 #include <utility>
+
+#include "kernel_cases.hpp"
+#include "kernel_check.hpp"
 
 using namespace granstack;
 using refsim::Particle;
@@ -306,38 +310,8 @@ TEST(Threads, TwoThreadsGiveExactlyTheOneThreadResult) {
   EXPECT_NE(one->v(stack.output_sphere_id() - 1), (refsim::Vec3{0, 0, 0}));  // the pulse got there
 }
 
-// The stacks the kernel tests run: one that takes every path (damped and frictional with walls
-// and gravity: sticking, sliding, history reset and walls) and one elastic and frictionless
-// (kn delta n, no torques, pairs of still spheres skipped), the latter also in reversed sphere
-// order, so that the pulse reaches the higher-numbered sphere of a pair first in one and the
-// lower-numbered one in the other.
-struct KernelCase {
-  model::Stack stack;
-  std::vector<refsim::Particle> particles;
-  std::size_t output = 0;
-};
-
-std::vector<KernelCase> kernel_cases() {
-  std::vector<KernelCase> cases;
-  for (const auto& [frictional, reversed] : {std::pair{true, false}, {false, false}, {false, true}}) {
-    model::StackSpec spec;
-    spec.blocks = 3;
-    spec.top_columns = 4;
-    spec.restitution.value = frictional ? 0.9 : 1.0;
-    spec.friction.value = frictional ? 0.25 : 0.0;
-    // Elastic frictionless without walls: no torque anywhere, the spins are left alone.
-    spec.bottom = frictional ? model::Boundary::wall : model::Boundary::free_surface;
-    spec.sides = frictional ? model::Boundary::wall : model::Boundary::free_surface;
-    spec.gravity = frictional ? 9.80665 : 0.0;
-    spec.striker_speed = 20.0;  // fast enough to move spheres half a skin: rebuilds
-    const auto stack = model::Stack::build(spec);
-    auto particles = refsim::particles_from(generator::data_file(stack, "kernels"));
-    if (reversed) std::reverse(particles.begin(), particles.end());
-    const std::size_t output = reversed ? particles.size() - stack.output_sphere_id() : stack.output_sphere_id() - 1;
-    cases.push_back({stack, particles, output});
-  }
-  return cases;
-}
+using test_support::kernel_cases;
+using test_support::KernelCase;
 
 // 3000 steps one at a time, or through advance() taking each step's end and the next one's
 // start together.
@@ -356,22 +330,7 @@ std::unique_ptr<System> run_kernel(const KernelCase& c, const std::string& kerne
   return s;
 }
 
-void expect_same(const System& a, const System& reference) {
-  EXPECT_EQ(a.step_count(), reference.step_count());
-  EXPECT_EQ(a.neighbor_builds(), reference.neighbor_builds());
-  for (std::size_t i = 0; i < reference.size(); ++i) {
-    ASSERT_EQ(a.x(i), reference.x(i)) << a.kernel() << ", sphere " << i;
-    ASSERT_EQ(a.v(i), reference.v(i)) << a.kernel() << ", sphere " << i;
-    ASSERT_EQ(a.omega(i), reference.omega(i)) << a.kernel() << ", sphere " << i;
-    ASSERT_EQ(a.force(i), reference.force(i)) << a.kernel() << ", sphere " << i;
-    ASSERT_EQ(a.torque(i), reference.torque(i)) << a.kernel() << ", sphere " << i;
-  }
-  // The series' energies: whole groups and ranges that start and end inside a vector.
-  const std::size_t n = reference.size();
-  for (const auto& [begin, end] : {std::pair<std::size_t, std::size_t>{0, n}, {3, 17}, {5, 6}, {9, n - 2}, {n - 1, n}}) {
-    EXPECT_EQ(a.kinetic_energy(begin, end), reference.kinetic_energy(begin, end)) << a.kernel() << ", " << begin << ".." << end;
-  }
-}
+void expect_same(const System& a, const System& reference) { EXPECT_EQ(test_support::first_difference(a, reference), ""); }
 
 // The series' kinetic energies: one sphere's is its 0.5 m |v|^2 to the bit, and a block's the
 // plain sum of its spheres' to round-off (the eight partial sums change only the rounding).
@@ -404,6 +363,25 @@ TEST(Kernels, TheReferenceKernelGivesTheSameBitsOnAnyThreadsAndStepping) {
     EXPECT_NE(reference->v(c.output), (refsim::Vec3{0, 0, 0}));  // the pulse got there
     expect_same(*run_kernel(c, "reference", 1, true), *reference);
     expect_same(*run_kernel(c, "reference", 2, true), *reference);
+  }
+}
+
+// A kernel case written to a file (for the emulated check of the ARM kernels) reads back to the
+// same run, to the bit: every double in hexadecimal.
+TEST(Kernels, AKernelCaseFileReadsBackToTheSameRun) {
+  const auto dir = std::filesystem::path(GRANSTACK_TEST_WORKDIR) / "Kernels.AKernelCaseFileReadsBackToTheSameRun";
+  std::filesystem::create_directories(dir);
+  for (const auto& c : kernel_cases()) {
+    const auto path = (dir / (c.name + ".case")).string();
+    test_support::write_kernel_case(path, {refsim::case_parameters(c.stack), c.particles, c.output});
+    const auto back = test_support::read_kernel_case(path);
+    EXPECT_EQ(back.output, c.output);
+    auto params = back.params;
+    params.kernel = "reference";
+    System s(back.particles, params);
+    s.setup();
+    for (int k = 0; k < 3000; ++k) s.step();
+    expect_same(s, *run_kernel(c, "reference", 1));
   }
 }
 
