@@ -19,6 +19,8 @@ if [ "${1:-}" = "--tests" ]; then
     chromium                 # reproduce's HTML report, opened in a real headless browser
     python3-vtk9             # granstack export read back with VTK's own reader
     slurmctld slurmd slurm-client munge   # a real one-node SLURM (scripts/slurm-local.sh) for submit and status
+    # refsim's ARM (NEON) kernels, cross-compiled and run under emulation (refsim.neon_emulated)
+    g++-aarch64-linux-gnu qemu-user libhwy-dev:arm64 libfmt-dev:arm64
   )
 fi
 missing=()
@@ -36,6 +38,10 @@ if [ "$(id -u)" -ne 0 ]; then
 fi
 echo "setup: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
+# Debian's arm64 packages (multiarch) for the ARM kernels' cross build.
+if [[ " ${missing[*]}" == *":arm64"* ]] && ! dpkg --print-foreign-architectures | grep -qx arm64; then
+  $sudo dpkg --add-architecture arm64
+fi
 $sudo apt-get update -qq
 # --no-install-recommends: liggghts recommends paraview (about 1 GB) that granstack does not need.
 $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
