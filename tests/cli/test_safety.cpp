@@ -249,6 +249,55 @@ TEST_F(Safety, ACaseInUseIsRefusedAndAStopSignalEndsItsLiggghts) {
 }
 
 // 3. The same for a run on two MPI ranks: mpirun's ranks sit in process groups of their own,
+
+// refsim stopped by a signal: it ends at once, marks the case, and every frame of its dump is
+// whole (those it made before the signal are written, from the thread that writes them behind
+// the steps as in line).
+TEST_F(Safety, AStopSignalEndsARefsimRunWithEveryDumpFrameWhole) {
+  const auto c = path("case");
+  // About 5 s of refsim: 961 spheres at a tenth of the automatic time step, 800 frames.
+  ASSERT_EQ(granstack({"generate", "-o", c.string(), "--top-columns", "8", "--dt", "1e-9"}).code, 0);
+  const auto dump = c / "dumps" / "dump.txt";
+  const auto run = start({"run", "--engine", "refsim", c.string()});
+  ASSERT_TRUE(eventually(
+      [&] {
+        std::error_code ec;
+        return status_of(c) == "running" && fs::file_size(dump, ec) > 1000000 && !ec;
+      },
+      60))
+      << "refsim did not start writing";
+  ::kill(run.pid, SIGINT);
+  const auto stopped = finish(run, 30);
+  EXPECT_EQ(stopped.code, 128 + SIGINT) << stopped.output;
+  expect_contains(stopped, "STOPPED");
+  EXPECT_EQ(status_of(c), "interrupted");
+  const auto text = read_bytes(dump);
+  std::size_t frames = 0;
+  for (auto at = text.find("ITEM: TIMESTEP\n"); at != std::string::npos; ++frames) {
+    const auto next = text.find("ITEM: TIMESTEP\n", at + 1);
+    const std::string frame = text.substr(at, next == std::string::npos ? std::string::npos : next - at);
+    const auto count_at = frame.find("ITEM: NUMBER OF ATOMS\n") + 22;
+    const long atoms = std::stol(frame.substr(count_at, frame.find('\n', count_at) - count_at));
+    const auto header = frame.find("ITEM: ATOMS ");
+    ASSERT_NE(header, std::string::npos) << "frame " << frames;
+    const auto first_line = frame.find('\n', header) + 1;
+    const auto columns = std::count(frame.begin() + static_cast<long>(header), frame.begin() + static_cast<long>(first_line), ' ') - 2;
+    std::istringstream lines(frame.substr(first_line));
+    long whole = 0;
+    for (std::string line; std::getline(lines, line);) {
+      std::istringstream words(line);
+      EXPECT_EQ(std::distance(std::istream_iterator<std::string>(words), std::istream_iterator<std::string>()), columns)
+          << "frame " << frames << ", line " << whole;
+      ++whole;
+    }
+    EXPECT_EQ(whole, atoms) << "frame " << frames;
+    EXPECT_EQ(frame.back(), '\n') << "frame " << frames;
+    at = next;
+  }
+  EXPECT_GT(frames, 2U);
+  EXPECT_LT(frames, 800U) << "the run ended before the signal: nothing was stopped";
+}
+
 // and still none is left once granstack is stopped (SIGINT) or killed (SIGKILL).
 TEST_F(Safety, AnMpiRunLeavesNoRankBehind) {
   const auto c = path("case");
