@@ -27,15 +27,7 @@ using namespace granstack;
 std::unique_ptr<refsim::System> run(const test_support::KernelCaseFile& c, const std::string& kernel, bool advance) {
   auto params = c.params;
   params.kernel = kernel;
-  auto s = std::make_unique<refsim::System>(c.particles, params);
-  s->setup();
-  if (advance) {
-    s->advance(1000);
-    s->advance(2000);
-  } else {
-    for (int k = 0; k < 3000; ++k) s->step();
-  }
-  return s;
+  return test_support::run_3000_steps(c.particles, params, advance);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <ios>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -50,6 +51,21 @@ inline std::string first_difference(const refsim::System& a, const refsim::Syste
     }
   }
   return "";
+}
+
+// The kernel tests' run: the start-of-run force call, then 3000 steps one at a time, or through
+// advance() taking each step's end and the next one's start together.
+inline std::unique_ptr<refsim::System> run_3000_steps(const std::vector<refsim::Particle>& particles,
+                                                      const refsim::Parameters& params, bool advance) {
+  auto s = std::make_unique<refsim::System>(particles, params);
+  s->setup();
+  if (advance) {
+    s->advance(1000);
+    s->advance(2000);
+  } else {
+    for (int k = 0; k < 3000; ++k) s->step();
+  }
+  return s;
 }
 
 struct KernelCaseFile {

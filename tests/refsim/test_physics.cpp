@@ -313,21 +313,11 @@ TEST(Threads, TwoThreadsGiveExactlyTheOneThreadResult) {
 using test_support::kernel_cases;
 using test_support::KernelCase;
 
-// 3000 steps one at a time, or through advance() taking each step's end and the next one's
-// start together.
 std::unique_ptr<System> run_kernel(const KernelCase& c, const std::string& kernel, int threads, bool advance = false) {
   auto params = refsim::case_parameters(c.stack);
   params.kernel = kernel;
   params.threads = threads;
-  auto s = std::make_unique<System>(c.particles, params);
-  s->setup();
-  if (advance) {
-    s->advance(1000);
-    s->advance(2000);
-  } else {
-    for (int k = 0; k < 3000; ++k) s->step();
-  }
-  return s;
+  return test_support::run_3000_steps(c.particles, params, advance);
 }
 
 void expect_same(const System& a, const System& reference) { EXPECT_EQ(test_support::first_difference(a, reference), ""); }
@@ -378,10 +368,7 @@ TEST(Kernels, AKernelCaseFileReadsBackToTheSameRun) {
     EXPECT_EQ(back.output, c.output);
     auto params = back.params;
     params.kernel = "reference";
-    System s(back.particles, params);
-    s.setup();
-    for (int k = 0; k < 3000; ++k) s.step();
-    expect_same(s, *run_kernel(c, "reference", 1));
+    expect_same(*test_support::run_3000_steps(back.particles, params, false), *run_kernel(c, "reference", 1));
   }
 }
 
