@@ -112,7 +112,9 @@ Command add_run(CLI::App& app) {
   cmd->add_option("cases", f->cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
   cmd->add_option("--np", f->ranks, "MPI ranks per case (mpirun when > 1) [1]")->check(CLI::Range(1, 4096));
-  cmd->add_option("--threads", f->threads, "Threads per case for --engine refsim (results do not depend on it) [1]")
+  cmd->add_option("--threads", f->threads,
+                  "Threads per case for --engine refsim (results do not depend on it; where a CPU is left over, "
+                  "refsim writes its outputs on one more) [1]")
       ->check(CLI::Range(1, 256));
   cmd->add_option("--kernel", f->kernel,
                   fmt::format("refsim's kernels: auto (the best vector instruction set this CPU runs), reference (scalar) "
