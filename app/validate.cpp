@@ -1,6 +1,7 @@
 // granstack validate: LIGGGHTS and refsim on copies of each case, compared.
 #include "commands.hpp"
 
+#include <granstack/formats/deck.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/os/case_lock.hpp>
@@ -40,6 +41,7 @@ int validate(const ValidateFlags& f) {
     // refsim runs only what granstack's own template renders (see runner): say so before
     // LIGGGHTS spends its time.
     const auto m = formats::read_manifest(d);
+    formats::check_rendered_files(d, m);  // an edited case would be validated as the manifest's
     if (!generator::has_default_deck(d, m)) {
       fmt::print(stderr, "error: {}/{} is not the deck granstack's own template gives for this case (a --template of "
                          "yours, or edited): refsim cannot be sure to run the same physics, so it cannot be validated; "

@@ -12,6 +12,7 @@ packages=(
   zlib1g-dev libzstd-dev zstd   # reading (and, in the tests, making) dumps compressed with gzip or zstd
   time                     # peak memory in bench/
   libfast-float-dev        # number parsing at the speed the dumps need
+  libssl-dev               # SHA-256 (OpenSSL) of every case's rendered deck, data file and manifest
   clang libclang-rt-dev    # the fuzz targets (libFuzzer)
 )
 if [ "${1:-}" = "--tests" ]; then

@@ -1,4 +1,5 @@
 #include <granstack/formats/deck.hpp>
+#include <granstack/formats/digest.hpp>
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/line_reader.hpp>
 
@@ -9,7 +10,23 @@
 
 namespace granstack::formats {
 
+void check_rendered_files(const std::string& case_dir, const Manifest& manifest) {
+  const auto check = [&](const std::string& name, const std::string& recorded, const char* what) {
+    const auto path = (std::filesystem::path(case_dir) / name).string();
+    const auto now = sha256_file(path);
+    if (now == recorded) return;
+    throw FormatError(path, 0, fmt::format(
+        "the {} was edited after 'granstack generate' (SHA-256 {}, the manifest recorded {}), so its results would "
+        "carry the manifest's labels, not the physics it holds; generate the case again with the values you want, or "
+        "render a deck of your own with 'granstack generate --template FILE'",
+        what, now.substr(0, 12), recorded.substr(0, 12)));
+  };
+  check(manifest.files.deck, manifest.rendered.deck_sha256, "deck");
+  check(manifest.files.data, manifest.rendered.data_sha256, "data file");
+}
+
 void check_deck_matches_manifest(const std::string& case_dir, const Manifest& manifest) {
+  check_rendered_files(case_dir, manifest);
   const auto path = (std::filesystem::path(case_dir) / manifest.files.deck).string();
   const double dt = manifest.derived.value("dt", 0.0);
   const long steps = manifest.derived.value("steps", 0L);

@@ -1,3 +1,4 @@
+#include <granstack/formats/digest.hpp>
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
@@ -14,6 +15,10 @@ namespace granstack::formats {
 using nlohmann::json;
 
 namespace {
+bool has_control_character(const std::string& text) {
+  return std::any_of(text.begin(), text.end(), [](unsigned char c) { return c < 0x20 || c == 0x7f; });
+}
+
 json pairs_to_json(const model::PairTable& t) {
   json out = json::object();
   for (const auto& [key, v] : t.pairs) out[key.first + ":" + key.second] = v;
@@ -154,8 +159,16 @@ model::StackSpec spec_from_json(const json& j, const std::string& source) {
   return s;
 }
 
+namespace {
+// The digest of a manifest's content: every field but `rendered`.
+std::string content_digest(json j) {
+  j.erase("rendered");
+  return sha256_hex(j.dump());
+}
+}  // namespace
+
 json manifest_to_json(const Manifest& m) {
-  return {{"schema", m.schema},
+  json j = {{"schema", m.schema},
           {"case", m.case_name},
           {"granstack", {{"version", m.granstack_version}, {"git_commit", m.git_commit}, {"created", m.created},
                          {"command_line", m.command_line}}},
@@ -166,16 +179,35 @@ json manifest_to_json(const Manifest& m) {
             {"dump_columns", m.files.dump_columns}, {"series_columns", m.files.series_columns}}},
           {"derived", m.derived},
           {"layout", m.layout}};
+  j["rendered"] = {{"deck_sha256", m.rendered.deck_sha256}, {"data_sha256", m.rendered.data_sha256},
+                   {"content_sha256", content_digest(j)}};
+  return j;
 }
 
-Manifest manifest_from_json(const json& j, const std::string& source) {
+Manifest manifest_from_json(const json& j, const std::string& source, bool verify) {
   Manifest m;
   m.schema = get<int>(j, "schema", source);
   if (m.schema != kManifestSchema) {
-    throw FormatError(source, 0, fmt::format("manifest schema {} is not {}: regenerate the case with this granstack",
-                                             m.schema, kManifestSchema));
+    throw FormatError(source, 0, fmt::format("manifest schema {} is not {}{}: generate the case again with this granstack",
+                                             m.schema, kManifestSchema,
+                                             m.schema < kManifestSchema ? " (an older granstack made it, without the "
+                                                                          "digests of its rendered files)"
+                                                                        : ""));
+  }
+  const auto rendered = get<json>(j, "rendered", source);
+  m.rendered.deck_sha256 = get<std::string>(rendered, "deck_sha256", source);
+  m.rendered.data_sha256 = get<std::string>(rendered, "data_sha256", source);
+  if (verify && get<std::string>(rendered, "content_sha256", source) != content_digest(j)) {
+    throw FormatError(source, 0, "the manifest was edited after 'granstack generate' (its content no longer has the "
+                                 "SHA-256 recorded in rendered.content_sha256), so its spec may not be what the deck "
+                                 "and data file say: generate the case again with the values you want (a deck of your "
+                                 "own: 'granstack generate --template FILE')");
   }
   m.case_name = get<std::string>(j, "case", source);
+  if (has_control_character(m.case_name)) {
+    throw FormatError(source, 0, "field 'case' holds a control character (it is written into the deck): the manifest "
+                                 "was edited; generate the case again");
+  }
   const auto g = get<json>(j, "granstack", source);
   m.granstack_version = get<std::string>(g, "version", source);
   m.git_commit = get<std::string>(g, "git_commit", source);
@@ -197,7 +229,7 @@ Manifest manifest_from_json(const json& j, const std::string& source) {
   return m;
 }
 
-Manifest read_manifest(const std::string& case_dir) {
+Manifest read_manifest(const std::string& case_dir, bool verify) {
   const std::string path = case_dir + "/manifest.json";
   if (std::filesystem::exists(path)) require_regular_file(path);
   std::ifstream in(path);
@@ -208,7 +240,7 @@ Manifest read_manifest(const std::string& case_dir) {
   } catch (const json::parse_error& e) {
     throw FormatError(path, 0, fmt::format("not valid JSON: {}", e.what()));
   }
-  return manifest_from_json(j, path);
+  return manifest_from_json(j, path, verify);
 }
 
 std::string find_dump(const std::string& case_dir, const std::string& name) {
@@ -243,7 +275,14 @@ std::vector<std::string> expand_case_dirs(const std::vector<std::string>& dirs) 
     }
     try {
       const auto j = json::parse(in);
-      for (const auto& c : j.at("cases")) add((fs::path(d) / c.at("dir").get<std::string>()).string());
+      for (const auto& c : j.at("cases")) {
+        const auto name = c.at("dir").get<std::string>();
+        if (has_control_character(name) || name.find('/') != std::string::npos || name == ".." || name.empty()) {
+          throw FormatError(sweep_path, 0, fmt::format("case directory {:?} is not a plain name within the sweep: the "
+                                                       "index was edited; generate the sweep again", name));
+        }
+        add((fs::path(d) / name).string());
+      }
     } catch (const json::exception& e) {
       throw FormatError(sweep_path, 0, fmt::format("not a valid sweep index: {}", e.what()));
     }

@@ -11,7 +11,8 @@
 
 namespace granstack::formats {
 
-inline constexpr int kManifestSchema = 1;
+// 2: the manifest records the SHA-256 of what generate rendered (`rendered`), and of itself.
+inline constexpr int kManifestSchema = 2;
 
 struct CaseFiles {
   std::string data = "data.stack";
@@ -26,6 +27,15 @@ struct CaseFiles {
   bool operator==(const CaseFiles&) const = default;
 };
 
+// The SHA-256 of the deck and data file as generate wrote them; every reader of the results
+// checks them (check_case_inputs), so an edited case is never labelled with its manifest's spec.
+// The manifest's own digest (of everything but this record) is checked whenever it is read.
+struct Rendered {
+  std::string deck_sha256;
+  std::string data_sha256;
+  bool operator==(const Rendered&) const = default;
+};
+
 struct Manifest {
   int schema = kManifestSchema;
   std::string case_name;
@@ -37,16 +47,21 @@ struct Manifest {
   std::vector<std::string> command_line;  // argv of the generating command
   nlohmann::json derived;                 // informative
   nlohmann::json layout;                  // informative
+  Rendered rendered;
 };
 
 nlohmann::json spec_to_json(const model::StackSpec& spec);
 // Throws FormatError (with `source` as the file name) on a missing or mistyped field.
 model::StackSpec spec_from_json(const nlohmann::json& j, const std::string& source);
 
+// With `rendered.content_sha256`, the digest of all the other fields (as nlohmann::json dumps them).
 nlohmann::json manifest_to_json(const Manifest& m);
-Manifest manifest_from_json(const nlohmann::json& j, const std::string& source);
-// Reads CASE/manifest.json. Throws FormatError.
-Manifest read_manifest(const std::string& case_dir);
+// Throws FormatError for a missing or mistyped field, an older schema, or (with `verify`) a
+// manifest whose content no longer has the digest it was written with: it was edited.
+Manifest manifest_from_json(const nlohmann::json& j, const std::string& source, bool verify = true);
+// Reads CASE/manifest.json. Throws FormatError. Only the question "did granstack make this
+// directory?" reads it without `verify`.
+Manifest read_manifest(const std::string& case_dir, bool verify = true);
 
 // The path of a case's dump: `name` itself, or the same compressed afterwards with gzip
 // (name.gz) or zstd (name.zst). Returns `name` (under `case_dir`) when none exists.

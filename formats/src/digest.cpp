@@ -1,0 +1,62 @@
+#include <granstack/formats/digest.hpp>
+#include <granstack/formats/error.hpp>
+#include <granstack/formats/files.hpp>
+
+#include <fmt/format.h>
+#include <openssl/evp.h>
+
+#include <array>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+
+namespace granstack::formats {
+
+namespace {
+
+using Context = std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)>;
+
+Context new_context() {
+  Context ctx(EVP_MD_CTX_new(), &EVP_MD_CTX_free);
+  if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1) {
+    throw std::runtime_error("OpenSSL cannot start a SHA-256 digest");
+  }
+  return ctx;
+}
+
+std::string finish(EVP_MD_CTX* ctx) {
+  std::array<unsigned char, EVP_MAX_MD_SIZE> md{};
+  unsigned int n = 0;
+  if (EVP_DigestFinal_ex(ctx, md.data(), &n) != 1) throw std::runtime_error("OpenSSL cannot finish a SHA-256 digest");
+  std::string hex;
+  hex.reserve(2 * n);
+  for (unsigned int i = 0; i < n; ++i) hex += fmt::format("{:02x}", md[i]);
+  return hex;
+}
+
+}  // namespace
+
+std::string sha256_hex(std::string_view bytes) {
+  auto ctx = new_context();
+  EVP_DigestUpdate(ctx.get(), bytes.data(), bytes.size());
+  return finish(ctx.get());
+}
+
+std::string sha256_file(const std::filesystem::path& path) {
+  require_regular_file(path.string());
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FormatError(path.string(), 0, fmt::format("cannot open: {}", std::strerror(errno)));
+  auto ctx = new_context();
+  std::string buffer(std::size_t{1} << 20, '\0');
+  while (in) {
+    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    const auto got = in.gcount();
+    if (got > 0) EVP_DigestUpdate(ctx.get(), buffer.data(), static_cast<std::size_t>(got));
+  }
+  if (in.bad()) throw FormatError(path.string(), 0, fmt::format("cannot read: {}", std::strerror(errno)));
+  return finish(ctx.get());
+}
+
+}  // namespace granstack::formats
