@@ -3,6 +3,7 @@
 #include <granstack/cluster/slurm.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
+#include <granstack/os/case_lock.hpp>
 #include <granstack/os/process.hpp>
 
 #include <fmt/format.h>
@@ -62,10 +63,12 @@ StatusReport status(const std::vector<std::string>& targets, const std::string& 
     if (q.code == 0) r.queue = lines(q.output);
   }
   for (auto& c : r.cases) {
-    // Running by its run.json, yet no job of the submission in the queue: killed outright.
-    if (c.status == "running" && r.squeue_available && r.queue.empty()) {
+    // Running by its run.json, yet no granstack holds the case's lock (the kernel drops it when
+    // its holder ends in any way): the run was killed outright, or could not write its record.
+    if (c.status == "running" && !os::CaseLock::holder(c.dir)) {
       c.status = "interrupted";
-      c.error = "its job left the queue while the case ran (killed: time limit, node failure or scancel)";
+      c.error = "run.json says running, but no granstack holds the case's lock: its run was killed (SIGKILL, a time "
+                "limit, a node failure) or could not write its final record (a full disk?); run it again";
     }
     if (c.status == "done") ++r.done;
     else if (c.status == "failed") ++r.failed;

@@ -14,6 +14,9 @@
 namespace granstack::os {
 
 namespace {
+constexpr int kProbeWaits = 20;
+constexpr unsigned kProbeWaitMicroseconds = 10000;
+
 std::string read_all(int fd) {
   std::string text;
   char buf[512];
@@ -35,8 +38,18 @@ CaseLock::CaseLock(const std::filesystem::path& dir, const std::string& what) {
     throw std::runtime_error(fmt::format("{}: cannot make the case's lock file: {}{}", path, std::strerror(errno),
                                          errno == EACCES || errno == EROFS ? " (is the case read-only?)" : ""));
   }
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-    const int e = errno;
+  // A probe (holder()) holds a shared lock for an instant: wait that out before calling the case in use.
+  int e = 0;
+  for (int tries = 1;; ++tries) {
+    if (::flock(fd_, LOCK_EX | LOCK_NB) == 0) {
+      e = 0;
+      break;
+    }
+    e = errno;
+    if (e != EWOULDBLOCK || tries == kProbeWaits) break;
+    ::usleep(kProbeWaitMicroseconds);
+  }
+  if (e != 0) {
     const auto holder = read_all(fd_);
     ::close(fd_);
     fd_ = -1;
@@ -53,6 +66,19 @@ CaseLock::CaseLock(const std::filesystem::path& dir, const std::string& what) {
   if (::ftruncate(fd_, 0) == 0) {
     [[maybe_unused]] const auto n = ::pwrite(fd_, info.data(), info.size(), 0);
   }
+}
+
+std::optional<std::string> CaseLock::holder(const std::filesystem::path& dir) {
+  const auto path = (dir / kFileName).string();
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+  if (fd < 0) return std::nullopt;  // never locked
+  std::optional<std::string> held;
+  if (::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK) {
+    held = read_all(fd);
+    if (held->empty()) *held = "another granstack";
+  }
+  ::close(fd);
+  return held;
 }
 
 CaseLock::~CaseLock() {

@@ -3,6 +3,7 @@
 // while granstack works in the directory. The kernel drops it when the holder ends in any way,
 // SIGKILL included, so a dead holder's lock is simply taken over.
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -26,6 +27,11 @@ class CaseLock {
   CaseLock& operator=(CaseLock&& other) noexcept;
 
   static constexpr const char* kFileName = ".granstack.lock";
+
+  // Who holds the lock of `dir` now ("granstack run by pid ... since ..."), or nullopt when nobody
+  // does (a run.json that says running then speaks of a granstack that is gone). It probes with a
+  // shared lock for an instant; a CaseLock being taken meanwhile waits for it.
+  static std::optional<std::string> holder(const std::filesystem::path& dir);
 
  private:
   int fd_ = -1;
