@@ -5,7 +5,10 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <granstack/formats/dump.hpp>
+
 #include <cstdlib>
+#include <set>
 
 namespace granstack::formats {
 
@@ -33,14 +36,109 @@ bool within(const fs::path& inner, const fs::path& outer) {
   }
   return true;
 }
+// The files postproc::reduce_case writes into CASE/reduce.
+const std::set<std::string> kReduceFiles{"block_ke.csv", "energy_parts.csv", "row_ke.csv",  "column_ke.csv",
+                                         "column_y_ke.csv", "panel_ke.csv", "summary.json"};
+
+class ForeignFinder {
+ public:
+  explicit ForeignFinder(std::size_t most) : most_(most) {}
+  std::vector<std::string> found;
+
+  void sweep(const fs::path& dir, const std::string& prefix) {
+    std::set<std::string> cases;
+    try {
+      const auto index = json::parse(read_file(dir / "sweep.json"));
+      for (const auto& c : index.at("cases")) cases.insert(c.at("dir").get<std::string>());
+    } catch (const std::exception&) {
+    }
+    each(dir, [&](const fs::directory_entry& e, const std::string& name) {
+      if (name == "sweep.json" || name == "slurm" || temporary(name)) return true;
+      if (cases.count(name) != 0 && e.is_directory()) {
+        if (fs::exists(e.path() / "manifest.json")) one_case(e.path(), prefix + name + "/");
+        return true;
+      }
+      return false;
+    }, prefix);
+  }
+
+  void one_case(const fs::path& dir, const std::string& prefix) {
+    Manifest m;
+    try {
+      m = read_manifest(dir.string(), false);
+    } catch (const std::exception&) {
+      return add(prefix + "manifest.json");
+    }
+    const std::set<std::string> own{"manifest.json", m.files.data, m.files.deck, m.files.series, m.files.log,
+                                    m.files.screen, m.files.run_record, ".granstack.lock", ".granstack-earlier-run"};
+    std::set<std::string> dumps;
+    for (const auto& piece : dump_files_matching((dir / m.files.dump).string())) {
+      for (const char* suffix : {"", ".gz", ".zst"}) dumps.insert(fs::path(piece + suffix).lexically_normal().string());
+    }
+    const auto dump_dir = (dir / m.files.dump).parent_path().lexically_normal();
+    each(dir, [&](const fs::directory_entry& e, const std::string& name) {
+      if (own.count(name) != 0 || temporary(name) || name.rfind("restart_forced_liggghts_", 0) == 0) return true;
+      if (name == "reduce") {
+        each(e.path(), [&](const fs::directory_entry&, const std::string& n) { return kReduceFiles.count(n) != 0 || temporary(n); },
+             prefix + "reduce/");
+        return true;
+      }
+      if (name == "paraview" && json_object_with(e.path() / kOutputMarker, "written_by")) return true;
+      if (name == "validate") {
+        each(e.path(), [&](const fs::directory_entry& v, const std::string& n) {
+          if ((n != "liggghts" && n != "refsim") || !fs::exists(v.path() / "manifest.json")) return false;
+          one_case(v.path(), prefix + "validate/" + n + "/");
+          return true;
+        }, prefix + "validate/");
+        return true;
+      }
+      if (e.path().lexically_normal() == dump_dir) {
+        each(e.path(), [&](const fs::directory_entry& d, const std::string&) {
+          return dumps.count(d.path().lexically_normal().string()) != 0;
+        }, prefix + name + "/");
+        return true;
+      }
+      return false;
+    }, prefix);
+  }
+
+ private:
+  static bool temporary(const std::string& name) {
+    return name.size() > 4 && name.compare(name.size() - 4, 4, ".tmp") == 0;
+  }
+  void add(const std::string& entry) {
+    if (found.size() < most_) found.push_back(entry);
+  }
+  // Calls `ours` for each entry of `dir`; what it does not claim is foreign.
+  template <typename Ours>
+  void each(const fs::path& dir, Ours ours, const std::string& prefix) {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+      const auto name = e.path().filename().string();
+      if (!ours(e, name)) add(prefix + name + (e.is_directory(ec) && !e.is_symlink(ec) ? "/" : ""));
+    }
+  }
+  std::size_t most_;
+};
 }  // namespace
+
+std::vector<std::string> foreign_entries(const fs::path& dir, std::size_t most) {
+  ForeignFinder finder(most);
+  std::error_code ec;
+  if (fs::is_regular_file(dir / "manifest.json", ec)) {
+    finder.one_case(dir, "");
+  } else if (fs::is_regular_file(dir / "sweep.json", ec)) {
+    finder.sweep(dir, "");
+  }
+  return finder.found;
+}
 
 bool made_by_granstack(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_directory(fs::symlink_status(dir, ec))) return false;
   if (fs::is_regular_file(dir / "manifest.json", ec)) {
     try {
-      read_manifest(dir.string());
+      read_manifest(dir.string(), false);  // an edited case is still granstack's
       return true;
     } catch (const std::exception&) {
       return false;

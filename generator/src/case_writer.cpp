@@ -1,11 +1,14 @@
 #include <granstack/formats/data_file.hpp>
+#include <granstack/formats/digest.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/ownership.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/contact.hpp>
 #include <granstack/model/version.hpp>
+#include <granstack/os/case_lock.hpp>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <chrono>
 #include <cmath>
@@ -341,12 +344,14 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
       }
     }
     m.layout = layout_json(stack);
-    p.manifest = formats::manifest_to_json(m).dump(2) + "\n";
     p.deck = options.deck_template_path ? render_template(tmpl, deck_variables(stack, res, p.files, c.name), tmpl_name)
                                         : default_deck(m);
+    m.rendered = {formats::sha256_hex(p.deck), formats::sha256_hex(p.data)};
+    p.manifest = formats::manifest_to_json(m).dump(2) + "\n";
     prepared.push_back(std::move(p));
   }
 
+  std::vector<os::CaseLock> locks;
   if (fs::exists(fs::symlink_status(target))) {
     // --force replaces only what granstack made; anything else is refused whatever the flags.
     if (const auto why = formats::why_not_replaceable(options.output); !why.empty()) {
@@ -356,6 +361,16 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
       throw ExistsError(fmt::format("{} exists (a granstack {}); pass --force to replace it (its runs and results "
                                     "would be lost)",
                                     options.output.string(), fs::exists(target / "sweep.json") ? "sweep" : "case"));
+    }
+    if (const auto foreign = formats::foreign_entries(target); !foreign.empty()) {
+      throw RefusedError(fmt::format("{} holds what granstack did not write there: {}{}; --force replaces only what "
+                                     "granstack wrote: move those out first, or choose a new directory with -o",
+                                     options.output.string(), fmt::join(foreign, ", "),
+                                     foreign.size() == 10 ? ", ..." : ""));
+    }
+    // Every case in it is locked until it is gone: one a run or validate works in is refused.
+    for (const auto& dir : formats::expand_case_dirs({target.string()})) {
+      if (fs::is_directory(dir)) locks.emplace_back(dir, "granstack generate --force");
     }
   }
   fs::create_directories(target.parent_path());

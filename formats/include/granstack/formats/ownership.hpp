@@ -19,6 +19,12 @@ bool made_by_granstack(const std::filesystem::path& dir);
 // working directory nor one of its parents. A regular file or anything else is never replaced.
 std::string why_not_replaceable(const std::filesystem::path& path);
 
+// What lies in `dir`, a case or sweep granstack made, that granstack did not write there (a
+// user's notes, an analysis folder): paths relative to `dir`, directories ending in '/', at most
+// `most` of them. A case holds its inputs, its run's outputs and lock, reduce/ and export's
+// paraview/ (when marked), validate's copies; a sweep its index, slurm/ and its cases.
+std::vector<std::string> foreign_entries(const std::filesystem::path& dir, std::size_t most = 10);
+
 // An output is in the way (exit 3): nothing is written.
 class OutputError : public std::runtime_error {
  public:
