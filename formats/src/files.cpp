@@ -29,7 +29,12 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view t
     std::ofstream out(tmp, std::ios::binary);
     out.write(text.data(), static_cast<std::streamsize>(text.size()));
     out.close();
-    if (!out) throw std::runtime_error(fmt::format("{}: cannot write: {}", tmp, std::strerror(errno)));
+    if (!out) {
+      const int e = errno;
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      throw std::runtime_error(fmt::format("{}: cannot write: {}", path.string(), std::strerror(e)));
+    }
   }
   std::filesystem::rename(tmp, path);
 }

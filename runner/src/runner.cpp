@@ -22,6 +22,7 @@
 #include <fstream>
 #include <mutex>
 #include <thread>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 namespace granstack::runner {
@@ -32,6 +33,7 @@ using Clock = std::chrono::steady_clock;
 
 void clone_case_inputs(const std::string& case_dir, const std::string& target) {
   const auto m = formats::read_manifest(case_dir);
+  formats::check_rendered_files(case_dir, m);  // a copy of an edited case would pass for the case
   // Only a copy granstack made earlier is replaced; anything else in its place is the user's.
   if (const auto why = formats::why_not_replaceable(target); !why.empty()) {
     throw formats::RefusedError(fmt::format("cannot make the copy {}: {}; move it away first", target, why));
@@ -173,31 +175,49 @@ struct EngineResult {
   std::string error;
   nlohmann::json record = nlohmann::json::object();
   bool interrupted = false;  // stopped by a signal to granstack
+  bool started = false;      // the engine began the run (LIGGGHTS printed its banner; refsim stepped)
   double loop_seconds = 0.0;
   double particle_steps_per_second = 0.0;
 };
 
+// Why LIGGGHTS cannot be started at all (its program, mpirun, a temporary directory for Open
+// MPI), or "": checked before anything of an earlier run is touched.
+std::string liggghts_unavailable(const RunOptions& o) {
+  if (!os::find_program(o.liggghts)) {
+    return o.liggghts.find('/') == std::string::npos
+               ? fmt::format("LIGGGHTS ('{}') is not on PATH: install it with scripts/setup.sh (Debian package "
+                             "'liggghts') or pass --liggghts PATH",
+                             o.liggghts)
+               : fmt::format("--liggghts {}: not an executable file; pass the LIGGGHTS executable (the Debian "
+                             "package 'liggghts' installs /usr/bin/liggghts)",
+                             o.liggghts);
+  }
+  if (o.ranks > 1 && !os::find_program(o.mpirun)) {
+    return fmt::format("'{}' is not on PATH: it comes with the Debian package 'liggghts' (Open MPI)", o.mpirun);
+  }
+  std::error_code ec;
+  const auto tmp = fs::temp_directory_path(ec);
+  if (ec || PrivateTmpDir().path().empty()) {
+    const char* env = std::getenv("TMPDIR");
+    return fmt::format("no private directory can be made for Open MPI's session files in {}{}: set TMPDIR to a "
+                       "writable directory",
+                       ec ? std::string(env != nullptr ? env : "TMPDIR") : tmp.string(),
+                       ec ? " (not a directory)" : " (not writable, or full)");
+  }
+  return "";
+}
+
 EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest, const RunOptions& o,
-                          const std::function<void(long)>& on_step) {
+                          const std::function<void(long)>& on_step, const std::function<void()>& on_started) {
   EngineResult result;
   const auto& files = manifest.files;
   std::vector<std::string> argv;
   const auto liggghts = os::find_program(o.liggghts);
-  if (!liggghts) {
-    result.error = o.liggghts.find('/') == std::string::npos
-                       ? fmt::format("LIGGGHTS ('{}') is not on PATH: install it with scripts/setup.sh (Debian package "
-                                     "'liggghts') or pass --liggghts PATH",
-                                     o.liggghts)
-                       : fmt::format("--liggghts {}: not an executable file; pass the LIGGGHTS executable (the Debian "
-                                     "package 'liggghts' installs /usr/bin/liggghts)",
-                                     o.liggghts);
+  if (const auto why = liggghts_unavailable(o); !why.empty()) {
+    result.error = why;
     return result;
   }
   if (o.ranks > 1) {
-    if (!os::find_program(o.mpirun)) {
-      result.error = fmt::format("'{}' is not on PATH: it comes with the Debian package 'liggghts' (Open MPI)", o.mpirun);
-      return result;
-    }
     argv = {o.mpirun, "-np", std::to_string(o.ranks)};
     if (::geteuid() == 0) argv.push_back("--allow-run-as-root");
     if (o.ranks > static_cast<int>(std::thread::hardware_concurrency())) argv.push_back("--oversubscribe");
@@ -246,10 +266,18 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
         return result;
       }
       tail.poll(scanner);
+      if (!result.started && !scanner.version().empty()) {
+        result.started = true;
+        on_started();
+      }
       if (auto step = scanner.last_step()) on_step(*step);
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
     tail.flush(scanner);
+    if (!result.started && !scanner.version().empty()) {
+      result.started = true;
+      on_started();
+    }
     const bool failed_to_start = exit_code != 0 && scanner.version().empty() && result.error.empty();
     if (!failed_to_start || starts + 1 == kStarts) break;
     result.record["failed_starts"].push_back(scanner.head());
@@ -309,17 +337,18 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
 // Thrown from refsim's progress callback to end its loop when granstack is asked to stop.
 struct Interrupted {};
 
-EngineResult run_refsim(const fs::path& dir, const formats::Manifest& manifest, const RunOptions& o,
-                        const std::function<void(long)>& on_step) {
+// refsim takes its physics from the manifest, LIGGGHTS from the deck: they must say the same.
+std::string refsim_unavailable(const fs::path& dir, const formats::Manifest& manifest) {
+  if (generator::has_default_deck(dir.string(), manifest)) return "";
+  return fmt::format("refsim: {} is not the deck granstack's own template gives for this case (it was rendered from "
+                     "a --template of yours), so refsim cannot be sure to run the same physics; run it with LIGGGHTS, "
+                     "or generate the case without --template",
+                     (dir / manifest.files.deck).string());
+}
+
+EngineResult run_refsim(const fs::path& dir, const RunOptions& o,
+                        const std::function<void(long)>& on_step, const std::function<void()>& on_started) {
   EngineResult result;
-  // refsim takes its physics from the manifest, LIGGGHTS from the deck: they must say the same.
-  if (!generator::has_default_deck(dir.string(), manifest)) {
-    result.error = fmt::format("refsim: {} is not the deck granstack's own template gives for this case (it was "
-                               "rendered from a --template of yours, or edited), so refsim cannot be sure to run the "
-                               "same physics; run it with LIGGGHTS, or generate the case without --template",
-                               (dir / manifest.files.deck).string());
-    return result;
-  }
   try {
     refsim::RunOptions ro;
     ro.threads = o.threads;
@@ -327,10 +356,15 @@ EngineResult run_refsim(const fs::path& dir, const formats::Manifest& manifest, 
     // The outputs on a thread of their own where a CPU is left over by every case's threads.
     ro.write_behind = os::usable_cpus() >= (o.threads + 1) * std::max(1, o.jobs);
     ro.on_progress = [&](long step, long) {
+      if (!result.started) {
+        result.started = true;
+        on_started();
+      }
       on_step(step);
       if (os::interrupt_signal() != 0) throw Interrupted();
     };
     const auto stats = refsim::run_case(dir.string(), ro);
+    result.started = true;
     result.loop_seconds = stats.loop_seconds;
     result.particle_steps_per_second = stats.particle_steps_per_second;
     result.record["steps"] = stats.steps;
@@ -360,6 +394,132 @@ void remove_forced_restarts(const fs::path& dir, fs::file_time_type since) {
   }
 }
 
+// The outputs of an earlier run, moved aside into CASE/.granstack-earlier-run until the new run
+// has started: a run that cannot start leaves them, and their run.json, as they were. A stash
+// found at the start is a granstack's that was killed before its run began: it is put back.
+class EarlierOutputs {
+ public:
+  static constexpr const char* kStash = ".granstack-earlier-run";
+
+  EarlierOutputs(const fs::path& dir, const formats::CaseFiles& files) : dir_(dir), stash_(dir / kStash) {
+    put_back_stash();
+    std::vector<std::string> names{files.series, files.log, files.screen, files.run_record};
+    // Every piece of an earlier dump (per step, per rank, compressed), and nothing else.
+    for (const auto& piece : formats::dump_files_matching((dir / files.dump).string())) {
+      for (const char* suffix : {"", ".gz", ".zst"}) names.push_back(fs::relative(piece + suffix, dir).string());
+    }
+    for (const auto& name : names) {
+      std::error_code ec;
+      if (!fs::exists(fs::symlink_status(dir / name, ec))) continue;
+      fs::create_directories((stash_ / name).parent_path());
+      fs::rename(dir / name, stash_ / name);
+      moved_.push_back(name);
+      had_record_ = had_record_ || name == files.run_record;
+    }
+  }
+  ~EarlierOutputs() {
+    if (!moved_.empty()) restore();
+  }
+  EarlierOutputs(const EarlierOutputs&) = delete;
+  EarlierOutputs& operator=(const EarlierOutputs&) = delete;
+
+  bool had_record() const { return had_record_; }
+  // The new run has started: the earlier outputs are gone for good.
+  void discard() {
+    std::error_code ec;
+    fs::remove_all(stash_, ec);
+    moved_.clear();
+  }
+  // The new run never started: its few files go and the earlier ones come back.
+  void restore() {
+    std::error_code ec;
+    for (const auto& name : moved_) {
+      fs::remove(dir_ / name, ec);
+      fs::rename(stash_ / name, dir_ / name, ec);
+    }
+    moved_.clear();
+    fs::remove_all(stash_, ec);
+  }
+
+ private:
+  void put_back_stash() {
+    std::error_code ec;
+    if (!fs::is_directory(fs::symlink_status(stash_, ec))) return;
+    for (const auto& entry : fs::recursive_directory_iterator(stash_, ec)) {
+      if (!entry.is_regular_file(ec)) continue;
+      const auto name = fs::relative(entry.path(), stash_, ec);
+      fs::remove(dir_ / name, ec);
+      fs::create_directories((dir_ / name).parent_path(), ec);
+      fs::rename(entry.path(), dir_ / name, ec);
+    }
+    fs::remove_all(stash_, ec);
+  }
+  fs::path dir_, stash_;
+  std::vector<std::string> moved_;
+  bool had_record_ = false;
+};
+
+// Where the disk holding the case has (almost) no room left after a run, why its outputs cannot be
+// trusted, naming the largest of them (LIGGGHTS does not check its writes: a full disk cuts its
+// dumps short without an error); else "".
+std::string disk_full(const fs::path& dir, const formats::CaseFiles& files) {
+  struct statvfs st {};
+  constexpr double kFullBytes = 64.0 * 1024;
+  if (::statvfs(dir.c_str(), &st) != 0) return "";
+  const double free_bytes = static_cast<double>(st.f_bfree) * static_cast<double>(st.f_frsize);
+  if (free_bytes >= kFullBytes) return "";
+  std::string largest;
+  std::uintmax_t size = 0;
+  std::vector<std::string> outputs = formats::dump_files_matching((dir / files.dump).string());
+  for (const auto& f : {files.series, files.log, files.screen}) outputs.push_back((dir / f).string());
+  for (const auto& f : outputs) {
+    std::error_code ec;
+    const auto n = fs::file_size(f, ec);
+    if (!ec && n >= size) {
+      size = n;
+      largest = f;
+    }
+  }
+  return fmt::format("the disk holding {} is full ({:.0f} bytes left): {} ({} bytes) and the run's other outputs may "
+                     "be cut short; free some space (or generate the case elsewhere) and run it again",
+                     dir.string(), free_bytes, largest.empty() ? "its dump" : largest, size);
+}
+
+// Writes the run's final record; on a full disk, where the atomic write has no room for its
+// temporary file, in place over the running record (whose blocks that frees).
+void write_final_record(const fs::path& path, const json& record, RunOutcome& outcome) {
+  try {
+    write_record(path, record);
+    return;
+  } catch (const std::exception& first) {
+    std::error_code ec;
+    fs::remove(path.string() + ".tmp", ec);
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out << record.dump(2) << "\n";
+    out.close();
+    if (out) return;
+    outcome.status = RunStatus::failed;
+    outcome.message += fmt::format("{}{} (its run record) could not be written: {}", outcome.message.empty() ? "" : "; ",
+                                   path.string(), first.what());
+  }
+}
+
+json running_record(const RunOptions& o) {
+  return {{"status", "running"},
+          {"engine", o.engine == Engine::refsim ? "refsim" : "liggghts"},
+          {"started", formats::utc_timestamp()},
+          {"host_threads", std::thread::hardware_concurrency()},
+          {"granstack_version", std::string(version())}};
+}
+
+RunStatus status_of(const EngineResult& result) {
+  return result.interrupted ? RunStatus::interrupted : result.error.empty() ? RunStatus::done : RunStatus::failed;
+}
+
+const char* status_word(RunStatus s) {
+  return s == RunStatus::done ? "done" : s == RunStatus::interrupted ? "interrupted" : "failed";
+}
+
 RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& monitor) {
   RunOutcome outcome;
   outcome.case_dir = case_dir;
@@ -383,40 +543,47 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
     return outcome;
   }
   const bool refsim_engine = o.engine == Engine::refsim;
-  json record = {{"status", "running"},
-                 {"engine", refsim_engine ? "refsim" : "liggghts"},
-                 {"started", formats::utc_timestamp()},
-                 {"host_threads", std::thread::hardware_concurrency()},
-                 {"granstack_version", std::string(version())}};
-  // Stale outputs of an earlier attempt must not be mistaken for this run's: every piece of an
-  // earlier dump (per step, per rank, compressed) goes, and nothing else.
-  for (const auto& f : {files.series, files.log, files.screen}) fs::remove(dir / f);
-  for (const auto& piece : formats::dump_files_matching((dir / files.dump).string())) {
-    for (const char* suffix : {"", ".gz", ".zst"}) fs::remove(piece + suffix);
+  // What would stop the engine from starting is found before an earlier run's outputs are touched.
+  if (const auto why = refsim_engine ? refsim_unavailable(dir, manifest) : liggghts_unavailable(o); !why.empty()) {
+    outcome.message = why + (recorded_status(case_dir).empty() ? "" : " (the case's earlier outputs are kept)");
+    monitor.skipped();
+    return outcome;
   }
+  json record = running_record(o);
+  EarlierOutputs earlier(dir, files);
   fs::create_directories((dir / files.dump).parent_path());
   write_record(dir / files.run_record, record);
   const auto started = fs::file_time_type::clock::now();
 
   const auto slot = monitor.start(manifest.case_name, manifest.derived.value("steps", 0L));
   const auto on_step = [&](long step) { monitor.update(slot, step); };
+  const auto on_started = [&] { earlier.discard(); };
   const auto t0 = Clock::now();
-  auto result = refsim_engine ? run_refsim(dir, manifest, o, on_step) : run_liggghts(dir, manifest, o, on_step);
+  auto result = refsim_engine ? run_refsim(dir, o, on_step, on_started)
+                              : run_liggghts(dir, manifest, o, on_step, on_started);
   outcome.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   monitor.finish(slot);
   if (!refsim_engine) remove_forced_restarts(dir, started);
+  if (!result.started && earlier.had_record()) {  // nothing ran: the case is as it was
+    earlier.restore();
+    outcome.status = result.interrupted ? RunStatus::interrupted : RunStatus::failed;
+    outcome.message = result.interrupted ? fmt::format("stopped by signal {} before it started", os::interrupt_signal())
+                                         : result.error;
+    outcome.message += " (the case's earlier outputs and run.json are kept)";
+    return outcome;
+  }
+  earlier.discard();
+  if (const auto full = disk_full(dir, files); !full.empty() && !result.interrupted) {
+    result.error = result.error.empty() ? full : full + "; " + result.error;
+  }
 
   outcome.message = result.error;
   outcome.loop_seconds = result.loop_seconds;
   outcome.particle_steps_per_second = result.particle_steps_per_second;
-  outcome.status = result.interrupted    ? RunStatus::interrupted
-                   : result.error.empty() ? RunStatus::done
-                                          : RunStatus::failed;
+  outcome.status = status_of(result);
   if (result.interrupted) outcome.message = fmt::format("stopped by signal {}", os::interrupt_signal());
   record.update(result.record);
-  record["status"] = outcome.status == RunStatus::done          ? "done"
-                     : outcome.status == RunStatus::interrupted ? "interrupted"
-                                                                : "failed";
+  record["status"] = status_word(outcome.status);
   record["finished"] = formats::utc_timestamp();
   record["wall_seconds"] = outcome.wall_seconds;
   if (!outcome.message.empty()) record["error"] = outcome.message;
@@ -424,7 +591,7 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
     record["loop_seconds"] = result.loop_seconds;
     record["particle_steps_per_second"] = result.particle_steps_per_second;
   }
-  write_record(dir / files.run_record, record);
+  write_final_record(dir / files.run_record, record, outcome);
   return outcome;
 }
 
