@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <charconv>
 #include <fast_float/fast_float.h>
+#include <fmt/format.h>
 #include <cstring>
 
 namespace granstack::formats {
@@ -30,6 +31,15 @@ bool LineReader::refill() {
     begin_ = 0;
   }
   if (end_ == buffer_.size()) {
+    // No line of a LIGGGHTS text file comes near this: a file padded with zeros (truncate -s, a
+    // crash) or not text at all must not grow the buffer until memory runs out.
+    if (buffer_.size() >= kLongestLine) {
+      throw FormatError(path_, line_number_ + 1,
+                        fmt::format("a line longer than {} MiB{}: not a LIGGGHTS text file (cut short and padded, or "
+                                    "another kind of file); run the case again",
+                                    kLongestLine >> 20,
+                                    first_nul_ >= 0 ? fmt::format(", with NUL bytes from byte {} on", first_nul_) : ""));
+    }
     buffer_.resize(buffer_.size() * 2, '\0');
     data_ = buffer_.data();
   }

@@ -1,7 +1,9 @@
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/files.hpp>
+#include <granstack/formats/deck.hpp>
 #include <granstack/formats/manifest.hpp>
+#include <granstack/os/case_lock.hpp>
 #include <granstack/formats/ownership.hpp>
 #include <granstack/formats/vtk.hpp>
 #include <granstack/model/stack.hpp>
@@ -12,6 +14,7 @@
 
 #include <charconv>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 
 namespace granstack::postproc {
@@ -136,6 +139,10 @@ formats::VtkPoints frame_points(const model::Stack& stack, const formats::DumpFr
 
 ExportResult export_case(const std::string& case_dir, const ExportOptions& o) {
   const auto m = formats::read_manifest(case_dir);
+  formats::check_deck_matches_manifest(case_dir, m);  // an edited case's frames would carry the manifest's labels
+  // Writing into the case (its paraview/), export holds the case's lock, as every command that writes a case does.
+  std::optional<os::CaseLock> lock;
+  if (o.output_dir.empty()) lock.emplace(case_dir, "granstack export");
   const auto stack = model::Stack::build(m.spec);
   const double dt = m.derived.value("dt", 0.0);
   const long steps = m.derived.value("steps", 0L), every = std::max(1L, m.derived.value("dump_every", 1L));

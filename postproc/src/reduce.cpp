@@ -6,6 +6,8 @@
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/series.hpp>
 #include <granstack/model/resolution.hpp>
+#include <granstack/os/case_lock.hpp>
+#include <granstack/os/interrupt.hpp>
 #include <granstack/model/stack.hpp>
 #include <granstack/postproc/energy.hpp>
 #include <granstack/postproc/reduce.hpp>
@@ -324,6 +326,9 @@ constexpr std::size_t kTextBatchBytes = std::size_t{4} << 20, kBinaryBatchBytes 
 CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& options) {
   const fs::path dir(case_dir);
   const auto manifest = formats::read_manifest(case_dir);
+  // Writing into the case (its reduce/), reduce holds the case's lock, as every command that writes a case does.
+  std::optional<os::CaseLock> lock;
+  if (options.write_files && options.output_dir.empty()) lock.emplace(dir, "granstack reduce");
   require_successful_run(dir, manifest.files);
   const auto stack = model::Stack::build(manifest.spec);
   const auto res = model::resolve(stack);
@@ -440,6 +445,9 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   long last_step = 0;
   const long expected_frames = res.steps / res.dump_every + 1;
   auto take_result = [&](FrameResult& fr) {
+    if (const int signal = os::interrupt_signal(); signal != 0) {
+      throw std::runtime_error(fmt::format("{}: reduce stopped by signal {} at frame {}", case_dir, signal, r.frames + 1));
+    }
     const auto& e = fr.e;
     if (e.step != r.frames * res.dump_every) {
       throw formats::FormatError(dump_path, 0, fmt::format("frame {} is at step {}, where the run dumped step {} (every {} "

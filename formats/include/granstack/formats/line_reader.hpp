@@ -13,6 +13,8 @@ namespace granstack::formats {
 
 class LineReader {
  public:
+  // Lines longer than this are an error (FormatError), so memory stays bounded whatever the file.
+  static constexpr std::size_t kLongestLine = std::size_t{8} << 20;
   // Throws FormatError when the file cannot be opened.
   explicit LineReader(const std::string& path, std::size_t buffer_bytes = std::size_t{1} << 18);
   // Lines of `text`, a piece of the file `path` already in memory (it must outlive the reader);
