@@ -50,9 +50,19 @@ int reproduce(ReproduceFlags& f) {
     return kExists;
   }
   status.clear();
+  if (result.report_kept) {
+    fmt::print(stderr, "interrupted: {} case(s) stopped or not begun; the report in {} (of an earlier complete run) is "
+                       "kept as it was; run the same command again to finish\n",
+               result.interrupted_cases, o.output);
+    return kCaseFailed;
+  }
   if (result.validated) fmt::print("\n{}\n", study::validation_summary(result));
   fmt::print("\n{}\nreport: {}/report.md, {}/report.html, {}/report.json ({:.1f} s)\n", study::summary_text(result), o.output,
              o.output, o.output, result.wall_seconds);
+  if (result.interrupted) {
+    fmt::print(stderr, "interrupted: {} case(s) stopped or not begun (the report says so); run the same command again "
+                       "to finish\n", result.interrupted_cases);
+  }
   if (result.failed_cases > 0) {
     fmt::print(stderr, "{} case(s) failed or could not be reduced (see the report's case tables); run the same command "
                        "again to retry them\n",

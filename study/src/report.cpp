@@ -41,9 +41,13 @@ std::string run_line(const StudyResult& r) {
   std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
   int cases = 0;
   for (const auto& e : r.experiments) cases += static_cast<int>(e.cases.size());
-  return fmt::format("granstack {} ({}), {}. Engine: {}{}{}. {} cases, {} failed; {:.1f} s of wall time.", version(),
+  return fmt::format("granstack {} ({}), {}. Engine: {}{}{}. {} cases, {} failed{}; {:.1f} s of wall time.", version(),
                      git_commit(), date, r.engine, r.validated ? ", every case validated against the other engine" : "",
-                     r.quick ? ", --quick subset" : "", cases, r.failed_cases, r.wall_seconds);
+                     r.quick ? ", --quick subset" : "", cases, r.failed_cases,
+                     r.interrupted ? fmt::format(", {} interrupted (the run was stopped: run the same command again to "
+                                                 "finish)", r.interrupted_cases)
+                                   : "",
+                     r.wall_seconds);
 }
 
 Table summary_table(const StudyResult& r) {
@@ -254,7 +258,7 @@ nlohmann::json report_json(const StudyResult& r) {
   }
   return {{"granstack_version", std::string(version())}, {"validation", r.validated ? json(validation_summary(r)) : json(nullptr)}, {"git_commit", std::string(git_commit())}, {"engine", r.engine},
           {"validated", r.validated}, {"quick", r.quick}, {"wall_seconds", r.wall_seconds},
-          {"failed_cases", r.failed_cases}, {"interrupted", r.interrupted}, {"experiments", experiments}};
+          {"failed_cases", r.failed_cases}, {"interrupted_cases", r.interrupted_cases}, {"interrupted", r.interrupted}, {"experiments", experiments}};
 }
 
 // How the two engines agreed over every case.

@@ -135,9 +135,12 @@ void run_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, Study
     auto& rec = *records[i];
     rec.status = status_name(outcomes[i].status);
     if (outcomes[i].status == runner::RunStatus::done) rec.wall_seconds = outcomes[i].wall_seconds;
-    if (rec.status != "done") {
-      rec.problem = outcomes[i].message;
+    if (rec.status == "done") continue;
+    rec.problem = outcomes[i].message;
+    if (rec.status == "failed") {
       ++result.failed_cases;
+    } else {
+      ++result.interrupted_cases;
     }
   }
 }
@@ -232,6 +235,11 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& o) {
   reduce_all(records, o, result);
   if (o.validate && os::interrupt_signal() == 0) validate_all(records, o);
   result.interrupted = os::interrupt_signal() != 0;
+  if (result.interrupted && fs::exists(root / "report.json")) {
+    result.report_kept = true;
+    result.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return result;
+  }
 
   std::map<std::string, const CaseRecord*> all;
   for (const auto& e : result.experiments) {

@@ -80,8 +80,10 @@ struct StudyResult {
   double wall_seconds = 0.0;
   bool quick = false, validated = false;
   std::string engine;
-  int failed_cases = 0;
+  int failed_cases = 0;       // failed to run or to reduce
+  int interrupted_cases = 0;  // stopped by a signal, or not begun because one came first
   bool interrupted = false;
+  bool report_kept = false;   // interrupted: the report of an earlier run was left as it was
 };
 
 // Thrown when DIR or one of its cases is not granstack's, or holds a case of another spec and
@@ -93,7 +95,7 @@ class ReproduceError : public std::runtime_error {
 
 // Generates the missing cases under DIR/<experiment>/<case>, runs those not done, reduces them,
 // measures and judges. Cases already done are reused, so an interrupted reproduction continues
-// where it stopped.
+// where it stopped. An interrupted one writes no report or figure over an earlier run's.
 StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& options);
 
 // Judges one claim from an experiment's values.
