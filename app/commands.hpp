@@ -18,6 +18,7 @@ constexpr int kExists = 3;      // an output exists: not replaced without --forc
 constexpr int kBadFile = 4;     // an input file is missing, malformed or inconsistent
 constexpr int kDisagree = 5;    // validate: the engines differ by more than the tolerance
 constexpr int kPhysics = 6;     // reduce: the results break a physical law they must obey
+constexpr int kIoError = 7;     // a file or directory could not be read or written (a full disk, permissions)
 
 // A subcommand: its parser and what runs it once the command line is parsed.
 struct Command {

@@ -8,13 +8,45 @@
 #include <granstack/formats/ownership.hpp>
 #include <granstack/model/spec.hpp>
 #include <granstack/model/version.hpp>
+#include <granstack/os/case_lock.hpp>
 #include <granstack/os/interrupt.hpp>
 
 #include <fmt/format.h>
 
+#include <cerrno>
+#include <filesystem>
+
 using namespace granstack;
 
 namespace {
+
+// A file system error as a sentence naming the file, not the C++ library's text.
+std::string io_message(const std::filesystem::filesystem_error& e) {
+  std::string files = e.path1().string();
+  if (!e.path2().empty()) files += fmt::format(" (to {})", e.path2().string());
+  const int code = e.code().value();
+  const char* hint = code == ENOSPC                    ? ": free some space, or write elsewhere"
+                     : code == EACCES || code == EPERM ? ": check its permissions, or write elsewhere"
+                     : code == EROFS                   ? ": the file system is read-only; write elsewhere"
+                                                       : "";
+  return fmt::format("cannot {} {}: {}{}", e.path2().empty() ? "use" : "move", files.empty() ? "a file" : files,
+                     e.code().message(), hint);
+}
+
+// Every argument that may become a path must be printable: a newline in a case's directory
+// name would start a new command in its deck, data file or job script.
+std::string control_character_in(const std::vector<std::string>& args) {
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    for (const unsigned char c : args[i]) {
+      if (c < 0x20 || c == 0x7f) {
+        return fmt::format("argument {} ({:?}) holds a control character (byte 0x{:02x}): granstack refuses them, since a "
+                           "path holding one could start a command in a deck, data file or job script; rename it",
+                           i, args[i], c);
+      }
+    }
+  }
+  return "";
+}
 
 // Runs a parsed command, turning what it throws into the documented exit codes.
 int guarded(const std::function<int()>& run) {
@@ -29,6 +61,12 @@ int guarded(const std::function<int()>& run) {
   } catch (const formats::FormatError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return app::kBadFile;
+  } catch (const os::LockedError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return app::kCaseFailed;
+  } catch (const std::filesystem::filesystem_error& e) {
+    fmt::print(stderr, "error: {}\n", io_message(e));
+    return app::kIoError;
   } catch (const std::exception& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return app::kBadInput;
@@ -54,6 +92,10 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);
+    return app::kBadInput;
+  }
+  if (const auto why = control_character_in(args); !why.empty()) {
+    fmt::print(stderr, "error: {}\n", why);
     return app::kBadInput;
   }
   os::install_interrupt_handlers();
