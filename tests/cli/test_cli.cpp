@@ -135,8 +135,13 @@ TEST_F(Cli, AnExistingCaseIsKeptUnlessForced) {
   EXPECT_EQ(r.code, 3);
   expect_contains(r, "pass --force");
   EXPECT_TRUE(fs::exists(path("case/notes.txt")));
+  // --force replaces only what granstack wrote: the user's notes are named, and kept.
+  const auto forced = granstack("generate -o " + path("case") + " --blocks 2 --force");
+  EXPECT_EQ(forced.code, 3);
+  expect_contains(forced, "notes.txt");
+  EXPECT_TRUE(fs::exists(path("case/notes.txt")));
+  fs::remove(path("case/notes.txt"));
   EXPECT_EQ(granstack("generate -o " + path("case") + " --blocks 2 --force").code, 0);
-  EXPECT_FALSE(fs::exists(path("case/notes.txt")));
 }
 
 TEST_F(Cli, ReduceAndRunRefuseWhatIsNotACaseOrNotRun) {

@@ -102,8 +102,11 @@ TEST_F(CaseWriter, WritesACaseAndRefusesToOverwriteWithoutForce) {
   EXPECT_TRUE(fs::exists(o.output / "precious.txt"));
   EXPECT_EQ(formats::read_manifest(o.output.string()).spec.blocks, 1);
   o.force = true;
+  // Not even with force: the user's file is named and kept.
+  EXPECT_THROW(generator::generate(one_case(2), o), generator::RefusedError);
+  EXPECT_TRUE(fs::exists(o.output / "precious.txt"));
+  fs::remove(o.output / "precious.txt");
   generator::generate(one_case(2), o);
-  EXPECT_FALSE(fs::exists(o.output / "precious.txt"));
   EXPECT_EQ(formats::read_manifest(o.output.string()).spec.blocks, 2);
   // Nothing temporary is left beside it.
   for (const auto& e : fs::directory_iterator(root_)) EXPECT_EQ(e.path().filename(), "case");

@@ -1,0 +1,291 @@
+// Reliability (issue #22), on the real program and the real LIGGGHTS: nothing a user made or ran
+// is lost, and nothing is labelled with physics it does not hold. Each test is one fault a new
+// user met, and fails on the granstack before the fix.
+#include "../support/granstack_test.hpp"
+
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <sys/mount.h>
+
+using namespace granstack;
+using namespace granstack::test;
+
+namespace {
+
+class Reliability : public GranstackTest {
+ protected:
+  // A small case, run and reduced.
+  fs::path run_case(const std::string& name, const std::vector<std::string>& flags = {"--blocks", "2", "--rows", "4"}) {
+    const auto c = path(name);
+    std::vector<std::string> args{"generate", "-o", c.string()};
+    args.insert(args.end(), flags.begin(), flags.end());
+    EXPECT_EQ(granstack(args).code, 0);
+    EXPECT_EQ(granstack({"run", c.string()}).code, 0);
+    return c;
+  }
+  static void replace_in(const fs::path& file, const std::string& from, const std::string& to) {
+    auto text = read_bytes(file);
+    const auto at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from << " not in " << file;
+    text.replace(at, from.size(), to);
+    std::ofstream(file, std::ios::binary) << text;
+  }
+};
+
+// 1. A deck or manifest edited after generate: every command that reads the results refuses it.
+TEST_F(Reliability, AnEditedDeckOrManifestIsRefusedByEveryCommand) {
+  const auto c = run_case("case", {"--blocks", "2", "--rows", "4", "--restitution", "0.9"});
+  ASSERT_EQ(granstack({"reduce", c.string()}).code, 0);
+  const auto deck = read_bytes(c / "in.stack");
+  // The e = 0.9 case's deck set to e = 1: run, reduce, table and validate would label it e = 0.9.
+  replace_in(c / "in.stack", "peratomtypepair 3 0.9 0.9 0.9", "peratomtypepair 3 1 1 1");
+  for (const auto& args : std::vector<std::vector<std::string>>{{"reduce", c.string()},
+                                                                {"table", c.string()},
+                                                                {"validate", c.string()},
+                                                                {"export", c.string(), "-o", path("vtk").string()}}) {
+    const auto r = granstack(args);
+    EXPECT_EQ(r.code, 4) << args.front() << ":\n" << r.output;
+    expect_contains(r, "in.stack: the deck was edited after 'granstack generate'");
+    expect_contains(r, "--template FILE");
+  }
+  auto r = granstack({"run", "--force", c.string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "the deck was edited after 'granstack generate'");
+  EXPECT_EQ(status_of(c), "done");  // the refused run touched nothing
+  std::ofstream(c / "in.stack", std::ios::binary) << deck;
+  ASSERT_EQ(granstack({"reduce", c.string()}).code, 0);
+  // The data file, and the manifest's spec relabelled after the run.
+  const auto data = read_bytes(c / "data.stack");
+  replace_in(c / "data.stack", "Atoms", "Atoms ");
+  r = granstack({"reduce", c.string()});
+  EXPECT_EQ(r.code, 4) << r.output;
+  expect_contains(r, "data.stack: the data file was edited");
+  std::ofstream(c / "data.stack", std::ios::binary) << data;
+  replace_in(c / "manifest.json", "\"restitution\": 0.9", "\"restitution\": 1.0");
+  for (const auto& command : {"reduce", "table", "validate", "run"}) {
+    r = granstack({command, c.string()});
+    EXPECT_NE(r.code, 0) << command << ":\n" << r.output;
+    expect_contains(r, "the manifest was edited after 'granstack generate'");
+  }
+  // A template of the user's is the way to another deck: it is recorded, and runs.
+  std::ofstream(path("mine.tmpl")) << read_bytes(fs::path(GRANSTACK_SOURCE_DIR) / "templates/in.granstack.tmpl")
+                                   << "# my own line\n";
+  ASSERT_EQ(granstack({"generate", "-o", path("mine").string(), "--blocks", "1", "--rows", "4", "--template",
+                       path("mine.tmpl").string()}).code, 0);
+  EXPECT_EQ(granstack({"run", path("mine").string()}).code, 0);
+  EXPECT_EQ(granstack({"reduce", path("mine").string()}).code, 0);
+}
+
+// 2. generate --force waits for no one: a case a run works in is refused, whole.
+TEST_F(Reliability, GenerateForceRefusesACaseThatARunHolds) {
+  const auto sweep = path("sweep");
+  ASSERT_EQ(granstack({"generate", "-o", sweep.string(), "--blocks", "4", "--rows", "16", "--top-columns", "4,6"}).code, 0);
+  const auto running = start({"run", sweep.string()});
+  const auto first = sweep / "cols4";
+  ASSERT_TRUE(eventually([&] { return status_of(first) == "running"; }, 60)) << "the run did not start";
+  auto r = granstack({"generate", "-o", sweep.string(), "--blocks", "1", "--force"});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "is in use by another granstack (granstack run by pid");
+  const auto end = finish(running);
+  EXPECT_EQ(end.code, 0) << end.output;
+  EXPECT_EQ(status_of(first), "done");
+  EXPECT_EQ(status_of(sweep / "cols6"), "done");
+  // Once the run is over, --force replaces the sweep.
+  EXPECT_EQ(granstack({"generate", "-o", sweep.string(), "--blocks", "1", "--force"}).code, 0);
+}
+
+// 3. generate --force replaces only what granstack wrote: a user's files in a case or sweep stay.
+TEST_F(Reliability, GenerateForceKeepsWhatTheUserAddedToACaseOrSweep) {
+  const auto c = run_case("case");
+  ASSERT_EQ(granstack({"reduce", c.string()}).code, 0);
+  ASSERT_EQ(granstack({"export", c.string()}).code, 0);
+  ASSERT_EQ(granstack({"validate", c.string()}).code, 0);
+  // Everything in it is granstack's: replaced with --force.
+  ASSERT_EQ(granstack({"generate", "-o", c.string(), "--blocks", "2", "--rows", "4", "--force"}).code, 0);
+  std::ofstream(c / "NOTES.txt") << "what I saw";
+  fs::create_directories(c / "analysis");
+  std::ofstream(c / "reduce_mine.py") << "print(1)";
+  auto r = granstack({"generate", "-o", c.string(), "--blocks", "1", "--force"});
+  EXPECT_EQ(r.code, 3) << r.output;
+  expect_contains(r, "NOTES.txt");
+  expect_contains(r, "analysis/");
+  expect_contains(r, "reduce_mine.py");
+  EXPECT_EQ(read_bytes(c / "NOTES.txt"), "what I saw");
+  EXPECT_TRUE(fs::is_directory(c / "analysis"));
+  // In a sweep, and inside one of its cases.
+  const auto sweep = path("sweep");
+  ASSERT_EQ(granstack({"generate", "-o", sweep.string(), "--blocks", "1,2", "--rows", "4"}).code, 0);
+  std::ofstream(sweep / "nb2" / "plot.gp") << "plot x";
+  r = granstack({"generate", "-o", sweep.string(), "--blocks", "1", "--force"});
+  EXPECT_EQ(r.code, 3) << r.output;
+  expect_contains(r, "nb2/plot.gp");
+  EXPECT_EQ(read_bytes(sweep / "nb2" / "plot.gp"), "plot x");
+}
+
+// 4. run --force checks that it can start before it touches a finished case's outputs.
+TEST_F(Reliability, RunForceKeepsTheOutputsWhenTheNewRunCannotStart) {
+  const auto c = run_case("case");
+  const auto dump = read_bytes(c / "dumps/dump.txt"), record = read_bytes(c / "run.json");
+  ASSERT_FALSE(dump.empty());
+  const auto kept = [&] {
+    EXPECT_EQ(read_bytes(c / "dumps/dump.txt"), dump);
+    EXPECT_EQ(read_bytes(c / "run.json"), record);
+    EXPECT_FALSE(fs::exists(c / ".granstack-earlier-run"));
+  };
+  auto r = granstack({"run", "--force", "--liggghts", path("no-such-liggghts").string(), c.string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "the case's earlier outputs are kept");
+  kept();
+  // A LIGGGHTS that exits before its banner (as when MPI cannot start), three times.
+  r = granstack({"run", "--force", "--liggghts", "/bin/false", c.string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "earlier outputs and run.json are kept");
+  kept();
+  // No directory for Open MPI's session files; no mpirun for --np 2.
+  const auto env_run = [&](const std::vector<std::string>& args, const std::string& env) {
+    const auto argv0 = std::string(GRANSTACK_EXE);
+    std::vector<std::string> argv{"/usr/bin/env", env, argv0};
+    argv.insert(argv.end(), args.begin(), args.end());
+    os::StartOptions o;
+    o.output = path("env.out");
+    const auto end = os::run(argv, o);
+    return Result{end.code, end.signal, read_bytes(o.output)};
+  };
+  r = env_run({"run", "--force", c.string()}, "TMPDIR=" + path("no-such-tmp").string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "set TMPDIR to a writable directory");
+  kept();
+  fs::create_directories(path("bin"));
+  fs::create_symlink(*os::find_program("liggghts"), path("bin/liggghts"));
+  r = env_run({"run", "--force", "--np", "2", c.string()}, "PATH=" + path("bin").string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "'mpirun' is not on PATH");
+  kept();
+  // A run that starts replaces them.
+  EXPECT_EQ(granstack({"run", "--force", c.string()}).code, 0);
+  EXPECT_EQ(read_bytes(c / "dumps/dump.txt"), dump);  // LIGGGHTS reruns to the same bytes
+  EXPECT_NE(read_bytes(c / "run.json"), record);
+}
+
+// 5. An interrupted reproduce writes no report over a complete one, and says interrupted.
+TEST_F(Reliability, AnInterruptedReproduceKeepsTheCompleteReport) {
+  const auto out = path("study");
+  auto r = granstack({"reproduce", "fig3", "--quick", "--engine", "refsim", "-o", out.string()});
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto report = read_bytes(out / "report.json"), md = read_bytes(out / "report.md");
+  const auto child = start({"reproduce", "fig3", "--quick", "--engine", "refsim", "--force", "-o", out.string()});
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(child.pid, SIGINT);
+  r = finish(child);
+  EXPECT_EQ(r.code, 130) << r.output;
+  expect_contains(r, "interrupted");
+  EXPECT_EQ(r.output.find("failed"), std::string::npos) << r.output;
+  EXPECT_EQ(read_bytes(out / "report.json"), report);
+  EXPECT_EQ(read_bytes(out / "report.md"), md);
+  // Without an earlier report, the one written says interrupted, not failed.
+  const auto fresh = path("fresh");
+  const auto second = start({"reproduce", "fig3", "--quick", "--engine", "refsim", "-o", fresh.string()});
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  ::kill(second.pid, SIGINT);
+  r = finish(second);
+  EXPECT_EQ(r.code, 130) << r.output;
+  if (fs::exists(fresh / "report.json")) {
+    const auto j = read_bytes(fresh / "report.json");
+    EXPECT_NE(j.find("\"interrupted\": true"), std::string::npos);
+    EXPECT_NE(j.find("\"failed_cases\": 0"), std::string::npos) << j;
+  }
+}
+
+// 6. A control character in a path never reaches a deck, data file or script.
+TEST_F(Reliability, ControlCharactersInPathsAreRefused) {
+  const auto evil = path("case\nshell touch PWNED\n#");
+  auto r = granstack({"generate", "-o", evil.string(), "--blocks", "1", "--rows", "4"});
+  EXPECT_EQ(r.code, 2) << r.output;
+  expect_contains(r, "holds a control character");
+  EXPECT_FALSE(fs::exists(evil));
+  for (const auto& command : {"run", "reduce", "status", "submit"}) {
+    r = granstack({command, path("x\ry").string()});
+    EXPECT_EQ(r.code, 2) << command << ":\n" << r.output;
+  }
+  // A sweep index edited to name one.
+  const auto sweep = path("sweep");
+  ASSERT_EQ(granstack({"generate", "-o", sweep.string(), "--blocks", "1,2", "--rows", "4"}).code, 0);
+  replace_in(sweep / "sweep.json", "\"dir\": \"nb1\"", "\"dir\": \"nb1\\nshell touch PWNED\"");
+  r = granstack({"run", sweep.string()});
+  EXPECT_EQ(r.code, 4) << r.output;
+  expect_contains(r, "is not a plain name within the sweep");
+  EXPECT_FALSE(fs::exists(path("PWNED")));
+  EXPECT_FALSE(fs::exists(sweep / "PWNED"));
+}
+
+// 7. A dump padded with zeros (truncate -s) is refused at once, in bounded memory.
+TEST_F(Reliability, ADumpPaddedWithZerosFailsAtOnceInBoundedMemory) {
+  const auto c = run_case("case");
+  const auto dump = c / "dumps/dump.txt";
+  fs::resize_file(dump, fs::file_size(dump) + (std::uintmax_t{8} << 30));  // 8 GB of zeros, sparse
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto r = granstack({"reduce", c.string()}, {}, 120);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(r.code, 4) << r.output;
+  expect_contains(r, "dump.txt");
+  expect_contains(r, "NUL bytes");
+  EXPECT_LT(seconds, 30.0);  // it used to read all 8 GB, growing to hold them
+}
+
+// 7b. reduce stops on SIGTERM.
+TEST_F(Reliability, ReduceStopsOnASignal) {
+  const auto c = run_case("case", {"--blocks", "4", "--rows", "8", "--dump-every", "2"});
+  const auto child = start({"reduce", "--threads", "1", c.string()});
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(child.pid, SIGTERM);
+  const auto r = finish(child, 60);
+  EXPECT_EQ(r.code, 143) << r.output;
+}
+
+// 8. status after a SIGKILL: the case is no longer running.
+TEST_F(Reliability, StatusCallsARunKilledOutrightInterrupted) {
+  const auto c = path("case");
+  ASSERT_EQ(granstack({"generate", "-o", c.string(), "--blocks", "4", "--rows", "24", "--top-columns", "4"}).code, 0);
+  const auto child = start({"run", c.string()});
+  ASSERT_TRUE(eventually([&] { return status_of(c) == "running"; }, 60));
+  auto r = granstack({"status", c.string()});
+  EXPECT_EQ(r.code, 0) << r.output;
+  expect_contains(r, "1 running");
+  ::kill(child.pid, SIGKILL);
+  finish(child);
+  EXPECT_TRUE(eventually([&] { return processes_in(c).empty(); }, 10));
+  r = granstack({"status", c.string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "0 running, 1 interrupted");
+  expect_contains(r, "no granstack holds the case's lock");
+  // And it runs again.
+  EXPECT_EQ(granstack({"run", c.string()}).code, 0);
+}
+
+// 8b. A full disk fails the run naming the file it cut short, and status says failed.
+TEST_F(Reliability, AFullDiskFailsTheRunNamingTheFileItCut) {
+  const auto disk = path("disk");
+  fs::create_directories(disk);
+  if (::geteuid() != 0 || ::mount("tmpfs", disk.c_str(), "tmpfs", 0, "size=2m") != 0) {
+    GTEST_SKIP() << "a small file system to fill needs root and mount(2) (a tmpfs of 2 MB)";
+  }
+  struct Unmount {
+    fs::path at;
+    ~Unmount() { ::umount2(at.c_str(), MNT_DETACH); }
+  } unmount{disk};
+  const auto c = disk / "case";
+  ASSERT_EQ(granstack({"generate", "-o", c.string(), "--blocks", "4", "--rows", "8"}).code, 0);  // 32 MB of dumps
+  auto r = granstack({"run", c.string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "is full");
+  expect_contains(r, "dumps/dump.txt");
+  EXPECT_EQ(r.output.find("run.json.tmp"), std::string::npos) << r.output;
+  r = granstack({"status", c.string()});
+  EXPECT_EQ(r.output.find(" 1 running"), std::string::npos) << r.output;
+  EXPECT_EQ(r.code, 1) << r.output;
+  r = granstack({"reduce", c.string()});
+  EXPECT_NE(r.code, 0) << r.output;
+}
+
+}  // namespace
