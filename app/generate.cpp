@@ -1,5 +1,6 @@
 // granstack generate: a spec (flags, TOML) -> a case directory or a sweep of them.
 #include "commands.hpp"
+#include "progress.hpp"
 
 #include <granstack/formats/manifest.hpp>
 #include <granstack/generator/case_writer.hpp>
@@ -64,14 +65,12 @@ int generate(CLI::App& cmd, const GenerateFlags& g, const std::vector<std::strin
   options.allow_large = g.large;
   options.command_line = argv;
   if (!g.deck_template.empty()) options.deck_template_path = g.deck_template;
+  StatusLine status;
+  if (cases.size() > 1) options.on_progress = [&](long done, long total) { status.count("generate: render and write", done, total); };
   const auto result = generator::generate(cases, options);
-  model::Cost total;
-  for (const auto& c : result.costs) {
-    total.spheres += c.spheres;
-    total.steps += c.steps;
-    total.dump_bytes += c.dump_bytes + c.series_bytes;
-    total.liggghts_seconds += c.liggghts_seconds;
-  }
+  status.clear();
+  auto total = generator::total_cost(result.costs);
+  total.dump_bytes += total.series_bytes;
   if (result.sweep) {
     fmt::print("wrote a sweep of {} cases in {} ({} spheres and {} steps in all)\n", result.case_dirs.size(), g.output,
                total.spheres, total.steps);

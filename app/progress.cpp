@@ -29,6 +29,21 @@ void StatusLine::clear() {
   }
 }
 
+void StatusLine::count(const std::string& what, long done, long total) {
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+  const double fraction = total > 0 ? static_cast<double>(done) / static_cast<double>(total) : 0.0;
+  if (active_) {
+    show(fmt::format("{}: {}/{} ETA {}", what, done, total, eta(elapsed, fraction)));
+    return;
+  }
+  const long tenths = static_cast<long>(10.0 * fraction);
+  if (elapsed < 2.0 || tenths <= tenths_logged_) return;
+  tenths_logged_ = tenths;
+  std::fprintf(stderr, "%s: %ld/%ld (%ld %%, %s)\n", what.c_str(), done, total, 10 * tenths,
+               format_duration(elapsed).c_str());
+  std::fflush(stderr);
+}
+
 std::string format_duration(double s) {
   if (!std::isfinite(s) || s < 0) return "?";
   const long t = std::lround(s);

@@ -294,6 +294,19 @@ void write_case(const fs::path& dir, const PreparedCase& c) {
 }
 }  // namespace
 
+model::Cost total_cost(const std::vector<model::Cost>& costs) {
+  model::Cost total;
+  for (const auto& c : costs) {
+    total.spheres += c.spheres;
+    total.steps += c.steps;
+    total.frames += c.frames;
+    total.dump_bytes += c.dump_bytes;
+    total.series_bytes += c.series_bytes;
+    total.liggghts_seconds += c.liggghts_seconds;
+  }
+  return total;
+}
+
 GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOptions& options) {
   if (cases.empty()) throw std::runtime_error("no case to generate");
   const std::string tmpl = options.deck_template_path ? formats::read_file(*options.deck_template_path)
@@ -349,6 +362,11 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
     m.rendered = {formats::sha256_hex(p.deck), formats::sha256_hex(p.data)};
     p.manifest = formats::manifest_to_json(m).dump(2) + "\n";
     prepared.push_back(std::move(p));
+    if (options.on_progress) options.on_progress(static_cast<long>(prepared.size()), 2 * static_cast<long>(cases.size()));
+  }
+  if (const auto why = model::why_large(total_cost(result.costs)); cases.size() > 1 && !why.empty() && !options.allow_large) {
+    throw model::SpecError({{"size", fmt::format("the sweep of {} cases is large in all: {}; pass --large if you mean it",
+                                                 cases.size(), why)}});
   }
 
   std::vector<os::CaseLock> locks;
@@ -388,6 +406,7 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
                     {"command_line", options.command_line}, {"cases", json::array()}};
       for (std::size_t i = 0; i < prepared.size(); ++i) {
         write_case(tmp / prepared[i].name, prepared[i]);
+        if (options.on_progress) options.on_progress(static_cast<long>(prepared.size() + i + 1), 2 * static_cast<long>(prepared.size()));
         index["cases"].push_back({{"dir", prepared[i].name}, {"spec", formats::spec_to_json(cases[i].spec)}});
         result.case_dirs.push_back(target / prepared[i].name);
       }

@@ -272,8 +272,13 @@ Sweep build_sweep(const RawSpec& raw) {
       if (const auto* t = single()) p.whole(field, *t, s.panels);
     } else if (field == "impact_panel") {
       if (const auto* t = single()) {
-        if (*t == "all") s.impact_panel = model::kAllPanels;
-        else p.whole(field, *t, s.impact_panel);
+        if (*t == "all") {
+          s.impact_panel = model::kAllPanels;
+        } else if (p.whole(field, *t, s.impact_panel) && s.impact_panel < 1) {
+          // -1 and 0 are the model's codes for 'all' and the centre one: never a user's number.
+          p.bad(field, fmt::format("{} is not a panel: give 1..panels (1 = smallest y), or 'all' (a striker on every "
+                                   "panel); leave it out for the centre one", *t));
+        }
       }
     } else if (field == "separator") {
       if (const auto* t = single()) {

@@ -9,6 +9,7 @@
 #include <granstack/model/stack.hpp>
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,6 +22,9 @@ struct GenerateOptions {
   bool allow_large = false;              // generate cases that model::why_large calls large
   std::optional<std::string> deck_template_path;  // a user's template instead of the default
   std::vector<std::string> command_line;
+  // Called as cases are rendered (done of total) and as they are written (total + done of total):
+  // a sweep of 10^4 cases takes seconds.
+  std::function<void(long done, long total)> on_progress;
 };
 
 // Thrown when the output exists and force is off, or is something --force may never replace
@@ -49,6 +53,9 @@ struct GenerateResult {
   bool sweep = false;  // true: output holds one subdirectory per case and sweep.json
   std::vector<model::Cost> costs;  // per case
 };
+
+// The cost of several cases together.
+model::Cost total_cost(const std::vector<model::Cost>& costs);
 
 // One case is written into `output`; several into `output/NAME/` plus `output/sweep.json`.
 // Everything is written into a temporary sibling directory first and renamed into place, so
