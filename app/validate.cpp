@@ -1,5 +1,6 @@
 // granstack validate: LIGGGHTS and refsim on copies of each case, compared.
 #include "commands.hpp"
+#include "progress.hpp"
 
 #include <granstack/formats/deck.hpp>
 #include <granstack/formats/manifest.hpp>
@@ -57,9 +58,12 @@ int validate(const ValidateFlags& f) {
   o.jobs = f.jobs;
   o.force = true;
   o.liggghts = f.liggghts;
+  StatusLine status;
   int rc = kOk;
   for (const auto engine : {runner::Engine::liggghts, runner::Engine::refsim}) {
     o.engine = engine;
+    const char* what = engine == runner::Engine::liggghts ? "validate: LIGGGHTS runs" : "validate: refsim runs";
+    o.on_progress = [&status, what](const runner::ProgressSnapshot& s) { status.count(what, s.finished, s.total); };
     for (const auto& r : runner::run_cases(engine == runner::Engine::liggghts ? liggghts_dirs : refsim_dirs, o)) {
       if (r.status == runner::RunStatus::failed) {
         fmt::print(stderr, "FAILED   {}  {}\n", r.case_dir, r.message);
@@ -67,6 +71,7 @@ int validate(const ValidateFlags& f) {
       }
     }
   }
+  status.clear();
   if (rc != kOk || os::interrupt_signal() != 0) return rc;
   for (std::size_t i = 0; i < dirs.size(); ++i) {
     const auto c = postproc::compare_runs(liggghts_dirs[i], refsim_dirs[i]);

@@ -8,6 +8,7 @@
 #include <granstack/model/resolution.hpp>
 #include <granstack/os/case_lock.hpp>
 #include <granstack/os/interrupt.hpp>
+#include <granstack/os/process.hpp>
 #include <granstack/model/stack.hpp>
 #include <granstack/postproc/energy.hpp>
 #include <granstack/postproc/reduce.hpp>
@@ -474,7 +475,8 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     last_step = e.step;
     std::swap(last_energy, fr.e);
   };
-  const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  // By default one thread per CPU granstack may use (its affinity mask: taskset, a SLURM allocation), never more.
+  const int threads = options.threads > 0 ? options.threads : os::usable_cpus();
   try {
     for_each_frame_in_order<FrameResult>(
         source, threads, [&] { return std::make_unique<FrameAnalyser>(stack, dump_path); }, analyse, take_result);
