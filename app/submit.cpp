@@ -27,6 +27,7 @@ int submit(SubmitFlags& f) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kCaseFailed;
   }
+  if (!s.note.empty()) fmt::print(stderr, "note: {}\n", s.note);
   if (s.cases.empty()) {
     fmt::print("nothing to submit: every case is done (--force submits them again)\n");
     return kOk;
@@ -59,7 +60,16 @@ Command add_submit(CLI::App& app) {
   cmd->add_option("--max-parallel", o.max_parallel, "At most this many tasks at once (the array's %K) [no limit]")
       ->check(CLI::Range(1, 1000000));
   cmd->add_option("--partition", o.partition, "SLURM partition [the site's default]");
-  cmd->add_option("--time", o.time, "Wall time per task, HH:MM:SS [estimated from the cases, 3x the estimate, at least 5 min]");
+  cmd->add_option("--time", o.time, "Wall time per task, HH:MM:SS [estimated from the cases, 3x the estimate, at least 5 min]")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            return cluster::parse_slurm_time(text)
+                       ? std::string()
+                       : fmt::format("'{}' is not a wall time SLURM takes above zero and below a year: give HH:MM:SS, "
+                                     "MM, MM:SS or D-HH:MM:SS (00:00:00 would mean no limit at all)",
+                                     text);
+          },
+          "TIME"));
   cmd->add_option("--mem", o.mem_mb, "Memory per task, MB [the site's default]")->check(CLI::PositiveNumber);
   cmd->add_option("--account", o.account, "SLURM account [the site's default]");
   cmd->add_option("--sbatch-arg", o.sbatch_args, "An argument passed to sbatch as it is (repeatable)");

@@ -5,7 +5,10 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cstdlib>
+#include <optional>
+#include <thread>
 #include <filesystem>
 #include <sstream>
 #include <unistd.h>
@@ -14,7 +17,7 @@ namespace granstack::cluster {
 
 namespace fs = std::filesystem;
 
-SlurmResult run_slurm(const std::vector<std::string>& argv) {
+SlurmResult run_slurm(const std::vector<std::string>& argv, double timeout_seconds) {
   SlurmResult r;
   const auto program = os::find_program(argv.front());
   if (!program) {
@@ -29,10 +32,21 @@ SlurmResult run_slurm(const std::vector<std::string>& argv) {
   args.front() = *program;
   os::StartOptions o;
   o.output = temp;
-  std::string error;
-  const auto end = os::run(args, o, &error);
-  r.started = error.empty();
-  r.code = end.code;
+  const auto child = os::start(args, o);
+  r.started = child.pid >= 0;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_seconds);
+  std::optional<os::Exit> end;
+  while (r.started && !(end = os::poll(child))) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      os::kill_group(child);
+      os::wait(child);
+      r.timed_out = true;
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  r.code = end ? end->code : -1;
+  const std::string error = r.started ? "" : child.error;
   try {
     r.output = formats::read_file(temp);
   } catch (const std::exception&) {
@@ -40,6 +54,7 @@ SlurmResult run_slurm(const std::vector<std::string>& argv) {
   std::error_code ec;
   fs::remove(temp, ec);
   if (!r.started) r.output = error;
+  if (r.timed_out) r.output = fmt::format("{} did not answer within {:.0f} s (is the SLURM controller up?)", argv.front(), timeout_seconds);
   while (!r.output.empty() && (r.output.back() == '\n' || r.output.back() == ' ')) r.output.pop_back();
   return r;
 }

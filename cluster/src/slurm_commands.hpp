@@ -14,9 +14,12 @@ struct SlurmResult {
   bool started = false;  // false: the program is missing (output says so)
   int code = -1;
   std::string output;    // stdout and stderr
+  bool timed_out = false;  // it did not answer within the time given (and was stopped)
 };
 
-SlurmResult run_slurm(const std::vector<std::string>& argv);
+// Runs a SLURM client command, stopping it after `timeout_seconds` (a controller that does not
+// answer keeps scontrol and squeue waiting for minutes).
+SlurmResult run_slurm(const std::vector<std::string>& argv, double timeout_seconds = 30.0);
 std::vector<std::string> lines(const std::string& text);
 
 }  // namespace granstack::cluster

@@ -49,9 +49,53 @@ std::vector<std::string> pending_cases(const std::vector<std::string>& targets, 
   return out;
 }
 
-long max_array_size(const SubmitOptions& o) {
-  const auto r = run_slurm({o.scontrol, "show", "config"});
-  if (o.dry_run && (!r.started || r.code != 0)) return kDefaultMaxArraySize;  // no cluster here: SLURM's default
+}  // namespace
+
+std::optional<long> parse_slurm_time(const std::string& text) {
+  std::vector<long> parts;
+  long days = 0;
+  std::string rest = text;
+  if (const auto dash = text.find('-'); dash != std::string::npos) {
+    if (dash == 0 || text.find_first_not_of("0123456789") != dash) return std::nullopt;
+    days = std::stol(text.substr(0, dash));
+    rest = text.substr(dash + 1);
+  }
+  std::size_t at = 0;
+  for (;;) {
+    const auto colon = rest.find(':', at);
+    const auto field = rest.substr(at, colon == std::string::npos ? std::string::npos : colon - at);
+    if (field.empty() || field.size() > 7 || field.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+    parts.push_back(std::stol(field));
+    if (colon == std::string::npos) break;
+    at = colon + 1;
+  }
+  if (parts.size() > 3) return std::nullopt;
+  long seconds = 0;
+  if (text.find('-') != std::string::npos) {  // D-HH[:MM[:SS]]
+    const long units[] = {3600, 60, 1};
+    for (std::size_t i = 0; i < parts.size(); ++i) seconds += parts[i] * units[i];
+  } else if (parts.size() == 1) {  // minutes
+    seconds = parts[0] * 60;
+  } else if (parts.size() == 2) {  // MM:SS
+    seconds = parts[0] * 60 + parts[1];
+  } else {
+    seconds = parts[0] * 3600 + parts[1] * 60 + parts[2];
+  }
+  seconds += days * 86400;
+  if (seconds <= 0 || seconds > 366L * 86400) return std::nullopt;
+  return seconds;
+}
+
+namespace {
+
+long max_array_size(const SubmitOptions& o, std::string& note) {
+  // A dry run asks briefly: with no controller, scontrol waits (9 s and more) for nothing.
+  const auto r = run_slurm({o.scontrol, "show", "config"}, o.dry_run ? 3.0 : 30.0);
+  if (o.dry_run && (!r.started || r.code != 0)) {  // no cluster here: SLURM's default
+    note = fmt::format("no SLURM answered ({}): assuming MaxArraySize = {}, SLURM's default", r.output.substr(0, 120),
+                       kDefaultMaxArraySize);
+    return kDefaultMaxArraySize;
+  }
   if (!r.started) {
     throw SubmitError(fmt::format("{}; SLURM's client commands come with the Debian package slurm-client", r.output));
   }
@@ -168,7 +212,7 @@ Submission submit(const std::vector<std::string>& targets, const SubmitOptions& 
                                   "submit from a machine that has them; --dry-run writes the scripts without submitting",
                                   o.sbatch));
   }
-  sub.max_array_size = max_array_size(o);
+  sub.max_array_size = max_array_size(o, sub.note);
   const long tasks = (static_cast<long>(sub.cases.size()) + o.cases_per_task - 1) / o.cases_per_task;
   for (long first_task = 0; first_task < tasks; first_task += sub.max_array_size) {
     const long n = std::min(sub.max_array_size, tasks - first_task);

@@ -38,6 +38,7 @@ struct Submission {
   std::string gather_script, gather_job_id;
   std::string time;               // per task
   long max_array_size = 0;
+  std::string note;               // what was assumed (a dry run with no controller to ask)
 };
 
 // What cannot be submitted: sbatch or scontrol missing, SLURM refusing (its own words), a path
@@ -59,6 +60,11 @@ Submission submit(const std::vector<std::string>& targets, const SubmitOptions& 
 // kMinTaskSeconds; as HH:MM:SS.
 std::string estimate_task_time(const std::vector<std::string>& case_dirs, int ranks);
 inline constexpr double kTimeSafety = 3.0;
+
+// A wall time in one of SLURM's forms (MM, MM:SS, HH:MM:SS, D-HH, D-HH:MM, D-HH:MM:SS) as
+// seconds; nullopt for anything else, for zero (which SLURM reads as no limit at all) and for
+// more than a year.
+std::optional<long> parse_slurm_time(const std::string& text);
 inline constexpr double kMinTaskSeconds = 300.0;
 
 struct CaseState {
