@@ -101,6 +101,8 @@ int reduce(const ReduceFlags& f) {
     std::vector<std::string> names;
     for (const auto& label : postproc::unique_case_labels(dirs)) names.push_back(label);
     formats::prepare_output_directory(f.output, names, f.force, "granstack reduce -o");
+    // --force: each case's results are written anew, none of an earlier reduce left beside them.
+    for (const auto& name : names) fs::remove_all(fs::path(f.output) / name);
     o.output_dir = f.output;
   }
   std::vector<postproc::CaseReduction> results;

@@ -2,6 +2,7 @@
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
+#include <granstack/formats/ownership.hpp>
 
 #include <fmt/format.h>
 
@@ -264,6 +265,18 @@ std::vector<std::string> expand_case_dirs(const std::vector<std::string>& dirs) 
   for (const auto& d : dirs) {
     if (fs::exists(fs::path(d) / "manifest.json")) {
       add(d);
+      continue;
+    }
+    if (output_written_by(d) == "granstack reproduce") {  // DIR/EXPERIMENT/CASE, in name order
+      std::set<fs::path> cases;
+      std::error_code ec;
+      for (const auto& e : fs::directory_iterator(d, ec)) {
+        if (!e.is_directory(ec)) continue;
+        for (const auto& c : fs::directory_iterator(e.path(), ec)) {
+          if (fs::is_regular_file(c.path() / "manifest.json", ec)) cases.insert(c.path());
+        }
+      }
+      for (const auto& c : cases) add(c.string());
       continue;
     }
     const auto sweep_path = (fs::path(d) / "sweep.json").string();

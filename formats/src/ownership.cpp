@@ -133,6 +133,16 @@ std::vector<std::string> foreign_entries(const fs::path& dir, std::size_t most) 
   return finder.found;
 }
 
+std::string output_written_by(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::is_regular_file(dir / kOutputMarker, ec)) return "";
+  try {
+    return json::parse(read_file(dir / kOutputMarker)).value("written_by", std::string());
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
 bool made_by_granstack(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_directory(fs::symlink_status(dir, ec))) return false;
@@ -194,8 +204,10 @@ void prepare_output_directory(const fs::path& dir, const std::vector<std::string
                                      "did not write; choose a new directory with -o",
                                      file.string(), dir.string()));
     }
-    if (!fs::is_regular_file(fs::symlink_status(file, ec))) {
-      throw RefusedError(fmt::format("{} exists and is not a regular file; move it away", file.string()));
+    // A directory granstack wrote there (reduce -o writes one per case) is replaced like a file.
+    const bool own_directory = fs::is_directory(fs::symlink_status(file, ec));
+    if (!fs::is_regular_file(fs::symlink_status(file, ec)) && !own_directory) {
+      throw RefusedError(fmt::format("{} exists and is neither a file nor a directory; move it away", file.string()));
     }
     if (!force) {
       throw ExistsError(fmt::format("{} exists; pass --force to replace it (or choose a new directory with -o)",

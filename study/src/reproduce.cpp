@@ -68,6 +68,10 @@ void prepare_directory(const fs::path& dir) {
                                             "into a directory of yours; choose a new directory with -o",
                                             dir.string()));
   }
+  if (const auto maker = formats::output_written_by(dir); !maker.empty() && maker != "granstack reproduce") {
+    throw formats::RefusedError(fmt::format("{} was made by {}, not by granstack reproduce: choose a new directory with -o",
+                                            dir.string(), maker));
+  }
   formats::prepare_output_directory(dir, {"report.md", "report.html", "report.json"}, true, "granstack reproduce");
 }
 

@@ -13,6 +13,9 @@ namespace granstack::formats {
 inline constexpr const char* kOutputMarker = ".granstack-output";
 
 bool made_by_granstack(const std::filesystem::path& dir);
+// The command that made the output directory `dir` ("granstack plot -o", "granstack reproduce"),
+// from its marker; "" when it has none.
+std::string output_written_by(const std::filesystem::path& dir);
 
 // Why `path` may not be replaced (removed and written anew) even with --force, or "" when it
 // may: it must be a directory made by granstack, and neither '/', the home directory, the
