@@ -21,8 +21,9 @@ namespace {
 }  // namespace
 
 std::string gnuplot_terminal(const PlotOptions& o) {
-  if (o.format == "svg") return "set terminal svg size 1600,1000 dynamic enhanced font 'Sans,26' linewidth 2";
-  if (o.format == "png") return "set terminal pngcairo size 1600,1000 enhanced font 'Sans,26' linewidth 3";
+  // Greek letters as UTF-8, never {/Symbol m}: an SVG viewer without the Symbol font draws an 'm'.
+  if (o.format == "svg") return "set encoding utf8\nset terminal svg size 1600,1000 dynamic enhanced font 'Sans,26' linewidth 2";
+  if (o.format == "png") return "set encoding utf8\nset terminal pngcairo size 1600,1000 enhanced font 'Sans,26' linewidth 3";
   throw std::invalid_argument(fmt::format("plot format '{}' is not png or svg", o.format));
 }
 
@@ -116,7 +117,7 @@ std::string plot_block_energy(const std::string& case_dir, const std::string& la
       "# peak of block 1 (docs/physics.md section 4). Data: {}.dat (time in us, then block 1 = top, ...).\n"
       "# Restyle at will, then run: gnuplot {}.gp\n"
       "{}\nset output '{}.{}'\n"
-      "set title 'Kinetic energy per block: {} block{}, e = {}, {{/Symbol m}} = {}, v = {} m/s'\n"
+      "set title \"Kinetic energy per block\\n{} block{}, e = {}, μ = {}, v = {} m/s\"\n"
       "set xlabel 'time t (µs)'\nset ylabel 'E_k / max E_k of block 1'\n"
       "# The key beside the plot covers no curve; 8 % head room keeps a curve that reaches 1 off the border.\n"
       "set grid\nset key outside right top\nset yrange [0:*]\nset offsets 0, 0, graph 0.08, 0\nset autoscale xfix\n"
@@ -148,7 +149,7 @@ std::string plot_panel_energy(const CaseReduction& r, const std::string& label, 
       "# Data: {}.dat (time in us, then panel 1 (smallest y) .. {}, then the matrix). The striker hits {}.\n"
       "# Restyle at will, then run: gnuplot {}.gp\n"
       "{}\nset output '{}.{}'\n"
-      "set title 'Kinetic energy per panel: {} panels, {} block{}, separator {}, striker on {}'\n"
+      "set title \"Kinetic energy per panel\\n{} panels, {} block{}, separator {}, striker on {}\"\n"
       "set xlabel 'time t (µs)'\nset ylabel 'E_k / E_{{in}}'\n"
       "set grid\nset key outside right top\nset logscale y\nset format y '10^{{%L}}'\nset yrange [1e-6:2]\n"
       "set autoscale xfix\n"
@@ -174,7 +175,7 @@ std::string plot_decay(const OutputTable& t, const std::string& out_dir, const P
     if (g.fit) {
       functions += fmt::format("f{}(x) = {:.10g} * exp(-{:.10g} * x)  # fit of {}\n", index, g.fit->prefactor, g.fit->alpha,
                                g.label);
-      plots += fmt::format(", \\\n     f{}(x) with lines linecolor {} dashtype 2 title sprintf('fit: {{/Symbol a}} = %.3f', {:.6g})",
+      plots += fmt::format(", \\\n     f{}(x) with lines linecolor {} dashtype 2 title sprintf('fit: α = %.3f', {:.6g})",
                            index, lt, g.fit->alpha);
     }
     ++index;
