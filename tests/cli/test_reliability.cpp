@@ -289,3 +289,75 @@ TEST_F(Reliability, AFullDiskFailsTheRunNamingTheFileItCut) {
 }
 
 }  // namespace
+
+namespace {
+
+// The refusals and messages of issue #22's second list, each with the words a user needs.
+TEST_F(Reliability, RefusalsNameTheProblemAndTheFix) {
+  // --impact-panel -1 and 0 were the model's codes for 'all' and the centre panel.
+  for (const auto* panel : {"-1", "0", "4"}) {
+    const auto r = granstack({"generate", "-o", path("box").string(), "--geometry", "panels", "--panels", "3",
+                              "--impact-panel", panel});
+    EXPECT_EQ(r.code, 2) << panel << ":\n" << r.output;
+    expect_contains(r, "impact_panel");
+  }
+  EXPECT_FALSE(fs::exists(path("box")));
+  // A sweep whose cases are each below the limits but whose sum is not: 20 x 1.1 GB of dumps (the limit is 20 GB).
+  std::vector<std::string> sweep{"generate", "-o", path("big").string(), "--dump-every", "1", "--top-columns", "4", "--restitution",
+                                 "1,0.99,0.98,0.97,0.96,0.95,0.94,0.93,0.92,0.91,0.9,0.89,0.88,0.87,0.86,0.85,0.84,0.83,0.82,0.81"};
+  auto r = granstack(sweep);
+  EXPECT_EQ(r.code, 2) << r.output;
+  expect_contains(r, "the sweep of 20 cases is large in all");
+  expect_contains(r, "--large");
+  EXPECT_FALSE(fs::exists(path("big")));
+  // More threads than CPUs: a warning before the run.
+  std::ofstream(path("mine.tmpl")) << read_bytes(fs::path(GRANSTACK_SOURCE_DIR) / "templates/in.granstack.tmpl") << "#\n";
+  ASSERT_EQ(granstack({"generate", "-o", path("c").string(), "--blocks", "1", "--rows", "4", "--template",
+                       path("mine.tmpl").string()}).code, 0);
+  r = granstack({"run", "--engine", "refsim", "--threads", "64", path("c").string()});
+  expect_contains(r, "oversubscribed");
+  // submit --time: zero (SLURM's "no limit") and negative values; a dry run with no controller is quick.
+  for (const auto* time : {"00:00:00", "-5", "1:2:3:4", "soon"}) {
+    r = granstack({"submit", "--dry-run", "--force", "--time", time, path("c").string()});
+    EXPECT_EQ(r.code, 2) << time << ":\n" << r.output;
+    expect_contains(r, "is not a wall time SLURM takes");
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  r = granstack({"submit", "--dry-run", "--force", "--time", "1-00:30", path("c").string()});
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 8.0);
+  // An I/O error: its own exit code and a sentence naming the path.
+  r = granstack({"table", path("c").string(), "-o", "/proc/granstack-table"});
+  EXPECT_EQ(r.code, 7) << r.output;
+  expect_contains(r, "cannot use /proc/granstack-table");
+}
+
+TEST_F(Reliability, OutputDirectoriesAreReplacedOrRefusedAsDocumented) {
+  const auto c = run_case("case");
+  // reduce -o --force replaces what an earlier reduce -o wrote (it used to refuse it always).
+  ASSERT_EQ(granstack({"reduce", c.string(), "-o", path("out").string()}).code, 0);
+  auto r = granstack({"reduce", c.string(), "-o", path("out").string()});
+  EXPECT_EQ(r.code, 3) << r.output;
+  r = granstack({"reduce", c.string(), "-o", path("out").string(), "--force"});
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(path("out") / "case" / "summary.json"));
+  // reproduce never writes into another command's output directory.
+  ASSERT_EQ(granstack({"plot", c.string(), "-o", path("figs").string(), "--format", "svg"}).code, 0);
+  r = granstack({"reproduce", "fig3", "--quick", "--engine", "refsim", "-o", path("figs").string()});
+  EXPECT_EQ(r.code, 3) << r.output;
+  expect_contains(r, "was made by granstack plot -o");
+  // mu in SVG text is the letter itself (an SVG viewer without the Symbol font drew 'm').
+  const auto svg = read_bytes(path("figs") / "energy_case.svg");
+  EXPECT_NE(svg.find("μ = 0"), std::string::npos);
+  EXPECT_EQ(svg.find("Symbol"), std::string::npos);
+  // status, table and reduce take a reproduction's directory as they take a sweep.
+  const auto study = path("study");
+  ASSERT_EQ(granstack({"reproduce", "fig3", "--quick", "--engine", "refsim", "-o", study.string()}).code, 0);
+  r = granstack({"status", study.string()});
+  EXPECT_EQ(r.code, 0) << r.output;
+  expect_contains(r, "done, 0 failed");
+  EXPECT_EQ(granstack({"table", study.string()}).code, 0);
+  EXPECT_EQ(granstack({"reduce", study.string()}).code, 0);
+}
+
+}  // namespace
