@@ -265,7 +265,7 @@ TEST_F(Cli, TableAndPlotsFromARealSweep) {
   // The figures' scripts: a one-block title in the singular, keys that cover no curve, group
   // names printed as they are (no subscripts from '_'), head room above a curve reaching 1.
   const auto one = read_bytes(path("png/energy_nb1_e1.gp"));
-  EXPECT_NE(one.find("Kinetic energy per block: 1 block, e = 1"), std::string::npos) << one;
+  EXPECT_NE(one.find("Kinetic energy per block\\n1 block, e = 1, μ = 0"), std::string::npos) << one;
   EXPECT_NE(one.find("set key outside right top"), std::string::npos);
   EXPECT_NE(one.find("set offsets 0, 0, graph 0.08, 0"), std::string::npos);
   const auto decay = read_bytes(path("png/decay.gp"));
