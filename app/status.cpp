@@ -24,10 +24,11 @@ int status(const StatusFlags& f) {
   }
   if (!r.job_ids.empty()) {
     fmt::print("last submission: job{} {}", r.job_ids.size() == 1 ? "" : "s", fmt::join(r.job_ids, ", "));
-    if (!r.squeue_available) fmt::print(" (squeue not found: the queue is not shown)\n");
+    if (!r.squeue_available) fmt::print(" (the queue is not shown)\n");
     else if (r.queue.empty()) fmt::print(" (none in the queue)\n");
     else fmt::print("; in the queue:\n  {}\n", fmt::join(r.queue, "\n  "));
   }
+  for (const auto& note : r.notes) fmt::print(stderr, "note: {}\n", note);
   return r.failed + r.interrupted > 0 ? kCaseFailed : kOk;
 }
 

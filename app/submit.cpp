@@ -4,6 +4,9 @@
 #include <granstack/cluster/slurm.hpp>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
 
 #include <filesystem>
 #include <memory>
@@ -15,11 +18,13 @@ namespace {
 struct SubmitFlags {
   std::vector<std::string> targets;
   cluster::SubmitOptions options;
+  bool cases_per_task_given = false;
 };
 
 int submit(SubmitFlags& f) {
   auto& o = f.options;
   o.granstack = std::filesystem::read_symlink("/proc/self/exe").string();
+  o.cases_per_task_given = f.cases_per_task_given;
   cluster::Submission s;
   try {
     s = cluster::submit(f.targets, o);
@@ -27,14 +32,23 @@ int submit(SubmitFlags& f) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kCaseFailed;
   }
-  if (!s.note.empty()) fmt::print(stderr, "note: {}\n", s.note);
+  for (const auto& note : s.notes) fmt::print(stderr, "note: {}\n", note);
+  if (!s.skipped.empty()) {
+    fmt::print(stderr, "skipped {} case(s) already queued or running (not submitted twice; scancel them to submit them "
+                       "anew): {}{}\n",
+               s.skipped.size(), fmt::join(s.skipped.begin(), s.skipped.begin() + std::min<std::ptrdiff_t>(5, static_cast<std::ptrdiff_t>(s.skipped.size())), ", "),
+               s.skipped.size() > 5 ? ", ..." : "");
+  }
   if (s.cases.empty()) {
-    fmt::print("nothing to submit: every case is done (--force submits them again)\n");
+    fmt::print("nothing to submit: every case is done{} (--force submits the done ones again)\n",
+               s.skipped.empty() ? "" : ", queued or running");
     return kOk;
   }
-  const auto tasks = (s.cases.size() + static_cast<std::size_t>(o.cases_per_task) - 1) / static_cast<std::size_t>(o.cases_per_task);
-  fmt::print("{} {} cases in {} tasks of up to {} ({} array{}, MaxArraySize {}), {} per task; scripts in {}\n",
-             o.dry_run ? "would submit" : "submitted", s.cases.size(), tasks, o.cases_per_task, s.arrays.size(),
+  std::size_t tasks = 0;
+  for (const auto& a : s.arrays) tasks += static_cast<std::size_t>(a.tasks);
+  const auto per_task = (s.cases.size() + tasks - 1) / std::max<std::size_t>(tasks, 1);
+  fmt::print("{} {} cases in {} tasks of up to {} ({} array{}, MaxArraySize {}), at most {} per task; scripts in {}\n",
+             o.dry_run ? "would submit" : "submitted", s.cases.size(), tasks, per_task, s.arrays.size(),
              s.arrays.size() == 1 ? "" : "s", s.max_array_size, s.time, s.directory);
   for (const auto& a : s.arrays) {
     fmt::print("  {}  {}\n", a.job_id.empty() ? "(dry run)" : "job " + a.job_id, a.script);
@@ -76,7 +90,10 @@ Command add_submit(CLI::App& app) {
   cmd->add_flag("--gather", o.gather, "Add a job that runs `table` over the targets once the arrays end");
   cmd->add_flag("--dry-run", o.dry_run, "Write the scripts and say what would be submitted; submit nothing");
   cmd->add_flag("--force", o.force, "Submit every case, done or not");
-  return {cmd, [f] { return submit(*f); }};
+  return {cmd, [f, cmd] {
+            f->cases_per_task_given = cmd->count("--cases-per-task") > 0;
+            return submit(*f);
+          }};
 }
 
 }  // namespace granstack::app

@@ -4,6 +4,7 @@
 #include <granstack/os/process.hpp>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <chrono>
 #include <cstdlib>
@@ -67,6 +68,75 @@ std::vector<std::string> lines(const std::string& text) {
     if (!line.empty()) out.push_back(line);
   }
   return out;
+}
+
+namespace {
+std::vector<std::string> split(const std::string& text, char sep) {
+  std::vector<std::string> out;
+  std::size_t at = 0;
+  for (;;) {
+    const auto next = text.find(sep, at);
+    out.push_back(text.substr(at, next == std::string::npos ? std::string::npos : next - at));
+    if (next == std::string::npos) return out;
+    at = next + 1;
+  }
+}
+
+// The value of NAME=VALUE among scontrol's one-line fields.
+std::string field(const std::string& line, const std::string& name) {
+  const auto at = line.find(" " + name + "=");
+  if (at == std::string::npos) return "";
+  const auto start = at + name.size() + 2;
+  return line.substr(start, line.find(' ', start) - start);
+}
+}  // namespace
+
+QueueView read_queue(const std::vector<std::string>& job_ids, const std::string& squeue) {
+  QueueView q;
+  if (job_ids.empty()) {
+    q.answered = true;
+    return q;
+  }
+  const auto r = run_slurm({squeue, "-h", "-r", "-j", fmt::format("{}", fmt::join(job_ids, ",")), "-o", "%A|%a|%i|%T|%M|%R"}, 10.0);
+  // squeue exits non-zero when none of the jobs is known any more: an empty queue.
+  if (r.started && !r.timed_out && (r.code == 0 || r.output.find("Invalid job id") != std::string::npos)) {
+    q.answered = true;
+    if (r.code != 0) return q;
+    for (const auto& line : lines(r.output)) {
+      const auto f = split(line, '|');
+      if (f.size() < 6) continue;
+      q.tasks[{f[0], f[1]}] = f[3];
+      q.lines.push_back(fmt::format("{} {} {} {}", f[2], f[3], f[4], f[5]));
+    }
+    return q;
+  }
+  q.error = r.output.empty() ? fmt::format("{} exited with code {}", squeue, r.code) : r.output;
+  return q;
+}
+
+std::map<Task, std::string> ended_states(const std::vector<std::string>& job_ids, const std::string& sacct,
+                                         const std::string& scontrol) {
+  std::map<Task, std::string> states;
+  if (job_ids.empty()) return states;
+  const auto acct = run_slurm({sacct, "-n", "-P", "-X", "-j", fmt::format("{}", fmt::join(job_ids, ",")), "-o", "JobID,State"}, 10.0);
+  if (acct.started && !acct.timed_out && acct.code == 0 && acct.output.find("disabled") == std::string::npos) {
+    for (const auto& line : lines(acct.output)) {
+      const auto f = split(line, '|');
+      const auto under = f[0].find('_');
+      if (f.size() < 2 || under == std::string::npos || f[0].find('[') != std::string::npos) continue;
+      states[{f[0].substr(0, under), f[0].substr(under + 1)}] = f[1].substr(0, f[1].find(' '));  // "CANCELLED by 0"
+    }
+    return states;
+  }
+  for (const auto& id : job_ids) {
+    const auto r = run_slurm({scontrol, "-o", "show", "job", id}, 10.0);
+    if (!r.started || r.timed_out || r.code != 0) continue;
+    for (const auto& line : lines(r.output)) {
+      const auto job = field(line, "ArrayJobId"), task = field(line, "ArrayTaskId"), state = field(line, "JobState");
+      if (!job.empty() && !task.empty() && task.find_first_not_of("0123456789") == std::string::npos) states[{job, task}] = state;
+    }
+  }
+  return states;
 }
 
 }  // namespace granstack::cluster

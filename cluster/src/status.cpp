@@ -1,3 +1,4 @@
+#include "records.hpp"
 #include "slurm_commands.hpp"
 
 #include <granstack/cluster/slurm.hpp>
@@ -10,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <map>
 
 namespace granstack::cluster {
 
@@ -36,32 +38,52 @@ CaseState read_state(const std::string& dir) {
   return s;
 }
 
-// The job ids of the last submission recorded under the first target.
-std::vector<std::string> last_job_ids(const std::string& target) {
-  const auto path = fs::path(target) / "slurm" / "submissions.json";
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) return {};
-  const auto all = json::parse(formats::read_file(path));
-  if (!all.is_array() || all.empty()) return {};
+std::vector<std::string> job_ids_of(const RecordedSubmission& s) {
   std::vector<std::string> ids;
-  for (const auto& a : all.back().at("arrays")) ids.push_back(a.at("job_id").get<std::string>());
-  const auto gather = all.back().value("gather_job_id", std::string());
-  if (!gather.empty()) ids.push_back(gather);
+  for (const auto& a : s.arrays) ids.push_back(a.job_id);
+  if (!s.gather_job_id.empty()) ids.push_back(s.gather_job_id);
   return ids;
+}
+
+// What SLURM says of the last submission's tasks that have left the queue: a case its task never
+// ran is failed (naming the task's log), and an interrupted one says why SLURM stopped it.
+void explain_with_slurm(StatusReport& r, const RecordedSubmission& last, const QueueView& queue,
+                        const std::string& sacct, const std::string& scontrol) {
+  std::map<std::string, Task> task_of;
+  const auto cases = last.cases();
+  const auto tasks = last.case_tasks();
+  for (std::size_t i = 0; i < cases.size(); ++i) task_of[cases[i]] = tasks[i];
+  std::vector<CaseState*> asked;
+  for (auto& c : r.cases) {
+    const auto it = task_of.find(fs::absolute(c.dir).lexically_normal().string());
+    if (it == task_of.end() || it->second.first.empty() || queue.tasks.count(it->second) != 0) continue;
+    if (c.status == "pending" || c.status == "interrupted") asked.push_back(&c);
+  }
+  if (asked.empty()) return;
+  std::vector<std::string> ids;
+  for (const auto& a : last.arrays) ids.push_back(a.job_id);
+  const auto states = ended_states(ids, sacct, scontrol);
+  for (auto* c : asked) {
+    const auto& task = task_of.at(fs::absolute(c->dir).lexically_normal().string());
+    const auto state = states.find(task);
+    const auto name = fmt::format("{}_{}", task.first, task.second);
+    const auto log = (fs::path(last.directory) / fmt::format("task-{}.out", name)).string();
+    if (c->status == "interrupted") {
+      if (state != states.end()) c->error += fmt::format(" (SLURM: task {} {})", name, state->second);
+      continue;
+    }
+    c->status = "failed";
+    c->error = fmt::format("its SLURM task {} ended{} before granstack ran the case; see {}", name,
+                           state == states.end() ? " (how, SLURM no longer says)" : " " + state->second, log);
+  }
 }
 
 }  // namespace
 
-StatusReport status(const std::vector<std::string>& targets, const std::string& squeue) {
+StatusReport status(const std::vector<std::string>& targets, const std::string& squeue, const std::string& sacct,
+                    const std::string& scontrol) {
   StatusReport r;
   for (const auto& d : formats::expand_case_dirs(targets)) r.cases.push_back(read_state(d));
-  if (!targets.empty()) r.job_ids = last_job_ids(targets.front());
-  if (!r.job_ids.empty() && os::find_program(squeue)) {
-    const auto q = run_slurm({squeue, "-h", "-j", fmt::format("{}", fmt::join(r.job_ids, ",")), "-o", "%i %T %M %R"});
-    // squeue exits non-zero when none of the jobs is known any more: an empty queue.
-    r.squeue_available = q.started;
-    if (q.code == 0) r.queue = lines(q.output);
-  }
   for (auto& c : r.cases) {
     // Running by its run.json, yet no granstack holds the case's lock (the kernel drops it when
     // its holder ends in any way): the run was killed outright, or could not write its record.
@@ -70,6 +92,24 @@ StatusReport status(const std::vector<std::string>& targets, const std::string& 
       c.error = "run.json says running, but no granstack holds the case's lock: its run was killed (SIGKILL, a time "
                 "limit, a node failure) or could not write its final record (a full disk?); run it again";
     }
+  }
+  const auto records = targets.empty() ? Records{} : read_records(targets.front());
+  if (!records.damage.empty()) r.notes.push_back(records.damage + ": the cases' states come from their folders alone");
+  if (!records.submissions.empty()) {
+    const auto& last = records.submissions.back();
+    r.job_ids = job_ids_of(last);
+    if (os::find_program(squeue)) {
+      const auto queue = read_queue(r.job_ids, squeue);
+      r.squeue_available = queue.answered;
+      r.queue = queue.lines;
+      if (!queue.answered) {
+        r.notes.push_back(fmt::format("the queue could not be read: {}", queue.error));
+      } else {
+        explain_with_slurm(r, last, queue, sacct, scontrol);
+      }
+    }
+  }
+  for (const auto& c : r.cases) {
     if (c.status == "done") ++r.done;
     else if (c.status == "failed") ++r.failed;
     else if (c.status == "running") ++r.running;
