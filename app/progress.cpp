@@ -39,7 +39,7 @@ void StatusLine::count(const std::string& what, long done, long total) {
   const long tenths = static_cast<long>(10.0 * fraction);
   if (elapsed < 2.0 || tenths <= tenths_logged_) return;
   tenths_logged_ = tenths;
-  std::fprintf(stderr, "%s: %ld/%ld (%ld %%, %s)\n", what.c_str(), done, total, 10 * tenths,
+  std::fprintf(stderr, "%s: %ld/%ld (%.0f %%, %s)\n", what.c_str(), done, total, 100.0 * fraction,
                format_duration(elapsed).c_str());
   std::fflush(stderr);
 }

@@ -76,7 +76,11 @@ MinJobAge=600
 EnforcePartLimits=ALL
 SchedulerParameters=batch_sched_delay=0
 NodeName=$host NodeAddr=127.0.0.1 NodeHostname=$host CPUs=$cpus RealMemory=$mem State=UNKNOWN
+# Small enough that a test splits a sweep into several arrays for real.
+MaxArraySize=4
 PartitionName=granstack Nodes=$host Default=YES MaxTime=INFINITE State=UP
+# A partition whose limit refuses a submission part-way (the arrays fit, a gather of 10 min not).
+PartitionName=short Nodes=$host MaxTime=8 State=UP
 CONF
 }
 

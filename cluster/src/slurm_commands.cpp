@@ -105,7 +105,9 @@ QueueView read_queue(const std::vector<std::string>& job_ids, const std::string&
     for (const auto& line : lines(r.output)) {
       const auto f = split(line, '|');
       if (f.size() < 6) continue;
-      q.tasks[{f[0], f[1]}] = f[3];
+      // %i is JOB_TASK for an array task, pending or running (%a says "(null)" while it is pending).
+      const auto under = f[2].find('_');
+      q.tasks[{f[2].substr(0, under), under == std::string::npos ? "" : f[2].substr(under + 1)}] = f[3];
       q.lines.push_back(fmt::format("{} {} {} {}", f[2], f[3], f[4], f[5]));
     }
     return q;

@@ -19,6 +19,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <map>
 #include <set>
 #include <filesystem>
 
@@ -47,11 +48,20 @@ std::string sbatch_value(const std::string& what, const std::string& v) {
   return v;
 }
 
-std::vector<std::string> pending_cases(const std::vector<std::string>& targets, bool force) {
+// The cost estimate of each case, by its absolute path: each manifest is read once.
+using Costs = std::map<std::string, model::Cost>;
+
+model::Cost case_cost(const std::string& dir) {
+  const auto stack = model::Stack::build(formats::read_manifest(dir).spec);  // a case, or FormatError naming what is wrong
+  return model::estimate_cost(stack, model::resolve(stack));
+}
+
+std::vector<std::string> pending_cases(const std::vector<std::string>& targets, bool force, Costs& costs) {
   std::vector<std::string> out;
   for (const auto& d : formats::expand_case_dirs(targets)) {
-    formats::read_manifest(d);  // a case, or FormatError naming what is wrong
-    if (force || runner::recorded_status(d) != "done") out.push_back(fs::absolute(d).lexically_normal().string());
+    const auto dir = fs::absolute(d).lexically_normal().string();
+    costs[dir] = case_cost(d);
+    if (force || runner::recorded_status(d) != "done") out.push_back(dir);
   }
   return out;
 }
@@ -180,12 +190,9 @@ std::string hms(double seconds) {
   return fmt::format("{:02}:{:02}:{:02}", s / 3600, (s / 60) % 60, s % 60);
 }
 
-double task_seconds(const std::vector<std::string>& case_dirs, int ranks) {
+double task_seconds(const std::vector<double>& liggghts_seconds, int ranks) {
   double seconds = 0.0;
-  for (const auto& d : case_dirs) {
-    const auto stack = model::Stack::build(formats::read_manifest(d).spec);
-    seconds += model::estimate_cost(stack, model::resolve(stack)).liggghts_seconds;
-  }
+  for (const double s : liggghts_seconds) seconds += s;
   return std::max(kMinTaskSeconds, kTimeSafety * seconds / std::max(1, ranks));
 }
 
@@ -309,7 +316,9 @@ void save(const Submission& s, const std::vector<std::string>& targets, int case
 }  // namespace
 
 std::string estimate_task_time(const std::vector<std::string>& case_dirs, int ranks) {
-  return hms(task_seconds(case_dirs, ranks));
+  std::vector<double> seconds;
+  for (const auto& d : case_dirs) seconds.push_back(case_cost(d).liggghts_seconds);
+  return hms(task_seconds(seconds, ranks));
 }
 
 namespace {
@@ -341,7 +350,7 @@ int cases_per_task(const SubmitOptions& o, std::size_t cases, const SiteLimits& 
 // The arrays: at most MaxArraySize tasks each, each task's time its own cases' estimate and the
 // array's the longest; --max-parallel shared among the arrays, or the arrays run one after
 // another where there are more arrays than it allows tasks.
-void plan_arrays(Submission& sub, const SubmitOptions& o, int per_task) {
+void plan_arrays(Submission& sub, const SubmitOptions& o, int per_task, const Costs& costs) {
   const long tasks = (static_cast<long>(sub.cases.size()) + per_task - 1) / per_task;
   for (long first_task = 0; first_task < tasks; first_task += sub.max_array_size) {
     ArrayJob a;
@@ -349,9 +358,12 @@ void plan_arrays(Submission& sub, const SubmitOptions& o, int per_task) {
     a.tasks = static_cast<int>(std::min(sub.max_array_size, tasks - first_task));
     double longest = 0.0;
     for (int t = 0; t < a.tasks && o.time.empty(); ++t) {
-      const auto begin = sub.cases.begin() + a.first_case + static_cast<long>(t) * per_task;
-      const auto end = sub.cases.begin() + std::min<long>(a.first_case + static_cast<long>(t + 1) * per_task, static_cast<long>(sub.cases.size()));
-      longest = std::max(longest, task_seconds({begin, end}, o.ranks));
+      std::vector<double> seconds;
+      const long first = a.first_case + static_cast<long>(t) * per_task;
+      for (long i = first; i < std::min<long>(first + per_task, static_cast<long>(sub.cases.size())); ++i) {
+        seconds.push_back(costs.at(sub.cases[static_cast<std::size_t>(i)]).liggghts_seconds);
+      }
+      longest = std::max(longest, task_seconds(seconds, o.ranks));
     }
     a.time = o.time.empty() ? hms(longest) : o.time;
     sub.arrays.push_back(a);
@@ -369,14 +381,10 @@ void plan_arrays(Submission& sub, const SubmitOptions& o, int per_task) {
 
 // The gather's time: as given, else reading every dump at 100 MB/s, three times over, at least
 // 10 minutes.
-std::string gather_time(const Submission& sub, const SubmitOptions& o) {
+std::string gather_time(const SubmitOptions& o, const Costs& costs) {
   if (!o.time.empty()) return o.time;
-  double bytes = 0.0;
-  for (const auto& d : sub.cases) {
-    const auto stack = model::Stack::build(formats::read_manifest(d).spec);
-    const auto cost = model::estimate_cost(stack, model::resolve(stack));
-    bytes += cost.dump_bytes + cost.series_bytes;
-  }
+  double bytes = 0.0;  // the table reads every case of the targets
+  for (const auto& [dir, cost] : costs) bytes += cost.dump_bytes + cost.series_bytes;
   return hms(std::max(600.0, kTimeSafety * bytes / 100e6));
 }
 
@@ -409,7 +417,8 @@ Submission submit(const std::vector<std::string>& targets, const SubmitOptions& 
                                   first));
   }
   Submission sub;
-  auto pending = pending_cases(targets, o.force);
+  Costs costs;
+  const auto pending = pending_cases(targets, o.force, costs);
   const auto busy = busy_cases(targets, pending, o, sub.notes);
   for (const auto& c : pending) (busy.count(c) != 0 ? sub.skipped : sub.cases).push_back(c);
   if (sub.cases.empty()) return sub;
@@ -422,13 +431,13 @@ Submission submit(const std::vector<std::string>& targets, const SubmitOptions& 
   sub.max_array_size = limits.max_array_size;
   SubmitOptions each = o;
   each.cases_per_task = cases_per_task(o, sub.cases.size(), limits, sub.notes);
-  plan_arrays(sub, each, each.cases_per_task);
+  plan_arrays(sub, each, each.cases_per_task, costs);
   const auto dir = next_submission_dir(first, o.dry_run);
   sub.directory = dir.string();
   for (std::size_t i = 0; i < sub.arrays.size(); ++i) sub.arrays[i].script = (dir / fmt::format("array-{}.sbatch", i + 1)).string();
   if (o.gather) {
     sub.gather_script = (dir / "gather.sbatch").string();
-    sub.gather_time = gather_time(sub, o);
+    sub.gather_time = gather_time(o, costs);
   }
   write_files(sub, targets, each);
   if (o.dry_run) return sub;

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sstream>
 #include <thread>
 
 namespace fs = std::filesystem;
@@ -37,6 +38,15 @@ Result run(std::vector<std::string> argv, const std::vector<std::string>& env = 
 Result granstack(std::vector<std::string> args, const std::vector<std::string>& env = {}) {
   args.insert(args.begin(), GRANSTACK_EXE);
   return run(args, env);
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty()) out.push_back(line);
+  }
+  return out;
 }
 
 std::vector<std::string> job_ids(const std::string& submit_output) {
@@ -129,6 +139,8 @@ TEST(Slurm, ACancelledTaskIsInterruptedAndAResubmitRunsOnlyWhatDidNotFinish) {
   EXPECT_EQ(st.code, 1) << st.output;
   EXPECT_NE(st.output.find("3 cases: 2 done, 0 failed, 0 running, 1 interrupted, 0 pending"), std::string::npos) << st.output;
   EXPECT_NE(st.output.find("interrupted  " + first.string()), std::string::npos) << st.output;
+  // A cancel is told from a time limit (#26.11).
+  EXPECT_NE(st.output.find("(SLURM: task " + ids[0] + "_0 CANCELLED)"), std::string::npos) << st.output;
   const auto before = fs::last_write_time(sweep / "e0.9" / "run.json");
   const auto again = granstack({"submit", sweep.string()});
   ASSERT_EQ(again.code, 0) << again.output;
@@ -171,6 +183,205 @@ TEST(Slurm, MissingSbatchAndAnUnknownPartitionAreSaidAndNothingIsSubmitted) {
   EXPECT_NE(r.output.find("sbatch refused"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("invalid partition"), std::string::npos) << r.output;  // SLURM's own words
   EXPECT_FALSE(fs::exists(d / "case" / "run.json"));
+}
+
+// What `scontrol show job` says of a job (FIELD=value), for its first task.
+std::string job_field(const std::string& id, const std::string& field) {
+  const auto r = run({"scontrol", "-o", "show", "job", id});
+  const auto at = r.output.find(" " + field + "=");
+  if (at == std::string::npos) return "";
+  const auto start = at + field.size() + 2;
+  return r.output.substr(start, r.output.find(' ', start) - start);
+}
+
+std::string submission_records(const fs::path& target) { return read_bytes(target / "slurm" / "submissions.json"); }
+
+// #26.1: a submission refused part-way (here the gather, by the partition's time limit) leaves
+// the arrays SLURM accepted running and recorded.
+TEST(Slurm, ASubmissionRefusedPartWayRecordsTheArraysItStarted) {
+  const auto d = work("partway");
+  const auto sweep = d / "sweep";
+  ASSERT_EQ(granstack({"generate", "-o", sweep.string(), "--blocks", "1", "--restitution", "1,0.9"}).code, 0);
+  const auto r = granstack({"submit", sweep.string(), "--partition", "short", "--gather"});
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("sbatch refused"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("array(s) SLURM accepted before"), std::string::npos) << r.output;
+  const auto ids = job_ids(r.output);
+  ASSERT_EQ(ids.size(), 1u) << r.output;
+  EXPECT_NE(submission_records(sweep).find("\"job_id\": \"" + ids[0] + "\""), std::string::npos) << submission_records(sweep);
+  ASSERT_TRUE(wait_for(ids));
+  expect_done_with_output(sweep / "e1");
+  expect_done_with_output(sweep / "e0.9");
+  const auto st = granstack({"status", sweep.string()});
+  EXPECT_NE(st.output.find("last submission: job " + ids[0]), std::string::npos) << st.output;
+}
+
+// #26.2, 3: a case run by a local `run` is running, not killed; cases queued are not submitted twice.
+TEST(Slurm, StatusTrustsTheLockAndQueuedCasesAreNotSubmittedTwice) {
+  const auto d = work("queued");
+  const auto sweep = d / "sweep";
+  ASSERT_EQ(granstack({"generate", "-o", sweep.string(), "--blocks", "3", "--restitution", "1,0.9,0.8", "--dt", "4e-9"}).code, 0);
+  const auto s = granstack({"submit", sweep.string(), "--max-parallel", "1"});
+  ASSERT_EQ(s.code, 0) << s.output;
+  const auto ids = job_ids(s.output);
+  auto again = granstack({"submit", sweep.string()});
+  EXPECT_EQ(again.code, 0) << again.output;
+  EXPECT_NE(again.output.find("skipped 3 case(s) already queued or running"), std::string::npos) << again.output;
+  EXPECT_NE(again.output.find("nothing to submit"), std::string::npos) << again.output;
+  ASSERT_EQ(run({"scancel", ids.at(0)}).code, 0);
+  ASSERT_TRUE(wait_for(ids));
+  // A case of the submitted sweep run on the login node: its lock says it runs.
+  const auto local = sweep / "e0.8";
+  std::vector<std::string> argv{GRANSTACK_EXE, "run", "--force", local.string()};
+  os::StartOptions o;
+  o.output = d / "local_run.out";
+  const auto child = os::start(argv, o);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < until && read_bytes(local / "liggghts.out").find("    Step    Atoms") == std::string::npos) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  const auto st = granstack({"status", sweep.string()});
+  EXPECT_NE(st.output.find(", 1 running"), std::string::npos) << st.output;
+  EXPECT_EQ(st.output.find("interrupted  " + local.string()), std::string::npos) << st.output;
+  os::wait(child);
+}
+
+// #26.2: a controller that does not answer is said, within seconds.
+TEST(Slurm, StatusSaysWhenTheControllerDoesNotAnswer) {
+  const auto d = work("nocontroller");
+  ASSERT_EQ(granstack({"generate", "-o", (d / "case").string(), "--blocks", "1"}).code, 0);
+  const auto s = granstack({"submit", (d / "case").string()});
+  ASSERT_EQ(s.code, 0) << s.output;
+  ASSERT_TRUE(wait_for(job_ids(s.output)));
+  auto conf = read_bytes(std::getenv("SLURM_CONF"));
+  conf.replace(conf.find("SlurmctldPort=6917"), 18, "SlurmctldPort=6999");
+  std::ofstream(d / "dead.conf") << conf;
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto st = granstack({"status", (d / "case").string()}, {"SLURM_CONF=" + (d / "dead.conf").string()});
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 15.0);
+  EXPECT_NE(st.output.find("note: the queue could not be read"), std::string::npos) << st.output;
+  EXPECT_NE(st.output.find("1 cases: 1 done"), std::string::npos) << st.output;
+}
+
+// #26.4: a task that dies before granstack starts (here its script finds no `sed`) is failed,
+// with its log named.
+TEST(Slurm, ATaskThatNeverRanItsCaseIsFailedWithItsLogNamed) {
+  const auto d = work("deadtask");
+  ASSERT_EQ(granstack({"generate", "-o", (d / "case").string(), "--blocks", "1"}).code, 0);
+  const auto s = granstack({"submit", (d / "case").string(), "--sbatch-arg=--export=ALL,PATH=/nonexistent"});
+  ASSERT_EQ(s.code, 0) << s.output;
+  const auto ids = job_ids(s.output);
+  ASSERT_TRUE(wait_for(ids));
+  const auto st = granstack({"status", (d / "case").string()});
+  EXPECT_EQ(st.code, 1) << st.output;
+  EXPECT_NE(st.output.find("0 done, 1 failed"), std::string::npos) << st.output;
+  EXPECT_NE(st.output.find("its SLURM task " + ids[0] + "_0 ended FAILED before granstack ran the case"), std::string::npos)
+      << st.output;
+  EXPECT_NE(st.output.find("task-" + ids[0] + "_0.out"), std::string::npos) << st.output;
+  EXPECT_TRUE(fs::exists(d / "case" / "slurm" / "submit-1" / ("task-" + ids[0] + "_0.out")));
+}
+
+// #26.5, 6, 7: each array's time is its longest task's, --max-parallel is shared by the arrays,
+// and the gather keeps its dependency beside the user's and follows --time.
+TEST(Slurm, TimesThrottlesAndDependenciesHoldAcrossArrays) {
+  const auto d = work("arrays");
+  const auto mixed = d / "mixed";
+  // A 6-block case estimated at 4.6 min of LIGGGHTS (14 min a task), beside a 1-block one.
+  ASSERT_EQ(granstack({"generate", "-o", mixed.string(), "--blocks", "1,6", "--top-columns", "8", "--rows", "16"}).code, 0);
+  auto r = granstack({"submit", "--dry-run", (mixed / "nb6").string()});
+  const std::regex time_line("#SBATCH --time=([0-9:]+)");
+  std::smatch m;
+  const auto alone = read_bytes(mixed / "nb6" / "slurm" / "dry-run" / "array-1.sbatch");
+  ASSERT_TRUE(std::regex_search(alone, m, time_line)) << alone;
+  const std::string six_blocks = m[1];
+  EXPECT_NE(six_blocks, "00:05:00");
+  r = granstack({"submit", "--dry-run", mixed.string(), "--cases-per-task", "1"});
+  const auto both = read_bytes(mixed / "slurm" / "dry-run" / "array-1.sbatch");
+  ASSERT_TRUE(std::regex_search(both, m, time_line)) << both;
+  EXPECT_EQ(m[1], six_blocks);  // the 1-block case first no longer sets it
+  EXPECT_FALSE(fs::exists(mixed / "slurm" / "submit-1"));  // dry runs spend no numbered folder
+  // Six one-case tasks: two arrays (MaxArraySize 4); --max-parallel 3 shared as 2 + 1.
+  const auto sweep = d / "sweep";
+  ASSERT_EQ(granstack({"generate", "-o", sweep.string(), "--blocks", "1", "--restitution", "1,0.99,0.98,0.97,0.96,0.95"}).code, 0);
+  r = granstack({"submit", "--dry-run", sweep.string(), "--max-parallel", "3"});
+  EXPECT_NE(read_bytes(sweep / "slurm" / "dry-run" / "array-1.sbatch").find("--array=0-3%2"), std::string::npos);
+  EXPECT_NE(read_bytes(sweep / "slurm" / "dry-run" / "array-2.sbatch").find("--array=0-1%1"), std::string::npos);
+  // Held by the user's dependency on a held job: the second array waits for the first, and the
+  // gather for both arrays and the user's job.
+  const auto hold = run({"sbatch", "--parsable", "--hold", "--wrap", "true"});
+  ASSERT_EQ(hold.code, 0) << hold.output;
+  const auto held = lines_of(hold.output).back();
+  r = granstack({"submit", sweep.string(), "--max-parallel", "1", "--gather", "--time", "00:07:00",
+                 "--sbatch-arg=--dependency=afterok:" + held});
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto ids = job_ids(r.output);
+  ASSERT_EQ(ids.size(), 3u) << r.output;
+  EXPECT_NE(job_field(ids[1], "Dependency").find("afterany:" + ids[0]), std::string::npos) << job_field(ids[1], "Dependency");
+  const auto gather = job_field(ids[2], "Dependency");
+  EXPECT_NE(gather.find("afterany:" + ids[0]), std::string::npos) << gather;
+  EXPECT_NE(gather.find("afterok:" + held), std::string::npos) << gather;
+  EXPECT_EQ(job_field(ids[2], "TimeLimit"), "00:07:00");
+  EXPECT_EQ(job_field(ids[0], "JobName"), "granstack-sweep");
+  run({"scancel", held, ids[0], ids[1], ids[2]});
+  ASSERT_TRUE(wait_for({held, ids[0], ids[1], ids[2]}));
+}
+
+// #26.8: '#', '%', quotes and blanks in the sweep's path reach each task's own log; a backslash
+// is refused before anything is written.
+TEST(Slurm, OddCharactersInTheSweepPathKeepEachTasksLog) {
+  const auto d = work("odd") / "a#b%c 'q\" e";
+  const auto sweep = d / "sweep";
+  ASSERT_EQ(granstack({"generate", "-o", sweep.string(), "--blocks", "1", "--restitution", "1,0.9"}).code, 0);
+  const auto s = granstack({"submit", sweep.string()});
+  ASSERT_EQ(s.code, 0) << s.output;
+  const auto ids = job_ids(s.output);
+  ASSERT_TRUE(wait_for(ids));
+  for (const auto* task : {"_0.out", "_1.out"}) {
+    EXPECT_TRUE(fs::exists(sweep / "slurm" / "submit-1" / ("task-" + ids[0] + task))) << task;
+  }
+  expect_done_with_output(sweep / "e1");
+  expect_done_with_output(sweep / "e0.9");
+  const auto back = work("odd") / "back\\slash";
+  ASSERT_EQ(granstack({"generate", "-o", back.string(), "--blocks", "1"}).code, 0);
+  const auto r = granstack({"submit", back.string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("holds a backslash"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(back / "slurm"));
+}
+
+// #26.10, 11: a damaged record is reported and set aside; a refused submission leaves no folder;
+// a requeued task appends to its log.
+TEST(Slurm, ADamagedRecordIsSaidAndARequeueKeepsTheFirstLog) {
+  const auto d = work("damaged");
+  const auto c = d / "case";
+  ASSERT_EQ(granstack({"generate", "-o", c.string(), "--blocks", "3", "--dt", "4e-9"}).code, 0);
+  fs::create_directories(c / "slurm");
+  std::ofstream(c / "slurm" / "submissions.json") << "[{\"directory\": ";
+  auto st = granstack({"status", c.string()});
+  EXPECT_EQ(st.code, 0) << st.output;
+  EXPECT_NE(st.output.find("submissions.json is damaged"), std::string::npos) << st.output;
+  EXPECT_NE(st.output.find("1 cases: 0 done, 0 failed, 0 running, 0 interrupted, 1 pending"), std::string::npos) << st.output;
+  auto r = granstack({"submit", c.string(), "--partition", "nosuch"});
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_FALSE(fs::exists(c / "slurm" / "submit-1"));
+  r = granstack({"submit", "--force", c.string()});
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("moved aside"), std::string::npos) << r.output;
+  EXPECT_NO_THROW(nlohmann::json::parse(submission_records(c)));
+  const auto ids = job_ids(r.output);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < until && read_bytes(c / "liggghts.out").find("    Step    Atoms") == std::string::npos) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_EQ(run({"scontrol", "requeue", ids.at(0) + "_0"}).code, 0);
+  // SLURM holds a requeued job back two minutes; the test lets it go at once.
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  run({"scontrol", "update", "JobId=" + ids.at(0) + "_0", "StartTime=now"});
+  ASSERT_TRUE(wait_for(ids, 180));
+  expect_done_with_output(c);
+  const auto log = read_bytes(c / "slurm" / "submit-1" / ("task-" + ids[0] + "_0.out"));
+  EXPECT_NE(log.find("STOPPED"), std::string::npos) << log;  // the first attempt, kept
+  EXPECT_NE(log.find("done "), std::string::npos) << log;
 }
 
 }  // namespace
