@@ -56,12 +56,16 @@ std::vector<Material> parse_material_table(std::string_view toml_text, std::stri
 }
 
 MaterialLibrary MaterialLibrary::builtin() {
-  MaterialLibrary lib;
-  for (auto& m : parse_material_table(embedded::materials_toml(), "model/data/materials.toml")) {
-    lib.builtin_names_.push_back(m.name);
-    lib.add(std::move(m));
-  }
-  return lib;
+  // Parsed once: every Stack::build asks for it (10,000 cases of a sweep, 10,000 parses).
+  static const MaterialLibrary parsed = [] {
+    MaterialLibrary lib;
+    for (auto& m : parse_material_table(embedded::materials_toml(), "model/data/materials.toml")) {
+      lib.builtin_names_.push_back(m.name);
+      lib.add(std::move(m));
+    }
+    return lib;
+  }();
+  return parsed;
 }
 
 void MaterialLibrary::add(Material material) {
