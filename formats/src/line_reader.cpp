@@ -34,11 +34,12 @@ bool LineReader::refill() {
     // No line of a LIGGGHTS text file comes near this: a file padded with zeros (truncate -s, a
     // crash) or not text at all must not grow the buffer until memory runs out.
     if (buffer_.size() >= kLongestLine) {
+      // (The line number is the file's once the batch reader rebases it; a byte offset would be the piece's.)
       throw FormatError(path_, line_number_ + 1,
                         fmt::format("a line longer than {} MiB{}: not a LIGGGHTS text file (cut short and padded, or "
                                     "another kind of file); run the case again",
                                     kLongestLine >> 20,
-                                    first_nul_ >= 0 ? fmt::format(", with NUL bytes from byte {} on", first_nul_) : ""));
+                                    first_nul_ >= 0 ? ", holding NUL bytes" : ""));
     }
     buffer_.resize(buffer_.size() * 2, '\0');
     data_ = buffer_.data();

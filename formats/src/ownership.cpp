@@ -69,14 +69,33 @@ class ForeignFinder {
     } catch (const std::exception&) {
       return add(prefix + "manifest.json");
     }
-    const std::set<std::string> own{"manifest.json", m.files.data, m.files.deck, m.files.series, m.files.log,
-                                    m.files.screen, m.files.run_record, ".granstack.lock", ".granstack-earlier-run"};
+    std::set<std::string> own{"manifest.json", m.files.data, m.files.deck, m.files.series, m.files.log,
+                              m.files.screen, m.files.run_record, ".granstack.lock", ".granstack-earlier-run"};
+    // What the run made beyond those (a user's template writing more files): run.json lists them.
+    std::set<std::string> run_outputs;
+    try {
+      for (const auto& f : json::parse(read_file(dir / m.files.run_record)).value("outputs", json::array())) {
+        const auto name = f.get<std::string>();
+        run_outputs.insert(name);
+        own.insert(fs::path(name).begin()->string());  // its top-level entry
+      }
+    } catch (const std::exception&) {
+    }
     std::set<std::string> dumps;
     for (const auto& piece : dump_files_matching((dir / m.files.dump).string())) {
       for (const char* suffix : {"", ".gz", ".zst"}) dumps.insert(fs::path(piece + suffix).lexically_normal().string());
     }
     const auto dump_dir = (dir / m.files.dump).parent_path().lexically_normal();
     each(dir, [&](const fs::directory_entry& e, const std::string& name) {
+      if (run_outputs.count(name) != 0 && !e.is_directory()) return true;
+      if (own.count(name) != 0 && e.is_directory() && name != fs::path(m.files.dump).parent_path().string() &&
+          !fs::exists(dir / name / "manifest.json")) {
+        // A folder only the run's outputs are in.
+        each(e.path(), [&](const fs::directory_entry& f, const std::string&) {
+          return run_outputs.count(fs::relative(f.path(), dir).string()) != 0;
+        }, prefix + name + "/");
+        return true;
+      }
       if (own.count(name) != 0 || temporary(name) || name.rfind("restart_forced_liggghts_", 0) == 0) return true;
       if (name == "reduce") {
         each(e.path(), [&](const fs::directory_entry&, const std::string& n) { return kReduceFiles.count(n) != 0 || temporary(n); },

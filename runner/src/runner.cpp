@@ -15,12 +15,14 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <set>
 #include <thread>
 #include <sys/statvfs.h>
 #include <unistd.h>
@@ -504,6 +506,37 @@ void write_final_record(const fs::path& path, const json& record, RunOutcome& ou
   }
 }
 
+// The regular files in a case (relative), but for reduce/, paraview/ and validate/.
+std::set<std::string> files_in_case(const fs::path& dir) {
+  std::set<std::string> found;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(dir, ec); it != fs::recursive_directory_iterator() && found.size() < 100000;
+       it.increment(ec)) {
+    const auto name = it->path().filename().string();
+    if (it.depth() == 0 && (name == "reduce" || name == "paraview" || name == "validate")) {
+      it.disable_recursion_pending();
+      continue;
+    }
+    if (it->is_regular_file(ec)) found.insert(fs::relative(it->path(), dir, ec).string());
+  }
+  return found;
+}
+
+// Files the run made in the case beyond granstack's own (a user's template may have LIGGGHTS
+// write more, e.g. a fix ave/time file): new since `before`, recorded in run.json so that
+// generate --force knows them as the run's, never a user's. At most 1000.
+std::vector<std::string> files_made(const fs::path& dir, const formats::CaseFiles& files, const std::set<std::string>& before) {
+  std::set<std::string> known{files.series, files.log, files.screen, files.run_record};
+  for (const auto& piece : formats::dump_files_matching((dir / files.dump).string())) {
+    known.insert(fs::path(piece).lexically_relative(dir).string());
+  }
+  std::vector<std::string> made;
+  for (const auto& f : files_in_case(dir)) {
+    if (made.size() < 1000 && before.count(f) == 0 && known.count(f) == 0) made.push_back(f);
+  }
+  return made;
+}
+
 json running_record(const RunOptions& o) {
   return {{"status", "running"},
           {"engine", o.engine == Engine::refsim ? "refsim" : "liggghts"},
@@ -554,6 +587,7 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
   fs::create_directories((dir / files.dump).parent_path());
   write_record(dir / files.run_record, record);
   const auto started = fs::file_time_type::clock::now();
+  const auto before = files_in_case(dir);
 
   const auto slot = monitor.start(manifest.case_name, manifest.derived.value("steps", 0L));
   const auto on_step = [&](long step) { monitor.update(slot, step); };
@@ -573,6 +607,7 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
     return outcome;
   }
   earlier.discard();
+  if (const auto made = files_made(dir, files, before); !made.empty()) record["outputs"] = made;
   if (const auto full = disk_full(dir, files); !full.empty() && !result.interrupted) {
     result.error = result.error.empty() ? full : full + "; " + result.error;
   }

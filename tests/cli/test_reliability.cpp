@@ -113,6 +113,15 @@ TEST_F(Reliability, GenerateForceKeepsWhatTheUserAddedToACaseOrSweep) {
   expect_contains(r, "reduce_mine.py");
   EXPECT_EQ(read_bytes(c / "NOTES.txt"), "what I saw");
   EXPECT_TRUE(fs::is_directory(c / "analysis"));
+  // What a user's template has LIGGGHTS write is the run's (run.json lists it), not the user's.
+  auto deck = read_bytes(fs::path(GRANSTACK_SOURCE_DIR) / "templates/in.granstack.tmpl");
+  deck.insert(deck.rfind("run "), "fix             kt all ave/time 10 1 10 c_kt1 file ave_time.txt\n");
+  std::ofstream(path("ave.tmpl")) << deck;
+  const auto t = path("templated");
+  ASSERT_EQ(granstack({"generate", "-o", t.string(), "--blocks", "1", "--rows", "4", "--template", path("ave.tmpl").string()}).code, 0);
+  ASSERT_EQ(granstack({"run", t.string()}).code, 0);
+  ASSERT_TRUE(fs::exists(t / "ave_time.txt"));
+  EXPECT_EQ(granstack({"generate", "-o", t.string(), "--blocks", "1", "--rows", "4", "--force"}).code, 0);
   // In a sweep, and inside one of its cases.
   const auto sweep = path("sweep");
   ASSERT_EQ(granstack({"generate", "-o", sweep.string(), "--blocks", "1,2", "--rows", "4"}).code, 0);

@@ -82,6 +82,22 @@ void expect_done_with_output(const fs::path& c) {
   EXPECT_NE(read_bytes(c / "dumps" / "dump.txt").find("ITEM: TIMESTEP\n" + std::to_string(steps) + "\n"), std::string::npos) << c;
 }
 
+// Three cases of several seconds each in SWEEP, submitted one task at a time; the job ids.
+std::vector<std::string> submit_three_slow_cases(const fs::path& sweep) {
+  EXPECT_EQ(granstack({"generate", "-o", sweep.string(), "--blocks", "3", "--restitution", "1,0.9,0.8", "--dt", "4e-9"}).code, 0);
+  const auto s = granstack({"submit", sweep.string(), "--max-parallel", "1"});
+  EXPECT_EQ(s.code, 0) << s.output;
+  return job_ids(s.output);
+}
+
+// Waits (at most a minute) until the case's LIGGGHTS is stepping.
+void wait_until_stepping(const fs::path& c) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < until && read_bytes(c / "liggghts.out").find("    Step    Atoms") == std::string::npos) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+}
+
 std::string replace_all(std::string s, const std::string& from, const std::string& to) {
   for (auto p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size())) s.replace(p, from.size(), to);
   return s;
@@ -118,18 +134,11 @@ TEST(Slurm, AGatheredSweepGivesTheLocalTableByteForByte) {
 TEST(Slurm, ACancelledTaskIsInterruptedAndAResubmitRunsOnlyWhatDidNotFinish) {
   const auto d = work("cancel");
   const auto sweep = d / "sweep";
-  // Three cases of several seconds each, one task at a time.
-  ASSERT_EQ(granstack({"generate", "-o", sweep.string(), "--blocks", "3", "--restitution", "1,0.9,0.8", "--dt", "4e-9"}).code, 0);
-  const auto s = granstack({"submit", sweep.string(), "--max-parallel", "1"});
-  ASSERT_EQ(s.code, 0) << s.output;
-  const auto ids = job_ids(s.output);
+  const auto ids = submit_three_slow_cases(sweep);
   ASSERT_EQ(ids.size(), 1u);
   // Cancel task 0 once its LIGGGHTS is at work.
   const auto first = sweep / "e1";
-  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (std::chrono::steady_clock::now() < until && read_bytes(first / "liggghts.out").find("    Step    Atoms") == std::string::npos) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
+  wait_until_stepping(first);
   ASSERT_EQ(run({"scancel", ids[0] + "_0"}).code, 0);
   ASSERT_TRUE(wait_for(ids));
   EXPECT_EQ(run_record(first).value("status", ""), "interrupted");
@@ -220,10 +229,7 @@ TEST(Slurm, ASubmissionRefusedPartWayRecordsTheArraysItStarted) {
 TEST(Slurm, StatusTrustsTheLockAndQueuedCasesAreNotSubmittedTwice) {
   const auto d = work("queued");
   const auto sweep = d / "sweep";
-  ASSERT_EQ(granstack({"generate", "-o", sweep.string(), "--blocks", "3", "--restitution", "1,0.9,0.8", "--dt", "4e-9"}).code, 0);
-  const auto s = granstack({"submit", sweep.string(), "--max-parallel", "1"});
-  ASSERT_EQ(s.code, 0) << s.output;
-  const auto ids = job_ids(s.output);
+  const auto ids = submit_three_slow_cases(sweep);
   auto again = granstack({"submit", sweep.string()});
   EXPECT_EQ(again.code, 0) << again.output;
   EXPECT_NE(again.output.find("skipped 3 case(s) already queued or running"), std::string::npos) << again.output;
@@ -236,10 +242,7 @@ TEST(Slurm, StatusTrustsTheLockAndQueuedCasesAreNotSubmittedTwice) {
   os::StartOptions o;
   o.output = d / "local_run.out";
   const auto child = os::start(argv, o);
-  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (std::chrono::steady_clock::now() < until && read_bytes(local / "liggghts.out").find("    Step    Atoms") == std::string::npos) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
+  wait_until_stepping(local);
   const auto st = granstack({"status", sweep.string()});
   EXPECT_NE(st.output.find(", 1 running"), std::string::npos) << st.output;
   EXPECT_EQ(st.output.find("interrupted  " + local.string()), std::string::npos) << st.output;
@@ -308,7 +311,7 @@ TEST(Slurm, TimesThrottlesAndDependenciesHoldAcrossArrays) {
   EXPECT_NE(read_bytes(sweep / "slurm" / "dry-run" / "array-2.sbatch").find("--array=0-1%1"), std::string::npos);
   // Held by the user's dependency on a held job: the second array waits for the first, and the
   // gather for both arrays and the user's job.
-  const auto hold = run({"sbatch", "--parsable", "--hold", "--wrap", "true"});
+  const auto hold = run({"sbatch", "--parsable", "--hold", "--output=/dev/null", "--wrap", "true"});
   ASSERT_EQ(hold.code, 0) << hold.output;
   const auto held = lines_of(hold.output).back();
   r = granstack({"submit", sweep.string(), "--max-parallel", "1", "--gather", "--time", "00:07:00",
@@ -369,15 +372,17 @@ TEST(Slurm, ADamagedRecordIsSaidAndARequeueKeepsTheFirstLog) {
   EXPECT_NE(r.output.find("moved aside"), std::string::npos) << r.output;
   EXPECT_NO_THROW(nlohmann::json::parse(submission_records(c)));
   const auto ids = job_ids(r.output);
-  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (std::chrono::steady_clock::now() < until && read_bytes(c / "liggghts.out").find("    Step    Atoms") == std::string::npos) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
+  wait_until_stepping(c);
   ASSERT_EQ(run({"scontrol", "requeue", ids.at(0) + "_0"}).code, 0);
-  // SLURM holds a requeued job back two minutes; the test lets it go at once.
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  run({"scontrol", "update", "JobId=" + ids.at(0) + "_0", "StartTime=now"});
-  ASSERT_TRUE(wait_for(ids, 180));
+  // SLURM holds a requeued job back two minutes; the test lets it go as soon as it is pending
+  // again, and waits for the second attempt to finish the case.
+  const auto rerun_until = std::chrono::steady_clock::now() + std::chrono::seconds(150);
+  while (std::chrono::steady_clock::now() < rerun_until &&
+         !(fs::exists(c / "run.json") && run_record(c).value("status", "") == "done")) {
+    run({"scontrol", "update", "JobId=" + ids.at(0) + "_0", "StartTime=now"});
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+  ASSERT_TRUE(wait_for(ids, 60));
   expect_done_with_output(c);
   const auto log = read_bytes(c / "slurm" / "submit-1" / ("task-" + ids[0] + "_0.out"));
   EXPECT_NE(log.find("STOPPED"), std::string::npos) << log;  // the first attempt, kept
