@@ -64,6 +64,9 @@ int guarded(const std::function<int()>& run) {
   } catch (const os::LockedError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return app::kCaseFailed;
+  } catch (const formats::IoError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return app::kIoError;
   } catch (const std::filesystem::filesystem_error& e) {
     fmt::print(stderr, "error: {}\n", io_message(e));
     return app::kIoError;

@@ -48,7 +48,10 @@ int reduce_one(const std::string& dir, const std::string& label, postproc::Reduc
   } catch (const fs::filesystem_error& e) {
     fmt::print(stderr, "error: {}: cannot write its results: {}; reduce it into another directory with "
                        "'granstack reduce -o DIR {}'\n", dir, e.code().message(), dir);
-    return kCaseFailed;
+    return kIoError;
+  } catch (const formats::IoError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return kIoError;
   } catch (const std::runtime_error& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kCaseFailed;

@@ -19,7 +19,7 @@ void close_written(std::FILE* file, const std::string& path) {
   const int flush_error = errno;
   const bool closed = std::fclose(file) == 0;
   if (!flushed || !closed) {
-    throw std::runtime_error(fmt::format("{}: cannot write: {}", path, std::strerror(flushed ? errno : flush_error)));
+    throw IoError(fmt::format("{}: cannot write: {}", path, std::strerror(flushed ? errno : flush_error)));
   }
 }
 
@@ -33,7 +33,7 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view t
       const int e = errno;
       std::error_code ec;
       std::filesystem::remove(tmp, ec);
-      throw std::runtime_error(fmt::format("{}: cannot write: {}", path.string(), std::strerror(e)));
+      throw IoError(fmt::format("{}: cannot write: {}", path.string(), std::strerror(e)));
     }
   }
   std::filesystem::rename(tmp, path);
@@ -54,7 +54,7 @@ void require_regular_file(const std::string& path) {
 std::string read_file(const std::filesystem::path& path) {
   require_regular_file(path.string());
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open: {}", path.string(), std::strerror(errno)));
+  if (!in) throw IoError(fmt::format("{}: cannot open: {}", path.string(), std::strerror(errno)));
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();

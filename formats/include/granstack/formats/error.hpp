@@ -19,6 +19,13 @@ class FormatError : public std::runtime_error {
   std::string message_;
 };
 
+// A file that could not be read or written (a full disk, permissions): exit code 7. what()
+// names the file.
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // The file ends inside a frame; the frames before it are complete.
 class TruncatedError : public FormatError {
  public:

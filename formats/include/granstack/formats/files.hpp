@@ -8,15 +8,15 @@
 namespace granstack::formats {
 
 // Writes `text` to a temporary file beside `path` and renames it over `path`, so a reader never
-// sees a half-written file. Throws std::runtime_error naming the path.
+// sees a half-written file. Throws IoError naming the path.
 void write_file_atomically(const std::filesystem::path& path, std::string_view text);
 // Throws FormatError unless `path` is a regular file (after following links): granstack reads
 // no FIFO, device or directory, which could block or never end.
 void require_regular_file(const std::string& path);
-// Reads a whole regular file. Throws std::runtime_error naming the path.
+// Reads a whole regular file. Throws IoError naming the path (FormatError when it is no regular file).
 std::string read_file(const std::filesystem::path& path);
 // Writes out what `file` (written with stdio, named `path`) holds buffered and closes it. Throws
-// std::runtime_error naming the path if the system could not write all of it (a full disk),
+// IoError naming the path if the system could not write all of it (a full disk),
 // which fwrite alone does not tell: the last buffer goes out at the close.
 void close_written(std::FILE* file, const std::string& path);
 // The current time as ISO 8601 UTC, e.g. "2026-11-22T00:35:28Z".
