@@ -298,7 +298,7 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
       if (!value_ok(v)) bad(pf, fmt::format("{} must be {}", v, range));
     }
   };
-  // LIGGGHTS refuses e <= 0.05 (global_properties.cpp:488-489; liggghts-3.8.md section 1).
+  // LIGGGHTS refuses e <= 0.05 (global_properties.cpp:488-489; docs/liggghts.md section 1).
   check_pairs(s.restitution, "restitution", [](double e) { return e > 0.05 && e <= 1.0; }, "in (0.05, 1]");
   check_pairs(s.friction, "friction", [&](double mu) { return within(mu, 0.0, kMaxFriction); },
               fmt::format("in [0, {:g}]", kMaxFriction));

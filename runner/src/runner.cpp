@@ -224,7 +224,7 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
     if (::geteuid() == 0) argv.push_back("--allow-run-as-root");
     if (o.ranks > static_cast<int>(std::thread::hardware_concurrency())) argv.push_back("--oversubscribe");
   }
-  // Unbuffered, so an MPI_Abort cannot swallow LIGGGHTS's error message (liggghts-3.8.md section 9).
+  // Unbuffered, so an MPI_Abort cannot swallow LIGGGHTS's error message (docs/liggghts.md section 9).
   const auto stdbuf = os::find_program("stdbuf");
   if (stdbuf) argv.insert(argv.end(), {*stdbuf, "-o0", "-e0"});
   // Absolute: the program starts in the case directory, where a relative path would mean something else.

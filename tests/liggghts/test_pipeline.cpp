@@ -736,7 +736,7 @@ TEST(Runner, AFinishedCaseIsRerunOnlyWhenForced) {
 TEST(Runner, TwoMpiRanksGiveTheSameResultAsOne) {
   const auto serial = postproc::reduce_case(run_case("np1", blocks(2)));
   const auto parallel = postproc::reduce_case(run_case("np2", blocks(2), 2));
-  // Only the per-atom summation order changes across ranks (liggghts-3.8.md section 3).
+  // Only the per-atom summation order changes across ranks (docs/liggghts.md section 3).
   EXPECT_NEAR(parallel.output_fraction / serial.output_fraction, 1.0, 1e-9);
   EXPECT_NEAR(parallel.blocks.back().peak_ke / serial.blocks.back().peak_ke, 1.0, 1e-9);
 }

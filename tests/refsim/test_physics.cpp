@@ -81,7 +81,7 @@ TEST_P(HeadOn, RestitutionContactTimeAndMaxOverlapAreHertzs) {
     max_overlap = std::max(max_overlap, d);
   });
   const double v_out = s.v(1)[2] - s.v(0)[2];
-  // liggghts-3.8.md 10.1 measured e to about 2e-5 with this damping formula.
+  // docs/liggghts.md 10.1 measured e to about 2e-5 with this damping formula.
   EXPECT_NEAR(v_out / v, e, 1e-4);
   if (e == 1.0) {
     const auto c = model::sphere_sphere(steel, r, steel, r);

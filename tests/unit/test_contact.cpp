@@ -1,5 +1,5 @@
 // Contact parameters and analytic formulas against the numbers of physics.md and
-// liggghts-3.8.md section 10.1 (steel, d = 2 mm, relative speed 1 m/s).
+// docs/liggghts.md section 10.1 (steel, d = 2 mm, relative speed 1 m/s).
 #include <granstack/model/contact.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
@@ -22,7 +22,7 @@ TEST(Contact, SteelHeadOnMatchesTheLiggghtsFactsSheet) {
   EXPECT_DOUBLE_EQ(c.y_star, 193e9 / (2.0 * (1.0 - 0.09)));  // equal materials: Y / (2 (1 - nu^2))
   EXPECT_DOUBLE_EQ(c.g_star, 193e9 / (4.0 * 1.7 * 1.3));     // equal materials: Y / (4 (2 - nu)(1 + nu))
   EXPECT_NEAR(hertz_max_overlap(c, 1.0) / 2.130392289e-6, 1.0, 1e-9);
-  // 2.9432752 d_max / v = 6.2703e-6 s (liggghts-3.8.md 10.1; LIGGGHTS measured 6.270e-6 s)
+  // 2.9432752 d_max / v = 6.2703e-6 s (docs/liggghts.md 10.1; LIGGGHTS measured 6.270e-6 s)
   EXPECT_NEAR(hertz_contact_time(c, 1.0) / 6.2703e-6, 1.0, 1e-5);
   EXPECT_NEAR(rayleigh_time(steel(), 1e-3) / 1.1143e-6, 1.0, 1e-4);
 }

@@ -46,7 +46,7 @@ TEST(Template, DefaultDeckHasTheRequiredCommandsAndAvoidsThePitfalls) {
                                                  generator::deck_variables(stack, model::resolve(stack), files, "t"),
                                                  "default");
     EXPECT_EQ(deck.find("{{"), std::string::npos);
-    // liggghts-3.8.md sections 0 and 11.
+    // docs/liggghts.md sections 0 and 11.
     for (const char* required :
          {"atom_style      granular", "newton          off", "communicate     single vel yes", "units           si",
           "hard_particles  yes", "neigh_modify    delay 0", "pair_style      gran model hertz tangential history",

@@ -1,5 +1,5 @@
 #pragma once
-// LIGGGHTS `read_data` files for atom_style granular (liggghts-3.8.md section 4).
+// LIGGGHTS `read_data` files for atom_style granular (docs/liggghts.md section 4).
 #include <array>
 #include <string>
 #include <vector>

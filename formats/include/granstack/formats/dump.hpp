@@ -1,5 +1,5 @@
 #pragma once
-// LIGGGHTS `dump custom` text files (liggghts-3.8.md section 6), read one frame at a time so
+// LIGGGHTS `dump custom` text files (docs/liggghts.md section 6), read one frame at a time so
 // memory does not grow with the number of frames. Columns are found by name, in any order.
 #include <granstack/formats/byte_source.hpp>
 #include <granstack/formats/line_reader.hpp>
@@ -93,7 +93,7 @@ class TextDumpReader final : public DumpReader {
   long last_step_ = -1;
 };
 
-// LIGGGHTS's binary `dump custom` (.bin, liggghts-3.8.md section 6): little-endian, full double
+// LIGGGHTS's binary `dump custom` (.bin, docs/liggghts.md section 6): little-endian, full double
 // precision, no column names, so they come from the deck (the manifest's dump_columns).
 class BinaryDumpReader final : public DumpReader {
  public:

@@ -1,5 +1,5 @@
 #pragma once
-// What granstack needs from LIGGGHTS's screen output and log file (liggghts-3.8.md section 9):
+// What granstack needs from LIGGGHTS's screen output and log file (docs/liggghts.md section 9):
 // the version banner, thermo progress, errors, warnings, lost atoms and the loop time.
 #include <cstddef>
 #include <optional>

@@ -8,7 +8,7 @@ namespace granstack::model {
 
 inline constexpr double kPi = 3.14159265358979323846;
 
-// Effective quantities of one contact, as LIGGGHTS 3.8.0 forms them (liggghts-3.8.md section 1).
+// Effective quantities of one contact, as LIGGGHTS 3.8.0 forms them (docs/liggghts.md section 1).
 struct ContactPair {
   double y_star = 0.0;  // Pa: 1/Y* = (1-nu_i^2)/Y_i + (1-nu_j^2)/Y_j
   double g_star = 0.0;  // Pa: 1/G* = 2(2-nu_i)(1+nu_i)/Y_i + 2(2-nu_j)(1+nu_j)/Y_j
@@ -41,7 +41,7 @@ inline double hertz_elastic_energy(double y_star, double r_star, double overlap)
 // Rayleigh time pi R sqrt(rho/G) / (0.1631 nu + 0.8766), G = Y / (2 (1 + nu)).
 double rayleigh_time(const Material& m, double radius);
 
-// Restitution damping coefficient beta = ln(e) / sqrt(ln(e)^2 + pi^2) (liggghts-3.8.md section 1).
+// Restitution damping coefficient beta = ln(e) / sqrt(ln(e)^2 + pi^2) (docs/liggghts.md section 1).
 double restitution_beta(double e);
 
 }  // namespace granstack::model

@@ -1,7 +1,7 @@
 #pragma once
 // The in-house reference integrator: Hertz contact with tangential history and planar walls,
 // integrated with nve/sphere velocity Verlet, following LIGGGHTS 3.8.0 operation by operation
-// (liggghts-3.8.md sections 1 to 3) so that two-body cases reproduce its dumps to round-off.
+// (docs/liggghts.md sections 1 to 3) so that two-body cases reproduce its dumps to round-off.
 #include <array>
 #include <atomic>
 #include <cstdint>
