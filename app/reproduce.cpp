@@ -2,6 +2,7 @@
 #include "commands.hpp"
 #include "progress.hpp"
 
+#include <granstack/runner/runner.hpp>
 #include <granstack/study/report.hpp>
 #include <granstack/study/reproduce.hpp>
 
@@ -82,7 +83,7 @@ Command add_reproduce(CLI::App& app) {
                   fmt::format("Experiments to run [all]: {}", fmt::join(study::builtin_catalogue().names(), ", ")));
   cmd->add_option("-o,--output", o.output, "The reproduction's directory (its cases are reused on a rerun)")->required();
   cmd->add_option("-j,--jobs", o.jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
-  cmd->add_option("--engine", o.engine, "liggghts or refsim [liggghts]")->check(CLI::IsMember({"liggghts", "refsim"}));
+  cmd->add_option("--engine", o.engine, "liggghts or refsim [liggghts]")->check(CLI::IsMember(runner::engine_names()));
   cmd->add_flag("--validate", o.validate, "Also run every case with the other engine and report the agreement");
   cmd->add_flag("--quick", o.quick, "The small subset CI runs (the experiments marked quick)");
   cmd->add_flag("--force", o.force, "Generate and run every case again");

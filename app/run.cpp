@@ -104,7 +104,7 @@ int run(const RunFlags& f) {
   o.kernel = f.kernel;
   o.force = f.force;
   o.liggghts = f.liggghts;
-  o.engine = f.engine == "refsim" ? runner::Engine::refsim : runner::Engine::liggghts;
+  o.engine = runner::parse_engine(f.engine);
   if (o.engine == runner::Engine::refsim && f.ranks > 1) {
     fmt::print(stderr, "note: refsim runs in this process and does not use MPI ranks (--np); use --threads {}\n", f.ranks);
   }
@@ -140,7 +140,7 @@ Command add_run(CLI::App& app) {
       ->check(CLI::IsMember(kernel_choices()));
   cmd->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
   cmd->add_option("--engine", f->engine, "liggghts (the real DEM code) or refsim (the in-house reference integrator) [liggghts]")
-      ->check(CLI::IsMember({"liggghts", "refsim"}));
+      ->check(CLI::IsMember(runner::engine_names()));
   cmd->add_flag("--force", f->force, "Run cases again even if they finished");
   return {cmd, [f] { return run(*f); }};
 }

@@ -2,6 +2,7 @@
 #include "commands.hpp"
 
 #include <granstack/cluster/slurm.hpp>
+#include <granstack/runner/runner.hpp>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -67,7 +68,7 @@ Command add_submit(CLI::App& app) {
   auto& o = f->options;
   auto* cmd = app.add_subcommand("submit", "Submit the cases not yet done as SLURM job arrays");
   cmd->add_option("cases", f->targets, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
-  cmd->add_option("--engine", o.engine, "liggghts or refsim [liggghts]")->check(CLI::IsMember({"liggghts", "refsim"}));
+  cmd->add_option("--engine", o.engine, "liggghts or refsim [liggghts]")->check(CLI::IsMember(runner::engine_names()));
   cmd->add_option("--np", o.ranks, "MPI ranks per case (the task's --ntasks) [1]")->check(CLI::Range(1, 4096));
   cmd->add_option("--cases-per-task", o.cases_per_task, "Cases each array task runs, one after the other [1]")
       ->check(CLI::Range(1, 1000000));

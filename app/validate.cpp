@@ -4,6 +4,7 @@
 
 #include <granstack/formats/deck.hpp>
 #include <granstack/formats/manifest.hpp>
+#include <granstack/formats/ownership.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/os/case_lock.hpp>
 #include <granstack/os/interrupt.hpp>
@@ -31,7 +32,6 @@ struct ValidateFlags {
 int validate(const ValidateFlags& f) {
   const auto dirs = formats::expand_case_dirs(f.cases);
   std::vector<os::CaseLock> locks;
-  std::vector<std::string> liggghts_dirs, refsim_dirs;
   for (const auto& d : dirs) {
     try {
       locks.emplace_back(d, "granstack validate");
@@ -49,22 +49,23 @@ int validate(const ValidateFlags& f) {
                          "generate the case without --template\n", d, m.files.deck);
       return kCaseFailed;
     }
-    liggghts_dirs.push_back(d + "/validate/liggghts");
-    refsim_dirs.push_back(d + "/validate/refsim");
-    runner::clone_case_inputs(d, liggghts_dirs.back());
-    runner::clone_case_inputs(d, refsim_dirs.back());
+    // Both copies' places are checked before either engine spends its time.
+    for (const auto engine : {runner::Engine::liggghts, runner::Engine::refsim}) {
+      const auto copy = runner::copy_dir(d, engine);
+      if (const auto why = formats::why_not_replaceable(copy); !why.empty()) {
+        throw formats::RefusedError(fmt::format("cannot make the copy {}: {}; move it away first", copy, why));
+      }
+    }
   }
   runner::RunOptions o;
   o.jobs = f.jobs;
-  o.force = true;
   o.liggghts = f.liggghts;
   StatusLine status;
   int rc = kOk;
   for (const auto engine : {runner::Engine::liggghts, runner::Engine::refsim}) {
-    o.engine = engine;
-    const char* what = engine == runner::Engine::liggghts ? "validate: LIGGGHTS runs" : "validate: refsim runs";
+    const auto what = "validate: " + runner::to_string(engine) + " runs";
     o.on_progress = [&status, what](const runner::ProgressSnapshot& s) { status.count(what, s.finished, s.total); };
-    for (const auto& r : runner::run_cases(engine == runner::Engine::liggghts ? liggghts_dirs : refsim_dirs, o)) {
+    for (const auto& r : runner::run_copies(dirs, engine, o)) {
       if (r.status == runner::RunStatus::failed) {
         fmt::print(stderr, "FAILED   {}  {}\n", r.case_dir, r.message);
         rc = kCaseFailed;
@@ -73,8 +74,8 @@ int validate(const ValidateFlags& f) {
   }
   status.clear();
   if (rc != kOk || os::interrupt_signal() != 0) return rc;
-  for (std::size_t i = 0; i < dirs.size(); ++i) {
-    const auto c = postproc::compare_runs(liggghts_dirs[i], refsim_dirs[i]);
+  for (const auto& d : dirs) {
+    const auto c = postproc::compare_runs(runner::copy_dir(d, runner::Engine::liggghts), runner::copy_dir(d, runner::Engine::refsim));
     fmt::print("{}", postproc::format_comparison(c, "liggghts", "refsim", f.tolerance));
     if (!(c.worst() <= f.tolerance)) rc = kDisagree;
   }

@@ -47,6 +47,21 @@ void clone_case_inputs(const std::string& case_dir, const std::string& target) {
   }
 }
 
+std::string copy_dir(const std::string& case_dir, Engine engine) {
+  return (fs::path(case_dir) / "validate" / to_string(engine)).string();
+}
+
+std::vector<RunOutcome> run_copies(const std::vector<std::string>& case_dirs, Engine engine, RunOptions options) {
+  std::vector<std::string> copies;
+  for (const auto& d : case_dirs) {
+    copies.push_back(copy_dir(d, engine));
+    clone_case_inputs(d, copies.back());
+  }
+  options.engine = engine;
+  options.force = true;
+  return run_cases(copies, options);
+}
+
 std::string recorded_status(const std::string& case_dir) {
   std::ifstream in(fs::path(case_dir) / "run.json");
   if (!in) return "";
@@ -539,7 +554,7 @@ std::vector<std::string> files_made(const fs::path& dir, const formats::CaseFile
 
 json running_record(const RunOptions& o) {
   return {{"status", "running"},
-          {"engine", o.engine == Engine::refsim ? "refsim" : "liggghts"},
+          {"engine", to_string(o.engine)},
           {"started", formats::utc_timestamp()},
           {"host_threads", std::thread::hardware_concurrency()},
           {"granstack_version", std::string(version())}};

@@ -97,7 +97,7 @@ void ensure_case(const fs::path& dir, const CaseEntry& entry, bool force, const 
 
 runner::RunOptions run_options(const ReproduceOptions& o, const std::string& engine, const std::string& stage) {
   runner::RunOptions r;
-  r.engine = engine == "refsim" ? runner::Engine::refsim : runner::Engine::liggghts;
+  r.engine = runner::parse_engine(engine);
   r.jobs = o.jobs;
   r.liggghts = o.liggghts;
   if (o.on_progress) {
@@ -167,25 +167,22 @@ void reduce_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, St
 
 // refsim (or LIGGGHTS, when refsim ran the cases) on a copy of each case, compared.
 void validate_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o) {
-  const std::string other = o.engine == "refsim" ? "liggghts" : "refsim";
-  std::vector<std::string> copies;
+  const auto other = runner::other_engine(runner::parse_engine(o.engine));
+  std::vector<std::string> dirs;
   std::vector<CaseRecord*> compared;
   for (auto* rec : records) {
     if (!rec->reduction) continue;
-    copies.push_back((fs::path(rec->dir) / "validate" / other).string());
-    runner::clone_case_inputs(rec->dir, copies.back());
+    dirs.push_back(rec->dir);
     compared.push_back(rec);
   }
-  auto ro = run_options(o, other, "validate");
-  ro.force = true;
-  const auto outcomes = runner::run_cases(copies, ro);
+  const auto outcomes = runner::run_copies(dirs, other, run_options(o, runner::to_string(other), "validate"));
   for (std::size_t i = 0; i < compared.size(); ++i) {
     if (outcomes[i].status != runner::RunStatus::done) {
-      compared[i]->validate_quantity = fmt::format("{} failed: {}", other, outcomes[i].message);
+      compared[i]->validate_quantity = fmt::format("{} failed: {}", runner::to_string(other), outcomes[i].message);
       compared[i]->validate_worst = INFINITY;
       continue;
     }
-    const auto c = postproc::compare_runs(compared[i]->dir, copies[i]);
+    const auto c = postproc::compare_runs(compared[i]->dir, runner::copy_dir(dirs[i], other));
     compared[i]->validate_worst = c.worst();
     compared[i]->validate_output = c.output_fraction.relative;
     compared[i]->validate_quantity = c.mismatches.empty() ? c.largest().quantity : c.mismatches.front();

@@ -26,6 +26,16 @@ enum class Engine {
   refsim     // the in-house reference integrator, in this process
 };
 
+// The engines' names, as flags, run.json and folder names spell them.
+inline const std::vector<std::string>& engine_names() {
+  static const std::vector<std::string> names{"liggghts", "refsim"};
+  return names;
+}
+inline std::string to_string(Engine e) { return e == Engine::refsim ? "refsim" : "liggghts"; }
+// The engine a name (one of engine_names()) stands for.
+inline Engine parse_engine(const std::string& name) { return name == "refsim" ? Engine::refsim : Engine::liggghts; }
+inline Engine other_engine(Engine e) { return e == Engine::refsim ? Engine::liggghts : Engine::refsim; }
+
 // interrupted: stopped by SIGINT/SIGTERM/SIGHUP to granstack (run.json says so); not_started:
 // not begun because such a signal came first.
 enum class RunStatus { done, skipped, failed, interrupted, not_started };
@@ -68,5 +78,13 @@ std::string recorded_status(const std::string& case_dir);
 // (replacing a granstack case there; anything else there is refused), so the same case can be
 // run again elsewhere, e.g. by the other engine.
 void clone_case_inputs(const std::string& case_dir, const std::string& target);
+
+// Where `engine` runs its copy of a case for a cross-check: CASE/validate/ENGINE.
+std::string copy_dir(const std::string& case_dir, Engine engine);
+
+// The cross-check's runs (validate, reproduce --validate): `engine` on a fresh copy of each case's
+// inputs (copy_dir), every copy run anew. The callers compare the copies' outputs with
+// postproc::compare_runs.
+std::vector<RunOutcome> run_copies(const std::vector<std::string>& case_dirs, Engine engine, RunOptions options);
 
 }  // namespace granstack::runner
