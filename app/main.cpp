@@ -48,31 +48,30 @@ std::string control_character_in(const std::vector<std::string>& args) {
   return "";
 }
 
+// Says what went wrong and gives the exit code for it.
+int said(const std::string& message, int code) {
+  fmt::print(stderr, "error: {}\n", message);
+  return code;
+}
+
 // Runs a parsed command, turning what it throws into the documented exit codes.
 int guarded(const std::function<int()>& run) {
   try {
     return run();
   } catch (const model::SpecError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
-    return app::kBadInput;
+    return said(e.what(), app::kBadInput);
   } catch (const formats::OutputError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
-    return app::kExists;
+    return said(e.what(), app::kExists);
   } catch (const formats::FormatError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
-    return app::kBadFile;
+    return said(e.what(), app::kBadFile);
   } catch (const os::LockedError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
-    return app::kCaseFailed;
+    return said(e.what(), app::kCaseFailed);
   } catch (const formats::IoError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
-    return app::kIoError;
+    return said(e.what(), app::kIoError);
   } catch (const std::filesystem::filesystem_error& e) {
-    fmt::print(stderr, "error: {}\n", io_message(e));
-    return app::kIoError;
+    return said(io_message(e), app::kIoError);
   } catch (const std::exception& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
-    return app::kBadInput;
+    return said(e.what(), app::kBadInput);
   }
 }
 
@@ -97,10 +96,7 @@ int main(int argc, char** argv) {
     app.exit(e);
     return app::kBadInput;
   }
-  if (const auto why = control_character_in(args); !why.empty()) {
-    fmt::print(stderr, "error: {}\n", why);
-    return app::kBadInput;
-  }
+  if (const auto why = control_character_in(args); !why.empty()) return said(why, app::kBadInput);
   os::install_interrupt_handlers();
   for (const auto& c : commands) {
     if (c.parser->parsed()) return app::unless_interrupted(guarded(c.run));

@@ -42,8 +42,8 @@ std::vector<std::string> RecordedSubmission::cases() const {
   return out;
 }
 
-std::vector<std::pair<std::string, std::string>> RecordedSubmission::case_tasks() const {
-  std::vector<std::pair<std::string, std::string>> out(cases().size());
+std::vector<std::pair<std::string, std::string>> RecordedSubmission::case_tasks(std::size_t count) const {
+  std::vector<std::pair<std::string, std::string>> out(count);
   for (const auto& a : arrays) {
     for (int t = 0; t < a.tasks; ++t) {
       for (int k = 0; k < cases_per_task; ++k) {

@@ -20,9 +20,10 @@ struct RecordedSubmission {
   int cases_per_task = 1;
   std::vector<RecordedArray> arrays;
   std::string gather_job_id;
-  // The case of array task (job, task), from the submission's cases.txt: (job id, task) per case.
-  std::vector<std::pair<std::string, std::string>> case_tasks() const;  // indexed like cases()
+  // The submission's cases, from its cases.txt.
   std::vector<std::string> cases() const;
+  // The array task (job id, task) of each of the first `count` cases, indexed like cases().
+  std::vector<std::pair<std::string, std::string>> case_tasks(std::size_t count) const;
 };
 
 struct Records {

@@ -51,7 +51,7 @@ void explain_with_slurm(StatusReport& r, const RecordedSubmission& last, const Q
                         const std::string& sacct, const std::string& scontrol) {
   std::map<std::string, Task> task_of;
   const auto cases = last.cases();
-  const auto tasks = last.case_tasks();
+  const auto tasks = last.case_tasks(cases.size());
   for (std::size_t i = 0; i < cases.size(); ++i) task_of[cases[i]] = tasks[i];
   std::vector<CaseState*> asked;
   for (auto& c : r.cases) {

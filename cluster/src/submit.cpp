@@ -168,7 +168,7 @@ std::set<std::string> busy_cases(const std::vector<std::string>& targets, const 
   const std::set<std::string> wanted(pending.begin(), pending.end());
   for (const auto& sub : earlier) {
     const auto cases = sub.cases();
-    const auto tasks = sub.case_tasks();
+    const auto tasks = sub.case_tasks(cases.size());
     for (std::size_t i = 0; i < cases.size(); ++i) {
       if (queue.tasks.count(tasks[i]) != 0 && wanted.count(cases[i]) != 0) busy.insert(cases[i]);
     }

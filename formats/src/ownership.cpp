@@ -69,59 +69,50 @@ class ForeignFinder {
     } catch (const std::exception&) {
       return add(prefix + "manifest.json");
     }
-    std::set<std::string> own{"manifest.json", m.files.data, m.files.deck, m.files.series, m.files.log,
-                              m.files.screen, m.files.run_record, ".granstack.lock", ".granstack-earlier-run"};
-    // What the run made beyond those (a user's template writing more files): run.json lists them.
-    std::set<std::string> run_outputs;
-    try {
+    // Every file granstack writes in a case, relative to it.
+    std::set<std::string> files{"manifest.json", m.files.data, m.files.deck, m.files.series, m.files.log,
+                                m.files.screen, m.files.run_record, ".granstack.lock"};
+    for (const auto& piece : dump_files_matching((dir / m.files.dump).string())) {
+      for (const char* suffix : {"", ".gz", ".zst"}) files.insert(fs::path(piece + suffix).lexically_relative(dir).string());
+    }
+    for (const auto& f : kReduceFiles) files.insert("reduce/" + f);
+    try {  // what the run made beyond those (a user's template writing more files): run.json lists them
       for (const auto& f : json::parse(read_file(dir / m.files.run_record)).value("outputs", json::array())) {
-        const auto name = f.get<std::string>();
-        run_outputs.insert(name);
-        own.insert(fs::path(name).begin()->string());  // its top-level entry
+        files.insert(f.get<std::string>());
       }
     } catch (const std::exception&) {
     }
-    std::set<std::string> dumps;
-    for (const auto& piece : dump_files_matching((dir / m.files.dump).string())) {
-      for (const char* suffix : {"", ".gz", ".zst"}) dumps.insert(fs::path(piece + suffix).lexically_normal().string());
+    // The folders they sit in, and those granstack makes whole.
+    std::set<std::string> folders{fs::path(m.files.dump).parent_path().string(), "reduce", "validate"};
+    for (const auto& f : files) {
+      for (auto p = fs::path(f).parent_path(); !p.empty(); p = p.parent_path()) folders.insert(p.string());
     }
-    const auto dump_dir = (dir / m.files.dump).parent_path().lexically_normal();
-    each(dir, [&](const fs::directory_entry& e, const std::string& name) {
-      if (run_outputs.count(name) != 0 && !e.is_directory()) return true;
-      if (own.count(name) != 0 && e.is_directory() && name != fs::path(m.files.dump).parent_path().string() &&
-          !fs::exists(dir / name / "manifest.json")) {
-        // A folder only the run's outputs are in.
-        each(e.path(), [&](const fs::directory_entry& f, const std::string&) {
-          return run_outputs.count(fs::relative(f.path(), dir).string()) != 0;
-        }, prefix + name + "/");
-        return true;
-      }
-      if (own.count(name) != 0 || temporary(name) || name.rfind("restart_forced_liggghts_", 0) == 0) return true;
-      if (name == "reduce") {
-        each(e.path(), [&](const fs::directory_entry&, const std::string& n) { return kReduceFiles.count(n) != 0 || temporary(n); },
-             prefix + "reduce/");
-        return true;
-      }
-      if (name == "paraview" && json_object_with(e.path() / kOutputMarker, "written_by")) return true;
-      if (name == "validate") {
-        each(e.path(), [&](const fs::directory_entry& v, const std::string& n) {
-          if ((n != "liggghts" && n != "refsim") || !fs::exists(v.path() / "manifest.json")) return false;
-          one_case(v.path(), prefix + "validate/" + n + "/");
-          return true;
-        }, prefix + "validate/");
-        return true;
-      }
-      if (e.path().lexically_normal() == dump_dir) {
-        each(e.path(), [&](const fs::directory_entry& d, const std::string&) {
-          return dumps.count(d.path().lexically_normal().string()) != 0;
-        }, prefix + name + "/");
-        return true;
-      }
-      return false;
-    }, prefix);
+    walk(dir, dir, prefix, files, folders);
   }
 
  private:
+  // The entries below `at` in the case `root`: a file is granstack's when listed (or a temporary,
+  // or LIGGGHTS's forced restart); a folder when listed (then its entries are looked at), export's
+  // marked paraview/, the stash of an earlier run, or one of validate's copies (a case of its own).
+  void walk(const fs::path& root, const fs::path& at, const std::string& prefix, const std::set<std::string>& files,
+            const std::set<std::string>& folders) {
+    each(at, [&](const fs::directory_entry& e, const std::string& name) {
+      const auto rel = e.path().lexically_relative(root).string();
+      std::error_code ec;
+      if (!e.is_directory(ec) || e.is_symlink(ec)) {
+        return files.count(rel) != 0 || temporary(name) || name.rfind("restart_forced_liggghts_", 0) == 0;
+      }
+      if (rel == ".granstack-earlier-run") return true;
+      if (rel == "paraview") return json_object_with(e.path() / kOutputMarker, "written_by");
+      if ((rel == "validate/liggghts" || rel == "validate/refsim") && fs::exists(e.path() / "manifest.json")) {
+        one_case(e.path(), prefix + rel + "/");
+        return true;
+      }
+      if (folders.count(rel) == 0) return false;
+      walk(root, e.path(), prefix, files, folders);
+      return true;
+    }, prefix + (at == root ? "" : at.lexically_relative(root).string() + "/"));
+  }
   static bool temporary(const std::string& name) {
     return name.size() > 4 && name.compare(name.size() - 4, 4, ".tmp") == 0;
   }

@@ -34,8 +34,8 @@ using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
 void clone_case_inputs(const std::string& case_dir, const std::string& target) {
+  // (An edited case makes an edited copy: the copy's run refuses it, as the case's would.)
   const auto m = formats::read_manifest(case_dir);
-  formats::check_rendered_files(case_dir, m);  // a copy of an edited case would pass for the case
   // Only a copy granstack made earlier is replaced; anything else in its place is the user's.
   if (const auto why = formats::why_not_replaceable(target); !why.empty()) {
     throw formats::RefusedError(fmt::format("cannot make the copy {}: {}; move it away first", target, why));
@@ -229,9 +229,9 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
   EngineResult result;
   const auto& files = manifest.files;
   std::vector<std::string> argv;
-  const auto liggghts = os::find_program(o.liggghts);
-  if (const auto why = liggghts_unavailable(o); !why.empty()) {
-    result.error = why;
+  const auto liggghts = os::find_program(o.liggghts);  // run_one checked liggghts_unavailable() first
+  if (!liggghts) {
+    result.error = liggghts_unavailable(o);
     return result;
   }
   if (o.ranks > 1) {
@@ -521,14 +521,16 @@ void write_final_record(const fs::path& path, const json& record, RunOutcome& ou
   }
 }
 
-// The regular files in a case (relative), but for reduce/, paraview/ and validate/.
+// The regular files in a case (relative), but for reduce/, paraview/, validate/ and the stash of
+// an earlier run's outputs.
 std::set<std::string> files_in_case(const fs::path& dir) {
   std::set<std::string> found;
   std::error_code ec;
   for (auto it = fs::recursive_directory_iterator(dir, ec); it != fs::recursive_directory_iterator() && found.size() < 100000;
        it.increment(ec)) {
     const auto name = it->path().filename().string();
-    if (it.depth() == 0 && (name == "reduce" || name == "paraview" || name == "validate")) {
+    if (it.depth() == 0 &&
+        (name == "reduce" || name == "paraview" || name == "validate" || name == EarlierOutputs::kStash)) {
       it.disable_recursion_pending();
       continue;
     }

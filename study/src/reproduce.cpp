@@ -95,9 +95,9 @@ void ensure_case(const fs::path& dir, const CaseEntry& entry, bool force, const 
   generator::generate({{entry.name, entry.spec}}, g);
 }
 
-runner::RunOptions run_options(const ReproduceOptions& o, const std::string& engine, const std::string& stage) {
+runner::RunOptions run_options(const ReproduceOptions& o, runner::Engine engine, const std::string& stage) {
   runner::RunOptions r;
-  r.engine = runner::parse_engine(engine);
+  r.engine = engine;
   r.jobs = o.jobs;
   r.liggghts = o.liggghts;
   if (o.on_progress) {
@@ -128,7 +128,7 @@ std::string status_name(runner::RunStatus s) {
 void run_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, StudyResult& result) {
   std::vector<std::string> dirs;
   for (const auto* r : records) dirs.push_back(r->dir);
-  auto ro = run_options(o, o.engine, "run");
+  auto ro = run_options(o, runner::parse_engine(o.engine), "run");
   ro.on_case_done = [&o](const runner::RunOutcome& r) {
     if (!o.on_event) return;
     if (r.status == runner::RunStatus::done) o.on_event(fmt::format("done     {}  ({:.1f} s)", r.case_dir, r.wall_seconds));
@@ -175,7 +175,7 @@ void validate_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o) 
     dirs.push_back(rec->dir);
     compared.push_back(rec);
   }
-  const auto outcomes = runner::run_copies(dirs, other, run_options(o, runner::to_string(other), "validate"));
+  const auto outcomes = runner::run_copies(dirs, other, run_options(o, other, "validate"));
   for (std::size_t i = 0; i < compared.size(); ++i) {
     if (outcomes[i].status != runner::RunStatus::done) {
       compared[i]->validate_quantity = fmt::format("{} failed: {}", runner::to_string(other), outcomes[i].message);
