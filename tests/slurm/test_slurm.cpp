@@ -98,6 +98,16 @@ void wait_until_stepping(const fs::path& c) {
   }
 }
 
+// The lines of the test cluster's controller log that name job ID (for failure messages).
+std::string controller_log_of(const std::string& id) {
+  std::istringstream log(read_bytes(fs::path(std::getenv("SLURM_CONF")).parent_path() / "log" / "slurmctld.log"));
+  std::string out;
+  for (std::string line; std::getline(log, line);) {
+    if (line.find("JobId=" + id) != std::string::npos) out += line + "\n";
+  }
+  return out;
+}
+
 std::string replace_all(std::string s, const std::string& from, const std::string& to) {
   for (auto p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size())) s.replace(p, from.size(), to);
   return s;
@@ -373,15 +383,24 @@ TEST(Slurm, ADamagedRecordIsSaidAndARequeueKeepsTheFirstLog) {
   EXPECT_NO_THROW(nlohmann::json::parse(submission_records(c)));
   const auto ids = job_ids(r.output);
   wait_until_stepping(c);
-  ASSERT_EQ(run({"scontrol", "requeue", ids.at(0) + "_0"}).code, 0);
-  // SLURM holds a requeued job back two minutes; the test lets it go as soon as it is pending
-  // again, and waits for the second attempt to finish the case.
-  const auto rerun_until = std::chrono::steady_clock::now() + std::chrono::seconds(150);
+  const auto task = ids.at(0) + "_0";
+  ASSERT_EQ(run({"scontrol", "requeue", task}).code, 0);
+  // SLURM holds a requeued job back two minutes; the test lets it go (and releases it, should a
+  // failed launch have held it) whenever it is pending, and waits for the second attempt to
+  // finish the case. The job's record is kept for the failure message.
+  std::string job;
+  const auto rerun_until = std::chrono::steady_clock::now() + std::chrono::seconds(200);
   while (std::chrono::steady_clock::now() < rerun_until &&
          !(fs::exists(c / "run.json") && run_record(c).value("status", "") == "done")) {
-    run({"scontrol", "update", "JobId=" + ids.at(0) + "_0", "StartTime=now"});
+    job = run({"scontrol", "-o", "show", "job", task}).output;
+    if (job.find("JobState=PENDING") != std::string::npos) {
+      if (job.find("held") != std::string::npos || job.find("Priority=0 ") != std::string::npos) run({"scontrol", "release", task});
+      run({"scontrol", "update", "JobId=" + task, "StartTime=now"});
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
   }
+  EXPECT_TRUE(wait_for(ids, 60)) << job;
+  SCOPED_TRACE("the task's last record: " + job + "\nthe controller's log of it:\n" + controller_log_of(ids[0]));
   ASSERT_TRUE(wait_for(ids, 60));
   expect_done_with_output(c);
   const auto log = read_bytes(c / "slurm" / "submit-1" / ("task-" + ids[0] + "_0.out"));
