@@ -23,22 +23,13 @@ namespace {
 const std::vector<std::string> kDumpColumns{"id", "type", "radius", "mass", "x", "y", "z", "vx", "vy", "vz",
                                             "omegax", "omegay", "omegaz", "fx", "fy", "fz", "tqx", "tqy", "tqz"};
 
-// The groups whose energies the series records: (group, short tag, column suffix).
-struct EnergyGroup {
-  std::string group;
-  std::string tag;
-  std::string column;
-};
-
-std::vector<EnergyGroup> energy_groups(const model::Stack& stack) {
-  std::vector<EnergyGroup> g;
-  for (const auto& b : stack.blocks()) {
-    g.push_back({fmt::format("block{}", b.index), std::to_string(b.index), fmt::format("block{}", b.index)});
-  }
-  g.push_back({"striker", "s", "striker"});
-  g.push_back({"output_sphere", "o", "output_sphere"});
-  g.push_back({"bottom_row", "b", "bottom_row"});
-  return g;
+// The deck's selection of a series group: by atom type, or by id (a range where consecutive).
+std::string group_command(const model::SeriesGroup& g) {
+  if (g.atom_type != 0) return fmt::format("group           {} type {}\n", g.name, g.atom_type);
+  const bool consecutive = g.ids.back() - g.ids.front() + 1 == static_cast<int>(g.ids.size());
+  if (g.ids.size() == 1) return fmt::format("group           {} id {}\n", g.name, g.ids.front());
+  if (consecutive) return fmt::format("group           {} id <> {} {}\n", g.name, g.ids.front(), g.ids.back());
+  return fmt::format("group           {} id {}\n", g.name, fmt::join(g.ids, " "));
 }
 
 }  // namespace
@@ -53,9 +44,9 @@ formats::CaseFiles case_files(const model::Stack& stack) {
   f.dump = stem + (spec.dump_format == model::DumpFormat::binary ? ".bin" : ".txt");
   f.dump_columns = kDumpColumns;
   f.series_columns = {"step"};
-  for (const auto& g : energy_groups(stack)) {
-    f.series_columns.push_back("ke_trans_" + g.column);
-    f.series_columns.push_back("ke_rot_" + g.column);
+  for (const auto& g : model::series_groups(stack)) {
+    f.series_columns.push_back("ke_trans_" + g.name);
+    f.series_columns.push_back("ke_rot_" + g.name);
   }
   return f;
 }
@@ -142,17 +133,15 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
   }
 
   std::string groups;
-  for (const auto& b : stack.blocks()) groups += fmt::format("group           block{} type {}\n", b.index, b.atom_type);
-  groups += fmt::format("group           striker type {}\n", stack.striker_type());
-  groups += fmt::format("group           output_sphere id {}\n", stack.output_sphere_id());
-  const auto bottom = stack.bottom_row_ids();
-  groups += fmt::format("group           bottom_row id <> {} {}", bottom.front(), bottom.back());
+  const auto series = model::series_groups(stack);
+  for (const auto& g : series) groups += group_command(g);
+  groups.pop_back();  // the template ends the line
   v["groups"] = groups;
 
   std::string computes, values;
-  for (const auto& g : energy_groups(stack)) {
-    computes += fmt::format("compute         kt{} {} ke\ncompute         kr{} {} erotate/sphere\n", g.tag, g.group, g.tag,
-                            g.group);
+  for (const auto& g : series) {
+    computes += fmt::format("compute         kt{} {} ke\ncompute         kr{} {} erotate/sphere\n", g.tag, g.name, g.tag,
+                            g.name);
     values += fmt::format(" $(c_kt{}) $(c_kr{})", g.tag, g.tag);
   }
   v["energy_series"] = fmt::format(

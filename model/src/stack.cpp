@@ -179,6 +179,26 @@ int Stack::impact_path_id(int block_index, int row) const {
 
 int Stack::output_sphere_id() const { return impact_path_id(spec_.blocks, blocks_.back().rows); }
 
+int Stack::middle_path_id(int block_index) const { return impact_path_id(block_index, block(block_index).rows / 2 + 1); }
+
+std::vector<SeriesGroup> series_groups(const Stack& stack) {
+  std::vector<SeriesGroup> g;
+  for (const auto& b : stack.blocks()) {
+    SeriesGroup group{fmt::format("block{}", b.index), std::to_string(b.index), b.atom_type, {}};
+    for (int id = b.first_id; id <= b.last_id(); ++id) group.ids.push_back(id);
+    g.push_back(std::move(group));
+  }
+  SeriesGroup strikers{"striker", "s", stack.striker_type(), {}};
+  for (int id = 1; id <= stack.strikers(); ++id) strikers.ids.push_back(id);
+  g.push_back(std::move(strikers));
+  g.push_back({"output_sphere", "o", 0, {stack.output_sphere_id()}});
+  g.push_back({"bottom_row", "b", 0, stack.bottom_row_ids()});
+  for (const auto& b : stack.blocks()) {
+    g.push_back({fmt::format("middle{}", b.index), fmt::format("m{}", b.index), 0, {stack.middle_path_id(b.index)}});
+  }
+  return g;
+}
+
 std::vector<int> Stack::bottom_row_ids() const {
   const auto& b = blocks_.back();
   std::vector<int> ids;

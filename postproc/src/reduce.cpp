@@ -557,6 +557,8 @@ json waves_json(const std::vector<BlockWaves>& waves) {
                    {"peaks", w.peaks},
                    {"pulses", w.pulses},
                    {"column", w.column},
+                   {"middle_peak_ke_J", w.middle_peak_ke},
+                   {"middle_leading_ke_J", w.middle_leading_ke},
                    {"rows_timed", w.rows_used},
                    {"leading_speed", opt(w.speed)},
                    {"peak_force", w.peak_force},

@@ -77,6 +77,7 @@ void WaveTracker::add(long step, const std::vector<double>& samples) {
   times_[0] = times_[1];
   times_[1] = times_[2];
   times_[2] = static_cast<double>(step) * dt_;
+  frame_times_.push_back(times_[2]);
   if (frames_ == 1) first_interval_ = times_[2] - times_[1];
   for (auto& c : columns_) {
     const double* speed = samples.data() + c.offset;
@@ -129,6 +130,19 @@ std::vector<BlockWaves> analyse_waves(const std::string& case_dir) {
   return tracker.finish(formats::read_series((fs::path(case_dir) / m.files.series).string()));
 }
 
+// The energy of block k's middle_path_id sphere from the in-situ series (every series_every
+// steps), when the series records it; the dump frames would sample a passing wave's peak only a
+// few times.
+void WaveTracker::middle_sphere(BlockWaves& w, const formats::Series& series, int k) const {
+  const int step = series.column("step");
+  const int ct = series.column(fmt::format("ke_trans_middle{}", k)), cr = series.column(fmt::format("ke_rot_middle{}", k));
+  if (step < 0 || ct < 0 || cr < 0) return;
+  for (const auto& row : series.rows) {
+    w.middle_time.push_back(row[static_cast<std::size_t>(step)] * dt_);
+    w.middle_ke.push_back(row[static_cast<std::size_t>(ct)] + row[static_cast<std::size_t>(cr)]);
+  }
+}
+
 std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const {
   const auto& stack = stack_;
   const double dt = dt_;
@@ -146,10 +160,18 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
     for (const auto& row : series.rows) ke.push_back(row[static_cast<std::size_t>(ct)] + row[static_cast<std::size_t>(cr)]);
     const double top = ke.empty() ? 0.0 : *std::max_element(ke.begin(), ke.end());
     w.peaks = static_cast<int>(prominent_peaks(ke, kPeakProminence * top).size());
-    const auto& middle = columns[static_cast<std::size_t>(k - 1)].middle_energy;
-    if (!middle.empty()) {
-      const double highest = *std::max_element(middle.begin(), middle.end());
-      w.pulses = static_cast<int>(prominent_peaks(middle, kPeakProminence * highest).size());
+    middle_sphere(w, series, k);
+    if (w.middle_ke.empty()) {  // a case without the series group: the dump frames
+      const double half_mass = 0.5 * stack.block(k).sphere_mass;
+      w.middle_time = frame_times_;
+      for (const double v2 : columns[static_cast<std::size_t>(k - 1)].middle_energy) w.middle_ke.push_back(half_mass * v2);
+    }
+    if (!w.middle_ke.empty()) {
+      const double highest = *std::max_element(w.middle_ke.begin(), w.middle_ke.end());
+      const auto pulses = prominent_peaks(w.middle_ke, kPeakProminence * highest);
+      w.pulses = static_cast<int>(pulses.size());
+      w.middle_peak_ke = highest;
+      w.middle_leading_ke = pulses.empty() ? highest : w.middle_ke[pulses.front()];
     }
   }
   for (const auto& b : stack.blocks()) {
@@ -218,6 +240,7 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
                              std::max(1L, std::lround(std::floor(0.5 * crossing / dt))));
       }
     }
+    w.maximum_speed = w.speed;
     // A leading maximum far from Nesterenko's speed is no solitary wave (a block loaded too
     // slowly, e.g. steel below a soft block): no speed is given for it.
     if (w.speed && w.nesterenko_speed) {

@@ -106,20 +106,19 @@ class SeriesWriter {
       : path_(path), file_(std::fopen(path.c_str(), "w"), &std::fclose) {
     if (!file_) throw std::runtime_error(fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
     std::fprintf(file_.get(), "# %s\n", fmt::format("{}", fmt::join(columns, " ")).c_str());
-    for (const auto& b : stack.blocks()) groups_.push_back(runs(b.first_id, b.last_id()));
-    groups_.push_back(runs(model::Stack::striker_id(), stack.strikers()));
-    groups_.push_back(runs(stack.output_sphere_id(), stack.output_sphere_id()));
-    std::vector<Run> bottom;
-    for (int id : stack.bottom_row_ids()) {
-      if (!bottom.empty() && bottom.back().second == static_cast<std::size_t>(id - 1)) {
-        ++bottom.back().second;
-      } else {
-        bottom.push_back(runs(id, id).front());
+    for (const auto& g : model::series_groups(stack)) {
+      std::vector<Run> group;  // its ids as runs of consecutive particles
+      for (const int id : g.ids) {
+        if (!group.empty() && group.back().second == static_cast<std::size_t>(id - 1)) {
+          ++group.back().second;
+        } else {
+          group.emplace_back(static_cast<std::size_t>(id - 1), static_cast<std::size_t>(id));
+        }
       }
+      groups_.push_back(std::move(group));
     }
-    groups_.push_back(std::move(bottom));
     if (columns.size() != 1 + 2 * groups_.size()) {
-      throw std::runtime_error("refsim: the manifest's series columns do not match the stack's groups");
+      throw std::runtime_error("refsim: the manifest's series columns are not this granstack's: generate the case again");
     }
   }
 
@@ -159,9 +158,6 @@ class SeriesWriter {
 
  private:
   using Run = std::pair<std::size_t, std::size_t>;  // particles [first, second)
-  static std::vector<Run> runs(int first_id, int last_id) {
-    return {{static_cast<std::size_t>(first_id - 1), static_cast<std::size_t>(last_id)}};
-  }
   [[noreturn]] void fail() const { throw std::runtime_error(fmt::format("{}: cannot write: {}", path_, std::strerror(errno))); }
   std::string path_;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;

@@ -65,7 +65,9 @@ TEST_F(Validate, RealRunsAgreeToRoundOffInEveryColumnFrameAndRow) {
   EXPECT_GT(c.frames, 100);
   constexpr long kSpheres = 1 + 4 * 2 + 4 * 4;  // the striker, 4 rows of 2 and of 4 columns
   for (const auto& d : c.dump) EXPECT_EQ(d.values, c.frames * kSpheres) << d.quantity;
-  EXPECT_EQ(c.series.size(), 10u);  // translational and rotational KE of 2 blocks, striker, output sphere, bottom row
+  // Translational and rotational KE of 2 blocks, striker, output sphere, bottom row and each
+  // block's middle-row sphere of the impact path.
+  EXPECT_EQ(c.series.size(), 14u);
   for (const auto& d : c.series) EXPECT_EQ(d.values, c.series_rows) << d.quantity;
   EXPECT_EQ(c.output_fraction.values, 1);
 }

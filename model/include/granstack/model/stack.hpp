@@ -30,6 +30,14 @@
 
 namespace granstack::model {
 
+// A group of spheres whose kinetic energy the in-situ series records (series_groups).
+struct SeriesGroup {
+  std::string name;      // the deck's group, and the series' columns ke_trans_<name>, ke_rot_<name>
+  std::string tag;       // the deck's compute ids, kt<tag> and kr<tag>
+  int atom_type = 0;     // the deck selects the group by this atom type when not 0 (a block, the strikers)
+  std::vector<int> ids;  // its atoms, ascending
+};
+
 struct Sphere {
   int id = 0;
   int block = 0;   // 1 = top; 0 for the striker
@@ -135,6 +143,9 @@ class Stack {
   // The bottom sphere of the impact column of the bottom block (physics.md section 4; in 3D the
   // bottom sphere of the impact path, the same definition along y).
   int output_sphere_id() const;
+  // The sphere of the impact path in the middle row of block k (row rows/2 + 1), away from the
+  // block's interfaces: Fig. 2's per-sphere reading and where waves are counted.
+  int middle_path_id(int block) const;
   std::vector<int> bottom_row_ids() const;  // the bottom row (in 3D the bottom layer), in id order
 
   int striker_type() const { return static_cast<int>(blocks_.size()) + 1; }
@@ -175,6 +186,11 @@ class Stack {
   std::vector<Sphere> spheres_;
   std::vector<Block> blocks_;
 };
+
+// The groups of the in-situ series, in its column order: every block (top first), the strikers,
+// the output sphere, the bottom row, and every block's middle_path_id. The generator's deck and
+// refsim both record exactly these.
+std::vector<SeriesGroup> series_groups(const Stack& stack);
 
 // The vertical distance between the centre of a sphere of radius R_k and the centres it rests
 // on in the block below (radius R_k / n): with n even it rests on two spheres at +-R_{k+1}

@@ -31,15 +31,23 @@ struct BlockWaves {
   int block = 0;                   // 1 = top
   int peaks = 0;                   // of the block's KE curve (in-situ series), kPeakProminence rule
   // Pulses passing the middle row of the impact path's column: the prominent maxima (same rule)
-  // of that sphere's kinetic energy over the dump frames. A block's total energy can rise to a
+  // of that sphere's kinetic energy (middle_ke). A block's total energy can rise to a
   // plateau with no maximum while a train of waves runs through it (a Teflon block under steel).
   int pulses = 0;
   int column = 0;                  // the impact path's column followed (model::Stack::impact_column)
+  // The kinetic energy of that middle-row sphere (model::Stack::middle_path_id), away from the
+  // block's interfaces, from the in-situ series (the dump frames for a case whose series lacks
+  // it): its largest value, and its first prominent maximum (the leading wave's), J.
+  double middle_peak_ke = 0.0;
+  double middle_leading_ke = 0.0;
+  std::vector<double> middle_time, middle_ke;  // s, J: that sphere's energy over time
   int rows_used = 0;               // rows whose leading maximum was timed
   std::optional<double> speed;     // m/s, least squares of arrival time against depth; none when
                                    // the dumps sample a row crossing less than twice, or when it
                                    // is no solitary wave
   bool no_solitary_wave = false;   // the leading maximum's speed is outside kSolitaryWaveBand
+  std::optional<double> maximum_speed;  // m/s: the leading maximum's speed, timed as `speed`,
+                                        // given even when it is no solitary wave
   double peak_force = 0.0;         // N, largest Hertz force between vertical neighbours of the column
   std::optional<double> nesterenko_speed;  // m/s, for that force (physics.md section 5)
   std::optional<double> width;     // diameters: the cos^4 support with the same RMS width as the
@@ -68,6 +76,7 @@ class WaveTracker {
   std::vector<BlockWaves> finish(const formats::Series& series) const;
 
  private:
+  void middle_sphere(BlockWaves& w, const formats::Series& series, int k) const;
   struct Maximum {
     double speed = 0.0, time = 0.0;
     std::vector<double> overlaps;  // the column's, at this frame (middle row only)
@@ -93,6 +102,7 @@ class WaveTracker {
   long frames_ = 0;
   double times_[3] = {0.0, 0.0, 0.0};  // of the last three frames, the newest last
   double first_interval_ = 0.0;        // between the first two frames
+  std::vector<double> frame_times_;    // of every frame
   std::vector<double> scratch_;
 };
 
