@@ -122,8 +122,10 @@ std::vector<SpecIssue> validate(const StackSpec& spec);
 void require_valid(const StackSpec& spec);
 
 // Bounds of physical sense, refused outside (the README's spec table states them):
-// radii from a micrometre (below, van der Waals forces dominate Hertz contact) to a metre;
-inline constexpr double kMinRadius = 1e-6, kMaxRadius = 1.0;
+// radii from 100 nm, the smallest scale the study claims (a steel sphere of that radius still
+// holds about 4e8 atoms, but surface layers and adhesion, which Hertz contact leaves out, matter
+// more and more below a micrometre, most at low impact speeds: docs/physics.md), to a metre;
+inline constexpr double kMinRadius = 1e-7, kMaxRadius = 1.0;
 // gravity up to 1000 m/s^2 (about 100 g, the top of geotechnical centrifuges);
 inline constexpr double kMaxGravity = 1000.0;
 // Coulomb friction up to 10 (real materials stay below about 1.5; above, every contact sticks);
