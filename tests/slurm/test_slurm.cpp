@@ -385,9 +385,13 @@ TEST(Slurm, ADamagedRecordIsSaidAndARequeueKeepsTheFirstLog) {
   wait_until_stepping(c);
   const auto task = ids.at(0) + "_0";
   ASSERT_EQ(run({"scontrol", "requeue", task}).code, 0);
-  // SLURM holds a requeued job back two minutes; the test lets it go (and releases it, should a
-  // failed launch have held it) whenever it is pending, and waits for the second attempt to
-  // finish the case. The job's record is kept for the failure message.
+  // SLURM holds a requeued job back two minutes, until the first attempt's revoked credential has
+  // expired. The test lets it go earlier, but not within the second of the requeue: slurmd
+  // compares credentials at one-second resolution, and a launch in that second fails with "Job
+  // credential revoked" (seen once in CI, once in 12 local runs). It releases the task should a
+  // failed launch have held it, and waits for the second attempt to finish the case. The job's
+  // record is kept for the failure message.
+  std::this_thread::sleep_for(std::chrono::milliseconds(2100));
   std::string job;
   const auto rerun_until = std::chrono::steady_clock::now() + std::chrono::seconds(200);
   while (std::chrono::steady_clock::now() < rerun_until &&
