@@ -23,7 +23,7 @@ struct ReproduceFlags {
 int reproduce(ReproduceFlags& f) {
   auto& o = f.options;
   try {
-    study::select(study::builtin_catalogue(), o.experiments, o.quick);
+    study::select(study::builtin_catalogue(), o.experiments, o.quick, o.full);
   } catch (const study::UnknownExperiment& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kBadInput;
@@ -85,7 +85,10 @@ Command add_reproduce(CLI::App& app) {
   cmd->add_option("-j,--jobs", o.jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
   cmd->add_option("--engine", o.engine, "liggghts or refsim [liggghts]")->check(CLI::IsMember(runner::engine_names()));
   cmd->add_flag("--validate", o.validate, "Also run every case with the other engine and report the agreement");
-  cmd->add_flag("--quick", o.quick, "The small subset CI runs (the experiments marked quick)");
+  auto* quick = cmd->add_flag("--quick", o.quick, "The small subset CI runs (the experiments marked quick)");
+  cmd->add_flag("--full", o.full,
+                "Also the longer runs: the convergence study of the block height and the material sensitivity runs")
+      ->excludes(quick);
   cmd->add_flag("--force", o.force, "Generate and run every case again");
   cmd->add_option("--liggghts", o.liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
   return {cmd, [f] { return reproduce(*f); }};

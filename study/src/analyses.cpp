@@ -1,6 +1,7 @@
-// The named analyses of the catalogue (study/data/catalogue.toml).
+// The named analyses of the catalogue (study/data/catalogue.toml): the registry, and the
+// analyses of outputs, scale, friction, the container and the isolated collision.
 #include "analyses.hpp"
-
+#include "analysis_text.hpp"
 #include "curves.hpp"
 #include "figures.hpp"
 
@@ -22,76 +23,47 @@ const postproc::CaseReduction* AnalysisInput::reduction(const std::string& exp, 
   return &*it->second->reduction;
 }
 
-namespace {
-
-std::string pct(double f) { return fmt::format("{:.3g} %", 100.0 * f); }
-std::string num(double v) { return fmt::format("{:.4g}", v); }
-std::string num(const std::optional<double>& v) { return v ? num(*v) : "-"; }
-
-// fig2: the candidate readings of "10 and 3 %", and the wave speeds against Nesterenko.
-void fig2(const AnalysisInput& in, ExperimentResult& out) {
-  Table readings{"Peak kinetic energy of block k over the peak of block 1, four readings, free bottom and bottom wall",
-                 {"reading", "bottom", "block 2", "block 3", "block 4"}, {}};
-  const std::pair<const char*, const char*> names[] = {{"whole_block", "whole block, peak over the run (reduce's peak/top)"},
-                                                       {"leading_peak", "whole block, its first peak"},
-                                                       {"column", "impact column, peak over the run"},
-                                                       {"column_leading", "impact column, its first peak"}};
-  for (const auto* variant : {"free", "wall"}) {
-    const auto* r = in.own(variant);
-    if (r == nullptr) continue;
-    const int nb = r->spec.blocks;
-    std::map<std::string, std::vector<double>> v;
-    const double top_block = r->blocks.front().peak_ke;
-    const auto blocks = block_energies(*r);
-    const auto columns = impact_column_energies(*r);
-    const double top_column = columns.front().max();
-    for (std::size_t k = 0; k < static_cast<std::size_t>(nb); ++k) {
-      v["whole_block"].push_back(r->blocks[k].normalised);
-      v["leading_peak"].push_back(blocks[k].first_peak() / top_block);
-      v["column"].push_back(columns[k].max() / top_column);
-      v["column_leading"].push_back(columns[k].first_peak() / top_column);
-    }
-    for (const auto& [key, label] : names) {
-      std::vector<std::string> row{label, variant};
-      for (int k = 2; k <= nb; ++k) {
-        const double x = v[key][static_cast<std::size_t>(k - 1)];
-        out.values[fmt::format("{}.{}.b{}", key, variant, k)] = x;
-        row.push_back(pct(x));
-      }
-      readings.rows.push_back(row);
-    }
+std::optional<double> AnalysisInput::earlier(const std::string& exp, const std::string& value) const {
+  for (const auto& r : results) {
+    if (r.experiment->name != exp) continue;
+    const auto it = r.values.find(value);
+    if (it != r.values.end() && std::isfinite(it->second)) return it->second;
   }
-  out.tables.push_back(readings);
-
-  if (const auto* r = in.own("free")) {
-    Table waves{"The leading wave down the impact column of each block (free bottom) against Nesterenko's law",
-                {"block", "peak force (N)", "speed (m/s)", "Nesterenko (m/s)", "ratio", "pulses"}, {}};
-    double worst = 1.0;
-    for (const auto& w : r->waves) {
-      std::optional<double> ratio;
-      if (w.speed && w.nesterenko_speed) ratio = *w.speed / *w.nesterenko_speed;
-      if (ratio) {
-        out.values[fmt::format("speed_ratio.free.b{}", w.block)] = *ratio;
-        if (std::fabs(*ratio - 1.0) > std::fabs(worst - 1.0)) worst = *ratio;
-      }
-      waves.rows.push_back({std::to_string(w.block), num(w.peak_force), num(w.speed), num(w.nesterenko_speed), num(ratio),
-                            std::to_string(w.pulses)});
-    }
-    out.values["speed_ratio.worst"] = worst;
-    out.tables.push_back(waves);
-    out.figures.push_back(energy_figure(*r, in.figures_dir, "fig2_energy", in.gnuplot,
-                                        "Fig. 2 re-made: kinetic energy of each block of four steel blocks (free bottom), "
-                                        "over the top block's peak; the inset magnifies the lower blocks"));
-  }
-  if (const auto* r = in.own("wall")) {
-    out.figures.push_back(energy_figure(*r, in.figures_dir, "fig2_column_wall", in.gnuplot,
-                                        "The reading that gives the paper's 10 and 3 %: the energy of each block's impact "
-                                        "column over its peak in block 1, bottom wall",
-                                        true));
-  }
+  return std::nullopt;
 }
 
-// fig3: output against N_B per e, and the decay fits both ways the study's form allows.
+double AnalysisInput::paper(const std::string& quantity) const {
+  for (const auto& c : experiment.claims) {
+    if (c.quantity == quantity && c.paper) return *c.paper;
+  }
+  return std::nan("");
+}
+
+const Claim* AnalysisInput::claim_on(const std::string& exp, const std::string& quantity) const {
+  for (const auto& r : results) {
+    if (r.experiment->name != exp) continue;
+    for (const auto& c : r.experiment->claims) {
+      if (c.quantity == quantity) return &c;
+    }
+  }
+  return nullptr;
+}
+
+namespace analyses {
+
+double Seat::eq3() const {
+  const double k = 2.0 * kappa * cos_theta * cos_theta;
+  return (1.0 - k) / (1.0 + k);
+}
+double Seat::eq5() const { return 0.25 * std::pow(2.0 * cos_theta / (1.0 + 2.0 * kappa * cos_theta * cos_theta), 1.2); }
+double Seat::eq4() const { return std::pow(2.0 * cos_theta / (2.0 * cos_theta * cos_theta + 1.0), 1.2); }
+
+Seat seat(double upper_radius, double upper_mass, double lower_radius, double lower_mass) {
+  return {model::seat_height(lower_radius, upper_radius) / (upper_radius + lower_radius), lower_mass / upper_mass};
+}
+
+namespace {
+
 // Fig. 3's outputs: e -> (N_B, E_out/E_in), e from 1 down.
 using OutputsByE = std::map<double, std::vector<std::pair<int, double>>, std::greater<>>;
 
@@ -102,7 +74,7 @@ std::string with_error(const ExperimentResult& out, const std::string& key) {
 }
 
 Table output_table(const OutputsByE& by_e) {
-  Table t{"Output fraction E_out/E_in (the output sphere after it left the free bottom)", {"N_B"}, {}};
+  Table t{"Output fraction E_out/E_in (the output sphere after it left the free bottom), 8 rows", {"N_B"}, {}};
   std::map<int, std::vector<std::string>> rows;
   std::size_t column = 0;
   for (const auto& [e, points] : by_e) {
@@ -136,6 +108,7 @@ void fit_per_e(const OutputsByE& by_e, ExperimentResult& out, Table& fits) {
     const auto key = fmt::format("alpha.e{}", e);
     out.values[key + ".origin"] = fit.alpha_origin * e;
     out.values[key + ".free"] = fit.alpha * e;
+    out.values[key + ".prefactor"] = fit.prefactor;
     if (fit.alpha_origin_error) out.errors[key + ".origin"] = *fit.alpha_origin_error * e;
     if (fit.alpha_error) out.errors[key + ".free"] = *fit.alpha_error * e;
     fits.rows.push_back({fmt::format("{}", e), with_error(out, key + ".origin"), with_error(out, key + ".free"),
@@ -164,13 +137,13 @@ void fit_all(const OutputsByE& by_e, ExperimentResult& out, Table& fits) {
   if (origin.covariance) out.errors["alpha.all.origin"] = origin.error(0);
   if (free.covariance) out.errors["alpha.all.free"] = free.error(1);
   out.values["rms_ln_residual.all.origin"] = std::sqrt(origin.rss / static_cast<double>(n));
-  out.values["rms_ln_residual.all.free"] = std::sqrt(free.rss / static_cast<double>(n));
+  out.values["output_factor.all.origin"] = std::exp(out.values["rms_ln_residual.all.origin"]);
   fits.rows.push_back({"all, one alpha", with_error(out, "alpha.all.origin"), with_error(out, "alpha.all.free"),
                        num(std::exp(free.coefficients(0))), std::to_string(xy.size())});
 }
 
-// The spread of alpha fitted per e, one way ("origin" or "free").
-std::pair<double, double> alpha_range(const OutputsByE& by_e, const ExperimentResult& out, const std::string& way) {
+// The spread of alpha fitted per e, one way ("origin" or "free"), as values ALPHA_WAY.low/high.
+void alpha_range(const OutputsByE& by_e, ExperimentResult& out, const std::string& way) {
   double lo = INFINITY, hi = -INFINITY;
   for (const auto& [e, points] : by_e) {
     const auto it = out.values.find(fmt::format("alpha.e{}.{}", e, way));
@@ -178,18 +151,25 @@ std::pair<double, double> alpha_range(const OutputsByE& by_e, const ExperimentRe
     lo = std::min(lo, it->second);
     hi = std::max(hi, it->second);
   }
-  return {lo, hi};
+  out.values[fmt::format("alpha.{}.lowest", way)] = lo;
+  out.values[fmt::format("alpha.{}.highest", way)] = hi;
 }
 
-// fig3: output against N_B per e, and the decay fits both ways the study's form allows.
+}  // namespace
+
 void fig3(const AnalysisInput& in, ExperimentResult& out) {
   OutputsByE by_e;
   for (const auto& c : in.experiment.cases) {
     const auto* r = in.own(c.name);
-    if (r == nullptr) continue;
+    if (r == nullptr || c.name.rfind("rows", 0) == 0) continue;
     const double e = c.spec.restitution.value;
     by_e[e].emplace_back(c.spec.blocks, r->output_fraction);
     out.values[fmt::format("output.e{}.nb{}", e, c.spec.blocks)] = r->output_fraction;
+  }
+  const auto eight = out.values.find("output.e1.nb3");
+  for (const auto* rows : {"rows4", "rows16"}) {
+    const auto* r = in.own(rows);
+    if (r != nullptr && eight != out.values.end()) out.values[fmt::format("output.{}_over_rows8.nb3", rows)] = r->output_fraction / eight->second;
   }
   Table fits{"Fits of ln(E_out/E_in) = ln A - (alpha/e) N_B per e: alpha (the study's, i.e. the slope times e) with its "
              "standard error",
@@ -204,23 +184,52 @@ void fig3(const AnalysisInput& in, ExperimentResult& out) {
   }
   fit_all(by_e, out, fits);
   out.tables.push_back(fits);
-  const auto [lo0, hi0] = alpha_range(by_e, out, "origin");
-  const auto [lo1, hi1] = alpha_range(by_e, out, "free");
+  alpha_range(by_e, out, "origin");
+  alpha_range(by_e, out, "free");
   out.notes.push_back(fmt::format(
       "How well one alpha describes every e: fitted per e, alpha ranges from {:.3f} to {:.3f} through the origin (the "
-      "form as written) but only from {:.3f} to {:.3f} with a free prefactor A, which falls with e (the table's A). "
-      "One alpha for all e through the origin, {:.3f}, leaves logarithmic residuals of {:.3f} RMS (a factor {:.2f} on "
-      "the output): exp(-(alpha/e) N_B) holds for the slope, while damping also takes a share at the first "
-      "block that the form without a prefactor does not have.",
-      lo0, hi0, lo1, hi1, out.values["alpha.all.origin"], out.values["rms_ln_residual.all.origin"],
-      std::exp(out.values["rms_ln_residual.all.origin"])));
-  out.figures.push_back(decay_figure(by_e, out.values["alpha.all.origin"], in.figures_dir, in.gnuplot));
+      "form as written) and from {:.3f} to {:.3f} with a free prefactor A (the table's A). One alpha for all e through "
+      "the origin, {:.3f}, leaves logarithmic residuals of {:.3f} RMS (a factor {:.3f} on the output).",
+      out.values["alpha.origin.lowest"], out.values["alpha.origin.highest"], out.values["alpha.free.lowest"],
+      out.values["alpha.free.highest"], out.values["alpha.all.origin"], out.values["rms_ln_residual.all.origin"],
+      out.values["output_factor.all.origin"]));
+  std::vector<std::pair<int, double>> paper;
+  for (int nb = 1; nb <= 4; ++nb) {
+    const double p = in.paper(fmt::format("output.e1.nb{}", nb));
+    if (std::isfinite(p)) paper.emplace_back(nb, p);
+  }
+  out.figures.push_back(decay_figure(by_e, out.values["alpha.all.origin"], paper, in.paper("alpha.e1.origin"), in.figures_dir, in.gnuplot));
 }
 
-// friction: how much of the top row's sideways energy friction removes, by width and walls.
+void scale(const AnalysisInput& in, ExperimentResult& out) {
+  const auto* base = in.own("r1mm");
+  Table t{"Three steel blocks, 8 rows, e = 1: the output against size and speed (against the 1 mm, 1 m/s case)",
+          {"case", "bottom radius (m)", "striker speed (m/s)", "dt (s)", "duration (s)", "output", "over 1 mm, 1 m/s"}, {}};
+  for (const auto& c : in.experiment.cases) {
+    const auto* r = in.own(c.name);
+    if (r == nullptr) continue;
+    const auto res = model::resolve(model::Stack::build(c.spec));
+    std::string ratio = "-";
+    if (base != nullptr && c.name != "r1mm") {
+      const bool dt = c.name.rfind("dt", 0) == 0;
+      const auto key = c.name[0] == 'v' ? fmt::format("output.{}_over_v1", c.name)
+                       : dt            ? fmt::format("output.r1mm_over_{}", c.name)
+                                       : fmt::format("output.{}_over_r1mm", c.name);
+      out.values[key] = dt ? base->output_fraction / r->output_fraction : r->output_fraction / base->output_fraction;
+      ratio = fmt::format("{:.6f}", out.values[key]);
+    }
+    t.rows.push_back({c.name, fmt::format("{:g}", c.spec.bottom_radius), fmt::format("{:g}", c.spec.striker_speed),
+                      fmt::format("{:.3g}", res.dt), fmt::format("{:.3g}", res.duration), pct(r->output_fraction), ratio});
+  }
+  out.tables.push_back(t);
+}
+
 void friction(const AnalysisInput& in, ExperimentResult& out) {
-  Table t{"Top row of the top block: sideways energy cut and downward energy change against mu = 0",
-          {"sides", "top columns", "mu", "sideways cut, first contact", "sideways cut, whole run", "downward change"}, {}};
+  Table t{"Top row of the top block: sideways energy cut, downward energy change, and the change of the energy "
+          "transmitted down (the output sphere's), against mu = 0",
+          {"sides", "top columns", "mu", "sideways cut, whole run", "sideways cut, first contact", "downward change",
+           "transmitted change"},
+          {}};
   std::vector<BarGroup> bars;
   for (const auto* sides : {"free", "walls"}) {
     for (const int cols : {2, 4, 8}) {
@@ -231,6 +240,7 @@ void friction(const AnalysisInput& in, ExperimentResult& out) {
       const double window = 1.5 * model::hertz_contact_time(model::striker_contact(stack), base->spec.striker_speed);
       const double side0 = reduce_column(*base, "energy_parts", "top_row_sideways_J").max_until(window);
       BarGroup g{fmt::format("{}\\n{} columns", std::string(sides) == "free" ? "free sides" : "side walls", cols), {}};
+      std::vector<double> firsts;
       for (const double mu : {0.1, 0.25}) {
         const auto* r = in.own(fmt::format("{}_cols{}_mu{}", sides, cols, mu));
         if (r == nullptr) continue;
@@ -238,171 +248,69 @@ void friction(const AnalysisInput& in, ExperimentResult& out) {
         const double first = 1.0 - reduce_column(*r, "energy_parts", "top_row_sideways_J").max_until(window) / side0;
         const double run = 1.0 - r->top_row_sideways_peak / base->top_row_sideways_peak;
         const double down = r->top_row_downward_peak / base->top_row_downward_peak - 1.0;
+        const double sent = r->output_fraction / base->output_fraction - 1.0;
         out.values["sideways_cut_first." + key] = first;
         out.values["sideways_cut_run." + key] = run;
         out.values["downward_change." + key] = down;
-        t.rows.push_back({sides, std::to_string(cols), fmt::format("{}", mu), pct(first), pct(run), fmt::format("{:+.3g} %", 100 * down)});
-        g.values.push_back(first);
+        out.values["transmitted_change." + key] = sent;
+        t.rows.push_back({sides, std::to_string(cols), fmt::format("{}", mu), pct(run), pct(first),
+                          fmt::format("{:+.3g} %", 100 * down), fmt::format("{:+.3g} %", 100 * sent)});
+        g.values.push_back(run);
+        firsts.push_back(first);
       }
+      g.values.insert(g.values.end(), firsts.begin(), firsts.end());
       bars.push_back(g);
     }
   }
   out.tables.push_back(t);
   if (!bars.empty()) {
-    const BarStyle style{"friction_sideways", "Top row of the top block: sideways energy cut by friction",
-                         "sideways energy cut, first contact",
-                         "Friction: the cut of the top row's sideways energy over the first striker contact, by top-block "
-                         "width and side boundary; dashed, the paper's 44 and 75 %",
-                         {{"paper, mu = 0.1: 44 %", 0.44}, {"paper, mu = 0.25: 75 %", 0.75}}};
-    out.figures.push_back(bar_figure(bars, {"mu = 0.1", "mu = 0.25"}, style, in.figures_dir, in.gnuplot));
+    BarStyle style{"friction_sideways", "Top row of the top block: sideways energy cut by friction",
+                         "sideways energy cut",
+                         "Friction: the cut of the top row's sideways energy over the whole run (primary: the first two "
+                         "bars of each group) and over the first striker contact (sensitivity: the last two), by "
+                         "top-block width and side boundary; dashed, the paper's values",
+                         {}};
+    for (const double mu : {0.1, 0.25}) {
+      const double p = in.paper(fmt::format("sideways_cut_run.free.cols4.mu{}", mu));
+      if (std::isfinite(p)) style.references.emplace_back(fmt::format("paper, mu = {}: {:g} %", mu, 100 * p), p);
+    }
+    out.figures.push_back(bar_figure(bars, {"mu = 0.1, whole run", "mu = 0.25, whole run", "mu = 0.1, first contact",
+                                            "mu = 0.25, first contact"},
+                                     style, in.figures_dir, in.gnuplot));
   }
 }
 
-// What a sensitivity case changes from the main case.
-std::string what_changed(const model::StackSpec& main, const model::StackSpec& s) {
-  std::vector<std::string> parts;
-  for (const auto& [pair, v] : s.restitution.pairs) {
-    if (main.restitution.get(pair.first, pair.second) != v) parts.push_back(fmt::format("e({}:{}) = {}", pair.first, pair.second, v));
-  }
-  for (const auto& m : s.custom_materials) {
-    parts.push_back(fmt::format("{}: Y = {:g} GPa, nu = {}", m.name, m.youngs_modulus / 1e9, m.poisson_ratio));
-  }
-  if (s.duration != main.duration && s.duration) parts.push_back(fmt::format("duration {:g} ms", *s.duration * 1e3));
-  return parts.empty() ? "(the model as given)" : fmt::format("{}", fmt::join(parts, "; "));
-}
-
-// What in the Teflon experiments brings the output within the paper's band: the claim on the
-// main case's output gives the band; each finding is named with its value.
-struct BandMatches {
-  const Claim* claim = nullptr;
-  std::vector<std::string> found;
-  void check(double v, const std::string& what) {
-    if (claim != nullptr && v >= claim->low && v <= claim->high) found.push_back(fmt::format("{} ({})", what, pct(v)));
-  }
-  std::string note() const {
-    const auto band = fmt::format("[{}, {}]", pct(claim->low), pct(claim->high));
-    return found.empty() ? fmt::format("No variation tried gives an output within the paper's band {}.", band)
-                         : fmt::format("Within the paper's band {}: {}; nothing else tried.", band, fmt::join(found, "; "));
-  }
-};
-
-// The sensitivity runs: every case of the experiment against the main one.
-void sensitivity_table(const AnalysisInput& in, ExperimentResult& out, const postproc::CaseReduction& main, double paper,
-                       BandMatches& matches) {
-  Table s{fmt::format("Sensitivity: what moves the output (the paper: {})", pct(paper)),
-          {"case", "changed", "output", "over the paper's", "block 2 peak/top"}, {}};
-  for (const auto& c : in.experiment.cases) {
-    const auto* r = in.own(c.name);
+void container(const AnalysisInput& in, ExperimentResult& out) {
+  const auto lone = in.earlier("fig3", "output.e1.nb3");
+  Table t{"The container: three panels of three steel blocks, the centre one hit; energies at the last frame over E_in",
+          {"separator", "output of the panel hit", "over the lone stack", "neighbouring panels", "matrix", "leaked"}, {}};
+  for (const auto* name : {"matrix", "walls"}) {
+    const auto* r = in.own(name);
     if (r == nullptr) continue;
-    out.values["output." + c.name] = r->output_fraction;
-    out.values["block2_peak." + c.name] = r->blocks.at(1).normalised;
-    const auto changed = what_changed(main.spec, c.spec);
-    s.rows.push_back({c.name, changed, pct(r->output_fraction), num(r->output_fraction / paper), num(r->blocks.at(1).normalised)});
-    matches.check(r->output_fraction, changed);
+    double neighbours = 0.0;
+    for (std::size_t p = 0; p < r->panel_final_fraction.size(); ++p) {
+      if (static_cast<int>(p) + 1 != r->spec.measured_panel()) neighbours += r->panel_final_fraction[p];
+    }
+    out.values[fmt::format("neighbours.{}", name)] = neighbours;
+    out.values[fmt::format("leaked.{}", name)] = r->leaked_final_fraction;
+    std::string over = "-";
+    if (lone) {
+      out.values[fmt::format("output.{}_over_lone", name)] = r->output_fraction / *lone;
+      over = num(r->output_fraction / *lone);
+    }
+    t.rows.push_back({name, pct(r->output_fraction), over, fmt::format("{:.3g}", neighbours),
+                      fmt::format("{:.3g}", r->matrix_final_fraction), fmt::format("{:.3g}", r->leaked_final_fraction)});
   }
-  out.tables.push_back(s);
+  out.tables.push_back(t);
+  if (const auto* r = in.own("matrix")) {
+    out.figures.push_back(stack_drawing(model::Stack::build(r->spec), in.figures_dir, "fig1b_container", in.gnuplot,
+                                        "Fig. 1b re-made: the simulated container to scale. Left, the panel hit (x-z plane); "
+                                        "right, every sphere seen along x: three panels side by side, the matrix of Teflon "
+                                        "spheres (orange) in the gaps that grow block by block, the striker (red) on the "
+                                        "centre panel"));
+  }
 }
 
-// The main case's output read other ways: definitions and the window after each kick.
-std::vector<Kick> output_readings(ExperimentResult& out, const postproc::CaseReduction& main, const Curve& output, double paper,
-                                  BandMatches& matches) {
-  const auto stack = model::Stack::build(main.spec);
-  const auto lib = main.spec.material_library();
-  const auto& bottom = stack.blocks().back();
-  const auto& m = lib.at(bottom.material);
-  const double tc = model::hertz_contact_time(model::sphere_sphere(m, bottom.radius, m, bottom.radius), main.spec.striker_speed);
-  const auto k = kicks(output, 2.0 * tc, 1e-4 * output.max());
-  Table d{"The output read other ways (main case)", {"reading", "value", "over the paper's"}, {}};
-  auto add = [&](const std::string& key, const std::string& label, double v) {
-    out.values[key] = v;
-    d.rows.push_back({label, pct(v), num(v / paper)});
-  };
-  add("output_def.final", "output sphere, after it left (granstack's output_fraction)", main.output_fraction);
-  add("output_def.peak", "output sphere, peak kinetic energy", main.output_peak_fraction);
-  add("output_def.bottom_row_per_sphere", "bottom row's final energy per sphere", main.output_fraction_bottom_row_per_sphere);
-  matches.check(main.output_fraction_bottom_row_per_sphere, "the bottom row's energy per sphere");
-  for (std::size_t i = 0; i < k.size(); ++i) {
-    add(fmt::format("output_def.after_kick{}", i + 1),
-        fmt::format("output sphere after kick {} of {} (ends at {:.0f} us)", i + 1, k.size(), k[i].end * 1e6),
-        k[i].after / main.e_in);
-    matches.check(k[i].after / main.e_in, fmt::format("reading the output after kick {}", i + 1));
-  }
-  out.values["kicks"] = static_cast<double>(k.size());
-  out.tables.push_back(d);
-  return k;
-}
-
-// The output of the main case of fig4 or the sandwich read several ways, and the sensitivity runs.
-void sensitivity(const AnalysisInput& in, ExperimentResult& out, const std::string& main_name, double paper) {
-  const auto* main = in.own(main_name);
-  if (main == nullptr) return;
-  out.values["output." + main_name] = main->output_fraction;
-  BandMatches matches;
-  for (const auto& c : in.experiment.claims) {
-    if (c.quantities.front() == "output." + main_name) matches.claim = &c;
-  }
-  sensitivity_table(in, out, *main, paper, matches);
-  const auto output = series_energy(*main, "output_sphere");
-  const auto k = output_readings(out, *main, output, paper, matches);
-  if (matches.claim != nullptr) out.notes.push_back(matches.note());
-  out.figures.push_back(output_figure(*main, output, k, in.figures_dir, main_name + "_output",
-                                      in.gnuplot,
-                                      "The output sphere's kinetic energy over E_in against time, its kicks marked; the "
-                                      "dashed line is the estimated arrival of the pulse at the bottom face (the automatic "
-                                      "duration is 2 of them, 7 with a soft block between stiffer ones)"));
-}
-
-void fig4(const AnalysisInput& in, ExperimentResult& out) {
-  const auto* r = in.own("steel_on_teflon");
-  if (r == nullptr) return;
-  sensitivity(in, out, "steel_on_teflon", 0.04);
-  const auto& teflon = r->waves.at(1);
-  out.values["pulses.teflon"] = teflon.pulses;
-  if (const auto* f2 = in.reduction("fig2", "free")) {
-    out.values["block2_peak_over_fig2"] = r->blocks.at(1).normalised / f2->blocks.at(1).normalised;
-    auto column_leading = [](const postproc::CaseReduction& c) {
-      const auto columns = impact_column_energies(c);
-      return columns.at(1).first_peak() / columns.front().max();
-    };
-    out.values["column_leading_over_fig2"] = column_leading(*r) / column_leading(*f2);
-    const auto& steel = f2->waves.at(1);
-    if (teflon.speed && steel.speed) out.values["speed.teflon_over_steel"] = *teflon.speed / *steel.speed;
-    Table w{"Block 2: steel (Fig. 2) against Teflon (Fig. 4)", {"", "peak/top", "pulses", "speed (m/s)", "Nesterenko (m/s)"}, {}};
-    w.rows.push_back({"steel, Fig. 2", num(f2->blocks.at(1).normalised), std::to_string(steel.pulses), num(steel.speed),
-                      num(steel.nesterenko_speed)});
-    w.rows.push_back({"Teflon, Fig. 4", num(r->blocks.at(1).normalised), std::to_string(teflon.pulses), num(teflon.speed),
-                      num(teflon.nesterenko_speed)});
-    out.tables.push_back(w);
-  }
-  out.figures.push_back(energy_figure(*r, in.figures_dir, "fig4_energy", in.gnuplot,
-                                      "Fig. 4 re-made: kinetic energy of a steel block over a Teflon block, over the top "
-                                      "block's peak; the inset magnifies the Teflon block"));
-}
-
-void sandwich(const AnalysisInput& in, ExperimentResult& out) { sensitivity(in, out, "sandwich", 0.006); }
-
-// eq3: the striker's speed after an isolated collision against the hard-sphere formula.
-// A sphere resting on two smaller ones touching both (model::seat_height): the angle of the
-// contact normals from the vertical and the mass ratio kappa = m_small / m_large of Eq. (3).
-struct Seat {
-  double cos_theta = 0.0, kappa = 0.0;
-  double eq3() const {  // v_f / v_i of the large sphere
-    const double k = 2.0 * kappa * cos_theta * cos_theta;
-    return (1.0 - k) / (1.0 + k);
-  }
-  double eq5() const {  // transmitted amplitude per branch
-    return 0.25 * std::pow(2.0 * cos_theta / (1.0 + 2.0 * kappa * cos_theta * cos_theta), 1.2);
-  }
-  double eq4() const {  // the symmetric Y-branch of granular chains at the same angle
-    return std::pow(2.0 * cos_theta / (2.0 * cos_theta * cos_theta + 1.0), 1.2);
-  }
-};
-
-Seat seat(double upper_radius, double upper_mass, double lower_radius, double lower_mass) {
-  return {model::seat_height(lower_radius, upper_radius) / (upper_radius + lower_radius), lower_mass / upper_mass};
-}
-
-// eq3: the striker's speed after an isolated collision against the hard-sphere formula.
 void eq3(const AnalysisInput& in, ExperimentResult& out) {
   Table t{"v_f/v_i of the striker: Eq. (3) against the run (the engine that ran the cases)",
           {"case", "kappa", "theta (deg)", "Eq. (3)", "measured", "difference"}, {}};
@@ -422,40 +330,16 @@ void eq3(const AnalysisInput& in, ExperimentResult& out) {
   out.tables.push_back(t);
 }
 
-// eq45: the leading wave's peak force in block k+1 over block k, in the stack of Fig. 2.
-void eq45(const AnalysisInput& in, ExperimentResult& out) {
-  const auto* r = in.reduction("fig2", "free");
-  if (r == nullptr) return;
-  Table t{"Peak Hertz force between vertical neighbours of the impact column, block k+1 over block k (Fig. 2's stack)",
-          {"interface", "F_m above (N)", "F_m below (N)", "ratio", "Eq. (5)", "Eq. (4)"}, {}};
-  const auto stack = model::Stack::build(r->spec);
-  double sum = 0.0;
-  int n = 0;
-  for (std::size_t k = 0; k + 1 < r->waves.size(); ++k) {
-    const auto& upper = stack.blocks()[k];
-    const auto& lower = stack.blocks()[k + 1];
-    const auto g = seat(upper.radius, upper.sphere_mass, lower.radius, lower.sphere_mass);
-    const double ratio = r->waves[k + 1].peak_force / r->waves[k].peak_force;
-    out.values[fmt::format("force_ratio.b{}_b{}", k + 1, k + 2)] = ratio;
-    out.values["eq5"] = g.eq5();
-    out.values["eq4"] = g.eq4();
-    sum += ratio;
-    ++n;
-    t.rows.push_back({fmt::format("{} -> {}", k + 1, k + 2), num(r->waves[k].peak_force), num(r->waves[k + 1].peak_force),
-                      fmt::format("{:.3f}", ratio), fmt::format("{:.3f}", g.eq5()), fmt::format("{:.3f}", g.eq4())});
-  }
-  if (n > 0) out.values["force_ratio.mean"] = sum / n;
-  out.tables.push_back(t);
-}
-
-}  // namespace
+}  // namespace analyses
 
 Analysis find_analysis(const std::string& name) {
-  static const std::map<std::string, Analysis> analyses{{"fig2", fig2},         {"fig3", fig3}, {"friction", friction},
-                                                         {"fig4", fig4},         {"sandwich", sandwich},
-                                                         {"eq3", eq3},           {"eq45", eq45}};
-  const auto it = analyses.find(name);
-  return it == analyses.end() ? nullptr : it->second;
+  using namespace analyses;
+  static const std::map<std::string, Analysis> all{{"fig2", fig2},         {"fig3", fig3},       {"scale", scale},
+                                                    {"friction", friction}, {"fig4", fig4},       {"sandwich", sandwich},
+                                                    {"container", container}, {"eq3", eq3},   {"eq45", eq45},
+                                                    {"rows", rows}};
+  const auto it = all.find(name);
+  return it == all.end() ? nullptr : it->second;
 }
 
 }  // namespace granstack::study

@@ -44,9 +44,11 @@ double number(const toml::node* n, const std::string& where) {
 
 // The cases of one [experiment.cases.NAME] table: a spec, or a sweep of specs.
 void add_cases(const std::string& name, toml::table spec, const std::string& where, std::vector<CaseEntry>& out) {
-  bool quick = true;
+  bool quick = true, full = false;
   if (const auto* q = spec.get_as<bool>("quick")) quick = q->get();
+  if (const auto* f = spec.get_as<bool>("full")) full = f->get();
   spec.erase("quick");
+  spec.erase("full");
   std::ostringstream os;
   os << spec;
   try {
@@ -54,7 +56,7 @@ void add_cases(const std::string& name, toml::table spec, const std::string& whe
     for (auto& c : generator::expand(sweep)) {
       const bool single = sweep.axes.empty();
       std::string case_name = single ? name : name == "sweep" ? c.name : name + "_" + c.name;
-      out.push_back({std::move(case_name), std::move(c.spec), quick});
+      out.push_back({std::move(case_name), std::move(c.spec), quick, full});
     }
   } catch (const model::SpecError& e) {
     throw CatalogueError(fmt::format("{}: {}", where, e.what()));
@@ -66,8 +68,12 @@ Claim parse_claim(const toml::table& t, const std::string& experiment, std::size
   c.id = fmt::format("{}.{}", experiment, index);
   const auto where = fmt::format("claim {}", c.id);
   c.statement = text(t, "statement", where);
-  c.quantities = strings(t.get("quantity"), where + ".quantity");
-  if (c.quantities.empty()) throw CatalogueError(where + ": 'quantity' is missing");
+  const auto* quantity = t.get("quantity");
+  if (quantity == nullptr || !quantity->is_string()) {
+    throw CatalogueError(where + ": 'quantity' is the one primary reading, a string (other readings go in 'sensitivity')");
+  }
+  c.quantity = quantity->as_string()->get();
+  c.sensitivity = strings(t.get("sensitivity"), where + ".sensitivity");
   if (t.contains("paper")) c.paper = number(t.get("paper"), where + ".paper");
   const auto* band = t.get_as<toml::array>("band");
   if (band == nullptr || band->size() != 2) throw CatalogueError(where + ": 'band' is [low, high]");
@@ -88,8 +94,10 @@ Experiment parse_experiment(const toml::table& t) {
   e.source = text(t, "source", where);
   e.analysis = text(t, "analysis", where);
   e.explanation = text(t, "explanation", where, false);
+  e.main = text(t, "main", where, false);
   e.needs = strings(t.get("needs"), where + ".needs");
   if (const auto* q = t.get_as<bool>("quick")) e.quick = q->get();
+  if (const auto* f = t.get_as<bool>("full")) e.full = f->get();
   if (const auto* cases = t.get_as<toml::table>("cases")) {
     for (const auto& [key, node] : *cases) {
       const auto* spec = node.as_table();
@@ -97,6 +105,10 @@ Experiment parse_experiment(const toml::table& t) {
       add_cases(std::string(key.str()), *spec, fmt::format("{} case {}", where, key.str()), e.cases);
     }
   }
+  if (!e.main.empty() && std::none_of(e.cases.begin(), e.cases.end(), [&](const CaseEntry& c) { return c.name == e.main; })) {
+    throw CatalogueError(fmt::format("{}: main = \"{}\" is not one of its cases", where, e.main));
+  }
+  if (e.main.empty() && !e.cases.empty()) e.main = e.cases.front().name;
   if (const auto* claims = t.get_as<toml::array>("claim")) {
     std::size_t n = 0;
     for (const auto& node : *claims) {
@@ -152,7 +164,7 @@ const Catalogue& builtin_catalogue() {
   return c;
 }
 
-std::vector<const Experiment*> select(const Catalogue& c, const std::vector<std::string>& names, bool quick) {
+std::vector<const Experiment*> select(const Catalogue& c, const std::vector<std::string>& names, bool quick, bool full) {
   std::vector<std::string> wanted;
   for (const auto& n : names) {
     if (c.find(n) == nullptr) {
@@ -162,7 +174,7 @@ std::vector<const Experiment*> select(const Catalogue& c, const std::vector<std:
   }
   if (wanted.empty()) {
     for (const auto& e : c.experiments) {
-      if (!quick || e.quick) wanted.push_back(e.name);
+      if ((!quick || e.quick) && (full || !e.full)) wanted.push_back(e.name);
     }
   }
   // The experiments they need, and theirs.

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace granstack::study {
 
@@ -27,53 +28,80 @@ Figure render(const std::string& dir, const std::string& name, const std::string
 
 }  // namespace
 
-Figure energy_figure(const postproc::CaseReduction& r, const std::string& dir, const std::string& name,
-                     const std::string& gnuplot, const std::string& caption, bool impact_column) {
-  const int nb = r.spec.blocks;
-  const auto curves = impact_column ? impact_column_energies(r) : block_energies(r);
-  const double top = curves.front().max();
-  const std::size_t stride = std::max<std::size_t>(1, curves.front().t.size() / 3000);
+std::string gp_quote(const std::string& text) {
+  std::string out = "'";
+  for (const char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
+std::pair<double, double> action_window(const std::vector<Curve>& curves, double start_level, double end_level) {
+  double first = INFINITY, last = 0.0;
+  for (const auto& c : curves) {
+    const double top = c.max();
+    if (!(top > 0.0)) continue;
+    for (std::size_t i = 0; i < c.y.size(); ++i) {
+      if (c.y[i] > start_level * top) first = std::min(first, c.t[i]);
+      if (c.y[i] > end_level * top) last = std::max(last, c.t[i]);
+    }
+  }
+  if (!(first < last)) return {0.0, 0.0};
+  const double margin = 0.08 * (last - first);
+  return {std::max(0.0, first - margin), last + margin};
+}
+
+Figure energy_plot(const EnergyPlot& p, const std::string& dir, const std::string& gnuplot) {
   fmt::memory_buffer data;
   auto out = std::back_inserter(data);
-  fmt::format_to(out, "# time (us), then E_k of each block's {} (top block first) / its peak in block 1 ({:.6g} J)\n",
-                 impact_column ? "impact column" : "spheres", top);
+  const auto nb = static_cast<int>(p.curves.size());
+  const std::vector<Curve> lower_curves(p.curves.begin() + std::min(nb, p.inset_from - 1), p.curves.end());
+  const auto [t0, t1] = p.window ? *p.window : action_window(p.curves, 0.01, 0.2);
+  auto [i0, i1] = action_window(lower_curves, 0.01, 0.2);
+  if (p.window) i1 = t1;
   double lower = 0.0;
-  for (std::size_t i = 0; i < curves.front().t.size(); i += stride) {
-    fmt::format_to(out, "{:.6g}", curves.front().t[i] * 1e6);
-    for (int k = 0; k < nb; ++k) {
-      const double v = curves[static_cast<std::size_t>(k)].y[i] / top;
-      if (k > 0) lower = std::max(lower, v);
-      fmt::format_to(out, " {:.6g}", v);
+  for (int k = 0; k < nb; ++k) {
+    const auto& c = p.curves[static_cast<std::size_t>(k)];
+    fmt::format_to(out, "# block {}: time (us), E_k / {:.6g} J\n", k + 1, p.scale);
+    const std::size_t stride = std::max<std::size_t>(1, c.t.size() / 4000);
+    for (std::size_t i = 0; i < c.t.size(); i += stride) {
+      const double v = c.y[i] / p.scale;
+      if (k + 1 >= p.inset_from) lower = std::max(lower, v);
+      fmt::format_to(out, "{:.6g} {:.6g}\n", c.t[i] * 1e6, v);
     }
-    fmt::format_to(out, "\n");
+    fmt::format_to(out, "\n\n");
   }
-  std::string materials;
-  for (int k = 1; k <= nb; ++k) materials += fmt::format("{}{}", k > 1 ? "/" : "", r.spec.block_material(k));
+  std::string references;
+  for (std::size_t i = 0; i < p.references.size(); ++i) {
+    const auto& [label, value] = p.references[i];
+    lower = std::max(lower, value);
+    references += fmt::format("set arrow {} from graph 0, first {:.6g} to graph 1, first {:.6g} nohead dashtype 2 linewidth 1.5 "
+                              "linecolor rgb 'black' front\nset label {} {} at graph {}, first {:.6g} {} offset 0, 0.6 "
+                              "front noenhanced\n",
+                              i + 1, value, value, i + 1, gp_quote(label), i % 2 == 0 ? "0.99" : "0.01", value,
+                              i % 2 == 0 ? "right" : "left");  // alternate sides: close values' labels never meet
+  }
   // Fixed margins, so the inset sits in the empty band above the curves (the y axis reaches 1.75,
   // the curves 1): it covers no curve, and the key sits at the top left, beside it.
   const auto body = fmt::format(
-      "set title '{} block{} ({}), e = {}, {}{}' noenhanced\n"
-      "set xlabel 'time t (µs)'\nset ylabel '{}'\n"
+      "set title {} noenhanced\nset xlabel 'time t (µs)'\nset ylabel {} noenhanced\n"
       "set lmargin at screen 0.09\nset rmargin at screen 0.97\nset bmargin at screen 0.11\nset tmargin at screen 0.92\n"
       "set grid\nset key at graph 0.02, graph 0.97 left top box opaque\nset yrange [0:1.75]\nset ytics 0, 0.2, 1.0\n"
-      "set autoscale xfix\nset multiplot\n"
-      "plot for [k=1:{}] '{}.dat' using 1:(column(k+1)) with lines linewidth 2 linecolor k title sprintf('block %d', k)\n"
-      "# The inset: the lower blocks, magnified.\n"
-      "set lmargin at screen 0.47\nset rmargin at screen 0.95\nset bmargin at screen 0.645\nset tmargin at screen 0.895\n"
+      "set xrange [{:.6g}:{:.6g}]\nset multiplot\n"
+      "plot for [k=1:{}] '{}.dat' index (k-1) using 1:2 with lines linewidth 2 linecolor k title sprintf('block %d', k)\n"
+      "# The inset: blocks {} to {}, magnified on their own scales, the paper's values dashed.\n"
+      "set lmargin at screen 0.40\nset rmargin at screen 0.95\nset bmargin at screen 0.62\nset tmargin at screen 0.895\n"
       "unset title\nunset xlabel\nunset ylabel\nunset key\nset ytics autofreq\n"
       "set object 1 rectangle from graph 0, graph 0 to graph 1, graph 1 behind fillcolor rgb 'white' fillstyle solid noborder\n"
-      "set yrange [0:{:.3g}]\n"
-      "plot for [k=2:{}] '{}.dat' using 1:(column(k+1)) with lines linewidth 2 linecolor k notitle\n"
+      "set xrange [{:.6g}:{:.6g}]\nset yrange [0:{:.3g}]\n{}"
+      "plot for [k={}:{}] '{}.dat' index (k-1) using 1:2 with lines linewidth 2 linecolor k notitle\n"
       "unset multiplot\n",
-      nb, nb == 1 ? "" : "s", materials, r.spec.restitution.value,
-      r.spec.bottom == model::Boundary::wall ? "bottom wall" : "free bottom", impact_column ? ", impact column" : "",
-      impact_column ? "E_k of the impact column / its peak in block 1" : "E_k / max E_k of block 1", nb, name,
-      lower > 0.0 ? 1.15 * lower : 1.0, nb, name);
-  return render(dir, name, fmt::to_string(data), body, gnuplot, caption);
+      gp_quote(p.title), gp_quote(p.ylabel), t0 * 1e6, t1 * 1e6, nb, p.name, p.inset_from, nb, i0 * 1e6, i1 * 1e6,
+      lower > 0.0 ? 1.3 * lower : 1.0, references, p.inset_from, nb, p.name);
+  return render(dir, p.name, fmt::to_string(data), body, gnuplot, p.caption);
 }
 
 Figure decay_figure(const std::map<double, std::vector<std::pair<int, double>>, std::greater<>>& by_e, double alpha,
-                    const std::string& dir, const std::string& gnuplot) {
+                    const std::vector<std::pair<int, double>>& paper, double alpha_paper, const std::string& dir,
+                    const std::string& gnuplot) {
   fmt::memory_buffer data;
   auto out = std::back_inserter(data);
   std::string plots;
@@ -89,6 +117,15 @@ Figure decay_figure(const std::map<double, std::vector<std::pair<int, double>>, 
     plots += fmt::format("{}'decay.dat' index {} using 1:2 with points pointtype 7 pointsize 1.6 linecolor {} title 'e = {}', \\\n"
                          "     exp(-({:.6g}/{})*x) with lines dashtype 2 linecolor {} notitle",
                          plots.empty() ? "" : ", \\\n     ", index, index + 1, e, alpha, e, index + 1);
+  }
+  if (!paper.empty()) {
+    fmt::format_to(out, "# the paper: N_B, E_out/E_in\n");
+    for (const auto& [nb, f] : paper) fmt::format_to(out, "{} {:.6g}\n", nb, f);
+    fmt::format_to(out, "\n\n");
+    plots += fmt::format(", \\\n     'decay.dat' index {} using 1:2 with points pointtype 4 pointsize 2.4 linewidth 2 linecolor "
+                         "rgb 'black' title 'paper, e = 1', \\\n     exp(-{:.6g}*x) with lines dashtype 3 linewidth 2 linecolor "
+                         "rgb 'black' title 'paper: exp(-{:g} N_B)'",
+                         index, alpha_paper, alpha_paper);
   }
   const auto body = fmt::format(
       "set title 'Fig. 3 re-made: output against depth; dashed: exp(-(α/e) N_B), α = {:.3f} for all e'\n"
@@ -133,7 +170,7 @@ Figure bar_figure(const std::vector<BarGroup>& groups, const std::vector<std::st
   return render(dir, name, fmt::to_string(data), body, gnuplot, style.caption);
 }
 
-Figure output_figure(const postproc::CaseReduction& r, const Curve& output, const std::vector<Kick>& kicks,
+Figure output_figure(const postproc::CaseReduction& r, const Curve& output, const std::vector<Kick>& kicks, double paper,
                      const std::string& dir, const std::string& name, const std::string& gnuplot, const std::string& caption) {
   fmt::memory_buffer data;
   auto out = std::back_inserter(data);
@@ -142,19 +179,126 @@ Figure output_figure(const postproc::CaseReduction& r, const Curve& output, cons
   for (std::size_t i = 0; i < output.t.size(); i += stride) fmt::format_to(out, "{:.6g} {:.6g}\n", output.t[i] * 1e6, output.y[i] / r.e_in);
   std::string marks;
   for (std::size_t i = 0; i < kicks.size(); ++i) {
-    marks += fmt::format("set label {} 'kick {}' at {:.6g}, {:.6g} offset 0.5, 0.8\n", i + 1, i + 1, kicks[i].end * 1e6,
+    marks += fmt::format("set label {} 'kick {}' at {:.6g}, {:.6g} right offset -0.5, 0.8\n", i + 1, i + 1, kicks[i].end * 1e6,
                          kicks[i].after / r.e_in);
   }
   const double arrival = model::resolve(model::Stack::build(r.spec)).arrival_estimate * 1e6;
   std::string materials;
   for (int k = 1; k <= r.spec.blocks; ++k) materials += fmt::format("{}{}", k > 1 ? "/" : "", r.spec.block_material(k));
   marks += fmt::format("set label 100 'estimated arrival' at {:.6g}, graph 0.05 offset 0.5, 0 textcolor rgb 'gray40'\n", arrival);
+  marks += fmt::format("set arrow 101 from graph 0, first {0:.6g} to graph 1, first {0:.6g} nohead dashtype 2 linewidth 1.5 "
+                       "linecolor rgb 'black'\nset label 101 'paper: {1}' at graph 0.02, first {0:.6g} offset 0, 0.6\n",
+                       paper, fmt::format("{:g} %", 100.0 * paper));
+  // The action: up to the last kick (or the estimated arrival), and room above the highest value.
+  const double t_end = 1.3 * std::max(kicks.empty() ? 0.0 : kicks.back().end * 1e6, arrival);
+  const double y_top = 1.2 * std::max(output.max() / r.e_in, paper);
   const auto body = fmt::format(
       "set title 'Output sphere, {}, e = {}' noenhanced\nset xlabel 'time t (µs)'\nset ylabel 'E_k / E_{{in}}'\n"
-      "set grid\nset key top left\nset yrange [0:*]\nset offsets 0, 0, graph 0.15, 0\n"
+      "set grid\nset key top left\nset xrange [0:{:.6g}]\nset yrange [0:{:.6g}]\n"
       "set arrow 100 from {:.6g}, graph 0 to {:.6g}, graph 1 nohead dashtype 2 linecolor rgb 'gray40'\n{}"
       "plot '{}.dat' using 1:2 with lines linewidth 2 title 'output sphere'\n",
-      materials, r.spec.restitution.value, arrival, arrival, marks, name);
+      materials, r.spec.restitution.value, t_end, y_top, arrival, arrival, marks, name);
+  return render(dir, name, fmt::to_string(data), body, gnuplot, caption);
+}
+
+Figure scan_figure(const std::vector<ScanSeries>& series, const std::vector<ScanBand>& bands, const std::string& dir,
+                   const std::string& gnuplot, const std::string& caption) {
+  const std::string name = "teflon_restitution_scan";
+  fmt::memory_buffer data;
+  auto out = std::back_inserter(data);
+  std::string plots, shading;
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    fmt::format_to(out, "# {}: e, E_out/E_in\n", series[i].title);
+    for (const auto& [e, f] : series[i].by_e) fmt::format_to(out, "{:g} {:.6g}\n", e, f);
+    fmt::format_to(out, "\n\n");
+    plots += fmt::format("{}'{}.dat' index {} using 1:2 with linespoints linewidth 2 pointtype {} linecolor {} dashtype {} title {} "
+                         "noenhanced",
+                         i == 0 ? "" : ", ", name, i, 7 + 2 * static_cast<int>(i % 3), series[i].band + 1, i % 2 + 1,
+                         gp_quote(series[i].title));
+  }
+  const char* colours[] = {"#9400d3", "#009e73", "#56b4e9", "#e69f00"};  // gnuplot's line types 1 to 4
+  for (std::size_t b = 0; b < bands.size(); ++b) {
+    const auto* c = colours[b % 4];
+    shading += fmt::format("set object {0} rectangle from graph 0, first {1:.6g} to graph 1, first {2:.6g} behind fillcolor rgb '{3}' "
+                           "fillstyle transparent solid 0.15 noborder\n"
+                           "set arrow {0} from graph 0, first {4:.6g} to graph 1, first {4:.6g} nohead dashtype 3 linewidth 1.5 "
+                           "linecolor rgb '{3}'\nset label {0} {5} at graph 0.01, first {4:.6g} left offset 0, 0.6 textcolor rgb '{3}' "
+                           "noenhanced\n",
+                           b + 1, bands[b].low, bands[b].high, c, bands[b].paper, gp_quote(bands[b].label));
+  }
+  const auto body = fmt::format(
+      "set title 'The output against the restitution of the Teflon contacts, by read-out'\n"
+      "set xlabel 'restitution e of the steel/Teflon and Teflon/Teflon contacts'\nset ylabel 'E_{{out}} / E_{{in}}'\n"
+      "set logscale y\nset grid\nset key below maxcols 2\nset xrange [0.48:1.02]\n{}plot {}\n",
+      shading, plots);
+  return render(dir, name, fmt::to_string(data), body, gnuplot, caption);
+}
+
+namespace {
+
+// A tic step of 1, 2 or 5 times a power of ten giving about `count` tics over `span`.
+double nice_step(double span, double count) {
+  const double raw = span / count, decade = std::pow(10.0, std::floor(std::log10(raw)));
+  for (const double m : {1.0, 2.0, 5.0}) {
+    if (m * decade >= raw) return m * decade;
+  }
+  return 10.0 * decade;
+}
+
+// One view of the spheres: data block `index` of the drawing's file, (h, z, radius, colour) in mm.
+struct View {
+  std::string title, axis;
+  double lo = INFINITY, hi = -INFINITY, bottom = INFINITY, top = -INFINITY;
+};
+
+void add_view(const model::Stack& stack, bool along_x, bool one_panel, View& v, fmt::memory_buffer& data) {
+  auto out = std::back_inserter(data);
+  const auto materials = stack.type_materials();
+  for (const auto& s : stack.spheres()) {
+    const bool striker = s.id <= stack.strikers();
+    if (one_panel && !striker && (stack.is_matrix(s) || s.column_y != stack.impact_panel())) continue;
+    if (one_panel && striker && s.id != stack.impact_panel() && stack.strikers() > 1) continue;
+    const double h = (along_x ? s.y : s.x) * 1e3, z = s.z * 1e3, rad = s.radius * 1e3;
+    const auto& m = materials.at(static_cast<std::size_t>(s.atom_type - 1));
+    fmt::format_to(out, "{:.6g} {:.6g} {:.6g} {}\n", h, z, rad, striker ? 1 : m == "steel" ? 2 : m == "teflon" ? 3 : 4);
+    v.lo = std::min(v.lo, h - rad);
+    v.hi = std::max(v.hi, h + rad);
+    v.top = std::max(v.top, z + rad);
+    v.bottom = std::min(v.bottom, z - rad);
+  }
+  fmt::format_to(out, "\n\n");
+}
+
+std::string view_script(const View& v, int index, const std::string& name) {
+  const double pad = 0.04 * std::max(v.hi - v.lo, v.top - v.bottom);
+  return fmt::format("set title {} noenhanced\nset xlabel '{} (mm)'\nset xrange [{:.6g}:{:.6g}]\nset yrange [{:.6g}:{:.6g}]\n"
+                     "set xtics {:g}\nset ytics {:g}\n"
+                     "plot '{}.dat' index {} using 1:2:3:4 with circles linewidth 0.3 fillcolor palette\n",
+                     gp_quote(v.title), v.axis, v.lo - pad, v.hi + pad, v.bottom - pad, v.top + pad,
+                     nice_step(v.hi - v.lo + 2 * pad, 4), nice_step(v.top - v.bottom + 2 * pad, 6), name, index);
+}
+
+}  // namespace
+
+Figure stack_drawing(const model::Stack& stack, const std::string& dir, const std::string& name, const std::string& gnuplot,
+                     const std::string& caption) {
+  fmt::memory_buffer data;
+  fmt::format_to(std::back_inserter(data), "# per view: h (mm, x or y), z (mm), radius (mm), colour: 1 striker, 2 steel, 3 Teflon, 4 other\n");
+  View side{stack.container() ? "the panel hit, x-z plane" : "the simulated stack, x-z plane", "x"};
+  add_view(stack, false, true, side, data);
+  std::string plots = view_script(side, 0, name);
+  std::string layout = "set multiplot\n";
+  if (stack.container()) {
+    View across{"the container seen along x (every sphere)", "y"};
+    add_view(stack, true, false, across, data);
+    layout = "set multiplot layout 1, 2\n";
+    plots += view_script(across, 1, name);
+  }
+  const auto body = fmt::format(
+      "set ylabel 'z (mm)'\nset size ratio -1\nunset key\nset style fill transparent solid 0.6 border lc rgb 'black'\n"
+      "set palette defined (1 'red', 2 'gray50', 3 'orange', 4 'skyblue')\nset cbrange [1:4]\nunset colorbox\n{}{}"
+      "unset multiplot\n",
+      layout, plots);
   return render(dir, name, fmt::to_string(data), body, gnuplot, caption);
 }
 

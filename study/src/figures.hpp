@@ -3,24 +3,44 @@
 // render_gnuplot: data and a readable script beside each image).
 #include "curves.hpp"
 
+#include <granstack/model/stack.hpp>
 #include <granstack/study/reproduce.hpp>
 
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace granstack::study {
 
-// Each block's kinetic energy over the top block's peak against time, with an inset magnifying
-// the lower blocks (Fig. 2 and 4); with `impact_column`, the energy of each block's impact
-// column instead (over its peak in block 1).
-Figure energy_figure(const postproc::CaseReduction& r, const std::string& dir, const std::string& name,
-                     const std::string& gnuplot, const std::string& caption, bool impact_column = false);
+// Energy curves of each block (top block first) over a common scale against time, in the
+// paper's style: every block in the main panel, and an inset magnifying blocks inset_from..N on
+// their own scale with the paper's values dashed across it.
+struct EnergyPlot {
+  std::string name, title, ylabel, caption;
+  std::vector<Curve> curves;  // top block first; each with its own times
+  double scale = 1.0;         // the curves are plotted divided by it
+  int inset_from = 2;         // block number
+  std::vector<std::pair<std::string, double>> references;  // (label, value over scale), dashed in the inset
+  // The time axis, s (the main panel's; the inset's starts where the lower blocks move): by
+  // default action_window of the curves.
+  std::optional<std::pair<double, double>> window;
+};
+Figure energy_plot(const EnergyPlot& p, const std::string& dir, const std::string& gnuplot);
 
-// Output against N_B on a log axis per e (points), with exp(-(alpha/e) N_B) for one alpha (Fig. 3).
+// Where a figure's time axis shows the action: from the first time any curve exceeds
+// `start_level` of its own largest value to the last time any exceeds `end_level` of it (a
+// plateau of departing spheres is no action), with a margin of 8 % of that stretch either side.
+std::pair<double, double> action_window(const std::vector<Curve>& curves, double start_level, double end_level);
+
+// A string as gnuplot reads it, in single quotes (a quote inside doubled).
+std::string gp_quote(const std::string& text);
+
+// The paper's outputs (N_B, fraction) are drawn as open squares with its exp(-alpha_paper N_B).
 Figure decay_figure(const std::map<double, std::vector<std::pair<int, double>>, std::greater<>>& by_e, double alpha,
-                    const std::string& dir, const std::string& gnuplot);
+                    const std::vector<std::pair<int, double>>& paper, double alpha_paper, const std::string& dir,
+                    const std::string& gnuplot);
 
 struct BarGroup {
   std::string label;
@@ -34,8 +54,27 @@ struct BarStyle {
 Figure bar_figure(const std::vector<BarGroup>& groups, const std::vector<std::string>& series, const BarStyle& style,
                   const std::string& dir, const std::string& gnuplot);
 
-// The output sphere's energy over E_in against time, its kicks marked.
-Figure output_figure(const postproc::CaseReduction& r, const Curve& output, const std::vector<Kick>& kicks,
+// The output sphere's energy over E_in against time, its kicks marked, the paper's value dashed.
+Figure output_figure(const postproc::CaseReduction& r, const Curve& output, const std::vector<Kick>& kicks, double paper,
                      const std::string& dir, const std::string& name, const std::string& gnuplot, const std::string& caption);
+
+// Outputs against the restitution of the Teflon contacts, one line per series (a figure and a
+// read-out), on a log axis, with each figure's acceptance band shaded and the paper's value dashed.
+struct ScanSeries {
+  std::string title;
+  std::map<double, double> by_e;  // e -> E_out / E_in
+  int band = 0;                   // index into the bands
+};
+struct ScanBand {
+  std::string label;
+  double low = 0.0, high = 0.0, paper = 0.0;
+};
+Figure scan_figure(const std::vector<ScanSeries>& series, const std::vector<ScanBand>& bands, const std::string& dir,
+                   const std::string& gnuplot, const std::string& caption);
+
+// A drawing of the simulated stack (Fig. 1a: the x-z plane) or container (Fig. 1b: every sphere
+// projected on the y-z plane), to scale: spheres by material, the striker red.
+Figure stack_drawing(const model::Stack& stack, const std::string& dir, const std::string& name, const std::string& gnuplot,
+                     const std::string& caption);
 
 }  // namespace granstack::study

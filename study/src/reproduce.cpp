@@ -26,32 +26,30 @@ const CaseRecord* ExperimentResult::find_case(const std::string& name) const {
   return nullptr;
 }
 
+namespace {
+std::optional<double> measured(const std::map<std::string, double>& values, const std::string& q) {
+  const auto it = values.find(q);
+  return it == values.end() || !std::isfinite(it->second) ? std::nullopt : std::optional<double>(it->second);
+}
+}  // namespace
+
 Verdict judge(const Claim& claim, const std::map<std::string, double>& values, const std::map<std::string, double>& errors) {
   Verdict v;
   v.claim = &claim;
-  v.verdict = "not measured";
-  double closest = INFINITY;
-  for (const auto& q : claim.quantities) {
-    const auto it = values.find(q);
-    if (it == values.end() || !std::isfinite(it->second)) {
-      v.readings.emplace_back(q, std::nullopt);
-      continue;
-    }
-    const double x = it->second;
-    v.readings.emplace_back(q, x);
-    const double scale = std::max({std::fabs(claim.low), std::fabs(claim.high), 1e-300});
-    const double off = x < claim.low ? (claim.low - x) / scale : x > claim.high ? (x - claim.high) / scale : 0.0;
-    if (v.verdict == "within") continue;
-    if (off == 0.0 || off < closest) {
-      closest = off;
-      v.reading = q;
-      v.value = x;
-      const auto e = errors.find(q);
-      v.error = e == errors.end() ? std::nullopt : std::optional<double>(e->second);
-      v.verdict = off == 0.0 ? "within" : "outside";
-      v.off = off;
-    }
+  for (const auto& q : claim.sensitivity) v.sensitivity.emplace_back(q, measured(values, q));
+  v.value = measured(values, claim.quantity);
+  if (!v.value) {
+    v.verdict = "not measured";
+    return v;
   }
+  const double x = *v.value;
+  v.error = measured(errors, claim.quantity);
+  const double edge = x < claim.low ? claim.low : claim.high;
+  const double scale = edge != 0.0 ? std::fabs(edge) : std::max({std::fabs(claim.low), std::fabs(claim.high), 1e-300});
+  v.verdict = x >= claim.low && x <= claim.high ? "within" : "outside";
+  v.off = v.verdict == "within" ? 0.0 : std::fabs(x - edge) / scale;
+  if (claim.paper && *claim.paper != 0.0) v.from_paper = (x - *claim.paper) / std::fabs(*claim.paper);
+  if (claim.paper && v.error && *v.error > 0.0) v.sigmas = (x - *claim.paper) / *v.error;
   return v;
 }
 
@@ -189,12 +187,13 @@ void validate_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o) 
   }
 }
 
-void analyse(ExperimentResult& e, const std::map<std::string, const CaseRecord*>& all, const ReproduceOptions& o) {
+void analyse(ExperimentResult& e, const std::map<std::string, const CaseRecord*>& all, const ReproduceOptions& o,
+             const std::vector<ExperimentResult>& results) {
   const auto analysis = find_analysis(e.experiment->analysis);
   if (analysis == nullptr) {
     e.notes.push_back(fmt::format("granstack has no analysis '{}'", e.experiment->analysis));
   } else {
-    const AnalysisInput in{*e.experiment, all, (fs::path(o.output) / "figures").string(), o.gnuplot};
+    const AnalysisInput in{*e.experiment, all, (fs::path(o.output) / "figures").string(), o.gnuplot, results};
     try {
       analysis(in, e);
     } catch (const std::exception& ex) {
@@ -210,9 +209,10 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& o) {
   const auto start = Clock::now();
   StudyResult result;
   result.quick = o.quick;
+  result.full = o.full;
   result.validated = o.validate;
   result.engine = o.engine;
-  const auto selected = select(catalogue, o.experiments, o.quick);
+  const auto selected = select(catalogue, o.experiments, o.quick, o.full);
   const fs::path root(o.output);
   prepare_directory(root);
 
@@ -222,7 +222,7 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& o) {
     auto& er = result.experiments.emplace_back();
     er.experiment = e;
     for (const auto& c : e->cases) {
-      if (o.quick && !c.quick) continue;
+      if ((o.quick && !c.quick) || (!o.full && c.full)) continue;
       CaseRecord record;
       record.name = c.name;
       record.dir = (root / e->name / c.name).string();
@@ -247,7 +247,7 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& o) {
     for (const auto& c : e.cases) all[e.experiment->name + "/" + c.name] = &c;
   }
   if (o.on_progress) o.on_progress("analyse and write the report");
-  for (auto& e : result.experiments) analyse(e, all, o);
+  for (auto& e : result.experiments) analyse(e, all, o, result.experiments);
   result.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   write_report(result, o.output);
   return result;

@@ -7,20 +7,23 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <regex>
 
 using namespace granstack::study;
 
 namespace {
 
-TEST(Catalogue, TheBuiltInCatalogueHoldsTheStudysSevenExperimentsWithValidCasesAndClaims) {
+TEST(Catalogue, TheBuiltInCatalogueHoldsTheStudysExperimentsWithValidCasesAndClaims) {
   const auto& c = builtin_catalogue();
-  const std::vector<std::string> expected{"fig2", "fig3", "friction", "fig4", "sandwich", "eq3", "eq45"};
+  const std::vector<std::string> expected{"fig2", "fig3", "scale", "friction", "fig4", "sandwich", "container", "eq3", "eq45", "rows"};
   EXPECT_EQ(c.names(), expected);
   for (const auto& e : c.experiments) {
     EXPECT_FALSE(e.claims.empty()) << e.name;
     for (const auto& claim : e.claims) {
       EXPECT_LE(claim.low, claim.high) << claim.id;
       EXPECT_FALSE(claim.band_reason.empty()) << claim.id;
+      EXPECT_FALSE(claim.quantity.empty()) << claim.id;
       if (claim.paper && claim.id != "eq45.2" && claim.id != "fig3.7") {
         // A stated value lies inside its own acceptance band (except where the claim is the
         // paper's value set against another law).
@@ -28,16 +31,38 @@ TEST(Catalogue, TheBuiltInCatalogueHoldsTheStudysSevenExperimentsWithValidCasesA
       }
     }
   }
-  // Fig. 3 is the 4 x 4 sweep, named as generate names sweep cases.
+  // Fig. 3 is the 4 x 4 sweep, named as generate names sweep cases, and two heights of three blocks.
   const auto* fig3 = c.find("fig3");
   ASSERT_NE(fig3, nullptr);
-  EXPECT_EQ(fig3->cases.size(), 16u);
-  EXPECT_EQ(fig3->cases.front().name, "nb1_e1");
-  EXPECT_EQ(fig3->cases.back().name, "nb4_e0.9");
+  EXPECT_EQ(fig3->cases.size(), 18u);
+  auto has = [](const Experiment& e, const std::string& name) {
+    return std::any_of(e.cases.begin(), e.cases.end(), [&](const CaseEntry& x) { return x.name == name; });
+  };
+  EXPECT_TRUE(has(*fig3, "nb1_e1") && has(*fig3, "nb4_e0.9") && has(*fig3, "rows4")) << "fig3's cases";
   // The isolated collision is a stack granstack can build: one row of two spheres, a striker twice their radius.
   const auto& eq3 = c.find("eq3")->cases.front();
   EXPECT_EQ(eq3.spec.rows, 1);
   EXPECT_EQ(eq3.spec.striker_radius_ratio, 2.0);
+  // The tall blocks of Fig. 2 and 4 (the paper's "large enough"), and the convergence study only with --full.
+  EXPECT_EQ(c.find("fig2")->cases.front().spec.rows, 24);
+  EXPECT_TRUE(c.find("rows")->full);
+}
+
+// Every number the report gives as measured is computed by the run: an explanation written by
+// hand in the catalogue holds no percentage and no number of three or more significant digits
+// (the parameters it names, such as 24 rows or e = 0.5, have fewer).
+TEST(Catalogue, NoMeasuredValueIsWrittenByHandInAnExplanation) {
+  const std::regex decimal(R"([0-9]+\.[0-9]+)");
+  for (const auto& e : builtin_catalogue().experiments) {
+    EXPECT_EQ(e.explanation.find('%'), std::string::npos) << e.name;
+    for (auto it = std::sregex_iterator(e.explanation.begin(), e.explanation.end(), decimal); it != std::sregex_iterator(); ++it) {
+      std::string digits;
+      for (const char ch : it->str()) {
+        if (ch != '.' && !(digits.empty() && ch == '0')) digits += ch;
+      }
+      EXPECT_LT(digits.size(), 3u) << e.name << ": " << it->str();
+    }
+  }
 }
 
 TEST(Catalogue, SelectionAddsWhatAnExperimentNeedsAndRefusesUnknownNames) {
@@ -46,13 +71,15 @@ TEST(Catalogue, SelectionAddsWhatAnExperimentNeedsAndRefusesUnknownNames) {
   ASSERT_EQ(fig4.size(), 2u);
   EXPECT_EQ(fig4[0]->name, "fig2");  // the catalogue's order
   EXPECT_EQ(fig4[1]->name, "fig4");
-  EXPECT_EQ(select(c, {}, false).size(), c.experiments.size());
+  EXPECT_EQ(select(c, {}, false).size(), c.experiments.size() - 1);  // all but the convergence study
+  EXPECT_EQ(select(c, {}, false, true).size(), c.experiments.size());  // --full
+  EXPECT_EQ(select(c, {"rows"}, false).size(), 1u);                   // named, it runs
   for (const auto* e : select(c, {}, true)) EXPECT_TRUE(e->quick || e->name == "fig2") << e->name;
   try {
     select(c, {"fig9"}, false);
     FAIL() << "an unknown experiment was accepted";
   } catch (const UnknownExperiment& e) {
-    EXPECT_NE(std::string(e.what()).find("unknown experiment 'fig9'; known: fig2, fig3, friction"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("unknown experiment 'fig9'; known: fig2, fig3, scale, friction"), std::string::npos) << e.what();
   }
 }
 
@@ -77,25 +104,55 @@ analysis = "fig3"
   EXPECT_THROW(parse_catalogue("[[experiment]\n", "t"), CatalogueError);
 }
 
-TEST(Judge, TheFirstReadingWithinTheBandDecidesAndOutsideSaysByHowMuch) {
+TEST(Judge, ThePrimaryReadingAloneDecidesAndOutsideSaysByHowMuchBeyondTheNearerEdge) {
   Claim c;
-  c.quantities = {"a", "b", "c"};
+  c.quantity = "a";
+  c.sensitivity = {"b", "c"};
+  c.paper = 0.10;
   c.low = 0.08;
   c.high = 0.125;
+  // A sensitivity reading inside the band is no pass.
   auto v = judge(c, {{"a", 0.33}, {"b", 0.1}, {"c", 0.11}}, {});
-  EXPECT_EQ(v.verdict, "within");
-  EXPECT_EQ(v.reading, "b");
-  EXPECT_EQ(v.readings.size(), 3u);
-  v = judge(c, {{"a", 0.25}, {"c", 0.15}}, {});
   EXPECT_EQ(v.verdict, "outside");
-  EXPECT_EQ(v.reading, "c");                          // the closer of the two
-  EXPECT_NEAR(v.off, (0.15 - 0.125) / 0.125, 1e-15);  // relative to the band's scale
-  EXPECT_FALSE(v.readings[1].second.has_value());     // b: not measured
-  v = judge(c, {}, {});
+  EXPECT_NEAR(v.off, (0.33 - 0.125) / 0.125, 1e-15);  // beyond the upper edge, relative to it
+  EXPECT_NEAR(*v.from_paper, (0.33 - 0.10) / 0.10, 1e-15);
+  ASSERT_EQ(v.sensitivity.size(), 2u);
+  EXPECT_EQ(v.sensitivity[0].first, "b");
+  EXPECT_EQ(*v.sensitivity[0].second, 0.1);
+  v = judge(c, {{"a", 0.06}}, {});
+  EXPECT_EQ(v.verdict, "outside");
+  EXPECT_NEAR(v.off, (0.08 - 0.06) / 0.08, 1e-15);  // below the lower edge, relative to it
+  EXPECT_FALSE(v.sensitivity[1].second.has_value());  // c: not measured
+  v = judge(c, {{"a", 0.11}}, {{"a", 0.004}});
+  EXPECT_EQ(v.verdict, "within");
+  EXPECT_EQ(v.off, 0.0);
+  EXPECT_NEAR(*v.sigmas, (0.11 - 0.10) / 0.004, 1e-12);  // the distance in standard errors
+  v = judge(c, {{"b", 0.1}}, {});
   EXPECT_EQ(v.verdict, "not measured");
   EXPECT_FALSE(v.value.has_value());
   v = judge(c, {{"a", std::nan("")}}, {});
   EXPECT_EQ(v.verdict, "not measured");  // a NaN is never passed on as a number
+}
+
+TEST(Catalogue, AClaimWithSeveralPrimaryReadingsIsRefused) {
+  const auto text = R"([[experiment]]
+name = "x"
+title = "t"
+source = "s"
+analysis = "fig3"
+  [[experiment.claim]]
+  statement = "s"
+  quantity = ["a", "b"]
+  band = [0, 1]
+  band_reason = "r"
+  expect = "within"
+)";
+  try {
+    parse_catalogue(text, "t");
+    FAIL() << "a list of primary readings was accepted";
+  } catch (const CatalogueError& e) {
+    EXPECT_NE(std::string(e.what()).find("one primary reading"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Kicks, StepsSeparatedByQuietStretchesAreCountedWithTheEnergyAfterEach) {

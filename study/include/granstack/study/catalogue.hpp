@@ -15,7 +15,9 @@ namespace granstack::study {
 struct Claim {
   std::string id;                      // "<experiment>.<n>", n from 1 in the catalogue's order
   std::string statement;
-  std::vector<std::string> quantities; // candidate readings, by the analysis's names
+  std::string quantity;                 // the primary reading, by the analysis's name: fixed before
+                                       // the run, the one the verdict is about
+  std::vector<std::string> sensitivity; // other readings, shown beside it, never a pass
   std::optional<double> paper;         // the value the paper states, if any
   double low = 0.0, high = 0.0;        // the acceptance band
   std::string band_reason;
@@ -26,12 +28,15 @@ struct CaseEntry {
   std::string name;      // the case's directory under DIR/<experiment>/
   model::StackSpec spec;
   bool quick = true;     // part of --quick when its experiment is
+  bool full = false;     // run only with --full (the longer convergence and sensitivity runs)
 };
 
 struct Experiment {
   std::string name, title, source, analysis, explanation;
+  std::string main;                // the case the report's parameter table shows
   std::vector<std::string> needs;  // experiments whose cases this one's analysis reads
   bool quick = false;
+  bool full = false;               // run only with --full, or when named
   std::vector<CaseEntry> cases;
   std::vector<Claim> claims;
 };
@@ -59,7 +64,8 @@ Catalogue parse_catalogue(std::string_view toml_text, const std::string& source)
 const Catalogue& builtin_catalogue();
 
 // The experiments to run, in the catalogue's order: those named (all when `names` is empty; with
-// `quick`, those marked quick), and the experiments they need. Throws UnknownExperiment.
-std::vector<const Experiment*> select(const Catalogue& c, const std::vector<std::string>& names, bool quick);
+// `quick`, those marked quick; without `full`, not those marked full), and the experiments they
+// need. Throws UnknownExperiment.
+std::vector<const Experiment*> select(const Catalogue& c, const std::vector<std::string>& names, bool quick, bool full = false);
 
 }  // namespace granstack::study

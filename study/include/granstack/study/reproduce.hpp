@@ -23,16 +23,18 @@ struct Figure {
   std::string caption;
 };
 
-// A claim judged: the value of each candidate reading, and the verdict of the first within the
-// band (or, when none is, of the one closest to it).
+// A claim judged on its primary reading alone; the sensitivity readings are shown beside it.
 struct Verdict {
   const Claim* claim = nullptr;
-  std::vector<std::pair<std::string, std::optional<double>>> readings;  // quantity, value (none: not measured)
-  std::string reading;          // the reading the verdict is about
-  std::optional<double> value;
-  std::optional<double> error;  // its standard error, where the analysis has one
-  std::string verdict;          // "within", "outside" or "not measured"
-  double off = 0.0;             // outside: the relative distance to the nearer band edge
+  std::optional<double> value;       // the primary reading (none: not measured)
+  std::optional<double> error;       // its standard error, where the analysis has one
+  std::string verdict;               // "within", "outside" or "not measured"
+  // Outside: the distance from the value to the nearer band edge over that edge's magnitude
+  // ("outside, by 6 %": 6 % beyond the edge).
+  double off = 0.0;
+  std::optional<double> from_paper;  // (value - paper) / |paper|, where the paper states a value
+  std::optional<double> sigmas;      // (value - paper) / error, where the value has a standard error
+  std::vector<std::pair<std::string, std::optional<double>>> sensitivity;  // quantity, value
 };
 
 // One case of an experiment as it ran.
@@ -63,6 +65,7 @@ struct ReproduceOptions {
   std::string output;                      // DIR
   std::vector<std::string> experiments;    // empty: all (with quick: the quick ones)
   bool quick = false;
+  bool full = false;                       // also the cases and experiments marked full
   bool validate = false;                   // also run refsim on every case and compare
   bool force = false;                      // regenerate and rerun every case
   std::string engine = "liggghts";         // or "refsim"
@@ -78,7 +81,7 @@ struct ReproduceOptions {
 struct StudyResult {
   std::vector<ExperimentResult> experiments;
   double wall_seconds = 0.0;
-  bool quick = false, validated = false;
+  bool quick = false, full = false, validated = false;
   std::string engine;
   int failed_cases = 0;       // failed to run or to reduce
   int interrupted_cases = 0;  // stopped by a signal, or not begun because one came first

@@ -1,0 +1,211 @@
+// The analyses of the waves: Fig. 2, Fig. 4, Eq. (4) and (5), and the block-height convergence.
+#include "analyses.hpp"
+#include "analysis_text.hpp"
+#include "curves.hpp"
+#include "figures.hpp"
+
+#include <granstack/model/stack.hpp>
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace granstack::study::analyses {
+
+namespace {
+
+// Fig. 2's caption reads per sphere, away from the interface: block k's middle-row sphere of the
+// impact path, its peak kinetic energy over the top block's (postproc::BlockWaves).
+double sphere_ratio(const postproc::CaseReduction& r, int k) {
+  return r.waves.at(static_cast<std::size_t>(k - 1)).middle_peak_ke / r.waves.front().middle_peak_ke;
+}
+double sphere_leading_ratio(const postproc::CaseReduction& r, int k) {
+  return r.waves.at(static_cast<std::size_t>(k - 1)).middle_leading_ke / r.waves.front().middle_leading_ke;
+}
+
+// Those spheres' energy curves, top block first.
+std::vector<Curve> sphere_curves(const postproc::CaseReduction& r) {
+  std::vector<Curve> out;
+  for (const auto& w : r.waves) out.push_back({w.middle_time, w.middle_ke});
+  return out;
+}
+
+// Every reading of "block k's peak over the top block's" of one case, as VARIANT.bK values and
+// table rows: the caption's per-sphere reading and the other readings of the statement.
+void readings(const postproc::CaseReduction& r, const std::string& variant, ExperimentResult& out, Table& t) {
+  const int nb = r.spec.blocks;
+  const auto blocks = block_energies(r);
+  const auto columns = impact_column_energies(r);
+  const double top_block = r.blocks.front().peak_ke, top_column = columns.front().max();
+  const std::pair<const char*, const char*> names[] = {
+      {"sphere", "middle-row sphere of the impact path, its peak (the caption's)"},
+      {"sphere_leading", "middle-row sphere, its leading wave"},
+      {"whole_block", "whole block, peak over the run (reduce's peak/top)"},
+      {"leading_peak", "whole block, its first peak"},
+      {"column", "impact column, peak over the run"},
+      {"column_leading", "impact column, its first peak"}};
+  for (const auto& [key, label] : names) {
+    std::vector<std::string> row{label, variant};
+    for (int k = 2; k <= nb; ++k) {
+      const auto i = static_cast<std::size_t>(k - 1);
+      const std::string name(key);
+      const double x = name == "sphere"           ? sphere_ratio(r, k)
+                       : name == "sphere_leading" ? sphere_leading_ratio(r, k)
+                       : name == "whole_block"    ? r.blocks[i].normalised
+                       : name == "leading_peak"   ? blocks[i].first_peak() / top_block
+                       : name == "column"         ? columns[i].max() / top_column
+                                                  : columns[i].first_peak() / top_column;
+      out.values[fmt::format("{}.{}.b{}", key, variant, k)] = x;
+      row.push_back(pct(x));
+    }
+    t.rows.push_back(row);
+  }
+}
+
+// The leading wave of each block against Nesterenko's law; the ratio farthest from 1 as KEY.
+Table wave_table(const postproc::CaseReduction& r, const std::string& caption, const std::string& key, ExperimentResult& out) {
+  Table waves{caption, {"block", "peak force (N)", "speed (m/s)", "Nesterenko (m/s)", "ratio", "pulses"}, {}};
+  double worst = 1.0;
+  for (const auto& w : r.waves) {
+    std::optional<double> ratio;
+    if (w.speed && w.nesterenko_speed) ratio = *w.speed / *w.nesterenko_speed;
+    if (ratio && std::fabs(*ratio - 1.0) > std::fabs(worst - 1.0)) worst = *ratio;
+    waves.rows.push_back({std::to_string(w.block), num(w.peak_force), num(w.speed), num(w.nesterenko_speed), num(ratio),
+                          std::to_string(w.pulses)});
+  }
+  out.values[key] = worst;
+  return waves;
+}
+
+}  // namespace
+
+void fig2(const AnalysisInput& in, ExperimentResult& out) {
+  Table t{"Peak kinetic energy in block k over that in block 1, every reading: 24 rows with a free bottom (primary) "
+          "and with a bottom wall, and the study's 8 rows",
+          {"reading", "case", "block 2", "block 3", "block 4"}, {}};
+  for (const auto* variant : {"free", "wall", "rows8"}) {
+    if (const auto* r = in.own(variant)) readings(*r, variant, out, t);
+  }
+  out.tables.push_back(t);
+  if (const auto* r = in.own("rows8")) {
+    (void)wave_table(*r, "", "speed_ratio.rows8.worst", out);
+  }
+  const auto* r = in.own("free");
+  if (r == nullptr) return;
+  out.tables.push_back(wave_table(*r, "The leading wave down the impact path of each block (24 rows, free bottom) against "
+                                   "Nesterenko's law", "speed_ratio.worst", out));
+  const auto curves = sphere_curves(*r);
+  const std::vector<std::pair<std::string, double>> paper{
+      {fmt::format("paper: {:g} % (block 3)", 100 * in.paper("sphere.free.b3")), in.paper("sphere.free.b3")},
+      {fmt::format("paper: {:g} % (block 4)", 100 * in.paper("sphere.free.b4")), in.paper("sphere.free.b4")}};
+  out.figures.push_back(energy_plot({"fig2_sphere", "Fig. 2 re-made: 4 steel blocks of 24 rows, free bottom, e = 1",
+                                     "E_k of the middle-row sphere / its peak in block 1",
+                                     "Fig. 2 re-made (the primary reading): the kinetic energy of the middle-row sphere of "
+                                     "the impact path in each block, over its peak in block 1; the inset magnifies blocks 3 "
+                                     "and 4 with the paper's values dashed",
+                                     curves, r->waves.front().middle_peak_ke, 3, paper, std::nullopt},
+                                    in.figures_dir, in.gnuplot));
+  if (const auto* r8 = in.own("rows8")) {
+    out.figures.push_back(stack_drawing(model::Stack::build(r8->spec), in.figures_dir, "fig1a_stack", in.gnuplot,
+                                        "Fig. 1a re-made: the study's stack to scale (x-z plane): four steel blocks of 8 rows "
+                                        "(Fig. 2 and 4 run the same with 24), the radius halving block by block, every "
+                                        "sphere resting on two below, the striker (red) between the two central spheres of "
+                                        "the top row"));
+  }
+  const auto blocks = block_energies(*r);
+  out.figures.push_back(energy_plot({"fig2_blocks", "Whole blocks: 4 steel blocks of 24 rows, free bottom, e = 1",
+                                     "E_k of the block / its peak in block 1",
+                                     "Sensitivity: the whole blocks' kinetic energy over block 1's peak (reduce's reading); "
+                                     "the inset magnifies blocks 3 and 4 with the paper's values dashed",
+                                     blocks, r->blocks.front().peak_ke, 3, paper, action_window(curves, 0.01, 0.2)},
+                                    in.figures_dir, in.gnuplot));
+}
+
+void fig4(const AnalysisInput& in, ExperimentResult& out) {
+  const auto* r = in.own("steel_on_teflon");
+  if (r == nullptr) return;
+  teflon_outputs(in, out, "steel_on_teflon");
+  const auto& teflon = r->waves.at(1);
+  out.values["pulses.teflon"] = teflon.pulses;
+  const auto* f2 = in.reduction("fig2", "free");
+  if (f2 == nullptr) return;
+  const auto& steel = f2->waves.at(1);
+  out.values["pulses.fig2_b2"] = steel.pulses;
+  out.values["pulses.teflon_over_fig2"] = static_cast<double>(teflon.pulses) / steel.pulses;
+  out.values["sphere.b2_over_fig2"] = sphere_ratio(*r, 2) / sphere_ratio(*f2, 2);
+  out.values["sphere_leading.b2_over_fig2"] = sphere_leading_ratio(*r, 2) / sphere_leading_ratio(*f2, 2);
+  auto column_leading = [](const postproc::CaseReduction& c) {
+    const auto columns = impact_column_energies(c);
+    return columns.at(1).first_peak() / columns.front().first_peak();
+  };
+  out.values["column_leading.b2_over_fig2"] = column_leading(*r) / column_leading(*f2);
+  if (teflon.speed && steel.speed) out.values["speed.teflon_over_steel"] = *teflon.speed / *steel.speed;
+  Table w{"Block 2 (24 rows): steel (Fig. 2) against Teflon (Fig. 4), the middle-row sphere over the top block's",
+          {"", "sphere peak / top", "leading wave / top", "pulses", "speed (m/s)", "Nesterenko (m/s)"}, {}};
+  w.rows.push_back({"steel, Fig. 2", pct(sphere_ratio(*f2, 2)), pct(sphere_leading_ratio(*f2, 2)), std::to_string(steel.pulses),
+                    num(steel.speed), num(steel.nesterenko_speed)});
+  w.rows.push_back({"Teflon, Fig. 4", pct(sphere_ratio(*r, 2)), pct(sphere_leading_ratio(*r, 2)), std::to_string(teflon.pulses),
+                    num(teflon.speed), num(teflon.nesterenko_speed)});
+  out.tables.push_back(w);
+  const auto curves = sphere_curves(*r);
+  const double half = in.paper("sphere.b2_over_fig2") * sphere_ratio(*f2, 2);
+  out.figures.push_back(energy_plot(
+      {"fig4_sphere", "Fig. 4 re-made: a steel block over a Teflon block, 24 rows each, free bottom, e = 1",
+       "E_k of the middle-row sphere / its peak in block 1",
+       "Fig. 4 re-made: the middle-row sphere of each block over the top block's solitary-wave peak (its middle-row "
+       "sphere's); the inset magnifies the Teflon block, dashed at the paper's 'almost half' of Fig. 2's block 2",
+       curves, r->waves.front().middle_peak_ke, 2, {{fmt::format("paper: {:g} of Fig. 2's block 2", in.paper("sphere.b2_over_fig2")), half}}, std::nullopt},
+      in.figures_dir, in.gnuplot));
+}
+
+void eq45(const AnalysisInput& in, ExperimentResult& out) {
+  Table t{"Peak Hertz force between vertical neighbours of the impact path, block k+1 over block k (Fig. 2's stacks)",
+          {"case", "interface", "F_m above (N)", "F_m below (N)", "ratio", "Eq. (5)", "Eq. (4)"}, {}};
+  for (const auto& [variant, prefix] : {std::pair{"free", ""}, std::pair{"rows8", "rows8."}}) {
+    const auto* r = in.reduction("fig2", variant);
+    if (r == nullptr) continue;
+    const auto stack = model::Stack::build(r->spec);
+    double sum = 0.0, eq4 = 0.0;
+    int n = 0;
+    for (std::size_t k = 0; k + 1 < r->waves.size(); ++k) {
+      const auto& upper = stack.blocks()[k];
+      const auto& lower = stack.blocks()[k + 1];
+      const auto g = seat(upper.radius, upper.sphere_mass, lower.radius, lower.sphere_mass);
+      const double ratio = r->waves[k + 1].peak_force / r->waves[k].peak_force;
+      out.values[fmt::format("force_ratio.{}b{}_b{}", prefix, k + 1, k + 2)] = ratio;
+      out.values["eq5"] = g.eq5();
+      out.values["eq4"] = eq4 = g.eq4();
+      sum += ratio;
+      ++n;
+      t.rows.push_back({variant, fmt::format("{} -> {}", k + 1, k + 2), num(r->waves[k].peak_force), num(r->waves[k + 1].peak_force),
+                        fmt::format("{:.3f}", ratio), fmt::format("{:.3f}", g.eq5()), fmt::format("{:.3f}", g.eq4())});
+    }
+    if (n == 0) continue;
+    out.values[fmt::format("force_ratio.{}mean", prefix)] = sum / n;
+    out.values[fmt::format("force_ratio.{}mean_over_eq4", prefix)] = sum / n / eq4;
+  }
+  out.tables.push_back(t);
+}
+
+void rows(const AnalysisInput& in, ExperimentResult& out) {
+  Table t{"Fig. 2's readings against the block height (free bottom): per sphere, its leading wave and the whole block",
+          {"rows", "sphere, block 3", "sphere, block 4", "leading wave, block 3", "whole block 3", "output"}, {}};
+  std::map<int, const postproc::CaseReduction*> by_rows;
+  for (const auto& c : in.experiment.cases) {
+    if (const auto* r = in.own(c.name)) by_rows[c.spec.rows] = r;
+  }
+  for (const auto& [n, r] : by_rows) {
+    t.rows.push_back({std::to_string(n), pct(sphere_ratio(*r, 3)), pct(sphere_ratio(*r, 4)), pct(sphere_leading_ratio(*r, 3)),
+                      pct(r->blocks.at(2).normalised), pct(r->output_fraction)});
+  }
+  out.tables.push_back(t);
+  if (by_rows.empty()) return;
+  const auto& [tallest, top] = *by_rows.rbegin();
+  for (const auto& [n, r] : by_rows) {
+    for (const int k : {3, 4}) {
+      out.values[fmt::format("sphere.b{}.rows{}_over_rows{}", k, n, tallest)] = sphere_ratio(*r, k) / sphere_ratio(*top, k);
+    }
+  }
+}
+
+}  // namespace granstack::study::analyses
