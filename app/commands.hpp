@@ -10,7 +10,7 @@
 
 namespace granstack::app {
 
-// Exit codes (the README's table).
+// Exit codes (docs/reference/commands.md, "Exit codes").
 constexpr int kOk = 0;
 constexpr int kCaseFailed = 1;  // a run failed, a case is in use, or a case could not be reduced
 constexpr int kBadInput = 2;    // invalid spec, flag or value

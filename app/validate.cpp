@@ -90,7 +90,7 @@ Command add_validate(CLI::App& app) {
   cmd->add_option("cases", f->cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("--tolerance", f->tolerance,
                   "Largest accepted difference of any dumped column, series column or the output fraction, "
-                  "relative to max(|liggghts|, |refsim|, a physical floor) [1e-7: round-off, see README]")
+                  "relative to max(|liggghts|, |refsim|, a physical floor) [1e-7: round-off, see docs/reference/commands.md]")
       ->check(CLI::PositiveNumber);
   cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
   cmd->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");

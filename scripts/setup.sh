@@ -19,6 +19,7 @@ if [ "${1:-}" = "--tests" ]; then
   packages+=(
     chromium                 # reproduce's HTML report, opened in a real headless browser
     python3-vtk9             # granstack export read back with VTK's own reader
+    mkdocs                   # the documentation site, built with --strict (scripts/docs.sh)
     slurmctld slurmd slurm-client munge   # a real one-node SLURM (scripts/slurm-local.sh) for submit and status
     # refsim's ARM (NEON) kernels, cross-compiled and run under emulation (refsim.neon_emulated)
     g++-aarch64-linux-gnu qemu-user libhwy-dev:arm64 libfmt-dev:arm64

@@ -148,7 +148,7 @@ std::string parameter_note(const StudyResult& r) {
   };
   return fmt::format(
       "The paper integrates with dt = 1e-9 s; granstack chooses dt as the shortest Hertz contact time at the striker "
-      "speed over 100 (README, 'The automatic time step and duration'): the three-block stack's output at the automatic "
+      "speed over 100 (docs/reference/spec.md, 'The automatic time step and duration'): the three-block stack's output at the automatic "
       "dt over its output at 1e-9 s is {}. The striker runs at 1 m/s and the bottom spheres are 1 mm; the output does "
       "not depend on either (experiment scale: 5 m/s over 1 m/s {}, 100 nm over 1 mm {}). Teflon's Poisson ratio, which "
       "the paper does not give, is 0.46 (the usual value; --full runs 0.35 as sensitivity). The boundaries are the "

@@ -12,7 +12,7 @@ namespace granstack::generator {
 
 using RawSpec = std::map<std::string, std::vector<std::string>>;
 
-// The fields a spec file and the flags know, in the order the README documents them.
+// The fields a spec file and the flags know, in the order docs/reference/spec.md documents them.
 const std::vector<std::string>& spec_fields();
 // Fields whose list of values makes a sweep (one case per combination).
 bool is_sweepable(const std::string& field);

@@ -36,7 +36,7 @@ inline constexpr double kDumpPerContact = 0.2;
 inline constexpr long kAutoSeriesSamples = 20000;
 inline constexpr long kAutoThermoLines = 200;
 
-// Physics guards on what the spec and the rules give (refused by `generate`, listed in the README):
+// Physics guards on what the spec and the rules give (refused by `generate`, listed in docs/reference/spec.md):
 // - dt at most the shortest contact time / kMinStepsPerContact. Velocity Verlet's energy error
 //   on Hertz contacts grows as dt^2: measured with refsim (e = 1, mu = 0), 3.8e-6 of E_in on the
 //   default stack and 9.7e-5 for steel on Teflon at t_c/100 (the automatic dt), 9.4e-5 and

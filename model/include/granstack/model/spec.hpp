@@ -121,7 +121,7 @@ std::vector<SpecIssue> validate(const StackSpec& spec);
 // Throws SpecError when validate() finds anything.
 void require_valid(const StackSpec& spec);
 
-// Bounds of physical sense, refused outside (the README's spec table states them):
+// Bounds of physical sense, refused outside (docs/reference/spec.md's table states them):
 // radii from 100 nm, the smallest scale the study claims (a steel sphere of that radius still
 // holds about 4e8 atoms, but surface layers and adhesion, which Hertz contact leaves out, matter
 // more and more below a micrometre, most at low impact speeds: docs/physics.md), to a metre;

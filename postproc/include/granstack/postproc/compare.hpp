@@ -33,7 +33,7 @@ inline constexpr double kOutputFractionFloor = 1e-12;
 
 // validate's default tolerance. Round-off alone, measured on the study's stacks (N_B = 1..4,
 // e = 1 and 0.9, mu = 0 and 0.25; and e = 0.9, mu = 0.25 with walls and gravity), every column,
-// every frame (docs/validate-roundoff-2026-11-23.md): N_B = 1 and 2 differ by at most 3.4e-16,
+// every frame (bench/results/validate-roundoff-2026-11-23.md): N_B = 1 and 2 differ by at most 3.4e-16,
 // frictionless stacks by 4.4e-16; frictional N_B = 3 and 4 by up to 2.6e-10, and 1.6e-9 with
 // walls and gravity (spins, N_B = 4), because Coulomb sliding amplifies the round-off of a
 // different summation order, by amounts that change by orders of magnitude with dt. The default
