@@ -1,5 +1,5 @@
 #include "records.hpp"
-#include "slurm_commands.hpp"
+#include "scheduler.hpp"
 
 #include <granstack/cluster/slurm.hpp>
 #include <granstack/formats/files.hpp>
@@ -45,10 +45,10 @@ std::vector<std::string> job_ids_of(const RecordedSubmission& s) {
   return ids;
 }
 
-// What SLURM says of the last submission's tasks that have left the queue: a case its task never
+// What the batch system says of the last submission's tasks that have left the queue: a case its task never
 // ran is failed (naming the task's log), and an interrupted one says why SLURM stopped it.
-void explain_with_slurm(StatusReport& r, const RecordedSubmission& last, const QueueView& queue,
-                        const std::string& sacct, const std::string& scontrol) {
+void explain_with_scheduler(StatusReport& r, const RecordedSubmission& last, const QueueView& queue,
+                            const Scheduler& scheduler) {
   std::map<std::string, Task> task_of;
   const auto cases = last.cases();
   const auto tasks = last.case_tasks(cases.size());
@@ -62,19 +62,20 @@ void explain_with_slurm(StatusReport& r, const RecordedSubmission& last, const Q
   if (asked.empty()) return;
   std::vector<std::string> ids;
   for (const auto& a : last.arrays) ids.push_back(a.job_id);
-  const auto states = ended_states(ids, sacct, scontrol);
+  const auto states = scheduler.ended(ids);
   for (auto* c : asked) {
     const auto& task = task_of.at(fs::absolute(c->dir).lexically_normal().string());
     const auto state = states.find(task);
     const auto name = fmt::format("{}_{}", task.first, task.second);
-    const auto log = (fs::path(last.directory) / fmt::format("task-{}.out", name)).string();
+    const auto log = (fs::path(last.directory) / scheduler.task_log(task)).string();
     if (c->status == "interrupted") {
-      if (state != states.end()) c->error += fmt::format(" (SLURM: task {} {})", name, state->second);
+      if (state != states.end()) c->error += fmt::format(" ({}: task {} {})", scheduler.name(), name, state->second);
       continue;
     }
     c->status = "failed";
-    c->error = fmt::format("its SLURM task {} ended{} before granstack ran the case; see {}", name,
-                           state == states.end() ? " (how, SLURM no longer says)" : " " + state->second, log);
+    c->error = fmt::format("its {0} task {1} ended{2} before granstack ran the case; see {3}", scheduler.name(), name,
+                           state == states.end() ? fmt::format(" (how, {} no longer says)", scheduler.name()) : " " + state->second,
+                           log);
   }
 }
 
@@ -98,14 +99,15 @@ StatusReport status(const std::vector<std::string>& targets, const std::string& 
   if (!records.submissions.empty()) {
     const auto& last = records.submissions.back();
     r.job_ids = job_ids_of(last);
-    if (os::find_program(squeue)) {
-      const auto queue = read_queue(r.job_ids, squeue);
+    const auto scheduler = make_scheduler({"sbatch", scontrol, squeue, sacct});
+    if (scheduler->can_read_queue()) {
+      const auto queue = scheduler->queue(r.job_ids);
       r.squeue_available = queue.answered;
       r.queue = queue.lines;
       if (!queue.answered) {
         r.notes.push_back(fmt::format("the queue could not be read: {}", queue.error));
       } else {
-        explain_with_slurm(r, last, queue, sacct, scontrol);
+        explain_with_scheduler(r, last, queue, *scheduler);
       }
     }
   }

@@ -1,7 +1,7 @@
-#include "slurm_commands.hpp"
+#include "records.hpp"
+#include "scheduler.hpp"
 
 #include <granstack/cluster/slurm.hpp>
-#include "records.hpp"
 
 #include <granstack/formats/files.hpp>
 #include <granstack/os/case_lock.hpp>
@@ -30,24 +30,6 @@ using nlohmann::json;
 
 namespace {
 
-// A word for a bash script: single-quoted, its own quotes escaped. Newlines cannot be carried.
-std::string sh_quote(const std::string& s) {
-  if (s.find('\n') != std::string::npos || s.find('\r') != std::string::npos) {
-    throw SubmitError(fmt::format("'{}' holds a line break, which an sbatch script cannot carry; rename it", s));
-  }
-  std::string out = "'";
-  for (const char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-// An #SBATCH value: one line, no spaces that would end it.
-std::string sbatch_value(const std::string& what, const std::string& v) {
-  if (v.empty() || v.find_first_of(" \t\r\n") != std::string::npos) {
-    throw SubmitError(fmt::format("{} '{}' cannot stand in an #SBATCH line (empty, or with blanks)", what, v));
-  }
-  return v;
-}
-
 // The cost estimate of each case, by its absolute path: each manifest is read once.
 using Costs = std::map<std::string, model::Cost>;
 
@@ -68,83 +50,12 @@ std::vector<std::string> pending_cases(const std::vector<std::string>& targets, 
 
 }  // namespace
 
-std::optional<long> parse_slurm_time(const std::string& text) {
-  std::vector<long> parts;
-  long days = 0;
-  std::string rest = text;
-  if (const auto dash = text.find('-'); dash != std::string::npos) {
-    if (dash == 0 || text.find_first_not_of("0123456789") != dash) return std::nullopt;
-    days = std::stol(text.substr(0, dash));
-    rest = text.substr(dash + 1);
-  }
-  std::size_t at = 0;
-  for (;;) {
-    const auto colon = rest.find(':', at);
-    const auto field = rest.substr(at, colon == std::string::npos ? std::string::npos : colon - at);
-    if (field.empty() || field.size() > 7 || field.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
-    parts.push_back(std::stol(field));
-    if (colon == std::string::npos) break;
-    at = colon + 1;
-  }
-  if (parts.size() > 3) return std::nullopt;
-  long seconds = 0;
-  if (text.find('-') != std::string::npos) {  // D-HH[:MM[:SS]]
-    const long units[] = {3600, 60, 1};
-    for (std::size_t i = 0; i < parts.size(); ++i) seconds += parts[i] * units[i];
-  } else if (parts.size() == 1) {  // minutes
-    seconds = parts[0] * 60;
-  } else if (parts.size() == 2) {  // MM:SS
-    seconds = parts[0] * 60 + parts[1];
-  } else {
-    seconds = parts[0] * 3600 + parts[1] * 60 + parts[2];
-  }
-  seconds += days * 86400;
-  if (seconds <= 0 || seconds > 366L * 86400) return std::nullopt;
-  return seconds;
-}
-
 namespace {
-
-// The site's limits that shape a submission, from `scontrol show config`.
-struct SiteLimits {
-  long max_array_size = kDefaultMaxArraySize;
-  long max_job_count = 0;  // 0: not said
-};
-
-SiteLimits site_limits(const SubmitOptions& o, std::vector<std::string>& notes) {
-  // A dry run asks briefly: with no controller, scontrol waits (9 s and more) for nothing.
-  const auto r = run_slurm({o.scontrol, "show", "config"}, o.dry_run ? 3.0 : 30.0);
-  SiteLimits limits;
-  if (o.dry_run && (!r.started || r.code != 0 || r.timed_out)) {  // no cluster here: SLURM's default
-    notes.push_back(fmt::format("no SLURM answered ({}): assuming MaxArraySize = {}, SLURM's default",
-                                r.output.substr(0, 120), kDefaultMaxArraySize));
-    return limits;
-  }
-  if (!r.started) {
-    throw SubmitError(fmt::format("{}; SLURM's client commands come with the Debian package slurm-client", r.output));
-  }
-  if (r.code != 0 || r.timed_out) throw SubmitError(fmt::format("scontrol show config failed: {}", r.output));
-  for (const auto& line : lines(r.output)) {
-    const auto eq = line.find('=');
-    if (eq == std::string::npos) continue;
-    const auto value = line.substr(eq + 1);
-    const auto number = [&] { return std::strtol(value.c_str(), nullptr, 10); };
-    if (line.rfind("MaxArraySize", 0) == 0) limits.max_array_size = std::max(1L, number());
-    if (line.rfind("MaxJobCount", 0) == 0) limits.max_job_count = number();
-  }
-  return limits;
-}
-
-// Job records the controller holds now (each queued or running array task counts once it runs).
-long jobs_in_controller(const SubmitOptions& o) {
-  const auto r = run_slurm({o.squeue, "-h", "-r", "-o", "%i"}, 10.0);
-  return r.started && r.code == 0 ? static_cast<long>(lines(r.output).size()) : 0;
-}
 
 // The pending cases that are already queued (a task of an earlier submission still in the
 // queue) or running (a granstack holds the case's lock): submitted again they would run twice.
 std::set<std::string> busy_cases(const std::vector<std::string>& targets, const std::vector<std::string>& pending,
-                                 const SubmitOptions& o, std::vector<std::string>& notes) {
+                                 const Scheduler& scheduler, std::vector<std::string>& notes) {
   std::set<std::string> busy;
   for (const auto& c : pending) {
     if (os::CaseLock::holder(c)) busy.insert(c);
@@ -157,8 +68,8 @@ std::set<std::string> busy_cases(const std::vector<std::string>& targets, const 
       earlier.push_back(sub);
     }
   }
-  if (ids.empty() || !os::find_program(o.squeue)) return busy;
-  const auto queue = read_queue(ids, o.squeue);
+  if (ids.empty() || !scheduler.can_read_queue()) return busy;
+  const auto queue = scheduler.queue(ids);
   if (!queue.answered) {
     notes.push_back(fmt::format("the queue could not be read ({}): cases an earlier submission still has queued "
                                 "cannot be told apart",
@@ -205,94 +116,6 @@ std::string job_name(const std::string& first_target) {
   return "granstack-" + name.substr(0, 48);
 }
 
-// A log path for --output: SLURM reads '%' as the start of a pattern ('%%' is a '%'), and a
-// backslash anywhere as "no patterns at all" (refused before anything is written).
-std::string output_pattern(const std::string& directory, const std::string& file) {
-  std::string out;
-  for (const char c : directory) out += c == '%' ? std::string("%%") : std::string(1, c);
-  return out + "/" + file;
-}
-
-// The user's --dependency among the sbatch arguments (combined with granstack's own), and the rest.
-std::pair<std::string, std::vector<std::string>> split_dependency(const std::vector<std::string>& args) {
-  std::string dependency;
-  std::vector<std::string> rest;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const auto& a = args[i];
-    if (a.rfind("--dependency=", 0) == 0) {
-      dependency = a.substr(13);
-    } else if ((a == "--dependency" || a == "-d") && i + 1 < args.size()) {
-      dependency = args[++i];
-    } else if (a.rfind("-d", 0) == 0 && a.size() > 2 && a[2] != '-') {
-      dependency = a.substr(2);
-    } else {
-      rest.push_back(a);
-    }
-  }
-  return {dependency, rest};
-}
-
-std::string array_script(const Submission& sub, const ArrayJob& a, std::size_t index, const SubmitOptions& o) {
-  std::string head = fmt::format("#!/bin/bash\n#SBATCH --array=0-{}{}\n#SBATCH --ntasks={}\n#SBATCH --cpus-per-task=1\n"
-                                 "#SBATCH --time={}\n",
-                                 a.tasks - 1, a.throttle > 0 ? fmt::format("%{}", a.throttle) : "", o.ranks,
-                                 sbatch_value("--time", a.time));
-  if (!o.partition.empty()) head += fmt::format("#SBATCH --partition={}\n", sbatch_value("--partition", o.partition));
-  if (!o.account.empty()) head += fmt::format("#SBATCH --account={}\n", sbatch_value("--account", o.account));
-  if (o.mem_mb) head += fmt::format("#SBATCH --mem={}\n", *o.mem_mb);
-  std::string run = fmt::format("exec {} run --engine {} --np {}{}", sh_quote(o.granstack), o.engine, o.ranks, o.force ? " --force" : "");
-  return head + fmt::format(
-                    "# granstack submit: array {} of {}: task i runs lines {} + i*{} + 1 .. {} + (i+1)*{} of cases.txt,\n"
-                    "# with `granstack run`, so each case is locked and gets its run.json as on a laptop. The job name\n"
-                    "# and the log (task-JOB_TASK.out, appended to when SLURM requeues a task) are given to sbatch.\n"
-                    "set -euo pipefail\n"
-                    "first=$(( {} + SLURM_ARRAY_TASK_ID * {} + 1 ))\n"
-                    "last=$(( first + {} - 1 ))\n"
-                    "mapfile -t cases < <(sed -n \"${{first}},${{last}}p\" {})\n"
-                    "{} \"${{cases[@]}}\"\n",
-                    index + 1, sub.directory, a.first_case, o.cases_per_task, a.first_case, o.cases_per_task, a.first_case,
-                    o.cases_per_task, o.cases_per_task, sh_quote(sub.directory + "/cases.txt"), run);
-}
-
-std::string gather_script(const Submission& sub, const std::vector<std::string>& targets, const SubmitOptions& o) {
-  std::string words;
-  for (const auto& t : targets) {
-    words += ' ';
-    words += sh_quote(fs::absolute(t).lexically_normal().string());
-  }
-  return fmt::format("#!/bin/bash\n#SBATCH --ntasks=1\n#SBATCH --time={}\n{}{}"
-                     "# granstack submit --gather: once the arrays have ended, the table of the targets.\n"
-                     "exec {} table{} -o {}\n",
-                     sbatch_value("--time", sub.gather_time),
-                     o.partition.empty() ? "" : fmt::format("#SBATCH --partition={}\n", o.partition),
-                     o.account.empty() ? "" : fmt::format("#SBATCH --account={}\n", o.account), sh_quote(o.granstack), words,
-                     sh_quote(sub.directory + "/table"));
-}
-
-// sbatch --parsable; returns the job id. Never waits more than a minute: a controller at its
-// MaxJobCount keeps sbatch retrying for much longer.
-std::string sbatch(const std::string& script, const std::vector<std::string>& extra, const SubmitOptions& o) {
-  const auto [user_dependency, user_args] = split_dependency(o.sbatch_args);
-  std::vector<std::string> argv{o.sbatch, "--parsable"};
-  std::string dependency;
-  for (const auto& e : extra) {
-    if (e.rfind("--dependency=", 0) == 0) dependency = e.substr(13);
-  }
-  for (const auto& e : extra) {
-    if (e.rfind("--dependency=", 0) != 0) argv.push_back(e);
-  }
-  // Both must hold: SLURM's ',' joins dependencies with AND.
-  const auto both = dependency.empty() ? user_dependency : user_dependency.empty() ? dependency : dependency + "," + user_dependency;
-  if (!both.empty()) argv.push_back("--dependency=" + both);
-  argv.insert(argv.end(), user_args.begin(), user_args.end());
-  argv.push_back(script);
-  const auto r = run_slurm(argv, 60.0);
-  if (!r.started) throw SubmitError(fmt::format("{}; sbatch comes with the Debian package slurm-client", r.output));
-  const auto out = lines(r.output);
-  if (r.code != 0 || out.empty() || r.timed_out) throw SubmitError(fmt::format("sbatch refused {}: {}", script, r.output));
-  return out.back().substr(0, out.back().find(';'));
-}
-
 json record(const Submission& s, int cases_per_task) {
   json arrays = json::array();
   for (const auto& a : s.arrays) {
@@ -325,10 +148,11 @@ namespace {
 
 // How many cases each task runs: as asked, or, when the controller has room for fewer tasks than
 // the cases need (MaxJobCount), as many as fit, said in a note.
-int cases_per_task(const SubmitOptions& o, std::size_t cases, const SiteLimits& limits, std::vector<std::string>& notes) {
+int cases_per_task(const SubmitOptions& o, std::size_t cases, const SiteLimits& limits, const Scheduler& scheduler,
+                   std::vector<std::string>& notes) {
   const long tasks = (static_cast<long>(cases) + o.cases_per_task - 1) / o.cases_per_task;
   if (limits.max_job_count <= 0 || o.dry_run) return o.cases_per_task;
-  const long room = limits.max_job_count - jobs_in_controller(o) - 1;  // the gather job too
+  const long room = limits.max_job_count - scheduler.jobs_held() - 1;  // the gather job too
   if (tasks <= room) return o.cases_per_task;
   if (room <= 0) {
     throw SubmitError(fmt::format("the controller holds MaxJobCount = {} jobs already: nothing is submitted; wait for "
@@ -388,18 +212,21 @@ std::string gather_time(const SubmitOptions& o, const Costs& costs) {
   return hms(std::max(600.0, kTimeSafety * bytes / 100e6));
 }
 
-void write_files(const Submission& sub, const std::vector<std::string>& targets, const SubmitOptions& o) {
+void write_files(const Submission& sub, const std::vector<std::string>& targets, const SubmitOptions& o,
+                 const Scheduler& scheduler) {
   const fs::path dir(sub.directory);
   // Everything is written (and every path checked for the scripts) before anything is submitted.
   std::vector<std::pair<fs::path, std::string>> files;
   std::string list;
   for (const auto& c : sub.cases) {
-    sh_quote(c);  // a case list line holds no line break either
+    if (c.find_first_of("\r\n") != std::string::npos) {  // a case list line cannot hold one
+      throw SubmitError(fmt::format("'{}' holds a line break, which a case list cannot carry; rename it", c));
+    }
     list += c + "\n";
   }
   files.emplace_back(dir / "cases.txt", list);
-  for (std::size_t i = 0; i < sub.arrays.size(); ++i) files.emplace_back(sub.arrays[i].script, array_script(sub, sub.arrays[i], i, o));
-  if (o.gather) files.emplace_back(sub.gather_script, gather_script(sub, targets, o));
+  for (std::size_t i = 0; i < sub.arrays.size(); ++i) files.emplace_back(sub.arrays[i].script, scheduler.array_script(sub, sub.arrays[i], i, o));
+  if (o.gather) files.emplace_back(sub.gather_script, scheduler.gather_script(sub, targets, o));
   if (o.dry_run) fs::remove_all(dir);
   fs::create_directories(dir);
   for (const auto& [path, text] : files) formats::write_file_atomically(path, text);
@@ -410,27 +237,20 @@ void write_files(const Submission& sub, const std::vector<std::string>& targets,
 Submission submit(const std::vector<std::string>& targets, const SubmitOptions& o) {
   if (targets.empty()) throw SubmitError("name the cases or sweeps to submit");
   if (o.cases_per_task < 1) throw SubmitError("--cases-per-task must be at least 1");
+  const auto scheduler = make_scheduler({o.sbatch, o.scontrol, o.squeue, "sacct"});
   const auto first = fs::absolute(targets.front()).lexically_normal().string();
-  if (first.find('\\') != std::string::npos) {
-    throw SubmitError(fmt::format("{} holds a backslash, which SLURM reads in a log path as 'no patterns' (every task's "
-                                  "log would go to one file): rename it",
-                                  first));
-  }
+  scheduler->check_directory(first);
   Submission sub;
   Costs costs;
   const auto pending = pending_cases(targets, o.force, costs);
-  const auto busy = busy_cases(targets, pending, o, sub.notes);
+  const auto busy = busy_cases(targets, pending, *scheduler, sub.notes);
   for (const auto& c : pending) (busy.count(c) != 0 ? sub.skipped : sub.cases).push_back(c);
   if (sub.cases.empty()) return sub;
-  if (!o.dry_run && !os::find_program(o.sbatch)) {
-    throw SubmitError(fmt::format("{} is not on PATH: install SLURM's client commands (Debian package slurm-client) or "
-                                  "submit from a machine that has them; --dry-run writes the scripts without submitting",
-                                  o.sbatch));
-  }
-  const auto limits = site_limits(o, sub.notes);
+  if (!o.dry_run) scheduler->require_submit();
+  const auto limits = scheduler->limits(o.dry_run, sub.notes);
   sub.max_array_size = limits.max_array_size;
   SubmitOptions each = o;
-  each.cases_per_task = cases_per_task(o, sub.cases.size(), limits, sub.notes);
+  each.cases_per_task = cases_per_task(o, sub.cases.size(), limits, *scheduler, sub.notes);
   plan_arrays(sub, each, each.cases_per_task, costs);
   const auto dir = next_submission_dir(first, o.dry_run);
   sub.directory = dir.string();
@@ -439,22 +259,20 @@ Submission submit(const std::vector<std::string>& targets, const SubmitOptions& 
     sub.gather_script = (dir / "gather.sbatch").string();
     sub.gather_time = gather_time(o, costs);
   }
-  write_files(sub, targets, each);
+  write_files(sub, targets, each, *scheduler);
   if (o.dry_run) return sub;
   const auto name = job_name(first);
   std::vector<std::string> ids;
   try {
     for (auto& a : sub.arrays) {
-      std::vector<std::string> extra{"--job-name=" + name, "--output=" + output_pattern(sub.directory, "task-%A_%a.out"),
-                                     "--open-mode=append"};
-      if (a.after_previous) extra.push_back("--dependency=afterany:" + ids.back());
-      a.job_id = sbatch(a.script, extra, o);
+      JobRequest job{a.script, name, scheduler->array_log(), {}};
+      if (a.after_previous) job.after.push_back(ids.back());
+      a.job_id = scheduler->submit(job, o);
       ids.push_back(a.job_id);
       save(sub, targets, each.cases_per_task, sub.notes);
     }
     if (o.gather) {
-      sub.gather_job_id = sbatch(sub.gather_script, {"--job-name=" + name + "-gather", "--output=" + output_pattern(sub.directory, "gather.out"),
-                                 "--open-mode=append", fmt::format("--dependency=afterany:{}", fmt::join(ids, ":"))}, o);
+      sub.gather_job_id = scheduler->submit({sub.gather_script, name + "-gather", "gather.out", ids}, o);
       save(sub, targets, each.cases_per_task, sub.notes);
     }
   } catch (const SubmitError& e) {
@@ -463,10 +281,10 @@ Submission submit(const std::vector<std::string>& targets, const SubmitOptions& 
       fs::remove_all(dir, ec);
       throw;
     }
-    throw SubmitError(fmt::format("{}\nthe {} array(s) SLURM accepted before (job {}) run and are recorded in {}; the "
+    throw SubmitError(fmt::format("{}\nthe {} array(s) {} accepted before (job {}) run and are recorded in {}; the "
                                   "rest was not submitted: run 'granstack submit' again once the cause is gone (it "
                                   "skips the cases already queued)",
-                                  e.what(), ids.size(), fmt::join(ids, ", "), sub.directory));
+                                  e.what(), ids.size(), scheduler->name(), fmt::join(ids, ", "), sub.directory));
   }
   return sub;
 }
