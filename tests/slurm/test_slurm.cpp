@@ -388,7 +388,7 @@ TEST(Slurm, ADamagedRecordIsSaidAndARequeueKeepsTheFirstLog) {
   // SLURM holds a requeued job back two minutes, until the first attempt's revoked credential has
   // expired. The test lets it go earlier, but not within the second of the requeue: slurmd
   // compares credentials at one-second resolution, and a launch in that second fails with "Job
-  // credential revoked" (seen once in CI, once in 12 local runs). It releases the task should a
+  // credential revoked" (seen once in CI, and once in 7 local runs). It releases the task should a
   // failed launch have held it, and waits for the second attempt to finish the case. The job's
   // record is kept for the failure message.
   std::this_thread::sleep_for(std::chrono::milliseconds(2100));
