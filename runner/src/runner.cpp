@@ -1,16 +1,15 @@
 #include <granstack/formats/deck.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/files.hpp>
-#include <granstack/formats/log.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/ownership.hpp>
-#include <granstack/generator/case_writer.hpp>
 #include <granstack/model/version.hpp>
 #include <granstack/os/case_lock.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/os/process.hpp>
-#include <granstack/refsim/case_run.hpp>
 #include <granstack/runner/runner.hpp>
+
+#include "engine.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -18,14 +17,12 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
 #include <set>
 #include <thread>
 #include <sys/statvfs.h>
-#include <unistd.h>
 
 namespace granstack::runner {
 
@@ -74,8 +71,6 @@ std::string recorded_status(const std::string& case_dir) {
 
 namespace {
 
-// How long (in 50 ms steps) a LIGGGHTS that quit of a signal waits for granstack's own.
-constexpr int kSignalGraceSteps = 20;
 
 void write_record(const fs::path& path, const json& record) {
   formats::write_file_atomically(path, record.dump(2) + "\n");
@@ -122,294 +117,6 @@ class Monitor {
   std::vector<CaseProgress> slots_;
   std::vector<Clock::time_point> starts_;
 };
-
-// A private directory for Open MPI's session files, removed with everything in it at the end.
-// Open MPI processes started at the same time share /tmp/ompi.HOST.UID by default, and one that
-// ends can remove it while another is still creating its own part: the second then fails in
-// orte_init and exits with code 1 before LIGGGHTS prints anything (open-mpi/ompi#3818). A
-// directory per run removes the race.
-class PrivateTmpDir {
- public:
-  PrivateTmpDir() {
-    auto pattern = (fs::temp_directory_path() / "granstack-mpi-XXXXXX").string();
-    if (::mkdtemp(pattern.data()) != nullptr) path_ = pattern;
-  }
-  ~PrivateTmpDir() {
-    std::error_code ec;
-    if (!path_.empty()) fs::remove_all(path_, ec);
-  }
-  PrivateTmpDir(const PrivateTmpDir&) = delete;
-  PrivateTmpDir& operator=(const PrivateTmpDir&) = delete;
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
-
-// Environment added for one LIGGGHTS start; a variable the user has set is left as it is.
-std::vector<std::string> mpi_environment(const std::string& tmpdir, int ranks) {
-  std::vector<std::string> env;
-  const auto add = [&](const char* name, const std::string& value) {
-    if (std::getenv(name) == nullptr && !value.empty()) env.push_back(std::string(name) + "=" + value);
-  };
-  add("OMPI_MCA_orte_tmpdir_base", tmpdir);
-  // A single rank started without mpirun need not launch Open MPI's daemon (0.1 s per start).
-  if (ranks == 1) add("OMPI_MCA_ess_singleton_isolated", "1");
-  return env;
-}
-
-// Reads what the process has appended to its output since the last call.
-class Tail {
- public:
-  explicit Tail(fs::path path) : path_(std::move(path)) {}
-  void poll(formats::LogScanner& scanner) {
-    std::ifstream in(path_, std::ios::binary);
-    if (!in) return;
-    in.seekg(static_cast<std::streamoff>(offset_));
-    std::string chunk((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    offset_ += chunk.size();
-    partial_ += chunk;
-    std::size_t nl;
-    while ((nl = partial_.find('\n')) != std::string::npos) {
-      scanner.add_line(std::string_view(partial_).substr(0, nl));
-      partial_.erase(0, nl + 1);
-    }
-  }
-  void flush(formats::LogScanner& scanner) {
-    poll(scanner);
-    if (!partial_.empty()) scanner.add_line(partial_);
-    partial_.clear();
-  }
-
- private:
-  fs::path path_;
-  std::size_t offset_ = 0;
-  std::string partial_;
-};
-
-// What one engine run produced: an error message (empty on success) and the figures for run.json.
-struct EngineResult {
-  std::string error;
-  nlohmann::json record = nlohmann::json::object();
-  bool interrupted = false;  // stopped by a signal to granstack
-  bool started = false;      // the engine began the run (LIGGGHTS printed its banner; refsim stepped)
-  double loop_seconds = 0.0;
-  double particle_steps_per_second = 0.0;
-};
-
-// Why LIGGGHTS cannot be started at all (its program, mpirun, a temporary directory for Open
-// MPI), or "": checked before anything of an earlier run is touched.
-std::string liggghts_unavailable(const RunOptions& o) {
-  if (!os::find_program(o.liggghts)) {
-    return o.liggghts.find('/') == std::string::npos
-               ? fmt::format("LIGGGHTS ('{}') is not on PATH: install it with scripts/setup.sh (Debian package "
-                             "'liggghts') or pass --liggghts PATH",
-                             o.liggghts)
-               : fmt::format("--liggghts {}: not an executable file; pass the LIGGGHTS executable (the Debian "
-                             "package 'liggghts' installs /usr/bin/liggghts)",
-                             o.liggghts);
-  }
-  if (o.ranks > 1 && !os::find_program(o.mpirun)) {
-    return fmt::format("'{}' is not on PATH: it comes with the Debian package 'liggghts' (Open MPI)", o.mpirun);
-  }
-  std::error_code ec;
-  const auto tmp = fs::temp_directory_path(ec);
-  if (ec || PrivateTmpDir().path().empty()) {
-    const char* env = std::getenv("TMPDIR");
-    return fmt::format("no private directory can be made for Open MPI's session files in {}{}: set TMPDIR to a "
-                       "writable directory",
-                       ec ? std::string(env != nullptr ? env : "TMPDIR") : tmp.string(),
-                       ec ? " (not a directory)" : " (not writable, or full)");
-  }
-  return "";
-}
-
-EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest, const RunOptions& o,
-                          const std::function<void(long)>& on_step, const std::function<void()>& on_started) {
-  EngineResult result;
-  const auto& files = manifest.files;
-  std::vector<std::string> argv;
-  const auto liggghts = os::find_program(o.liggghts);  // run_one checked liggghts_unavailable() first
-  if (!liggghts) {
-    result.error = liggghts_unavailable(o);
-    return result;
-  }
-  if (o.ranks > 1) {
-    argv = {o.mpirun, "-np", std::to_string(o.ranks)};
-    if (::geteuid() == 0) argv.push_back("--allow-run-as-root");
-    if (o.ranks > static_cast<int>(std::thread::hardware_concurrency())) argv.push_back("--oversubscribe");
-  }
-  // Unbuffered, so an MPI_Abort cannot swallow LIGGGHTS's error message (docs/liggghts.md section 9).
-  const auto stdbuf = os::find_program("stdbuf");
-  if (stdbuf) argv.insert(argv.end(), {*stdbuf, "-o0", "-e0"});
-  // Absolute: the program starts in the case directory, where a relative path would mean something else.
-  argv.insert(argv.end(), {fs::absolute(*liggghts).string(), "-in", files.deck, "-log", files.log});
-  result.record["command"] = argv;
-  result.record["ranks"] = o.ranks;
-
-  const long total_steps = manifest.derived.value("steps", 0L);
-  formats::LogScanner scanner;
-  int exit_code = -1;
-  std::string signal_text;
-  // A start that fails before LIGGGHTS prints its banner (MPI could not start) is tried again,
-  // at most kStarts times in all; a failure after the banner is LIGGGHTS's own and final.
-  constexpr int kStarts = 3;
-  int starts = 0;
-  for (; starts < kStarts; ++starts) {
-    const PrivateTmpDir tmpdir;
-    os::StartOptions start;
-    start.cwd = fs::absolute(dir);
-    start.output = fs::absolute(dir / files.screen);
-    start.extra_environment = mpi_environment(tmpdir.path(), o.ranks);
-    const auto child = os::start(argv, start);
-    if (child.pid < 0) {
-      result.error = child.error;
-      return result;
-    }
-    scanner = formats::LogScanner();
-    exit_code = -1;
-    signal_text.clear();
-    Tail tail(dir / files.screen);
-    for (;;) {
-      if (const auto end = os::poll(child)) {
-        exit_code = end->code;
-        if (end->signal != 0) signal_text = fmt::format("killed by signal {}", end->signal);
-        break;
-      }
-      if (os::interrupt_signal() != 0) {  // granstack is asked to stop: so is LIGGGHTS, at once
-        os::kill_group(child);
-        os::wait(child);
-        result.interrupted = true;
-        return result;
-      }
-      tail.poll(scanner);
-      if (!result.started && !scanner.version().empty()) {
-        result.started = true;
-        on_started();
-      }
-      if (auto step = scanner.last_step()) on_step(*step);
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-    tail.flush(scanner);
-    if (!result.started && !scanner.version().empty()) {
-      result.started = true;
-      on_started();
-    }
-    const bool failed_to_start = exit_code != 0 && scanner.version().empty() && result.error.empty();
-    if (!failed_to_start || starts + 1 == kStarts) break;
-    result.record["failed_starts"].push_back(scanner.head());
-  }
-  result.record["starts"] = starts + 1;
-  // A scheduler (SLURM's scancel or time limit) signals every process of a job at once, so
-  // LIGGGHTS may end of the same signal before granstack's own handler has run: give that
-  // signal a moment to arrive, and call the run interrupted, not failed.
-  if (scanner.stopped_by_signal() || !signal_text.empty()) {
-    for (int i = 0; i < kSignalGraceSteps && os::interrupt_signal() == 0; ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    if (os::interrupt_signal() != 0) {
-      result.interrupted = true;
-      return result;
-    }
-  }
-
-  const auto& loop = scanner.loop_time();
-  if (result.error.empty()) {
-    if (!scanner.errors().empty()) {
-      result.error = scanner.errors().front();
-    } else if (scanner.stopped_by_signal()) {
-      result.error = "LIGGGHTS was sent SIGINT or SIGTERM directly and quit before the end of the run (its forced "
-                     "restart file is removed); to stop granstack, signal granstack itself; run the case again";
-    } else if (scanner.lost_atoms()) {
-      result.error = "LIGGGHTS lost atoms (see " + files.screen + ")";
-    } else if (!signal_text.empty()) {
-      result.error = "LIGGGHTS was " + signal_text;
-    } else if (exit_code != 0) {
-      const bool started = !scanner.version().empty();
-      const auto quote = started ? scanner.tail() : scanner.head();
-      result.error = fmt::format("LIGGGHTS exited with code {}{}; {} ({}){}", exit_code,
-                                 started ? "" : " before it started (could MPI not start?)",
-                                 quote.empty() ? "it printed nothing" : started ? "its last lines" : "its first lines",
-                                 files.screen, quote.empty() ? "" : ":");
-      for (const auto& line : quote) result.error += "\n    " + line;
-    } else if (!loop || loop->steps != total_steps) {
-      result.error = fmt::format("LIGGGHTS ended without finishing the run of {} steps (see {})", total_steps,
-                                 files.screen);
-    }
-  }
-  result.record["exit_code"] = exit_code;
-  result.record["liggghts_version"] = scanner.version();
-  if (!scanner.warnings().empty()) result.record["warnings"] = scanner.warnings();
-  if (loop) {
-    result.loop_seconds = loop->seconds;
-    result.particle_steps_per_second =
-        loop->seconds > 0 ? static_cast<double>(loop->atoms) * static_cast<double>(loop->steps) / loop->seconds : 0.0;
-    result.record["steps"] = loop->steps;
-    result.record["atoms"] = loop->atoms;
-    result.record["procs"] = loop->procs;
-  }
-  return result;
-}
-
-// Thrown from refsim's progress callback to end its loop when granstack is asked to stop.
-struct Interrupted {};
-
-// refsim takes its physics from the manifest, LIGGGHTS from the deck: they must say the same.
-std::string refsim_unavailable(const fs::path& dir, const formats::Manifest& manifest) {
-  if (generator::has_default_deck(dir.string(), manifest)) return "";
-  return fmt::format("refsim: {} is not the deck granstack's own template gives for this case (it was rendered from "
-                     "a --template of yours), so refsim cannot be sure to run the same physics; run it with LIGGGHTS, "
-                     "or generate the case without --template",
-                     (dir / manifest.files.deck).string());
-}
-
-EngineResult run_refsim(const fs::path& dir, const RunOptions& o,
-                        const std::function<void(long)>& on_step, const std::function<void()>& on_started) {
-  EngineResult result;
-  try {
-    refsim::RunOptions ro;
-    ro.threads = o.threads;
-    ro.kernel = o.kernel;
-    // The outputs on a thread of their own where a CPU is left over by every case's threads.
-    ro.write_behind = os::usable_cpus() >= (o.threads + 1) * std::max(1, o.jobs);
-    ro.on_progress = [&](long step, long) {
-      if (!result.started) {
-        result.started = true;
-        on_started();
-      }
-      on_step(step);
-      if (os::interrupt_signal() != 0) throw Interrupted();
-    };
-    const auto stats = refsim::run_case(dir.string(), ro);
-    result.started = true;
-    result.loop_seconds = stats.loop_seconds;
-    result.particle_steps_per_second = stats.particle_steps_per_second;
-    result.record["steps"] = stats.steps;
-    result.record["atoms"] = stats.atoms;
-    result.record["threads"] = o.threads;
-    result.record["kernel"] = stats.kernel;
-    result.record["write_behind"] = stats.write_behind;
-    result.record["neighbor_builds"] = stats.neighbor_builds;
-  } catch (const Interrupted&) {
-    result.interrupted = true;
-  } catch (const std::exception& e) {
-    result.error = std::string("refsim: ") + e.what();
-  }
-  return result;
-}
-
-// LIGGGHTS writes restart_forced_liggghts_STEP.data when a signal reaches it directly; such a
-// file made during this run is debris of the stop, never a result.
-void remove_forced_restarts(const fs::path& dir, fs::file_time_type since) {
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    const auto name = entry.path().filename().string();
-    if (name.rfind("restart_forced_liggghts_", 0) == 0 && entry.is_regular_file(ec) &&
-        entry.last_write_time(ec) >= since) {
-      fs::remove(entry.path(), ec);
-    }
-  }
-}
 
 // The outputs of an earlier run, moved aside into CASE/.granstack-earlier-run until the new run
 // has started: a run that cannot start leaves them, and their run.json, as they were. A stash
@@ -576,9 +283,10 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
   const fs::path dir(case_dir);
   formats::Manifest manifest;
   std::optional<os::CaseLock> lock;
+  const auto engine = make_engine(o.engine);
   try {
     manifest = formats::read_manifest(case_dir);
-    lock.emplace(dir, o.engine == Engine::refsim ? "granstack run --engine refsim" : "granstack run");
+    lock.emplace(dir, engine->lock_holder());
     formats::check_deck_matches_manifest(case_dir, manifest);
   } catch (const std::exception& e) {
     outcome.message = e.what();
@@ -592,9 +300,8 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
     monitor.skipped();
     return outcome;
   }
-  const bool refsim_engine = o.engine == Engine::refsim;
   // What would stop the engine from starting is found before an earlier run's outputs are touched.
-  if (const auto why = refsim_engine ? refsim_unavailable(dir, manifest) : liggghts_unavailable(o); !why.empty()) {
+  if (const auto why = engine->unavailable(dir, manifest, o); !why.empty()) {
     outcome.message = why + (recorded_status(case_dir).empty() ? "" : " (the case's earlier outputs are kept)");
     monitor.skipped();
     return outcome;
@@ -610,11 +317,10 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
   const auto on_step = [&](long step) { monitor.update(slot, step); };
   const auto on_started = [&] { earlier.discard(); };
   const auto t0 = Clock::now();
-  auto result = refsim_engine ? run_refsim(dir, o, on_step, on_started)
-                              : run_liggghts(dir, manifest, o, on_step, on_started);
+  auto result = engine->run(dir, manifest, o, on_step, on_started);
   outcome.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   monitor.finish(slot);
-  if (!refsim_engine) remove_forced_restarts(dir, started);
+  engine->tidy(dir, started);
   if (!result.started && earlier.had_record()) {  // nothing ran: the case is as it was
     earlier.restore();
     outcome.status = result.interrupted ? RunStatus::interrupted : RunStatus::failed;

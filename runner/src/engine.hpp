@@ -1,0 +1,53 @@
+#pragma once
+// The engines granstack runs a case on, behind one interface: run_one (runner.cpp) does the
+// rest (the lock, the earlier outputs, run.json) the same for both. LIGGGHTS's is
+// liggghts_engine.cpp, refsim's refsim_engine.cpp; another engine is one more such file and its
+// line in make_engine.
+#include <granstack/formats/manifest.hpp>
+#include <granstack/runner/runner.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace granstack::runner {
+
+// What one engine run produced: an error message (empty on success) and the figures for run.json.
+struct EngineResult {
+  std::string error;
+  nlohmann::json record = nlohmann::json::object();
+  bool interrupted = false;  // stopped by a signal to granstack
+  bool started = false;      // the engine began the run (LIGGGHTS printed its banner; refsim stepped)
+  double loop_seconds = 0.0;
+  double particle_steps_per_second = 0.0;
+};
+
+class CaseEngine {
+ public:
+  virtual ~CaseEngine() = default;
+  // What the case's lock says holds it ("granstack run").
+  virtual std::string lock_holder() const = 0;
+  // Why it cannot start on this case (a missing program, a deck it cannot run), or "": asked
+  // before anything of an earlier run is touched.
+  virtual std::string unavailable(const std::filesystem::path& dir, const formats::Manifest& manifest,
+                                  const RunOptions& o) const = 0;
+  // Runs the case; on_step with each step it reaches, on_started once when it has begun.
+  virtual EngineResult run(const std::filesystem::path& dir, const formats::Manifest& manifest, const RunOptions& o,
+                           const std::function<void(long)>& on_step, const std::function<void()>& on_started) const = 0;
+  // Removes what a stopped run leaves that is no result (made since `since`).
+  virtual void tidy(const std::filesystem::path& dir, std::filesystem::file_time_type since) const {
+    (void)dir;
+    (void)since;
+  }
+};
+
+std::unique_ptr<CaseEngine> make_liggghts_engine();
+std::unique_ptr<CaseEngine> make_refsim_engine();
+inline std::unique_ptr<CaseEngine> make_engine(Engine e) {
+  return e == Engine::refsim ? make_refsim_engine() : make_liggghts_engine();
+}
+
+}  // namespace granstack::runner

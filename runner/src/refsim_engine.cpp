@@ -1,0 +1,82 @@
+// refsim behind the engine interface: granstack's reference integrator, in this process.
+#include "engine.hpp"
+
+#include <granstack/generator/case_writer.hpp>
+#include <granstack/os/interrupt.hpp>
+#include <granstack/os/process.hpp>
+#include <granstack/refsim/case_run.hpp>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace granstack::runner {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Thrown from refsim's progress callback to end its loop when granstack is asked to stop.
+struct Interrupted {};
+
+// refsim takes its physics from the manifest, LIGGGHTS from the deck: they must say the same.
+std::string refsim_unavailable(const fs::path& dir, const formats::Manifest& manifest) {
+  if (generator::has_default_deck(dir.string(), manifest)) return "";
+  return fmt::format("refsim: {} is not the deck granstack's own template gives for this case (it was rendered from "
+                     "a --template of yours), so refsim cannot be sure to run the same physics; run it with LIGGGHTS, "
+                     "or generate the case without --template",
+                     (dir / manifest.files.deck).string());
+}
+
+EngineResult run_refsim(const fs::path& dir, const RunOptions& o,
+                        const std::function<void(long)>& on_step, const std::function<void()>& on_started) {
+  EngineResult result;
+  try {
+    refsim::RunOptions ro;
+    ro.threads = o.threads;
+    ro.kernel = o.kernel;
+    // The outputs on a thread of their own where a CPU is left over by every case's threads.
+    ro.write_behind = os::usable_cpus() >= (o.threads + 1) * std::max(1, o.jobs);
+    ro.on_progress = [&](long step, long) {
+      if (!result.started) {
+        result.started = true;
+        on_started();
+      }
+      on_step(step);
+      if (os::interrupt_signal() != 0) throw Interrupted();
+    };
+    const auto stats = refsim::run_case(dir.string(), ro);
+    result.started = true;
+    result.loop_seconds = stats.loop_seconds;
+    result.particle_steps_per_second = stats.particle_steps_per_second;
+    result.record["steps"] = stats.steps;
+    result.record["atoms"] = stats.atoms;
+    result.record["threads"] = o.threads;
+    result.record["kernel"] = stats.kernel;
+    result.record["write_behind"] = stats.write_behind;
+    result.record["neighbor_builds"] = stats.neighbor_builds;
+  } catch (const Interrupted&) {
+    result.interrupted = true;
+  } catch (const std::exception& e) {
+    result.error = std::string("refsim: ") + e.what();
+  }
+  return result;
+}
+
+class Refsim final : public CaseEngine {
+ public:
+  std::string lock_holder() const override { return "granstack run --engine refsim"; }
+  std::string unavailable(const fs::path& dir, const formats::Manifest& manifest, const RunOptions&) const override {
+    return refsim_unavailable(dir, manifest);
+  }
+  EngineResult run(const fs::path& dir, const formats::Manifest&, const RunOptions& o,
+                   const std::function<void(long)>& on_step, const std::function<void()>& on_started) const override {
+    return run_refsim(dir, o, on_step, on_started);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<CaseEngine> make_refsim_engine() { return std::make_unique<Refsim>(); }
+
+}  // namespace granstack::runner
