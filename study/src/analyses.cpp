@@ -23,13 +23,18 @@ const postproc::CaseReduction* AnalysisInput::reduction(const std::string& exp, 
   return &*it->second->reduction;
 }
 
-std::optional<double> AnalysisInput::earlier(const std::string& exp, const std::string& value) const {
+const ExperimentResult* AnalysisInput::result(const std::string& exp) const {
   for (const auto& r : results) {
-    if (r.experiment->name != exp) continue;
-    const auto it = r.values.find(value);
-    if (it != r.values.end() && std::isfinite(it->second)) return it->second;
+    if (r.experiment->name == exp) return &r;
   }
-  return std::nullopt;
+  return nullptr;
+}
+
+std::optional<double> AnalysisInput::earlier(const std::string& exp, const std::string& value) const {
+  const auto* r = result(exp);
+  if (r == nullptr) return std::nullopt;
+  const auto it = r->values.find(value);
+  return it != r->values.end() && std::isfinite(it->second) ? std::optional<double>(it->second) : std::nullopt;
 }
 
 double AnalysisInput::paper(const std::string& quantity) const {
@@ -40,11 +45,10 @@ double AnalysisInput::paper(const std::string& quantity) const {
 }
 
 const Claim* AnalysisInput::claim_on(const std::string& exp, const std::string& quantity) const {
-  for (const auto& r : results) {
-    if (r.experiment->name != exp) continue;
-    for (const auto& c : r.experiment->claims) {
-      if (c.quantity == quantity) return &c;
-    }
+  const auto* r = result(exp);
+  if (r == nullptr) return nullptr;
+  for (const auto& c : r->experiment->claims) {
+    if (c.quantity == quantity) return &c;
   }
   return nullptr;
 }

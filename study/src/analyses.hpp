@@ -19,6 +19,8 @@ struct AnalysisInput {
   // The case's reduction, or nullptr when it did not run or could not be reduced.
   const postproc::CaseReduction* reduction(const std::string& experiment, const std::string& case_name) const;
   const postproc::CaseReduction* own(const std::string& case_name) const { return reduction(experiment.name, case_name); }
+  // An experiment of the run by name (analysed when it comes before this one), or nullptr.
+  const ExperimentResult* result(const std::string& experiment) const;
   // A value of an experiment analysed before this one (one it `needs` comes first in the
   // catalogue); none when that experiment or value is missing.
   std::optional<double> earlier(const std::string& experiment, const std::string& value) const;

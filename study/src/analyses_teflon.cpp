@@ -43,9 +43,16 @@ double teflon_restitution(const model::StackSpec& s) {
   return s.restitution.value;
 }
 
+// A value of the restitution scan, scan.e<E>.<final|kickN>: E and the read-out; none for another value.
+std::optional<std::pair<double, std::string>> scan_key(const std::string& key) {
+  if (key.rfind("scan.e", 0) != 0) return std::nullopt;
+  const auto last = key.rfind('.');
+  return std::pair{std::stod(key.substr(6, last - 6)), key.substr(last + 1)};
+}
+
 // Each scanned e's output after every kick, as values scan.eE.kickN (kick N's reading) and
-// scan.eE.final, with a table and the number of kicks of the most kicked case.
-std::size_t restitution_scan(const AnalysisInput& in, ExperimentResult& out, const std::string& main_name) {
+// scan.eE.final (scan_key), with a table.
+void restitution_scan(const AnalysisInput& in, ExperimentResult& out, const std::string& main_name) {
   std::map<double, std::pair<double, std::vector<double>>> scan;  // e -> final, after each kick
   for (const auto& c : in.experiment.cases) {
     if (c.name != main_name && c.name.rfind("teflon_e", 0) != 0) continue;
@@ -72,7 +79,6 @@ std::size_t restitution_scan(const AnalysisInput& in, ExperimentResult& out, con
     t.rows.push_back(cells);
   }
   out.tables.push_back(t);
-  return most;
 }
 
 // The main case's output read other ways: the definitions, and after each kick.
@@ -136,10 +142,9 @@ struct Fits {
 Fits fits_of(const ExperimentResult& r, const Claim& claim) {
   Fits f;
   for (const auto& [key, v] : r.values) {
-    if (key.rfind("scan.e", 0) != 0) continue;
-    const auto last = key.rfind('.');  // scan.e<E>.<final|kickN>
-    const double e = std::stod(key.substr(6, last - 6));
-    const auto readout = key.substr(last + 1);
+    const auto scanned = scan_key(key);
+    if (!scanned) continue;
+    const auto& [e, readout] = *scanned;
     auto& set = f.by_e[e];
     if (v >= claim.low && v <= claim.high) set.insert(readout == "final" ? "final" : "after kick " + readout.substr(4));
   }
@@ -153,10 +158,7 @@ std::string list(const std::set<std::string>& s) { return s.empty() ? "none" : f
 std::string hypotheses(const AnalysisInput& in, const ExperimentResult& sandwich) {
   const auto* fig4_claim = in.claim_on("fig4", "output.steel_on_teflon");
   const auto* own_claim = in.claim_on("sandwich", "output.sandwich");
-  const ExperimentResult* fig4 = nullptr;
-  for (const auto& r : in.results) {
-    if (r.experiment->name == "fig4") fig4 = &r;
-  }
+  const auto* fig4 = in.result("fig4");
   if (fig4_claim == nullptr || own_claim == nullptr || fig4 == nullptr) return {};
   const auto a = fits_of(*fig4, *fig4_claim), b = fits_of(sandwich, *own_claim);
   std::vector<std::string> both, fig4_only, sandwich_only;
@@ -187,8 +189,7 @@ std::string hypotheses(const AnalysisInput& in, const ExperimentResult& sandwich
 std::map<double, double> scan_series(const std::map<std::string, double>& values, const std::string& readout) {
   std::map<double, double> out;
   for (const auto& [key, v] : values) {
-    const auto last = key.rfind('.');
-    if (key.rfind("scan.e", 0) == 0 && key.substr(last + 1) == readout) out[std::stod(key.substr(6, last - 6))] = v;
+    if (const auto scanned = scan_key(key); scanned && scanned->second == readout) out[scanned->first] = v;
   }
   return out;
 }
@@ -198,10 +199,10 @@ void scan_plot(const AnalysisInput& in, ExperimentResult& out) {
   const auto* own_claim = in.claim_on("sandwich", "output.sandwich");
   std::vector<ScanSeries> series;
   std::vector<ScanBand> bands;
-  for (const auto& r : in.results) {
-    if (r.experiment->name != "fig4" || fig4_claim == nullptr || !fig4_claim->paper) continue;
+  const auto* fig4 = in.result("fig4");
+  if (fig4 != nullptr && fig4_claim != nullptr && fig4_claim->paper) {
     bands.push_back({"Fig. 4: the paper's value, its band shaded", fig4_claim->low, fig4_claim->high, *fig4_claim->paper});
-    series.push_back({"Fig. 4, final", scan_series(r.values, "final"), 0});
+    series.push_back({"Fig. 4, final", scan_series(fig4->values, "final"), 0});
   }
   if (own_claim == nullptr || !own_claim->paper) return;
   const int band = static_cast<int>(bands.size());
