@@ -18,7 +18,7 @@ namespace {
 
 struct GenerateFlags {
   std::map<std::string, std::string> values;  // field -> flag text
-  std::vector<std::string> restitution_pairs, friction_pairs, custom_materials;
+  std::vector<std::string> restitution_pairs, friction_pairs, rolling_friction_pairs, custom_materials;
   std::string config, output, deck_template;
   bool force = false;
   bool large = false;
@@ -52,6 +52,7 @@ generator::RawSpec raw_spec(CLI::App& cmd, const GenerateFlags& g) {
   };
   append("restitution_pairs", g.restitution_pairs);
   append("friction_pairs", g.friction_pairs);
+  append("rolling_friction_pairs", g.rolling_friction_pairs);
   append("custom_materials", g.custom_materials);
   return raw;
 }
@@ -124,12 +125,19 @@ Command add_generate(CLI::App& app, const std::vector<std::string>& argv) {
       {"--series-every", "series_every", "Steps between in-situ energy samples, or auto [auto]"},
       {"--dump-format", "dump_format", "Dump format: text | binary [text]"},
       {"--dump-files", "dump_files", "single | per_step (LIGGGHTS '*') | per_rank (LIGGGHTS '%', with --np) [single]"},
+      {"--normal-model", "normal_model", "Normal contact: hertz | hooke (a linear spring, Hertz's overlap at the "
+                                         "characteristic velocity) [hertz]"},
+      {"--tangential-model", "tangential_model", "Tangential contact: history (Coulomb spring) | no_history (viscous) [history]"},
+      {"--rolling-model", "rolling_model", "Rolling friction: off | epsd2 (elastic-plastic torque spring) [off]"},
+      {"--rolling-friction", "rolling_friction", "Rolling friction coefficient mu_r, 0..1, rolling_model = epsd2 (sweepable) [0]"},
+      {"--characteristic-velocity", "characteristic_velocity", "normal_model = hooke: its calibration speed, m/s, or auto [auto: the striker speed]"},
   };
   for (const auto& f : flags) cmd->add_option(f.name, g->values[f.field], f.help);
   cmd->add_option("--gravity", g->values["gravity"], "Gravity along -z, m/s^2, 0..1000; the bare flag means 9.80665 [0]")
       ->expected(0, 1);
   cmd->add_option("--restitution-pair", g->restitution_pairs, "Restitution of one material pair: A:B=E (repeatable)");
   cmd->add_option("--friction-pair", g->friction_pairs, "Friction of one material pair: A:B=MU (repeatable)");
+  cmd->add_option("--rolling-friction-pair", g->rolling_friction_pairs, "Rolling friction of one material pair: A:B=MU_R (repeatable)");
   cmd->add_option("--custom-material", g->custom_materials,
                   "Define a material: NAME:DENSITY:YOUNGS_MODULUS:POISSON_RATIO (SI, repeatable; not a built-in name)");
   cmd->add_option("--template", g->deck_template, "Input-deck template to render instead of templates/in.granstack.tmpl")

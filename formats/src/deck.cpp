@@ -25,6 +25,24 @@ void check_rendered_files(const std::string& case_dir, const Manifest& manifest)
   check(manifest.files.data, manifest.rendered.data_sha256, "data file");
 }
 
+namespace {
+// The contact model words of a pair_style or wall/gran line (from `first` up to 'primitive' or
+// the end) against the manifest's: a deck edited to another model would be labelled wrongly.
+void check_contact_model(const std::vector<std::string_view>& words, std::size_t first, const std::string& expected,
+                         const std::string& path, long line) {
+  std::string found;
+  for (std::size_t k = first; k < words.size() && words[k] != "primitive" && words[k].front() != '#'; ++k) {
+    if (!found.empty()) found += ' ';
+    found += words[k];
+  }
+  if (found == expected) return;
+  throw FormatError(path, line, fmt::format("the deck's contact model is '{}', the manifest's is '{}'; the deck was "
+                                            "edited after 'granstack generate': generate the case again with the "
+                                            "model you want (--normal-model, --tangential-model, --rolling-model)",
+                                            found, expected));
+}
+}  // namespace
+
 void check_deck_matches_manifest(const std::string& case_dir, const Manifest& manifest) {
   check_rendered_files(case_dir, manifest);
   const auto path = (std::filesystem::path(case_dir) / manifest.files.deck).string();
@@ -32,6 +50,7 @@ void check_deck_matches_manifest(const std::string& case_dir, const Manifest& ma
   const long steps = manifest.derived.value("steps", 0L);
   const std::string fix = "; the deck was edited after 'granstack generate': generate the case again with the "
                           "values you want (--dt, --duration) instead";
+  const auto model_words = model::liggghts_model_words(manifest.spec.contact_model());
   LineReader reader(path);
   std::string_view line;
   std::vector<std::string_view> words;
@@ -46,6 +65,8 @@ void check_deck_matches_manifest(const std::string& case_dir, const Manifest& ma
                           fmt::format("the time step is {}, the manifest's dt is {}{}", words[1], dt, fix));
       }
       timestep_line = reader.line_number();
+    } else if (words[0] == "pair_style" || (words[0] == "fix" && words.size() > 3 && words[3] == "wall/gran")) {
+      check_contact_model(words, words[0] == "pair_style" ? 2 : 4, model_words, path, reader.line_number());
     } else if (words[0] == "run") {
       if (!parse_long(words[1], run_steps)) run_steps = -1;
       run_line = reader.line_number();

@@ -49,6 +49,26 @@ model::PairTable pairs_from_json(double value, const json& j, const std::string&
 }
 }  // namespace
 
+namespace {
+// Absent from manifests of the study's contact model: hertz, history, no rolling friction.
+void read_contact_model(model::StackSpec& s, const json& j, const std::string& source) {
+  const auto choice = [&](const char* key, auto parse, auto& target, const char* allowed) {
+    if (!j.contains(key)) return;
+    const auto m = parse(get<std::string>(j, key, source));
+    if (!m) throw FormatError(source, 0, fmt::format("field '{}' is {}", key, allowed));
+    target = *m;
+  };
+  choice("normal_model", model::parse_normal_model, s.normal_model, "'hertz' or 'hooke'");
+  choice("tangential_model", model::parse_tangential_model, s.tangential_model, "'history' or 'no_history'");
+  choice("rolling_model", model::parse_rolling_model, s.rolling_model, "'off' or 'epsd2'");
+  if (j.contains("rolling_friction")) {
+    s.rolling_friction = pairs_from_json(get<double>(j, "rolling_friction", source),
+                                         get<json>(j, "rolling_friction_pairs", source), source, "rolling_friction_pairs");
+  }
+  if (j.contains("characteristic_velocity")) s.characteristic_velocity = get<double>(j, "characteristic_velocity", source);
+}
+}  // namespace
+
 json spec_to_json(const model::StackSpec& s) {
   json mats = json::object();
   for (const auto& m : s.custom_materials) {
@@ -80,6 +100,15 @@ json spec_to_json(const model::StackSpec& s) {
           {"series_every", opt(s.series_every)},
           {"dump_format", model::to_string(s.dump_format)},
           {"dump_files", model::to_string(s.dump_files)}};
+  // The contact model, written when it is not the study's (so the study's cases keep their digests).
+  if (s.normal_model != model::NormalModel::hertz) j["normal_model"] = model::to_string(s.normal_model);
+  if (s.tangential_model != model::TangentialModel::history) j["tangential_model"] = model::to_string(s.tangential_model);
+  if (s.rolling_model != model::RollingModel::off) {
+    j["rolling_model"] = model::to_string(s.rolling_model);
+    j["rolling_friction"] = s.rolling_friction.value;
+    j["rolling_friction_pairs"] = pairs_to_json(s.rolling_friction);
+  }
+  if (s.characteristic_velocity) j["characteristic_velocity"] = *s.characteristic_velocity;
   if (s.geometry == model::Geometry::panels) {
     j["panels"] = s.panels;
     j["impact_panel"] = s.strikes_every_panel() ? json("all") : json(s.impact_panel);
@@ -157,6 +186,7 @@ model::StackSpec spec_from_json(const json& j, const std::string& source) {
   auto files = model::parse_dump_files(j.value("dump_files", std::string("single")));
   if (!files) throw FormatError(source, 0, "field 'dump_files' is 'single', 'per_step' or 'per_rank'");
   s.dump_files = *files;
+  read_contact_model(s, j, source);
   return s;
 }
 

@@ -32,6 +32,26 @@ std::string group_command(const model::SeriesGroup& g) {
   return fmt::format("group           {} id {}\n", g.name, fmt::join(g.ids, " "));
 }
 
+// The properties the contact model needs beyond hertz/history's (each on a line of its own,
+// after the four material fixes): hooke's characteristic velocity (normal_model_hooke.h) and
+// epsd2's rolling friction per type pair.
+std::string contact_model_fixes(const model::StackSpec& spec, const std::vector<std::string>& types) {
+  std::string out;
+  if (spec.normal_model == model::NormalModel::hooke) {
+    out += fmt::format("\nfix             m5 all property/global characteristicVelocity scalar {}",
+                       spec.contact_model().characteristic_velocity);
+  }
+  if (spec.rolling_model == model::RollingModel::epsd2) {
+    std::string matrix;
+    for (const auto& a : types) {
+      for (const auto& b : types) matrix += fmt::format(" {}", spec.rolling_friction.get(a, b));
+    }
+    out += fmt::format("\nfix             m6 all property/global coefficientRollingFriction peratomtypepair {}{}",
+                       types.size(), matrix);
+  }
+  return out;
+}
+
 }  // namespace
 
 formats::CaseFiles case_files(const model::Stack& stack) {
@@ -94,11 +114,13 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
       "fix             m1 all property/global youngsModulus peratomtype{}\n"
       "fix             m2 all property/global poissonsRatio peratomtype{}\n"
       "fix             m3 all property/global coefficientRestitution peratomtypepair {}{}\n"
-      "fix             m4 all property/global coefficientFriction peratomtypepair {}{}",
-      y_list, nu_list, nt, e_matrix, nt, mu_matrix);
+      "fix             m4 all property/global coefficientFriction peratomtypepair {}{}{}",
+      y_list, nu_list, nt, e_matrix, nt, mu_matrix, contact_model_fixes(spec, types));
+  const auto model = spec.contact_model();
+  v["contact_model"] = model::liggghts_model_words(model);
 
   std::string walls;
-  const std::string wall_fix = "all wall/gran model hertz tangential history primitive type";
+  const std::string wall_fix = fmt::format("all wall/gran {} primitive type", model::liggghts_model_words(model));
   for (const auto& w : stack.walls()) {
     walls += fmt::format("fix             {} {} {} {}plane {}\n", w.name, wall_fix, stack.wall_type(), "xyz"[w.axis],
                          w.position);

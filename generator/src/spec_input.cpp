@@ -19,14 +19,22 @@ const std::vector<std::string>& spec_fields() {
       "materials",     "restitution",   "friction",        "striker_speed",     "striker_radius_ratio", "striker_material", "bottom",
       "sides",         "wall_material", "gravity",         "dt",                "duration",
       "dump_every",    "series_every",  "dump_format",     "dump_files",        "restitution_pairs",
-      "friction_pairs", "custom_materials", "geometry", "panels", "impact_panel", "separator", "matrix_material"};
+      "friction_pairs", "custom_materials", "geometry", "panels", "impact_panel", "separator", "matrix_material",
+      "normal_model", "tangential_model", "rolling_model", "rolling_friction", "rolling_friction_pairs",
+      "characteristic_velocity"};
   return fields;
 }
 
 bool is_sweepable(const std::string& f) {
   return f == "blocks" || f == "rows" || f == "top_columns" || f == "bottom_radius" || f == "restitution" ||
-         f == "friction" || f == "striker_speed";
+         f == "friction" || f == "striker_speed" || f == "rolling_friction";
 }
+
+namespace {
+bool is_pairs_field(const std::string& f) {
+  return f == "restitution_pairs" || f == "friction_pairs" || f == "rolling_friction_pairs";
+}
+}  // namespace
 
 std::vector<std::string> split_list(const std::string& value) {
   std::vector<std::string> out;
@@ -85,7 +93,7 @@ RawSpec parse_spec_toml(std::string_view text, const std::string& source) {
       continue;
     }
     auto& tokens = raw[key];
-    if (key == "restitution_pairs" || key == "friction_pairs") {
+    if (is_pairs_field(key)) {
       const auto* t = node.as_table();
       if (t == nullptr) {
         issues.push_back({key, "must be a table of \"material_a:material_b\" = value"});
@@ -193,6 +201,7 @@ void apply_axis_value(model::StackSpec& s, const std::string& field, double v) {
   else if (field == "restitution") s.restitution.value = v;
   else if (field == "friction") s.friction.value = v;
   else if (field == "striker_speed") s.striker_speed = v;
+  else if (field == "rolling_friction") s.rolling_friction.value = v;
 }
 
 std::string short_key(const std::string& field) {
@@ -202,7 +211,22 @@ std::string short_key(const std::string& field) {
   if (field == "bottom_radius") return "r";
   if (field == "restitution") return "e";
   if (field == "friction") return "mu";
+  if (field == "rolling_friction") return "mur";
   return "v";  // striker_speed
+}
+
+void parse_contact_model(model::StackSpec& s, const std::string& field, const std::string& t, Parser& p) {
+  if (field == "normal_model") {
+    if (auto m = model::parse_normal_model(t)) s.normal_model = *m;
+    else p.bad(field, fmt::format("'{}' is not 'hertz' or 'hooke'", t));
+  } else if (field == "tangential_model") {
+    if (auto m = model::parse_tangential_model(t)) s.tangential_model = *m;
+    else p.bad(field, fmt::format("'{}' is not 'history' or 'no_history'", t));
+  } else if (auto m = model::parse_rolling_model(t)) {
+    s.rolling_model = *m;
+  } else {
+    p.bad(field, fmt::format("'{}' is not 'off' or 'epsd2'", t));
+  }
 }
 
 }  // namespace
@@ -217,7 +241,7 @@ Sweep build_sweep(const RawSpec& raw) {
       p.bad(field, fmt::format("unknown field; known fields: {}", fmt::join(spec_fields(), ", ")));
       continue;
     }
-    const bool repeatable = field == "restitution_pairs" || field == "friction_pairs" || field == "custom_materials";
+    const bool repeatable = is_pairs_field(field) || field == "custom_materials";
     if ((tokens.empty() && !repeatable) || std::find(tokens.begin(), tokens.end(), std::string()) != tokens.end()) {
       p.bad(field, "an empty value: give a value (leave the field or flag out for its default)");
       continue;
@@ -326,8 +350,12 @@ Sweep build_sweep(const RawSpec& raw) {
         if (!f) p.bad(field, fmt::format("'{}' is not 'single', 'per_step' or 'per_rank'", *t));
         else s.dump_files = *f;
       }
-    } else if (field == "restitution_pairs" || field == "friction_pairs") {
-      auto& table = field == "restitution_pairs" ? s.restitution : s.friction;
+    } else if (field == "normal_model" || field == "tangential_model" || field == "rolling_model") {
+      if (const auto* t = single()) parse_contact_model(s, field, *t, p);
+    } else if (field == "characteristic_velocity") {
+      optional_auto(s.characteristic_velocity, false);
+    } else if (is_pairs_field(field)) {
+      auto& table = field == "restitution_pairs" ? s.restitution : field == "friction_pairs" ? s.friction : s.rolling_friction;
       for (const auto& t : tokens) {
         const auto colon = t.find(':');
         const auto eq = t.find('=');

@@ -51,4 +51,63 @@ double restitution_beta(double e) {
   return l / std::sqrt(std::pow(l, 2.) + std::pow(kPi, 2.));
 }
 
+std::string_view to_string(NormalModel m) { return m == NormalModel::hooke ? "hooke" : "hertz"; }
+std::string_view to_string(TangentialModel m) { return m == TangentialModel::no_history ? "no_history" : "history"; }
+std::string_view to_string(RollingModel m) { return m == RollingModel::epsd2 ? "epsd2" : "off"; }
+
+std::optional<NormalModel> parse_normal_model(std::string_view s) {
+  if (s == "hertz") return NormalModel::hertz;
+  if (s == "hooke") return NormalModel::hooke;
+  return std::nullopt;
+}
+
+std::optional<TangentialModel> parse_tangential_model(std::string_view s) {
+  if (s == "history") return TangentialModel::history;
+  if (s == "no_history") return TangentialModel::no_history;
+  return std::nullopt;
+}
+
+std::optional<RollingModel> parse_rolling_model(std::string_view s) {
+  if (s == "off") return RollingModel::off;
+  if (s == "epsd2") return RollingModel::epsd2;
+  return std::nullopt;
+}
+
+std::string liggghts_model_words(const ContactModel& m) {
+  std::string words = "model ";
+  words += to_string(m.normal);
+  words += " tangential ";
+  words += to_string(m.tangential);
+  if (m.rolling != RollingModel::off) {
+    words += " rolling_friction ";
+    words += to_string(m.rolling);
+  }
+  return words;
+}
+
+double hooke_stiffness(const ContactPair& c, double v) {
+  const double sqrtval = std::sqrt(c.r_star);
+  return 16. / 15. * sqrtval * (c.y_star) * std::pow(15. * c.m_star * v * v / (16. * sqrtval * c.y_star), 0.2);
+}
+
+double elastic_normal_force(const ContactModel& m, const ContactPair& c, double d) {
+  if (m.normal == NormalModel::hooke) return hooke_stiffness(c, m.characteristic_velocity) * d;
+  return 4.0 / 3.0 * c.y_star * std::sqrt(c.r_star) * d * std::sqrt(d);
+}
+
+double elastic_energy(const ContactModel& m, const ContactPair& c, double d) {
+  if (m.normal == NormalModel::hooke) return 0.5 * hooke_stiffness(c, m.characteristic_velocity) * d * d;
+  return hertz_elastic_energy(c.y_star, c.r_star, d);
+}
+
+double max_overlap(const ContactModel& m, const ContactPair& c, double v) {
+  if (m.normal == NormalModel::hooke) return v * std::sqrt(c.m_star / hooke_stiffness(c, m.characteristic_velocity));
+  return hertz_max_overlap(c, v);
+}
+
+double contact_time(const ContactModel& m, const ContactPair& c, double v) {
+  if (m.normal == NormalModel::hooke) return kPi * std::sqrt(c.m_star / hooke_stiffness(c, m.characteristic_velocity));
+  return hertz_contact_time(c, v);
+}
+
 }  // namespace granstack::model

@@ -26,6 +26,10 @@ namespace {
 // The Hertz contact time of two equal spheres of the material, 1 m in radius, at speed v: the
 // contact time of any equal pair scales with the radius, so this orders materials by softness.
 double slowness(const Material& m, double v) { return hertz_contact_time(sphere_sphere(m, 1.0, m, 1.0), v); }
+// The contact time of a pair under the spec's contact model, at the striker speed.
+double spec_contact_time(const StackSpec& spec, const ContactPair& c) {
+  return contact_time(spec.contact_model(), c, spec.striker_speed);
+}
 }  // namespace
 
 bool has_soft_cavity(const Stack& stack) {
@@ -46,14 +50,13 @@ bool has_soft_cavity(const Stack& stack) {
 Resolution resolve(const Stack& stack) {
   const auto& spec = stack.spec();
   const auto lib = spec.material_library();
-  const double v = spec.striker_speed;
   Resolution r;
 
   // Every kind of contact the stack has: within a block, across an interface, striker on block 1,
   // and sphere on wall. The shortest contact sets the time step.
   r.min_contact_time = std::numeric_limits<double>::infinity();
   auto consider = [&](const ContactPair& c, std::string what) {
-    const double tc = hertz_contact_time(c, v);
+    const double tc = spec_contact_time(spec, c);
     if (tc < r.min_contact_time) {
       r.min_contact_time = tc;
       r.min_contact_pair = std::move(what);
@@ -88,7 +91,7 @@ Resolution resolve(const Stack& stack) {
   for (const auto& b : blocks) {
     const auto& m = lib.at(b.material);
     arrival += (kRowTransitPerContact * b.rows + kBlockEntryPerContact) *
-               hertz_contact_time(sphere_sphere(m, b.radius, m, b.radius), v);
+               spec_contact_time(spec, sphere_sphere(m, b.radius, m, b.radius));
   }
   r.arrival_estimate = arrival;
   r.soft_cavity = has_soft_cavity(stack);
@@ -115,14 +118,18 @@ Resolution resolve(const Stack& stack) {
   return r;
 }
 
+namespace {
+const char* law_name(const StackSpec& spec) { return spec.normal_model == NormalModel::hooke ? "Hooke" : "Hertz"; }
+}  // namespace
+
 std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& r) {
   std::vector<SpecIssue> issues;
   const auto& spec = stack.spec();
   if (!(r.dt <= r.min_contact_time / kMinStepsPerContact)) {
-    issues.push_back({"dt", fmt::format("{:.4g} s is more than 1/{:g} of the shortest Hertz contact time ({:.4g} s, {}): "
+    issues.push_back({"dt", fmt::format("{:.4g} s is more than 1/{:g} of the shortest {} contact time ({:.4g} s, {}): "
                                         "the integration would not conserve energy; use at most {:.4g} s, or 'auto' "
                                         "({:.4g} s)",
-                                        r.dt, kMinStepsPerContact, r.min_contact_time, r.min_contact_pair,
+                                        r.dt, kMinStepsPerContact, law_name(spec), r.min_contact_time, r.min_contact_pair,
                                         r.min_contact_time / kMinStepsPerContact, r.min_contact_time / kStepsPerContact)});
   }
   if (!(r.steps <= kMaxSteps) || !std::isfinite(r.duration)) {
@@ -132,12 +139,13 @@ std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& r)
                                   r.steps_asked, static_cast<double>(kMaxSteps))});
   }
   const auto& top = stack.block(1);
-  const double overlap = hertz_max_overlap(striker_contact(stack), spec.striker_speed);
+  const double overlap = max_overlap(spec.contact_model(), striker_contact(stack), spec.striker_speed);
   if (!(overlap <= kMaxOverlapPerRadius * top.radius)) {
     issues.push_back({"striker_speed", fmt::format("{} m/s presses the striker {:.3g} of a radius into the top spheres; "
-                                                   "Hertz contact holds for small overlaps only (at most {:g}): use a "
+                                                   "{} contact holds for small overlaps only (at most {:g}): use a "
                                                    "lower speed",
-                                                   spec.striker_speed, overlap / top.radius, kMaxOverlapPerRadius)});
+                                                   spec.striker_speed, overlap / top.radius, law_name(spec),
+                                                   kMaxOverlapPerRadius)});
   }
   return issues;
 }

@@ -87,6 +87,10 @@ const std::string& StackSpec::effective_matrix_material() const {
   return matrix_material.empty() ? teflon : matrix_material;
 }
 
+ContactModel StackSpec::contact_model() const {
+  return {normal_model, tangential_model, rolling_model, characteristic_velocity.value_or(striker_speed)};
+}
+
 int StackSpec::measured_panel() const {
   if (geometry != Geometry::panels) return 1;
   return impact_panel > 0 ? impact_panel : (panels + 1) / 2;
@@ -140,7 +144,9 @@ bool is_conservative(const StackSpec& s) {
     }
     return true;
   };
-  return all(s.restitution, 1.0) && all(s.friction, 0.0) && s.gravity == 0.0;
+  // epsd2's torque spring stores energy that no dump shows, and dissipates when it slips.
+  const bool rolling = s.rolling_model != RollingModel::off && !all(s.rolling_friction, 0.0);
+  return all(s.restitution, 1.0) && all(s.friction, 0.0) && s.gravity == 0.0 && !rolling;
 }
 
 namespace {
@@ -181,6 +187,30 @@ void validate_container(const StackSpec& s, Bad&& bad, Known&& known, const std:
   if (s.separator == Separator::matrix && s.gravity > 0.0) {
     bad("gravity", "the matrix's chains hang between the panels on contacts at zero load, and the inner spheres of a "
                    "chain rest on nothing: with gravity use separator = walls or none");
+  }
+}
+}  // namespace
+
+namespace {
+// The contact model's own fields: each refused where the chosen model does not use it.
+template <typename Bad>
+void validate_contact_model(const StackSpec& s, Bad&& bad) {
+  const bool rolling_given = s.rolling_friction.value != 0.0 || !s.rolling_friction.pairs.empty();
+  if (s.rolling_model == RollingModel::off && rolling_given) {
+    bad("rolling_friction", "applies to rolling_model = epsd2 only (this spec has no rolling friction model): set "
+                            "rolling_model = \"epsd2\", or remove it");
+  }
+  if (s.characteristic_velocity) {
+    const double v = *s.characteristic_velocity;
+    if (s.normal_model != NormalModel::hooke) {
+      bad("characteristic_velocity", fmt::format("applies to normal_model = hooke only (this spec's is {}): remove it, "
+                                                 "or set normal_model = \"hooke\"",
+                                                 to_string(s.normal_model)));
+    } else if (!(std::isfinite(v) && v >= kMinCharacteristicVelocity)) {
+      bad("characteristic_velocity", fmt::format("{} must be at least {:g} m/s (LIGGGHTS's bound), or 'auto' (the "
+                                                 "striker speed)",
+                                                 v, kMinCharacteristicVelocity));
+    }
   }
 }
 }  // namespace
@@ -302,6 +332,10 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
   check_pairs(s.restitution, "restitution", [](double e) { return e > 0.05 && e <= 1.0; }, "in (0.05, 1]");
   check_pairs(s.friction, "friction", [&](double mu) { return within(mu, 0.0, kMaxFriction); },
               fmt::format("in [0, {:g}]", kMaxFriction));
+
+  check_pairs(s.rolling_friction, "rolling_friction", [&](double mu) { return within(mu, 0.0, kMaxRollingFriction); },
+              fmt::format("in [0, {:g}]", kMaxRollingFriction));
+  validate_contact_model(s, bad);
 
   if (!finite_positive(s.striker_speed)) bad("striker_speed", fmt::format("{} must be > 0 (m/s)", s.striker_speed));
   if (!within(s.gravity, 0.0, kMaxGravity)) {

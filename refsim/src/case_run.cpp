@@ -38,6 +38,8 @@ Parameters tables(const std::vector<model::Material>& materials, Restitution&& r
       p.g_star.push_back(model::effective_shear_modulus(a, b));
       p.beta.push_back(model::restitution_beta(restitution(a, b)));
       p.friction.push_back(friction(a, b));
+      p.restitution.push_back(restitution(a, b));
+      p.rolling_friction.push_back(0.0);
     }
   }
   return p;
@@ -64,6 +66,11 @@ Parameters case_parameters(const model::Stack& stack) {
       [&](const model::Material& a, const model::Material& b) { return spec.friction.get(a.name, b.name); });
   p.dt = res.dt;
   p.skin = res.skin;
+  p.contact = spec.contact_model();
+  p.rolling_friction.clear();
+  for (const auto& a : materials) {
+    for (const auto& b : materials) p.rolling_friction.push_back(spec.rolling_friction.get(a.name, b.name));
+  }
   // The deck's walls, in its order.
   for (const auto& w : stack.walls()) p.walls.push_back({w.axis, w.position, stack.wall_type()});
   // fix gravity ... vector 0 0 -1: acceleration = magnitude * unit vector.

@@ -6,30 +6,43 @@
 
 namespace granstack::refsim::detail {
 
+ModelRecord model_record(const model::ContactModel& m, const ModelConstants& k, double reff, double meff) {
+  ModelRecord r;
+  r.rolling_friction = m.rolling == model::RollingModel::off ? 0.0 : k.rolling_friction;
+  if (m.normal == model::NormalModel::hooke) {
+    r.hooke_kn = model::hooke_stiffness({k.y_star, 0.0, reff, meff}, k.characteristic_velocity);
+    const double log_sq = k.restitution_log * k.restitution_log;
+    r.hooke_gamman = std::sqrt(4. * meff * r.hooke_kn * log_sq / (log_sq + M_PI * M_PI));
+  }
+  return r;
+}
+
 void PairTable::clear() {
   count = 0;
   for (auto* a : {&i, &j, &record}) a->clear();
-  for (auto* a : {&shear_x, &shear_y, &shear_z}) a->clear();
+  for (auto* a : {&shear_x, &shear_y, &shear_z, &roll_x, &roll_y, &roll_z}) a->clear();
   touching.clear();
   records.assign(1, PairRecord{});
+  model_records.assign(1, ModelRecord{});
 }
 
-void PairTable::add(std::int32_t a, std::int32_t b, double ra, double rb, double ma, double mb, const PairConstants& k) {
+void PairTable::add(std::int32_t a, std::int32_t b, double ra, double rb, double ma, double mb, const PairConstants& k,
+                    const ModelConstants& mk) {
   i.push_back(a);
   j.push_back(b);
   const PairRecord r{ra,          rb,          ra * rb / (ra + rb), ma * mb / (ma + mb), k.kn_factor,
                      k.sn_factor, k.st_factor, k.damping_factor,    k.friction};
+  const ModelRecord mr = model_record(model, mk, r.reff, r.meff);
   // Bitwise equal, newest first (neighbouring pairs mostly share one).
   std::size_t found = records.size();
-  while (found > 1 && std::memcmp(&records[found - 1], &r, sizeof r) != 0) --found;
+  while (found > 1 && (std::memcmp(&records[found - 1], &r, sizeof r) != 0 || !(model_records[found - 1] == mr))) --found;
   if (found == 1) {
     records.push_back(r);
+    model_records.push_back(mr);
     found = records.size();
   }
   record.push_back(static_cast<std::int32_t>(found - 1));
-  shear_x.push_back(0.0);
-  shear_y.push_back(0.0);
-  shear_z.push_back(0.0);
+  for (auto* h : {&shear_x, &shear_y, &shear_z, &roll_x, &roll_y, &roll_z}) h->push_back(0.0);
   touching.push_back(0);
   ++count;
 }
@@ -39,7 +52,7 @@ void PairTable::pad_to(std::size_t multiple) {
     i.push_back(count > 0 ? i[count - 1] : 0);
     j.push_back(count > 0 ? j[count - 1] : 0);
     record.push_back(0);
-    for (auto* a : {&shear_x, &shear_y, &shear_z}) a->push_back(0.0);
+    for (auto* a : {&shear_x, &shear_y, &shear_z, &roll_x, &roll_y, &roll_z}) a->push_back(0.0);
     touching.push_back(0);
     ++count;
   }
@@ -52,7 +65,7 @@ void PairTable::finish() {
   i.resize(n, count > 0 ? i[count - 1] : 0);
   j.resize(n, count > 0 ? j[count - 1] : 0);
   record.resize(n, 0);
-  for (auto* a : {&shear_x, &shear_y, &shear_z}) a->resize(n, 0.0);
+  for (auto* a : {&shear_x, &shear_y, &shear_z, &roll_x, &roll_y, &roll_z}) a->resize(n, 0.0);
   touching.resize(n, 0);
   // Forces of one side, torques of two, and room for a 16-wide read past the last entry.
   for (auto* a : {&fx, &fy, &fz}) a->assign(n + static_cast<std::size_t>(kWindow), 0.0);
@@ -67,7 +80,9 @@ void PairTable::finish() {
   fetch_j.clear();
   shared_record.clear();
   elastic_frictionless.clear();
-  torque_free = std::all_of(record.begin(), record.end(),
+  // Rolling friction turns even an elastic frictionless contact's rotation into torque.
+  torque_free = model.rolling == model::RollingModel::off &&
+                std::all_of(record.begin(), record.end(),
                             [&](std::int32_t r) { return records[static_cast<std::size_t>(r)].elastic_frictionless(); });
   for (std::size_t b = 0; b < n; b += kLanes) {
     const auto [i_lo, i_hi] = std::minmax_element(i.begin() + static_cast<std::ptrdiff_t>(b),
@@ -184,6 +199,45 @@ Normal hertz_normal(const PairConstants& k, double reff, double meff, double del
   return {-gamman * vn + kn * deltan, kt, gammat};
 }
 
+Normal hooke_normal(const ModelRecord& r, double deltan, double vn, bool tangential_damping) {
+  const double kn = r.hooke_kn, gamman = r.hooke_gamman;
+  const double gammat = tangential_damping ? gamman : 0.0;
+  const double fn_damping = -gamman * vn;
+  const double fn_contact = kn * deltan;
+  return {fn_damping + fn_contact, kn, gammat};
+}
+
+void tangential_no_history(const double en[3], const double vtr[3], const Normal& n, double mu, double ft[3],
+                           double tor[3]) {
+  const double vrel = std::sqrt(vtr[0] * vtr[0] + vtr[1] * vtr[1] + vtr[2] * vtr[2]);
+  const double ft_friction = mu * std::fabs(n.fn);
+  const double gamma = ft_friction < n.gammat * vrel ? ft_friction / vrel : n.gammat;
+  for (int d = 0; d < 3; ++d) ft[d] = -gamma * vtr[d];
+  tor[0] = en[1] * ft[2] - en[2] * ft[1];
+  tor[1] = en[2] * ft[0] - en[0] * ft[2];
+  tor[2] = en[0] * ft[1] - en[1] * ft[0];
+}
+
+void rolling_torque(double roll[3], const double en[3], const double wr[3], const Normal& n, double reff, double mu_r,
+                    bool update_history, double dt, double torque[3]) {
+  const double wr_dot_delta = wr[0] * en[0] + wr[1] * en[1] + wr[2] * en[2];
+  const double kr = n.kt * reff * reff;
+  const double scale = dt * kr;
+  for (int d = 0; d < 3; ++d) {
+    const double wr_tot = wr[d] - en[d] * wr_dot_delta;
+    torque[d] = roll[d] + scale * wr_tot;
+  }
+  const double magnitude = std::sqrt(torque[0] * torque[0] + torque[1] * torque[1] + torque[2] * torque[2]);
+  const double most = std::fabs(n.fn) * reff * mu_r;
+  if (magnitude > most) {
+    const double factor = most / magnitude;
+    for (int d = 0; d < 3; ++d) torque[d] *= factor;
+  }
+  if (update_history) {
+    for (int d = 0; d < 3; ++d) roll[d] = torque[d];
+  }
+}
+
 void tangential_force(double shear[3], const double en[3], const double vtr[3], const Normal& n, double mu,
                       bool update_history, double dt, double ft[3], double tor[3]) {
   if (update_history) {
@@ -251,6 +305,7 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
     if (rsq < cdf * cdf * radsum * radsum) {
       t.touching[p] = 0;
       t.shear_x[p] = t.shear_y[p] = t.shear_z[p] = 0.0;
+      t.roll_x[p] = t.roll_y[p] = t.roll_z[p] = 0.0;
     }
     zero_contribution(t, p);
     return;
@@ -273,13 +328,20 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
   const double vtr[3] = {vt1 - (delz * wr2 - dely * wr3), vt2 - (delx * wr3 - delz * wr1), vt3 - (dely * wr1 - delx * wr2)};
 
   const PairConstants k = rec.constants();
-  const Normal n = hertz_normal(k, rec.reff, rec.meff, deltan, vn, s.tangential_damping);
-  double shear[3] = {t.shear_x[p], t.shear_y[p], t.shear_z[p]};
+  const ModelRecord& mr = t.model_records[static_cast<std::size_t>(t.record[p])];
+  const Normal n = t.model.normal == model::NormalModel::hooke
+                       ? hooke_normal(mr, deltan, vn, s.tangential_damping)
+                       : hertz_normal(k, rec.reff, rec.meff, deltan, vn, s.tangential_damping);
   double ft[3], tor[3];
-  tangential_force(shear, en, vtr, n, k.friction, s.update_history, s.dt, ft, tor);
-  t.shear_x[p] = shear[0];
-  t.shear_y[p] = shear[1];
-  t.shear_z[p] = shear[2];
+  if (t.model.tangential == model::TangentialModel::no_history) {
+    tangential_no_history(en, vtr, n, k.friction, ft, tor);
+  } else {
+    double shear[3] = {t.shear_x[p], t.shear_y[p], t.shear_z[p]};
+    tangential_force(shear, en, vtr, n, k.friction, s.update_history, s.dt, ft, tor);
+    t.shear_x[p] = shear[0];
+    t.shear_y[p] = shear[1];
+    t.shear_z[p] = shear[2];
+  }
   // The force on j is (0 + -fn en) + -ft, the exact negative of this but for the sign of a zero
   // (which a sum that starts at +0 never shows): the sums subtract this.
   const std::size_t q = t.padded() + p;
@@ -292,6 +354,21 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
   t.tx[q] = -crj * tor[0];
   t.ty[q] = -crj * tor[1];
   t.tz[q] = -crj * tor[2];
+  if (t.model.rolling != model::RollingModel::off) {
+    // The relative rotation omega_i - omega_j; minus the torque on i, plus on j.
+    const double wr[3] = {s.w[i] - s.w[j], s.w[y + i] - s.w[y + j], s.w[z + i] - s.w[z + j]};
+    double roll[3] = {t.roll_x[p], t.roll_y[p], t.roll_z[p]}, rt[3];
+    rolling_torque(roll, en, wr, n, radi * radj / (radi + radj), mr.rolling_friction, s.update_history, s.dt, rt);
+    t.roll_x[p] = roll[0];
+    t.roll_y[p] = roll[1];
+    t.roll_z[p] = roll[2];
+    t.tx[p] -= rt[0];
+    t.ty[p] -= rt[1];
+    t.tz[p] -= rt[2];
+    t.tx[q] += rt[0];
+    t.ty[q] += rt[1];
+    t.tz[q] += rt[2];
+  }
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include <granstack/model/contact.hpp>
 #include <granstack/refsim/aligned.hpp>
 
 namespace granstack::refsim::detail {
@@ -47,6 +48,20 @@ struct PairRecord {
   bool elastic_frictionless() const { return damping_factor == 0.0 && friction == 0.0; }
 };
 
+// What the contact models beyond hertz/history need of one type pair (contact.hpp): hooke's
+// Y* and ln(e) (normal_model_hooke.h takes the raw Y*, not 4/3 Y*), epsd2's mu_r, and hooke's
+// characteristic velocity.
+struct ModelConstants {
+  double y_star = 0.0, restitution_log = 0.0, rolling_friction = 0.0, characteristic_velocity = 0.0;
+};
+// ... and of one pair, evaluated once per distinct pair as LIGGGHTS evaluates them in every
+// contact: hooke's k_n and gamma_n (functions of R* and m*), and mu_r.
+struct ModelRecord {
+  double hooke_kn = 0.0, hooke_gamman = 0.0, rolling_friction = 0.0;
+  bool operator==(const ModelRecord&) const = default;
+};
+ModelRecord model_record(const model::ContactModel& m, const ModelConstants& k, double reff, double meff);
+
 // The candidate pairs (i < j), what does not change between neighbour-list builds, the
 // tangential history, and what each contact gives its two spheres at the last force call.
 // Non-touching pairs give zeros: adding +-0 to a force sum that started at +0 changes no bit.
@@ -60,6 +75,11 @@ struct PairTable {
   std::size_t count = 0;  // entries, padding (record 0) included; the arrays hold padded()
   AlignedVector<std::int32_t> i, j;
   std::vector<PairRecord> records;                  // distinct records, the first all zero (padding)
+  // The contact model (the vector kernels run the study's only), and per record what the
+  // others need (parallel to records).
+  model::ContactModel model;
+  std::vector<ModelRecord> model_records;
+  AlignedVector<double> roll_x, roll_y, roll_z;     // epsd2's torque history (r_torque_old)
   AlignedVector<std::int32_t> record;               // per pair, its record
   AlignedVector<double> shear_x, shear_y, shear_z;  // the tangential displacement history
   // At its last evaluation (kept across rebuilds); not kept for a torque_free table, whose
@@ -87,7 +107,8 @@ struct PairTable {
 
   std::size_t padded() const { return (count + kPairBlock - 1) / kPairBlock * kPairBlock; }
   void clear();
-  void add(std::int32_t a, std::int32_t b, double ra, double rb, double ma, double mb, const PairConstants& k);
+  void add(std::int32_t a, std::int32_t b, double ra, double rb, double ma, double mb, const PairConstants& k,
+           const ModelConstants& mk);
   void pad_to(std::size_t multiple);  // padding entries up to a multiple
   void finish();  // after the last add: pads, and finds each block's windows
 };
@@ -209,6 +230,19 @@ struct Normal {
   double fn, kt, gammat;
 };
 Normal hertz_normal(const PairConstants& k, double reff, double meff, double deltan, double vn, bool tangential_damping);
+// The Hooke normal force (normal_model_hooke.h): k_n and gamma_n of the pair, k_t = k_n.
+Normal hooke_normal(const ModelRecord& r, double deltan, double vn, bool tangential_damping);
+
+// The viscous tangential force of tangential no_history (tangential_model_no_history.h): no
+// spring, gamma_t capped so that |F_t| <= mu |F_n|. Outputs as tangential_force.
+void tangential_no_history(const double en[3], const double vtr[3], const Normal& n, double mu, double ft[3],
+                           double tor[3]);
+
+// epsd2's rolling torque (rolling_model_epsd2.h, torsionTorque off): the relative rotation's
+// tangential part `wr` drives a spring of stiffness k_t R*^2 on the history `roll`, capped at
+// mu_r R* |F_n|. The torque on the first body is minus `torque`, on the second plus.
+void rolling_torque(double roll[3], const double en[3], const double wr[3], const Normal& n, double reff, double mu_r,
+                    bool update_history, double dt, double torque[3]);
 
 // The tangential history spring (tangential_model_history.h): increment by the sliding velocity,
 // project on the tangent plane, Coulomb-truncate (no damping while sliding). Returns the

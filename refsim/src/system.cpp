@@ -31,6 +31,9 @@ System::System(std::vector<Particle> particles, Parameters params)
   if (p_.y_star.size() != tt || p_.g_star.size() != tt || p_.beta.size() != tt || p_.friction.size() != tt) {
     throw std::invalid_argument("refsim: every property table needs types x types entries");
   }
+  if (!p_.contact.is_study_model() && (p_.restitution.size() != tt || p_.rolling_friction.size() != tt)) {
+    throw std::invalid_argument("refsim: the hooke and epsd2 models need restitution and rolling_friction per type pair");
+  }
   type_.resize(n_);
   stride_ = (n_ + detail::kLanes - 1) / detail::kLanes * detail::kLanes + 2 * detail::kLanes;
   radius_.assign(stride_, 0.0);  // zeros past the last particle, for whole vectors of them
@@ -52,6 +55,7 @@ System::System(std::vector<Particle> particles, Parameters params)
     }
   }
   wall_history_.assign(3 * n_ * p_.walls.size(), 0.0);
+  wall_roll_.assign(3 * n_ * p_.walls.size(), 0.0);
   external_ = !p_.walls.empty() || p_.gravity[0] != 0.0 || p_.gravity[1] != 0.0 || p_.gravity[2] != 0.0;
   const double dtf = 0.5 * p_.dt * 1.0;
   const double dtfrotate = dtf / kInertia;
@@ -64,6 +68,12 @@ System::System(std::vector<Particle> particles, Parameters params)
   for (std::size_t k = 0; k < tt; ++k) {
     type_constants_.push_back({4. / 3. * p_.y_star[k], 2. * p_.y_star[k], 8. * p_.g_star[k], -2. * kSqrtFiveOverSix * p_.beta[k],
                                p_.friction[k]});
+    if (!p_.contact.is_study_model()) {
+      model_constants_.push_back({p_.y_star[k], std::log(p_.restitution[k]), p_.rolling_friction[k],
+                                  p_.contact.characteristic_velocity});
+    } else {
+      model_constants_.push_back({});
+    }
   }
   choose_kernels();
   build_pairs();
@@ -75,9 +85,16 @@ std::vector<std::string> vector_kernels() { return detail::vector_targets(); }
 
 void System::choose_kernels() {
   const auto targets = detail::vector_targets();
-  if (p_.kernel == "reference") {
+  // The vector kernels are written for the study's model: any other runs on the reference.
+  if (p_.kernel == "reference" || (p_.kernel == "auto" && !p_.contact.is_study_model())) {
     kernel_ = "reference";
     return;
+  }
+  if (!p_.contact.is_study_model()) {
+    throw std::invalid_argument(fmt::format(
+        "refsim: the {} kernels run the study's contact model (hertz, history, no rolling friction) only, not '{}'; "
+        "use --kernel auto or reference",
+        p_.kernel, model::liggghts_model_words(p_.contact)));
   }
   if (p_.kernel != "auto" && std::find(targets.begin(), targets.end(), p_.kernel) == targets.end()) {
     throw std::invalid_argument(fmt::format(
@@ -177,15 +194,15 @@ void System::build_pairs() {
             [&](std::size_t a, std::size_t b) { return old.i[a] != old.i[b] ? old.i[a] < old.i[b] : old.j[a] < old.j[b]; });
   struct Kept {
     bool touching;
-    double shear[3];
+    double shear[3], roll[3];
   };
-  std::vector<Kept> kept(found.size(), Kept{false, {0.0, 0.0, 0.0}});
+  std::vector<Kept> kept(found.size(), Kept{false, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}});
   for (std::size_t c = 0, o = 0; c < found.size(); ++c) {
     const auto& f = found[c];
     while (o < old_order.size() && (old.i[old_order[o]] < f.i || (old.i[old_order[o]] == f.i && old.j[old_order[o]] < f.j))) ++o;
     const std::size_t q = o < old_order.size() ? old_order[o] : 0;
     if (o < old_order.size() && old.i[q] == f.i && old.j[q] == f.j && old.touching[q] && f.touching) {
-      kept[c] = {true, {old.shear_x[q], old.shear_y[q], old.shear_z[q]}};
+      kept[c] = {true, {old.shear_x[q], old.shear_y[q], old.shear_z[q]}, {old.roll_x[q], old.roll_y[q], old.roll_z[q]}};
     }
   }
   // Table order: by tile of i, then j - i, then i, so that a block's particles lie in a window;
@@ -200,15 +217,16 @@ void System::build_pairs() {
   });
   auto& pairs = *pairs_;
   pairs.clear();
+  pairs.model = p_.contact;
   const std::size_t tiles = (n_ + kTile - 1) / kTile;
   tile_first_.assign(1, 0);
   for (std::size_t c = 0; c < order.size(); ++c) {
     const auto& f = found[order[c]];
     while (tile_first_.size() <= tile(f.i)) tile_first_.push_back(pairs.count);  // the tile starts here
     const auto i = static_cast<std::size_t>(f.i), j = static_cast<std::size_t>(f.j);
-    pairs.add(f.i, f.j, radius_[i], radius_[j], mass_[i], mass_[j],
-              type_constants_[static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
-                              static_cast<std::size_t>(type_[j] - 1)]);
+    const std::size_t type_pair = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
+                                  static_cast<std::size_t>(type_[j] - 1);
+    pairs.add(f.i, f.j, radius_[i], radius_[j], mass_[i], mass_[j], type_constants_[type_pair], model_constants_[type_pair]);
     const auto& k = kept[order[c]];
     if (k.touching) {
       const std::size_t p = pairs.count - 1;
@@ -216,6 +234,9 @@ void System::build_pairs() {
       pairs.shear_x[p] = k.shear[0];
       pairs.shear_y[p] = k.shear[1];
       pairs.shear_z[p] = k.shear[2];
+      pairs.roll_x[p] = k.roll[0];
+      pairs.roll_y[p] = k.roll[1];
+      pairs.roll_z[p] = k.roll[2];
     }
     const bool last = c + 1 == order.size();
     const auto* next = last ? nullptr : &found[order[c + 1]];
@@ -249,12 +270,14 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
   const double radi = radius_[i];
   const double pos = x_[static_cast<std::size_t>(a) * stride_ + i];
   double* shear = &wall_history_[3 * (wi * n_ + i)];
+  double* roll = &wall_roll_[3 * (wi * n_ + i)];
   // Vector from the centre to the plane, and the gap (primitive_wall_definitions.h).
   double delta[3] = {0., 0., 0.};
   delta[a] = wall.position - pos;
   const double gap = pos > wall.position ? pos - wall.position - radi : wall.position - pos - radi;
   if (!(gap <= 0.0)) {  // not touching: a wall's history never survives a separation
     shear[0] = shear[1] = shear[2] = 0.0;
+    roll[0] = roll[1] = roll[2] = 0.0;
     return;
   }
   const double overlap_in = -gap;
@@ -275,21 +298,37 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
   const double vtr2 = vt2 - (dx * wr3 - dz * wr1);
   const double vtr3 = vt3 - (dy * wr1 - dx * wr2);
 
-  const auto& k = type_constants_[static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
-                                  static_cast<std::size_t>(wall.type - 1)];
+  const std::size_t type_pair = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
+                                static_cast<std::size_t>(wall.type - 1);
+  const auto& k = type_constants_[type_pair];
   // A wall has R* = R_i and m* = m_i.
-  const detail::Normal n = detail::hertz_normal(k, radi, meff, deltan, vn, p_.tangential_damping);
+  const auto model = detail::model_record(p_.contact, model_constants_[type_pair], radi, meff);
+  const detail::Normal n = p_.contact.normal == model::NormalModel::hooke
+                               ? detail::hooke_normal(model, deltan, vn, p_.tangential_damping)
+                               : detail::hertz_normal(k, radi, meff, deltan, vn, p_.tangential_damping);
   const double fn = n.fn;
   double df[3] = {0.0 + fn * 1. * enx, 0.0 + fn * 1. * eny, 0.0 + fn * 1. * enz};  // * area_ratio (1)
   const double en[3] = {enx, eny, enz}, vtr[3] = {vtr1, vtr2, vtr3};
   double ft[3], tor[3];
-  detail::tangential_force(shear, en, vtr, n, k.friction, update_history, p_.dt, ft, tor);
+  if (p_.contact.tangential == model::TangentialModel::no_history) {
+    detail::tangential_no_history(en, vtr, n, k.friction, ft, tor);
+  } else {
+    detail::tangential_force(shear, en, vtr, n, k.friction, update_history, p_.dt, ft, tor);
+  }
   df[0] += ft[0] * 1.;
   df[1] += ft[1] * 1.;
   df[2] += ft[2] * 1.;
+  // epsd2 on a wall turns the contact point's rotation speed, wr = cr omega / r, not omega.
+  double rt[3] = {0.0, 0.0, 0.0};
+  if (p_.contact.rolling != model::RollingModel::off) {
+    const double wr[3] = {wr1, wr2, wr3};
+    detail::rolling_torque(roll, en, wr, n, radi, model.rolling_friction, update_history, p_.dt, rt);
+  }
   for (std::size_t d = 0; d < 3; ++d) {
     f_[d * stride_ + i] += df[d];
-    t_[d * stride_ + i] += 0.0 + -cr * tor[d] * 1.;
+    double dt = 0.0 + -cr * tor[d] * 1.;
+    if (p_.contact.rolling != model::RollingModel::off) dt -= rt[d];
+    t_[d * stride_ + i] += dt;
   }
 }
 

@@ -30,7 +30,8 @@ const std::vector<std::string> kColumns{"id", "type", "radius", "mass", "x", "y"
 struct TwoBodyCase {
   std::string name;
   std::vector<model::Material> materials;
-  double restitution = 1.0, friction = 0.0, dt = 0.0;
+  double restitution = 1.0, friction = 0.0, rolling_friction = 0.0, dt = 0.0;
+  model::ContactModel contact;
   long steps = 0, dump_every = 0;
   std::vector<refsim::Particle> particles;
   std::vector<refsim::Wall> walls;
@@ -47,6 +48,11 @@ std::vector<TwoBodyCase> load_cases() {
     for (const auto& m : *t["materials"].as_array()) c.materials.push_back(lib.at(m.value_or(std::string())));
     c.restitution = t["restitution"].value_or(1.0);
     c.friction = t["friction"].value_or(0.0);
+    c.contact.normal = model::parse_normal_model(t["normal"].value_or(std::string("hertz"))).value();
+    c.contact.tangential = model::parse_tangential_model(t["tangential"].value_or(std::string("history"))).value();
+    c.contact.rolling = model::parse_rolling_model(t["rolling"].value_or(std::string("off"))).value();
+    c.contact.characteristic_velocity = t["characteristic_velocity"].value_or(0.0);
+    c.rolling_friction = t["rolling_friction"].value_or(0.0);
     c.dt = t["dt"].value_or(0.0);
     c.steps = t["steps"].value_or(0L);
     c.dump_every = t["dump_every"].value_or(1L);
@@ -91,19 +97,28 @@ std::string run_liggghts(const TwoBodyCase& c, const fs::path& dir, double skin)
   }
   formats::write_file_atomically(dir / "data.twobody", formats::format_data_file(data));
   generator::TemplateVars vars;
-  std::string youngs, poisson, e, mu, walls, format;
+  std::string youngs, poisson, e, mu, mu_r, walls, format, model_fixes;
   for (const auto& m : c.materials) {
     youngs += fmt::format(" {}", m.youngs_modulus);
     poisson += fmt::format(" {}", m.poisson_ratio);
     for (std::size_t k = 0; k < c.materials.size(); ++k) {
       e += fmt::format(" {}", c.restitution);
       mu += fmt::format(" {}", c.friction);
+      mu_r += fmt::format(" {}", c.rolling_friction);
     }
   }
   int n = 0;
   for (const auto& w : c.walls) {
-    walls += fmt::format("fix w{} all wall/gran model hertz tangential history primitive type {} {}plane {}\n", n++,
-                         w.type, "xyz"[w.axis], w.position);
+    walls += fmt::format("fix w{} all wall/gran {} primitive type {} {}plane {}\n", n++,
+                         model::liggghts_model_words(c.contact), w.type, "xyz"[w.axis], w.position);
+  }
+  if (c.contact.normal == model::NormalModel::hooke) {
+    model_fixes += fmt::format("fix m5 all property/global characteristicVelocity scalar {}\n",
+                               c.contact.characteristic_velocity);
+  }
+  if (c.contact.rolling == model::RollingModel::epsd2) {
+    model_fixes += fmt::format("fix m6 all property/global coefficientRollingFriction peratomtypepair {}{}\n",
+                               c.materials.size(), mu_r);
   }
   for (const auto& col : kColumns) {
     if (!format.empty()) format += ' ';
@@ -111,6 +126,7 @@ std::string run_liggghts(const TwoBodyCase& c, const fs::path& dir, double skin)
   }
   vars = {{"name", c.name}, {"skin", fmt::format("{}", skin)}, {"youngs", youngs}, {"poisson", poisson},
           {"types", std::to_string(c.materials.size())}, {"restitution", e}, {"friction", mu}, {"walls", walls},
+          {"contact_model", model::liggghts_model_words(c.contact)}, {"model_fixes", model_fixes},
           {"dt", fmt::format("{}", c.dt)}, {"dump_every", std::to_string(c.dump_every)},
           {"columns", fmt::format("{}", fmt::join(kColumns, " "))}, {"format", format},
           {"steps", std::to_string(c.steps)}};
@@ -137,6 +153,8 @@ TEST_P(TwoBody, RefsimReproducesLiggghtsDumps) {
 
   auto params = refsim::uniform_parameters(c.materials, c.restitution, c.friction, c.dt, skin);
   params.walls = c.walls;
+  params.contact = c.contact;
+  params.rolling_friction.assign(params.restitution.size(), c.rolling_friction);
   refsim::System sys(c.particles, params);
   sys.setup();
   formats::TextDumpReader reader(dump);

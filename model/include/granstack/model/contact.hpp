@@ -3,6 +3,9 @@
 #include <granstack/model/material.hpp>
 
 #include <cmath>
+#include <optional>
+#include <string>
+#include <string_view>
 
 namespace granstack::model {
 
@@ -40,6 +43,54 @@ inline double hertz_elastic_energy(double y_star, double r_star, double overlap)
 }
 // Rayleigh time pi R sqrt(rho/G) / (0.1631 nu + 0.8766), G = Y / (2 (1 + nu)).
 double rayleigh_time(const Material& m, double radius);
+
+// The contact model: LIGGGHTS 3.8's normal, tangential and rolling-friction models that
+// granstack runs in both engines (refsim to the bit, tests/data/twobody). The formulas of each
+// live here; the engines evaluate them in LIGGGHTS's operation order.
+//   normal hertz (normal_model_hertz.h): F = 4/3 Y* sqrt(R* d) d, damped with beta(e);
+//   normal hooke (normal_model_hooke.h): F = k_n d, k_n = hooke_stiffness (a linear spring
+//     whose largest overlap at the characteristic velocity is Hertz's), damped with
+//     gamma_n = sqrt(4 m* k_n ln(e)^2 / (ln(e)^2 + pi^2)): restitution exactly e;
+//   tangential history: an elastic-Coulomb spring on the sliding displacement;
+//     no_history: viscous, F_t = -min(gamma_t, mu |F_n| / |v_t|) v_t (no spring, no memory);
+//   rolling epsd2 (rolling_model_epsd2.h): an elastic-plastic torque spring of stiffness
+//     k_t R*^2 on the relative rotation, capped at mu_r R* |F_n|.
+enum class NormalModel { hertz, hooke };
+enum class TangentialModel { history, no_history };
+enum class RollingModel { off, epsd2 };
+std::string_view to_string(NormalModel m);      // "hertz" | "hooke"
+std::string_view to_string(TangentialModel m);  // "history" | "no_history"
+std::string_view to_string(RollingModel m);     // "off" | "epsd2"
+std::optional<NormalModel> parse_normal_model(std::string_view s);
+std::optional<TangentialModel> parse_tangential_model(std::string_view s);
+std::optional<RollingModel> parse_rolling_model(std::string_view s);
+
+struct ContactModel {
+  NormalModel normal = NormalModel::hertz;
+  TangentialModel tangential = TangentialModel::history;
+  RollingModel rolling = RollingModel::off;
+  double characteristic_velocity = 0.0;  // m/s, hooke's calibration speed (unused by hertz)
+  // hertz, history, no rolling friction: the study's model (refsim's vector kernels run it).
+  bool is_study_model() const {
+    return normal == NormalModel::hertz && tangential == TangentialModel::history && rolling == RollingModel::off;
+  }
+  bool operator==(const ContactModel&) const = default;
+};
+
+// The words after 'pair_style gran' and 'fix ... wall/gran': "model hertz tangential history",
+// with " rolling_friction epsd2" when it is on.
+std::string liggghts_model_words(const ContactModel& m);
+
+// Hooke's spring constant, 16/15 sqrt(R*) Y* (15 m* v_c^2 / (16 sqrt(R*) Y*))^(1/5), in
+// normal_model_hooke.h's operation order (so refsim gets LIGGGHTS's double).
+double hooke_stiffness(const ContactPair& c, double characteristic_velocity);
+// The elastic part of the normal force at overlap d, and the energy stored in it.
+double elastic_normal_force(const ContactModel& m, const ContactPair& c, double overlap);
+double elastic_energy(const ContactModel& m, const ContactPair& c, double overlap);
+// An undamped head-on collision at relative speed v: its largest overlap and its duration
+// (Hertz: physics.md section 5; Hooke: v sqrt(m*/k_n) and pi sqrt(m*/k_n), whatever v).
+double max_overlap(const ContactModel& m, const ContactPair& c, double relative_speed);
+double contact_time(const ContactModel& m, const ContactPair& c, double relative_speed);
 
 // Restitution damping coefficient beta = ln(e) / sqrt(ln(e)^2 + pi^2) (docs/liggghts.md section 1).
 double restitution_beta(double e);

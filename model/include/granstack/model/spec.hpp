@@ -1,5 +1,6 @@
 #pragma once
 // The specification of one nested-stack case (physics.md section 1), with its validation.
+#include <granstack/model/contact.hpp>
 #include <granstack/model/material.hpp>
 
 #include <map>
@@ -82,6 +83,15 @@ struct StackSpec {
   std::optional<int> series_every;             // steps between in-situ energy samples; nullopt = automatic
   DumpFormat dump_format = DumpFormat::text;
   DumpFiles dump_files = DumpFiles::single;
+  // The contact model (contact.hpp): the study's hertz / history / no rolling friction by default.
+  NormalModel normal_model = NormalModel::hertz;
+  TangentialModel tangential_model = TangentialModel::history;
+  RollingModel rolling_model = RollingModel::off;
+  PairTable rolling_friction{0.0, {}};         // mu_r, rolling_model = epsd2 only
+  std::optional<double> characteristic_velocity;  // m/s, normal_model = hooke only; nullopt = striker_speed
+
+  // The contact model with hooke's characteristic velocity resolved.
+  ContactModel contact_model() const;
 
   // The material name of block k (1 = top).
   const std::string& block_material(int k) const;
@@ -130,6 +140,10 @@ inline constexpr double kMinRadius = 1e-7, kMaxRadius = 1.0;
 inline constexpr double kMaxGravity = 1000.0;
 // Coulomb friction up to 10 (real materials stay below about 1.5; above, every contact sticks);
 inline constexpr double kMaxFriction = 10.0;
+// rolling friction up to 1 (the torque cap mu_r R* |F_n| is then the contact's whole lever);
+inline constexpr double kMaxRollingFriction = 1.0;
+// LIGGGHTS refuses a characteristic velocity below 1e-2 m/s in SI units (global_properties.cpp:235);
+inline constexpr double kMinCharacteristicVelocity = 1e-2;
 // a striker from 1 to 16 times the top spheres' radius (the range of radius_ratio);
 inline constexpr double kMaxStrikerRadiusRatio = 16.0;
 // densities from 1 kg/m^3 to 1e5 (osmium is 22 590) and Young's moduli from 1 kPa (soft gels) to

@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include <granstack/model/contact.hpp>
 #include <granstack/refsim/aligned.hpp>
 
 namespace granstack::refsim {
@@ -18,6 +19,7 @@ namespace granstack::refsim {
 namespace detail {
 struct PairTable;
 struct PairConstants;
+struct ModelConstants;
 struct Motion;
 struct SumPlan;
 struct VectorKernels;
@@ -41,6 +43,10 @@ struct Parameters {
   int types = 0;
   // Per type pair, index (a - 1) * types + (b - 1): effective moduli, damping beta, friction.
   std::vector<double> y_star, g_star, beta, friction;
+  // The contact model (model/contact.hpp); any but the study's runs on the reference kernels.
+  // With it, per type pair: the restitution e (hooke's damping takes ln e) and epsd2's mu_r.
+  model::ContactModel contact;
+  std::vector<double> restitution, rolling_friction;
   std::vector<Wall> walls;               // applied after the pair forces, in this order
   bool tangential_damping = true;
   // Threads for the force and integration loops. Every per-particle sum keeps the pair order
@@ -136,6 +142,7 @@ class System {
   std::atomic<std::size_t> kept_sums_{0};  // groups whose sums the step kept
 
   std::vector<detail::PairConstants> type_constants_;  // per type pair, (a - 1) * types + (b - 1)
+  std::vector<detail::ModelConstants> model_constants_;  // the same, for the contact models beyond hertz/history
   // Candidate pairs (i < j), rebuilt when a particle has moved more than half the skin.
   std::unique_ptr<detail::PairTable> pairs_;
   // Per particle, the other particle and its entry in the pair table's contribution arrays, in
@@ -147,6 +154,7 @@ class System {
   static constexpr std::size_t kTile = 64;
   std::vector<std::size_t> tile_first_;
   std::vector<double> wall_history_;  // 3 per particle and wall
+  std::vector<double> wall_roll_;     // epsd2's torque history, 3 per particle and wall
   bool external_ = false;             // walls or gravity
   bool negative_zero_spin_ = false;   // an angular velocity component starts at -0
   std::string kernel_;

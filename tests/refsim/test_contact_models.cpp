@@ -1,0 +1,207 @@
+// refsim's contact models beyond the study's (model/contact.hpp) against analytic physics, as
+// test_physics.cpp holds the Hertz model: Hooke's linear spring-dashpot (restitution exactly e,
+// contact time pi / omega_d whatever the speed), tangential no_history (viscous, capped at
+// Coulomb's mu |F_n|) and epsd2 rolling friction (a torque capped at mu_r R* |F_n|). Their
+// agreement with LIGGGHTS, bit for bit, is test_agreement.cpp's (tests/data/twobody).
+#include <granstack/model/contact.hpp>
+#include <granstack/refsim/case_run.hpp>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace granstack;
+using refsim::Particle;
+using refsim::System;
+
+namespace {
+
+const model::Material kSteel = model::MaterialLibrary::builtin().at("steel");
+constexpr double kR = 1e-3, kDt = 1e-9;
+
+Particle steel_sphere(int type, refsim::Vec3 x, refsim::Vec3 v, refsim::Vec3 w = {0.0, 0.0, 0.0}) {
+  return {type, kR, model::sphere_mass(kR, kSteel.density), x, v, w};
+}
+
+refsim::Parameters parameters(const model::ContactModel& contact, double e, double mu, double mu_r, int types) {
+  std::vector<model::Material> materials(static_cast<std::size_t>(types), kSteel);
+  auto p = refsim::uniform_parameters(materials, e, mu, kDt, 2e-4);
+  p.contact = contact;
+  p.rolling_friction.assign(p.restitution.size(), mu_r);
+  return p;
+}
+
+double gap(const System& s) {
+  const auto a = s.x(0), b = s.x(1);
+  return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]) - 2.0 * kR;
+}
+
+struct HeadOnResult {
+  double restitution, contact_time, max_overlap;
+};
+
+// Two equal steel spheres head on at relative speed v, until they part.
+HeadOnResult head_on(const model::ContactModel& contact, double e, double v) {
+  System s({steel_sphere(1, {0, 0, 0}, {0, 0, 0.5 * v}), steel_sphere(1, {0, 0, 2 * kR}, {0, 0, -0.5 * v})},
+           parameters(contact, e, 0.0, 0.0, 1));
+  s.setup();
+  long steps = 0;
+  double deepest = 0.0;
+  for (long k = 0; k < 200000 && (steps == 0 || gap(s) < 0.0); ++k) {
+    s.step();
+    if (gap(s) < 0.0) ++steps;
+    deepest = std::max(deepest, -gap(s));
+  }
+  return {(s.v(1)[2] - s.v(0)[2]) / v, static_cast<double>(steps) * kDt, deepest};
+}
+
+model::ContactModel hooke(double characteristic_velocity) {
+  model::ContactModel m;
+  m.normal = model::NormalModel::hooke;
+  m.characteristic_velocity = characteristic_velocity;
+  return m;
+}
+
+}  // namespace
+
+class HookeHeadOn : public ::testing::TestWithParam<double> {};
+
+// A linear spring k_n with the dashpot gamma_n = sqrt(4 m* k_n ln(e)^2 / (ln(e)^2 + pi^2)) gives
+// restitution e exactly and lasts pi / omega_d, omega_d = sqrt(k_n / m* - (gamma_n / 2 m*)^2)
+// (zeta = -ln e / sqrt(ln^2 e + pi^2)); at the characteristic velocity an undamped contact
+// reaches Hertz's largest overlap. Tolerances: velocity Verlet with half-step velocities in the
+// dashpot errs by O(dt / t_c), 1.5e-4 here (6700 steps per contact): restitution measured within
+// 2.9e-5, allowed 1.3e-4; the contact time is counted in whole steps: measured within 0.8 of a
+// step, allowed 2.
+TEST_P(HookeHeadOn, RestitutionIsEAndTheContactLastsPiOverOmegaD) {
+  const double e = GetParam(), v = 1.0;
+  const auto r = head_on(hooke(v), e, v);
+  const auto c = model::sphere_sphere(kSteel, kR, kSteel, kR);
+  const double kn = model::hooke_stiffness(c, v);
+  const double l = std::log(e);
+  const double gamma = std::sqrt(4.0 * c.m_star * kn * l * l / (l * l + model::kPi * model::kPi));
+  const double omega_d = std::sqrt(kn / c.m_star - std::pow(gamma / (2.0 * c.m_star), 2));
+  std::printf("e %.2f: restitution %.8f, contact time %.6g s (pi / omega_d %.6g s)\n", e, r.restitution, r.contact_time,
+              model::kPi / omega_d);
+  EXPECT_NEAR(r.restitution, e, 1.3e-4);
+  EXPECT_NEAR(r.contact_time, model::kPi / omega_d, 2 * kDt);
+  if (e == 1.0) {
+    EXPECT_NEAR(r.max_overlap / model::hertz_max_overlap(c, v), 1.0, 1e-4);
+    EXPECT_NEAR(r.contact_time, model::contact_time(hooke(v), c, v), 2 * kDt);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Restitution, HookeHeadOn, ::testing::Values(0.5, 0.9, 1.0),
+                         [](const auto& param_info) { return fmt::format("e{:02}", std::lround(param_info.param * 10)); });
+
+// A linear spring's period does not depend on the amplitude: at 0.25 and 4 m/s the contact
+// lasts as long (Hertz's would differ by 4^(1/5) each way).
+TEST(Hooke, TheContactTimeDoesNotDependOnTheSpeed) {
+  const double slow = head_on(hooke(1.0), 1.0, 0.25).contact_time, fast = head_on(hooke(1.0), 1.0, 4.0).contact_time;
+  std::printf("contact time at 0.25 m/s %.6g s, at 4 m/s %.6g s\n", slow, fast);
+  EXPECT_NEAR(slow, fast, 2 * kDt);
+}
+
+namespace {
+// A steel sphere thrown at a steel wall at (vt, 0, -vn) with spin w about y, until it leaves;
+// per step, the wall's force on it (the sphere's total force: nothing else acts) and torque.
+struct WallBounce {
+  refsim::Vec3 v, w;
+  double normal_impulse = 0.0, worst_ratio = 0.0, torque_impulse = 0.0, worst_torque_ratio = 0.0;
+};
+
+WallBounce bounce(const model::ContactModel& contact, double e, double mu, double mu_r, refsim::Vec3 v, refsim::Vec3 w) {
+  auto p = parameters(contact, e, mu, mu_r, 2);
+  p.walls = {{2, 0.0, 2}};
+  System s({steel_sphere(1, {0, 0, kR}, v, w)}, p);
+  s.setup();
+  WallBounce b;
+  for (int k = 0; k < 20000; ++k) {
+    s.step();
+    const auto f = s.force(0), t = s.torque(0);
+    const double fn = std::fabs(f[2]), ft = std::hypot(f[0], f[1]);
+    b.normal_impulse += fn * kDt;
+    b.torque_impulse += t[1] * kDt;
+    if (fn > 0.0) {
+      b.worst_ratio = std::max(b.worst_ratio, ft / fn);
+      b.worst_torque_ratio = std::max(b.worst_torque_ratio, std::hypot(t[0], t[1], t[2]) / (kR * fn));
+    }
+  }
+  b.v = s.v(0);
+  b.w = s.omega(0);
+  return b;
+}
+}  // namespace
+
+// no_history's tangential force is viscous, -gamma_t v_t, capped at mu |F_n|: fast sliding
+// (5 m/s against a 1 m/s impact) stays on the cap throughout, so the tangential impulse is mu
+// times the integral of |F_n| (to the step's round-off), and it never exceeds the cap.
+TEST(NoHistory, FastSlidingTakesMuTimesTheNormalImpulse) {
+  model::ContactModel m;
+  m.tangential = model::TangentialModel::no_history;
+  const double mu = 0.05, vt = 5.0;
+  const auto b = bounce(m, 0.7, mu, 0.0, {vt, 0, -1.0}, {0, 0, 0});
+  const double mass = model::sphere_mass(kR, kSteel.density);
+  const double tangential_impulse = mass * (vt - b.v[0]);
+  std::printf("tangential impulse %.8g, mu x normal impulse %.8g; largest |F_t| / |F_n| %.8g\n", tangential_impulse,
+              mu * b.normal_impulse, b.worst_ratio);
+  EXPECT_NEAR(tangential_impulse / (mu * b.normal_impulse), 1.0, 1e-9);
+  EXPECT_LE(b.worst_ratio, mu * (1.0 + 1e-12));
+}
+
+// Its damping is gamma_t = gamma_n, zero at e = 1: an elastic contact has no tangential force at
+// all, whatever mu (history's spring would grip).
+TEST(NoHistory, AnElasticContactHasNoTangentialForce) {
+  model::ContactModel m;
+  m.tangential = model::TangentialModel::no_history;
+  const auto b = bounce(m, 1.0, 10.0, 0.0, {0.3, 0, -1.0}, {0, 0, 0});
+  EXPECT_EQ(b.v[0], 0.3);
+  EXPECT_EQ(b.w[1], 0.0);
+  EXPECT_NEAR(b.v[2], 1.0, 1e-4);
+}
+
+// epsd2 on a frictionless contact: turned at 2000 rad/s, the torque spring (k_t R^2, k_t ~
+// sqrt(delta)) and the cap mu_r R |F_n| both grow as t^1.5 while the contact loads, the spring
+// 4 G* R omega / (mu_r Y* v) = 8 times faster, and the cap then falls: the torque sits on the
+// cap from the first step to the last, so the angular impulse is mu_r R times the normal
+// impulse, against the spin: measured equal to 1.2e-15, allowed 1e-9. The cap is never
+// exceeded and the bounce stays elastic (no sliding friction).
+TEST(Epsd2, ASpinningSphereLosesMuRTimesRTimesTheNormalImpulse) {
+  model::ContactModel m;
+  m.rolling = model::RollingModel::epsd2;
+  const double mu_r = 0.2;
+  const auto b = bounce(m, 1.0, 0.0, mu_r, {0, 0, -1.0}, {0, 2000.0, 0});
+  std::printf("angular impulse / (-mu_r R x normal impulse) - 1 = %.3g; largest |torque| / (R |F_n|) %.8g\n",
+              b.torque_impulse / (-mu_r * kR * b.normal_impulse) - 1.0, b.worst_torque_ratio);
+  EXPECT_NEAR(b.torque_impulse / (-mu_r * kR * b.normal_impulse), 1.0, 1e-9);
+  EXPECT_LE(b.worst_torque_ratio, mu_r * (1.0 + 1e-12));
+  EXPECT_NEAR(b.v[2], 1.0, 1e-4);
+  EXPECT_EQ(b.v[0], 0.0);
+  EXPECT_LT(b.w[1], 2000.0);
+}
+
+// Between two spheres the rolling torques are equal and opposite: with no sliding friction the
+// total angular momentum is kept (to round-off) while each sphere's spin changes.
+TEST(Epsd2, RollingTorquesBetweenSpheresKeepTheAngularMomentum) {
+  model::ContactModel m;
+  m.rolling = model::RollingModel::epsd2;
+  System s({steel_sphere(1, {0, 0, 0}, {0, 0, 0.5}, {0, 3000.0, 0}), steel_sphere(1, {0, 0, 2 * kR}, {0, 0, -0.5})},
+           parameters(m, 1.0, 0.0, 0.1, 1));
+  s.setup();
+  for (int k = 0; k < 20000; ++k) s.step();
+  const double spin0 = s.omega(0)[1], spin1 = s.omega(1)[1];
+  std::printf("spins after: %.8g and %.8g rad/s (3000 before)\n", spin0, spin1);
+  EXPECT_LT(spin0, 2990.0);  // the torque acted
+  EXPECT_NEAR((spin0 + spin1) / 3000.0, 1.0, 1e-12);
+}
+
+// The vector kernels run the study's model only: asked for by name with another, refsim says so.
+TEST(ContactModels, AVectorKernelWithAnotherModelIsRefused) {
+  auto p = parameters(hooke(1.0), 1.0, 0.0, 0.0, 1);
+  p.kernel = refsim::vector_kernels().front();
+  if (p.kernel == "scalar") GTEST_SKIP() << "only the scalar vector kernels: nothing else to refuse";
+  EXPECT_THROW(System({steel_sphere(1, {0, 0, 0}, {0, 0, 0})}, p), std::invalid_argument);
+  p.kernel = "auto";
+  EXPECT_EQ(System({steel_sphere(1, {0, 0, 0}, {0, 0, 0})}, p).kernel(), "reference");
+}
