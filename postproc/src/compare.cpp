@@ -48,15 +48,14 @@ struct Scales {
     const auto& bottom = stack.blocks().back();
     const auto lib = spec.material_library();
     const auto& m = lib.at(top.material);
-    // The largest force of the impact: the striker's Hertz peak on a top sphere,
-    // 4/3 Y* sqrt(R*) d_max^(3/2).
+    // The largest force of the impact: the striker's peak on a top sphere (elastic, undamped).
     const auto c = model::sphere_sphere(m, top.radius, m, top.radius);
-    const double d = model::hertz_max_overlap(c, spec.striker_speed);
+    const double d = model::max_overlap(spec.contact_model(), c, spec.striker_speed);
     radius = bottom.radius;
     mass = bottom.sphere_mass;
     speed = spec.striker_speed;
     spin = speed / radius;
-    force = 4.0 / 3.0 * c.y_star * std::sqrt(c.r_star) * d * std::sqrt(d);
+    force = model::elastic_normal_force(spec.contact_model(), c, d);
     torque = force * radius;
     energy = stack.incident_energy();
   }

@@ -189,16 +189,18 @@ void for_each_close_pair(const model::Stack& stack, const std::array<const std::
   }
 }
 
-// Hertz parameters of every atom-type pair and of every type against the walls, computed once.
+// The elastic energy of the normal contacts under the case's contact model (model/contact.hpp),
+// with Y* of every atom-type pair and of every type against the walls computed once.
 class ContactEnergy {
  public:
-  explicit ContactEnergy(const model::Stack& stack) : stack_(stack) {
+  explicit ContactEnergy(const model::Stack& stack) : stack_(stack), model_(stack.spec().contact_model()) {
     const auto& spec = stack.spec();
     const auto lib = spec.material_library();
     const auto types = stack.type_materials();
     ntypes_ = types.size();
     y_star_.resize(ntypes_ * ntypes_);
     for (std::size_t a = 0; a < ntypes_; ++a) {
+      density_.push_back(lib.at(types[a]).density);
       for (std::size_t b = 0; b < ntypes_; ++b) {
         y_star_[a * ntypes_ + b] = model::effective_youngs_modulus(lib.at(types[a]), lib.at(types[b]));
       }
@@ -211,24 +213,30 @@ class ContactEnergy {
   }
 
   double pair(const model::Sphere& a, const model::Sphere& b, double overlap) const {
-    const double y = y_star_[static_cast<std::size_t>(a.atom_type - 1) * ntypes_ + static_cast<std::size_t>(b.atom_type - 1)];
-    return model::hertz_elastic_energy(y, a.radius * b.radius / (a.radius + b.radius), overlap);
+    model::ContactPair c{y_star_[type(a) * ntypes_ + type(b)], 0.0, a.radius * b.radius / (a.radius + b.radius), 0.0};
+    if (model_.normal != model::NormalModel::hertz) c.m_star = mass(a) * mass(b) / (mass(a) + mass(b));
+    return model::elastic_energy(model_, c, overlap);
   }
 
   // Against every wall of the stack (a wall has R* = R_i), the sphere's centre at (x, y, z).
   double walls(const model::Sphere& s, const std::array<double, 3>& centre) const {
     if (wall_y_star_.empty()) return 0.0;
-    const double y = wall_y_star_[static_cast<std::size_t>(s.atom_type - 1)];
+    const model::ContactPair c{wall_y_star_[type(s)], 0.0, s.radius, mass(s)};  // a wall: R* = R_i, m* = m_i
     double energy = 0.0;
     for (const auto& w : walls_) {
       const double distance = std::fabs(centre[static_cast<std::size_t>(w.axis)] - w.position);
-      if (distance < s.radius) energy += model::hertz_elastic_energy(y, s.radius, s.radius - distance);
+      if (distance < s.radius) energy += model::elastic_energy(model_, c, s.radius - distance);
     }
     return energy;
   }
 
  private:
+  std::size_t type(const model::Sphere& s) const { return static_cast<std::size_t>(s.atom_type - 1); }
+  double mass(const model::Sphere& s) const { return model::sphere_mass(s.radius, density_[type(s)]); }
+
   const model::Stack& stack_;
+  model::ContactModel model_;
+  std::vector<double> density_;  // per atom type
   std::size_t ntypes_ = 0;
   std::vector<double> y_star_;
   std::vector<double> wall_y_star_;

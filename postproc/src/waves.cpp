@@ -217,11 +217,12 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
                            "often (--dump-every) or use more rows",
                            depth.size());
     }
-    // Peak force between vertical neighbours of the column, Hertz's elastic part.
+    // Peak force between vertical neighbours of the column, the contact model's elastic part.
     const auto pair = model::sphere_sphere(mat, b.radius, mat, b.radius);
-    const double max_overlap = c.max_overlap;
-    w.peak_force = 4.0 / 3.0 * pair.y_star * std::sqrt(pair.r_star) * std::pow(max_overlap, 1.5);
-    if (w.peak_force > 0.0) {
+    const auto law = stack.spec().contact_model();
+    w.peak_force = model::elastic_normal_force(law, pair, c.max_overlap);
+    // Nesterenko's solitary wave is a Hertz chain's: a linear (Hooke) chain has none.
+    if (w.peak_force > 0.0 && law.normal == model::NormalModel::hertz) {
       w.nesterenko_speed = 0.6802 *
                            std::cbrt(2.0 * mat.youngs_modulus /
                                      (diameter * std::pow(mat.density, 1.5) * (1.0 - std::pow(mat.poisson_ratio, 2)))) *

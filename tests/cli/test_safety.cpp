@@ -583,6 +583,24 @@ TEST_F(Safety, RefsimAndValidateRefuseADeckFromAnotherTemplate) {
   EXPECT_EQ(granstack({"run", path("mine").string()}).code, 0);  // LIGGGHTS runs it as written
 }
 
+// A template of the user's that names its own contact model (an older one, written before
+// granstack had others) would run Hertz under a manifest that says Hooke: every command that
+// reads the case refuses it, naming both models, and nothing runs.
+TEST_F(Safety, ADeckWhoseContactModelIsNotTheManifestsIsRefused) {
+  std::string tmpl = read_bytes(fs::path(GRANSTACK_SOURCE_DIR) / "templates/in.granstack.tmpl");
+  const auto at = tmpl.find("{{contact_model}}");
+  ASSERT_NE(at, std::string::npos);
+  tmpl.replace(at, std::string("{{contact_model}}").size(), "model hertz tangential history");
+  std::ofstream(path("old.tmpl")) << tmpl;
+  ASSERT_EQ(granstack({"generate", "-o", path("case").string(), "--blocks", "1", "--normal-model", "hooke", "--template",
+                       path("old.tmpl").string()}).code, 0);
+  const auto r = granstack({"run", path("case").string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "the deck's contact model is 'model hertz tangential history', the manifest's is 'model hooke "
+                     "tangential history'");
+  EXPECT_FALSE(fs::exists(path("case/log.liggghts")));
+}
+
 // --liggghts names a program as the user sees it from where they run granstack, not from the
 // case directory LIGGGHTS starts in; a file that is not executable is named as such.
 TEST_F(Safety, TheLiggghtsPathIsTheCallersAndIsChecked) {

@@ -119,4 +119,59 @@ TEST_F(Validate, MissingFramesRowsAndColumnsAndNonFiniteValuesAreMismatches) {
   EXPECT_FALSE(c.worst() <= 1.0);
 }
 
+// Every contact model granstack offers (model/contact.hpp), on a stack: LIGGGHTS and refsim agree
+// to round-off in every column, frame and row (refsim's reference kernels; the two-body cases of
+// tests/data/twobody agree bit for bit). Walls, friction and damping on, so each model's every
+// term acts.
+struct ModelCase {
+  const char* name;
+  model::NormalModel normal;
+  model::TangentialModel tangential;
+  model::RollingModel rolling;
+};
+
+class ValidateModel : public ::testing::TestWithParam<ModelCase> {};
+
+TEST_P(ValidateModel, LiggghtsAndRefsimAgreeToRoundOff) {
+  const auto& mc = GetParam();
+  const auto root = fs::path(GRANSTACK_TEST_WORKDIR) / (std::string("validate_model_") + mc.name);
+  fs::remove_all(root);
+  model::StackSpec spec;
+  spec.blocks = 2;
+  spec.rows = 4;
+  spec.restitution.value = 0.8;
+  spec.friction.value = 0.3;
+  spec.bottom = model::Boundary::wall;
+  spec.sides = model::Boundary::wall;
+  spec.normal_model = mc.normal;
+  spec.tangential_model = mc.tangential;
+  spec.rolling_model = mc.rolling;
+  if (mc.rolling == model::RollingModel::epsd2) spec.rolling_friction.value = 0.1;
+  if (mc.normal == model::NormalModel::hooke) spec.characteristic_velocity = 0.5;
+  for (const auto* engine : {"liggghts", "refsim"}) {
+    generator::GenerateOptions o;
+    o.output = root / engine;
+    generator::generate({{engine, spec}}, o);
+    runner::RunOptions r;
+    r.engine = std::string(engine) == "refsim" ? runner::Engine::refsim : runner::Engine::liggghts;
+    const auto outcome = runner::run_cases({o.output.string()}, r);
+    ASSERT_EQ(outcome.front().status, runner::RunStatus::done) << outcome.front().message;
+  }
+  const auto c = postproc::compare_runs((root / "liggghts").string(), (root / "refsim").string());
+  EXPECT_TRUE(c.mismatches.empty()) << c.mismatches.front();
+  EXPECT_LE(c.worst(), postproc::kDefaultTolerance) << c.largest().quantity;
+  EXPECT_GT(c.frames, 100);
+  std::printf("%s: largest difference %.3g (%s)\n", mc.name, c.worst(), c.largest().quantity.c_str());
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Models, ValidateModel,
+    ::testing::Values(ModelCase{"hooke", model::NormalModel::hooke, model::TangentialModel::history, model::RollingModel::off},
+                      ModelCase{"no_history", model::NormalModel::hertz, model::TangentialModel::no_history,
+                                model::RollingModel::off},
+                      ModelCase{"epsd2", model::NormalModel::hertz, model::TangentialModel::history, model::RollingModel::epsd2},
+                      ModelCase{"hooke_no_history_epsd2", model::NormalModel::hooke, model::TangentialModel::no_history,
+                                model::RollingModel::epsd2}),
+    [](const auto& param_info) { return std::string(param_info.param.name); });
+
 }  // namespace

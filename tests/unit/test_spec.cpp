@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <functional>
+#include <tuple>
+#include <vector>
 
 using namespace granstack;
 using model::StackSpec;
@@ -84,6 +86,16 @@ const BadCase kBadCases[] = {
      "custom_materials.foam.poisson_ratio", "[0, 0.5)"},
     {"material_name", [](StackSpec& s) { s.custom_materials.push_back({"Foam!", 100.0, 1e6, 0.3}); },
      "custom_materials.Foam!", "lower-case"},
+    {"rolling_friction_without_model", [](StackSpec& s) { s.rolling_friction.value = 0.1; }, "rolling_friction",
+     "rolling_model = epsd2 only"},
+    {"rolling_friction_range", [](StackSpec& s) { s.rolling_model = model::RollingModel::epsd2; s.rolling_friction.value = 2.0; },
+     "rolling_friction", "in [0, 1]"},
+    {"rolling_friction_pair", [](StackSpec& s) { s.rolling_model = model::RollingModel::epsd2; s.rolling_friction.set("steel", "steel", -1.0); },
+     "rolling_friction_pairs.\"steel:steel\"", "in [0, 1]"},
+    {"characteristic_velocity_with_hertz", [](StackSpec& s) { s.characteristic_velocity = 1.0; }, "characteristic_velocity",
+     "normal_model = hooke only"},
+    {"characteristic_velocity_slow", [](StackSpec& s) { s.normal_model = model::NormalModel::hooke; s.characteristic_velocity = 1e-3; },
+     "characteristic_velocity", "at least 0.01 m/s"},
 };
 
 INSTANTIATE_TEST_SUITE_P(Fields, SpecValidation, ::testing::ValuesIn(kBadCases),
@@ -147,6 +159,46 @@ poisson_ratio = 0.45
   EXPECT_EQ(cases[5].spec.blocks, 3);
   EXPECT_EQ(cases[5].spec.restitution.value, 0.9);
   EXPECT_EQ(cases[5].spec.restitution.get("steel", "rubbery"), 0.8);  // pairs survive the sweep
+}
+
+// The contact model's fields, from a spec file: the choices, hooke's characteristic velocity
+// ('auto': the striker speed), rolling friction swept (case names 'mur...') and per pair.
+TEST(SpecInput, ContactModelFields) {
+  const auto raw = generator::parse_spec_toml(R"(
+normal_model = "hooke"
+tangential_model = "no_history"
+rolling_model = "epsd2"
+rolling_friction = [0.05, 0.1]
+characteristic_velocity = "auto"
+materials = ["steel", "teflon", "steel", "steel"]
+[rolling_friction_pairs]
+"steel:teflon" = 0.2
+)", "models.toml");
+  const auto cases = generator::expand(generator::build_sweep(raw));
+  ASSERT_EQ(cases.size(), 2u);
+  EXPECT_EQ(cases[0].name, "mur0.05");
+  EXPECT_EQ(cases[1].name, "mur0.1");
+  const auto& s = cases[1].spec;
+  EXPECT_EQ(s.normal_model, model::NormalModel::hooke);
+  EXPECT_EQ(s.tangential_model, model::TangentialModel::no_history);
+  EXPECT_EQ(s.rolling_model, model::RollingModel::epsd2);
+  EXPECT_EQ(s.rolling_friction.get("steel", "steel"), 0.1);
+  EXPECT_EQ(s.rolling_friction.get("teflon", "steel"), 0.2);
+  EXPECT_FALSE(s.characteristic_velocity.has_value());
+  EXPECT_EQ(s.contact_model().characteristic_velocity, s.striker_speed);
+  EXPECT_EQ(model::liggghts_model_words(s.contact_model()), "model hooke tangential no_history rolling_friction epsd2");
+  for (const auto& [field, value, words] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"normal_model", "hertzian", "'hertzian' is not 'hertz' or 'hooke'"},
+           {"tangential_model", "none", "'none' is not 'history' or 'no_history'"},
+           {"rolling_model", "epsd", "'epsd' is not 'off' or 'epsd2'"}}) {
+    try {
+      generator::build_sweep({{field, {value}}});
+      ADD_FAILURE() << field << " = " << value << " was taken";
+    } catch (const model::SpecError& e) {
+      EXPECT_EQ(e.issues().front().field, field);
+      EXPECT_NE(e.issues().front().message.find(words), std::string::npos) << e.issues().front().message;
+    }
+  }
 }
 
 TEST(SpecInput, NumbersSurviveTheTextRoundTripExactly) {
