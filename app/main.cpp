@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
   const app::Command commands[] = {app::add_generate(app, args), app::add_run(app),   app::add_reduce(app),
                                    app::add_table(app),          app::add_plot(app),  app::add_validate(app),
                                    app::add_reproduce(app),      app::add_submit(app), app::add_status(app),
-                                   app::add_export(app)};
+                                   app::add_export(app),         app::add_fields(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

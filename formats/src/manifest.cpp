@@ -3,6 +3,7 @@
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/ownership.hpp>
+#include <granstack/model/spec_fields.hpp>
 
 #include <fmt/format.h>
 
@@ -20,12 +21,6 @@ bool has_control_character(const std::string& text) {
   return std::any_of(text.begin(), text.end(), [](unsigned char c) { return c < 0x20 || c == 0x7f; });
 }
 
-json pairs_to_json(const model::PairTable& t) {
-  json out = json::object();
-  for (const auto& [key, v] : t.pairs) out[key.first + ":" + key.second] = v;
-  return out;
-}
-
 template <typename T>
 T get(const json& j, const char* key, const std::string& source) {
   if (!j.contains(key)) throw FormatError(source, 0, fmt::format("missing field '{}'", key));
@@ -36,158 +31,16 @@ T get(const json& j, const char* key, const std::string& source) {
   }
 }
 
-model::PairTable pairs_from_json(double value, const json& j, const std::string& source, const char* field) {
-  model::PairTable t{value, {}};
-  for (const auto& [key, v] : j.items()) {
-    auto colon = key.find(':');
-    if (colon == std::string::npos || !v.is_number()) {
-      throw FormatError(source, 0, fmt::format("{}: entries are \"a:b\": number", field));
-    }
-    t.set(key.substr(0, colon), key.substr(colon + 1), v.get<double>());
-  }
-  return t;
-}
 }  // namespace
 
-namespace {
-// Absent from manifests of the study's contact model: hertz, history, no rolling friction.
-void read_contact_model(model::StackSpec& s, const json& j, const std::string& source) {
-  const auto choice = [&](const char* key, auto parse, auto& target, const char* allowed) {
-    if (!j.contains(key)) return;
-    const auto m = parse(get<std::string>(j, key, source));
-    if (!m) throw FormatError(source, 0, fmt::format("field '{}' is {}", key, allowed));
-    target = *m;
-  };
-  choice("normal_model", model::parse_normal_model, s.normal_model, "'hertz' or 'hooke'");
-  choice("tangential_model", model::parse_tangential_model, s.tangential_model, "'history' or 'no_history'");
-  choice("rolling_model", model::parse_rolling_model, s.rolling_model, "'off' or 'epsd2'");
-  if (j.contains("rolling_friction")) {
-    s.rolling_friction = pairs_from_json(get<double>(j, "rolling_friction", source),
-                                         get<json>(j, "rolling_friction_pairs", source), source, "rolling_friction_pairs");
-  }
-  if (j.contains("characteristic_velocity")) s.characteristic_velocity = get<double>(j, "characteristic_velocity", source);
-}
-}  // namespace
-
-json spec_to_json(const model::StackSpec& s) {
-  json mats = json::object();
-  for (const auto& m : s.custom_materials) {
-    mats[m.name] = {{"density", m.density}, {"youngs_modulus", m.youngs_modulus}, {"poisson_ratio", m.poisson_ratio}};
-  }
-  auto opt = [](const auto& o) -> json { return o ? json(*o) : json("auto"); };
-  json j = {{"geometry", model::to_string(s.geometry)},
-          {"blocks", s.blocks},
-          {"rows", s.rows},
-          {"top_columns", s.top_columns},
-          {"bottom_radius", s.bottom_radius},
-          {"radius_ratio", s.radius_ratio},
-          {"materials", s.materials},
-          {"custom_materials", mats},
-          {"restitution", s.restitution.value},
-          {"restitution_pairs", pairs_to_json(s.restitution)},
-          {"friction", s.friction.value},
-          {"friction_pairs", pairs_to_json(s.friction)},
-          {"striker_speed", s.striker_speed},
-          {"striker_radius_ratio", s.striker_radius_ratio},
-          {"striker_material", s.striker_material},
-          {"bottom", model::to_string(s.bottom)},
-          {"sides", model::to_string(s.sides)},
-          {"wall_material", s.wall_material},
-          {"gravity", s.gravity},
-          {"dt", opt(s.dt)},
-          {"duration", opt(s.duration)},
-          {"dump_every", opt(s.dump_every)},
-          {"series_every", opt(s.series_every)},
-          {"dump_format", model::to_string(s.dump_format)},
-          {"dump_files", model::to_string(s.dump_files)}};
-  // The contact model, written when it is not the study's (so the study's cases keep their digests).
-  if (s.normal_model != model::NormalModel::hertz) j["normal_model"] = model::to_string(s.normal_model);
-  if (s.tangential_model != model::TangentialModel::history) j["tangential_model"] = model::to_string(s.tangential_model);
-  if (s.rolling_model != model::RollingModel::off) {
-    j["rolling_model"] = model::to_string(s.rolling_model);
-    j["rolling_friction"] = s.rolling_friction.value;
-    j["rolling_friction_pairs"] = pairs_to_json(s.rolling_friction);
-  }
-  if (s.characteristic_velocity) j["characteristic_velocity"] = *s.characteristic_velocity;
-  if (s.geometry == model::Geometry::panels) {
-    j["panels"] = s.panels;
-    j["impact_panel"] = s.strikes_every_panel() ? json("all") : json(s.impact_panel);
-    j["separator"] = model::to_string(s.separator);
-    j["matrix_material"] = s.matrix_material;
-  }
-  return j;
-}
+json spec_to_json(const model::StackSpec& s) { return model::spec_json(s); }
 
 model::StackSpec spec_from_json(const json& j, const std::string& source) {
-  model::StackSpec s;
-  // Absent from manifests written before 3D nests: the strip.
-  if (j.contains("geometry")) {
-    const auto g = model::parse_geometry(get<std::string>(j, "geometry", source));
-    if (!g) throw FormatError(source, 0, "field 'geometry' is 'strip', 'nested3d' or 'panels'");
-    s.geometry = *g;
+  try {
+    return model::spec_from_json_fields(j);
+  } catch (const std::invalid_argument& e) {
+    throw FormatError(source, 0, e.what());
   }
-  // Written for containers only.
-  if (j.contains("panels")) s.panels = get<int>(j, "panels", source);
-  if (j.contains("impact_panel")) {
-    const auto& v = j.at("impact_panel");
-    s.impact_panel = v.is_string() && v.get<std::string>() == "all" ? model::kAllPanels : get<int>(j, "impact_panel", source);
-  }
-  if (j.contains("separator")) {
-    const auto sep = model::parse_separator(get<std::string>(j, "separator", source));
-    if (!sep) throw FormatError(source, 0, "field 'separator' is 'matrix', 'walls' or 'none'");
-    s.separator = *sep;
-  }
-  if (j.contains("matrix_material")) s.matrix_material = get<std::string>(j, "matrix_material", source);
-  s.blocks = get<int>(j, "blocks", source);
-  s.rows = get<int>(j, "rows", source);
-  s.top_columns = get<int>(j, "top_columns", source);
-  s.bottom_radius = get<double>(j, "bottom_radius", source);
-  s.radius_ratio = get<int>(j, "radius_ratio", source);
-  s.materials = get<std::vector<std::string>>(j, "materials", source);
-  const auto custom = get<json>(j, "custom_materials", source);
-  for (const auto& [name, m] : custom.items()) {
-    s.custom_materials.push_back({name, get<double>(m, "density", source), get<double>(m, "youngs_modulus", source),
-                                  get<double>(m, "poisson_ratio", source)});
-  }
-  const auto restitution_pairs = get<json>(j, "restitution_pairs", source);
-  const auto friction_pairs = get<json>(j, "friction_pairs", source);
-  s.restitution = pairs_from_json(get<double>(j, "restitution", source), restitution_pairs, source, "restitution_pairs");
-  s.friction = pairs_from_json(get<double>(j, "friction", source), friction_pairs, source, "friction_pairs");
-  s.striker_speed = get<double>(j, "striker_speed", source);
-  // Absent from manifests written before the striker could be chosen: the study's striker.
-  if (j.contains("striker_radius_ratio")) s.striker_radius_ratio = get<double>(j, "striker_radius_ratio", source);
-  if (j.contains("striker_material")) s.striker_material = get<std::string>(j, "striker_material", source);
-  auto boundary = [&](const char* key) {
-    auto b = model::parse_boundary(get<std::string>(j, key, source));
-    if (!b) throw FormatError(source, 0, fmt::format("field '{}' is 'free' or 'wall'", key));
-    return *b;
-  };
-  s.bottom = boundary("bottom");
-  s.sides = boundary("sides");
-  s.wall_material = get<std::string>(j, "wall_material", source);
-  s.gravity = get<double>(j, "gravity", source);
-  auto opt_double = [&](const char* key) -> std::optional<double> {
-    const auto v = get<json>(j, key, source);
-    if (v.is_string() && v.get<std::string>() == "auto") return std::nullopt;
-    return get<double>(j, key, source);
-  };
-  auto opt_int = [&](const char* key) -> std::optional<int> {
-    const auto v = get<json>(j, key, source);
-    if (v.is_string() && v.get<std::string>() == "auto") return std::nullopt;
-    return get<int>(j, key, source);
-  };
-  s.dt = opt_double("dt");
-  s.duration = opt_double("duration");
-  s.dump_every = opt_int("dump_every");
-  s.series_every = opt_int("series_every");
-  auto format = model::parse_dump_format(get<std::string>(j, "dump_format", source));
-  if (!format) throw FormatError(source, 0, "field 'dump_format' is 'text' or 'binary'");
-  s.dump_format = *format;
-  auto files = model::parse_dump_files(j.value("dump_files", std::string("single")));
-  if (!files) throw FormatError(source, 0, "field 'dump_files' is 'single', 'per_step' or 'per_rank'");
-  s.dump_files = *files;
-  read_contact_model(s, j, source);
-  return s;
 }
 
 namespace {

@@ -1,4 +1,5 @@
 #include <granstack/model/spec.hpp>
+#include <granstack/model/spec_fields.hpp>
 #include <granstack/model/stack.hpp>
 
 #include <fmt/format.h>
@@ -243,20 +244,9 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
     }
   }
 
-  if (s.blocks < 1 || s.blocks > 16) bad("blocks", fmt::format("{} must be a whole number from 1 to 16", s.blocks));
-  if (s.rows < 1 || s.rows > 4096) bad("rows", fmt::format("{} must be a whole number from 1 to 4096", s.rows));
-  if (s.top_columns < 2 || s.top_columns % 2 != 0 || s.top_columns > 4096) {
-    bad("top_columns", fmt::format("{} must be an even number from 2 to 4096 (the striker hits between the two "
-                                   "central columns)",
-                                   s.top_columns));
-  }
-  if (!within(s.bottom_radius, kMinRadius, kMaxRadius)) {
-    bad("bottom_radius", fmt::format("{} must be in [{:g}, {:g}] m", s.bottom_radius, kMinRadius, kMaxRadius));
-  }
-  if (s.radius_ratio < 1 || s.radius_ratio > 16) {
-    bad("radius_ratio", fmt::format("{} must be a whole number from 1 to 16 (each block's columns tile the block "
-                                    "below exactly only for whole ratios)",
-                                    s.radius_ratio));
+  // Each field's own range (spec_fields.cpp), then what holds across fields.
+  for (const auto& f : spec_fields()) {
+    if (f.check) f.check(s, issues);
   }
   if (issues.empty() && !(s.bottom_radius * std::pow(static_cast<double>(s.radius_ratio), s.blocks - 1) <= kMaxRadius)) {
     bad("bottom_radius", fmt::format("with radius_ratio {} and {} blocks the top spheres would be {:g} m in radius, more "
@@ -337,19 +327,9 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
               fmt::format("in [0, {:g}]", kMaxRollingFriction));
   validate_contact_model(s, bad);
 
-  if (!finite_positive(s.striker_speed)) bad("striker_speed", fmt::format("{} must be > 0 (m/s)", s.striker_speed));
-  if (!within(s.gravity, 0.0, kMaxGravity)) {
-    bad("gravity", fmt::format("{} must be in [0, {:g}] (m/s^2, acting along -z; 0 turns it off)", s.gravity, kMaxGravity));
-  }
-  if (s.dt && !finite_positive(*s.dt)) bad("dt", fmt::format("{} must be > 0 (s) or 'auto'", *s.dt));
-  if (s.duration && !finite_positive(*s.duration)) {
-    bad("duration", fmt::format("{} must be > 0 (s) or 'auto'", *s.duration));
-  }
   if (s.dt && s.duration && finite_positive(*s.dt) && *s.dt >= *s.duration) {
     bad("dt", fmt::format("{} must be smaller than the duration {}", *s.dt, *s.duration));
   }
-  if (s.dump_every && *s.dump_every < 1) bad("dump_every", fmt::format("{} must be >= 1 step", *s.dump_every));
-  if (s.series_every && *s.series_every < 1) bad("series_every", fmt::format("{} must be >= 1 step", *s.series_every));
   return issues;
 }
 

@@ -2,11 +2,13 @@
 // sweep expansion.
 #include <granstack/generator/spec_input.hpp>
 #include <granstack/model/spec.hpp>
+#include <granstack/model/spec_fields.hpp>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <functional>
+#include <set>
 #include <tuple>
 #include <vector>
 
@@ -215,7 +217,8 @@ TEST(SpecInput, UnknownKeysAndWrongTypesAreNamed) {
   } catch (const model::SpecError& e) {
     ASSERT_EQ(e.issues().size(), 1u);
     EXPECT_EQ(e.issues()[0].field, "blokcs");
-    EXPECT_NE(e.issues()[0].message.find("known fields: blocks"), std::string::npos);
+    EXPECT_NE(e.issues()[0].message.find("did you mean 'blocks'? known fields: geometry, "), std::string::npos)
+        << e.issues()[0].message;
   }
   try {
     generator::build_sweep(generator::parse_spec_toml("blocks = 2.5\nbottom = \"floor\"\n", "spec.toml"));
@@ -240,3 +243,67 @@ TEST(SpecInput, FlagListsSplitOnCommasAndDuplicatesAreRejected) {
 }
 
 }  // namespace
+
+// The field table (model/spec_fields.hpp) is the one list: every field has a unique name and
+// flag, a parser, a manifest writer and reader; sweepable ones a setter and a unique case-name
+// key; and a spec file naming every field once with a non-default value reads back, through a
+// manifest, to the same spec.
+TEST(SpecFields, EveryFieldIsReadWrittenAndDocumented) {
+  std::set<std::string> names, flags, keys;
+  for (const auto& f : model::spec_fields()) {
+    EXPECT_TRUE(names.insert(f.name).second) << f.name;
+    EXPECT_TRUE(flags.insert(f.flag).second) << f.flag;
+    EXPECT_TRUE(f.parse && f.save && f.load) << f.name;
+    EXPECT_FALSE(f.help.empty() || f.type.empty() || f.default_text.empty()) << f.name;
+    if (f.sweepable()) {
+      EXPECT_TRUE(f.set_number) << f.name;
+      EXPECT_TRUE(keys.insert(f.short_key).second) << f.short_key;
+    }
+    EXPECT_NE(model::spec_fields_markdown().find("| `" + f.name + "` |"), std::string::npos) << f.name;
+  }
+  const auto every = generator::parse_spec_toml(R"(
+geometry = "panels"
+panels = 3
+impact_panel = 1
+separator = "matrix"
+matrix_material = "soft"
+blocks = 2
+rows = 3
+top_columns = 4
+bottom_radius = 2e-3
+radius_ratio = 3
+materials = ["steel", "soft"]
+restitution = 0.9
+friction = 0.2
+restitution_pairs = { "steel:soft" = 0.8 }
+friction_pairs = { "soft:steel" = 0.3 }
+striker_speed = 0.5
+striker_radius_ratio = 1.5
+striker_material = "teflon"
+bottom = "wall"
+sides = "free"
+wall_material = "steel"
+gravity = 0
+dt = 1e-8
+duration = 1e-4
+dump_every = 50
+series_every = 5
+dump_files = "per_step"
+dump_format = "binary"
+custom_materials = { soft = { density = 1000, youngs_modulus = 1e7, poisson_ratio = 0.4 } }
+normal_model = "hooke"
+tangential_model = "no_history"
+rolling_model = "epsd2"
+rolling_friction = 0.1
+rolling_friction_pairs = { "steel:steel" = 0.05 }
+characteristic_velocity = 2
+)", "every.toml");
+  EXPECT_EQ(every.size(), model::spec_fields().size()) << "a field of the table is missing from this test's file";
+  const auto spec = generator::build_sweep(every).base;
+  EXPECT_EQ(model::spec_from_json_fields(nlohmann::json::parse(model::spec_json(spec).dump())), spec);
+  EXPECT_EQ(spec.impact_panel, 1);
+  EXPECT_EQ(spec.separator, model::Separator::matrix);
+  EXPECT_EQ(spec.dump_files, model::DumpFiles::per_step);
+  EXPECT_EQ(*spec.characteristic_velocity, 2.0);
+  EXPECT_EQ(spec.rolling_friction.get("steel", "steel"), 0.05);
+}

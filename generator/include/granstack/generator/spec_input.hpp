@@ -12,10 +12,7 @@ namespace granstack::generator {
 
 using RawSpec = std::map<std::string, std::vector<std::string>>;
 
-// The fields a spec file and the flags know, in the order docs/reference/spec.md documents them.
-const std::vector<std::string>& spec_fields();
-// Fields whose list of values makes a sweep (one case per combination).
-bool is_sweepable(const std::string& field);
+// The fields, their types and whether they sweep: model/spec_fields.hpp.
 
 // Reads a TOML spec file. Throws model::SpecError (unknown keys, wrong types) or
 // std::runtime_error (unreadable file, TOML syntax, with line and column).
