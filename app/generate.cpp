@@ -2,6 +2,7 @@
 #include "commands.hpp"
 #include "progress.hpp"
 
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/generator/spec_input.hpp>
@@ -83,9 +84,9 @@ int generate(CLI::App& cmd, const GenerateFlags& g, const std::vector<std::strin
     fmt::print("wrote a sweep of {} cases in {} ({} spheres and {} steps in all)\n", result.case_dirs.size(), g.output,
                total.spheres, total.steps);
   } else {
-    const auto m = formats::read_manifest(result.case_dirs.front().string());
-    fmt::print("wrote case {} ({} spheres, dt = {:.4g} s, {} steps, {:.4g} s simulated)\n", g.output, total.spheres,
-               m.derived.value("dt", 0.0), total.steps, m.derived.value("duration", 0.0));
+    const auto d = formats::Case::open(result.case_dirs.front().string()).derived();
+    fmt::print("wrote case {} ({} spheres, dt = {:.4g} s, {} steps, {:.4g} s simulated)\n", g.output, total.spheres, d.dt,
+               total.steps, d.duration);
   }
   fmt::print("cost: about {} of dumps and series, about {} of LIGGGHTS on one core\n", bytes_text(total.dump_bytes),
              seconds_text(total.liggghts_seconds));

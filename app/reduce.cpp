@@ -3,6 +3,7 @@
 #include "progress.hpp"
 
 #include <granstack/formats/error.hpp>
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/ownership.hpp>
@@ -24,8 +25,7 @@ namespace {
 
 long expected_frames(const std::string& dir) {
   try {
-    const auto m = formats::read_manifest(dir);
-    return m.derived.value("steps", 0L) / std::max(1L, m.derived.value("dump_every", 1L)) + 1;
+    return formats::Case::open(dir).derived().frames();
   } catch (const std::exception&) {
     return 0;
   }

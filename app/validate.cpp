@@ -2,6 +2,7 @@
 #include "commands.hpp"
 #include "progress.hpp"
 
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/deck.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/ownership.hpp>
@@ -33,15 +34,16 @@ int validate(const ValidateFlags& f) {
   const auto dirs = formats::expand_case_dirs(f.cases);
   std::vector<os::CaseLock> locks;
   for (const auto& d : dirs) {
+    const auto c = formats::Case::open(d);
     try {
-      locks.emplace_back(d, "granstack validate");
+      locks.push_back(c.lock("granstack validate"));
     } catch (const os::LockedError& e) {
       fmt::print(stderr, "error: {}\n", e.what());
       return kCaseFailed;
     }
     // refsim runs only what granstack's own template renders (see runner): say so before
     // LIGGGHTS spends its time.
-    const auto m = formats::read_manifest(d);
+    const auto& m = c.manifest();
     formats::check_rendered_files(d, m);  // an edited case would be validated as the manifest's
     if (!generator::has_default_deck(d, m)) {
       fmt::print(stderr, "error: {}/{} is not the deck granstack's own template gives for this case (a --template of "

@@ -2,6 +2,7 @@
 #include "scheduler.hpp"
 
 #include <granstack/cluster/slurm.hpp>
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/os/case_lock.hpp>
@@ -20,22 +21,17 @@ using nlohmann::json;
 
 namespace {
 
-// run.json's status and, for a failed run, the first line of its error.
+// run.json's status and, for a failed run, the first line of its error. A damaged record is
+// failed (it never counts as done), naming why it cannot be read.
 CaseState read_state(const std::string& dir) {
-  CaseState s{dir, "pending", ""};
-  const auto path = fs::path(dir) / "run.json";
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) return s;
+  formats::CaseFiles files;
   try {
-    const auto j = json::parse(formats::read_file(path));
-    s.status = j.value("status", "pending");
-    const auto error = j.value("error", std::string());
-    s.error = error.substr(0, error.find('\n'));
-  } catch (const std::exception& e) {
-    s.status = "failed";
-    s.error = fmt::format("run.json cannot be read: {}", e.what());
+    files = formats::read_manifest(dir).files;
+  } catch (const std::exception&) {  // the run record's name is the default one
   }
-  return s;
+  const auto record = formats::read_run_record(dir, files);
+  if (!record.exists()) return {dir, "pending", ""};
+  return {dir, record.status == "damaged" ? "failed" : record.status, record.error_line()};
 }
 
 std::vector<std::string> job_ids_of(const RecordedSubmission& s) {

@@ -3,6 +3,7 @@
 
 #include <granstack/cluster/slurm.hpp>
 
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/os/case_lock.hpp>
 #include <granstack/os/process.hpp>
@@ -33,17 +34,15 @@ namespace {
 // The cost estimate of each case, by its absolute path: each manifest is read once.
 using Costs = std::map<std::string, model::Cost>;
 
-model::Cost case_cost(const std::string& dir) {
-  const auto stack = model::Stack::build(formats::read_manifest(dir).spec);  // a case, or FormatError naming what is wrong
-  return model::estimate_cost(stack, model::resolve(stack));
-}
+model::Cost case_cost(const formats::Case& c) { return model::estimate_cost(c.stack(), c.resolution()); }
 
 std::vector<std::string> pending_cases(const std::vector<std::string>& targets, bool force, Costs& costs) {
   std::vector<std::string> out;
   for (const auto& d : formats::expand_case_dirs(targets)) {
     const auto dir = fs::absolute(d).lexically_normal().string();
-    costs[dir] = case_cost(d);
-    if (force || runner::recorded_status(d) != "done") out.push_back(dir);
+    const auto c = formats::Case::open(d);  // a case, or FormatError naming what is wrong
+    costs[dir] = case_cost(c);
+    if (force || !c.run_record().done()) out.push_back(dir);
   }
   return out;
 }
@@ -140,7 +139,7 @@ void save(const Submission& s, const std::vector<std::string>& targets, int case
 
 std::string estimate_task_time(const std::vector<std::string>& case_dirs, int ranks) {
   std::vector<double> seconds;
-  for (const auto& d : case_dirs) seconds.push_back(case_cost(d).liggghts_seconds);
+  for (const auto& d : case_dirs) seconds.push_back(case_cost(formats::Case::open(d)).liggghts_seconds);
   return hms(task_seconds(seconds, ranks));
 }
 

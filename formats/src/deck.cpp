@@ -1,3 +1,4 @@
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/deck.hpp>
 #include <granstack/formats/digest.hpp>
 #include <granstack/formats/error.hpp>
@@ -43,11 +44,12 @@ void check_contact_model(const std::vector<std::string_view>& words, std::size_t
 }
 }  // namespace
 
-void check_deck_matches_manifest(const std::string& case_dir, const Manifest& manifest) {
-  check_rendered_files(case_dir, manifest);
-  const auto path = (std::filesystem::path(case_dir) / manifest.files.deck).string();
-  const double dt = manifest.derived.value("dt", 0.0);
-  const long steps = manifest.derived.value("steps", 0L);
+void check_deck_matches_manifest(const Case& c) {
+  const auto& manifest = c.manifest();
+  check_rendered_files(c.dir(), manifest);
+  const auto path = c.path(manifest.files.deck).string();
+  const double dt = c.derived().dt;
+  const long steps = c.derived().steps;
   const std::string fix = "; the deck was edited after 'granstack generate': generate the case again with the "
                           "values you want (--dt, --duration) instead";
   const auto model_words = model::liggghts_model_words(manifest.spec.contact_model());

@@ -1,3 +1,4 @@
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/ownership.hpp>
@@ -77,7 +78,7 @@ class ForeignFinder {
     }
     for (const auto& f : kReduceFiles) files.insert("reduce/" + f);
     try {  // what the run made beyond those (a user's template writing more files): run.json lists them
-      for (const auto& f : json::parse(read_file(dir / m.files.run_record)).value("outputs", json::array())) {
+      for (const auto& f : read_run_record(dir, m.files).record.value("outputs", json::array())) {
         files.insert(f.get<std::string>());
       }
     } catch (const std::exception&) {

@@ -111,35 +111,28 @@ SpecField row(std::string name, std::string type, std::string default_text, std:
   return f;
 }
 
-// A whole number member; sweepable with a short key.
-SpecField whole_row(std::string name, int StackSpec::*member, std::string default_text, std::string help,
-                    std::string short_key = "") {
-  auto f = row(std::move(name), "whole number", std::move(default_text), std::move(help));
-  const auto n = f.name;
-  f.short_key = std::move(short_key);
-  f.whole = true;
-  f.in_every_manifest = true;
-  f.parse = [n, member](StackSpec& s, const Tokens& t, Issues& issues) {
-    if (const auto* v = single(n, t, issues)) whole(n, *v, s.*member, issues);
-  };
-  f.set_number = [member](StackSpec& s, double v) { s.*member = static_cast<int>(v); };
-  f.save = [n, member](const StackSpec& s, json& j) { j[n] = s.*member; };
-  f.load = [n, member](StackSpec& s, const json& j) { s.*member = read<int>(j, n); };
-  return f;
-}
-
-SpecField number_row(std::string name, double StackSpec::*member, std::string default_text, std::string help,
+// A number member (whole for an int); sweepable with a short key.
+template <typename T>
+SpecField number_row(std::string name, T StackSpec::*member, std::string default_text, std::string help,
                      std::string short_key = "") {
-  auto f = row(std::move(name), "number", std::move(default_text), std::move(help));
+  constexpr bool is_whole = std::is_same_v<T, int>;
+  auto f = row(std::move(name), is_whole ? "whole number" : "number", std::move(default_text), std::move(help));
   const auto n = f.name;
   f.short_key = std::move(short_key);
+  f.whole = is_whole;
   f.in_every_manifest = true;
   f.parse = [n, member](StackSpec& s, const Tokens& t, Issues& issues) {
-    if (const auto* v = single(n, t, issues)) number(n, *v, s.*member, issues);
+    const auto* v = single(n, t, issues);
+    if (v == nullptr) return;
+    if constexpr (is_whole) {
+      whole(n, *v, s.*member, issues);
+    } else {
+      number(n, *v, s.*member, issues);
+    }
   };
-  f.set_number = [member](StackSpec& s, double v) { s.*member = v; };
+  f.set_number = [member](StackSpec& s, double v) { s.*member = static_cast<T>(v); };
   f.save = [n, member](const StackSpec& s, json& j) { j[n] = s.*member; };
-  f.load = [n, member](StackSpec& s, const json& j) { s.*member = read<double>(j, n); };
+  f.load = [n, member](StackSpec& s, const json& j) { s.*member = read<T>(j, n); };
   return f;
 }
 
@@ -271,7 +264,7 @@ std::vector<SpecField> container_rows() {
   geometry.in_every_manifest = false;  // absent from manifests written before 3D nests: the strip
   rows.push_back(std::move(geometry));
 
-  auto panels = whole_row("panels", &StackSpec::panels, "none", "geometry = panels: strips side by side along y, 2..64");
+  auto panels = number_row("panels", &StackSpec::panels, "none", "geometry = panels: strips side by side along y, 2..64");
   unless_default(panels, panels_only);
   rows.push_back(std::move(panels));
 
@@ -317,19 +310,19 @@ std::vector<SpecField> container_rows() {
 
 std::vector<SpecField> stack_rows() {
   std::vector<SpecField> rows;
-  auto blocks = whole_row("blocks", &StackSpec::blocks, "4", "Number of blocks N_B (block 1 is the top, impacted one)", "nb");
+  auto blocks = number_row("blocks", &StackSpec::blocks, "4", "Number of blocks N_B (block 1 is the top, impacted one)", "nb");
   blocks.check = [](const StackSpec& s, Issues& i) {
     check_range(i, "blocks", s.blocks >= 1 && s.blocks <= 16, fmt::format("{} must be a whole number from 1 to 16", s.blocks));
   };
   rows.push_back(std::move(blocks));
 
-  auto rows_ = whole_row("rows", &StackSpec::rows, "8", "Rows (spheres per column), the same in every block, 1..4096", "rows");
+  auto rows_ = number_row("rows", &StackSpec::rows, "8", "Rows (spheres per column), the same in every block, 1..4096", "rows");
   rows_.check = [](const StackSpec& s, Issues& i) {
     check_range(i, "rows", s.rows >= 1 && s.rows <= 4096, fmt::format("{} must be a whole number from 1 to 4096", s.rows));
   };
   rows.push_back(std::move(rows_));
 
-  auto columns = whole_row("top_columns", &StackSpec::top_columns, "2",
+  auto columns = number_row("top_columns", &StackSpec::top_columns, "2",
                            "Columns of block 1, even, 2..4096; block k has top_columns * radius_ratio^(k-1)", "cols");
   columns.check = [](const StackSpec& s, Issues& i) {
     check_range(i, "top_columns", s.top_columns >= 2 && s.top_columns % 2 == 0 && s.top_columns <= 4096,
@@ -348,7 +341,7 @@ std::vector<SpecField> stack_rows() {
   };
   rows.push_back(std::move(radius));
 
-  auto ratio = whole_row("radius_ratio", &StackSpec::radius_ratio, "2", "R_k / R_(k+1), a whole number from 1 to 16");
+  auto ratio = number_row("radius_ratio", &StackSpec::radius_ratio, "2", "R_k / R_(k+1), a whole number from 1 to 16");
   ratio.doc = "even: each sphere rests on two below; odd: on the one straight below";
   ratio.check = [](const StackSpec& s, Issues& i) {
     check_range(i, "radius_ratio", s.radius_ratio >= 1 && s.radius_ratio <= 16,

@@ -1,3 +1,4 @@
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/manifest.hpp>
@@ -203,9 +204,10 @@ void recorded(RunComparison& c, F what) {
 
 RunComparison compare_runs(const std::string& dir_a, const std::string& dir_b) {
   RunComparison c;
-  const auto ma = formats::read_manifest(dir_a), mb = formats::read_manifest(dir_b);
+  const auto case_a = formats::Case::open(dir_a), case_b = formats::Case::open(dir_b);
+  const auto &ma = case_a.manifest(), &mb = case_b.manifest();
   c.case_name = ma.case_name;
-  const auto stack = model::Stack::build(ma.spec);
+  const auto& stack = case_a.stack();
   recorded(c, [&] { compare_dumps(dir_a, ma, dir_b, mb, stack, c); });
   recorded(c, [&] { compare_series(dir_a, ma, dir_b, mb, stack, c); });
   c.output_fraction = {"output_fraction", "of E_in", kOutputFractionFloor};

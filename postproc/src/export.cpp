@@ -2,6 +2,7 @@
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/deck.hpp>
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/os/case_lock.hpp>
 #include <granstack/formats/ownership.hpp>
@@ -138,15 +139,16 @@ formats::VtkPoints frame_points(const model::Stack& stack, const formats::DumpFr
 }  // namespace
 
 ExportResult export_case(const std::string& case_dir, const ExportOptions& o) {
-  const auto m = formats::read_manifest(case_dir);
-  formats::check_deck_matches_manifest(case_dir, m);  // an edited case's frames would carry the manifest's labels
+  const auto c = formats::Case::open(case_dir);
+  formats::check_deck_matches_manifest(c);  // an edited case's frames would carry the manifest's labels
   // Writing into the case (its paraview/), export holds the case's lock, as every command that writes a case does.
   std::optional<os::CaseLock> lock;
-  if (o.output_dir.empty()) lock.emplace(case_dir, "granstack export");
-  const auto stack = model::Stack::build(m.spec);
-  const double dt = m.derived.value("dt", 0.0);
-  const long steps = m.derived.value("steps", 0L), every = std::max(1L, m.derived.value("dump_every", 1L));
-  const long count = steps / every + 1;  // frames at steps 0, every, 2 every, ..., up to the run's end
+  if (o.output_dir.empty()) lock.emplace(c.lock("granstack export"));
+  const auto& m = c.manifest();
+  const auto& stack = c.stack();
+  const double dt = c.derived().dt;
+  const long steps = c.derived().steps, every = c.derived().dump_every;
+  const long count = c.derived().frames();  // frames at steps 0, every, 2 every, ..., up to the run's end
   const auto picked = select_frames(o.frames, count);
   const fs::path out = o.output_dir.empty() ? fs::path(case_dir) / "paraview" : fs::path(o.output_dir);
   // The case directory's own name, however it was written ("runs/a/", ".", "../a").

@@ -1,3 +1,4 @@
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/series.hpp>
@@ -78,11 +79,10 @@ std::vector<std::string> plot_files(const std::string& name, const PlotOptions& 
 
 std::string plot_block_energy(const std::string& case_dir, const std::string& label, const std::string& out_dir,
                               const PlotOptions& o) {
-  const auto m = formats::read_manifest(case_dir);
-  const auto stack = model::Stack::build(m.spec);
-  const double dt = model::resolve(stack).dt;
-  const auto series = formats::read_series((fs::path(case_dir) / m.files.series).string());
-  const int nb = m.spec.blocks;
+  const auto c = formats::Case::open(case_dir);
+  const double dt = c.derived().dt;
+  const auto series = formats::read_series(c.path(c.files().series).string());
+  const int nb = c.spec().blocks;
   std::vector<int> trans, rot;
   for (int k = 1; k <= nb; ++k) {
     trans.push_back(series.column(fmt::format("ke_trans_block{}", k)));
@@ -122,8 +122,8 @@ std::string plot_block_energy(const std::string& case_dir, const std::string& la
       "# The key beside the plot covers no curve; 8 % head room keeps a curve that reaches 1 off the border.\n"
       "set grid\nset key outside right top\nset yrange [0:*]\nset offsets 0, 0, graph 0.08, 0\nset autoscale xfix\n"
       "plot for [k=1:{}] '{}.dat' using 1:(column(k+1)) with lines title sprintf('block %d', k)\n",
-      safe_name(label), name, name, gnuplot_terminal(o), name, o.format, nb, nb == 1 ? "" : "s", m.spec.restitution.value,
-      m.spec.friction.value, m.spec.striker_speed, nb, name);
+      safe_name(label), name, name, gnuplot_terminal(o), name, o.format, nb, nb == 1 ? "" : "s", c.spec().restitution.value,
+      c.spec().friction.value, c.spec().striker_speed, nb, name);
   return render_gnuplot(out_dir, name, fmt::to_string(data), script, o);
 }
 

@@ -1,4 +1,5 @@
 #include <granstack/formats/batches.hpp>
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/deck.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/error.hpp>
@@ -14,6 +15,7 @@
 #include <granstack/postproc/reduce.hpp>
 
 #include "frame_pipeline.hpp"
+#include "frame_tables.hpp"
 
 #include <fmt/compile.h>
 #include <fmt/format.h>
@@ -31,90 +33,24 @@ using nlohmann::json;
 
 namespace {
 
-void require_successful_run(const fs::path& dir, const formats::CaseFiles& files) {
-  const auto record_path = dir / files.run_record;
-  std::ifstream in(record_path);
-  if (!in) {
-    throw std::runtime_error(fmt::format("{}: the case has not been run; run 'granstack run {}' first", dir.string(),
-                                         dir.string()));
+void require_successful_run(const formats::Case& c) {
+  const auto record = c.run_record();
+  const auto& dir = c.dir();
+  if (!record.exists()) {
+    throw std::runtime_error(fmt::format("{}: the case has not been run; run 'granstack run {}' first", dir, dir));
   }
-  json record;
-  try {
-    record = json::parse(in);
-  } catch (const json::exception& e) {
-    throw formats::FormatError(record_path.string(), 0, fmt::format("not valid JSON: {}", e.what()));
-  }
-  const auto status = record.value("status", "");
-  if (status == "failed") {
+  if (record.status == "damaged") throw formats::FormatError(c.path(c.files().run_record).string(), 0, record.error);
+  if (record.status == "failed") {
     throw std::runtime_error(fmt::format("{}: the run failed ({}); fix it and run again with 'granstack run --force'",
-                                         dir.string(), record.value("error", "no message")));
+                                         dir, record.error.empty() ? "no message" : record.error));
   }
-  if (status != "done") {
-    throw std::runtime_error(fmt::format("{}: the run did not finish (status '{}'); run 'granstack run --force {}'",
-                                         dir.string(), status, dir.string()));
+  if (!record.done()) {
+    throw std::runtime_error(fmt::format("{}: the run did not finish (status '{}'); run 'granstack run --force {}'", dir,
+                                         record.status, dir));
   }
 }
 
-// A CSV table written as it grows: rows collect in a buffer that goes to a temporary file
-// beside the target whenever it passes a megabyte, and the file is renamed into place at the
-// end, so memory does not grow with the number of frames and no reader sees half a table.
-class StreamedTable {
- public:
-  StreamedTable(fs::path target, bool write) : target_(std::move(target)), write_(write) {}
-  ~StreamedTable() {
-    if (file_ != nullptr) {
-      std::fclose(file_);
-      std::error_code ec;
-      fs::remove(temporary(), ec);
-    }
-  }
-  std::back_insert_iterator<fmt::memory_buffer> out() { return std::back_inserter(buffer_); }
-  void append(const fmt::memory_buffer& text) { buffer_.append(text.data(), text.data() + text.size()); }
-  void row_done() {
-    if (buffer_.size() > (1u << 20)) flush();
-  }
-  void finish() {
-    flush();
-    if (file_ == nullptr) return;
-    const bool ok = std::fclose(file_) == 0;
-    file_ = nullptr;
-    if (!ok) throw std::runtime_error(fmt::format("{}: cannot write", temporary().string()));
-    fs::rename(temporary(), target_);
-  }
 
- private:
-  fs::path temporary() const { return target_.string() + ".tmp"; }
-  void flush() {
-    if (write_) {
-      if (file_ == nullptr) {
-        fs::create_directories(target_.parent_path());
-        file_ = std::fopen(temporary().c_str(), "wb");
-        if (file_ == nullptr) throw std::runtime_error(fmt::format("{}: cannot write", temporary().string()));
-      }
-      if (std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size()) {
-        throw std::runtime_error(fmt::format("{}: cannot write", temporary().string()));
-      }
-    }
-    buffer_.clear();
-  }
-  fs::path target_;
-  bool write_;
-  std::FILE* file_ = nullptr;
-  fmt::memory_buffer buffer_;
-};
-
-
-// The manifest's dt and steps must be those its spec gives, and the deck's those of the manifest:
-// every time in the results is a step times dt.
-void require_consistent_inputs(const std::string& case_dir, const formats::Manifest& m, const model::Resolution& res) {
-  const auto path = (fs::path(case_dir) / "manifest.json").string();
-  if (m.derived.value("dt", 0.0) != res.dt || m.derived.value("steps", 0L) != res.steps ||
-      m.derived.value("dump_every", 0L) != res.dump_every || m.derived.value("series_every", 0L) != res.series_every) {
-    throw formats::FormatError(path, 0, "its derived dt, steps or output cadences are not what its spec gives: the "
-                                        "manifest was edited; generate the case again");
-  }
-  formats::check_deck_matches_manifest(case_dir, m);
-}
 
 // Where the series keeps what reduce reads.
 struct SeriesColumns {
@@ -286,14 +222,7 @@ void require_energy_balance(const FrameEnergy& e, const model::StackSpec& spec, 
 }  // namespace
 
 namespace {
-// Each panel's kinetic energy (every block's part of it), index 0 = panel 1.
-std::vector<double> panel_energies(const FrameEnergy& e) {
-  std::vector<double> panels(e.column_y_ke.empty() ? 0 : e.column_y_ke.front().size(), 0.0);
-  for (const auto& block : e.column_y_ke) {
-    for (std::size_t p = 0; p < panels.size(); ++p) panels[p] += block[p];
-  }
-  return panels;
-}
+using detail::panel_energies;
 
 // A container's leak: the kinetic energy of the panels no striker hit and of the matrix.
 double leaked_energy(const std::vector<double>& panels, double matrix_ke, const model::Stack& stack) {
@@ -304,7 +233,13 @@ double leaked_energy(const std::vector<double>& panels, double matrix_ke, const 
   return leaked;
 }
 
-void track_panels(const FrameEnergy& e, const model::Stack& stack, double time, CaseReduction& r) {
+// The running maxima a frame may raise: the output sphere's, the top row's parts and, in a
+// container, each panel's and the matrix's.
+void track_peaks(const FrameEnergy& e, const model::Stack& stack, double time, CaseReduction& r) {
+  r.output_peak_fraction = std::max(r.output_peak_fraction, e.output_sphere_ke / r.e_in);
+  r.top_row_sideways_peak = std::max(r.top_row_sideways_peak, e.top_row_sideways);
+  r.top_row_downward_peak = std::max(r.top_row_downward_peak, e.top_row_downward);
+  if (!stack.container()) return;
   const auto panels = panel_energies(e);
   auto& frame = r.panel_frames.emplace_back(1, time);
   frame.insert(frame.end(), panels.begin(), panels.end());
@@ -318,6 +253,68 @@ void track_panels(const FrameEnergy& e, const model::Stack& stack, double time, 
 }
 }  // namespace
 
+// The run's in-situ series, whole and physical, or FormatError naming what is wrong.
+formats::Series read_checked_series(const std::string& path, const model::Stack& stack, const model::Resolution& res) {
+  if (!fs::exists(path)) {
+    throw formats::FormatError(path, 0, "missing: the run's in-situ energy series is what the peaks are taken from; "
+                                        "run the case again with --force");
+  }
+  auto series = formats::read_series(path);
+  require_series_matches_run(series, series_columns(series, path, stack.spec().blocks), path, res);
+  require_series_physical(series, path, stack);
+  return series;
+}
+
+// Each block's peak kinetic energy and its time, and the output sphere's peak, from the series
+// (sampled far more often than the dumps).
+void series_peaks(const formats::Series& series, const SeriesColumns& cols, double dt, CaseReduction& r) {
+  std::vector<BlockPeak> peaks(static_cast<std::size_t>(r.spec.blocks));
+  for (const auto& row : series.rows) {
+    const double t = row[static_cast<std::size_t>(cols.step)] * dt;
+    for (int k = 0; k < r.spec.blocks; ++k) {
+      const double ke = cols.block_ke(row, k);
+      auto& p = peaks[static_cast<std::size_t>(k)];
+      if (ke > p.peak_ke) p = {k + 1, ke, t, 0.0};
+    }
+    r.output_peak_fraction = std::max(r.output_peak_fraction, cols.output_ke(row) / r.e_in);
+  }
+  r.blocks = peaks;
+  r.peak_source = "series";
+  for (auto& b : r.blocks) b.normalised = r.blocks.front().peak_ke > 0 ? b.peak_ke / r.blocks.front().peak_ke : 0.0;
+}
+
+// What the last frame gives: the output fractions (the output sphere's final energy, or its peak
+// against a wall), the bottom row's, what was dissipated, the striker's rebound and, in a
+// container, each panel's and the matrix's share.
+void final_state(const FrameEnergy& last, const model::Stack& stack, CaseReduction& r) {
+  const auto& spec = stack.spec();
+  if (spec.gravity == 0.0) r.dissipated_fraction = (r.e_in - last.kinetic - last.elastic) / r.e_in;
+  r.striker_velocity_ratio = last.striker_vz / -spec.striker_speed;
+  r.output_fraction_bottom_row = last.bottom_row_ke / r.e_in;
+  r.output_fraction_bottom_row_per_sphere =
+      r.output_fraction_bottom_row / static_cast<double>(stack.bottom_row_ids().size());
+  if (spec.bottom == model::Boundary::wall) {
+    // Against a wall the output sphere never leaves: its peak is the only defined output.
+    r.output_fraction = r.output_peak_fraction;
+    r.output_definition = "peak kinetic energy of the output sphere (bottom wall) / E_in";
+  } else {
+    r.output_fraction = last.output_sphere_ke / r.e_in;
+    r.output_definition = "kinetic energy of the output sphere after it left the free bottom face / E_in";
+    if (!r.output_separated) {
+      r.warnings.push_back(fmt::format(
+          "the output sphere (id {}) is still in contact at the last frame (t = {:.4g} s): it has not reached its "
+          "final energy; generate the case again with a longer --duration",
+          stack.output_sphere_id(), r.final_time));
+    }
+  }
+  if (stack.container()) {
+    const auto panels = panel_energies(last);
+    for (const double ke : panels) r.panel_final_fraction.push_back(ke / r.e_in);
+    r.matrix_final_fraction = last.matrix_ke / r.e_in;
+    r.leaked_final_fraction = leaked_energy(panels, last.matrix_ke, stack) / r.e_in;
+  }
+}
+
 // Frames are handed to threads in batches of about this many bytes: a text piece large enough to
 // hold many frames (each reuses the previous frame's repeated numbers; the first of a piece has
 // none to reuse: 4 MB against 1 MB, 7.7 % fewer instructions, callgrind), a binary batch small,
@@ -326,14 +323,18 @@ constexpr std::size_t kTextBatchBytes = std::size_t{4} << 20, kBinaryBatchBytes 
 
 CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& options) {
   const fs::path dir(case_dir);
-  const auto manifest = formats::read_manifest(case_dir);
+  const auto c = formats::Case::open(case_dir);
+  const auto& manifest = c.manifest();
   // Writing into the case (its reduce/), reduce holds the case's lock, as every command that writes a case does.
   std::optional<os::CaseLock> lock;
-  if (options.write_files && options.output_dir.empty()) lock.emplace(dir, "granstack reduce");
-  require_successful_run(dir, manifest.files);
-  const auto stack = model::Stack::build(manifest.spec);
-  const auto res = model::resolve(stack);
-  require_consistent_inputs(case_dir, manifest, res);
+  if (options.write_files && options.output_dir.empty()) lock.emplace(c.lock("granstack reduce"));
+  require_successful_run(c);
+  const auto& stack = c.stack();
+  // The derived dt and steps must be those its spec gives, and the deck's those of the manifest:
+  // every time in the results is a step times dt.
+  c.check_derived();
+  formats::check_deck_matches_manifest(c);
+  const auto res = c.resolution();
   const auto& spec = stack.spec();
   const int nb = spec.blocks;
 
@@ -344,15 +345,9 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   r.e_in = stack.incident_energy();
   // The in-situ series gives the peaks. It must be the run's own and whole (checked here), and
   // agree with every dump frame where both have data (checked as the frames arrive).
-  const auto series_path = (dir / manifest.files.series).string();
-  if (!fs::exists(series_path)) {
-    throw formats::FormatError(series_path, 0, "missing: the run's in-situ energy series is what the peaks are taken "
-                                               "from; run the case again with --force");
-  }
-  const auto series = formats::read_series(series_path);
+  const auto series_path = c.path(manifest.files.series).string();
+  const auto series = read_checked_series(series_path, stack, res);
   const SeriesColumns cols = series_columns(series, series_path, nb);
-  require_series_matches_run(series, cols, series_path, res);
-  require_series_physical(series, series_path, stack);
   const auto dump_path = formats::find_dump(case_dir, manifest.files.dump);
   const bool binary = spec.dump_format == model::DumpFormat::binary;
   formats::FrameBatchSource source(dump_path, binary, manifest.files.dump_columns, FrameView::needed_columns(),
@@ -360,91 +355,27 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   const WaveTracker wave_sampler(stack, res.dt);
   WaveTracker waves(stack, res.dt);
   const auto rdir = options.output_dir.empty() ? dir / "reduce" : fs::path(options.output_dir);
-  StreamedTable block_table(rdir / "block_ke.csv", options.write_files);
-  auto out = block_table.out();
-  fmt::format_to(out, "step,time_s");
-  for (int k = 1; k <= nb; ++k) fmt::format_to(out, ",ke_block{}_J", k);
-  fmt::format_to(out, ",ke_striker_J,ke_output_sphere_J,ke_bottom_row_J,ke_total_J,elastic_J,energy_total_J\n");
-  // The parts, per row and per column: the same frames, one table each.
-  StreamedTable parts_table(rdir / "energy_parts.csv", options.write_files);
-  StreamedTable rows_table(rdir / "row_ke.csv", options.write_files);
-  StreamedTable columns_table(rdir / "column_ke.csv", options.write_files);
-  // A 3D nest's columns along y too (the strip has one per block); a container's panels, each
-  // whole and per block, and its matrix.
-  const bool container = stack.container();
-  StreamedTable y_columns_table(rdir / (container ? "panel_ke.csv" : "column_y_ke.csv"),
-                                options.write_files && (stack.three_d() || container));
-  auto parts = parts_table.out();
-  auto rows = rows_table.out();
-  auto columns = columns_table.out();
-  auto y_columns = y_columns_table.out();
-  fmt::format_to(parts, "step,time_s");
-  fmt::format_to(y_columns, "step,time_s");
-  if (container) {
-    for (int p = 1; p <= stack.panels(); ++p) fmt::format_to(y_columns, ",ke_panel{}_J", p);
-    fmt::format_to(y_columns, ",ke_matrix_J");
-  }
-  fmt::format_to(rows, "step,time_s");
-  fmt::format_to(columns, "step,time_s");
-  for (const auto& b : stack.blocks()) {
-    fmt::format_to(parts, ",ke_sideways_block{0}_J,ke_downward_block{0}_J,ke_rotational_block{0}_J", b.index);
-    for (int i = 1; i <= b.rows; ++i) fmt::format_to(rows, ",ke_block{}_row{}_J", b.index, i);
-    for (int j = 1; j <= b.columns; ++j) fmt::format_to(columns, ",ke_block{}_column{}_J", b.index, j);
-    for (int l = 1; l <= b.depth; ++l) {
-      fmt::format_to(y_columns, ",ke_block{}_{}{}_J", b.index, container ? "panel" : "column_y", l);
-    }
-  }
-  fmt::format_to(y_columns, "\n");
-  fmt::format_to(parts, ",top_row_sideways_J,top_row_downward_J,dissipated_J\n");
-  fmt::format_to(rows, "\n");
-  fmt::format_to(columns, "\n");
+  detail::FrameTables tables(stack, rdir, options.write_files);
 
   // Each frame is analysed, and its table rows formatted, on whichever thread parsed it; the
   // results then arrive here in frame order.
   struct FrameResult {
     FrameEnergy e;
     std::vector<double> wave_samples;
-    fmt::memory_buffer block_row, parts_row, rows_row, columns_row, y_columns_row;
+    std::vector<fmt::memory_buffer> rows;  // one per table
     std::optional<bool> separated;  // for the last frame of a batch
   };
   const double e_in = r.e_in;
   auto analyse = [&](FrameAnalyser& a, const formats::DumpFrame& frame, FrameResult& fr, bool last_of_batch) {
     a.analyse(frame, fr.e);
-    const auto& e = fr.e;
     wave_sampler.sample(frame, a.view(), fr.wave_samples);
     fr.separated.reset();
     if (last_of_batch) fr.separated = a.has_separated(frame, stack.output_sphere_id());
-    const double t = static_cast<double>(frame.step) * res.dt;
-    for (auto* b : {&fr.block_row, &fr.parts_row, &fr.rows_row, &fr.columns_row, &fr.y_columns_row}) {
-      b->clear();
-      fmt::format_to(std::back_inserter(*b), FMT_COMPILE("{},{}"), frame.step, t);
-    }
-    auto block_row = std::back_inserter(fr.block_row);
-    for (const double ke : e.block_ke) fmt::format_to(block_row, FMT_COMPILE(",{}"), ke);
-    fmt::format_to(block_row, FMT_COMPILE(",{},{},{},{},{},{}\n"), e.striker_ke, e.output_sphere_ke, e.bottom_row_ke, e.kinetic,
-                   e.elastic, e.kinetic + e.elastic);
-    auto parts_row = std::back_inserter(fr.parts_row);
-    auto rows_row = std::back_inserter(fr.rows_row);
-    auto columns_row = std::back_inserter(fr.columns_row);
-    auto y_columns_row = std::back_inserter(fr.y_columns_row);
-    if (container) {
-      for (const double x : panel_energies(e)) fmt::format_to(y_columns_row, FMT_COMPILE(",{}"), x);
-      fmt::format_to(y_columns_row, FMT_COMPILE(",{}"), e.matrix_ke);
-    }
-    for (std::size_t k = 0; k < e.block_ke.size(); ++k) {
-      fmt::format_to(parts_row, FMT_COMPILE(",{},{},{}"), e.block_ke_sideways[k], e.block_ke_downward[k], e.block_ke_rotational[k]);
-      for (const double x : e.row_ke[k]) fmt::format_to(rows_row, FMT_COMPILE(",{}"), x);
-      for (const double x : e.column_ke[k]) fmt::format_to(columns_row, FMT_COMPILE(",{}"), x);
-      for (const double x : e.column_y_ke[k]) fmt::format_to(y_columns_row, FMT_COMPILE(",{}"), x);
-    }
-    fmt::format_to(parts_row, FMT_COMPILE(",{},{},{}\n"), e.top_row_sideways, e.top_row_downward, e_in - e.kinetic - e.elastic);
-    fmt::format_to(rows_row, FMT_COMPILE("\n"));
-    fmt::format_to(columns_row, FMT_COMPILE("\n"));
-    fmt::format_to(y_columns_row, FMT_COMPILE("\n"));
+    tables.format(fr.e, static_cast<double>(frame.step) * res.dt, e_in, fr.rows);
   };
   FrameEnergy last_energy;
   long last_step = 0;
-  const long expected_frames = res.steps / res.dump_every + 1;
+  const long expected_frames = c.derived().frames();
   auto take_result = [&](FrameResult& fr) {
     if (const int signal = os::interrupt_signal(); signal != 0) {
       throw std::runtime_error(fmt::format("{}: reduce stopped by signal {} at frame {}", case_dir, signal, r.frames + 1));
@@ -457,18 +388,9 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     }
     require_energy_balance(e, spec, r, dump_path);
     require_frame_matches_series(e, series, cols, res.series_every, series_path, r.e_in);
-    r.output_peak_fraction = std::max(r.output_peak_fraction, e.output_sphere_ke / r.e_in);
-    r.top_row_sideways_peak = std::max(r.top_row_sideways_peak, e.top_row_sideways);
-    r.top_row_downward_peak = std::max(r.top_row_downward_peak, e.top_row_downward);
+    track_peaks(e, stack, static_cast<double>(e.step) * res.dt, r);
     waves.add(e.step, fr.wave_samples);
-    if (container) track_panels(e, stack, static_cast<double>(e.step) * res.dt, r);
-    const std::pair<StreamedTable*, fmt::memory_buffer*> tables[] = {
-        {&block_table, &fr.block_row},     {&parts_table, &fr.parts_row},         {&rows_table, &fr.rows_row},
-        {&columns_table, &fr.columns_row}, {&y_columns_table, &fr.y_columns_row}};
-    for (const auto& [table, row] : tables) {
-      table->append(*row);
-      table->row_done();
-    }
+    tables.append(fr.rows);
     if (fr.separated) r.output_separated = *fr.separated;
     ++r.frames;
     if (options.on_frame) options.on_frame(r.frames);
@@ -493,53 +415,12 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   }
   r.final_time = static_cast<double>(last_step) * res.dt;
 
-  // Peaks from the in-situ series: it is sampled far more often than the dumps.
-  {
-    std::vector<BlockPeak> peaks(static_cast<std::size_t>(nb));
-    for (const auto& row : series.rows) {
-      const double t = row[static_cast<std::size_t>(cols.step)] * res.dt;
-      for (int k = 0; k < nb; ++k) {
-        const double ke = cols.block_ke(row, k);
-        auto& p = peaks[static_cast<std::size_t>(k)];
-        if (ke > p.peak_ke) p = {k + 1, ke, t, 0.0};
-      }
-      r.output_peak_fraction = std::max(r.output_peak_fraction, cols.output_ke(row) / r.e_in);
-    }
-    r.blocks = peaks;
-    r.peak_source = "series";
-  }
+  series_peaks(series, cols, res.dt, r);
   warn_if_energy_still_arriving(series, cols, res, r);
-  for (auto& b : r.blocks) b.normalised = r.blocks.front().peak_ke > 0 ? b.peak_ke / r.blocks.front().peak_ke : 0.0;
-
-  if (spec.gravity == 0.0) r.dissipated_fraction = (r.e_in - last_energy.kinetic - last_energy.elastic) / r.e_in;
-  r.striker_velocity_ratio = last_energy.striker_vz / -spec.striker_speed;
-  const auto bottom = stack.bottom_row_ids();
-  r.output_fraction_bottom_row = last_energy.bottom_row_ke / r.e_in;
-  r.output_fraction_bottom_row_per_sphere = r.output_fraction_bottom_row / static_cast<double>(bottom.size());
-  if (spec.bottom == model::Boundary::wall) {
-    // Against a wall the output sphere never leaves: its peak is the only defined output.
-    r.output_fraction = r.output_peak_fraction;
-    r.output_definition = "peak kinetic energy of the output sphere (bottom wall) / E_in";
-  } else {
-    r.output_fraction = last_energy.output_sphere_ke / r.e_in;
-    r.output_definition = "kinetic energy of the output sphere after it left the free bottom face / E_in";
-    if (!r.output_separated) {
-      r.warnings.push_back(fmt::format(
-          "the output sphere (id {}) is still in contact at the last frame (t = {:.4g} s): it has not reached its "
-          "final energy; generate the case again with a longer --duration",
-          stack.output_sphere_id(), r.final_time));
-    }
-  }
-
   r.waves = waves.finish(series);
-  if (container) {
-    const auto panels = panel_energies(last_energy);
-    for (const double ke : panels) r.panel_final_fraction.push_back(ke / r.e_in);
-    r.matrix_final_fraction = last_energy.matrix_ke / r.e_in;
-    r.leaked_final_fraction = leaked_energy(panels, last_energy.matrix_ke, stack) / r.e_in;
-  }
+  final_state(last_energy, stack, r);
 
-  for (auto* table : {&block_table, &parts_table, &rows_table, &columns_table, &y_columns_table}) table->finish();
+  tables.finish();
   if (options.write_files) {
     fs::create_directories(rdir);
     r.csv_path = (rdir / "block_ke.csv").string();

@@ -1,3 +1,4 @@
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/manifest.hpp>
@@ -110,9 +111,10 @@ void WaveTracker::add(long step, const std::vector<double>& samples) {
 }
 
 std::vector<BlockWaves> analyse_waves(const std::string& case_dir) {
-  const auto m = formats::read_manifest(case_dir);
-  const auto stack = model::Stack::build(m.spec);
-  WaveTracker tracker(stack, model::resolve(stack).dt);
+  const auto c = formats::Case::open(case_dir);
+  const auto& m = c.manifest();
+  const auto& stack = c.stack();
+  WaveTracker tracker(stack, c.derived().dt);
   const auto dump_path = formats::find_dump(case_dir, m.files.dump);
   const auto reader = formats::open_dump(dump_path, m.spec.dump_format == model::DumpFormat::binary, m.files.dump_columns);
   FrameView view(stack, dump_path);

@@ -1,4 +1,5 @@
 #include <granstack/formats/data_file.hpp>
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
@@ -276,9 +277,10 @@ class FramePool {
 
 RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   const fs::path dir(case_dir);
-  const auto manifest = formats::read_manifest(case_dir);
-  const auto stack = model::Stack::build(manifest.spec);
-  const auto res = model::resolve(stack);
+  const auto c = formats::Case::open(case_dir);
+  const auto& manifest = c.manifest();
+  const auto& stack = c.stack();
+  const auto res = c.resolution();
   auto params = case_parameters(stack);
   params.threads = options.threads;
   params.kernel = options.kernel;

@@ -3,7 +3,7 @@
 // rest (the lock, the earlier outputs, run.json) the same for both. LIGGGHTS's is
 // liggghts_engine.cpp, refsim's refsim_engine.cpp; another engine is one more such file and its
 // line in make_engine.
-#include <granstack/formats/manifest.hpp>
+#include <granstack/formats/case.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include <nlohmann/json.hpp>
@@ -32,11 +32,10 @@ class CaseEngine {
   virtual std::string lock_holder() const = 0;
   // Why it cannot start on this case (a missing program, a deck it cannot run), or "": asked
   // before anything of an earlier run is touched.
-  virtual std::string unavailable(const std::filesystem::path& dir, const formats::Manifest& manifest,
-                                  const RunOptions& o) const = 0;
+  virtual std::string unavailable(const formats::Case& c, const RunOptions& o) const = 0;
   // Runs the case; on_step with each step it reaches, on_started once when it has begun.
-  virtual EngineResult run(const std::filesystem::path& dir, const formats::Manifest& manifest, const RunOptions& o,
-                           const std::function<void(long)>& on_step, const std::function<void()>& on_started) const = 0;
+  virtual EngineResult run(const formats::Case& c, const RunOptions& o, const std::function<void(long)>& on_step,
+                           const std::function<void()>& on_started) const = 0;
   // Removes what a stopped run leaves that is no result (made since `since`).
   virtual void tidy(const std::filesystem::path& dir, std::filesystem::file_time_type since) const {
     (void)dir;

@@ -117,10 +117,11 @@ std::string liggghts_unavailable(const RunOptions& o) {
   return "";
 }
 
-EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest, const RunOptions& o,
-                          const std::function<void(long)>& on_step, const std::function<void()>& on_started) {
+EngineResult run_liggghts(const formats::Case& c, const RunOptions& o, const std::function<void(long)>& on_step,
+                          const std::function<void()>& on_started) {
   EngineResult result;
-  const auto& files = manifest.files;
+  const fs::path dir(c.dir());
+  const auto& files = c.files();
   std::vector<std::string> argv;
   const auto liggghts = os::find_program(o.liggghts);  // run_one checked liggghts_unavailable() first
   if (!liggghts) {
@@ -140,7 +141,7 @@ EngineResult run_liggghts(const fs::path& dir, const formats::Manifest& manifest
   result.record["command"] = argv;
   result.record["ranks"] = o.ranks;
 
-  const long total_steps = manifest.derived.value("steps", 0L);
+  const long total_steps = c.derived().steps;
   formats::LogScanner scanner;
   int exit_code = -1;
   std::string signal_text;
@@ -260,12 +261,10 @@ void remove_forced_restarts(const fs::path& dir, fs::file_time_type since) {
 class Liggghts final : public CaseEngine {
  public:
   std::string lock_holder() const override { return "granstack run"; }
-  std::string unavailable(const fs::path&, const formats::Manifest&, const RunOptions& o) const override {
-    return liggghts_unavailable(o);
-  }
-  EngineResult run(const fs::path& dir, const formats::Manifest& manifest, const RunOptions& o,
-                   const std::function<void(long)>& on_step, const std::function<void()>& on_started) const override {
-    return run_liggghts(dir, manifest, o, on_step, on_started);
+  std::string unavailable(const formats::Case&, const RunOptions& o) const override { return liggghts_unavailable(o); }
+  EngineResult run(const formats::Case& c, const RunOptions& o, const std::function<void(long)>& on_step,
+                   const std::function<void()>& on_started) const override {
+    return run_liggghts(c, o, on_step, on_started);
   }
   void tidy(const fs::path& dir, fs::file_time_type since) const override { remove_forced_restarts(dir, since); }
 };

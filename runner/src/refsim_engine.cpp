@@ -66,12 +66,12 @@ EngineResult run_refsim(const fs::path& dir, const RunOptions& o,
 class Refsim final : public CaseEngine {
  public:
   std::string lock_holder() const override { return "granstack run --engine refsim"; }
-  std::string unavailable(const fs::path& dir, const formats::Manifest& manifest, const RunOptions&) const override {
-    return refsim_unavailable(dir, manifest);
+  std::string unavailable(const formats::Case& c, const RunOptions&) const override {
+    return refsim_unavailable(c.dir(), c.manifest());
   }
-  EngineResult run(const fs::path& dir, const formats::Manifest&, const RunOptions& o,
-                   const std::function<void(long)>& on_step, const std::function<void()>& on_started) const override {
-    return run_refsim(dir, o, on_step, on_started);
+  EngineResult run(const formats::Case& c, const RunOptions& o, const std::function<void(long)>& on_step,
+                   const std::function<void()>& on_started) const override {
+    return run_refsim(c.dir(), o, on_step, on_started);
   }
 };
 

@@ -8,6 +8,7 @@
 #include <granstack/os/interrupt.hpp>
 #include <granstack/os/process.hpp>
 #include <granstack/runner/runner.hpp>
+#include <granstack/formats/case.hpp>
 
 #include "engine.hpp"
 
@@ -32,7 +33,7 @@ using Clock = std::chrono::steady_clock;
 
 void clone_case_inputs(const std::string& case_dir, const std::string& target) {
   // (An edited case makes an edited copy: the copy's run refuses it, as the case's would.)
-  const auto m = formats::read_manifest(case_dir);
+  const auto m = formats::Case::open(case_dir).manifest();
   // Only a copy granstack made earlier is replaced; anything else in its place is the user's.
   if (const auto why = formats::why_not_replaceable(target); !why.empty()) {
     throw formats::RefusedError(fmt::format("cannot make the copy {}: {}; move it away first", target, why));
@@ -59,22 +60,7 @@ std::vector<RunOutcome> run_copies(const std::vector<std::string>& case_dirs, En
   return run_cases(copies, options);
 }
 
-std::string recorded_status(const std::string& case_dir) {
-  std::ifstream in(fs::path(case_dir) / "run.json");
-  if (!in) return "";
-  try {
-    return json::parse(in).value("status", "");
-  } catch (const json::exception&) {
-    return "";
-  }
-}
-
 namespace {
-
-
-void write_record(const fs::path& path, const json& record) {
-  formats::write_file_atomically(path, record.dump(2) + "\n");
-}
 
 class Monitor {
  public:
@@ -211,9 +197,10 @@ std::string disk_full(const fs::path& dir, const formats::CaseFiles& files) {
 
 // Writes the run's final record; on a full disk, where the atomic write has no room for its
 // temporary file, in place over the running record (whose blocks that frees).
-void write_final_record(const fs::path& path, const json& record, RunOutcome& outcome) {
+void write_final_record(const formats::Case& c, const json& record, RunOutcome& outcome) {
+  const auto path = c.path(c.files().run_record);
   try {
-    write_record(path, record);
+    c.write_run_record(record);
     return;
   } catch (const std::exception& first) {
     std::error_code ec;
@@ -281,43 +268,45 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
   RunOutcome outcome;
   outcome.case_dir = case_dir;
   const fs::path dir(case_dir);
-  formats::Manifest manifest;
+  std::optional<formats::Case> opened;
   std::optional<os::CaseLock> lock;
   const auto engine = make_engine(o.engine);
   try {
-    manifest = formats::read_manifest(case_dir);
-    lock.emplace(dir, engine->lock_holder());
-    formats::check_deck_matches_manifest(case_dir, manifest);
+    opened.emplace(formats::Case::open(case_dir));
+    lock.emplace(opened->lock(engine->lock_holder()));
+    formats::check_deck_matches_manifest(*opened);
   } catch (const std::exception& e) {
     outcome.message = e.what();
     monitor.skipped();
     return outcome;
   }
-  const auto& files = manifest.files;
-  if (recorded_status(case_dir) == "done" && !o.force) {
+  const auto& c = *opened;
+  const auto& files = c.files();
+  const auto earlier_record = c.run_record();
+  if (earlier_record.done() && !o.force) {
     outcome.status = RunStatus::skipped;
     outcome.message = "already run (run.json says done); pass --force to run it again";
     monitor.skipped();
     return outcome;
   }
   // What would stop the engine from starting is found before an earlier run's outputs are touched.
-  if (const auto why = engine->unavailable(dir, manifest, o); !why.empty()) {
-    outcome.message = why + (recorded_status(case_dir).empty() ? "" : " (the case's earlier outputs are kept)");
+  if (const auto why = engine->unavailable(c, o); !why.empty()) {
+    outcome.message = why + (earlier_record.exists() ? " (the case's earlier outputs are kept)" : "");
     monitor.skipped();
     return outcome;
   }
   json record = running_record(o);
   EarlierOutputs earlier(dir, files);
   fs::create_directories((dir / files.dump).parent_path());
-  write_record(dir / files.run_record, record);
+  c.write_run_record(record);
   const auto started = fs::file_time_type::clock::now();
   const auto before = files_in_case(dir);
 
-  const auto slot = monitor.start(manifest.case_name, manifest.derived.value("steps", 0L));
+  const auto slot = monitor.start(c.name(), c.derived().steps);
   const auto on_step = [&](long step) { monitor.update(slot, step); };
   const auto on_started = [&] { earlier.discard(); };
   const auto t0 = Clock::now();
-  auto result = engine->run(dir, manifest, o, on_step, on_started);
+  auto result = engine->run(c, o, on_step, on_started);
   outcome.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   monitor.finish(slot);
   engine->tidy(dir, started);
@@ -349,7 +338,7 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
     record["loop_seconds"] = result.loop_seconds;
     record["particle_steps_per_second"] = result.particle_steps_per_second;
   }
-  write_final_record(dir / files.run_record, record, outcome);
+  write_final_record(c, record, outcome);
   return outcome;
 }
 

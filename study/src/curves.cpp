@@ -1,5 +1,6 @@
 #include "curves.hpp"
 
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/line_reader.hpp>
 #include <granstack/formats/manifest.hpp>
@@ -81,9 +82,9 @@ Curve reduce_column(const postproc::CaseReduction& r, const std::string& table, 
 }
 
 std::vector<Curve> series_energies(const postproc::CaseReduction& r, const std::vector<std::string>& groups) {
-  const auto m = formats::read_manifest(r.case_dir);
-  const double dt = model::resolve(model::Stack::build(m.spec)).dt;
-  const auto s = formats::read_series((fs::path(r.case_dir) / m.files.series).string());
+  const auto c = formats::Case::open(r.case_dir);
+  const double dt = c.derived().dt;
+  const auto s = formats::read_series(c.path(c.files().series).string());
   const int step = s.column("step");
   std::vector<std::pair<int, int>> cols;  // translational, rotational
   for (const auto& g : groups) {

@@ -1,5 +1,6 @@
 // The real LIGGGHTS on small cases: generate -> run -> reduce, checked against physics
 // (energy conservation, scale freedom) and against LIGGGHTS's own in-situ energies.
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/log.hpp>
@@ -722,7 +723,7 @@ TEST(Runner, FailuresCarryLiggghtsOwnErrorLineAndAreNeverTakenForDone) {
   EXPECT_EQ(outcome.status, runner::RunStatus::failed);
   EXPECT_NE(outcome.message.find("ERROR"), std::string::npos) << outcome.message;
   EXPECT_NE(outcome.message.find("newton pair off"), std::string::npos) << outcome.message;
-  EXPECT_EQ(runner::recorded_status(dir), "failed");
+  EXPECT_EQ(formats::Case::open(dir).run_record().status, "failed");
   EXPECT_THROW(postproc::reduce_case(dir), std::runtime_error);
 
   runner::RunOptions missing;

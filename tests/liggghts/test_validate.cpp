@@ -21,6 +21,19 @@ namespace {
 std::string read_bytes(const fs::path& f) { return formats::read_file(f); }
 void write_bytes(const fs::path& f, const std::string& text) { std::ofstream(f, std::ios::binary) << text; }
 
+// Generates `spec` into ROOT/liggghts and ROOT/refsim and runs each on its engine.
+void run_both_engines(const fs::path& root, const model::StackSpec& spec) {
+  for (const auto* engine : {"liggghts", "refsim"}) {
+    generator::GenerateOptions o;
+    o.output = root / engine;
+    generator::generate({{engine, spec}}, o);
+    runner::RunOptions r;
+    r.engine = std::string(engine) == "refsim" ? runner::Engine::refsim : runner::Engine::liggghts;
+    const auto outcome = runner::run_cases({o.output.string()}, r);
+    ASSERT_EQ(outcome.front().status, runner::RunStatus::done) << outcome.front().message;
+  }
+}
+
 class Validate : public ::testing::Test {
  protected:
   // Each test in a directory of its own (ctest runs them as parallel processes): a LIGGGHTS
@@ -34,15 +47,7 @@ class Validate : public ::testing::Test {
     spec.rows = 4;
     spec.restitution.value = 0.9;
     spec.friction.value = 0.25;
-    for (const auto* engine : {"liggghts", "refsim"}) {
-      generator::GenerateOptions o;
-      o.output = root_ / engine;
-      generator::generate({{engine, spec}}, o);
-      runner::RunOptions r;
-      r.engine = std::string(engine) == "refsim" ? runner::Engine::refsim : runner::Engine::liggghts;
-      const auto outcome = runner::run_cases({o.output.string()}, r);
-      ASSERT_EQ(outcome.front().status, runner::RunStatus::done) << outcome.front().message;
-    }
+    run_both_engines(root_, spec);
     b_ = root_ / "refsim";
   }
   postproc::RunComparison compare() const { return postproc::compare_runs((root_ / "liggghts").string(), b_.string()); }
@@ -148,15 +153,8 @@ TEST_P(ValidateModel, LiggghtsAndRefsimAgreeToRoundOff) {
   spec.rolling_model = mc.rolling;
   if (mc.rolling == model::RollingModel::epsd2) spec.rolling_friction.value = 0.1;
   if (mc.normal == model::NormalModel::hooke) spec.characteristic_velocity = 0.5;
-  for (const auto* engine : {"liggghts", "refsim"}) {
-    generator::GenerateOptions o;
-    o.output = root / engine;
-    generator::generate({{engine, spec}}, o);
-    runner::RunOptions r;
-    r.engine = std::string(engine) == "refsim" ? runner::Engine::refsim : runner::Engine::liggghts;
-    const auto outcome = runner::run_cases({o.output.string()}, r);
-    ASSERT_EQ(outcome.front().status, runner::RunStatus::done) << outcome.front().message;
-  }
+  run_both_engines(root, spec);
+  if (HasFatalFailure()) return;
   const auto c = postproc::compare_runs((root / "liggghts").string(), (root / "refsim").string());
   EXPECT_TRUE(c.mismatches.empty()) << c.mismatches.front();
   EXPECT_LE(c.worst(), postproc::kDefaultTolerance) << c.largest().quantity;

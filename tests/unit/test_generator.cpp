@@ -1,5 +1,6 @@
 // Template rendering and case writing: every placeholder filled, unknown ones refused, and a
 // case directory is written whole or not at all.
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/generator/case_writer.hpp>
@@ -81,6 +82,39 @@ std::vector<generator::CaseSpec> one_case(int blocks) {
   generator::CaseSpec c;
   c.spec.blocks = blocks;
   return {c};
+}
+
+// A case opened once (formats/case.hpp): the derived values typed as the deck runs them (the same
+// as its spec gives), and one rule for its run record: none, a status, or damaged (unreadable,
+// or without a status) with the reason, never taken for done.
+TEST_F(CaseWriter, ACaseOpensWithItsDerivedValuesAndOneRuleForItsRunRecord) {
+  generator::GenerateOptions o;
+  o.output = root_ / "case";
+  generator::generate(one_case(2), o);
+  const auto c = formats::Case::open(o.output.string());
+  const auto res = c.resolution();
+  EXPECT_EQ(c.derived().dt, res.dt);
+  EXPECT_EQ(c.derived().steps, res.steps);
+  EXPECT_EQ(c.derived().dump_every, res.dump_every);
+  EXPECT_EQ(c.derived().frames(), res.steps / res.dump_every + 1);
+  EXPECT_EQ(c.derived().duration, res.duration);
+  EXPECT_NO_THROW(c.check_derived());
+  EXPECT_EQ(c.stack().spheres().size(), static_cast<std::size_t>(model::sphere_count(c.spec())));
+
+  EXPECT_FALSE(c.run_record().exists());
+  const auto record = o.output / "run.json";
+  for (const char* damaged : {"{\"status\": \"do", "{\"engine\": \"liggghts\"}", "[1, 2]", "{\"status\": 3}"}) {
+    std::ofstream(record) << damaged;
+    const auto r = c.run_record();
+    EXPECT_EQ(r.status, "damaged") << damaged;
+    EXPECT_FALSE(r.done());
+    EXPECT_NE(r.error.find("run.json cannot be read"), std::string::npos) << r.error;
+  }
+  c.write_run_record({{"status", "failed"}, {"error", "LIGGGHTS stopped\nat step 7"}});
+  EXPECT_EQ(c.run_record().status, "failed");
+  EXPECT_EQ(c.run_record().error_line(), "LIGGGHTS stopped");
+  c.write_run_record({{"status", "done"}});
+  EXPECT_TRUE(c.run_record().done());
 }
 
 TEST_F(CaseWriter, WritesACaseAndRefusesToOverwriteWithoutForce) {

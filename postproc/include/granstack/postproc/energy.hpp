@@ -27,7 +27,7 @@ struct FrameEnergy {
   double output_sphere_ke = 0.0;
   double bottom_row_ke = 0.0;
   double kinetic = 0.0;          // everything
-  double elastic = 0.0;          // Hertz energy of every overlapping pair (and sphere-wall contact)
+  double elastic = 0.0;          // elastic energy of every overlapping pair (and sphere-wall contact), the contact model's
 };
 
 // Maps the frame's rows to sphere ids and checks them against the stack: every id present

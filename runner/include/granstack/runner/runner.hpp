@@ -70,10 +70,6 @@ struct RunOptions {
 // are stopped (their LIGGGHTS killed) and marked interrupted, and no other case starts.
 std::vector<RunOutcome> run_cases(const std::vector<std::string>& case_dirs, const RunOptions& options);
 
-// The status recorded in CASE/run.json: "done", "failed", "interrupted", "running" (while it
-// runs, or when the run was killed outright), or "" when never run.
-std::string recorded_status(const std::string& case_dir);
-
 // Copies the inputs of a case (manifest, data file, deck) into a new directory `target`
 // (replacing a granstack case there; anything else there is refused), so the same case can be
 // run again elsewhere, e.g. by the other engine.

@@ -1,0 +1,76 @@
+#include <granstack/formats/case.hpp>
+#include <granstack/formats/error.hpp>
+#include <granstack/formats/files.hpp>
+
+#include <fmt/format.h>
+
+#include <system_error>
+
+namespace granstack::formats {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+RunRecord read_run_record(const fs::path& case_dir, const CaseFiles& files) {
+  RunRecord r;
+  r.record = json::object();
+  const auto path = case_dir / files.run_record;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return r;
+  try {
+    r.record = json::parse(read_file(path));
+    if (!r.record.is_object() || !r.record.contains("status") || !r.record.at("status").is_string()) {
+      throw std::runtime_error("it has no status");
+    }
+    r.status = r.record.at("status").get<std::string>();
+    r.error = r.record.value("error", std::string());
+  } catch (const std::exception& e) {
+    r.record = json::object();
+    r.status = "damaged";
+    r.error = fmt::format("{} cannot be read ({}): run the case again with --force", path.string(), e.what());
+  }
+  return r;
+}
+
+void write_run_record(const fs::path& case_dir, const CaseFiles& files, const json& record) {
+  write_file_atomically(case_dir / files.run_record, record.dump(2) + "\n");
+}
+
+namespace {
+// A derived value as the manifest holds it; refused when missing or not a number.
+template <typename T>
+T derived_value(const json& derived, const char* key, const std::string& source) {
+  if (!derived.is_object() || !derived.contains(key) || !derived.at(key).is_number()) {
+    throw FormatError(source, 0, fmt::format("derived.{} is missing or not a number: generate the case again", key));
+  }
+  return derived.at(key).get<T>();
+}
+}  // namespace
+
+Case Case::open(const std::string& dir) {
+  Case c;
+  c.dir_ = dir;
+  c.manifest_ = read_manifest(dir);
+  c.stack_ = std::make_shared<const model::Stack>(model::Stack::build(c.manifest_.spec));
+  const auto source = (fs::path(dir) / "manifest.json").string();
+  const auto& d = c.manifest_.derived;
+  c.derived_ = {derived_value<double>(d, "dt", source), derived_value<double>(d, "duration", source),
+                derived_value<long>(d, "steps", source), derived_value<long>(d, "dump_every", source),
+                derived_value<long>(d, "series_every", source)};
+  if (!(c.derived_.dt > 0.0) || c.derived_.steps < 1 || c.derived_.dump_every < 1 || c.derived_.series_every < 1) {
+    throw FormatError(source, 0, "its derived dt, steps or output cadences are not positive: generate the case again");
+  }
+  return c;
+}
+
+void Case::check_derived() const {
+  const auto res = resolution();
+  if (derived_.dt != res.dt || derived_.steps != res.steps || derived_.dump_every != res.dump_every ||
+      derived_.series_every != res.series_every) {
+    throw FormatError(path("manifest.json").string(), 0,
+                      "its derived dt, steps or output cadences are not what its spec gives: the manifest was edited; "
+                      "generate the case again");
+  }
+}
+
+}  // namespace granstack::formats
