@@ -180,6 +180,10 @@ Sweep build_sweep(const RawSpec& raw) {
       issues.push_back({name, "an empty value: give a value (leave the field or flag out for its default)"});
       continue;
     }
+    if (!f->conflicts_with.empty() && raw.count(f->conflicts_with) != 0) {
+      issues.push_back({name, fmt::format("give {} or {}, not both", f->conflicts_with, name)});
+      continue;
+    }
     if (!f->sweepable()) {
       f->parse(s, tokens, issues);
       continue;

@@ -3,6 +3,7 @@
 #include <granstack/model/stack.hpp>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -75,6 +76,21 @@ const std::string& StackSpec::block_material(int k) const {
   return materials.size() == 1 ? materials.front() : materials.at(static_cast<std::size_t>(k - 1));
 }
 
+int StackSpec::rows_of(int k) const {
+  return block_rows.empty() ? rows : block_rows.at(static_cast<std::size_t>(k - 1));
+}
+
+int StackSpec::ratio_below(int k) const {
+  return radius_ratios.empty() ? radius_ratio : radius_ratios.at(static_cast<std::size_t>(k - 1));
+}
+
+double StackSpec::radius_factor(int k) const {
+  if (radius_ratios.empty()) return std::pow(static_cast<double>(radius_ratio), blocks - k);
+  double factor = 1.0;
+  for (int j = k; j < blocks; ++j) factor *= ratio_below(j);
+  return factor;
+}
+
 const std::string& StackSpec::effective_wall_material() const {
   return wall_material.empty() ? block_material(blocks) : wall_material;
 }
@@ -122,10 +138,14 @@ double spheres(const StackSpec& spec) {
   const bool container = spec.geometry == Geometry::panels;
   const double panels = container ? spec.panels : 1.0;
   double count = spec.strikes_every_panel() ? panels : 1.0, columns = spec.top_columns, radius = 1.0;
-  for (int k = 1; k <= spec.blocks; ++k, columns *= spec.radius_ratio, radius /= spec.radius_ratio) {
-    count += columns * (spec.geometry == Geometry::nested3d ? columns : panels) * spec.rows;
+  for (int k = 1; k <= spec.blocks; ++k) {
+    count += columns * (spec.geometry == Geometry::nested3d ? columns : panels) * spec.rows_of(k);
     if (container && spec.separator == Separator::matrix) {
-      count += (panels - 1.0) * (spec.rows - 1) * (columns - 1.0) * matrix_chain(radius, 1.0).count;
+      count += (panels - 1.0) * (spec.rows_of(k) - 1) * (columns - 1.0) * matrix_chain(radius, 1.0).count;
+    }
+    if (k < spec.blocks) {
+      columns *= spec.ratio_below(k);
+      radius /= spec.ratio_below(k);
     }
   }
   return count;
@@ -193,6 +213,20 @@ void validate_container(const StackSpec& s, Bad&& bad, Known&& known, const std:
 }  // namespace
 
 namespace {
+// Per-block rows and per-interface ratios: one per block, and one per interface.
+template <typename Bad>
+void validate_block_lists(const StackSpec& s, Bad&& bad) {
+  if (!s.block_rows.empty() && s.block_rows.size() != static_cast<std::size_t>(s.blocks)) {
+    bad("block_rows", fmt::format("{} rows listed for {} blocks: list one per block, top first (or give rows for all)",
+                                  s.block_rows.size(), s.blocks));
+  }
+  if (!s.radius_ratios.empty() && s.radius_ratios.size() + 1 != static_cast<std::size_t>(s.blocks)) {
+    bad("radius_ratio", fmt::format("{} ratios listed for {} blocks: list one per interface ({}), top first, or one "
+                                    "for all",
+                                    s.radius_ratios.size(), s.blocks, s.blocks - 1));
+  }
+}
+
 // The contact model's own fields: each refused where the chosen model does not use it.
 template <typename Bad>
 void validate_contact_model(const StackSpec& s, Bad&& bad) {
@@ -248,12 +282,13 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
   for (const auto& f : spec_fields()) {
     if (f.check) f.check(s, issues);
   }
-  if (issues.empty() && !(s.bottom_radius * std::pow(static_cast<double>(s.radius_ratio), s.blocks - 1) <= kMaxRadius)) {
+  validate_block_lists(s, bad);
+  if (issues.empty() && !(s.bottom_radius * s.radius_factor(1) <= kMaxRadius)) {
     bad("bottom_radius", fmt::format("with radius_ratio {} and {} blocks the top spheres would be {:g} m in radius, more "
                                      "than {:g} m",
-                                     s.radius_ratio, s.blocks,
-                                     s.bottom_radius * std::pow(static_cast<double>(s.radius_ratio), s.blocks - 1),
-                                     kMaxRadius));
+                                     s.radius_ratios.empty() ? fmt::format("{}", s.radius_ratio)
+                                                             : fmt::format("{}", fmt::join(s.radius_ratios, ", ")),
+                                     s.blocks, s.bottom_radius * s.radius_factor(1), kMaxRadius));
   }
   // Counted only for an otherwise valid spec (its blocks, rows and columns in range).
   if (const double count = issues.empty() ? spheres(s) : 0.0; count > static_cast<double>(kMaxSpheres)) {

@@ -308,6 +308,63 @@ std::vector<SpecField> container_rows() {
   return rows;
 }
 
+// radius_ratio: one whole number for every interface, or a list of one per interface.
+SpecField radius_ratio_row() {
+  auto f = row("radius_ratio", "whole number, or a list of one per interface", "2",
+               "R_k / R_(k+1), a whole number from 1 to 16; a list gives one per interface, top first");
+  f.doc = "even: each sphere rests on two below; odd: on the one straight below; `[2, 3, 2]` for four blocks";
+  f.shape = FieldShape::list;
+  f.in_every_manifest = true;
+  f.parse = [](StackSpec& s, const Tokens& t, Issues& issues) {
+    std::vector<int> ratios(t.size());
+    for (std::size_t k = 0; k < t.size(); ++k) whole("radius_ratio", t[k], ratios[k], issues);
+    if (ratios.size() == 1) {
+      s.radius_ratio = ratios.front();
+      s.radius_ratios.clear();
+    } else {
+      s.radius_ratios = ratios;
+    }
+  };
+  f.check = [](const StackSpec& s, Issues& i) {
+    for (const int n : s.radius_ratios.empty() ? std::vector<int>{s.radius_ratio} : s.radius_ratios) {
+      check_range(i, "radius_ratio", n >= 1 && n <= 16,
+                  fmt::format("{} must be a whole number from 1 to 16 (each block's columns tile the block below "
+                              "exactly only for whole ratios)",
+                              n));
+    }
+  };
+  f.save = [](const StackSpec& s, json& j) {
+    j["radius_ratio"] = s.radius_ratios.empty() ? json(s.radius_ratio) : json(s.radius_ratios);
+  };
+  f.load = [](StackSpec& s, const json& j) {
+    if (j.at("radius_ratio").is_array()) s.radius_ratios = read<std::vector<int>>(j, "radius_ratio");
+    else s.radius_ratio = read<int>(j, "radius_ratio");
+  };
+  return f;
+}
+
+// block_rows: each block's rows, in place of `rows` for all.
+SpecField block_rows_row() {
+  auto f = row("block_rows", "list of whole numbers, one per block", "rows in every block",
+               "Rows of each block, top first, 1..4096 each (instead of rows)");
+  f.shape = FieldShape::list;
+  f.conflicts_with = "rows";
+  f.parse = [](StackSpec& s, const Tokens& t, Issues& issues) {
+    s.block_rows.assign(t.size(), 0);
+    for (std::size_t k = 0; k < t.size(); ++k) whole("block_rows", t[k], s.block_rows[k], issues);
+  };
+  f.check = [](const StackSpec& s, Issues& i) {
+    for (const int n : s.block_rows) {
+      check_range(i, "block_rows", n >= 1 && n <= 4096, fmt::format("{} must be a whole number from 1 to 4096", n));
+    }
+  };
+  f.save = [](const StackSpec& s, json& j) {
+    if (!s.block_rows.empty()) j["block_rows"] = s.block_rows;
+  };
+  f.load = [](StackSpec& s, const json& j) { s.block_rows = read<std::vector<int>>(j, "block_rows"); };
+  return f;
+}
+
 std::vector<SpecField> stack_rows() {
   std::vector<SpecField> rows;
   auto blocks = number_row("blocks", &StackSpec::blocks, "4", "Number of blocks N_B (block 1 is the top, impacted one)", "nb");
@@ -341,15 +398,8 @@ std::vector<SpecField> stack_rows() {
   };
   rows.push_back(std::move(radius));
 
-  auto ratio = number_row("radius_ratio", &StackSpec::radius_ratio, "2", "R_k / R_(k+1), a whole number from 1 to 16");
-  ratio.doc = "even: each sphere rests on two below; odd: on the one straight below";
-  ratio.check = [](const StackSpec& s, Issues& i) {
-    check_range(i, "radius_ratio", s.radius_ratio >= 1 && s.radius_ratio <= 16,
-                fmt::format("{} must be a whole number from 1 to 16 (each block's columns tile the block below "
-                            "exactly only for whole ratios)",
-                            s.radius_ratio));
-  };
-  rows.push_back(std::move(ratio));
+  rows.push_back(radius_ratio_row());
+  rows.push_back(block_rows_row());
 
   auto materials = row("materials", "list of material names", "steel", "Material per block, top first; one name for all");
   materials.shape = FieldShape::list;

@@ -45,25 +45,25 @@ Stack Stack::build(const StackSpec& spec) {
   s.spec_ = spec;
   const auto lib = spec.material_library();
   const int nb = spec.blocks;
-  const int n = spec.radius_ratio;
   const int supports = s.three_d() ? 4 : 2;
 
-  // Radii and columns, top block first: R_k = r n^(N_B - k), C_k = C n^(k-1).
+  // Radii and columns, top block first: R_k = r n_k n_(k+1) ... n_(N_B - 1) (r n^(N_B - k) with one
+  // ratio n), C_(k+1) = C_k n_k.
   int first_id = 1 + s.strikers();
   int columns = spec.top_columns;
   for (int k = 1; k <= nb; ++k) {
     Block b;
     b.index = k;
     b.material = spec.block_material(k);
-    b.radius = spec.bottom_radius * std::pow(static_cast<double>(n), nb - k);
-    b.rows = spec.rows;
+    b.radius = spec.bottom_radius * spec.radius_factor(k);
+    b.rows = spec.rows_of(k);
     b.columns = columns;
     b.depth = s.three_d() ? columns : s.panels();
     b.first_id = first_id;
     b.atom_type = k;
     b.sphere_mass = sphere_mass(b.radius, lib.at(b.material).density);
     first_id += b.count();
-    columns *= n;
+    if (k < nb) columns *= spec.ratio_below(k);
     s.blocks_.push_back(b);
   }
 
@@ -72,7 +72,8 @@ Stack Stack::build(const StackSpec& spec) {
   for (int k = nb - 1; k >= 1; --k) {
     const auto& below = s.block(k + 1);
     const double top_row_below = below.bottom_row_z + 2.0 * below.radius * (below.rows - 1);
-    s.blocks_[static_cast<std::size_t>(k - 1)].bottom_row_z = top_row_below + interface_height(below.radius, n, supports);
+    s.blocks_[static_cast<std::size_t>(k - 1)].bottom_row_z =
+        top_row_below + interface_height(below.radius, spec.ratio_below(k), supports);
   }
 
   s.spheres_.reserve(static_cast<std::size_t>(first_id - 1));
@@ -166,9 +167,11 @@ int Stack::impact_column(int block_index) const {
   // sphere); an even ratio n rests a sphere on two at x_k -+ R_(k+1), of which the path takes the
   // inner, u_(k+1) = n u_k - 1; an odd one on the one straight below, u_(k+1) = n u_k. u_k stays
   // odd, and x_j = (2j - 1 - C_k) R_k gives j = (u_k + 1 + C_k) / 2.
-  const int n = spec_.radius_ratio;
   long u = 1;
-  for (int k = 1; k < block_index; ++k) u = n % 2 == 0 ? n * u - 1 : n * u;
+  for (int k = 1; k < block_index; ++k) {
+    const long n = spec_.ratio_below(k);
+    u = n % 2 == 0 ? n * u - 1 : n * u;
+  }
   return static_cast<int>((u + 1 + block(block_index).columns) / 2);
 }
 

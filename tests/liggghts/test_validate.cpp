@@ -5,6 +5,7 @@
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/generator/spec_input.hpp>
 #include <granstack/postproc/compare.hpp>
+#include <granstack/postproc/reduce.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include <gtest/gtest.h>
@@ -160,6 +161,31 @@ TEST_P(ValidateModel, LiggghtsAndRefsimAgreeToRoundOff) {
   EXPECT_LE(c.worst(), postproc::kDefaultTolerance) << c.largest().quantity;
   EXPECT_GT(c.frames, 100);
   std::printf("%s: largest difference %.3g (%s)\n", mc.name, c.worst(), c.largest().quantity.c_str());
+}
+
+// A design's stack (each interface its own ratio, odd and even; each block its rows) on both
+// engines: they agree to round-off, and reduce finds kinetic plus elastic energy kept (e = 1)
+// within 3e-4 of E_in (velocity Verlet at the automatic dt, tests/liggghts/test_pipeline.cpp).
+TEST(ValidateDesign, PerInterfaceRatiosAndPerBlockRowsRunAlikeOnBothEngines) {
+  const auto root = fs::path(GRANSTACK_TEST_WORKDIR) / "validate_design";
+  fs::remove_all(root);
+  model::StackSpec spec;
+  spec.blocks = 3;
+  spec.radius_ratios = {3, 2};
+  spec.block_rows = {4, 2, 3};
+  run_both_engines(root, spec);
+  if (HasFatalFailure()) return;
+  const auto c = postproc::compare_runs((root / "liggghts").string(), (root / "refsim").string());
+  EXPECT_TRUE(c.mismatches.empty()) << c.mismatches.front();
+  EXPECT_LE(c.worst(), postproc::kDefaultTolerance) << c.largest().quantity;
+  postproc::ReduceOptions quiet;
+  quiet.write_files = false;
+  const auto r = postproc::reduce_case((root / "liggghts").string(), quiet);
+  ASSERT_TRUE(r.energy_drift.has_value());
+  std::printf("design stack: largest difference %.3g, energy drift %.3g, output fraction %.4g\n", c.worst(),
+              *r.energy_drift, r.output_fraction);
+  EXPECT_LT(*r.energy_drift, 3e-4);
+  EXPECT_GT(r.output_fraction, 0.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(

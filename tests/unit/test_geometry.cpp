@@ -4,10 +4,13 @@
 
 #include "touching.hpp"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <tuple>
+#include <vector>
 
 using granstack::model::Stack;
 using granstack::model::StackSpec;
@@ -19,18 +22,23 @@ struct Layout {
   int top_columns;
   int rows;
   int ratio;
+  // A design's: each interface's ratio and each block's rows (empty: ratio and rows for all).
+  std::vector<int> ratios = {}, block_rows = {};
+  StackSpec spec() const {
+    StackSpec s;
+    s.blocks = blocks;
+    s.top_columns = top_columns;
+    s.rows = rows;
+    s.radius_ratio = ratio;
+    s.radius_ratios = ratios;
+    s.block_rows = block_rows;
+    return s;
+  }
 };
 
 class GeometryTest : public ::testing::TestWithParam<Layout> {
  protected:
-  Stack build() const {
-    StackSpec s;
-    s.blocks = GetParam().blocks;
-    s.top_columns = GetParam().top_columns;
-    s.rows = GetParam().rows;
-    s.radius_ratio = GetParam().ratio;
-    return Stack::build(s);
-  }
+  Stack build() const { return Stack::build(GetParam().spec()); }
 };
 
 using granstack::test::gap;
@@ -55,14 +63,15 @@ TEST_P(GeometryTest, EveryDesignedContactTouchesExactlyAndNothingElseTouchesOrOv
     }
     if (b.index < p.blocks) {  // interface: each bottom sphere on the sphere(s) below its centre
       const auto& below = stack.block(b.index + 1);
+      const int n = p.spec().ratio_below(b.index);
       for (int j = 1; j <= b.columns; ++j) {
-        const int first = (j - 1) * p.ratio;  // columns of the lower block under column j: first+1 .. first+ratio
+        const int first = (j - 1) * n;  // columns of the lower block under column j: first+1 .. first+n
         const int top = stack.id_of(b.index, b.rows, j);
-        if (p.ratio % 2 == 0) {
-          expect_touch(top, stack.id_of(below.index, 1, first + p.ratio / 2));
-          expect_touch(top, stack.id_of(below.index, 1, first + p.ratio / 2 + 1));
+        if (n % 2 == 0) {
+          expect_touch(top, stack.id_of(below.index, 1, first + n / 2));
+          expect_touch(top, stack.id_of(below.index, 1, first + n / 2 + 1));
         } else {
-          expect_touch(top, stack.id_of(below.index, 1, first + (p.ratio + 1) / 2));
+          expect_touch(top, stack.id_of(below.index, 1, first + (n + 1) / 2));
         }
       }
     }
@@ -77,11 +86,15 @@ TEST_P(GeometryTest, EveryDesignedContactTouchesExactlyAndNothingElseTouchesOrOv
 TEST_P(GeometryTest, CountsIdsAndLayoutFollowTheDocumentedOrder) {
   const auto stack = build();
   const auto& p = GetParam();
+  const auto spec = p.spec();
   long expected = 1;
   long columns = p.top_columns;
-  for (int k = 1; k <= p.blocks; ++k, columns *= p.ratio) expected += columns * p.rows;
+  for (int k = 1; k <= p.blocks; ++k) {
+    expected += columns * spec.rows_of(k);
+    if (k < p.blocks) columns *= spec.ratio_below(k);
+  }
   ASSERT_EQ(static_cast<long>(stack.spheres().size()), expected);
-  if (p.rows == 8 && p.ratio == 2) {
+  if (p.rows == 8 && p.ratio == 2 && p.ratios.empty() && p.block_rows.empty()) {
     EXPECT_EQ(expected, 8L * p.top_columns * ((1L << p.blocks) - 1) + 1);  // physics.md section 6
   }
   for (std::size_t i = 0; i < stack.spheres().size(); ++i) {
@@ -95,25 +108,28 @@ TEST_P(GeometryTest, CountsIdsAndLayoutFollowTheDocumentedOrder) {
   // Every block spans the same width, 2 C R_1, centred on x = 0.
   for (const auto& b : stack.blocks()) {
     EXPECT_NEAR(b.columns * 2.0 * b.radius, 2.0 * stack.half_width(), 1e-15);
-    EXPECT_DOUBLE_EQ(b.radius, 1e-3 * std::pow(p.ratio, p.blocks - b.index));
+    double ratio_product = 1.0;  // R_k / R_N
+    for (int j = b.index; j < p.blocks; ++j) ratio_product *= spec.ratio_below(j);
+    EXPECT_DOUBLE_EQ(b.radius, 1e-3 * ratio_product);
+    EXPECT_EQ(b.rows, spec.rows_of(b.index));
   }
   // The bottom face is z = 0; the output sphere is in the bottom row, on the impact path: just
   // right of the axis for ratio 2, straight below the top block's right central sphere
   // (x = R_1) for an odd ratio (each sphere rests on one).
   const auto& out = stack.sphere(stack.output_sphere_id());
   EXPECT_EQ(out.block, p.blocks);
-  EXPECT_EQ(out.row, p.rows);
-  if (p.ratio == 2) {
+  EXPECT_EQ(out.row, spec.rows_of(p.blocks));
+  if (p.ratios.empty() && p.ratio == 2) {
     EXPECT_DOUBLE_EQ(out.x, out.radius);  // the study's definition
   }
-  if (p.ratio % 2 == 1) {
+  if (p.ratios.empty() && p.ratio % 2 == 1) {
     EXPECT_DOUBLE_EQ(out.x, stack.block(1).radius);
   }
   EXPECT_DOUBLE_EQ(out.z - out.radius, 0.0);
   // Down the impact path, the top sphere of each block's impact column touches the bottom sphere
   // of the impact column above it: the path is a chain of contacts.
   for (int k = 1; k < p.blocks; ++k) {
-    const auto& upper = stack.sphere(stack.id_of(k, p.rows, stack.impact_column(k)));
+    const auto& upper = stack.sphere(stack.id_of(k, spec.rows_of(k), stack.impact_column(k)));
     const auto& lower = stack.sphere(stack.id_of(k + 1, 1, stack.impact_column(k + 1)));
     EXPECT_NEAR(std::hypot(upper.x - lower.x, upper.z - lower.z), upper.radius + lower.radius, 1e-12 * upper.radius)
         << "block " << k;
@@ -136,6 +152,10 @@ TEST_P(GeometryTest, MirrorSymmetricAboutTheImpactAxis) {
 
 std::string layout_name(const ::testing::TestParamInfo<Layout>& info) {
   const auto& p = info.param;
+  if (!p.ratios.empty()) {
+    return fmt::format("nb{}_c{}_rows_{}_ratios_{}", p.blocks, p.top_columns, fmt::join(p.block_rows, "_"),
+                       fmt::join(p.ratios, "_"));
+  }
   return "nb" + std::to_string(p.blocks) + "_c" + std::to_string(p.top_columns) + "_rows" + std::to_string(p.rows) +
          "_ratio" + std::to_string(p.ratio);
 }
@@ -148,6 +168,10 @@ std::vector<Layout> layouts() {
   // The general radius ratio: even ratios rest on two spheres, odd ones on the one below.
   for (int ratio : {1, 3, 4}) out.push_back({3, 2, 5, ratio});
   out.push_back({2, 8, 3, 2});
+  // A design's stack: each interface its own ratio (odd and even mixed), each block its rows.
+  out.push_back({3, 2, 8, 2, {3, 2}, {4, 2, 3}});
+  out.push_back({4, 2, 8, 2, {2, 3, 2}, {2, 3, 1, 2}});
+  out.push_back({3, 4, 8, 2, {4, 1}, {3, 3, 2}});
   return out;
 }
 

@@ -268,7 +268,7 @@ impact_panel = 1
 separator = "matrix"
 matrix_material = "soft"
 blocks = 2
-rows = 3
+block_rows = [3, 5]
 top_columns = 4
 bottom_radius = 2e-3
 radius_ratio = 3
@@ -298,7 +298,9 @@ rolling_friction = 0.1
 rolling_friction_pairs = { "steel:steel" = 0.05 }
 characteristic_velocity = 2
 )", "every.toml");
-  EXPECT_EQ(every.size(), model::spec_fields().size()) << "a field of the table is missing from this test's file";
+  // Every field but rows, which block_rows replaces (the two are refused together).
+  EXPECT_EQ(every.size() + 1, model::spec_fields().size()) << "a field of the table is missing from this test's file";
+  EXPECT_EQ(every.count("rows"), 0u);
   const auto spec = generator::build_sweep(every).base;
   EXPECT_EQ(model::spec_from_json_fields(nlohmann::json::parse(model::spec_json(spec).dump())), spec);
   EXPECT_EQ(spec.impact_panel, 1);
@@ -306,4 +308,39 @@ characteristic_velocity = 2
   EXPECT_EQ(spec.dump_files, model::DumpFiles::per_step);
   EXPECT_EQ(*spec.characteristic_velocity, 2.0);
   EXPECT_EQ(spec.rolling_friction.get("steel", "steel"), 0.05);
+  EXPECT_EQ(spec.block_rows, (std::vector<int>{3, 5}));
+}
+
+// Per-block rows and per-interface ratios (the design search's variables): a list of one per
+// block and one per interface, each checked, the stack built from them, and refused with rows
+// or with the wrong count.
+TEST(SpecInput, RowsPerBlockAndRatiosPerInterface) {
+  const auto spec = generator::build_sweep(generator::parse_spec_toml(
+      "blocks = 3\nblock_rows = [4, 2, 6]\nradius_ratio = [3, 2]\n", "t")).base;
+  EXPECT_EQ(spec.radius_ratios, (std::vector<int>{3, 2}));
+  EXPECT_EQ(spec.rows_of(3), 6);
+  EXPECT_EQ(spec.ratio_below(1), 3);
+  EXPECT_EQ(spec.radius_factor(1), 6.0);
+  EXPECT_EQ(model::spec_from_json_fields(nlohmann::json::parse(model::spec_json(spec).dump())), spec);
+  EXPECT_TRUE(model::spec_json(spec).at("radius_ratio").is_array());
+  const auto issue = [](const generator::RawSpec& raw) {
+    try {
+      generator::expand(generator::build_sweep(raw));
+    } catch (const model::SpecError& e) {
+      return e.issues().front().field + ": " + e.issues().front().message;
+    }
+    return std::string("taken");
+  };
+  EXPECT_EQ(issue({{"rows", {"4"}}, {"block_rows", {"4", "4", "4", "4"}}}), "block_rows: give rows or block_rows, not both");
+  EXPECT_NE(issue({{"block_rows", {"4", "4"}}}).find("block_rows: 2 rows listed for 4 blocks"), std::string::npos);
+  EXPECT_NE(issue({{"radius_ratio", {"2", "2"}}}).find("radius_ratio: 2 ratios listed for 4 blocks: list one per "
+                                                        "interface (3)"),
+            std::string::npos);
+  EXPECT_NE(issue({{"blocks", {"3"}}, {"radius_ratio", {"2", "17"}}}).find("radius_ratio: 17 must be a whole number"),
+            std::string::npos);
+  EXPECT_NE(issue({{"blocks", {"2"}}, {"block_rows", {"0", "3"}}}).find("block_rows: 0 must be a whole number from 1"),
+            std::string::npos);
+  // A sweep of blocks with one list of ratios: the cases it does not fit are named.
+  EXPECT_NE(issue({{"blocks", {"3", "4"}}, {"radius_ratio", {"2", "2"}}}).find("(in the sweep case nb4)"),
+            std::string::npos);
 }

@@ -60,9 +60,11 @@ struct StackSpec {
   std::string matrix_material;
   int blocks = 4;                              // N_B; block 1 is the top (impacted) block
   int rows = 8;                                // spheres per column, the same in every block
+  std::vector<int> block_rows;                 // per block, top first; empty: `rows` in every block
   int top_columns = 2;                         // columns of block 1 (even; per direction in 3D); block k has top_columns * ratio^(k-1)
   double bottom_radius = 1e-3;                 // m, radius of the bottom block's spheres
-  int radius_ratio = 2;                        // R_k / R_{k+1}
+  int radius_ratio = 2;                        // R_k / R_{k+1} at every interface
+  std::vector<int> radius_ratios;              // per interface, top first (N_B - 1); empty: radius_ratio at each
   std::vector<std::string> materials{"steel"}; // per block, top first; one name means every block
   std::vector<Material> custom_materials;      // defined by the spec
   PairTable restitution{1.0, {}};              // e, 0.05 < e <= 1
@@ -95,6 +97,11 @@ struct StackSpec {
 
   // The material name of block k (1 = top).
   const std::string& block_material(int k) const;
+  // Block k's rows, and R_k / R_(k+1) at the interface below block k (1 <= k < N_B).
+  int rows_of(int k) const;
+  int ratio_below(int k) const;
+  // R_k / R_N: the product of the ratios from block k down (an integer, exact in a double).
+  double radius_factor(int k) const;
   // The wall's material name (wall_material, or the bottom block's).
   const std::string& effective_wall_material() const;
   // The striker's material name (striker_material, or the top block's).

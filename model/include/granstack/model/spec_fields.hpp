@@ -33,6 +33,7 @@ struct SpecField {
   bool whole = false;         // a sweep's values are whole numbers
   std::string bare;           // the value of the flag given bare (--gravity: "true"); empty: it takes one
   bool in_every_manifest = false;  // manifests have always had it (an absent one is refused)
+  std::string conflicts_with;      // a field that may not be given with it (block_rows: rows)
 
   // Sets the field from its text tokens, adding an issue for each problem.
   std::function<void(StackSpec&, const std::vector<std::string>&, std::vector<SpecIssue>&)> parse;
