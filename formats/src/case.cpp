@@ -51,7 +51,6 @@ Case Case::open(const std::string& dir) {
   Case c;
   c.dir_ = dir;
   c.manifest_ = read_manifest(dir);
-  c.stack_ = std::make_shared<const model::Stack>(model::Stack::build(c.manifest_.spec));
   const auto source = (fs::path(dir) / "manifest.json").string();
   const auto& d = c.manifest_.derived;
   c.derived_ = {derived_value<double>(d, "dt", source), derived_value<double>(d, "duration", source),
@@ -61,6 +60,11 @@ Case Case::open(const std::string& dir) {
     throw FormatError(source, 0, "its derived dt, steps or output cadences are not positive: generate the case again");
   }
   return c;
+}
+
+const model::Stack& Case::stack() const {
+  std::call_once(stack_->built, [this] { stack_->stack.emplace(model::Stack::build(manifest_.spec)); });
+  return *stack_->stack;
 }
 
 void Case::check_derived() const {

@@ -12,6 +12,8 @@
 
 #include <filesystem>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
 
 namespace granstack::formats {
@@ -46,8 +48,9 @@ void write_run_record(const std::filesystem::path& case_dir, const CaseFiles& fi
 
 class Case {
  public:
-  // Opens DIR: reads and verifies its manifest (FormatError naming what is wrong), builds the
-  // stack and reads the derived values.
+  // Opens DIR: reads and verifies its manifest (FormatError naming what is wrong) and reads the
+  // derived values. The stack is built when first asked for (a million spheres take seconds, which
+  // a LIGGGHTS run or a frame count does not need), once, from any thread.
   static Case open(const std::string& dir);
 
   const std::string& dir() const { return dir_; }
@@ -56,11 +59,11 @@ class Case {
   const std::string& name() const { return manifest_.case_name; }
   const model::StackSpec& spec() const { return manifest_.spec; }
   const CaseFiles& files() const { return manifest_.files; }
-  const model::Stack& stack() const { return *stack_; }
+  const model::Stack& stack() const;
   const Derived& derived() const { return derived_; }
   // What the spec gives today: the same as derived() unless the rules changed since generate
   // (or the manifest was edited), which check_derived() refuses.
-  model::Resolution resolution() const { return model::resolve(*stack_); }
+  model::Resolution resolution() const { return model::resolve(stack()); }
   // Throws FormatError when the derived values are not what the spec gives.
   void check_derived() const;
 
@@ -73,7 +76,11 @@ class Case {
  private:
   std::string dir_;
   Manifest manifest_;
-  std::shared_ptr<const model::Stack> stack_;
+  struct LazyStack {
+    std::once_flag built;
+    std::optional<model::Stack> stack;
+  };
+  std::shared_ptr<LazyStack> stack_ = std::make_shared<LazyStack>();
   Derived derived_;
 };
 
