@@ -68,6 +68,7 @@ formats::CaseFiles case_files(const model::Stack& stack) {
     f.series_columns.push_back("ke_trans_" + g.name);
     f.series_columns.push_back("ke_rot_" + g.name);
   }
+  if (spec.bottom == model::Boundary::wall) f.series_columns.push_back(model::kBottomWallForceColumn);
   return f;
 }
 
@@ -122,8 +123,9 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
   std::string walls;
   const std::string wall_fix = fmt::format("all wall/gran {} primitive type", model::liggghts_model_words(model));
   for (const auto& w : stack.walls()) {
-    walls += fmt::format("fix             {} {} {} {}plane {}\n", w.name, wall_fix, stack.wall_type(), "xyz"[w.axis],
-                         w.position);
+    // The bottom wall keeps each sphere's force from it, for the series' wall force.
+    walls += fmt::format("fix             {} {} {} {}plane {}{}\n", w.name, wall_fix, stack.wall_type(), "xyz"[w.axis],
+                         w.position, w.name == model::kBottomWallName ? " store_force yes" : "");
   }
   v["walls"] = walls.empty() ? "# free bottom and free sides: no walls" : walls.substr(0, walls.size() - 1);
   v["gravity"] = spec.gravity > 0.0 ? fmt::format("fix             gravity all gravity {} vector 0 0 -1", spec.gravity)
@@ -165,6 +167,10 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
     computes += fmt::format("compute         kt{} {} ke\ncompute         kr{} {} erotate/sphere\n", g.tag, g.name, g.tag,
                             g.name);
     values += fmt::format(" $(c_kt{}) $(c_kr{})", g.tag, g.tag);
+  }
+  if (spec.bottom == model::Boundary::wall) {
+    computes += fmt::format("compute         fwb all reduce sum f_force_{}[3]\n", model::kBottomWallName);
+    values += " $(c_fwb)";
   }
   v["energy_series"] = fmt::format(
       "{}fix             energy all print {} \"$(step){}\" file {} screen no title \"# {}\"", computes,

@@ -214,7 +214,7 @@ std::vector<int> Stack::bottom_row_ids() const {
 
 std::vector<Wall> Stack::walls() const {
   std::vector<Wall> w;
-  if (spec_.bottom == Boundary::wall) w.push_back({"wall_bottom", 2, 0.0});
+  if (spec_.bottom == Boundary::wall) w.push_back({kBottomWallName, 2, 0.0});
   if (spec_.sides == Boundary::wall) {
     w.push_back({"wall_left", 0, -half_width()});
     w.push_back({"wall_right", 0, half_width()});
@@ -247,6 +247,17 @@ double Stack::half_width() const { return spec_.top_columns * block(1).radius; }
 double Stack::half_depth() const {
   return three_d() ? half_width() : static_cast<double>(panels()) * block(1).radius;
 }
+double Stack::lattice_mass() const {
+  double m = 0.0;
+  for (const auto& b : blocks_) m += b.sphere_mass * static_cast<double>(b.count()) * panels();
+  return m;
+}
+double Stack::lattice_height() const {
+  const auto& top = block(1);
+  return top.bottom_row_z + top.radius * (2.0 * (top.rows - 1) + 1.0);
+}
+double Stack::footprint_area() const { return 4.0 * half_width() * half_depth(); }
+
 double Stack::top_z() const { return spheres_.front().z + spheres_.front().radius; }
 double Stack::striker_radius() const { return spheres_.front().radius; }
 double Stack::striker_mass() const { return striker_mass_; }

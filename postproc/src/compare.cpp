@@ -166,8 +166,11 @@ void compare_series(const std::string& dir_a, const formats::Manifest& ma, const
     c.mismatches.push_back(fmt::format("{} has {} series rows, {} has {}", path_a, sa.rows.size(), path_b, sb.rows.size()));
     return;
   }
-  const double energy = Scales(stack).energy;
-  for (std::size_t j = 1; j < sa.columns.size(); ++j) c.series.push_back({sa.columns[j], "J", energy});
+  const Scales scales(stack);
+  for (std::size_t j = 1; j < sa.columns.size(); ++j) {
+    const bool force = sa.columns[j] == model::kBottomWallForceColumn;
+    c.series.push_back({sa.columns[j], force ? "N" : "J", force ? scales.force : scales.energy});
+  }
   for (std::size_t i = 0; i < sa.rows.size(); ++i) {
     const auto& a = sa.rows[i];
     const auto& b = sb.rows[i];

@@ -57,6 +57,7 @@ struct SeriesColumns {
   int step = -1;
   std::vector<int> trans, rot;  // per block
   int striker_t = -1, striker_r = -1, out_t = -1, out_r = -1;
+  int wall_force = -1;  // the bottom wall's force (model::kBottomWallForceColumn), when the deck writes it
   static double at(const std::vector<double>& row, int c) { return row[static_cast<std::size_t>(c)]; }
   double block_ke(const std::vector<double>& row, int k) const {
     return at(row, trans[static_cast<std::size_t>(k)]) + at(row, rot[static_cast<std::size_t>(k)]);
@@ -82,6 +83,7 @@ SeriesColumns series_columns(const formats::Series& series, const std::string& p
   c.striker_r = find("ke_rot_striker");
   c.out_t = find("ke_trans_output_sphere");
   c.out_r = find("ke_rot_output_sphere");
+  c.wall_force = series.column(model::kBottomWallForceColumn);
   if (!missing.empty()) {
     throw formats::FormatError(path, 0, fmt::format("lacks the columns {} that the case's deck writes: it is not this "
                                                     "case's series", fmt::join(missing, ", ")));
@@ -132,6 +134,7 @@ void require_series_physical(const formats::Series& series, const std::string& p
   const double limit = available * (1.0 + kEnergyBalanceBound);
   for (std::size_t i = 0; i < series.rows.size(); ++i) {
     for (std::size_t j = 1; j < series.columns.size(); ++j) {
+      if (series.columns[j] == model::kBottomWallForceColumn) continue;  // a force, of either sign
       const double v = series.rows[i][j];
       if (v < 0.0 || v > limit) {
         throw formats::FormatError(path, 0, fmt::format("{:.6g} J in column '{}' at step {}: a kinetic energy lies in "
@@ -277,6 +280,13 @@ void series_peaks(const formats::Series& series, const SeriesColumns& cols, doub
       if (ke > p.peak_ke) p = {k + 1, ke, t, 0.0};
     }
     r.output_peak_fraction = std::max(r.output_peak_fraction, cols.output_ke(row) / r.e_in);
+    if (cols.wall_force >= 0) {
+      const double f = SeriesColumns::at(row, cols.wall_force);
+      if (!r.peak_wall_force || f > *r.peak_wall_force) {
+        r.peak_wall_force = f;
+        r.peak_wall_force_time = t;
+      }
+    }
   }
   r.blocks = peaks;
   r.peak_source = "series";
@@ -472,6 +482,8 @@ json to_json(const CaseReduction& r) {
           {"output_fraction", r.output_fraction},
           {"output_fraction_bottom_row", r.output_fraction_bottom_row},
           {"output_fraction_bottom_row_per_sphere", r.output_fraction_bottom_row_per_sphere},
+          {"peak_wall_force", r.peak_wall_force ? nlohmann::json(*r.peak_wall_force) : nlohmann::json(nullptr)},
+          {"peak_wall_force_time", r.peak_wall_force ? nlohmann::json(r.peak_wall_force_time) : nlohmann::json(nullptr)},
           {"output_definition", r.output_definition},
           {"output_separated", r.output_separated},
           {"output_peak_fraction", r.output_peak_fraction},
@@ -572,6 +584,9 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
       if (!wave.note.empty()) fmt::format_to(out, "note: block {}: {}\n", wave.block, wave.note);
     }
     fmt::format_to(out, "output fraction: {:.6g} ({})\n", r.output_fraction, r.output_definition);
+    if (r.peak_wall_force) {
+      fmt::format_to(out, "peak bottom-wall force: {:.6g} N at t = {:.4g} s\n", *r.peak_wall_force, r.peak_wall_force_time);
+    }
     if (!r.panel_frames.empty()) {
       // The blocks above are every panel's together; the panels one by one:
       const int hit = r.spec.strikes_every_panel() ? 0 : r.spec.measured_panel();

@@ -73,7 +73,10 @@ Parameters case_parameters(const model::Stack& stack) {
     for (const auto& b : materials) p.rolling_friction.push_back(spec.rolling_friction.get(a.name, b.name));
   }
   // The deck's walls, in its order.
-  for (const auto& w : stack.walls()) p.walls.push_back({w.axis, w.position, stack.wall_type()});
+  for (const auto& w : stack.walls()) {
+    if (w.name == model::kBottomWallName) p.stored_wall = static_cast<int>(p.walls.size());
+    p.walls.push_back({w.axis, w.position, stack.wall_type()});
+  }
   // fix gravity ... vector 0 0 -1: acceleration = magnitude * unit vector.
   if (spec.gravity > 0.0) p.gravity = {spec.gravity * 0.0, spec.gravity * 0.0, spec.gravity * -1.0};
   return p;
@@ -101,6 +104,12 @@ std::vector<Particle> particles_from(const formats::DataFile& data) {
   return out;
 }
 
+double bottom_wall_force(const System& s) {
+  double sum = 0.0;  // compute reduce sum: from 0, atom by atom in id order
+  for (std::size_t i = 0; i < s.size(); ++i) sum += s.stored_wall_force(i)[2];
+  return sum;
+}
+
 namespace {
 
 // The in-situ series of the generated deck: `fix print` of per-group ke and erotate/sphere
@@ -125,7 +134,8 @@ class SeriesWriter {
       }
       groups_.push_back(std::move(group));
     }
-    if (columns.size() != 1 + 2 * groups_.size()) {
+    wall_force_ = !columns.empty() && columns.back() == model::kBottomWallForceColumn;
+    if (columns.size() != 1 + 2 * groups_.size() + (wall_force_ ? 1 : 0)) {
       throw std::runtime_error("refsim: the manifest's series columns are not this granstack's: generate the case again");
     }
   }
@@ -144,17 +154,20 @@ class SeriesWriter {
       batch.push_back(ke);
       batch.push_back(rot);
     }
+    if (wall_force_) batch.push_back(bottom_wall_force(s));
   }
 
   // The lines of samples taken by sample().
   void write(const std::vector<double>& batch) {
-    const std::size_t per_line = 1 + 2 * groups_.size();
+    const std::size_t per_line = 1 + 2 * groups_.size() + (wall_force_ ? 1 : 0);
     // Formatted straight into a buffer long enough for any line (a number takes at most 24
     // characters and its space).
     line_.resize(25 * per_line + 1);
     for (std::size_t at = 0; at + per_line <= batch.size(); at += per_line) {
       char* out = fmt::format_to(line_.data(), FMT_COMPILE("{}"), static_cast<long>(batch[at]));
-      for (std::size_t k = at + 1; k < at + per_line; k += 2) out = fmt::format_to(out, FMT_COMPILE(" {} {}"), batch[k], batch[k + 1]);
+      const std::size_t pairs_end = at + 1 + 2 * groups_.size();
+      for (std::size_t k = at + 1; k < pairs_end; k += 2) out = fmt::format_to(out, FMT_COMPILE(" {} {}"), batch[k], batch[k + 1]);
+      if (wall_force_) out = fmt::format_to(out, FMT_COMPILE(" {}"), batch[pairs_end]);
       *out++ = '\n';
       const auto length = static_cast<std::size_t>(out - line_.data());
       if (std::fwrite(line_.data(), 1, length, file_.get()) != length) fail();
@@ -170,6 +183,7 @@ class SeriesWriter {
   std::string path_;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
   std::vector<std::vector<Run>> groups_;  // each group's runs of consecutive particles
+  bool wall_force_ = false;               // the last column is the bottom wall's force
   std::string line_;
 };
 

@@ -56,6 +56,7 @@ System::System(std::vector<Particle> particles, Parameters params)
   }
   wall_history_.assign(3 * n_ * p_.walls.size(), 0.0);
   wall_roll_.assign(3 * n_ * p_.walls.size(), 0.0);
+  wall_store_.assign(p_.stored_wall >= 0 ? 3 * n_ : 0, 0.0);
   external_ = !p_.walls.empty() || p_.gravity[0] != 0.0 || p_.gravity[1] != 0.0 || p_.gravity[2] != 0.0;
   const double dtf = 0.5 * p_.dt * 1.0;
   const double dtfrotate = dtf / kInertia;
@@ -275,6 +276,8 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
   double delta[3] = {0., 0., 0.};
   delta[a] = wall.position - pos;
   const double gap = pos > wall.position ? pos - wall.position - radi : wall.position - pos - radi;
+  const bool stored = static_cast<int>(wi) == p_.stored_wall;
+  if (stored) wall_store_[3 * i] = wall_store_[3 * i + 1] = wall_store_[3 * i + 2] = 0.0;
   if (!(gap <= 0.0)) {  // not touching: a wall's history never survives a separation
     shear[0] = shear[1] = shear[2] = 0.0;
     roll[0] = roll[1] = roll[2] = 0.0;
@@ -325,7 +328,9 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
     detail::rolling_torque(roll, en, wr, n, radi, model.rolling_friction, update_history, p_.dt, rt);
   }
   for (std::size_t d = 0; d < 3; ++d) {
+    const double before = f_[d * stride_ + i];
     f_[d * stride_ + i] += df[d];
+    if (stored) wall_store_[3 * i + d] = f_[d * stride_ + i] - before;
     double dt = 0.0 + -cr * tor[d] * 1.;
     if (p_.contact.rolling != model::RollingModel::off) dt -= rt[d];
     t_[d * stride_ + i] += dt;

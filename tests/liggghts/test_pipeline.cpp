@@ -802,3 +802,43 @@ TEST(Runner, SeveralCasesRunAtOnce) {
 }
 
 }  // namespace
+
+// The bottom wall's force in the series (store_force yes, summed by compute reduce) is the
+// whole force on the stack from outside: with no gravity, pair forces cancel and velocity
+// Verlet makes the total momentum change exactly dt (F_0 / 2 + F_1 + ... + F_(N-1) + F_N / 2).
+// The series samples every step (series_every 1 up to 20 000 steps), so the trapezoid sum of the
+// column must give the z momentum of the last frame minus the striker's at the start, to
+// round-off (measured 2.8e-15 of m v); a wrong sign, a missing sample or another wall's force
+// would be off by the whole impulse, 2.07 m v here.
+TEST(Physics, TheBottomWallsImpulseIsTheStacksMomentumChange) {
+  auto spec = blocks(2);
+  spec.rows = 4;
+  spec.bottom = model::Boundary::wall;
+  spec.restitution.value = 0.8;
+  spec.friction.value = 0.3;
+  const auto dir = run_case("wall", spec);
+  const auto c = formats::Case::open(dir);
+  ASSERT_EQ(c.derived().series_every, 1);
+  const auto series = formats::read_series(c.path(c.files().series).string());
+  const int col = series.column(model::kBottomWallForceColumn);
+  ASSERT_GE(col, 0);
+  double impulse = 0.0;
+  for (std::size_t i = 0; i < series.rows.size(); ++i) {
+    const double f = series.rows[i][static_cast<std::size_t>(col)];
+    impulse += i + 1 == series.rows.size() ? 0.5 * f : f;  // F_0 = 0: nothing presses on the wall at the start
+  }
+  impulse *= c.derived().dt;
+  const auto reader = formats::open_dump(formats::find_dump(dir, c.files().dump), false, c.files().dump_columns);
+  formats::DumpFrame frame, last;
+  while (reader->next(frame)) std::swap(frame, last);
+  ASSERT_EQ(last.step, c.derived().steps);
+  double pz = 0.0;
+  for (long i = 0; i < last.atoms; ++i) pz += last.at(i, last.column("mass")) * last.at(i, last.column("vz"));
+  const auto& stack = c.stack();
+  const double p0 = -stack.mass(stack.spheres().front()) * spec.striker_speed;  // the striker, id 1
+  ASSERT_EQ(stack.spheres().front().block, 0);
+  std::printf("bottom wall: impulse %.10g N s (%.3g m v), momentum change %.10g N s, difference %.3g of m v, peak %.6g N\n",
+              impulse, impulse / -p0, pz - p0, std::fabs(impulse - (pz - p0)) / -p0, *postproc::reduce_case(dir).peak_wall_force);
+  EXPECT_GT(impulse, 1.0 * -p0);
+  EXPECT_NEAR(impulse, pz - p0, 1e-12 * -p0);
+}

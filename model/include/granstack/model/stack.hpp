@@ -171,6 +171,15 @@ class Stack {
   double striker_mass() const;     // kg
   double mass(const Sphere& s) const;  // kg: the striker's, its block's or a matrix sphere's
   double incident_energy() const;  // E_in = 1/2 m_s v^2 (times the strikers), J
+  // The design objectives' measures of a stack (docs/physics.md, "Designing stacks"):
+  double lattice_mass() const;     // kg: every block's spheres (not the striker, the matrix or walls)
+  double lattice_height() const;   // m: from the bottom face (z = 0) to the top of block 1's top row
+  // m^2: the lattice's footprint, 2 half_width x 2 half_depth (in the strip, one top sphere's
+  // diameter deep: the pitch at which the study's container sets strips side by side).
+  double footprint_area() const;
+  // kg/m^2: lattice_mass / footprint_area, the mass a panel of such stacks puts on each square
+  // metre it protects.
+  double areal_mass() const { return lattice_mass() / footprint_area(); }
 
  private:
   static int id_of(const Block& b, int row, int column, int column_y);
@@ -191,6 +200,13 @@ class Stack {
 // the output sphere, the bottom row, and every block's middle_path_id. The generator's deck and
 // refsim both record exactly these.
 std::vector<SeriesGroup> series_groups(const Stack& stack);
+// With a bottom wall, the series' last column: the z force the bottom wall exerts on the stack
+// at each sample, in N (the protected object's load, upward positive). The deck stores each
+// sphere's wall force (fix wall/gran ... store_force yes, fix_wall_gran_base.h: the sphere's
+// force after the wall's contribution minus before it) and sums it over all spheres in atom
+// order (compute reduce sum); refsim does the same.
+inline constexpr const char* kBottomWallForceColumn = "fz_wall_bottom";
+inline constexpr const char* kBottomWallName = "wall_bottom";
 
 // The vertical distance between the centre of a sphere of radius R_k and the centres it rests
 // on in the block below (radius R_k / n): with n even it rests on two spheres at +-R_{k+1}

@@ -30,6 +30,11 @@ struct CaseReduction {
   std::string output_definition;       // how output_fraction was taken
   bool output_separated = false;       // the output sphere touches nothing at the last frame
   double output_peak_fraction = 0.0;   // the output sphere's peak KE / E_in
+  // With a bottom wall, the largest z force it exerted on the stack (the protected object's
+  // peak load), N, over the in-situ series (every series_every steps), and when; none when the
+  // case has no bottom wall or its deck predates the column.
+  std::optional<double> peak_wall_force;
+  double peak_wall_force_time = 0.0;   // s
   std::vector<BlockPeak> blocks;       // top first
   std::string peak_source;             // "series" (in-situ, every series_every steps) or "dump"
   long frames = 0;

@@ -47,6 +47,11 @@ Parameters uniform_parameters(const std::vector<model::Material>& materials, dou
 // The particles of a data file, with LIGGGHTS's masses (4/3 pi r^3 rho, r = diameter / 2).
 std::vector<Particle> particles_from(const formats::DataFile& data);
 
+// The z force of Parameters::stored_wall (the bottom wall) on all particles in the last force
+// call, summed in atom order as the deck's compute reduce sums it: the series' last column
+// with a bottom wall (model::kBottomWallForceColumn).
+double bottom_wall_force(const System& s);
+
 // Throws formats::FormatError or std::runtime_error for an unreadable case.
 RunStats run_case(const std::string& case_dir, const RunOptions& options = {});
 

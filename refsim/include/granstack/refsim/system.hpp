@@ -48,6 +48,9 @@ struct Parameters {
   model::ContactModel contact;
   std::vector<double> restitution, rolling_friction;
   std::vector<Wall> walls;               // applied after the pair forces, in this order
+  // The wall (index into walls) whose force on each particle is kept, as fix wall/gran's
+  // store_force yes keeps it (System::stored_wall_force); -1: none.
+  int stored_wall = -1;
   bool tangential_damping = true;
   // Threads for the force and integration loops. Every per-particle sum keeps the pair order
   // of one thread, so the result does not depend on the thread count, to the bit.
@@ -96,6 +99,11 @@ class System {
   Vec3 force(std::size_t i) const { return get(f_, i); }
   Vec3 torque(std::size_t i) const { return get(t_, i); }
   long neighbor_builds() const { return builds_; }
+  // Parameters::stored_wall's force on particle i in the last force call: i's force after the
+  // wall's contribution minus before it (fix_wall_gran_base.h), 0 when it does not touch.
+  Vec3 stored_wall_force(std::size_t i) const {
+    return {wall_store_[3 * i], wall_store_[3 * i + 1], wall_store_[3 * i + 2]};
+  }
   // The kinetic energies of particles [begin, end), translational and rotational, as the
   // in-situ series reports them (0.5 m |v|^2 and 0.5 I |w|^2 with I = 0.4 m r^2, fix
   // nve/sphere's solid spheres). Each sum is taken in eight partial sums (particle begin + k
@@ -155,6 +163,7 @@ class System {
   std::vector<std::size_t> tile_first_;
   std::vector<double> wall_history_;  // 3 per particle and wall
   std::vector<double> wall_roll_;     // epsd2's torque history, 3 per particle and wall
+  std::vector<double> wall_store_;    // stored_wall_force, 3 per particle
   bool external_ = false;             // walls or gravity
   bool negative_zero_spin_ = false;   // an angular velocity component starts at -0
   std::string kernel_;
