@@ -1,6 +1,7 @@
 #pragma once
 // `granstack reproduce`: the study's experiments (catalogue.hpp) generated, run, reduced, measured
 // by their named analyses and judged against the paper's statements, into a report.
+#include <granstack/postproc/document.hpp>
 #include <granstack/postproc/reduce.hpp>
 #include <granstack/study/catalogue.hpp>
 
@@ -12,16 +13,8 @@
 
 namespace granstack::study {
 
-struct Table {
-  std::string caption;
-  std::vector<std::string> header;
-  std::vector<std::vector<std::string>> rows;
-};
-
-struct Figure {
-  std::string file;     // the SVG, relative to the report's directory
-  std::string caption;
-};
+using postproc::Figure;
+using postproc::Table;
 
 // A claim judged on its primary reading alone; the sensitivity readings are shown beside it.
 struct Verdict {
