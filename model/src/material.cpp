@@ -55,6 +55,8 @@ std::vector<Material> parse_material_table(std::string_view toml_text, std::stri
   return out;
 }
 
+bool is_study_material(std::string_view name) { return name == "steel" || name == "teflon"; }
+
 MaterialLibrary MaterialLibrary::builtin() {
   // Parsed once: every Stack::build asks for it (10,000 cases of a sweep, 10,000 parses).
   static const MaterialLibrary parsed = [] {

@@ -256,15 +256,15 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
   auto finite_positive = [](double v) { return std::isfinite(v) && v > 0.0; };
 
   static const std::regex name_re("[a-z][a-z0-9_]*");
-  const auto builtin = MaterialLibrary::builtin();
   auto within = [](double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
   for (const auto& m : s.custom_materials) {
     const auto field = fmt::format("custom_materials.{}", m.name);
     if (!std::regex_match(m.name, name_re)) {
       bad(field, "a material name is lower-case letters, digits and '_', starting with a letter");
     }
-    if (builtin.find(m.name) != nullptr) {
-      bad(field, fmt::format("'{}' is a built-in material and cannot be redefined; give yours another name", m.name));
+    if (is_study_material(m.name)) {
+      bad(field, fmt::format("'{}' is a built-in material and cannot be redefined (it is the study's); give yours "
+                             "another name", m.name));
     }
     if (!within(m.density, kMinDensity, kMaxDensity)) {
       bad(field + ".density", fmt::format("{} must be in [{:g}, {:g}] kg/m^3", m.density, kMinDensity, kMaxDensity));

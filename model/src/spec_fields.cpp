@@ -521,10 +521,11 @@ std::vector<SpecField> resolution_rows() {
 
 SpecField custom_materials_row() {
   auto f = row("custom_materials", "table of materials", "none",
-               "Define a material: NAME:DENSITY:YOUNGS_MODULUS:POISSON_RATIO (SI; not a built-in name)");
+               "Define a material: NAME:DENSITY:YOUNGS_MODULUS:POISSON_RATIO (SI; not steel or teflon, the study's; a library name such as brass is redefined for this spec)");
   f.flag = "--custom-material";
   f.doc = "in a spec file `[custom_materials.NAME]` with `density` (1 to 1e5 kg/m^3), `youngs_modulus` (1e3 to 1e13 "
-          "Pa), `poisson_ratio` ([0, 0.5))";
+          "Pa), `poisson_ratio` ([0, 0.5)); steel and teflon cannot be redefined, a library material (brass, glass, ...) "
+          "can, for this spec alone";
   f.shape = FieldShape::material_entries;
   f.in_every_manifest = true;
   f.parse = [](StackSpec& s, const Tokens& tokens, Issues& issues) {

@@ -15,6 +15,11 @@ struct Material {
   bool operator==(const Material&) const = default;
 };
 
+// The study's materials: a spec may not redefine them (steel means the study's steel in every
+// case). The other built-in materials (the design library) a spec may define its own way,
+// which then holds for that spec alone (cases written before they were built in keep theirs).
+bool is_study_material(std::string_view name);
+
 // Built-in materials (from model/data/materials.toml) plus the ones a spec defines.
 class MaterialLibrary {
  public:
