@@ -81,20 +81,15 @@ void FrameView::bind(const formats::DumpFrame& f) {
   }
 }
 
-namespace {
-// 1/2 (2/5 m R^2) w^2 and 1/2 m v^2: one expression each, so every sum of them rounds alike.
-double rotational(double m, double rad, double wx, double wy, double wz) {
-  return 0.5 * (0.4 * m * rad * rad) * (wx * wx + wy * wy + wz * wz);
-}
-double translational(double m, double vx, double vy, double vz) { return 0.5 * m * (vx * vx + vy * vy + vz * vz); }
-}  // namespace
+// 1/2 (2/5 m R^2) w^2 and 1/2 m v^2: one expression each (model/contact.hpp), so every sum of
+// them rounds alike.
 
 double FrameView::rotational_energy(const formats::DumpFrame& f, long r) const {
-  return rotational(f.at(r, c_mass_), f.at(r, c_radius_), f.at(r, c_wx_), f.at(r, c_wy_), f.at(r, c_wz_));
+  return model::rotational_energy(f.at(r, c_mass_), f.at(r, c_radius_), f.at(r, c_wx_), f.at(r, c_wy_), f.at(r, c_wz_));
 }
 
 double FrameView::translational_energy(const formats::DumpFrame& f, long r) const {
-  return translational(f.at(r, c_mass_), f.at(r, c_vx_), f.at(r, c_vy_), f.at(r, c_vz_));
+  return model::translational_energy(f.at(r, c_mass_), f.at(r, c_vx_), f.at(r, c_vy_), f.at(r, c_vz_));
 }
 
 double FrameView::kinetic_energy(const formats::DumpFrame& f, long r) const {
@@ -344,8 +339,8 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     const double m = a[cm], rad = a[cr];
     const double vx = a[cvx], vy = a[cvy], vz = a[cvz];
     const double wx = a[cwx], wy = a[cwy], wz = a[cwz];
-    const double rot = rotational(m, rad, wx, wy, wz);
-    const double ke = translational(m, vx, vy, vz) + rot;
+    const double rot = model::rotational_energy(m, rad, wx, wy, wz);
+    const double ke = model::translational_energy(m, vx, vy, vz) + rot;
     e.kinetic += ke;
     const int b = c.block[i];
     if (b == Constants::kStriker) {

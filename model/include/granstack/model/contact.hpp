@@ -21,6 +21,14 @@ struct ContactPair {
 
 // Sphere mass, in LIGGGHTS's operation order (4/3 pi r^3 rho).
 double sphere_mass(double radius, double density);
+// A sphere's kinetic energies, J: 1/2 m |v|^2, and 1/2 I |w|^2 with I = 0.4 m r^2 (a solid sphere,
+// fix nve/sphere's), in the order reduce and refsim's in-situ evaluation both take them.
+inline double translational_energy(double m, double vx, double vy, double vz) {
+  return 0.5 * m * (vx * vx + vy * vy + vz * vz);
+}
+inline double rotational_energy(double m, double radius, double wx, double wy, double wz) {
+  return 0.5 * (0.4 * m * radius * radius) * (wx * wx + wy * wy + wz * wz);
+}
 
 double effective_youngs_modulus(const Material& a, const Material& b);
 double effective_shear_modulus(const Material& a, const Material& b);

@@ -1,0 +1,45 @@
+#pragma once
+// refsim's fast evaluation mode: a case run start to end with no files at all, reporting the
+// quantities reduce takes from the same run's dump and series (the output fraction and the
+// bottom wall's peak force), equal to them to round-off (tests/refsim/test_in_situ.cpp). The
+// design search evaluates thousands of stacks this way.
+#include <granstack/refsim/system.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace granstack::model {
+class Stack;
+}
+
+namespace granstack::refsim {
+
+struct InSituOptions {
+  int threads = 1;
+  std::string kernel = "auto";
+};
+
+struct InSituResult {
+  double e_in = 0.0;             // J
+  // As reduce's output_fraction: with a free bottom the output sphere's kinetic energy at the
+  // last step / E_in; against a bottom wall its peak over the series' samples / E_in.
+  double output_fraction = 0.0;
+  double output_peak_fraction = 0.0;        // the output sphere's peak over the samples / E_in
+  // At the end of the run the output sphere touches no sphere (and with a free bottom has
+  // left the lattice): its output fraction is final. reduce warns where it is not.
+  bool output_separated = false;
+  std::optional<double> peak_wall_force;    // N: reduce's peak_wall_force (bottom wall only)
+  double peak_wall_force_time = 0.0;        // s
+  long steps = 0;
+  long atoms = 0;
+  double seconds = 0.0;                     // wall time of the run
+  std::string kernel;
+};
+
+// Runs `stack` (its case's derived dt, steps and series_every, model::resolve) from
+// `particles`, the case's data file as particles_from reads it. Samples the series' quantities
+// every series_every steps, as the deck does.
+InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> particles, const InSituOptions& options = {});
+
+}  // namespace granstack::refsim
