@@ -37,6 +37,7 @@ Command add_submit(CLI::App& app);
 Command add_status(CLI::App& app);
 Command add_export(CLI::App& app);
 Command add_fields(CLI::App& app);
+Command add_design(CLI::App& app);
 
 // Reduces every case, with frame progress on a terminal; a failing case is reported on stderr
 // and left out. Case names are made unique among `dirs` (the shortest distinguishing tail of

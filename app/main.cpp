@@ -11,7 +11,11 @@
 #include <granstack/os/case_lock.hpp>
 #include <granstack/os/interrupt.hpp>
 
+#include <granstack/design/space.hpp>
+#include <granstack/design/store.hpp>
+
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cerrno>
 #include <filesystem>
@@ -60,6 +64,10 @@ int guarded(const std::function<int()>& run) {
     return run();
   } catch (const model::SpecError& e) {
     return said(e.what(), app::kBadInput);
+  } catch (const design::SpaceError& e) {
+    return said(fmt::format("the design space cannot be searched:\n  {}", fmt::join(e.problems(), "\n  ")), app::kBadInput);
+  } catch (const design::StoreError& e) {
+    return said(e.what(), app::kBadFile);
   } catch (const formats::OutputError& e) {
     return said(e.what(), app::kExists);
   } catch (const formats::FormatError& e) {
@@ -85,7 +93,7 @@ int main(int argc, char** argv) {
   const app::Command commands[] = {app::add_generate(app, args), app::add_run(app),   app::add_reduce(app),
                                    app::add_table(app),          app::add_plot(app),  app::add_validate(app),
                                    app::add_reproduce(app),      app::add_submit(app), app::add_status(app),
-                                   app::add_export(app),         app::add_fields(app)};
+                                   app::add_export(app),         app::add_fields(app),  app::add_design(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

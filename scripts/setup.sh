@@ -7,6 +7,7 @@ packages=(
   liggghts            # the DEM code (LIGGGHTS-PUBLIC 3.8.0, with Open MPI's mpirun)
   g++ cmake ninja-build pkg-config git
   libfmt-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libeigen3-dev libhwy-dev libgtest-dev
+  libpagmo-dev libsqlite3-dev   # granstack design: NSGA-II (pagmo2) and its store (SQLite)
   coreutils           # stdbuf, so LIGGGHTS's error lines survive an MPI abort
   gnuplot-nox         # granstack plot (PNG and SVG without X)
   zlib1g-dev libzstd-dev zstd   # reading (and, in the tests, making) dumps compressed with gzip or zstd

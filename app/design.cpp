@@ -1,0 +1,143 @@
+// granstack design: search a space of nested stacks (docs/design.md). run: the NSGA-II search on
+// refsim, resumable; status: what the store holds; report: the front, the study's designs and
+// the hypervolume as md, html and json; confirm: the front's best re-run on LIGGGHTS.
+#include "commands.hpp"
+#include "progress.hpp"
+
+#include <granstack/design/report.hpp>
+#include <granstack/design/search.hpp>
+#include <granstack/formats/files.hpp>
+#include <granstack/formats/ownership.hpp>
+#include <granstack/os/case_lock.hpp>
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+namespace granstack::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kStoreName = "design.sqlite";
+constexpr const char* kSpaceName = "space.toml";
+
+struct DesignFlags {
+  std::string space_file, dir;
+  int jobs = 1;
+  int generations = -1;
+  int top = 3;
+  bool no_report = false;
+};
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// A design directory holds its store, its space and its report; anything else in it is not ours.
+void require_design_dir(const fs::path& dir) {
+  if (!fs::exists(dir)) return;
+  if (!fs::is_directory(dir)) throw formats::OutputError(fmt::format("{} exists and is not a directory: give another --output", dir.string()));
+  if (fs::is_empty(dir) || fs::exists(dir / kStoreName)) return;
+  throw formats::OutputError(fmt::format("{} holds files but no design store ({}): it is not a design directory; give "
+                                         "another --output", dir.string(), kStoreName));
+}
+
+int print_status(const fs::path& dir) {
+  const auto store = design::Store::open_existing((dir / kStoreName).string());
+  const auto space = design::parse_space(*store.meta("space"), (dir / kSpaceName).string());
+  fmt::print("{}", design::status_text(space, store));
+  return kOk;
+}
+
+int run_design(const DesignFlags& f) {
+  auto space = design::read_space(f.space_file);
+  if (f.generations >= 0) space.search.generations = f.generations;
+  const fs::path dir(f.dir);
+  require_design_dir(dir);
+  fs::create_directories(dir);
+  const os::CaseLock lock(dir, "granstack design run");
+  auto store = design::Store::open((dir / kStoreName).string(), space.digest(), read_text(f.space_file));
+  if (!fs::exists(dir / kSpaceName)) formats::write_file_atomically(dir / kSpaceName, read_text(f.space_file));
+  StatusLine line;
+  design::SearchOptions o;
+  o.jobs = f.jobs;
+  o.on_progress = [&](int gen, int done, int total) { line.count(fmt::format("generation {}: designs", gen), done, total); };
+  o.on_generation = [&](const design::Generation& g) {
+    line.clear();
+    if (line.active()) fmt::print(stderr, "generation {}: {} new designs run, hypervolume {:.6g}\n", g.index, g.evaluations, g.hypervolume);
+  };
+  const auto r = design::run_search(space, store, o);
+  design::evaluate_study_designs(space, store);
+  fmt::print("{}: generations {} to {} ({} refsim runs; the store holds {} designs)\n", dir.string(), r.first_generation,
+             space.search.generations, r.runs, store.evaluations().size());
+  if (!f.no_report) fmt::print("report: {}\n", design::write_report(space, store, dir / "report").string());
+  return kOk;
+}
+
+int report(const DesignFlags& f) {
+  const fs::path dir(f.dir);
+  auto store = design::Store::open_existing((dir / kStoreName).string());
+  const auto space = design::parse_space(*store.meta("space"), (dir / kSpaceName).string());
+  fmt::print("report: {}\n", design::write_report(space, store, dir / "report").string());
+  return kOk;
+}
+
+int confirm(const DesignFlags& f) {
+  const fs::path dir(f.dir);
+  const os::CaseLock lock(dir, "granstack design confirm");
+  const auto text = design::Store::open_existing((dir / kStoreName).string()).meta("space");
+  const auto space = design::parse_space(*text, (dir / kSpaceName).string());
+  auto store = design::Store::open((dir / kStoreName).string(), space.digest(), *text);
+  StatusLine line;
+  const auto results = design::confirm_front(space, store, dir / "confirm", f.top, [&](const std::string& what) { line.show(what); });
+  line.clear();
+  int disagreements = 0;
+  for (const auto& c : results) {
+    fmt::print("{}  {}  LIGGGHTS output fraction {:.6g}, largest difference {:.3g}: {}\n", c.digest.substr(0, 12), c.case_dir,
+               c.liggghts_output_fraction, c.largest_difference, c.verdict);
+    disagreements += c.verdict != "agree";
+  }
+  fmt::print("report: {}\n", design::write_report(space, store, dir / "report").string());
+  return disagreements > 0 ? kDisagree : kOk;
+}
+
+}  // namespace
+
+Command add_design(CLI::App& app) {
+  auto f = std::make_shared<DesignFlags>();
+  auto* cmd = app.add_subcommand("design", "Search a space of nested stacks for the least transmitted impact (NSGA-II on refsim)");
+  cmd->require_subcommand(1);
+  auto* run = cmd->add_subcommand("run", "Run (or resume) the search of a design space; writes the store and the report");
+  run->add_option("space", f->space_file, "Design space file (TOML: [fixed], [vary], [constraints], objectives, [search])")
+      ->required()
+      ->check(CLI::ExistingFile);
+  run->add_option("-o,--output", f->dir, "Design directory: its store (design.sqlite), space and report")->required();
+  run->add_option("-j,--jobs", f->jobs, "Designs run at once (refsim, one thread each)")->check(CLI::Range(1, 1024));
+  run->add_option("--generations", f->generations, "Generations to reach (overrides [search] generations; more resumes further)")
+      ->check(CLI::Range(0, 100000));
+  run->add_flag("--no-report", f->no_report, "Do not write the report");
+  auto* status = cmd->add_subcommand("status", "What a design store holds: generations, hypervolume, the front");
+  status->add_option("dir", f->dir, "Design directory")->required()->check(CLI::ExistingDirectory);
+  auto* rep = cmd->add_subcommand("report", "Write the report (md, html, json, the front's spec files) again");
+  rep->add_option("dir", f->dir, "Design directory")->required()->check(CLI::ExistingDirectory);
+  auto* conf = cmd->add_subcommand("confirm", "Run the front's best designs on LIGGGHTS and refsim and compare (validate)");
+  conf->add_option("dir", f->dir, "Design directory")->required()->check(CLI::ExistingDirectory);
+  conf->add_option("--top", f->top, "How many of the front's designs, best first objective first")->check(CLI::Range(1, 100));
+  return {cmd, [f, run, status, rep, conf] {
+            if (run->parsed()) return run_design(*f);
+            if (status->parsed()) return print_status(f->dir);
+            if (rep->parsed()) return report(*f);
+            if (conf->parsed()) return confirm(*f);
+            return kBadInput;
+          }};
+}
+
+}  // namespace granstack::app

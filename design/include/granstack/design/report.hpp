@@ -1,0 +1,33 @@
+#pragma once
+// What a design search found, for people: `design status`'s summary, the report (md, html and
+// json, the front's designs as ready-to-run spec files, figures), the study's designs placed on
+// the same axes, and the front's best confirmed on LIGGGHTS.
+#include <granstack/design/search.hpp>
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace granstack::design {
+
+// The study's designs (study_designs) evaluated at the space's footprint and stored by name;
+// run even where they break the space's constraints (they are marked so).
+void evaluate_study_designs(const Space& space, Store& store);
+
+// Generations run, hypervolume, designs evaluated and the front's first designs.
+std::string status_text(const Space& space, const Store& store);
+
+// DIR/design.md, design.html, design.json, front/*.toml and the figures (gnuplot SVG); returns
+// the html's path.
+std::filesystem::path write_report(const Space& space, const Store& store, const std::filesystem::path& dir);
+
+// The front's `top` best designs (first objective first) generated as cases under `dir`, run on
+// LIGGGHTS and on refsim (validate's copies), reduced and compared; stored and returned.
+std::vector<Confirmation> confirm_front(const Space& space, Store& store, const std::filesystem::path& dir, int top,
+                                        const std::function<void(const std::string&)>& on_progress = {});
+
+// A design as a spec file `granstack generate --config` takes.
+std::string spec_toml(const model::StackSpec& spec);
+
+}  // namespace granstack::design

@@ -1,0 +1,68 @@
+#pragma once
+// `granstack design`: evaluating designs in situ on refsim (each once, kept in the store) and
+// the multi-objective search over a space with pagmo2's NSGA-II, one generation at a time, its
+// population evaluated as a batch on `jobs` threads.
+#include <granstack/design/space.hpp>
+#include <granstack/design/store.hpp>
+
+#include <functional>
+#include <vector>
+
+namespace granstack::design {
+
+class Evaluator {
+ public:
+  Evaluator(const Space& space, Store& store) : space_(space), store_(store) {}
+  // The designs' evaluations, from the store where there, else run (feasible ones on refsim,
+  // `jobs` at a time) and stored as each finishes: a killed batch keeps what it finished.
+  // on_done(finished, to_run) after each run.
+  std::vector<Evaluation> evaluate(const std::vector<model::StackSpec>& specs, int jobs,
+                                   const std::function<void(int, int)>& on_done = {});
+  // The objectives of an evaluation, in the space's order; an infeasible design gets
+  // kInfeasible * (1 + its relative violation) in each, behind every feasible one.
+  std::vector<double> fitness(const Evaluation& e) const;
+  int runs() const { return runs_; }  // refsim runs so far
+
+ private:
+  Evaluation run_one(const model::StackSpec& spec) const;
+  const Space& space_;
+  Store& store_;
+  int runs_ = 0;
+};
+
+inline constexpr double kInfeasible = 1e12;
+
+// One design's evaluation, run now without a store (what `evaluate` runs for a missing one); a
+// design outside the constraints is not run unless `run_anyway`.
+Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway = false);
+
+// The value of objective `o` for an evaluation (nullopt when the design was not run).
+std::optional<double> objective_value(const Evaluation& e, Objective o);
+
+struct SearchOptions {
+  int jobs = 1;
+  // Called after each design run (generation, finished, to run) and after each generation.
+  std::function<void(int, int, int)> on_progress;
+  std::function<void(const Generation&)> on_generation;
+};
+
+struct SearchResult {
+  int first_generation = 0;  // the first this call ran (above 0: resumed)
+  int last_generation = 0;
+  int runs = 0;              // refsim runs this call needed
+};
+
+// Runs the search up to space.search.generations, resuming after the store's last generation.
+SearchResult run_search(const Space& space, Store& store, const SearchOptions& options);
+
+// The study's own designs at the space's footprint and fixed settings: 4 steel blocks, steel over
+// Teflon, and the sandwich (steel / Teflon / steel), each with 8 rows and the ratio 2.
+std::vector<std::pair<std::string, model::StackSpec>> study_designs(const Space& space);
+
+// The feasible evaluations no other dominates in the space's objectives, best first objective first.
+std::vector<Evaluation> pareto_front(const Space& space, const std::vector<Evaluation>& all);
+
+// The hypervolume of the feasible points among `all` against `reference` (per objective).
+double hypervolume(const Space& space, const std::vector<Evaluation>& all, const std::vector<double>& reference);
+
+}  // namespace granstack::design

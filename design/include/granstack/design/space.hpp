@@ -1,0 +1,92 @@
+#pragma once
+// A design space for `granstack design` (docs/design.md): what varies from stack to stack (the
+// number of blocks, each block's material and rows, each interface's radius ratio), what stays
+// fixed (the footprint, the striker, the boundaries, the contacts: any spec field), the
+// constraints and the objectives, read from a TOML file.
+#include <granstack/model/spec.hpp>
+#include <granstack/model/stack.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace granstack::design {
+
+// A space that cannot be searched: every problem found, each naming its key and the fix.
+class SpaceError : public std::runtime_error {
+ public:
+  explicit SpaceError(std::vector<std::string> problems);
+  const std::vector<std::string>& problems() const { return problems_; }
+
+ private:
+  std::vector<std::string> problems_;
+};
+
+// What a design is judged by, all minimised.
+enum class Objective { output_fraction, peak_wall_force, areal_mass, height };
+std::string_view to_string(Objective o);
+std::optional<Objective> parse_objective(std::string_view s);
+std::string_view unit_of(Objective o);
+
+struct Constraints {
+  std::optional<long> max_spheres;
+  std::optional<double> max_height;      // m
+  std::optional<double> max_areal_mass;  // kg/m^2
+};
+
+struct Search {
+  int population = 24;  // NSGA-II: a multiple of 4, at least 8
+  int generations = 10;
+  std::uint64_t seed = 1;
+};
+
+struct Space {
+  model::StackSpec fixed;        // everything a design does not vary
+  double top_radius = 0.0;       // m, R_1: with fixed.top_columns, the footprint every design keeps
+  int min_blocks = 1, max_blocks = 1;
+  std::vector<std::string> materials;  // candidates for each block
+  std::vector<int> radius_ratios;      // candidates for each interface
+  int min_rows = 1, max_rows = 1;
+  Constraints constraints;
+  std::vector<Objective> objectives;
+  Search search;
+
+  // The decision vector: N_B, a material index per block, a ratio index per interface and a
+  // row count per block, for max_blocks (genes past a design's N_B are carried but unused).
+  // A gene with one choice spans two values that decode alike (NSGA-II needs lower < upper).
+  std::size_t genes() const { return 3 * static_cast<std::size_t>(max_blocks); }
+  std::pair<std::vector<double>, std::vector<double>> bounds() const;
+  // The stack a decision vector stands for (whole numbers; rounded).
+  model::StackSpec decode(const std::vector<double>& x) const;
+  // The canonical digest of what makes two searches the same (all but the generation count):
+  // a store written for another space is refused.
+  std::string digest() const;
+};
+
+// Reads a design space file. Throws SpaceError listing every problem, std::runtime_error for an
+// unreadable file or bad TOML (with line and column).
+Space read_space(const std::string& path);
+Space parse_space(std::string_view toml_text, const std::string& source);
+
+// A design's measures known before it runs, and which constraints it breaks (empty: feasible).
+struct Geometry {
+  long spheres = 0;
+  double height = 0.0;      // m
+  double areal_mass = 0.0;  // kg/m^2
+  std::vector<std::string> violations;
+  double violation = 0.0;   // the sum of each broken constraint's excess over its bound, relative
+};
+Geometry measure(const Space& space, const model::StackSpec& spec);
+
+// One spelling per design: per-interface ratios that are all equal become the one radius_ratio,
+// per-block rows that are all equal the one rows (as a spec file reads a one-entry list), so
+// the same stack always has the same digest.
+model::StackSpec canonical(model::StackSpec spec);
+// The canonical digest of a spec (SHA-256 of its manifest JSON): the store's key.
+std::string spec_digest(const model::StackSpec& spec);
+// "steel/teflon/steel, ratios 2/3, rows 8/8/4": a design in one line.
+std::string describe(const model::StackSpec& spec);
+
+}  // namespace granstack::design

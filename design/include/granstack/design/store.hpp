@@ -1,0 +1,92 @@
+#pragma once
+// The design store: one SQLite file holding every evaluation of a search (keyed by the canonical
+// digest of the design's spec, so no design is run twice), every generation's population and
+// hypervolume (a killed search resumes from its last finished generation), and the LIGGGHTS
+// confirmations. Users may query it with sqlite3 or pandas (docs/design.md gives the tables).
+#include <granstack/model/spec.hpp>
+
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+struct sqlite3;
+
+namespace granstack::design {
+
+struct Evaluation {
+  std::string digest;       // spec_digest
+  std::string description;  // describe()
+  model::StackSpec spec;
+  long spheres = 0;
+  bool feasible = true;
+  std::string violations;   // the broken constraints, when not feasible
+  std::optional<double> output_fraction, peak_wall_force;
+  // With a free bottom: the output sphere had left every contact when the run ended, so its
+  // output fraction is final (refsim::InSituResult::output_separated).
+  bool output_separated = true;
+  double areal_mass = 0.0;  // kg/m^2
+  double height = 0.0;      // m
+  double seconds = 0.0;     // wall time of the refsim run
+  bool searched = true;     // the search asked for it (not only a study design placed beside the front)
+};
+
+struct Generation {
+  int index = 0;                            // 0 = the initial population
+  std::vector<std::vector<double>> population;  // decision vectors
+  std::vector<std::string> digests;         // their designs, in the same order
+  double hypervolume = 0.0;                 // of the feasible front, against Store::reference_point
+  int evaluations = 0;                      // refsim runs this generation needed (new designs)
+};
+
+struct Confirmation {
+  std::string digest;
+  std::string case_dir;
+  double liggghts_output_fraction = 0.0;
+  std::optional<double> liggghts_peak_wall_force;
+  double largest_difference = 0.0;          // validate's, of the two engines' runs
+  std::string verdict;                      // "agree" or "DISAGREE"
+};
+
+class StoreError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Store {
+ public:
+  // Opens (creates when missing) the store at `path` for the space whose digest is
+  // `space_digest`; refuses one written for another space (StoreError naming both).
+  static Store open(const std::string& path, const std::string& space_digest, const std::string& space_text);
+  // Opens an existing store to read (design status, report); StoreError when it is missing.
+  static Store open_existing(const std::string& path);
+  Store(Store&&) noexcept;
+  ~Store();
+
+  std::optional<Evaluation> find(const std::string& digest) const;
+  void put(const Evaluation& e);  // thread-safe
+  std::vector<Evaluation> evaluations() const;  // the searched ones, in the order they were stored
+  // The study's designs placed beside the front (search.hpp, study_designs), by name.
+  std::vector<std::pair<std::string, Evaluation>> study_designs() const;
+  void put_study_design(const std::string& name, const std::string& digest);
+
+  void put_generation(const Generation& g);
+  std::optional<Generation> last_generation() const;
+  std::vector<Generation> generations() const;
+
+  void put_confirmation(const Confirmation& c);
+  std::vector<Confirmation> confirmations() const;
+
+  // Small named values: the space's digest and text, the hypervolume's reference point.
+  std::optional<std::string> meta(const std::string& key) const;
+  void set_meta(const std::string& key, const std::string& value);
+
+ private:
+  explicit Store(sqlite3* db);
+  void exec(const std::string& sql) const;
+  sqlite3* db_ = nullptr;
+  std::unique_ptr<std::mutex> mutex_;
+};
+
+}  // namespace granstack::design

@@ -1,0 +1,121 @@
+#include <granstack/design/search.hpp>
+#include <granstack/generator/case_writer.hpp>
+#include <granstack/refsim/case_run.hpp>
+#include <granstack/refsim/in_situ.hpp>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <map>
+#include <thread>
+
+namespace granstack::design {
+
+Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway) {
+  Evaluation e;
+  e.spec = spec;
+  e.digest = spec_digest(spec);
+  e.description = describe(spec);
+  const auto g = measure(space, spec);
+  e.spheres = g.spheres;
+  e.height = g.height;
+  e.areal_mass = g.areal_mass;
+  e.feasible = g.violations.empty();
+  e.violations = fmt::format("{}", fmt::join(g.violations, "; "));
+  if (!e.feasible && !run_anyway) return e;
+  const auto stack = model::Stack::build(spec);
+  // The particles exactly as a generated case's data file gives them to refsim.
+  auto particles = refsim::particles_from(generator::data_file(stack, "design"));
+  const auto r = refsim::run_in_situ(stack, std::move(particles));
+  if (spec.bottom == model::Boundary::free_surface) {
+    e.output_fraction = r.output_fraction;
+    e.output_separated = r.output_separated;
+  }
+  e.peak_wall_force = r.peak_wall_force;
+  e.seconds = r.seconds;
+  return e;
+}
+
+Evaluation Evaluator::run_one(const model::StackSpec& spec) const { return evaluate_design(space_, spec); }
+
+std::vector<Evaluation> Evaluator::evaluate(const std::vector<model::StackSpec>& specs, int jobs,
+                                            const std::function<void(int, int)>& on_done) {
+  std::vector<Evaluation> out(specs.size());
+  std::map<std::string, std::vector<std::size_t>> missing;  // digest -> the indices wanting it
+  std::vector<std::size_t> to_run;
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    const auto digest = spec_digest(specs[i]);
+    if (auto e = store_.find(digest)) {
+      if (!e->searched) {  // run before as one of the study's designs: the search has now asked for it too
+        e->searched = true;
+        store_.put(*e);
+      }
+      out[i] = std::move(*e);
+    } else {
+      auto& wanting = missing[digest];
+      if (wanting.empty()) to_run.push_back(i);
+      wanting.push_back(i);
+    }
+  }
+  std::atomic<std::size_t> next{0};
+  std::atomic<int> finished{0};
+  std::mutex progress;
+  std::exception_ptr error;
+  auto worker = [&] {
+    for (std::size_t k; (k = next.fetch_add(1)) < to_run.size();) {
+      try {
+        auto e = run_one(specs[to_run[k]]);
+        store_.put(e);
+        for (const auto i : missing[e.digest]) out[i] = e;
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(progress);
+        if (!error) error = std::current_exception();
+        next = to_run.size();
+      }
+      const int done = ++finished;
+      const std::lock_guard<std::mutex> lock(progress);
+      if (on_done) on_done(done, static_cast<int>(to_run.size()));
+    }
+  };
+  std::vector<std::thread> threads;
+  const int n = std::max(1, std::min<int>(jobs, static_cast<int>(to_run.size())));
+  for (int t = 1; t < n; ++t) threads.emplace_back(worker);
+  worker();
+  for (auto& t : threads) t.join();
+  if (error) std::rethrow_exception(error);
+  runs_ += static_cast<int>(to_run.size());
+  return out;
+}
+
+std::optional<double> objective_value(const Evaluation& e, Objective o) {
+  switch (o) {
+    case Objective::output_fraction: return e.output_fraction;
+    case Objective::peak_wall_force: return e.peak_wall_force;
+    case Objective::areal_mass: return e.areal_mass;
+    case Objective::height: return e.height;
+  }
+  return std::nullopt;
+}
+
+std::vector<double> Evaluator::fitness(const Evaluation& e) const {
+  if (!e.feasible) {
+    // The further outside the constraints, the worse: the search is led back into them.
+    const double penalty = kInfeasible * (1.0 + measure(space_, e.spec).violation);
+    return std::vector<double>(space_.objectives.size(), penalty);
+  }
+  std::vector<double> f;
+  for (const auto o : space_.objectives) {
+    const auto v = objective_value(e, o);
+    if (!v || !std::isfinite(*v)) {
+      throw std::runtime_error(fmt::format("design {} ({}): no finite {} was measured", e.digest.substr(0, 12),
+                                           e.description, to_string(o)));
+    }
+    f.push_back(*v);
+  }
+  return f;
+}
+
+}  // namespace granstack::design

@@ -1,0 +1,361 @@
+#include <granstack/design/report.hpp>
+#include <granstack/formats/files.hpp>
+#include <granstack/generator/case_writer.hpp>
+#include <granstack/model/spec_fields.hpp>
+#include <granstack/model/version.hpp>
+#include <granstack/postproc/compare.hpp>
+#include <granstack/postproc/document.hpp>
+#include <granstack/postproc/plot.hpp>
+#include <granstack/postproc/reduce.hpp>
+#include <granstack/runner/runner.hpp>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <ctime>
+#include <sstream>
+
+namespace granstack::design {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+std::string value_text(std::optional<double> v) { return v ? fmt::format("{:.4g}", *v) : "-"; }
+
+std::vector<std::string> objective_cells(const Space& space, const Evaluation& e) {
+  std::vector<std::string> cells;
+  for (const auto o : space.objectives) cells.push_back(value_text(objective_value(e, o)));
+  return cells;
+}
+
+std::vector<std::string> objective_headers(const Space& space) {
+  std::vector<std::string> h;
+  for (const auto o : space.objectives) h.push_back(fmt::format("{} ({})", to_string(o), unit_of(o)));
+  return h;
+}
+
+// The first design of the front at most as heavy (areal mass) as `e`, least in the first other
+// objective: how much better the search does at equal or lower mass.
+std::string versus_front(const Space& space, const Evaluation& e, const std::vector<Evaluation>& front) {
+  const auto first = space.objectives.front();
+  const auto mine = objective_value(e, first);
+  if (!mine || first == Objective::areal_mass) return "-";
+  const Evaluation* best = nullptr;
+  for (const auto& f : front) {
+    if (f.areal_mass > e.areal_mass) continue;
+    if (best == nullptr || *objective_value(f, first) < *objective_value(*best, first)) best = &f;
+  }
+  if (best == nullptr) return "no front design is as light";
+  const double ratio = *mine / *objective_value(*best, first);
+  return fmt::format("{} at {:.4g} kg/m^2: {} {:.4g}, {:.3g} times less", best->description, best->areal_mass,
+                     to_string(first), *objective_value(*best, first), ratio);
+}
+
+std::string run_line(const Space& space, const Store& store) {
+  const auto gens = store.generations();
+  const auto all = store.evaluations();
+  double seconds = 0.0;
+  for (const auto& e : all) seconds += e.seconds;
+  std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+  return fmt::format("granstack {} ({}), {}. NSGA-II (pagmo2), population {}, generations 0 to {}, seed {}; {} designs "
+                     "evaluated in situ on refsim ({:.1f} s of refsim in all). Space digest {}.",
+                     granstack::version(), granstack::git_commit(), date, space.search.population, gens.empty() ? 0 : gens.back().index,
+                     space.search.seed, all.size(), seconds, space.digest().substr(0, 12));
+}
+
+postproc::Table space_table(const Space& space) {
+  postproc::Table t{"The design space", {"what", "values"}, {}};
+  t.rows.push_back({"blocks", fmt::format("{} to {}", space.min_blocks, space.max_blocks)});
+  t.rows.push_back({"materials (per block)", fmt::format("{}", fmt::join(space.materials, ", "))});
+  t.rows.push_back({"radius ratio (per interface)", fmt::format("{}", fmt::join(space.radius_ratios, ", "))});
+  t.rows.push_back({"rows (per block)", fmt::format("{} to {}", space.min_rows, space.max_rows)});
+  t.rows.push_back({"footprint", fmt::format("{} top columns of radius {:.4g} m", space.fixed.top_columns, space.top_radius)});
+  t.rows.push_back({"striker", fmt::format("{} m/s", space.fixed.striker_speed)});
+  t.rows.push_back({"bottom", std::string(model::to_string(space.fixed.bottom))});
+  const auto& c = space.constraints;
+  t.rows.push_back({"constraints", fmt::format("spheres <= {}, height <= {} m, areal mass <= {} kg/m^2",
+                                               c.max_spheres ? std::to_string(*c.max_spheres) : "-", value_text(c.max_height),
+                                               value_text(c.max_areal_mass))});
+  return t;
+}
+
+postproc::Table front_table(const Space& space, const std::vector<Evaluation>& front) {
+  postproc::Table t{"The Pareto front: no other evaluated design is better in every objective", {"#", "design", "spheres"}, {}};
+  for (const auto& h : objective_headers(space)) t.header.push_back(h);
+  t.header.push_back("spec file");
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    std::vector<std::string> row{std::to_string(i + 1), front[i].description, std::to_string(front[i].spheres)};
+    for (auto& c : objective_cells(space, front[i])) row.push_back(std::move(c));
+    row.push_back(fmt::format("front/{:02}_{}.toml", i + 1, front[i].digest.substr(0, 8)));
+    t.rows.push_back(std::move(row));
+  }
+  return t;
+}
+
+postproc::Table study_table(const Space& space, const Store& store, const std::vector<Evaluation>& front) {
+  postproc::Table t{"The study's designs at the same footprint and settings, against the front", {"design", "layers", "within the constraints"}, {}};
+  for (const auto& h : objective_headers(space)) t.header.push_back(h);
+  t.header.push_back("the front's best at equal or lower areal mass");
+  for (const auto& [name, e] : store.study_designs()) {
+    std::vector<std::string> row{name, e.description, e.feasible ? "yes" : "no: " + e.violations};
+    for (auto& c : objective_cells(space, e)) row.push_back(std::move(c));
+    row.push_back(versus_front(space, e, front));
+    t.rows.push_back(std::move(row));
+  }
+  return t;
+}
+
+postproc::Table generations_table(const Store& store) {
+  postproc::Table t{"Hypervolume of each generation's front (against a reference point fixed at generation 0)",
+                    {"generation", "hypervolume", "new designs run"}, {}};
+  for (const auto& g : store.generations()) {
+    t.rows.push_back({std::to_string(g.index), fmt::format("{:.6g}", g.hypervolume), std::to_string(g.evaluations)});
+  }
+  return t;
+}
+
+postproc::Table confirmations_table(const Store& store) {
+  postproc::Table t{"The front's best re-run on LIGGGHTS (granstack design confirm)",
+                    {"design", "case", "LIGGGHTS output fraction", "LIGGGHTS peak wall force (N)", "validate: largest difference", "verdict"}, {}};
+  for (const auto& c : store.confirmations()) {
+    t.rows.push_back({c.digest.substr(0, 12), c.case_dir, fmt::format("{:.6g}", c.liggghts_output_fraction),
+                      value_text(c.liggghts_peak_wall_force), fmt::format("{:.3g}", c.largest_difference), c.verdict});
+  }
+  return t;
+}
+
+// A value for a log axis or a linear one: the objectives that span decades are drawn on a log axis.
+bool log_axis(Objective o) { return o == Objective::output_fraction || o == Objective::peak_wall_force; }
+
+std::string axis_label(Objective o) { return fmt::format("{} ({})", to_string(o), unit_of(o)); }
+
+// One pair of objectives: every feasible design (grey), the front coloured by N_B, the study's designs labelled.
+postproc::Figure pair_figure(const Store& store, const std::vector<Evaluation>& front, Objective x,
+                             Objective y, const fs::path& dir) {
+  std::string data = "# every feasible design: x y N_B\n";
+  for (const auto& e : store.evaluations()) {
+    if (e.feasible) data += fmt::format("{:.10g} {:.10g} {}\n", *objective_value(e, x), *objective_value(e, y), e.spec.blocks);
+  }
+  data += "\n\n# the front: x y N_B\n";
+  for (const auto& e : front) data += fmt::format("{:.10g} {:.10g} {}\n", *objective_value(e, x), *objective_value(e, y), e.spec.blocks);
+  data += "\n\n# the study's designs: x y name\n";
+  for (const auto& [name, e] : store.study_designs()) {
+    if (objective_value(e, x) && objective_value(e, y)) {
+      data += fmt::format("{:.10g} {:.10g} \"{}\"\n", *objective_value(e, x), *objective_value(e, y), name);
+    }
+  }
+  const auto name = fmt::format("{}_vs_{}", to_string(y), to_string(x));
+  postproc::PlotOptions o;
+  o.format = "svg";
+  const auto script = fmt::format(
+      "{}\nset output '{}.svg'\nset xlabel '{}'\nset ylabel '{}'\n{}{}set key outside right top\nset cblabel 'N_B'\n"
+      "set palette defined (1 '#1b9e77', 2 '#d95f02', 3 '#7570b3', 4 '#e7298a', 5 '#66a61e', 6 '#e6ab02')\n"
+      "plot '{}.dat' index 0 using 1:2 with points pt 7 ps 0.5 lc rgb '#c0c0c0' title 'evaluated', \\\n"
+      "     '' index 1 using 1:2:3 with points pt 7 ps 1.4 lc palette title 'front (colour: N_B)', \\\n"
+      "     '' index 2 using 1:2 with points pt 6 ps 2 lw 2 lc rgb 'black' title \"the study's designs\", \\\n"
+      "     '' index 2 using 1:2:3 with labels offset 1,1 left font 'Sans,18' notitle\n",
+      postproc::gnuplot_terminal(o), name, axis_label(x), axis_label(y), log_axis(x) ? "set logscale x\n" : "",
+      log_axis(y) ? "set logscale y\n" : "", name);
+  postproc::render_gnuplot(dir.string(), name, data, script, o);
+  return {name + ".svg", fmt::format("{} against {}: every feasible design evaluated (grey), the front coloured by the number "
+                                     "of blocks, the study's designs (circles)", to_string(y), to_string(x))};
+}
+
+postproc::Figure hypervolume_figure(const Store& store, const fs::path& dir) {
+  std::string data = "# generation hypervolume\n";
+  for (const auto& g : store.generations()) data += fmt::format("{} {:.10g}\n", g.index, g.hypervolume);
+  postproc::PlotOptions o;
+  o.format = "svg";
+  const auto script = fmt::format("{}\nset output 'hypervolume.svg'\nset xlabel 'generation'\nset ylabel 'hypervolume'\n"
+                                  "plot 'hypervolume.dat' using 1:2 with linespoints pt 7 notitle\n",
+                                  postproc::gnuplot_terminal(o));
+  postproc::render_gnuplot(dir.string(), "hypervolume", data, script, o);
+  return {"hypervolume.svg", "The hypervolume of each generation's front: it grows while the search still finds better designs"};
+}
+
+json evaluation_json(const Space& space, const Evaluation& e) {
+  json objectives = json::object();
+  for (const auto o : space.objectives) {
+    const auto v = objective_value(e, o);
+    objectives[std::string(to_string(o))] = v ? json(*v) : json(nullptr);
+  }
+  return {{"digest", e.digest}, {"description", e.description}, {"spheres", e.spheres}, {"feasible", e.feasible},
+          {"violations", e.violations}, {"objectives", objectives}, {"areal_mass", e.areal_mass}, {"height", e.height},
+          {"output_fraction", e.output_fraction ? json(*e.output_fraction) : json(nullptr)},
+          {"peak_wall_force", e.peak_wall_force ? json(*e.peak_wall_force) : json(nullptr)}, {"spec", model::spec_json(e.spec)}};
+}
+
+json report_json(const Space& space, const Store& store, const std::vector<Evaluation>& front) {
+  json j = json::object();
+  j["granstack_version"] = std::string(granstack::version());
+  j["space_digest"] = space.digest();
+  for (const char* key : {"front", "study_designs", "generations", "confirmations"}) j[key] = json::array();
+  for (const auto& e : front) j["front"].push_back(evaluation_json(space, e));
+  for (const auto& [name, e] : store.study_designs()) {
+    auto s = evaluation_json(space, e);
+    s["name"] = name;
+    j["study_designs"].push_back(s);
+  }
+  for (const auto& g : store.generations()) j["generations"].push_back({{"generation", g.index}, {"hypervolume", g.hypervolume}, {"new_designs", g.evaluations}});
+  for (const auto& c : store.confirmations()) {
+    j["confirmations"].push_back({{"digest", c.digest}, {"case", c.case_dir}, {"liggghts_output_fraction", c.liggghts_output_fraction},
+                                  {"liggghts_peak_wall_force", c.liggghts_peak_wall_force ? json(*c.liggghts_peak_wall_force) : json(nullptr)},
+                                  {"largest_difference", c.largest_difference}, {"verdict", c.verdict}});
+  }
+  j["evaluations"] = store.evaluations().size();
+  return j;
+}
+
+void write_front_specs(const std::vector<Evaluation>& front, const fs::path& dir) {
+  fs::create_directories(dir / "front");
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    const auto path = dir / "front" / fmt::format("{:02}_{}.toml", i + 1, front[i].digest.substr(0, 8));
+    formats::write_file_atomically(path, fmt::format("# granstack design: front design {} ({}); run it with\n#   granstack "
+                                                     "generate --config {} -o CASE && granstack run CASE\n{}",
+                                                     i + 1, front[i].description, path.filename().string(), spec_toml(front[i].spec)));
+  }
+}
+
+// A JSON value as a TOML node (the manifest's spec JSON has the spec file's shapes).
+std::unique_ptr<toml::node> toml_of(const json& v) {
+  if (v.is_boolean()) return std::make_unique<toml::value<bool>>(v.get<bool>());
+  if (v.is_number_integer()) return std::make_unique<toml::value<std::int64_t>>(v.get<std::int64_t>());
+  if (v.is_number()) return std::make_unique<toml::value<double>>(v.get<double>());
+  if (v.is_string()) return std::make_unique<toml::value<std::string>>(v.get<std::string>());
+  if (v.is_array()) {
+    auto a = std::make_unique<toml::array>();
+    for (const auto& e : v) {
+      if (auto n = toml_of(e)) a->push_back(std::move(*n));
+    }
+    return a;
+  }
+  if (v.is_object()) {
+    auto t = std::make_unique<toml::table>();
+    for (const auto& [k, e] : v.items()) {
+      if (auto n = toml_of(e)) t->insert(k, std::move(*n));
+    }
+    return t;
+  }
+  return nullptr;  // null: the field keeps its default
+}
+
+}  // namespace
+
+std::string spec_toml(const model::StackSpec& spec) {
+  auto j = model::spec_json(spec);
+  // The manifest keeps a field's default beside the one that replaces it (rows beside
+  // block_rows); a spec file may give only one of them.
+  for (const auto& f : model::spec_fields()) {
+    if (!f.conflicts_with.empty() && j.contains(f.name)) j.erase(f.conflicts_with);
+  }
+  const auto t = toml_of(j);
+  std::ostringstream os;
+  os << *t->as_table() << "\n";
+  return os.str();
+}
+
+void evaluate_study_designs(const Space& space, Store& store) {
+  for (const auto& [name, spec] : study_designs(space)) {
+    const auto digest = spec_digest(spec);
+    if (!store.find(digest)) {
+      auto e = evaluate_design(space, spec, true);
+      e.searched = false;
+      store.put(e);
+    }
+    store.put_study_design(name, digest);
+  }
+}
+
+std::string status_text(const Space& space, const Store& store) {
+  const auto all = store.evaluations();
+  const auto gens = store.generations();
+  const auto front = pareto_front(space, all);
+  const auto feasible = std::count_if(all.begin(), all.end(), [](const auto& e) { return e.feasible; });
+  std::string out = fmt::format("{} of {} generations done; {} designs evaluated ({} within the constraints); the front holds {}\n",
+                                gens.empty() ? 0 : gens.back().index + 1, space.search.generations + 1, all.size(), feasible,
+                                front.size());
+  if (!gens.empty()) out += fmt::format("hypervolume: {:.6g} at generation 0, {:.6g} at generation {}\n", gens.front().hypervolume, gens.back().hypervolume, gens.back().index);
+  const auto headers = objective_headers(space);
+  for (std::size_t i = 0; i < std::min<std::size_t>(front.size(), 10); ++i) {
+    std::vector<std::string> values;
+    const auto cells = objective_cells(space, front[i]);
+    for (std::size_t k = 0; k < cells.size(); ++k) values.push_back(fmt::format("{} {}", to_string(space.objectives[k]), cells[k]));
+    out += fmt::format("  {:>2}. {}  ({})\n", i + 1, front[i].description, fmt::join(values, ", "));
+  }
+  return out;
+}
+
+fs::path write_report(const Space& space, const Store& store, const fs::path& dir) {
+  fs::create_directories(dir);
+  const auto front = pareto_front(space, store.evaluations());
+  std::vector<postproc::Block> d;
+  d.push_back(postproc::Heading{1, "granstack design: the search's front", "top"});
+  d.push_back(postproc::Paragraph{run_line(space, store)});
+  d.push_back(space_table(space));
+  d.push_back(postproc::Heading{2, "The front", "front"});
+  d.push_back(front_table(space, front));
+  d.push_back(postproc::Heading{2, "The study's designs", "study"});
+  d.push_back(study_table(space, store, front));
+  d.push_back(postproc::Heading{2, "Figures", "figures"});
+  for (std::size_t i = 0; i < space.objectives.size(); ++i) {
+    for (std::size_t k = i + 1; k < space.objectives.size(); ++k) {
+      d.push_back(pair_figure(store, front, space.objectives[k], space.objectives[i], dir));
+    }
+  }
+  d.push_back(postproc::Heading{2, "Convergence", "convergence"});
+  d.push_back(generations_table(store));
+  d.push_back(hypervolume_figure(store, dir));
+  if (!store.confirmations().empty()) {
+    d.push_back(postproc::Heading{2, "Confirmed on LIGGGHTS", "confirmed"});
+    d.push_back(confirmations_table(store));
+  }
+  write_front_specs(front, dir);
+  formats::write_file_atomically(dir / "design.md", postproc::markdown(d));
+  formats::write_file_atomically(dir / "design.html", postproc::html(d, dir, "granstack design"));
+  formats::write_file_atomically(dir / "design.json", report_json(space, store, front).dump(2) + "\n");
+  return dir / "design.html";
+}
+
+std::vector<Confirmation> confirm_front(const Space& space, Store& store, const fs::path& dir, int top,
+                                        const std::function<void(const std::string&)>& on_progress) {
+  auto front = pareto_front(space, store.evaluations());
+  if (front.size() > static_cast<std::size_t>(top)) front.resize(static_cast<std::size_t>(top));
+  std::vector<std::string> dirs;
+  for (const auto& e : front) {
+    generator::GenerateOptions o;
+    o.output = dir / e.digest.substr(0, 12);
+    o.force = true;  // replaces only a case granstack made
+    generator::generate({{e.digest.substr(0, 12), e.spec}}, o);
+    dirs.push_back(o.output.string());
+  }
+  for (const auto engine : {runner::Engine::liggghts, runner::Engine::refsim}) {
+    runner::RunOptions o;
+    o.on_progress = [&](const runner::ProgressSnapshot& s) {
+      if (on_progress) on_progress(fmt::format("confirm: {} runs {} of {}", runner::to_string(engine), s.finished, s.total));
+    };
+    for (const auto& r : runner::run_copies(dirs, engine, o)) {
+      if (r.status == runner::RunStatus::failed) throw std::runtime_error(fmt::format("{}: {}", r.case_dir, r.message));
+    }
+  }
+  std::vector<Confirmation> out;
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    const auto liggghts = runner::copy_dir(dirs[i], runner::Engine::liggghts), refsim = runner::copy_dir(dirs[i], runner::Engine::refsim);
+    const auto c = postproc::compare_runs(liggghts, refsim);
+    postproc::ReduceOptions quiet;
+    quiet.write_files = false;
+    const auto r = postproc::reduce_case(liggghts, quiet);
+    out.push_back({front[i].digest, dirs[i], r.output_fraction, r.peak_wall_force, c.worst(),
+                   c.worst() <= postproc::kDefaultTolerance ? "agree" : "DISAGREE"});
+    store.put_confirmation(out.back());
+  }
+  return out;
+}
+
+}  // namespace granstack::design

@@ -1,0 +1,182 @@
+#include <granstack/design/search.hpp>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <pagmo/algorithms/nsga2.hpp>
+#include <pagmo/batch_evaluators/member_bfe.hpp>
+#include <pagmo/bfe.hpp>
+#include <pagmo/population.hpp>
+#include <pagmo/problem.hpp>
+#include <pagmo/utils/hypervolume.hpp>
+#include <pagmo/utils/multi_objective.hpp>
+
+#include <algorithm>
+#include <memory>
+
+namespace granstack::design {
+
+namespace {
+
+// What the pagmo problem evaluates with: the space, the evaluator and the batch's progress.
+struct Context {
+  const Space* space = nullptr;
+  Evaluator* evaluator = nullptr;
+  int jobs = 1;
+  int generation = 0;
+  const SearchOptions* options = nullptr;
+
+  std::vector<model::StackSpec> decode(const pagmo::vector_double& dvs) const {
+    const std::size_t n = space->genes();
+    std::vector<model::StackSpec> specs;
+    for (std::size_t at = 0; at + n <= dvs.size(); at += n) {
+      specs.push_back(space->decode(std::vector<double>(dvs.begin() + static_cast<long>(at), dvs.begin() + static_cast<long>(at + n))));
+    }
+    return specs;
+  }
+  pagmo::vector_double fitnesses(const pagmo::vector_double& dvs) const {
+    const auto evaluations = evaluator->evaluate(decode(dvs), jobs, [&](int done, int total) {
+      if (options->on_progress) options->on_progress(generation, done, total);
+    });
+    pagmo::vector_double out;
+    for (const auto& e : evaluations) {
+      const auto f = evaluator->fitness(e);
+      out.insert(out.end(), f.begin(), f.end());
+    }
+    return out;
+  }
+};
+
+// The pagmo problem: whole-number genes (Space::decode), the space's objectives, evaluated a
+// batch at a time (member_bfe calls batch_fitness with a generation's new individuals).
+struct DesignProblem {
+  std::shared_ptr<Context> context;
+  pagmo::vector_double fitness(const pagmo::vector_double& x) const { return context->fitnesses(x); }
+  pagmo::vector_double batch_fitness(const pagmo::vector_double& dvs) const { return context->fitnesses(dvs); }
+  bool has_batch_fitness() const { return true; }
+  std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const { return context->space->bounds(); }
+  pagmo::vector_double::size_type get_nobj() const { return context->space->objectives.size(); }
+  pagmo::vector_double::size_type get_nix() const { return context->space->genes(); }
+  std::string get_name() const { return "granstack design"; }
+};
+
+// Each generation's own seed, from the search's: a resumed search draws what an uninterrupted one would.
+unsigned generation_seed(std::uint64_t seed, int generation) {
+  return static_cast<unsigned>((seed * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(generation) * 0xBF58476D1CE4E5B9ULL) >> 32);
+}
+
+std::vector<double> reference_point(const Space& space, Store& store, const std::vector<Evaluation>& first) {
+  if (const auto saved = store.meta("reference_point")) return nlohmann::json::parse(*saved).get<std::vector<double>>();
+  // 1.1 times the worst feasible value of the first generation in each objective, fixed from then
+  // on, so that every generation's hypervolume is measured against the same point.
+  std::vector<double> ref(space.objectives.size(), 0.0);
+  bool any = false;
+  for (const auto& e : first) {
+    if (!e.feasible) continue;
+    any = true;
+    for (std::size_t k = 0; k < ref.size(); ++k) ref[k] = std::max(ref[k], *objective_value(e, space.objectives[k]));
+  }
+  for (auto& r : ref) r = any ? 1.1 * r : kInfeasible;
+  store.set_meta("reference_point", nlohmann::json(ref).dump());
+  return ref;
+}
+
+Generation record(const Space& space, Store& store, const pagmo::population& pop, int index, int runs) {
+  Generation g;
+  g.index = index;
+  g.evaluations = runs;
+  std::vector<Evaluation> members;
+  for (const auto& x : pop.get_x()) {
+    g.population.push_back(x);
+    const auto spec = space.decode(x);
+    g.digests.push_back(spec_digest(spec));
+    if (auto e = store.find(g.digests.back())) members.push_back(std::move(*e));
+  }
+  g.hypervolume = hypervolume(space, members, reference_point(space, store, members));
+  store.put_generation(g);
+  return g;
+}
+
+}  // namespace
+
+std::vector<Evaluation> pareto_front(const Space& space, const std::vector<Evaluation>& all) {
+  std::vector<Evaluation> feasible;
+  std::vector<pagmo::vector_double> points;
+  for (const auto& e : all) {
+    if (!e.feasible) continue;
+    pagmo::vector_double p;
+    for (const auto o : space.objectives) p.push_back(*objective_value(e, o));
+    feasible.push_back(e);
+    points.push_back(p);
+  }
+  std::vector<Evaluation> front;
+  if (points.empty()) return front;
+  const auto fronts = std::get<0>(pagmo::fast_non_dominated_sorting(points));
+  for (const auto i : fronts.front()) front.push_back(feasible[i]);
+  const auto first = space.objectives.front();
+  std::sort(front.begin(), front.end(), [&](const auto& a, const auto& b) { return *objective_value(a, first) < *objective_value(b, first); });
+  return front;
+}
+
+double hypervolume(const Space& space, const std::vector<Evaluation>& all, const std::vector<double>& reference) {
+  std::vector<pagmo::vector_double> points;
+  for (const auto& e : pareto_front(space, all)) {
+    pagmo::vector_double p;
+    for (const auto o : space.objectives) p.push_back(*objective_value(e, o));
+    bool inside = true;
+    for (std::size_t k = 0; k < p.size(); ++k) inside = inside && p[k] < reference[k];
+    if (inside) points.push_back(p);
+  }
+  if (points.empty()) return 0.0;
+  return pagmo::hypervolume(points, false).compute(reference);
+}
+
+std::vector<std::pair<std::string, model::StackSpec>> study_designs(const Space& space) {
+  const auto design = [&](std::vector<std::string> materials) {
+    model::StackSpec s = space.fixed;
+    s.blocks = static_cast<int>(materials.size());
+    s.materials = std::move(materials);
+    s.block_rows.assign(static_cast<std::size_t>(s.blocks), 8);
+    s.radius_ratios.assign(static_cast<std::size_t>(s.blocks - 1), 2);
+    s.bottom_radius = space.top_radius / std::pow(2.0, s.blocks - 1);
+    return canonical(std::move(s));
+  };
+  return {{"four steel blocks", design({"steel", "steel", "steel", "steel"})},
+          {"steel over Teflon", design({"steel", "teflon"})},
+          {"the sandwich (steel / Teflon / steel)", design({"steel", "teflon", "steel"})}};
+}
+
+SearchResult run_search(const Space& space, Store& store, const SearchOptions& options) {
+  Evaluator evaluator(space, store);
+  auto context = std::make_shared<Context>(Context{&space, &evaluator, options.jobs, 0, &options});
+  pagmo::problem problem{DesignProblem{context}};
+  const pagmo::bfe batch{pagmo::member_bfe{}};
+  SearchResult result;
+  pagmo::population pop;
+  const auto last = store.last_generation();
+  if (last) {
+    // Resume: the last finished generation's population, its fitness from the store.
+    pop = pagmo::population(problem, 0u, generation_seed(space.search.seed, last->index));
+    for (const auto& x : last->population) pop.push_back(x, problem.fitness(x));
+    result.first_generation = last->index + 1;
+  } else {
+    const auto size = static_cast<pagmo::population::size_type>(space.search.population);
+    pop = pagmo::population(problem, batch, size, generation_seed(space.search.seed, 0));
+    const auto g = record(space, store, pop, 0, evaluator.runs());
+    if (options.on_generation) options.on_generation(g);
+    result.first_generation = 1;
+  }
+  for (int gen = result.first_generation; gen <= space.search.generations; ++gen) {
+    context->generation = gen;
+    const int before = evaluator.runs();
+    pagmo::nsga2 algorithm(1u, 0.95, 10., 1.0 / static_cast<double>(space.genes()), 50., generation_seed(space.search.seed, gen));
+    algorithm.set_bfe(batch);
+    pop = algorithm.evolve(pop);
+    const auto g = record(space, store, pop, gen, evaluator.runs() - before);
+    if (options.on_generation) options.on_generation(g);
+    result.last_generation = gen;
+  }
+  result.runs = evaluator.runs();
+  return result;
+}
+
+}  // namespace granstack::design

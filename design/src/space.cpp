@@ -1,0 +1,393 @@
+#include <granstack/design/space.hpp>
+#include <granstack/formats/digest.hpp>
+#include <granstack/generator/spec_input.hpp>
+#include <granstack/model/spec_fields.hpp>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace granstack::design {
+
+namespace {
+constexpr std::array<std::pair<Objective, const char*>, 4> kObjectives{{{Objective::output_fraction, "output_fraction"},
+                                                                        {Objective::peak_wall_force, "peak_wall_force"},
+                                                                        {Objective::areal_mass, "areal_mass"},
+                                                                        {Objective::height, "height"}}};
+// The spec fields a design varies: [fixed] may not set them.
+const std::vector<std::string> kVaried{"blocks", "rows", "block_rows", "materials", "radius_ratio", "bottom_radius"};
+// The study's top block (8 rows of 8 mm spheres over 4 blocks with a 1 mm bottom radius).
+constexpr double kDefaultTopRadius = 8e-3;
+constexpr const char* kStudyMaterial = "steel";
+
+std::string joined(const std::vector<std::string>& v) { return fmt::format("{}", fmt::join(v, ", ")); }
+
+// A whole number or a [min, max] pair, into lo..hi.
+void int_range(const toml::table& t, const char* key, int& lo, int& hi, int floor, int ceiling,
+               std::vector<std::string>& problems) {
+  const auto* n = t.get(key);
+  if (n == nullptr) {
+    problems.push_back(fmt::format("[vary] {} is missing: give a whole number or [min, max]", key));
+    return;
+  }
+  if (const auto v = n->value<std::int64_t>()) {
+    lo = hi = static_cast<int>(*v);
+  } else if (const auto* a = n->as_array(); a != nullptr && a->size() == 2 && a->get(0)->value<std::int64_t>() &&
+                                            a->get(1)->value<std::int64_t>()) {
+    lo = static_cast<int>(*a->get(0)->value<std::int64_t>());
+    hi = static_cast<int>(*a->get(1)->value<std::int64_t>());
+  } else {
+    problems.push_back(fmt::format("[vary] {}: a whole number or [min, max] of whole numbers", key));
+    return;
+  }
+  if (lo > hi) problems.push_back(fmt::format("[vary] {} = [{}, {}]: the minimum is above the maximum", key, lo, hi));
+  if (lo < floor || hi > ceiling) problems.push_back(fmt::format("[vary] {}: from {} to {}", key, floor, ceiling));
+}
+
+template <typename T>
+std::vector<T> list_of(const toml::table& t, const char* key, std::vector<std::string>& problems) {
+  std::vector<T> out;
+  const auto* a = t.get_as<toml::array>(key);
+  if (a == nullptr) {
+    problems.push_back(fmt::format("[vary] {}: a list is needed", key));
+    return out;
+  }
+  for (const auto& e : *a) {
+    if (const auto v = e.value<T>()) {
+      out.push_back(*v);
+    } else {
+      problems.push_back(fmt::format("[vary] {}: every entry must be a {}", key, std::is_same_v<T, std::string> ? "name" : "whole number"));
+    }
+  }
+  if (out.empty()) problems.push_back(fmt::format("[vary] {} is empty: nothing to choose from", key));
+  return out;
+}
+
+void read_fixed(const toml::table* fixed, const std::string& source, Space& s, std::vector<std::string>& problems) {
+  toml::table spec = fixed != nullptr ? *fixed : toml::table{};
+  if (const auto* r = spec.get("top_radius")) {
+    if (const auto v = r->value<double>(); v && *v > 0) s.top_radius = *v;
+    else problems.push_back("[fixed] top_radius: a radius in m, > 0");
+    spec.erase("top_radius");
+  }
+  for (const auto& key : kVaried) {
+    if (spec.contains(key)) problems.push_back(fmt::format("[fixed] {}: the search varies it; set its range in [vary] instead", key));
+    spec.erase(key);
+  }
+  std::ostringstream os;
+  os << spec;
+  try {
+    const auto sweep = generator::build_sweep(generator::parse_spec_toml(os.str(), source + " [fixed]"));
+    if (!sweep.axes.empty()) problems.push_back(fmt::format("[fixed] {}: one value, not a list (a design space is not a sweep)", sweep.axes.front().field));
+    s.fixed = sweep.base;
+    // The striker and the wall belong to the test, not the design: they stay the study's steel
+    // unless fixed otherwise (left empty they would follow the top and bottom blocks).
+    if (s.fixed.striker_material.empty()) s.fixed.striker_material = kStudyMaterial;
+    if (s.fixed.wall_material.empty()) s.fixed.wall_material = kStudyMaterial;
+  } catch (const model::SpecError& e) {
+    for (const auto& i : e.issues()) problems.push_back(fmt::format("[fixed] {}: {}", i.field, i.message));
+  }
+}
+
+void read_vary(const toml::table* vary, Space& s, std::vector<std::string>& problems) {
+  if (vary == nullptr) {
+    problems.push_back("[vary] is missing: give blocks, materials, radius_ratio and rows");
+    return;
+  }
+  for (const auto& [k, v] : *vary) {
+    const std::string key(k.str());
+    if (key != "blocks" && key != "materials" && key != "radius_ratio" && key != "rows") {
+      problems.push_back(fmt::format("[vary] {}: unknown; the search varies blocks, materials, radius_ratio and rows", key));
+    }
+  }
+  int_range(*vary, "blocks", s.min_blocks, s.max_blocks, 1, 12, problems);
+  int_range(*vary, "rows", s.min_rows, s.max_rows, 1, 4096, problems);
+  s.materials = list_of<std::string>(*vary, "materials", problems);
+  for (const auto r : list_of<std::int64_t>(*vary, "radius_ratio", problems)) {
+    if (r < 1 || r > 16) problems.push_back(fmt::format("[vary] radius_ratio: {} is not a whole number from 1 to 16", r));
+    s.radius_ratios.push_back(static_cast<int>(r));
+  }
+  std::sort(s.radius_ratios.begin(), s.radius_ratios.end());
+  s.radius_ratios.erase(std::unique(s.radius_ratios.begin(), s.radius_ratios.end()), s.radius_ratios.end());
+  const auto lib = s.fixed.material_library();
+  for (const auto& m : s.materials) {
+    if (lib.find(m) == nullptr) {
+      problems.push_back(fmt::format("[vary] materials: '{}' is unknown; the built-in ones are {}, or define it under "
+                                     "[fixed.custom_materials.{}]", m, joined(model::MaterialLibrary::builtin().names()), m));
+    }
+  }
+}
+
+void read_objectives(const toml::table& root, Space& s, std::vector<std::string>& problems) {
+  const auto* a = root.get_as<toml::array>("objectives");
+  std::vector<std::string> names;
+  for (const auto& [o, name] : kObjectives) names.emplace_back(name);
+  if (a == nullptr) {
+    problems.push_back(fmt::format("objectives is missing: a list of two or more of {}", joined(names)));
+    return;
+  }
+  for (const auto& e : *a) {
+    const auto o = e.value<std::string>() ? parse_objective(*e.value<std::string>()) : std::nullopt;
+    if (!o) problems.push_back(fmt::format("objectives: '{}' is not one of {}", e.value_or<std::string>("?"), joined(names)));
+    else if (std::find(s.objectives.begin(), s.objectives.end(), *o) != s.objectives.end()) problems.push_back(fmt::format("objectives: {} twice", to_string(*o)));
+    else s.objectives.push_back(*o);
+  }
+  if (a->size() < 2) problems.push_back("objectives: at least two (the search is multi-objective; one objective has one best design, no front)");
+}
+
+// Objectives a geometry cannot measure.
+void check_measurable(const Space& s, std::vector<std::string>& problems) {
+  for (const auto o : s.objectives) {
+    if (o == Objective::output_fraction && s.fixed.bottom != model::Boundary::free_surface) {
+      problems.push_back("objectives: output_fraction needs a free bottom (the output sphere must leave); set [fixed] "
+                         "bottom = \"free\", or minimise peak_wall_force against the wall");
+    }
+    if (o == Objective::peak_wall_force && s.fixed.bottom != model::Boundary::wall) {
+      problems.push_back("objectives: peak_wall_force needs a bottom wall to measure; set [fixed] bottom = \"wall\"");
+    }
+  }
+  if (s.fixed.geometry == model::Geometry::panels) {
+    problems.push_back("[fixed] geometry = \"panels\": a container's designs are its panels' designs; search the strip "
+                       "(geometry = \"strip\") and set the winners side by side");
+  }
+}
+
+void read_constraints(const toml::table* c, Space& s, std::vector<std::string>& problems) {
+  if (c == nullptr) return;
+  for (const auto& [k, v] : *c) {
+    const std::string key(k.str());
+    const auto number = v.value<double>();
+    if (!number || !(*number > 0)) {
+      problems.push_back(fmt::format("[constraints] {}: a positive number", key));
+      continue;
+    }
+    if (key == "max_spheres") s.constraints.max_spheres = static_cast<long>(*number);
+    else if (key == "max_height") s.constraints.max_height = *number;
+    else if (key == "max_areal_mass") s.constraints.max_areal_mass = *number;
+    else problems.push_back(fmt::format("[constraints] {}: unknown; max_spheres, max_height (m) or max_areal_mass (kg/m^2)", key));
+  }
+}
+
+void read_search(const toml::table* t, Space& s, std::vector<std::string>& problems) {
+  if (t == nullptr) return;
+  for (const auto& [k, v] : *t) {
+    const std::string key(k.str());
+    const auto n = v.value<std::int64_t>();
+    if (!n || *n < 0) problems.push_back(fmt::format("[search] {}: a whole number >= 0", key));
+    else if (key == "population") s.search.population = static_cast<int>(*n);
+    else if (key == "generations") s.search.generations = static_cast<int>(*n);
+    else if (key == "seed") s.search.seed = static_cast<std::uint64_t>(*n);
+    else problems.push_back(fmt::format("[search] {}: unknown; population, generations or seed", key));
+  }
+  if (s.search.population < 8 || s.search.population % 4 != 0) {
+    problems.push_back(fmt::format("[search] population = {}: NSGA-II needs a multiple of 4, at least 8", s.search.population));
+  }
+}
+
+// The least any design in the space can have of each constrained measure: a contradictory space
+// (nothing meets its constraints) is refused before anything runs.
+void check_not_empty(const Space& s, std::vector<std::string>& problems) {
+  const auto lib = s.fixed.material_library();
+  std::string lightest = s.materials.front();
+  for (const auto& m : s.materials) {
+    if (lib.find(m) && lib.find(lightest) && lib.at(m).density < lib.at(lightest).density) lightest = m;
+  }
+  auto smallest = [&](int ratio, const std::string& material) {
+    std::vector<double> x(s.genes(), 0.0);
+    x[0] = s.min_blocks;
+    const auto r = std::find(s.radius_ratios.begin(), s.radius_ratios.end(), ratio) - s.radius_ratios.begin();
+    const auto m = std::find(s.materials.begin(), s.materials.end(), material) - s.materials.begin();
+    for (int k = 0; k < s.max_blocks; ++k) {
+      x[1 + static_cast<std::size_t>(k)] = static_cast<double>(m);
+      if (k + 1 < s.max_blocks) x[1 + static_cast<std::size_t>(s.max_blocks + k)] = static_cast<double>(r);
+      x[static_cast<std::size_t>(2 * s.max_blocks + k)] = s.min_rows;
+    }
+    return s.decode(x);
+  };
+  const auto fewest = measure(s, smallest(s.radius_ratios.front(), lightest));
+  const auto least = measure(s, smallest(s.radius_ratios.back(), lightest));
+  if (const auto issues = model::validate(smallest(s.radius_ratios.back(), lightest)); !issues.empty()) {
+    problems.push_back(fmt::format("the space's designs are not valid stacks: {}: {}", issues.front().field, issues.front().message));
+  }
+  const auto& c = s.constraints;
+  if (c.max_spheres && fewest.spheres > *c.max_spheres) {
+    problems.push_back(fmt::format("[constraints] max_spheres = {}: no design meets it (the fewest any has is {})", *c.max_spheres, fewest.spheres));
+  }
+  if (c.max_height && least.height > *c.max_height) {
+    problems.push_back(fmt::format("[constraints] max_height = {} m: no design meets it (the lowest is {:.4g} m)", *c.max_height, least.height));
+  }
+  if (c.max_areal_mass && least.areal_mass > *c.max_areal_mass) {
+    problems.push_back(fmt::format("[constraints] max_areal_mass = {} kg/m^2: no design meets it (the lightest is {:.4g})",
+                                   *c.max_areal_mass, least.areal_mass));
+  }
+}
+}  // namespace
+
+SpaceError::SpaceError(std::vector<std::string> problems)
+    : std::runtime_error(problems.empty() ? "bad design space" : problems.front()), problems_(std::move(problems)) {}
+
+std::string_view to_string(Objective o) {
+  for (const auto& [k, name] : kObjectives) {
+    if (k == o) return name;
+  }
+  return "?";
+}
+std::optional<Objective> parse_objective(std::string_view s) {
+  for (const auto& [k, name] : kObjectives) {
+    if (s == name) return k;
+  }
+  return std::nullopt;
+}
+std::string_view unit_of(Objective o) {
+  switch (o) {
+    case Objective::output_fraction: return "of E_in";
+    case Objective::peak_wall_force: return "N";
+    case Objective::areal_mass: return "kg/m^2";
+    case Objective::height: return "m";
+  }
+  return "";
+}
+
+std::pair<std::vector<double>, std::vector<double>> Space::bounds() const {
+  std::vector<double> lo(genes(), 0.0), hi(genes(), 0.0);
+  lo[0] = min_blocks;
+  hi[0] = max_blocks;
+  for (int k = 0; k < max_blocks; ++k) {
+    const auto m = static_cast<std::size_t>(1 + k), r = static_cast<std::size_t>(1 + max_blocks + k),
+               n = static_cast<std::size_t>(2 * max_blocks + k);
+    hi[m] = static_cast<double>(materials.size() - 1);
+    if (k + 1 < max_blocks) hi[r] = static_cast<double>(radius_ratios.size() - 1);
+    lo[n] = min_rows;
+    hi[n] = max_rows;
+  }
+  for (std::size_t i = 0; i < hi.size(); ++i) hi[i] = std::max(hi[i], lo[i] + 1.0);
+  return {lo, hi};
+}
+
+model::StackSpec Space::decode(const std::vector<double>& x) const {
+  auto gene = [&](std::size_t i) { return static_cast<int>(std::lround(x.at(i))); };
+  model::StackSpec s = fixed;
+  s.blocks = std::clamp(gene(0), min_blocks, max_blocks);
+  s.materials.clear();
+  s.radius_ratios.clear();
+  s.block_rows.clear();
+  const auto pick = [&](const auto& choices, std::size_t i) {
+    return choices.at(static_cast<std::size_t>(std::clamp(gene(i), 0, static_cast<int>(choices.size()) - 1)));
+  };
+  for (int k = 0; k < s.blocks; ++k) {
+    s.materials.push_back(pick(materials, static_cast<std::size_t>(1 + k)));
+    if (k + 1 < s.blocks) s.radius_ratios.push_back(pick(radius_ratios, static_cast<std::size_t>(1 + max_blocks + k)));
+    s.block_rows.push_back(std::clamp(gene(static_cast<std::size_t>(2 * max_blocks + k)), min_rows, max_rows));
+  }
+  // The footprint stays: R_1 = top_radius, so the bottom radius is R_1 over the ratios' product.
+  double factor = 1.0;
+  for (const int r : s.radius_ratios) factor *= r;
+  s.bottom_radius = top_radius / factor;
+  if (s.radius_ratios.empty()) s.radius_ratio = fixed.radius_ratio;
+  return canonical(std::move(s));
+}
+
+std::string Space::digest() const {
+  nlohmann::json j;
+  j["fixed"] = model::spec_json(fixed);
+  j["top_radius"] = top_radius;
+  j["blocks"] = {min_blocks, max_blocks};
+  j["rows"] = {min_rows, max_rows};
+  j["materials"] = materials;
+  j["radius_ratio"] = radius_ratios;
+  j["constraints"] = {{"max_spheres", constraints.max_spheres.value_or(0)},
+                      {"max_height", constraints.max_height.value_or(0.0)},
+                      {"max_areal_mass", constraints.max_areal_mass.value_or(0.0)}};
+  std::vector<std::string> objs;
+  for (const auto o : objectives) objs.emplace_back(to_string(o));
+  j["objectives"] = objs;
+  j["population"] = search.population;
+  j["seed"] = search.seed;
+  return formats::sha256_hex(j.dump());
+}
+
+Space parse_space(std::string_view text, const std::string& source) {
+  toml::table root;
+  try {
+    root = toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    throw std::runtime_error(fmt::format("{}:{}:{}: {}", source, e.source().begin.line, e.source().begin.column, e.description()));
+  }
+  std::vector<std::string> problems;
+  for (const auto& [k, v] : root) {
+    const std::string key(k.str());
+    if (key != "fixed" && key != "vary" && key != "constraints" && key != "objectives" && key != "search") {
+      problems.push_back(fmt::format("{}: unknown; a design space has [fixed], [vary], [constraints], objectives and [search]", key));
+    }
+  }
+  Space s;
+  s.top_radius = kDefaultTopRadius;
+  read_fixed(root.get_as<toml::table>("fixed"), source, s, problems);
+  read_vary(root.get_as<toml::table>("vary"), s, problems);
+  read_objectives(root, s, problems);
+  read_constraints(root.get_as<toml::table>("constraints"), s, problems);
+  read_search(root.get_as<toml::table>("search"), s, problems);
+  if (problems.empty()) check_measurable(s, problems);
+  if (problems.empty()) check_not_empty(s, problems);
+  if (!problems.empty()) throw SpaceError(std::move(problems));
+  return s;
+}
+
+Space read_space(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot read the design space", path));
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_space(ss.str(), path);
+}
+
+Geometry measure(const Space& space, const model::StackSpec& spec) {
+  Geometry g;
+  g.spheres = model::sphere_count(spec);
+  const auto stack = model::Stack::build(spec);
+  g.height = stack.lattice_height();
+  g.areal_mass = stack.areal_mass();
+  const auto& c = space.constraints;
+  auto check = [&](const char* name, double value, std::optional<double> bound) {
+    if (!bound || value <= *bound) return;
+    g.violations.push_back(fmt::format("{} {:.4g} > {:.4g}", name, value, *bound));
+    g.violation += (value - *bound) / *bound;
+  };
+  check("spheres", static_cast<double>(g.spheres),
+        c.max_spheres ? std::optional<double>(static_cast<double>(*c.max_spheres)) : std::nullopt);
+  check("height", g.height, c.max_height);
+  check("areal_mass", g.areal_mass, c.max_areal_mass);
+  return g;
+}
+
+model::StackSpec canonical(model::StackSpec spec) {
+  const auto same = [](const std::vector<int>& v) { return !v.empty() && std::all_of(v.begin(), v.end(), [&](int x) { return x == v.front(); }); };
+  if (same(spec.radius_ratios)) {
+    spec.radius_ratio = spec.radius_ratios.front();
+    spec.radius_ratios.clear();
+  }
+  if (same(spec.block_rows)) {
+    spec.rows = spec.block_rows.front();
+    spec.block_rows.clear();
+  }
+  return spec;
+}
+
+std::string spec_digest(const model::StackSpec& spec) { return formats::sha256_hex(model::spec_json(spec).dump()); }
+
+std::string describe(const model::StackSpec& spec) {
+  std::vector<int> rows;
+  for (int k = 1; k <= spec.blocks; ++k) rows.push_back(spec.rows_of(k));
+  std::vector<int> ratios;
+  for (int k = 1; k < spec.blocks; ++k) ratios.push_back(spec.ratio_below(k));
+  return fmt::format("{}, ratios {}, rows {}", fmt::join(spec.materials, "/"), ratios.empty() ? "-" : fmt::format("{}", fmt::join(ratios, "/")),
+                     fmt::join(rows, "/"));
+}
+
+}  // namespace granstack::design

@@ -1,0 +1,276 @@
+#include <granstack/design/store.hpp>
+#include <granstack/model/spec_fields.hpp>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <sqlite3.h>
+
+#include <filesystem>
+
+namespace granstack::design {
+
+namespace {
+
+constexpr const char* kSchema = R"sql(
+CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS evaluations (
+  digest TEXT PRIMARY KEY, description TEXT NOT NULL, spec TEXT NOT NULL, blocks INTEGER NOT NULL,
+  spheres INTEGER NOT NULL, feasible INTEGER NOT NULL, violations TEXT NOT NULL,
+  output_fraction REAL, peak_wall_force REAL, areal_mass REAL NOT NULL, height REAL NOT NULL,
+  seconds REAL NOT NULL, searched INTEGER NOT NULL, output_separated INTEGER NOT NULL, created TEXT NOT NULL DEFAULT (datetime('now')));
+CREATE TABLE IF NOT EXISTS study_designs (name TEXT PRIMARY KEY, digest TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS generations (
+  generation INTEGER PRIMARY KEY, population TEXT NOT NULL, digests TEXT NOT NULL, hypervolume REAL NOT NULL,
+  evaluations INTEGER NOT NULL, finished TEXT NOT NULL DEFAULT (datetime('now')));
+CREATE TABLE IF NOT EXISTS confirmations (
+  digest TEXT PRIMARY KEY, case_dir TEXT NOT NULL, liggghts_output_fraction REAL NOT NULL,
+  liggghts_peak_wall_force REAL, largest_difference REAL NOT NULL, verdict TEXT NOT NULL);
+)sql";
+
+// A prepared statement, finalised when it goes.
+class Statement {
+ public:
+  Statement(sqlite3* db, const std::string& sql) : db_(db) {
+    if (sqlite3_prepare_v2(db, sql.c_str(), -1, &s_, nullptr) != SQLITE_OK) fail("prepare");
+  }
+  ~Statement() { sqlite3_finalize(s_); }
+  Statement(const Statement&) = delete;
+  Statement& operator=(const Statement&) = delete;
+  Statement& bind(int i, const std::string& v) {
+    sqlite3_bind_text(s_, i, v.c_str(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
+    return *this;
+  }
+  Statement& bind(int i, double v) {
+    sqlite3_bind_double(s_, i, v);
+    return *this;
+  }
+  Statement& bind(int i, long v) {
+    sqlite3_bind_int64(s_, i, v);
+    return *this;
+  }
+  Statement& bind(int i, std::optional<double> v) {
+    if (v) sqlite3_bind_double(s_, i, *v);
+    else sqlite3_bind_null(s_, i);
+    return *this;
+  }
+  bool step() {
+    const int rc = sqlite3_step(s_);
+    if (rc == SQLITE_ROW) return true;
+    if (rc != SQLITE_DONE) fail("step");
+    return false;
+  }
+  std::string text(int c) const {
+    const auto* t = sqlite3_column_text(s_, c);
+    return t ? reinterpret_cast<const char*>(t) : "";
+  }
+  double real(int c) const { return sqlite3_column_double(s_, c); }
+  long integer(int c) const { return static_cast<long>(sqlite3_column_int64(s_, c)); }
+  std::optional<double> maybe(int c) const {
+    if (sqlite3_column_type(s_, c) == SQLITE_NULL) return std::nullopt;
+    return real(c);
+  }
+
+ private:
+  [[noreturn]] void fail(const char* what) const {
+    throw StoreError(fmt::format("design store: {} failed: {}", what, sqlite3_errmsg(db_)));
+  }
+  sqlite3* db_;
+  sqlite3_stmt* s_ = nullptr;
+};
+
+constexpr const char* kEvaluationColumns =
+    "digest, description, spec, spheres, feasible, violations, output_fraction, peak_wall_force, areal_mass, height, "
+    "seconds, searched, output_separated";
+
+std::string prefixed_columns(const std::string& prefix) {
+  std::string out;
+  std::string_view rest = kEvaluationColumns;
+  while (!rest.empty()) {
+    const auto comma = rest.find(", ");
+    out += (out.empty() ? "" : ", ") + prefix + std::string(rest.substr(0, comma));
+    rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 2);
+  }
+  return out;
+}
+
+// The evaluation in columns from..from + 12 of a row.
+Evaluation evaluation_from(const Statement& q, int from = 0) {
+  Evaluation e;
+  e.digest = q.text(from);
+  e.description = q.text(from + 1);
+  e.spec = model::spec_from_json_fields(nlohmann::json::parse(q.text(from + 2)));
+  e.spheres = q.integer(from + 3);
+  e.feasible = q.integer(from + 4) != 0;
+  e.violations = q.text(from + 5);
+  e.output_fraction = q.maybe(from + 6);
+  e.peak_wall_force = q.maybe(from + 7);
+  e.areal_mass = q.real(from + 8);
+  e.height = q.real(from + 9);
+  e.seconds = q.real(from + 10);
+  e.searched = q.integer(from + 11) != 0;
+  e.output_separated = q.integer(from + 12) != 0;
+  return e;
+}
+
+sqlite3* open_db(const std::string& path, int flags) {
+  sqlite3* db = nullptr;
+  if (sqlite3_open_v2(path.c_str(), &db, flags, nullptr) != SQLITE_OK) {
+    const std::string why = db ? sqlite3_errmsg(db) : "out of memory";
+    sqlite3_close(db);
+    throw StoreError(fmt::format("{}: cannot open the design store: {}", path, why));
+  }
+  sqlite3_busy_timeout(db, 10000);
+  return db;
+}
+}  // namespace
+
+Store::Store(sqlite3* db) : db_(db), mutex_(std::make_unique<std::mutex>()) {}
+Store::Store(Store&& o) noexcept : db_(o.db_), mutex_(std::move(o.mutex_)) { o.db_ = nullptr; }
+Store::~Store() { sqlite3_close(db_); }
+
+void Store::exec(const std::string& sql) const {
+  char* error = nullptr;
+  if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
+    const std::string why = error ? error : "unknown";
+    sqlite3_free(error);
+    throw StoreError(fmt::format("design store: {}", why));
+  }
+}
+
+Store Store::open(const std::string& path, const std::string& space_digest, const std::string& space_text) {
+  Store s(open_db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE));
+  s.exec(kSchema);
+  if (const auto d = s.meta("space_digest")) {
+    if (*d != space_digest) {
+      throw StoreError(fmt::format("{} holds the search of another design space (digest {}, this one's is {}): give "
+                                   "another --output, or the space it was written for (its text is in the store's meta "
+                                   "table, key 'space')", path, d->substr(0, 12), space_digest.substr(0, 12)));
+    }
+  } else {
+    s.set_meta("space_digest", space_digest);
+    s.set_meta("space", space_text);
+  }
+  return s;
+}
+
+Store Store::open_existing(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) {
+    throw StoreError(fmt::format("{}: no design store there; run 'granstack design run SPACE.toml -o DIR' first", path));
+  }
+  Store s(open_db(path, SQLITE_OPEN_READONLY));
+  if (!s.meta("space_digest")) throw StoreError(fmt::format("{}: not a granstack design store", path));
+  return s;
+}
+
+std::optional<std::string> Store::meta(const std::string& key) const {
+  try {
+    Statement q(db_, "SELECT value FROM meta WHERE key = ?");
+    q.bind(1, key);
+    if (q.step()) return q.text(0);
+  } catch (const StoreError&) {
+    return std::nullopt;  // no meta table: not a store
+  }
+  return std::nullopt;
+}
+
+void Store::set_meta(const std::string& key, const std::string& value) {
+  const std::lock_guard<std::mutex> lock(*mutex_);
+  Statement q(db_, "INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)");
+  q.bind(1, key).bind(2, value).step();
+}
+
+std::optional<Evaluation> Store::find(const std::string& digest) const {
+  const std::lock_guard<std::mutex> lock(*mutex_);
+  Statement q(db_, fmt::format("SELECT {} FROM evaluations WHERE digest = ?", kEvaluationColumns));
+  q.bind(1, digest);
+  if (q.step()) return evaluation_from(q);
+  return std::nullopt;
+}
+
+void Store::put(const Evaluation& e) {
+  const std::lock_guard<std::mutex> lock(*mutex_);
+  Statement q(db_, fmt::format("INSERT OR REPLACE INTO evaluations ({}, blocks) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                               kEvaluationColumns));
+  q.bind(1, e.digest).bind(2, e.description).bind(3, model::spec_json(e.spec).dump()).bind(4, e.spheres);
+  q.bind(5, static_cast<long>(e.feasible)).bind(6, e.violations).bind(7, e.output_fraction).bind(8, e.peak_wall_force);
+  q.bind(9, e.areal_mass).bind(10, e.height).bind(11, e.seconds).bind(12, static_cast<long>(e.searched));
+  q.bind(13, static_cast<long>(e.output_separated)).bind(14, static_cast<long>(e.spec.blocks));
+  q.step();
+}
+
+std::vector<Evaluation> Store::evaluations() const {
+  const std::lock_guard<std::mutex> lock(*mutex_);
+  Statement q(db_, fmt::format("SELECT {} FROM evaluations WHERE searched = 1 ORDER BY rowid", kEvaluationColumns));
+  std::vector<Evaluation> out;
+  while (q.step()) out.push_back(evaluation_from(q));
+  return out;
+}
+
+std::vector<std::pair<std::string, Evaluation>> Store::study_designs() const {
+  const std::lock_guard<std::mutex> lock(*mutex_);
+  Statement q(db_, fmt::format("SELECT s.name, {} FROM study_designs s JOIN evaluations e ON e.digest = s.digest ORDER BY s.rowid",
+                               prefixed_columns("e.")));
+  std::vector<std::pair<std::string, Evaluation>> out;
+  while (q.step()) out.emplace_back(q.text(0), evaluation_from(q, 1));
+  return out;
+}
+
+void Store::put_study_design(const std::string& name, const std::string& digest) {
+  const std::lock_guard<std::mutex> lock(*mutex_);
+  Statement q(db_, "INSERT OR REPLACE INTO study_designs (name, digest) VALUES (?, ?)");
+  q.bind(1, name).bind(2, digest).step();
+}
+
+void Store::put_generation(const Generation& g) {
+  const std::lock_guard<std::mutex> lock(*mutex_);
+  Statement q(db_, "INSERT OR REPLACE INTO generations (generation, population, digests, hypervolume, evaluations) "
+                   "VALUES (?, ?, ?, ?, ?)");
+  q.bind(1, static_cast<long>(g.index)).bind(2, nlohmann::json(g.population).dump()).bind(3, nlohmann::json(g.digests).dump());
+  q.bind(4, g.hypervolume).bind(5, static_cast<long>(g.evaluations)).step();
+}
+
+namespace {
+Generation generation_from(const Statement& q) {
+  Generation g;
+  g.index = static_cast<int>(q.integer(0));
+  g.population = nlohmann::json::parse(q.text(1)).get<std::vector<std::vector<double>>>();
+  g.digests = nlohmann::json::parse(q.text(2)).get<std::vector<std::string>>();
+  g.hypervolume = q.real(3);
+  g.evaluations = static_cast<int>(q.integer(4));
+  return g;
+}
+}  // namespace
+
+std::optional<Generation> Store::last_generation() const {
+  const std::lock_guard<std::mutex> lock(*mutex_);
+  Statement q(db_, "SELECT generation, population, digests, hypervolume, evaluations FROM generations "
+                   "ORDER BY generation DESC LIMIT 1");
+  if (q.step()) return generation_from(q);
+  return std::nullopt;
+}
+
+std::vector<Generation> Store::generations() const {
+  const std::lock_guard<std::mutex> lock(*mutex_);
+  Statement q(db_, "SELECT generation, population, digests, hypervolume, evaluations FROM generations ORDER BY generation");
+  std::vector<Generation> out;
+  while (q.step()) out.push_back(generation_from(q));
+  return out;
+}
+
+void Store::put_confirmation(const Confirmation& c) {
+  const std::lock_guard<std::mutex> lock(*mutex_);
+  Statement q(db_, "INSERT OR REPLACE INTO confirmations VALUES (?, ?, ?, ?, ?, ?)");
+  q.bind(1, c.digest).bind(2, c.case_dir).bind(3, c.liggghts_output_fraction).bind(4, c.liggghts_peak_wall_force);
+  q.bind(5, c.largest_difference).bind(6, c.verdict).step();
+}
+
+std::vector<Confirmation> Store::confirmations() const {
+  const std::lock_guard<std::mutex> lock(*mutex_);
+  Statement q(db_, "SELECT digest, case_dir, liggghts_output_fraction, liggghts_peak_wall_force, largest_difference, "
+                   "verdict FROM confirmations");
+  std::vector<Confirmation> out;
+  while (q.step()) out.push_back({q.text(0), q.text(1), q.real(2), q.maybe(3), q.real(4), q.text(5)});
+  return out;
+}
+
+}  // namespace granstack::design

@@ -1,0 +1,354 @@
+// granstack design: the space file and its refusals, the in-situ evaluation against reduce on
+// the same case, the store, and the search's reproducibility and resumption.
+#include <granstack/design/report.hpp>
+#include <granstack/design/search.hpp>
+#include <granstack/generator/case_writer.hpp>
+#include <granstack/generator/spec_input.hpp>
+#include <granstack/postproc/reduce.hpp>
+#include <granstack/refsim/case_run.hpp>
+#include <granstack/refsim/in_situ.hpp>
+#include <granstack/runner/runner.hpp>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "../support/program.hpp"
+
+using namespace granstack;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path work_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const auto dir = fs::path(GRANSTACK_TEST_WORKDIR) / (std::string(info->test_suite_name()) + "." + info->name());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// A small space: one or two steel/Teflon blocks of 1 to 3 rows (2 to 31 spheres; a run takes
+// milliseconds).
+constexpr const char* kSmallSpace = R"(
+objectives = ["output_fraction", "areal_mass"]
+[fixed]
+top_radius = 2e-3
+[vary]
+blocks = [1, 2]
+materials = ["steel", "teflon"]
+radius_ratio = [2]
+rows = [1, 3]
+[search]
+population = 8
+generations = 2
+seed = 7
+)";
+
+design::Space small_space() { return design::parse_space(kSmallSpace, "small.toml"); }
+
+// Every problem of a space file, or "" when it is accepted.
+std::string problems_of(const std::string& text) {
+  try {
+    design::parse_space(text, "space.toml");
+  } catch (const design::SpaceError& e) {
+    return fmt::format("{}", fmt::join(e.problems(), "\n"));
+  }
+  return "";
+}
+
+}  // namespace
+
+// The in-situ evaluation is reduce's reading of the same case run on refsim, without a file:
+// the output fraction (free bottom: the output sphere's energy in the last dump frame) and the
+// bottom wall's peak force (the series' column) to round-off. Mixed materials, per-interface
+// ratios (an odd one), rows per block, damping and friction: everything a design varies.
+TEST(InSitu, EqualsReduceOfTheSameCaseRunOnRefsim) {
+  const auto dir = work_dir();
+  model::StackSpec spec;
+  spec.blocks = 3;
+  spec.materials = {"steel", "teflon", "brass"};
+  spec.radius_ratios = {3, 2};
+  spec.block_rows = {2, 3, 4};
+  spec.restitution.value = 0.9;
+  spec.friction.value = 0.3;
+  for (const auto bottom : {model::Boundary::free_surface, model::Boundary::wall}) {
+    spec.bottom = bottom;
+    const auto name = std::string(model::to_string(bottom));
+    generator::GenerateOptions o;
+    o.output = dir / name;
+    generator::generate({{name, spec}}, o);
+    runner::RunOptions ro;
+    ro.engine = runner::Engine::refsim;
+    ASSERT_EQ(runner::run_cases({o.output.string()}, ro).at(0).status, runner::RunStatus::done);
+    const auto r = postproc::reduce_case(o.output.string());
+    const auto stack = model::Stack::build(spec);
+    const auto e = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, name)));
+    std::printf("%s: output fraction reduce %.17g in situ %.17g; peak wall force reduce %.17g in situ %.17g\n",
+                name.c_str(), r.output_fraction, e.output_fraction, r.peak_wall_force.value_or(0.0),
+                e.peak_wall_force.value_or(0.0));
+    EXPECT_GT(r.output_fraction, 1e-6);
+    // The same doubles through the same expressions (model::translational_energy and
+    // rotational_energy): bit for bit.
+    EXPECT_EQ(e.output_fraction, r.output_fraction);
+    ASSERT_EQ(e.peak_wall_force.has_value(), r.peak_wall_force.has_value());
+    if (r.peak_wall_force) {
+      EXPECT_GT(*r.peak_wall_force, 0.0);
+      EXPECT_EQ(*e.peak_wall_force, *r.peak_wall_force);  // the same sum of the same forces
+      EXPECT_EQ(e.peak_wall_force_time, r.peak_wall_force_time);
+    }
+    EXPECT_EQ(e.output_separated, bottom == model::Boundary::free_surface && r.output_separated);
+  }
+}
+
+TEST(Space, AGoodSpaceDecodesIntoValidStacksOfTheSameFootprint) {
+  const auto space = small_space();
+  EXPECT_EQ(space.genes(), 6u);
+  const auto [lo, hi] = space.bounds();
+  for (std::size_t i = 0; i < lo.size(); ++i) EXPECT_LT(lo[i], hi[i]) << "gene " << i;
+  // Two blocks, Teflon over steel, 3 and 1 rows.
+  const auto spec = space.decode({2, 1, 0, 0, 3, 1});
+  EXPECT_EQ(spec.blocks, 2);
+  EXPECT_EQ(spec.materials, (std::vector<std::string>{"teflon", "steel"}));
+  EXPECT_EQ(spec.block_rows, (std::vector<int>{3, 1}));
+  EXPECT_TRUE(spec.radius_ratios.empty());  // one interface: the one ratio (canonical)
+  EXPECT_EQ(spec.radius_ratio, 2);
+  EXPECT_TRUE(model::validate(spec).empty());
+  const auto stack = model::Stack::build(spec);
+  EXPECT_DOUBLE_EQ(stack.block(1).radius, 2e-3);
+  // The striker stays the study's steel whatever the top block is.
+  EXPECT_EQ(spec.effective_striker_material(), "steel");
+  // A one-block design has the same footprint.
+  const auto one = model::Stack::build(space.decode({1, 0, 0, 0, 2, 2}));
+  EXPECT_DOUBLE_EQ(one.half_width(), stack.half_width());
+}
+
+TEST(Space, BadSpacesAreRefusedNamingTheKeyAndTheFix) {
+  const std::string base = kSmallSpace;
+  auto with = [&](const std::string& from, const std::string& to) {
+    auto s = base;
+    const auto at = s.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return s.replace(at, from.size(), to);
+  };
+  EXPECT_EQ(problems_of(base), "");
+  EXPECT_NE(problems_of(with("materials = [\"steel\", \"teflon\"]", "materials = []")).find("[vary] materials is empty"), std::string::npos);
+  EXPECT_NE(problems_of(with("\"teflon\"]", "\"unobtainium\"]")).find("'unobtainium' is unknown"), std::string::npos);
+  EXPECT_NE(problems_of(with("blocks = [1, 2]", "blocks = [3, 2]")).find("the minimum is above the maximum"), std::string::npos);
+  // An objective the geometry cannot measure.
+  EXPECT_NE(problems_of(with("top_radius = 2e-3", "top_radius = 2e-3\nbottom = \"wall\"")).find("output_fraction needs a free bottom"),
+            std::string::npos);
+  EXPECT_NE(problems_of(with("\"areal_mass\"]", "\"peak_wall_force\"]")).find("peak_wall_force needs a bottom wall"), std::string::npos);
+  EXPECT_NE(problems_of(with("[\"output_fraction\", \"areal_mass\"]", "[\"output_fraction\"]")).find("at least two"), std::string::npos);
+  EXPECT_NE(problems_of(with("\"areal_mass\"]", "\"mass\"]")).find("'mass' is not one of"), std::string::npos);
+  // Contradictory: no design meets the constraints.
+  EXPECT_NE(problems_of(base + "[constraints]\nmax_spheres = 2\n").find("no design meets it (the fewest any has is 3)"), std::string::npos);
+  // A varied field fixed, a sweep in [fixed], an unknown section.
+  EXPECT_NE(problems_of(with("top_radius = 2e-3", "top_radius = 2e-3\nrows = 4")).find("[fixed] rows: the search varies it"), std::string::npos);
+  EXPECT_NE(problems_of(with("top_radius = 2e-3", "top_radius = 2e-3\nrestitution = [0.9, 1.0]")).find("not a list"), std::string::npos);
+  EXPECT_NE(problems_of(base + "[extra]\n").find("extra: unknown"), std::string::npos);
+  EXPECT_NE(problems_of(with("population = 8", "population = 10")).find("multiple of 4"), std::string::npos);
+}
+
+// A front design's spec file reads back into the same design (the same digest).
+TEST(Space, AFrontDesignsSpecFileIsTheSameDesign) {
+  const auto space = small_space();
+  auto spec = space.decode({2, 1, 0, 0, 3, 1});
+  spec.restitution.set("steel", "teflon", 0.8);
+  const auto text = design::spec_toml(spec);
+  const auto back = generator::build_sweep(generator::parse_spec_toml(text, "front.toml")).base;
+  EXPECT_EQ(design::spec_digest(back), design::spec_digest(spec)) << text;
+}
+
+TEST(Store, KeepsEvaluationsAndRefusesAnotherSpacesStore) {
+  const auto dir = work_dir();
+  const auto space = small_space();
+  const auto path = (dir / "design.sqlite").string();
+  {
+    auto store = design::Store::open(path, space.digest(), kSmallSpace);
+    const auto e = design::evaluate_design(space, space.decode({2, 1, 0, 0, 3, 1}));
+    store.put(e);
+    const auto back = store.find(e.digest);
+    ASSERT_TRUE(back);
+    EXPECT_EQ(back->output_fraction, e.output_fraction);
+    EXPECT_EQ(back->spec, e.spec);
+  }
+  auto other = small_space();
+  other.search.seed = 8;
+  try {
+    design::Store::open(path, other.digest(), "other");
+    FAIL() << "another space's store was opened";
+  } catch (const design::StoreError& e) {
+    EXPECT_NE(std::string(e.what()).find("another design space"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(design::Store::open_existing(path).evaluations().size(), 1u);
+}
+
+// Seeded: the same space gives the same generations; a search stopped after generation 1 and
+// resumed reaches the same generation 2, running only designs it has not run.
+TEST(Search, IsReproducibleAndResumesWhereItStopped) {
+  const auto dir = work_dir();
+  const auto space = small_space();
+  auto whole = design::Store::open((dir / "whole.sqlite").string(), space.digest(), kSmallSpace);
+  const auto a = design::run_search(space, whole, {});
+  EXPECT_EQ(a.first_generation, 1);
+  EXPECT_EQ(a.last_generation, 2);
+  auto parts = design::Store::open((dir / "parts.sqlite").string(), space.digest(), kSmallSpace);
+  auto first = space;
+  first.search.generations = 1;
+  const auto b1 = design::run_search(first, parts, {});
+  const auto b2 = design::run_search(space, parts, {});
+  EXPECT_EQ(b2.first_generation, 2);
+  EXPECT_EQ(b1.runs + b2.runs, a.runs);
+  const auto ga = whole.generations(), gb = parts.generations();
+  ASSERT_EQ(ga.size(), 3u);
+  ASSERT_EQ(gb.size(), 3u);
+  for (std::size_t g = 0; g < 3; ++g) {
+    EXPECT_EQ(ga[g].digests, gb[g].digests) << "generation " << g;
+    EXPECT_EQ(ga[g].hypervolume, gb[g].hypervolume) << "generation " << g;
+  }
+  // The hypervolume never falls: NSGA-II keeps its best (elitism).
+  EXPECT_GE(ga[2].hypervolume, ga[0].hypervolume);
+  EXPECT_GT(ga[0].hypervolume, 0.0);
+}
+
+namespace {
+
+test::ProgramResult program(const std::vector<std::string>& args, const fs::path& log) {
+  std::vector<std::string> argv{GRANSTACK_EXE};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return test::run_program(argv, log);
+}
+
+// The small space's search, run once (2 generations) for the tests that read it.
+fs::path searched_dir() {
+  static const fs::path dir = [] {
+    const auto d = fs::path(GRANSTACK_TEST_WORKDIR) / "DesignCli.searched";
+    fs::remove_all(d);
+    fs::create_directories(d);
+    std::ofstream(d / "small.toml") << kSmallSpace;
+    const auto r = program({"design", "run", (d / "small.toml").string(), "-o", (d / "search").string(), "-j", "2"}, d / "run.log");
+    EXPECT_EQ(r.code, 0) << r.output;
+    return d / "search";
+  }();
+  return dir;
+}
+
+}  // namespace
+
+TEST(DesignCli, ABadSpaceIsRefusedWithEveryProblemAndNothingIsWritten) {
+  const auto dir = work_dir();
+  std::ofstream(dir / "bad.toml") << R"(objectives = ["output_fraction", "mass"]
+[vary]
+blocks = [3, 2]
+materials = ["steel", "unobtainium"]
+radius_ratio = [2]
+rows = 4
+)";
+  const auto r = program({"design", "run", (dir / "bad.toml").string(), "-o", (dir / "out").string()}, dir / "log");
+  EXPECT_EQ(r.code, 2) << r.output;
+  for (const char* said : {"'mass' is not one of", "the minimum is above the maximum", "'unobtainium' is unknown"}) {
+    EXPECT_NE(r.output.find(said), std::string::npos) << said << "\n" << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+TEST(DesignCli, AnotherSpacesStoreAndAForeignDirectoryAreRefusedAndKept) {
+  const auto dir = work_dir();
+  const auto searched = searched_dir();
+  const auto store = test::read_bytes(searched / "design.sqlite");
+  auto other = std::string(kSmallSpace);
+  other.replace(other.find("seed = 7"), 8, "seed = 8");
+  std::ofstream(dir / "other.toml") << other;
+  auto r = program({"design", "run", (dir / "other.toml").string(), "-o", searched.string()}, dir / "other.log");
+  EXPECT_EQ(r.code, 4) << r.output;
+  EXPECT_NE(r.output.find("another design space"), std::string::npos) << r.output;
+  EXPECT_EQ(test::read_bytes(searched / "design.sqlite"), store);
+  fs::create_directories(dir / "mine");
+  std::ofstream(dir / "mine" / "thesis.tex") << "precious";
+  r = program({"design", "run", (dir / "other.toml").string(), "-o", (dir / "mine").string()}, dir / "mine.log");
+  EXPECT_EQ(r.code, 3) << r.output;
+  EXPECT_EQ(test::read_bytes(dir / "mine" / "thesis.tex"), "precious");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir / "mine"), fs::directory_iterator()), 1);
+}
+
+// status reads the store; the front's spec files generate cases; the store answers SQL from
+// another program (Python's sqlite3, as pandas would use it).
+TEST(DesignCli, StatusTheFrontsSpecFilesAndTheStoreReadFromPython) {
+  const auto dir = work_dir();
+  const auto searched = searched_dir();
+  auto r = program({"design", "status", searched.string()}, dir / "status.log");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("3 of 3 generations done"), std::string::npos) << r.output;
+  const auto store = design::Store::open_existing((searched / "design.sqlite").string());
+  const auto evaluated = store.evaluations().size();
+  EXPECT_NE(r.output.find(fmt::format("{} designs evaluated", evaluated)), std::string::npos) << r.output;
+  std::vector<fs::path> specs;
+  for (const auto& f : fs::directory_iterator(searched / "report" / "front")) specs.push_back(f.path());
+  ASSERT_FALSE(specs.empty());
+  const auto front = design::pareto_front(small_space(), store.evaluations());
+  EXPECT_EQ(specs.size(), front.size());
+  r = program({"generate", "--config", specs.front().string(), "-o", (dir / "case").string()}, dir / "generate.log");
+  EXPECT_EQ(r.code, 0) << r.output;
+  const auto python = os::find_program("python3");
+  if (!python) GTEST_SKIP() << "python3 is not installed";
+  r = test::run_program({*python, "-c",
+                         "import sqlite3, sys; c = sqlite3.connect(sys.argv[1]); "
+                         "print('rows', c.execute('select count(*) from evaluations where searched = 1').fetchone()[0])",
+                         (searched / "design.sqlite").string()},
+                        dir / "python.log");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find(fmt::format("rows {}", evaluated)), std::string::npos) << r.output;
+}
+
+// The front's best on the real LIGGGHTS: validate's comparison agrees to round-off, and the
+// LIGGGHTS output fraction is the in-situ one within validate's tolerance.
+TEST(DesignCli, TheFrontsBestIsConfirmedOnLiggghts) {
+  const auto dir = work_dir();
+  const auto searched = searched_dir();
+  const auto r = program({"design", "confirm", searched.string(), "--top", "2"}, dir / "confirm.log");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto store = design::Store::open_existing((searched / "design.sqlite").string());
+  const auto confirmed = store.confirmations();
+  ASSERT_EQ(confirmed.size(), 2u);
+  for (const auto& c : confirmed) {
+    const auto e = store.find(c.digest);
+    ASSERT_TRUE(e && e->output_fraction);
+    std::printf("%s: in situ %.17g, LIGGGHTS %.17g, validate %.3g\n", e->description.c_str(), *e->output_fraction,
+                c.liggghts_output_fraction, c.largest_difference);
+    EXPECT_EQ(c.verdict, "agree");
+    EXPECT_LE(c.largest_difference, 1e-7);
+    EXPECT_NEAR(c.liggghts_output_fraction, *e->output_fraction, 1e-7 * *e->output_fraction);
+  }
+  EXPECT_NE(test::read_bytes(searched / "report" / "design.md").find("Confirmed on LIGGGHTS"), std::string::npos);
+}
+
+// The HTML report in a real browser (headless Chromium, no network): it loads, and each figure
+// is an inline SVG the browser drew.
+TEST(DesignCli, TheHtmlReportRendersInChromium) {
+  const auto chromium = os::find_program("chromium");
+  if (!chromium) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh --tests installs it)";
+  const auto dir = work_dir();
+  const auto html = searched_dir() / "report" / "design.html";
+  const auto text = test::read_bytes(html);
+  for (const char* fetch : {"<script", "<link", " src=", "url(", "@import"}) {
+    EXPECT_EQ(text.find(fetch), std::string::npos) << "the report loads something: " << fetch;
+  }
+  const auto r = test::run_program({*chromium, "--headless", "--no-sandbox", "--disable-gpu", "--host-resolver-rules=MAP * ~NOTFOUND",
+                                    "--dump-dom", "file://" + fs::absolute(html).string()},
+                                   dir / "chromium.log");
+  ASSERT_EQ(r.code, 0);
+  std::size_t svgs = 0;
+  for (std::size_t pos = 0; (pos = r.output.find("<svg", pos)) != std::string::npos; ++svgs) {
+    const auto end = r.output.find("</svg>", pos);
+    ASSERT_NE(end, std::string::npos);
+    EXPECT_NE(r.output.substr(pos, end - pos).find("<path"), std::string::npos) << "figure " << svgs + 1 << " draws nothing";
+    pos = end;
+  }
+  EXPECT_EQ(svgs, 2u);  // output_fraction against areal_mass, and the hypervolume
+  EXPECT_NE(r.output.find("<caption>The Pareto front"), std::string::npos);
+  EXPECT_NE(r.output.find("four steel blocks"), std::string::npos);
+}
