@@ -4,6 +4,7 @@
 #include "commands.hpp"
 #include "progress.hpp"
 
+#include <granstack/design/batch.hpp>
 #include <granstack/design/report.hpp>
 #include <granstack/design/search.hpp>
 #include <granstack/formats/files.hpp>
@@ -29,6 +30,8 @@ constexpr const char* kSpaceName = "space.toml";
 struct DesignFlags {
   std::string space_file, dir;
   int jobs = 1;
+  bool slurm = false;
+  design::SlurmBatchOptions batch;
   int generations = -1;
   int top = 3;
   bool no_report = false;
@@ -69,6 +72,18 @@ int run_design(const DesignFlags& f) {
   StatusLine line;
   design::SearchOptions o;
   o.jobs = f.jobs;
+  std::unique_ptr<design::BatchRunner> slurm;
+  if (f.slurm) {
+    auto b = f.batch;
+    b.submit.engine = "refsim";
+    b.submit.granstack = fs::read_symlink("/proc/self/exe").string();
+    b.on_note = [&](const std::string& note) {
+      line.clear();
+      fmt::print(stderr, "{}\n", note);
+    };
+    slurm = design::slurm_runner(dir / "batches", b);
+    o.runner = slurm.get();
+  }
   o.on_progress = [&](int gen, int done, int total) { line.count(fmt::format("generation {}: designs", gen), done, total); };
   o.on_generation = [&](const design::Generation& g) {
     line.clear();
@@ -76,7 +91,7 @@ int run_design(const DesignFlags& f) {
   };
   const auto r = design::run_search(space, store, o);
   design::evaluate_study_designs(space, store);
-  fmt::print("{}: generations {} to {} ({} refsim runs; the store holds {} designs)\n", dir.string(), r.first_generation,
+  fmt::print("{}: generation {} reached ({} refsim runs this time; the store holds {} designs)\n", dir.string(),
              space.search.generations, r.runs, store.evaluations().size());
   if (!f.no_report) fmt::print("report: {}\n", design::write_report(space, store, dir / "report").string());
   return kOk;
@@ -124,6 +139,15 @@ Command add_design(CLI::App& app) {
   run->add_option("--generations", f->generations, "Generations to reach (overrides [search] generations; more resumes further)")
       ->check(CLI::Range(0, 100000));
   run->add_flag("--no-report", f->no_report, "Do not write the report");
+  run->add_flag("--slurm", f->slurm, "Run each generation's designs as SLURM job arrays (granstack submit's) and wait for them");
+  auto& b = f->batch;
+  run->add_option("--partition", b.submit.partition, "--slurm: the partition [the site's default]");
+  run->add_option("--account", b.submit.account, "--slurm: the account [the site's default]");
+  run->add_option("--time", b.submit.time, "--slurm: wall time per task, HH:MM:SS [estimated]");
+  run->add_option("--cases-per-task", b.submit.cases_per_task, "--slurm: designs each task runs [1]")->check(CLI::Range(1, 1000000));
+  run->add_option("--max-parallel", b.submit.max_parallel, "--slurm: tasks at once [no limit]")->check(CLI::Range(1, 1000000));
+  run->add_option("--poll", b.poll_seconds, "--slurm: seconds between looks at the queue [5]")->check(CLI::Range(0.05, 3600.0));
+  run->add_option("--attempts", b.attempts, "--slurm: submissions of a design before the search stops [3]")->check(CLI::Range(1, 100));
   auto* status = cmd->add_subcommand("status", "What a design store holds: generations, hypervolume, the front");
   status->add_option("dir", f->dir, "Design directory")->required()->check(CLI::ExistingDirectory);
   auto* rep = cmd->add_subcommand("report", "Write the report (md, html, json, the front's spec files) again");

@@ -11,6 +11,7 @@
 #include <granstack/os/case_lock.hpp>
 #include <granstack/os/interrupt.hpp>
 
+#include <granstack/cluster/slurm.hpp>
 #include <granstack/design/space.hpp>
 #include <granstack/design/store.hpp>
 
@@ -68,6 +69,8 @@ int guarded(const std::function<int()>& run) {
     return said(fmt::format("the design space cannot be searched:\n  {}", fmt::join(e.problems(), "\n  ")), app::kBadInput);
   } catch (const design::StoreError& e) {
     return said(e.what(), app::kBadFile);
+  } catch (const cluster::SubmitError& e) {
+    return said(e.what(), app::kCaseFailed);
   } catch (const formats::OutputError& e) {
     return said(e.what(), app::kExists);
   } catch (const formats::FormatError& e) {

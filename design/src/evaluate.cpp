@@ -9,22 +9,13 @@
 #include <atomic>
 #include <cmath>
 #include <mutex>
-#include <map>
+#include <set>
 #include <thread>
 
 namespace granstack::design {
 
 Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway) {
-  Evaluation e;
-  e.spec = spec;
-  e.digest = spec_digest(spec);
-  e.description = describe(spec);
-  const auto g = measure(space, spec);
-  e.spheres = g.spheres;
-  e.height = g.height;
-  e.areal_mass = g.areal_mass;
-  e.feasible = g.violations.empty();
-  e.violations = fmt::format("{}", fmt::join(g.violations, "; "));
+  auto e = measured(space, spec);
   if (!e.feasible && !run_anyway) return e;
   const auto stack = model::Stack::build(spec);
   // The particles exactly as a generated case's data file gives them to refsim.
@@ -39,54 +30,84 @@ Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, boo
   return e;
 }
 
-Evaluation Evaluator::run_one(const model::StackSpec& spec) const { return evaluate_design(space_, spec); }
+Evaluation measured(const Space& space, const model::StackSpec& spec) {
+  Evaluation e;
+  e.spec = spec;
+  e.digest = spec_digest(spec);
+  e.description = describe(spec);
+  const auto g = measure(space, spec);
+  e.spheres = g.spheres;
+  e.height = g.height;
+  e.areal_mass = g.areal_mass;
+  e.feasible = g.violations.empty();
+  e.violations = fmt::format("{}", fmt::join(g.violations, "; "));
+  return e;
+}
 
-std::vector<Evaluation> Evaluator::evaluate(const std::vector<model::StackSpec>& specs, int jobs,
+namespace {
+// Runs a batch on this machine, `jobs` designs at a time, each on one core.
+class LocalRunner : public BatchRunner {
+ public:
+  explicit LocalRunner(int jobs) : jobs_(std::max(1, jobs)) {}
+  void run(const Space& space, const std::vector<model::StackSpec>& specs, Store& store,
+           const std::function<void(int, int)>& on_done) override {
+    std::atomic<std::size_t> next{0};
+    std::atomic<int> finished{0};
+    std::mutex m;
+    std::exception_ptr error;
+    auto worker = [&] {
+      for (std::size_t k; (k = next.fetch_add(1)) < specs.size();) {
+        try {
+          store.put(evaluate_design(space, specs[k]));
+        } catch (...) {
+          const std::lock_guard<std::mutex> lock(m);
+          if (!error) error = std::current_exception();
+          next = specs.size();
+        }
+        const int done = ++finished;
+        const std::lock_guard<std::mutex> lock(m);
+        if (on_done) on_done(done, static_cast<int>(specs.size()));
+      }
+    };
+    std::vector<std::thread> threads;
+    for (int t = 1; t < std::min<int>(jobs_, static_cast<int>(specs.size())); ++t) threads.emplace_back(worker);
+    worker();
+    for (auto& t : threads) t.join();
+    if (error) std::rethrow_exception(error);
+  }
+
+ private:
+  int jobs_;
+};
+}  // namespace
+
+std::unique_ptr<BatchRunner> local_runner(int jobs) { return std::make_unique<LocalRunner>(jobs); }
+
+std::vector<Evaluation> Evaluator::evaluate(const std::vector<model::StackSpec>& specs,
                                             const std::function<void(int, int)>& on_done) {
-  std::vector<Evaluation> out(specs.size());
-  std::map<std::string, std::vector<std::size_t>> missing;  // digest -> the indices wanting it
-  std::vector<std::size_t> to_run;
-  for (std::size_t i = 0; i < specs.size(); ++i) {
-    const auto digest = spec_digest(specs[i]);
+  std::vector<model::StackSpec> to_run;
+  std::set<std::string> asked;
+  for (const auto& spec : specs) {
+    const auto digest = spec_digest(spec);
     if (auto e = store_.find(digest)) {
       if (!e->searched) {  // run before as one of the study's designs: the search has now asked for it too
         e->searched = true;
         store_.put(*e);
       }
-      out[i] = std::move(*e);
-    } else {
-      auto& wanting = missing[digest];
-      if (wanting.empty()) to_run.push_back(i);
-      wanting.push_back(i);
+    } else if (asked.insert(digest).second) {
+      const auto m = measured(space_, spec);
+      if (m.feasible) to_run.push_back(spec);
+      else store_.put(m);  // outside the constraints: stored, never run
     }
   }
-  std::atomic<std::size_t> next{0};
-  std::atomic<int> finished{0};
-  std::mutex progress;
-  std::exception_ptr error;
-  auto worker = [&] {
-    for (std::size_t k; (k = next.fetch_add(1)) < to_run.size();) {
-      try {
-        auto e = run_one(specs[to_run[k]]);
-        store_.put(e);
-        for (const auto i : missing[e.digest]) out[i] = e;
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(progress);
-        if (!error) error = std::current_exception();
-        next = to_run.size();
-      }
-      const int done = ++finished;
-      const std::lock_guard<std::mutex> lock(progress);
-      if (on_done) on_done(done, static_cast<int>(to_run.size()));
-    }
-  };
-  std::vector<std::thread> threads;
-  const int n = std::max(1, std::min<int>(jobs, static_cast<int>(to_run.size())));
-  for (int t = 1; t < n; ++t) threads.emplace_back(worker);
-  worker();
-  for (auto& t : threads) t.join();
-  if (error) std::rethrow_exception(error);
+  if (!to_run.empty()) runner_.run(space_, to_run, store_, on_done);
   runs_ += static_cast<int>(to_run.size());
+  std::vector<Evaluation> out;
+  for (const auto& spec : specs) {
+    auto e = store_.find(spec_digest(spec));
+    if (!e) throw std::runtime_error(fmt::format("design {}: the batch ended without its result", describe(spec)));
+    out.push_back(std::move(*e));
+  }
   return out;
 }
 

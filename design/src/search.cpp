@@ -21,7 +21,6 @@ namespace {
 struct Context {
   const Space* space = nullptr;
   Evaluator* evaluator = nullptr;
-  int jobs = 1;
   int generation = 0;
   const SearchOptions* options = nullptr;
 
@@ -34,7 +33,7 @@ struct Context {
     return specs;
   }
   pagmo::vector_double fitnesses(const pagmo::vector_double& dvs) const {
-    const auto evaluations = evaluator->evaluate(decode(dvs), jobs, [&](int done, int total) {
+    const auto evaluations = evaluator->evaluate(decode(dvs), [&](int done, int total) {
       if (options->on_progress) options->on_progress(generation, done, total);
     });
     pagmo::vector_double out;
@@ -146,8 +145,9 @@ std::vector<std::pair<std::string, model::StackSpec>> study_designs(const Space&
 }
 
 SearchResult run_search(const Space& space, Store& store, const SearchOptions& options) {
-  Evaluator evaluator(space, store);
-  auto context = std::make_shared<Context>(Context{&space, &evaluator, options.jobs, 0, &options});
+  const auto local = options.runner ? nullptr : local_runner(options.jobs);
+  Evaluator evaluator(space, store, options.runner ? *options.runner : *local);
+  auto context = std::make_shared<Context>(Context{&space, &evaluator, 0, &options});
   pagmo::problem problem{DesignProblem{context}};
   const pagmo::bfe batch{pagmo::member_bfe{}};
   SearchResult result;

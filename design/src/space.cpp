@@ -350,6 +350,13 @@ Space read_space(const std::string& path) {
 Geometry measure(const Space& space, const model::StackSpec& spec) {
   Geometry g;
   g.spheres = model::sphere_count(spec);
+  // A design granstack refuses as a case (a striker that would dent a soft top block beyond
+  // Hertz's range, a stack above the size limits, ...) is one the search may not pick.
+  if (const auto issues = model::validate(spec); !issues.empty()) {
+    g.violations.push_back(fmt::format("not a valid stack: {}: {}", issues.front().field, issues.front().message));
+    g.violation = 1.0;
+    return g;
+  }
   const auto stack = model::Stack::build(spec);
   g.height = stack.lattice_height();
   g.areal_mass = stack.areal_mass();

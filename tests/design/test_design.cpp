@@ -31,22 +31,8 @@ fs::path work_dir() {
   return dir;
 }
 
-// A small space: one or two steel/Teflon blocks of 1 to 3 rows (2 to 31 spheres; a run takes
-// milliseconds).
-constexpr const char* kSmallSpace = R"(
-objectives = ["output_fraction", "areal_mass"]
-[fixed]
-top_radius = 2e-3
-[vary]
-blocks = [1, 2]
-materials = ["steel", "teflon"]
-radius_ratio = [2]
-rows = [1, 3]
-[search]
-population = 8
-generations = 2
-seed = 7
-)";
+// The tests' small space (tests/data/design/small_space.toml), as text.
+const std::string kSmallSpace = test::read_bytes(fs::path(GRANSTACK_TEST_DATA) / "design" / "small_space.toml");
 
 design::Space small_space() { return design::parse_space(kSmallSpace, "small.toml"); }
 
@@ -153,6 +139,24 @@ TEST(Space, BadSpacesAreRefusedNamingTheKeyAndTheFix) {
   EXPECT_NE(problems_of(with("population = 8", "population = 10")).find("multiple of 4"), std::string::npos);
 }
 
+// A design granstack would refuse as a case (here 8 blocks at the ratio 16: bottom spheres of
+// 7.5e-12 m, far below the smallest radius) is outside the space's constraints, not a crash of
+// the search.
+TEST(Space, AnInvalidDesignIsInfeasibleNotACrash) {
+  auto text = kSmallSpace;
+  text.replace(text.find("blocks = [1, 2]"), 15, "blocks = [1, 8]");
+  text.replace(text.find("radius_ratio = [2]"), 18, "radius_ratio = [16]");
+  const auto space = design::parse_space(text, "deep.toml");
+  std::vector<double> x(space.genes(), 1.0);
+  x[0] = 8;
+  const auto g = design::measure(space, space.decode(x));
+  ASSERT_FALSE(g.violations.empty());
+  EXPECT_NE(g.violations.front().find("not a valid stack"), std::string::npos) << g.violations.front();
+  const auto e = design::evaluate_design(space, space.decode(x));
+  EXPECT_FALSE(e.feasible);
+  EXPECT_FALSE(e.output_fraction.has_value());
+}
+
 // A front design's spec file reads back into the same design (the same digest).
 TEST(Space, AFrontDesignsSpecFileIsTheSameDesign) {
   const auto space = small_space();
@@ -223,18 +227,13 @@ test::ProgramResult program(const std::vector<std::string>& args, const fs::path
   return test::run_program(argv, log);
 }
 
-// The small space's search, run once (2 generations) for the tests that read it.
-fs::path searched_dir() {
-  static const fs::path dir = [] {
-    const auto d = fs::path(GRANSTACK_TEST_WORKDIR) / "DesignCli.searched";
-    fs::remove_all(d);
-    fs::create_directories(d);
-    std::ofstream(d / "small.toml") << kSmallSpace;
-    const auto r = program({"design", "run", (d / "small.toml").string(), "-o", (d / "search").string(), "-j", "2"}, d / "run.log");
-    EXPECT_EQ(r.code, 0) << r.output;
-    return d / "search";
-  }();
-  return dir;
+// The small space's search (2 generations) into DIR/search (each test process its own: ctest
+// runs the tests side by side).
+fs::path searched_dir(const fs::path& dir) {
+  std::ofstream(dir / "small.toml") << kSmallSpace;
+  const auto r = program({"design", "run", (dir / "small.toml").string(), "-o", (dir / "search").string(), "-j", "2"}, dir / "run.log");
+  EXPECT_EQ(r.code, 0) << r.output;
+  return dir / "search";
 }
 
 }  // namespace
@@ -258,7 +257,7 @@ rows = 4
 
 TEST(DesignCli, AnotherSpacesStoreAndAForeignDirectoryAreRefusedAndKept) {
   const auto dir = work_dir();
-  const auto searched = searched_dir();
+  const auto searched = searched_dir(dir);
   const auto store = test::read_bytes(searched / "design.sqlite");
   auto other = std::string(kSmallSpace);
   other.replace(other.find("seed = 7"), 8, "seed = 8");
@@ -279,7 +278,7 @@ TEST(DesignCli, AnotherSpacesStoreAndAForeignDirectoryAreRefusedAndKept) {
 // another program (Python's sqlite3, as pandas would use it).
 TEST(DesignCli, StatusTheFrontsSpecFilesAndTheStoreReadFromPython) {
   const auto dir = work_dir();
-  const auto searched = searched_dir();
+  const auto searched = searched_dir(dir);
   auto r = program({"design", "status", searched.string()}, dir / "status.log");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("3 of 3 generations done"), std::string::npos) << r.output;
@@ -308,7 +307,7 @@ TEST(DesignCli, StatusTheFrontsSpecFilesAndTheStoreReadFromPython) {
 // LIGGGHTS output fraction is the in-situ one within validate's tolerance.
 TEST(DesignCli, TheFrontsBestIsConfirmedOnLiggghts) {
   const auto dir = work_dir();
-  const auto searched = searched_dir();
+  const auto searched = searched_dir(dir);
   const auto r = program({"design", "confirm", searched.string(), "--top", "2"}, dir / "confirm.log");
   ASSERT_EQ(r.code, 0) << r.output;
   const auto store = design::Store::open_existing((searched / "design.sqlite").string());
@@ -332,7 +331,7 @@ TEST(DesignCli, TheHtmlReportRendersInChromium) {
   const auto chromium = os::find_program("chromium");
   if (!chromium) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh --tests installs it)";
   const auto dir = work_dir();
-  const auto html = searched_dir() / "report" / "design.html";
+  const auto html = searched_dir(dir) / "report" / "design.html";
   const auto text = test::read_bytes(html);
   for (const char* fetch : {"<script", "<link", " src=", "url(", "@import"}) {
     EXPECT_EQ(text.find(fetch), std::string::npos) << "the report loads something: " << fetch;

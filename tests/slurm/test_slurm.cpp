@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -410,6 +411,62 @@ TEST(Slurm, ADamagedRecordIsSaidAndARequeueKeepsTheFirstLog) {
   const auto log = read_bytes(c / "slurm" / "submit-1" / ("task-" + ids[0] + "_0.out"));
   EXPECT_NE(log.find("STOPPED"), std::string::npos) << log;  // the first attempt, kept
   EXPECT_NE(log.find("done "), std::string::npos) << log;
+}
+
+}  // namespace
+
+namespace {
+// The evaluations table of a design store as (digest, output fraction) text, sorted.
+std::string evaluations_of(const fs::path& store) {
+  const auto r = run({"python3", "-c",
+                      "import sqlite3, sys; c = sqlite3.connect(sys.argv[1]); "
+                      "print('\\n'.join(f'{d} {o!r}' for d, o in c.execute('select digest, output_fraction from "
+                      "evaluations where searched = 1 order by digest')))",
+                      store.string()});
+  EXPECT_EQ(r.code, 0) << r.output;
+  return r.output;
+}
+
+// granstack design run --slurm: each generation's new designs go out as a job array (submit's),
+// the search waits for them, and a task cancelled before it ran is submitted again; the store
+// ends exactly as a local search's (the same designs, the same output fractions to the bit:
+// reduce of a refsim case is the in-situ value).
+TEST(Slurm, ADesignSearchRunsItsBatchesAsArraysAndSurvivesACancelledTask) {
+  if (!os::find_program("python3")) GTEST_SKIP() << "python3 is not installed (the store is read with its sqlite3)";
+  const auto d = work("design");
+  const auto space = fs::path(GRANSTACK_TEST_DATA) / "design" / "small_space.toml";
+  os::StartOptions o;
+  o.output = d / "search.log";
+  const auto child = os::start({GRANSTACK_EXE, "design", "run", space.string(), "-o", (d / "slurm").string(), "--generations",
+                                "1", "--slurm", "--max-parallel", "1", "--poll", "0.2"},
+                               o);
+  ASSERT_EQ(child.error, "");
+  // Cancel the last task of the first batch sent as a single array (the test cluster's small
+  // MaxArraySize splits generation 0's eight over two, said as 'jobs'), while it waits its turn.
+  std::string cancelled;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (cancelled.empty() && std::chrono::steady_clock::now() < until) {
+    const auto log = read_bytes(d / "search.log");
+    const std::regex id("submitted ([0-9]+) design\\(s\\) as SLURM job ([0-9]+)");
+    std::smatch m;
+    if (std::regex_search(log, m, id)) {
+      cancelled = m[2].str() + "_" + std::to_string(std::stoi(m[1].str()) - 1);
+      ASSERT_EQ(run({"scancel", cancelled}).code, 0);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_FALSE(cancelled.empty()) << read_bytes(d / "search.log");
+  const auto end = os::wait(child);
+  const auto log = read_bytes(d / "search.log");
+  ASSERT_TRUE(end.ok()) << log;
+  EXPECT_NE(log.find("submitted again 1 design(s)"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(d / "slurm" / "batches" / "b1")) << "a finished batch's cases are removed";
+  // The same search on this machine.
+  const auto local = granstack({"design", "run", space.string(), "-o", (d / "local").string(), "--generations", "1", "-j", "2"});
+  ASSERT_EQ(local.code, 0) << local.output;
+  const auto a = evaluations_of(d / "slurm" / "design.sqlite"), b = evaluations_of(d / "local" / "design.sqlite");
+  EXPECT_EQ(a, b);
+  EXPECT_GE(std::count(a.begin(), a.end(), '\n'), 8);
 }
 
 }  // namespace

@@ -6,17 +6,30 @@
 #include <granstack/design/store.hpp>
 
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace granstack::design {
 
+// Where a batch of designs runs: on this machine (local_runner) or as SLURM job arrays
+// (slurm_runner, batch.hpp). run() evaluates every design of `specs` (feasible, none in the
+// store) and stores each as it finishes, so a killed batch keeps what it finished; on_done(finished,
+// total) after each.
+class BatchRunner {
+ public:
+  virtual ~BatchRunner() = default;
+  virtual void run(const Space& space, const std::vector<model::StackSpec>& specs, Store& store,
+                   const std::function<void(int, int)>& on_done) = 0;
+};
+// `jobs` designs at a time on this machine, each in situ on one core.
+std::unique_ptr<BatchRunner> local_runner(int jobs);
+
 class Evaluator {
  public:
-  Evaluator(const Space& space, Store& store) : space_(space), store_(store) {}
-  // The designs' evaluations, from the store where there, else run (feasible ones on refsim,
-  // `jobs` at a time) and stored as each finishes: a killed batch keeps what it finished.
-  // on_done(finished, to_run) after each run.
-  std::vector<Evaluation> evaluate(const std::vector<model::StackSpec>& specs, int jobs,
+  Evaluator(const Space& space, Store& store, BatchRunner& runner) : space_(space), store_(store), runner_(runner) {}
+  // The designs' evaluations, from the store where there, else measured (outside the
+  // constraints: stored, not run) or run by the batch runner.
+  std::vector<Evaluation> evaluate(const std::vector<model::StackSpec>& specs,
                                    const std::function<void(int, int)>& on_done = {});
   // The objectives of an evaluation, in the space's order; an infeasible design gets
   // kInfeasible * (1 + its relative violation) in each, behind every feasible one.
@@ -24,14 +37,16 @@ class Evaluator {
   int runs() const { return runs_; }  // refsim runs so far
 
  private:
-  Evaluation run_one(const model::StackSpec& spec) const;
   const Space& space_;
   Store& store_;
+  BatchRunner& runner_;
   int runs_ = 0;
 };
 
 inline constexpr double kInfeasible = 1e12;
 
+// A design's measures known without running it (geometry and constraints), as an evaluation.
+Evaluation measured(const Space& space, const model::StackSpec& spec);
 // One design's evaluation, run now without a store (what `evaluate` runs for a missing one); a
 // design outside the constraints is not run unless `run_anyway`.
 Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway = false);
@@ -40,7 +55,8 @@ Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, boo
 std::optional<double> objective_value(const Evaluation& e, Objective o);
 
 struct SearchOptions {
-  int jobs = 1;
+  int jobs = 1;                  // with no runner: designs at once on this machine
+  BatchRunner* runner = nullptr;  // where batches run (none: local_runner(jobs))
   // Called after each design run (generation, finished, to run) and after each generation.
   std::function<void(int, int, int)> on_progress;
   std::function<void(const Generation&)> on_generation;
