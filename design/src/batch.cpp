@@ -1,5 +1,6 @@
 #include <granstack/design/batch.hpp>
 #include <granstack/generator/case_writer.hpp>
+#include <granstack/model/resolution.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/postproc/reduce.hpp>
 
@@ -7,6 +8,7 @@
 #include <fmt/ranges.h>
 
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <thread>
 
@@ -22,6 +24,33 @@ class SlurmRunner : public BatchRunner {
 
   void run(const Space& space, const std::vector<model::StackSpec>& specs, Store& store,
            const std::function<void(int, int)>& on_done) override {
+    // Round 1: the designs as given; round 2: those whose output was not final, run longer.
+    std::vector<std::pair<model::StackSpec, model::StackSpec>> jobs;  // (the design, the spec run)
+    for (const auto& spec : specs) jobs.emplace_back(spec, spec);
+    int stored = 0;
+    while (!jobs.empty()) {
+      std::vector<model::StackSpec> ran;
+      for (const auto& j : jobs) ran.push_back(j.second);
+      const auto outcomes = run_cases(ran);
+      std::vector<std::pair<model::StackSpec, model::StackSpec>> again;
+      for (std::size_t i = 0; i < jobs.size(); ++i) {
+        if (auto longer = extended(jobs[i].second, outcomes[i])) {
+          again.emplace_back(jobs[i].first, std::move(*longer));
+          continue;
+        }
+        auto e = measured(space, jobs[i].first);
+        record(e, jobs[i].second, outcomes[i]);
+        store.put(e);
+        if (on_done) on_done(++stored, static_cast<int>(specs.size()));
+      }
+      jobs = std::move(again);
+    }
+  }
+
+ private:
+  // Each spec run as a case of a new batch through SLURM, its outcome by reduce; throws when a
+  // case still has none after `attempts` submissions (the batch directory is kept to look at).
+  std::vector<Outcome> run_cases(const std::vector<model::StackSpec>& specs) {
     const auto batch = new_batch_dir();
     std::vector<generator::CaseSpec> to_write;
     for (const auto& spec : specs) {
@@ -32,32 +61,31 @@ class SlurmRunner : public BatchRunner {
     generator::GenerateOptions g;
     g.output = batch;
     const auto made = generator::generate(to_write, g);
-    std::map<std::string, model::StackSpec> cases;  // case directory -> its design
-    for (std::size_t i = 0; i < specs.size(); ++i) cases[made.case_dirs.at(i).string()] = specs[i];
-    int stored = 0;
-    for (int attempt = 1; attempt <= o_.attempts && !cases.empty(); ++attempt) {
-      submit_and_wait(batch, attempt, static_cast<int>(cases.size()));
-      for (auto it = cases.begin(); it != cases.end();) {
-        if (auto e = result(space, it->first, it->second)) {
-          store.put(*e);
-          it = cases.erase(it);
-          if (on_done) on_done(++stored, static_cast<int>(specs.size()));
-        } else {
-          ++it;
-        }
+    std::vector<std::optional<Outcome>> outcomes(specs.size());
+    std::size_t left = specs.size();
+    for (int attempt = 1; attempt <= o_.attempts && left > 0; ++attempt) {
+      submit_and_wait(batch, attempt, static_cast<int>(left));
+      for (std::size_t i = 0; i < specs.size(); ++i) {
+        if (outcomes[i]) continue;
+        outcomes[i] = result(made.case_dirs.at(i).string(), specs[i]);
+        if (outcomes[i]) --left;
       }
     }
-    if (!cases.empty()) {
-      std::vector<std::string> left;
-      for (const auto& [dir, spec] : cases) left.push_back(dir);
+    std::vector<Outcome> out;
+    std::vector<std::string> missing;
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+      if (outcomes[i]) out.push_back(*outcomes[i]);
+      else missing.push_back(made.case_dirs.at(i).string());
+    }
+    if (!missing.empty()) {
       throw std::runtime_error(fmt::format("{} design(s) of the batch have no result after {} submissions (see 'granstack "
                                            "status {}' for why): {}; run the search again to resume",
-                                           left.size(), o_.attempts, batch.string(), fmt::join(left, ", ")));
+                                           missing.size(), o_.attempts, batch.string(), fmt::join(missing, ", ")));
     }
-    fs::remove_all(batch);  // granstack made it; every result is in the store
+    fs::remove_all(batch);  // granstack made it; every outcome is taken
+    return out;
   }
 
- private:
   fs::path new_batch_dir() const {
     fs::create_directories(dir_);
     for (int n = 1;; ++n) {
@@ -83,8 +111,8 @@ class SlurmRunner : public BatchRunner {
     }
   }
 
-  // The evaluation of a finished case (reduce's values, which are the in-situ ones), or nullopt.
-  static std::optional<Evaluation> result(const Space& space, const std::string& dir, const model::StackSpec& spec) {
+  // The outcome of a finished case (reduce's values, which are the in-situ ones), or nullopt.
+  static std::optional<Outcome> result(const std::string& dir, const model::StackSpec& spec) {
     postproc::ReduceOptions quiet;
     quiet.write_files = false;
     quiet.threads = 1;
@@ -94,13 +122,11 @@ class SlurmRunner : public BatchRunner {
     } catch (const std::exception&) {
       return std::nullopt;  // not run, interrupted or failed: submitted again
     }
-    auto e = measured(space, spec);
-    if (spec.bottom == model::Boundary::free_surface) {
-      e.output_fraction = r.output_fraction;
-      e.output_separated = r.output_separated;
-    }
-    e.peak_wall_force = r.peak_wall_force;
-    return e;
+    const auto res = model::resolve(model::Stack::build(spec));
+    const auto last_change = std::llround(r.output_last_change_time / res.dt);
+    const bool wall = spec.bottom == model::Boundary::wall;
+    return Outcome{r.output_fraction, r.output_fraction_bottom_row, r.output_separated, r.peak_wall_force,
+                   r.output_last_change_time, wall || model::output_settled(last_change, res.steps), 0.0};
   }
 
   fs::path dir_;

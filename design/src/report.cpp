@@ -39,21 +39,23 @@ std::vector<std::string> objective_headers(const Space& space) {
   return h;
 }
 
-// The first design of the front at most as heavy (areal mass) as `e`, least in the first other
-// objective: how much better the search does at equal or lower mass.
+// For each objective but the areal mass, the front's design at most as heavy as `e` that does
+// best in it: how much better the search does at equal or lower mass.
 std::string versus_front(const Space& space, const Evaluation& e, const std::vector<Evaluation>& front) {
-  const auto first = space.objectives.front();
-  const auto mine = objective_value(e, first);
-  if (!mine || first == Objective::areal_mass) return "-";
-  const Evaluation* best = nullptr;
-  for (const auto& f : front) {
-    if (f.areal_mass > e.areal_mass) continue;
-    if (best == nullptr || *objective_value(f, first) < *objective_value(*best, first)) best = &f;
+  std::vector<std::string> parts;
+  for (const auto o : space.objectives) {
+    const auto mine = objective_value(e, o);
+    if (!mine || o == Objective::areal_mass) continue;
+    const Evaluation* best = nullptr;
+    for (const auto& f : front) {
+      if (f.areal_mass > e.areal_mass) continue;
+      if (best == nullptr || *objective_value(f, o) < *objective_value(*best, o)) best = &f;
+    }
+    if (best == nullptr) return "no front design is as light";
+    parts.push_back(fmt::format("{} {:.4g}, {:.3g} times less ({}, {:.4g} kg/m^2)", to_string(o), *objective_value(*best, o),
+                                *mine / *objective_value(*best, o), best->description, best->areal_mass));
   }
-  if (best == nullptr) return "no front design is as light";
-  const double ratio = *mine / *objective_value(*best, first);
-  return fmt::format("{} at {:.4g} kg/m^2: {} {:.4g}, {:.3g} times less", best->description, best->areal_mass,
-                     to_string(first), *objective_value(*best, first), ratio);
+  return parts.empty() ? "-" : fmt::format("{}", fmt::join(parts, "; "));
 }
 
 std::string run_line(const Space& space, const Store& store) {
@@ -81,8 +83,8 @@ postproc::Table space_table(const Space& space) {
   t.rows.push_back({"bottom", std::string(model::to_string(space.fixed.bottom))});
   const auto& c = space.constraints;
   t.rows.push_back({"constraints", fmt::format("spheres <= {}, height <= {} m, areal mass <= {} kg/m^2",
-                                               c.max_spheres ? std::to_string(*c.max_spheres) : "-", value_text(c.max_height),
-                                               value_text(c.max_areal_mass))});
+                                               c.max_spheres ? std::to_string(*c.max_spheres) : "any", c.max_height ? value_text(c.max_height) : "any",
+                                               c.max_areal_mass ? value_text(c.max_areal_mass) : "any")});
   return t;
 }
 
@@ -123,16 +125,19 @@ postproc::Table generations_table(const Store& store) {
 
 postproc::Table confirmations_table(const Store& store) {
   postproc::Table t{"The front's best re-run on LIGGGHTS (granstack design confirm)",
-                    {"design", "case", "LIGGGHTS output fraction", "LIGGGHTS peak wall force (N)", "validate: largest difference", "verdict"}, {}};
+                    {"design", "layers", "case", "LIGGGHTS output fraction", "LIGGGHTS peak wall force (N)", "validate: largest difference", "verdict"}, {}};
   for (const auto& c : store.confirmations()) {
-    t.rows.push_back({c.digest.substr(0, 12), c.case_dir, fmt::format("{:.6g}", c.liggghts_output_fraction),
+    const auto e = store.find(c.digest);
+    t.rows.push_back({c.digest.substr(0, 12), e ? e->description : "?", c.case_dir, fmt::format("{:.6g}", c.liggghts_output_fraction),
                       value_text(c.liggghts_peak_wall_force), fmt::format("{:.3g}", c.largest_difference), c.verdict});
   }
   return t;
 }
 
 // A value for a log axis or a linear one: the objectives that span decades are drawn on a log axis.
-bool log_axis(Objective o) { return o == Objective::output_fraction || o == Objective::peak_wall_force; }
+bool log_axis(Objective o) {
+  return o == Objective::output_fraction || o == Objective::bottom_row_fraction || o == Objective::peak_wall_force;
+}
 
 std::string axis_label(Objective o) { return fmt::format("{} ({})", to_string(o), unit_of(o)); }
 
@@ -161,8 +166,8 @@ postproc::Figure pair_figure(const Store& store, const std::vector<Evaluation>& 
       "     '' index 1 using 1:2:3 with points pt 7 ps 1.4 lc palette title 'front (colour: N_B)', \\\n"
       "     '' index 2 using 1:2 with points pt 6 ps 2 lw 2 lc rgb 'black' title \"the study's designs\", \\\n"
       "     '' index 2 using 1:2:3 with labels offset 1,1 left font 'Sans,18' notitle\n",
-      postproc::gnuplot_terminal(o), name, axis_label(x), axis_label(y), log_axis(x) ? "set logscale x\n" : "",
-      log_axis(y) ? "set logscale y\n" : "", name);
+      postproc::gnuplot_terminal(o), name, axis_label(x), axis_label(y), log_axis(x) ? "set logscale x\nset format x '10^{%L}'\n" : "",
+      log_axis(y) ? "set logscale y\nset format y '10^{%L}'\n" : "", name);
   postproc::render_gnuplot(dir.string(), name, data, script, o);
   return {name + ".svg", fmt::format("{} against {}: every feasible design evaluated (grey), the front coloured by the number "
                                      "of blocks, the study's designs (circles)", to_string(y), to_string(x))};
@@ -189,6 +194,7 @@ json evaluation_json(const Space& space, const Evaluation& e) {
   return {{"digest", e.digest}, {"description", e.description}, {"spheres", e.spheres}, {"feasible", e.feasible},
           {"violations", e.violations}, {"objectives", objectives}, {"areal_mass", e.areal_mass}, {"height", e.height},
           {"output_fraction", e.output_fraction ? json(*e.output_fraction) : json(nullptr)},
+          {"bottom_row_fraction", e.bottom_row_fraction ? json(*e.bottom_row_fraction) : json(nullptr)},
           {"peak_wall_force", e.peak_wall_force ? json(*e.peak_wall_force) : json(nullptr)}, {"spec", model::spec_json(e.spec)}};
 }
 
@@ -278,9 +284,9 @@ std::string status_text(const Space& space, const Store& store) {
   const auto gens = store.generations();
   const auto front = pareto_front(space, all);
   const auto feasible = std::count_if(all.begin(), all.end(), [](const auto& e) { return e.feasible; });
-  std::string out = fmt::format("{} of {} generations done; {} designs evaluated ({} within the constraints); the front holds {}\n",
-                                gens.empty() ? 0 : gens.back().index + 1, space.search.generations + 1, all.size(), feasible,
-                                front.size());
+  std::string out = fmt::format("generations 0 to {} done (the space asks for {}); {} designs evaluated ({} within the "
+                                "constraints); the front holds {}\n",
+                                gens.empty() ? -1 : gens.back().index, space.search.generations, all.size(), feasible, front.size());
   if (!gens.empty()) out += fmt::format("hypervolume: {:.6g} at generation 0, {:.6g} at generation {}\n", gens.front().hypervolume, gens.back().hypervolume, gens.back().index);
   const auto headers = objective_headers(space);
   for (std::size_t i = 0; i < std::min<std::size_t>(front.size(), 10); ++i) {

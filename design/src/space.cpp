@@ -16,7 +16,8 @@
 namespace granstack::design {
 
 namespace {
-constexpr std::array<std::pair<Objective, const char*>, 4> kObjectives{{{Objective::output_fraction, "output_fraction"},
+constexpr std::array<std::pair<Objective, const char*>, 5> kObjectives{{{Objective::output_fraction, "output_fraction"},
+                                                                        {Objective::bottom_row_fraction, "bottom_row_fraction"},
                                                                         {Objective::peak_wall_force, "peak_wall_force"},
                                                                         {Objective::areal_mass, "areal_mass"},
                                                                         {Objective::height, "height"}}};
@@ -144,9 +145,9 @@ void read_objectives(const toml::table& root, Space& s, std::vector<std::string>
 // Objectives a geometry cannot measure.
 void check_measurable(const Space& s, std::vector<std::string>& problems) {
   for (const auto o : s.objectives) {
-    if (o == Objective::output_fraction && s.fixed.bottom != model::Boundary::free_surface) {
-      problems.push_back("objectives: output_fraction needs a free bottom (the output sphere must leave); set [fixed] "
-                         "bottom = \"free\", or minimise peak_wall_force against the wall");
+    if ((o == Objective::output_fraction || o == Objective::bottom_row_fraction) && s.fixed.bottom != model::Boundary::free_surface) {
+      problems.push_back(fmt::format("objectives: {} needs a free bottom (the output spheres must leave); set [fixed] "
+                                     "bottom = \"free\", or minimise peak_wall_force against the wall", to_string(o)));
     }
     if (o == Objective::peak_wall_force && s.fixed.bottom != model::Boundary::wall) {
       problems.push_back("objectives: peak_wall_force needs a bottom wall to measure; set [fixed] bottom = \"wall\"");
@@ -246,7 +247,8 @@ std::optional<Objective> parse_objective(std::string_view s) {
 }
 std::string_view unit_of(Objective o) {
   switch (o) {
-    case Objective::output_fraction: return "of E_in";
+    case Objective::output_fraction:
+    case Objective::bottom_row_fraction: return "of E_in";
     case Objective::peak_wall_force: return "N";
     case Objective::areal_mass: return "kg/m^2";
     case Objective::height: return "m";

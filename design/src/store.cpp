@@ -16,7 +16,7 @@ CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS evaluations (
   digest TEXT PRIMARY KEY, description TEXT NOT NULL, spec TEXT NOT NULL, blocks INTEGER NOT NULL,
   spheres INTEGER NOT NULL, feasible INTEGER NOT NULL, violations TEXT NOT NULL,
-  output_fraction REAL, peak_wall_force REAL, areal_mass REAL NOT NULL, height REAL NOT NULL,
+  output_fraction REAL, bottom_row_fraction REAL, peak_wall_force REAL, areal_mass REAL NOT NULL, height REAL NOT NULL,
   seconds REAL NOT NULL, searched INTEGER NOT NULL, output_separated INTEGER NOT NULL, created TEXT NOT NULL DEFAULT (datetime('now')));
 CREATE TABLE IF NOT EXISTS study_designs (name TEXT PRIMARY KEY, digest TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS generations (
@@ -79,7 +79,8 @@ class Statement {
 };
 
 constexpr const char* kEvaluationColumns =
-    "digest, description, spec, spheres, feasible, violations, output_fraction, peak_wall_force, areal_mass, height, "
+    "digest, description, spec, spheres, feasible, violations, output_fraction, bottom_row_fraction, peak_wall_force, "
+    "areal_mass, height, "
     "seconds, searched, output_separated";
 
 std::string prefixed_columns(const std::string& prefix) {
@@ -93,7 +94,7 @@ std::string prefixed_columns(const std::string& prefix) {
   return out;
 }
 
-// The evaluation in columns from..from + 12 of a row.
+// The evaluation in columns from..from + 13 of a row.
 Evaluation evaluation_from(const Statement& q, int from = 0) {
   Evaluation e;
   e.digest = q.text(from);
@@ -103,12 +104,13 @@ Evaluation evaluation_from(const Statement& q, int from = 0) {
   e.feasible = q.integer(from + 4) != 0;
   e.violations = q.text(from + 5);
   e.output_fraction = q.maybe(from + 6);
-  e.peak_wall_force = q.maybe(from + 7);
-  e.areal_mass = q.real(from + 8);
-  e.height = q.real(from + 9);
-  e.seconds = q.real(from + 10);
-  e.searched = q.integer(from + 11) != 0;
-  e.output_separated = q.integer(from + 12) != 0;
+  e.bottom_row_fraction = q.maybe(from + 7);
+  e.peak_wall_force = q.maybe(from + 8);
+  e.areal_mass = q.real(from + 9);
+  e.height = q.real(from + 10);
+  e.seconds = q.real(from + 11);
+  e.searched = q.integer(from + 12) != 0;
+  e.output_separated = q.integer(from + 13) != 0;
   return e;
 }
 
@@ -189,12 +191,12 @@ std::optional<Evaluation> Store::find(const std::string& digest) const {
 
 void Store::put(const Evaluation& e) {
   const std::lock_guard<std::mutex> lock(*mutex_);
-  Statement q(db_, fmt::format("INSERT OR REPLACE INTO evaluations ({}, blocks) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+  Statement q(db_, fmt::format("INSERT OR REPLACE INTO evaluations ({}, blocks) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
                                kEvaluationColumns));
   q.bind(1, e.digest).bind(2, e.description).bind(3, model::spec_json(e.spec).dump()).bind(4, e.spheres);
-  q.bind(5, static_cast<long>(e.feasible)).bind(6, e.violations).bind(7, e.output_fraction).bind(8, e.peak_wall_force);
-  q.bind(9, e.areal_mass).bind(10, e.height).bind(11, e.seconds).bind(12, static_cast<long>(e.searched));
-  q.bind(13, static_cast<long>(e.output_separated)).bind(14, static_cast<long>(e.spec.blocks));
+  q.bind(5, static_cast<long>(e.feasible)).bind(6, e.violations).bind(7, e.output_fraction).bind(8, e.bottom_row_fraction);
+  q.bind(9, e.peak_wall_force).bind(10, e.areal_mass).bind(11, e.height).bind(12, e.seconds);
+  q.bind(13, static_cast<long>(e.searched)).bind(14, static_cast<long>(e.output_separated)).bind(15, static_cast<long>(e.spec.blocks));
   q.step();
 }
 

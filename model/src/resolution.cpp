@@ -177,4 +177,15 @@ std::string why_large(const Cost& c) {
   return why;
 }
 
+long last_output_change(const std::vector<long>& steps, const std::vector<double>& ke, double e_in) {
+  if (ke.empty()) return 0;
+  const double final_ke = ke.back();
+  long last = 0;
+  for (std::size_t i = 1; i < ke.size(); ++i) {
+    const double change = std::fabs(ke[i] - ke[i - 1]);
+    if (change > 1e-3 * final_ke && change > 1e-12 * e_in) last = steps[i];
+  }
+  return last;
+}
+
 }  // namespace granstack::model

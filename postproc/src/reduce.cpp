@@ -173,31 +173,25 @@ void require_frame_matches_series(const FrameEnergy& e, const formats::Series& s
   }
 }
 
-// The automatic duration leaves the output sphere's last change of energy at most this fraction
-// of the run (it is 2 estimated arrivals, and the last change comes by 1.2 arrivals in
-// single-material stacks, measured). A later change means energy may still have been on its
-// way to the bottom: in the steel/Teflon/steel sandwich the output sphere is kicked four times,
-// the last at 1.84 arrivals (8 rows) and 2.62 (16 rows), measured with refsim.
-constexpr double kLastChangeFraction = 0.6;
 
 void warn_if_energy_still_arriving(const formats::Series& series, const SeriesColumns& c, const model::Resolution& res,
                                    CaseReduction& r) {
-  if (series.rows.empty()) return;
-  const double final_ke = c.output_ke(series.rows.back());
-  double last_step = 0.0;
-  for (std::size_t i = 1; i < series.rows.size(); ++i) {
-    const double change = std::fabs(c.output_ke(series.rows[i]) - c.output_ke(series.rows[i - 1]));
-    if (change > 1e-3 * final_ke && change > 1e-12 * r.e_in) last_step = SeriesColumns::at(series.rows[i], c.step);
+  std::vector<long> steps;
+  std::vector<double> ke;
+  for (const auto& row : series.rows) {
+    steps.push_back(static_cast<long>(SeriesColumns::at(row, c.step)));
+    ke.push_back(c.output_ke(row));
   }
+  const auto last_step = static_cast<double>(model::last_output_change(steps, ke, r.e_in));
   r.output_last_change_time = last_step * res.dt;
   // Against a bottom wall the output sphere never leaves and its peak is the output: no warning.
-  if (r.spec.bottom == model::Boundary::free_surface && last_step > kLastChangeFraction * static_cast<double>(res.steps)) {
+  if (r.spec.bottom == model::Boundary::free_surface && !model::output_settled(static_cast<long>(last_step), res.steps)) {
     r.warnings.push_back(fmt::format(
         "the output sphere's energy still changed at t = {:.4g} s, {:.2f} of the run (at most {:g} leaves room for "
         "later kicks): energy may still be on its way to the bottom; generate the case again with a longer "
         "--duration (at least {:.3g} s)",
-        r.output_last_change_time, last_step / static_cast<double>(res.steps), kLastChangeFraction,
-        r.output_last_change_time / kLastChangeFraction));
+        r.output_last_change_time, last_step / static_cast<double>(res.steps), model::kLastChangeFraction,
+        r.output_last_change_time / model::kLastChangeFraction));
   }
 }
 

@@ -42,19 +42,30 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
   system.setup();
   // reduce reads the free output sphere's energy in the last dump frame, its peaks in the series.
   const long last_frame = res.steps / res.dump_every * res.dump_every;
-  double final_ke = sphere_ke(system, out);
+  const auto bottom_row = stack.bottom_row_ids();
+  // The output sphere's energy and the bottom row's, in the order reduce sums them (ids ascending).
+  const auto final_energies = [&] {
+    double row = 0.0;
+    for (const int id : bottom_row) row += sphere_ke(system, static_cast<std::size_t>(id - 1));
+    return std::pair{sphere_ke(system, out), row};
+  };
+  auto final_ke = final_energies();
   const auto advance_to = [&](long step) {
     if (step > system.step_count()) system.advance(step - system.step_count());
   };
+  std::vector<long> sample_steps;
+  std::vector<double> sample_ke;
   for (long step = res.series_every; step <= res.steps; step += res.series_every) {
     if (last_frame > system.step_count() && last_frame < step) {
       advance_to(last_frame);
-      final_ke = sphere_ke(system, out);
+      final_ke = final_energies();
     }
     advance_to(step);
     // The series' output-sphere columns hold its translational and rotational energy; reduce adds them.
     const double ke = sphere_ke(system, out);
-    if (step == last_frame) final_ke = ke;
+    sample_steps.push_back(step);
+    sample_ke.push_back(ke);
+    if (step == last_frame) final_ke = final_energies();
     r.output_peak_fraction = std::max(r.output_peak_fraction, ke / r.e_in);
     if (wall) {
       const double f = bottom_wall_force(system);
@@ -66,9 +77,13 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
   }
   if (last_frame > system.step_count()) {
     advance_to(last_frame);
-    final_ke = sphere_ke(system, out);
+    final_ke = final_energies();
   }
-  r.output_fraction = wall ? r.output_peak_fraction : final_ke / r.e_in;
+  r.output_fraction = wall ? r.output_peak_fraction : final_ke.first / r.e_in;
+  r.bottom_row_fraction = final_ke.second / r.e_in;
+  const long last_change = model::last_output_change(sample_steps, sample_ke, r.e_in);
+  r.output_last_change_time = static_cast<double>(last_change) * res.dt;
+  r.output_settled = wall || model::output_settled(last_change, res.steps);
   r.output_separated = !wall && touches_nothing(system, out);
   r.steps = res.steps;
   r.atoms = static_cast<long>(system.size());

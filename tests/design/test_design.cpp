@@ -4,6 +4,7 @@
 #include <granstack/design/search.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/generator/spec_input.hpp>
+#include <granstack/os/process.hpp>
 #include <granstack/postproc/reduce.hpp>
 #include <granstack/refsim/case_run.hpp>
 #include <granstack/refsim/in_situ.hpp>
@@ -12,9 +13,11 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include "../support/program.hpp"
 
@@ -80,6 +83,8 @@ TEST(InSitu, EqualsReduceOfTheSameCaseRunOnRefsim) {
     // The same doubles through the same expressions (model::translational_energy and
     // rotational_energy): bit for bit.
     EXPECT_EQ(e.output_fraction, r.output_fraction);
+    EXPECT_EQ(e.bottom_row_fraction, r.output_fraction_bottom_row);
+    EXPECT_GT(e.bottom_row_fraction, e.output_fraction);
     ASSERT_EQ(e.peak_wall_force.has_value(), r.peak_wall_force.has_value());
     if (r.peak_wall_force) {
       EXPECT_GT(*r.peak_wall_force, 0.0);
@@ -281,7 +286,7 @@ TEST(DesignCli, StatusTheFrontsSpecFilesAndTheStoreReadFromPython) {
   const auto searched = searched_dir(dir);
   auto r = program({"design", "status", searched.string()}, dir / "status.log");
   ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_NE(r.output.find("3 of 3 generations done"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("generations 0 to 2 done (the space asks for 2)"), std::string::npos) << r.output;
   const auto store = design::Store::open_existing((searched / "design.sqlite").string());
   const auto evaluated = store.evaluations().size();
   EXPECT_NE(r.output.find(fmt::format("{} designs evaluated", evaluated)), std::string::npos) << r.output;
@@ -350,4 +355,41 @@ TEST(DesignCli, TheHtmlReportRendersInChromium) {
   EXPECT_EQ(svgs, 2u);  // output_fraction against areal_mass, and the hypervolume
   EXPECT_NE(r.output.find("<caption>The Pareto front"), std::string::npos);
   EXPECT_NE(r.output.find("four steel blocks"), std::string::npos);
+}
+
+// A search killed outright (SIGKILL, as a node failure or the OOM killer would) loses nothing it
+// stored: run again, it ends with the generations an uninterrupted search gives.
+TEST(DesignCli, ASearchKilledOutrightResumesToTheSameGenerations) {
+  const auto dir = work_dir();
+  std::ofstream(dir / "small.toml") << kSmallSpace;
+  const auto space = (dir / "small.toml").string();
+  ASSERT_EQ(program({"design", "run", space, "-o", (dir / "whole").string(), "--no-report"}, dir / "whole.log").code, 0);
+  os::StartOptions o;
+  o.output = dir / "killed.log";
+  const auto child = os::start({GRANSTACK_EXE, "design", "run", space, "-o", (dir / "killed").string(), "--no-report"}, o);
+  ASSERT_EQ(child.error, "");
+  // Killed once generation 0 is stored: in generation 1's batch, or just after it.
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  const auto store = dir / "killed" / "design.sqlite";
+  std::size_t stored = 0;
+  while (stored == 0 && std::chrono::steady_clock::now() < until) {
+    try {
+      if (fs::exists(store)) stored = design::Store::open_existing(store.string()).generations().size();
+    } catch (const design::StoreError&) {
+      // not yet made whole
+    }
+  }
+  os::kill_group(child);
+  os::wait(child);
+  const auto again = program({"design", "run", space, "-o", (dir / "killed").string(), "--no-report"}, dir / "again.log");
+  ASSERT_EQ(again.code, 0) << again.output;
+  std::printf("killed after %zu generation(s) stored; the rerun: %s", stored, again.output.c_str());
+  const auto a = design::Store::open_existing((dir / "whole" / "design.sqlite").string()).generations();
+  const auto b = design::Store::open_existing((dir / "killed" / "design.sqlite").string()).generations();
+  ASSERT_EQ(a.size(), 3u);
+  ASSERT_EQ(b.size(), 3u);
+  for (std::size_t g = 0; g < a.size(); ++g) {
+    EXPECT_EQ(a[g].digests, b[g].digests) << "generation " << g;
+    EXPECT_EQ(a[g].hypervolume, b[g].hypervolume) << "generation " << g;
+  }
 }

@@ -45,8 +45,28 @@ class Evaluator {
 
 inline constexpr double kInfeasible = 1e12;
 
+// A design whose output sphere was still being kicked late in its run (past
+// model::kLastChangeFraction) is run once more, long enough for that last change to come at
+// this fraction of the run; still unsettled, it is infeasible (its output is not final).
+inline constexpr double kExtendedChangeFraction = 0.3;
+
 // A design's measures known without running it (geometry and constraints), as an evaluation.
 Evaluation measured(const Space& space, const model::StackSpec& spec);
+
+// What one run of a design gave, in situ or by reduce of its case (the same values).
+struct Outcome {
+  double output_fraction = 0.0, bottom_row_fraction = 0.0;
+  bool output_separated = false;
+  std::optional<double> peak_wall_force;
+  double output_last_change_time = 0.0;  // s
+  bool output_settled = true;
+  double seconds = 0.0;
+};
+// The spec to run again when `o` is not settled (its duration set so the last change comes at
+// kExtendedChangeFraction of the run), or nullopt: settled, or already run with a set duration.
+std::optional<model::StackSpec> extended(const model::StackSpec& ran, const Outcome& o);
+// The evaluation of `e` (measured) after the run of `ran` (its spec, or its extension) gave `o`.
+void record(Evaluation& e, const model::StackSpec& ran, const Outcome& o);
 // One design's evaluation, run now without a store (what `evaluate` runs for a missing one); a
 // design outside the constraints is not run unless `run_anyway`.
 Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway = false);

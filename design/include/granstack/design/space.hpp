@@ -25,7 +25,7 @@ class SpaceError : public std::runtime_error {
 };
 
 // What a design is judged by, all minimised.
-enum class Objective { output_fraction, peak_wall_force, areal_mass, height };
+enum class Objective { output_fraction, bottom_row_fraction, peak_wall_force, areal_mass, height };
 std::string_view to_string(Objective o);
 std::optional<Objective> parse_objective(std::string_view s);
 std::string_view unit_of(Objective o);

@@ -22,7 +22,7 @@ struct Evaluation {
   long spheres = 0;
   bool feasible = true;
   std::string violations;   // the broken constraints, when not feasible
-  std::optional<double> output_fraction, peak_wall_force;
+  std::optional<double> output_fraction, bottom_row_fraction, peak_wall_force;
   // With a free bottom: the output sphere had left every contact when the run ended, so its
   // output fraction is final (refsim::InSituResult::output_separated).
   bool output_separated = true;

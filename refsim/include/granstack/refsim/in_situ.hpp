@@ -26,9 +26,16 @@ struct InSituResult {
   // last step / E_in; against a bottom wall its peak over the series' samples / E_in.
   double output_fraction = 0.0;
   double output_peak_fraction = 0.0;        // the output sphere's peak over the samples / E_in
+  // reduce's output_fraction_bottom_row: the whole bottom row's kinetic energy in the last dump
+  // frame / E_in (what crosses the bottom face, not one sphere's share of it).
+  double bottom_row_fraction = 0.0;
   // At the end of the run the output sphere touches no sphere (and with a free bottom has
   // left the lattice): its output fraction is final. reduce warns where it is not.
   bool output_separated = false;
+  // When the output sphere's energy last changed (model::last_output_change, as reduce takes it
+  // from the series), and whether that leaves it final (model::output_settled; always with a wall).
+  double output_last_change_time = 0.0;  // s
+  bool output_settled = true;
   std::optional<double> peak_wall_force;    // N: reduce's peak_wall_force (bottom wall only)
   double peak_wall_force_time = 0.0;        // s
   long steps = 0;
