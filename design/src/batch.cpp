@@ -124,9 +124,13 @@ class SlurmRunner : public BatchRunner {
     }
     const auto res = model::resolve(model::Stack::build(spec));
     const auto last_change = std::llround(r.output_last_change_time / res.dt);
-    const bool wall = spec.bottom == model::Boundary::wall;
-    return Outcome{r.output_fraction, r.output_fraction_bottom_row, r.output_separated, r.peak_wall_force,
-                   r.output_last_change_time, wall || model::output_settled(last_change, res.steps), 0.0};
+    const double run_time = static_cast<double>(res.steps) * res.dt;
+    const bool settled = spec.bottom == model::Boundary::wall
+                             ? model::wall_load_settled(r.peak_wall_force_time, run_time, r.final_momentum_ratio)
+                             : model::output_settled(last_change, res.steps);
+    return Outcome{r.output_fraction,        r.output_fraction_bottom_row, r.output_separated,     r.peak_wall_force,
+                   r.output_last_change_time, settled,                     r.peak_wall_force_time, r.final_momentum_ratio,
+                   run_time,                 0.0};
   }
 
   fs::path dir_;

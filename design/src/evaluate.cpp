@@ -20,8 +20,9 @@ Outcome run(const model::StackSpec& spec) {
   const auto stack = model::Stack::build(spec);
   // The particles exactly as a generated case's data file gives them to refsim.
   const auto r = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "design")));
-  return {r.output_fraction, r.bottom_row_fraction, r.output_separated, r.peak_wall_force,
-          r.output_last_change_time, r.output_settled, r.seconds};
+  return {r.output_fraction,        r.bottom_row_fraction,  r.output_separated,     r.peak_wall_force,
+          r.output_last_change_time, r.output_settled,       r.peak_wall_force_time, r.final_momentum_ratio,
+          r.run_time,               r.seconds};
 }
 }  // namespace
 
@@ -31,7 +32,8 @@ std::optional<model::StackSpec> extended(const model::StackSpec& ran, const Outc
   // evaluated spec then names its duration: confirm and the front's spec files run it).
   if (o.output_settled || ran.duration) return std::nullopt;
   auto longer = ran;
-  longer.duration = o.output_last_change_time / kExtendedChangeFraction;
+  longer.duration = ran.bottom == model::Boundary::wall ? kWallExtension * o.run_time
+                                                        : o.output_last_change_time / kExtendedChangeFraction;
   return longer;
 }
 
@@ -39,8 +41,12 @@ void record(Evaluation& e, const model::StackSpec& ran, const Outcome& o) {
   e.spec = ran;
   if (!o.output_settled) {
     e.feasible = false;
-    e.violations = fmt::format("output not final: the output sphere's energy still changed at t = {:.4g} s, beyond {:g} "
-                               "of the run", o.output_last_change_time, model::kLastChangeFraction);
+    e.violations = ran.bottom == model::Boundary::wall
+                       ? fmt::format("load not final: the wall's peak came at t = {:.4g} s of {:.4g} s, and the stack's "
+                                     "momentum at the end was {:.3g} m v (the blow not yet taken)",
+                                     o.peak_wall_force_time, o.run_time, o.final_momentum_ratio)
+                       : fmt::format("output not final: the output sphere's energy still changed at t = {:.4g} s, beyond "
+                                     "{:g} of the run", o.output_last_change_time, model::kLastChangeFraction);
   }
   if (ran.bottom == model::Boundary::free_surface) {
     e.output_fraction = o.output_fraction;

@@ -15,6 +15,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <iterator>
 #include <ctime>
 #include <sstream>
 
@@ -141,36 +142,60 @@ bool log_axis(Objective o) {
 
 std::string axis_label(Objective o) { return fmt::format("{} ({})", to_string(o), unit_of(o)); }
 
-// One pair of objectives: every feasible design (grey), the front coloured by N_B, the study's designs labelled.
-postproc::Figure pair_figure(const Store& store, const std::vector<Evaluation>& front, Objective x,
-                             Objective y, const fs::path& dir) {
+// The front's plot elements: one per top-block material on the front (its own symbol), each
+// point coloured by its number of blocks (column 3); column 4 holds the material's index.
+std::string front_elements(const Space& space, const std::vector<Evaluation>& front) {
+  static constexpr int kSymbols[] = {7, 5, 9, 11, 13, 15};
+  std::string out;
+  for (std::size_t k = 0; k < space.materials.size(); ++k) {
+    const bool present = std::any_of(front.begin(), front.end(), [&](const auto& e) { return e.spec.block_material(1) == space.materials[k]; });
+    if (!present) continue;
+    out += fmt::format("     '' index 1 using 1:($4 == {} ? $2 : 1/0):3 with points pt {} ps 1.5 lc palette title 'front, top block {}', \\\n",
+                       k, kSymbols[k % std::size(kSymbols)], space.materials[k]);
+  }
+  return out;
+}
+
+std::string pair_data(const Space& space, const Store& store, const std::vector<Evaluation>& front, Objective x, Objective y) {
   std::string data = "# every feasible design: x y N_B\n";
   for (const auto& e : store.evaluations()) {
     if (e.feasible) data += fmt::format("{:.10g} {:.10g} {}\n", *objective_value(e, x), *objective_value(e, y), e.spec.blocks);
   }
-  data += "\n\n# the front: x y N_B\n";
-  for (const auto& e : front) data += fmt::format("{:.10g} {:.10g} {}\n", *objective_value(e, x), *objective_value(e, y), e.spec.blocks);
+  data += "\n\n# the front: x y N_B top-block-material-index\n";
+  for (const auto& e : front) {
+    const auto k = std::find(space.materials.begin(), space.materials.end(), e.spec.block_material(1)) - space.materials.begin();
+    data += fmt::format("{:.10g} {:.10g} {} {}\n", *objective_value(e, x), *objective_value(e, y), e.spec.blocks, k);
+  }
   data += "\n\n# the study's designs: x y name\n";
   for (const auto& [name, e] : store.study_designs()) {
     if (objective_value(e, x) && objective_value(e, y)) {
       data += fmt::format("{:.10g} {:.10g} \"{}\"\n", *objective_value(e, x), *objective_value(e, y), name);
     }
   }
+  return data;
+}
+
+// One pair of objectives: every feasible design (grey), the front coloured by N_B with a symbol
+// per top-block material, the study's designs labelled.
+postproc::Figure pair_figure(const Space& space, const Store& store, const std::vector<Evaluation>& front, Objective x,
+                             Objective y, const fs::path& dir) {
   const auto name = fmt::format("{}_vs_{}", to_string(y), to_string(x));
   postproc::PlotOptions o;
   o.format = "svg";
   const auto script = fmt::format(
-      "{}\nset output '{}.svg'\nset xlabel '{}'\nset ylabel '{}'\n{}{}set key outside right top\nset cblabel 'N_B'\n"
+      "{}\nset output '{}.svg'\nset xlabel '{}' noenhanced\nset ylabel '{}' noenhanced\n{}{}set key outside right top\n"
+      "set cblabel 'N_B'\nset cbtics 1\n"
       "set palette defined (1 '#1b9e77', 2 '#d95f02', 3 '#7570b3', 4 '#e7298a', 5 '#66a61e', 6 '#e6ab02')\n"
-      "plot '{}.dat' index 0 using 1:2 with points pt 7 ps 0.5 lc rgb '#c0c0c0' title 'evaluated', \\\n"
-      "     '' index 1 using 1:2:3 with points pt 7 ps 1.4 lc palette title 'front (colour: N_B)', \\\n"
+      "plot '{}.dat' index 0 using 1:2 with points pt 7 ps 0.5 lc rgb '#c0c0c0' title 'evaluated', \\\n{}"
       "     '' index 2 using 1:2 with points pt 6 ps 2 lw 2 lc rgb 'black' title \"the study's designs\", \\\n"
-      "     '' index 2 using 1:2:3 with labels offset 1,1 left font 'Sans,18' notitle\n",
+      "     '' index 2 using 1:2:3 with labels offset -1,1 right font 'Sans,18' noenhanced notitle\n",
       postproc::gnuplot_terminal(o), name, axis_label(x), axis_label(y), log_axis(x) ? "set logscale x\nset format x '10^{%L}'\n" : "",
-      log_axis(y) ? "set logscale y\nset format y '10^{%L}'\n" : "", name);
-  postproc::render_gnuplot(dir.string(), name, data, script, o);
-  return {name + ".svg", fmt::format("{} against {}: every feasible design evaluated (grey), the front coloured by the number "
-                                     "of blocks, the study's designs (circles)", to_string(y), to_string(x))};
+      log_axis(y) ? "set logscale y\nset format y '10^{%L}'\n" : "", name, front_elements(space, front));
+  postproc::render_gnuplot(dir.string(), name, pair_data(space, store, front, x, y), script, o);
+  return {name + ".svg", fmt::format("{} against {}: every feasible design evaluated (grey), the front (of all the objectives, "
+                                     "seen in these two) coloured by the number of blocks with a symbol per top-block material, "
+                                     "the study's designs (circles)",
+                                     to_string(y), to_string(x))};
 }
 
 postproc::Figure hypervolume_figure(const Store& store, const fs::path& dir) {
@@ -312,7 +337,7 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   d.push_back(postproc::Heading{2, "Figures", "figures"});
   for (std::size_t i = 0; i < space.objectives.size(); ++i) {
     for (std::size_t k = i + 1; k < space.objectives.size(); ++k) {
-      d.push_back(pair_figure(store, front, space.objectives[k], space.objectives[i], dir));
+      d.push_back(pair_figure(space, store, front, space.objectives[k], space.objectives[i], dir));
     }
   }
   d.push_back(postproc::Heading{2, "Convergence", "convergence"});

@@ -316,6 +316,7 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     e.column_y_ke[k].assign(static_cast<std::size_t>(stack.blocks()[k].depth), 0.0);
   }
   e.top_row_sideways = e.top_row_downward = e.striker_ke = e.output_sphere_ke = e.bottom_row_ke = 0.0;
+  e.momentum_z = 0.0;
   e.kinetic = e.elastic = e.striker_vz = e.matrix_ke = 0.0;
   const auto out_index = static_cast<std::size_t>(stack.output_sphere_id() - 1);
   const auto& spheres = stack.spheres();
@@ -342,6 +343,7 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     const double rot = model::rotational_energy(m, rad, wx, wy, wz);
     const double ke = model::translational_energy(m, vx, vy, vz) + rot;
     e.kinetic += ke;
+    e.momentum_z += m * vz;
     const int b = c.block[i];
     if (b == Constants::kStriker) {
       e.striker_ke += ke;

@@ -294,6 +294,7 @@ void final_state(const FrameEnergy& last, const model::Stack& stack, CaseReducti
   const auto& spec = stack.spec();
   if (spec.gravity == 0.0) r.dissipated_fraction = (r.e_in - last.kinetic - last.elastic) / r.e_in;
   r.striker_velocity_ratio = last.striker_vz / -spec.striker_speed;
+  r.final_momentum_ratio = last.momentum_z / (stack.striker_mass() * spec.striker_speed * stack.strikers());
   r.output_fraction_bottom_row = last.bottom_row_ke / r.e_in;
   r.output_fraction_bottom_row_per_sphere =
       r.output_fraction_bottom_row / static_cast<double>(stack.bottom_row_ids().size());
@@ -478,6 +479,7 @@ json to_json(const CaseReduction& r) {
           {"output_fraction_bottom_row_per_sphere", r.output_fraction_bottom_row_per_sphere},
           {"peak_wall_force", r.peak_wall_force ? nlohmann::json(*r.peak_wall_force) : nlohmann::json(nullptr)},
           {"peak_wall_force_time", r.peak_wall_force ? nlohmann::json(r.peak_wall_force_time) : nlohmann::json(nullptr)},
+          {"final_momentum_ratio", r.final_momentum_ratio},
           {"output_definition", r.output_definition},
           {"output_separated", r.output_separated},
           {"output_peak_fraction", r.output_peak_fraction},

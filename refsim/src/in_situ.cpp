@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <tuple>
 
 namespace granstack::refsim {
 
@@ -45,9 +46,10 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
   const auto bottom_row = stack.bottom_row_ids();
   // The output sphere's energy and the bottom row's, in the order reduce sums them (ids ascending).
   const auto final_energies = [&] {
-    double row = 0.0;
+    double row = 0.0, momentum = 0.0;
     for (const int id : bottom_row) row += sphere_ke(system, static_cast<std::size_t>(id - 1));
-    return std::pair{sphere_ke(system, out), row};
+    for (std::size_t i = 0; i < system.size(); ++i) momentum += system.mass(i) * system.v(i)[2];
+    return std::tuple{sphere_ke(system, out), row, momentum};
   };
   auto final_ke = final_energies();
   const auto advance_to = [&](long step) {
@@ -79,11 +81,14 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
     advance_to(last_frame);
     final_ke = final_energies();
   }
-  r.output_fraction = wall ? r.output_peak_fraction : final_ke.first / r.e_in;
-  r.bottom_row_fraction = final_ke.second / r.e_in;
+  r.output_fraction = wall ? r.output_peak_fraction : std::get<0>(final_ke) / r.e_in;
+  r.bottom_row_fraction = std::get<1>(final_ke) / r.e_in;
+  r.final_momentum_ratio = std::get<2>(final_ke) / (stack.striker_mass() * stack.spec().striker_speed * stack.strikers());
+  r.run_time = static_cast<double>(res.steps) * res.dt;
   const long last_change = model::last_output_change(sample_steps, sample_ke, r.e_in);
   r.output_last_change_time = static_cast<double>(last_change) * res.dt;
-  r.output_settled = wall || model::output_settled(last_change, res.steps);
+  r.output_settled = wall ? model::wall_load_settled(r.peak_wall_force_time, r.run_time, r.final_momentum_ratio)
+                          : model::output_settled(last_change, res.steps);
   r.output_separated = !wall && touches_nothing(system, out);
   r.steps = res.steps;
   r.atoms = static_cast<long>(system.size());

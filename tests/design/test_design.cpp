@@ -92,6 +92,10 @@ TEST(InSitu, EqualsReduceOfTheSameCaseRunOnRefsim) {
       EXPECT_EQ(e.peak_wall_force_time, r.peak_wall_force_time);
     }
     EXPECT_EQ(e.output_separated, bottom == model::Boundary::free_surface && r.output_separated);
+    EXPECT_EQ(e.final_momentum_ratio, r.final_momentum_ratio);  // m vz summed in id order by both
+    if (bottom == model::Boundary::wall) {
+      EXPECT_GT(r.final_momentum_ratio, 0.0);  // the wall threw the stack back
+    }
   }
 }
 

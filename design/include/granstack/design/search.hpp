@@ -49,6 +49,7 @@ inline constexpr double kInfeasible = 1e12;
 // model::kLastChangeFraction) is run once more, long enough for that last change to come at
 // this fraction of the run; still unsettled, it is infeasible (its output is not final).
 inline constexpr double kExtendedChangeFraction = 0.3;
+inline constexpr double kWallExtension = 3.0;
 
 // A design's measures known without running it (geometry and constraints), as an evaluation.
 Evaluation measured(const Space& space, const model::StackSpec& spec);
@@ -59,11 +60,15 @@ struct Outcome {
   bool output_separated = false;
   std::optional<double> peak_wall_force;
   double output_last_change_time = 0.0;  // s
-  bool output_settled = true;
+  bool output_settled = true;            // free bottom: the output's; wall: the load's (model::wall_load_settled)
+  double peak_wall_force_time = 0.0;     // s
+  double final_momentum_ratio = 0.0;     // the stack's z momentum at the end over m v
+  double run_time = 0.0;                 // s
   double seconds = 0.0;
 };
-// The spec to run again when `o` is not settled (its duration set so the last change comes at
-// kExtendedChangeFraction of the run), or nullopt: settled, or already run with a set duration.
+// The spec to run again when `o` is not settled (free bottom: its duration set so the last change
+// comes at kExtendedChangeFraction of the run; wall: kWallExtension times as long), or nullopt:
+// settled, or already run with a set duration.
 std::optional<model::StackSpec> extended(const model::StackSpec& ran, const Outcome& o);
 // The evaluation of `e` (measured) after the run of `ran` (its spec, or its extension) gave `o`.
 void record(Evaluation& e, const model::StackSpec& ran, const Outcome& o);

@@ -122,5 +122,11 @@ long last_output_change(const std::vector<long>& steps, const std::vector<double
 inline bool output_settled(long last_change_step, long steps) {
   return static_cast<double>(last_change_step) <= kLastChangeFraction * static_cast<double>(steps);
 }
+// Against a bottom wall, the peak load is final when the wall has taken the whole blow by the end
+// of the run (the stack's momentum along z is no longer downward: final_momentum_ratio >= 0, in
+// units of the striker's m v) and its peak came at most kLastChangeFraction of the run.
+inline bool wall_load_settled(double peak_time, double run_time, double final_momentum_ratio) {
+  return final_momentum_ratio >= 0.0 && peak_time <= kLastChangeFraction * run_time;
+}
 
 }  // namespace granstack::model

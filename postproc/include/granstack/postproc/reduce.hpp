@@ -35,6 +35,9 @@ struct CaseReduction {
   // case has no bottom wall or its deck predates the column.
   std::optional<double> peak_wall_force;
   double peak_wall_force_time = 0.0;   // s
+  // The whole stack's momentum along z at the last frame over the striker's at the start, m v
+  // (up positive: above 0 the bottom wall has stopped the blow and thrown the stack back).
+  double final_momentum_ratio = 0.0;
   std::vector<BlockPeak> blocks;       // top first
   std::string peak_source;             // "series" (in-situ, every series_every steps) or "dump"
   long frames = 0;

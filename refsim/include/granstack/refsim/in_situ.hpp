@@ -36,6 +36,10 @@ struct InSituResult {
   // from the series), and whether that leaves it final (model::output_settled; always with a wall).
   double output_last_change_time = 0.0;  // s
   bool output_settled = true;
+  // The stack's momentum along z at the last dump step over the striker's m v (reduce's
+  // final_momentum_ratio); with a wall, output_settled is model::wall_load_settled.
+  double final_momentum_ratio = 0.0;
+  double run_time = 0.0;                 // s, steps x dt
   std::optional<double> peak_wall_force;    // N: reduce's peak_wall_force (bottom wall only)
   double peak_wall_force_time = 0.0;        // s
   long steps = 0;
