@@ -116,8 +116,8 @@ int confirm(const DesignFlags& f) {
   line.clear();
   int disagreements = 0;
   for (const auto& c : results) {
-    fmt::print("{}  {}  LIGGGHTS output fraction {:.6g}, largest difference {:.3g}: {}\n", c.digest.substr(0, 12), c.case_dir,
-               c.liggghts_output_fraction, c.largest_difference, c.verdict);
+    fmt::print("{}  {}  objectives: LIGGGHTS against in situ {:.3g}; whole runs: largest difference {:.3g}: {}\n",
+               c.digest.substr(0, 12), c.case_dir, c.objective_difference, c.largest_difference, c.verdict);
     disagreements += c.verdict != "agree";
   }
   fmt::print("report: {}\n", design::write_report(space, store, dir / "report").string());

@@ -15,6 +15,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <ctime>
 #include <sstream>
@@ -126,11 +127,13 @@ postproc::Table generations_table(const Store& store) {
 
 postproc::Table confirmations_table(const Store& store) {
   postproc::Table t{"The front's best re-run on LIGGGHTS (granstack design confirm)",
-                    {"design", "layers", "case", "LIGGGHTS output fraction", "LIGGGHTS peak wall force (N)", "validate: largest difference", "verdict"}, {}};
+                    {"design", "layers", "case", "LIGGGHTS output fraction", "LIGGGHTS peak wall force (N)",
+                     "objectives: LIGGGHTS against in situ", "whole runs: validate's largest difference", "verdict"}, {}};
   for (const auto& c : store.confirmations()) {
     const auto e = store.find(c.digest);
     t.rows.push_back({c.digest.substr(0, 12), e ? e->description : "?", c.case_dir, fmt::format("{:.6g}", c.liggghts_output_fraction),
-                      value_text(c.liggghts_peak_wall_force), fmt::format("{:.3g}", c.largest_difference), c.verdict});
+                      value_text(c.liggghts_peak_wall_force), fmt::format("{:.3g}", c.objective_difference),
+                      fmt::format("{:.3g}", c.largest_difference), c.verdict});
   }
   return t;
 }
@@ -238,7 +241,8 @@ json report_json(const Space& space, const Store& store, const std::vector<Evalu
   for (const auto& c : store.confirmations()) {
     j["confirmations"].push_back({{"digest", c.digest}, {"case", c.case_dir}, {"liggghts_output_fraction", c.liggghts_output_fraction},
                                   {"liggghts_peak_wall_force", c.liggghts_peak_wall_force ? json(*c.liggghts_peak_wall_force) : json(nullptr)},
-                                  {"largest_difference", c.largest_difference}, {"verdict", c.verdict}});
+                                  {"largest_difference", c.largest_difference}, {"objective_difference", c.objective_difference},
+                                  {"verdict", c.verdict}});
   }
   j["evaluations"] = store.evaluations().size();
   return j;
@@ -275,6 +279,22 @@ std::unique_ptr<toml::node> toml_of(const json& v) {
     return t;
   }
   return nullptr;  // null: the field keeps its default
+}
+
+// The largest relative difference between the design's objectives from LIGGGHTS (reduce of
+// its run) and the store's in-situ values.
+double objective_difference(const Space& space, const Evaluation& e, const postproc::CaseReduction& r) {
+  double worst = 0.0;
+  for (const auto o : space.objectives) {
+    std::optional<double> liggghts;
+    if (o == Objective::output_fraction) liggghts = r.output_fraction;
+    if (o == Objective::bottom_row_fraction) liggghts = r.output_fraction_bottom_row;
+    if (o == Objective::peak_wall_force) liggghts = r.peak_wall_force;
+    const auto mine = objective_value(e, o);
+    if (!liggghts || !mine) continue;  // the geometric ones: the same stack
+    worst = std::max(worst, std::fabs(*liggghts - *mine) / std::max(std::fabs(*liggghts), std::fabs(*mine)));
+  }
+  return worst;
 }
 
 }  // namespace
@@ -382,8 +402,9 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
     postproc::ReduceOptions quiet;
     quiet.write_files = false;
     const auto r = postproc::reduce_case(liggghts, quiet);
-    out.push_back({front[i].digest, dirs[i], r.output_fraction, r.peak_wall_force, c.worst(),
-                   c.worst() <= postproc::kDefaultTolerance ? "agree" : "DISAGREE"});
+    const double objectives = objective_difference(space, front[i], r);
+    out.push_back({front[i].digest, dirs[i], r.output_fraction, r.peak_wall_force, c.worst(), objectives,
+                   objectives <= postproc::kDefaultTolerance ? "agree" : "DISAGREE"});
     store.put_confirmation(out.back());
   }
   return out;

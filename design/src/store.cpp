@@ -24,7 +24,8 @@ CREATE TABLE IF NOT EXISTS generations (
   evaluations INTEGER NOT NULL, finished TEXT NOT NULL DEFAULT (datetime('now')));
 CREATE TABLE IF NOT EXISTS confirmations (
   digest TEXT PRIMARY KEY, case_dir TEXT NOT NULL, liggghts_output_fraction REAL NOT NULL,
-  liggghts_peak_wall_force REAL, largest_difference REAL NOT NULL, verdict TEXT NOT NULL);
+  liggghts_peak_wall_force REAL, largest_difference REAL NOT NULL, objective_difference REAL NOT NULL,
+  verdict TEXT NOT NULL);
 )sql";
 
 // A prepared statement, finalised when it goes.
@@ -261,17 +262,17 @@ std::vector<Generation> Store::generations() const {
 
 void Store::put_confirmation(const Confirmation& c) {
   const std::lock_guard<std::mutex> lock(*mutex_);
-  Statement q(db_, "INSERT OR REPLACE INTO confirmations VALUES (?, ?, ?, ?, ?, ?)");
+  Statement q(db_, "INSERT OR REPLACE INTO confirmations VALUES (?, ?, ?, ?, ?, ?, ?)");
   q.bind(1, c.digest).bind(2, c.case_dir).bind(3, c.liggghts_output_fraction).bind(4, c.liggghts_peak_wall_force);
-  q.bind(5, c.largest_difference).bind(6, c.verdict).step();
+  q.bind(5, c.largest_difference).bind(6, c.objective_difference).bind(7, c.verdict).step();
 }
 
 std::vector<Confirmation> Store::confirmations() const {
   const std::lock_guard<std::mutex> lock(*mutex_);
   Statement q(db_, "SELECT digest, case_dir, liggghts_output_fraction, liggghts_peak_wall_force, largest_difference, "
-                   "verdict FROM confirmations");
+                   "objective_difference, verdict FROM confirmations");
   std::vector<Confirmation> out;
-  while (q.step()) out.push_back({q.text(0), q.text(1), q.real(2), q.maybe(3), q.real(4), q.text(5)});
+  while (q.step()) out.push_back({q.text(0), q.text(1), q.real(2), q.maybe(3), q.real(4), q.real(5), q.text(6)});
   return out;
 }
 

@@ -328,6 +328,7 @@ TEST(DesignCli, TheFrontsBestIsConfirmedOnLiggghts) {
     std::printf("%s: in situ %.17g, LIGGGHTS %.17g, validate %.3g\n", e->description.c_str(), *e->output_fraction,
                 c.liggghts_output_fraction, c.largest_difference);
     EXPECT_EQ(c.verdict, "agree");
+    EXPECT_EQ(c.objective_difference, 0.0);  // bit for bit, measured
     EXPECT_LE(c.largest_difference, 1e-7);
     EXPECT_NEAR(c.liggghts_output_fraction, *e->output_fraction, 1e-7 * *e->output_fraction);
   }

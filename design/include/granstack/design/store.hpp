@@ -45,8 +45,13 @@ struct Confirmation {
   std::string case_dir;
   double liggghts_output_fraction = 0.0;
   std::optional<double> liggghts_peak_wall_force;
-  double largest_difference = 0.0;          // validate's, of the two engines' runs
-  std::string verdict;                      // "agree" or "DISAGREE"
+  double largest_difference = 0.0;          // validate's, of the two engines' whole runs
+  // The largest relative difference between the objectives LIGGGHTS gives (reduce of its run)
+  // and the store's in-situ ones: what the search ranked the design by.
+  double objective_difference = 0.0;
+  // "agree" (objectives within validate's tolerance), or "DISAGREE"; the whole runs' agreement
+  // is largest_difference (a long, chaotic run parts from round-off late, after its peaks).
+  std::string verdict;
 };
 
 class StoreError : public std::runtime_error {
