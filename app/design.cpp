@@ -14,9 +14,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
-#include <fstream>
 #include <memory>
-#include <sstream>
 
 namespace granstack::app {
 
@@ -37,13 +35,6 @@ struct DesignFlags {
   bool no_report = false;
 };
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // A design directory holds its store, its space and its report; anything else in it is not ours.
 void require_design_dir(const fs::path& dir) {
   if (!fs::exists(dir)) return;
@@ -61,14 +52,15 @@ int print_status(const fs::path& dir) {
 }
 
 int run_design(const DesignFlags& f) {
-  auto space = design::read_space(f.space_file);
+  const auto text = formats::read_file(f.space_file);
+  auto space = design::parse_space(text, f.space_file);
   if (f.generations >= 0) space.search.generations = f.generations;
   const fs::path dir(f.dir);
   require_design_dir(dir);
   fs::create_directories(dir);
   const os::CaseLock lock(dir, "granstack design run");
-  auto store = design::Store::open((dir / kStoreName).string(), space.digest(), read_text(f.space_file));
-  if (!fs::exists(dir / kSpaceName)) formats::write_file_atomically(dir / kSpaceName, read_text(f.space_file));
+  auto store = design::Store::open((dir / kStoreName).string(), space.digest(), text);
+  if (!fs::exists(dir / kSpaceName)) formats::write_file_atomically(dir / kSpaceName, text);
   StatusLine line;
   design::SearchOptions o;
   o.jobs = f.jobs;

@@ -27,6 +27,17 @@ using nlohmann::json;
 
 namespace {
 
+// What the report shows, read from the store once (each read parses every design's spec).
+struct Snapshot {
+  explicit Snapshot(const Store& store)
+      : all(store.evaluations()), studies(store.study_designs()), generations(store.generations()),
+        confirmations(store.confirmations()) {}
+  std::vector<Evaluation> all;
+  std::vector<std::pair<std::string, Evaluation>> studies;
+  std::vector<Generation> generations;
+  std::vector<Confirmation> confirmations;
+};
+
 std::string value_text(std::optional<double> v) { return v ? fmt::format("{:.4g}", *v) : "-"; }
 
 std::vector<std::string> objective_cells(const Space& space, const Evaluation& e) {
@@ -60,18 +71,17 @@ std::string versus_front(const Space& space, const Evaluation& e, const std::vec
   return parts.empty() ? "-" : fmt::format("{}", fmt::join(parts, "; "));
 }
 
-std::string run_line(const Space& space, const Store& store) {
-  const auto gens = store.generations();
-  const auto all = store.evaluations();
+std::string run_line(const Space& space, const Snapshot& s) {
+  const auto& gens = s.generations;
   double seconds = 0.0;
-  for (const auto& e : all) seconds += e.seconds;
+  for (const auto& e : s.all) seconds += e.seconds;
   std::time_t now = std::time(nullptr);
   char date[32];
   std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
   return fmt::format("granstack {} ({}), {}. NSGA-II (pagmo2), population {}, generations 0 to {}, seed {}; {} designs "
                      "evaluated in situ on refsim ({:.1f} s of refsim in all). Space digest {}.",
                      granstack::version(), granstack::git_commit(), date, space.search.population, gens.empty() ? 0 : gens.back().index,
-                     space.search.seed, all.size(), seconds, space.digest().substr(0, 12));
+                     space.search.seed, s.all.size(), seconds, space.digest().substr(0, 12));
 }
 
 postproc::Table space_table(const Space& space) {
@@ -103,11 +113,11 @@ postproc::Table front_table(const Space& space, const std::vector<Evaluation>& f
   return t;
 }
 
-postproc::Table study_table(const Space& space, const Store& store, const std::vector<Evaluation>& front) {
+postproc::Table study_table(const Space& space, const Snapshot& s, const std::vector<Evaluation>& front) {
   postproc::Table t{"The study's designs at the same footprint and settings, against the front", {"design", "layers", "within the constraints"}, {}};
   for (const auto& h : objective_headers(space)) t.header.push_back(h);
   t.header.push_back("the front's best at equal or lower areal mass");
-  for (const auto& [name, e] : store.study_designs()) {
+  for (const auto& [name, e] : s.studies) {
     std::vector<std::string> row{name, e.description, e.feasible ? "yes" : "no: " + e.violations};
     for (auto& c : objective_cells(space, e)) row.push_back(std::move(c));
     row.push_back(versus_front(space, e, front));
@@ -116,22 +126,22 @@ postproc::Table study_table(const Space& space, const Store& store, const std::v
   return t;
 }
 
-postproc::Table generations_table(const Store& store) {
+postproc::Table generations_table(const Snapshot& s) {
   postproc::Table t{"Hypervolume of each generation's front (against a reference point fixed at generation 0)",
                     {"generation", "hypervolume", "new designs run"}, {}};
-  for (const auto& g : store.generations()) {
+  for (const auto& g : s.generations) {
     t.rows.push_back({std::to_string(g.index), fmt::format("{:.6g}", g.hypervolume), std::to_string(g.evaluations)});
   }
   return t;
 }
 
-postproc::Table confirmations_table(const Store& store) {
+postproc::Table confirmations_table(const Snapshot& s) {
   postproc::Table t{"The front's best re-run on LIGGGHTS (granstack design confirm)",
                     {"design", "layers", "case", "LIGGGHTS output fraction", "LIGGGHTS peak wall force (N)",
                      "objectives: LIGGGHTS against in situ", "whole runs: validate's largest difference", "verdict"}, {}};
-  for (const auto& c : store.confirmations()) {
-    const auto e = store.find(c.digest);
-    t.rows.push_back({c.digest.substr(0, 12), e ? e->description : "?", c.case_dir, fmt::format("{:.6g}", c.liggghts_output_fraction),
+  for (const auto& c : s.confirmations) {
+    const auto e = std::find_if(s.all.begin(), s.all.end(), [&](const auto& x) { return x.digest == c.digest; });
+    t.rows.push_back({c.digest.substr(0, 12), e != s.all.end() ? e->description : "?", c.case_dir, fmt::format("{:.6g}", c.liggghts_output_fraction),
                       value_text(c.liggghts_peak_wall_force), fmt::format("{:.3g}", c.objective_difference),
                       fmt::format("{:.3g}", c.largest_difference), c.verdict});
   }
@@ -159,9 +169,9 @@ std::string front_elements(const Space& space, const std::vector<Evaluation>& fr
   return out;
 }
 
-std::string pair_data(const Space& space, const Store& store, const std::vector<Evaluation>& front, Objective x, Objective y) {
+std::string pair_data(const Space& space, const Snapshot& s, const std::vector<Evaluation>& front, Objective x, Objective y) {
   std::string data = "# every feasible design: x y N_B\n";
-  for (const auto& e : store.evaluations()) {
+  for (const auto& e : s.all) {
     if (e.feasible) data += fmt::format("{:.10g} {:.10g} {}\n", *objective_value(e, x), *objective_value(e, y), e.spec.blocks);
   }
   data += "\n\n# the front: x y N_B top-block-material-index\n";
@@ -170,7 +180,7 @@ std::string pair_data(const Space& space, const Store& store, const std::vector<
     data += fmt::format("{:.10g} {:.10g} {} {}\n", *objective_value(e, x), *objective_value(e, y), e.spec.blocks, k);
   }
   data += "\n\n# the study's designs: x y name\n";
-  for (const auto& [name, e] : store.study_designs()) {
+  for (const auto& [name, e] : s.studies) {
     if (objective_value(e, x) && objective_value(e, y)) {
       data += fmt::format("{:.10g} {:.10g} \"{}\"\n", *objective_value(e, x), *objective_value(e, y), name);
     }
@@ -180,7 +190,7 @@ std::string pair_data(const Space& space, const Store& store, const std::vector<
 
 // One pair of objectives: every feasible design (grey), the front coloured by N_B with a symbol
 // per top-block material, the study's designs labelled.
-postproc::Figure pair_figure(const Space& space, const Store& store, const std::vector<Evaluation>& front, Objective x,
+postproc::Figure pair_figure(const Space& space, const Snapshot& s, const std::vector<Evaluation>& front, Objective x,
                              Objective y, const fs::path& dir) {
   const auto name = fmt::format("{}_vs_{}", to_string(y), to_string(x));
   postproc::PlotOptions o;
@@ -194,16 +204,16 @@ postproc::Figure pair_figure(const Space& space, const Store& store, const std::
       "     '' index 2 using 1:2:3 with labels offset -1,1 right font 'Sans,18' noenhanced notitle\n",
       postproc::gnuplot_terminal(o), name, axis_label(x), axis_label(y), log_axis(x) ? "set logscale x\nset format x '10^{%L}'\n" : "",
       log_axis(y) ? "set logscale y\nset format y '10^{%L}'\n" : "", name, front_elements(space, front));
-  postproc::render_gnuplot(dir.string(), name, pair_data(space, store, front, x, y), script, o);
+  postproc::render_gnuplot(dir.string(), name, pair_data(space, s, front, x, y), script, o);
   return {name + ".svg", fmt::format("{} against {}: every feasible design evaluated (grey), the front (of all the objectives, "
                                      "seen in these two) coloured by the number of blocks with a symbol per top-block material, "
                                      "the study's designs (circles)",
                                      to_string(y), to_string(x))};
 }
 
-postproc::Figure hypervolume_figure(const Store& store, const fs::path& dir) {
+postproc::Figure hypervolume_figure(const Snapshot& s, const fs::path& dir) {
   std::string data = "# generation hypervolume\n";
-  for (const auto& g : store.generations()) data += fmt::format("{} {:.10g}\n", g.index, g.hypervolume);
+  for (const auto& g : s.generations) data += fmt::format("{} {:.10g}\n", g.index, g.hypervolume);
   postproc::PlotOptions o;
   o.format = "svg";
   const auto script = fmt::format("{}\nset output 'hypervolume.svg'\nset xlabel 'generation'\nset ylabel 'hypervolume'\n"
@@ -226,25 +236,25 @@ json evaluation_json(const Space& space, const Evaluation& e) {
           {"peak_wall_force", e.peak_wall_force ? json(*e.peak_wall_force) : json(nullptr)}, {"spec", model::spec_json(e.spec)}};
 }
 
-json report_json(const Space& space, const Store& store, const std::vector<Evaluation>& front) {
+json report_json(const Space& space, const Snapshot& s, const std::vector<Evaluation>& front) {
   json j = json::object();
   j["granstack_version"] = std::string(granstack::version());
   j["space_digest"] = space.digest();
   for (const char* key : {"front", "study_designs", "generations", "confirmations"}) j[key] = json::array();
   for (const auto& e : front) j["front"].push_back(evaluation_json(space, e));
-  for (const auto& [name, e] : store.study_designs()) {
-    auto s = evaluation_json(space, e);
-    s["name"] = name;
-    j["study_designs"].push_back(s);
+  for (const auto& [name, e] : s.studies) {
+    auto study = evaluation_json(space, e);
+    study["name"] = name;
+    j["study_designs"].push_back(study);
   }
-  for (const auto& g : store.generations()) j["generations"].push_back({{"generation", g.index}, {"hypervolume", g.hypervolume}, {"new_designs", g.evaluations}});
-  for (const auto& c : store.confirmations()) {
+  for (const auto& g : s.generations) j["generations"].push_back({{"generation", g.index}, {"hypervolume", g.hypervolume}, {"new_designs", g.evaluations}});
+  for (const auto& c : s.confirmations) {
     j["confirmations"].push_back({{"digest", c.digest}, {"case", c.case_dir}, {"liggghts_output_fraction", c.liggghts_output_fraction},
                                   {"liggghts_peak_wall_force", c.liggghts_peak_wall_force ? json(*c.liggghts_peak_wall_force) : json(nullptr)},
                                   {"largest_difference", c.largest_difference}, {"objective_difference", c.objective_difference},
                                   {"verdict", c.verdict}});
   }
-  j["evaluations"] = store.evaluations().size();
+  j["evaluations"] = s.all.size();
   return j;
 }
 
@@ -345,32 +355,33 @@ std::string status_text(const Space& space, const Store& store) {
 
 fs::path write_report(const Space& space, const Store& store, const fs::path& dir) {
   fs::create_directories(dir);
-  const auto front = pareto_front(space, store.evaluations());
+  const Snapshot s(store);
+  const auto front = pareto_front(space, s.all);
   std::vector<postproc::Block> d;
   d.push_back(postproc::Heading{1, "granstack design: the search's front", "top"});
-  d.push_back(postproc::Paragraph{run_line(space, store)});
+  d.push_back(postproc::Paragraph{run_line(space, s)});
   d.push_back(space_table(space));
   d.push_back(postproc::Heading{2, "The front", "front"});
   d.push_back(front_table(space, front));
   d.push_back(postproc::Heading{2, "The study's designs", "study"});
-  d.push_back(study_table(space, store, front));
+  d.push_back(study_table(space, s, front));
   d.push_back(postproc::Heading{2, "Figures", "figures"});
   for (std::size_t i = 0; i < space.objectives.size(); ++i) {
     for (std::size_t k = i + 1; k < space.objectives.size(); ++k) {
-      d.push_back(pair_figure(space, store, front, space.objectives[k], space.objectives[i], dir));
+      d.push_back(pair_figure(space, s, front, space.objectives[k], space.objectives[i], dir));
     }
   }
   d.push_back(postproc::Heading{2, "Convergence", "convergence"});
-  d.push_back(generations_table(store));
-  d.push_back(hypervolume_figure(store, dir));
-  if (!store.confirmations().empty()) {
+  d.push_back(generations_table(s));
+  d.push_back(hypervolume_figure(s, dir));
+  if (!s.confirmations.empty()) {
     d.push_back(postproc::Heading{2, "Confirmed on LIGGGHTS", "confirmed"});
-    d.push_back(confirmations_table(store));
+    d.push_back(confirmations_table(s));
   }
   write_front_specs(front, dir);
   formats::write_file_atomically(dir / "design.md", postproc::markdown(d));
   formats::write_file_atomically(dir / "design.html", postproc::html(d, dir, "granstack design"));
-  formats::write_file_atomically(dir / "design.json", report_json(space, store, front).dump(2) + "\n");
+  formats::write_file_atomically(dir / "design.json", report_json(space, s, front).dump(2) + "\n");
   return dir / "design.html";
 }
 

@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 namespace granstack::design {
@@ -339,14 +338,6 @@ Space parse_space(std::string_view text, const std::string& source) {
   if (problems.empty()) check_not_empty(s, problems);
   if (!problems.empty()) throw SpaceError(std::move(problems));
   return s;
-}
-
-Space read_space(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot read the design space", path));
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_space(ss.str(), path);
 }
 
 Geometry measure(const Space& space, const model::StackSpec& spec) {

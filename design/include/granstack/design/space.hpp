@@ -65,9 +65,8 @@ struct Space {
   std::string digest() const;
 };
 
-// Reads a design space file. Throws SpaceError listing every problem, std::runtime_error for an
-// unreadable file or bad TOML (with line and column).
-Space read_space(const std::string& path);
+// A design space from the text of its file (`source` names it in messages). Throws SpaceError
+// listing every problem, std::runtime_error for bad TOML (with line and column).
 Space parse_space(std::string_view toml_text, const std::string& source);
 
 // A design's measures known before it runs, and which constraints it breaks (empty: feasible).
