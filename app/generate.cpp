@@ -84,7 +84,8 @@ int generate(CLI::App& cmd, const GenerateFlags& g, const std::vector<std::strin
     fmt::print("wrote a sweep of {} cases in {} ({} spheres and {} steps in all)\n", result.case_dirs.size(), g.output,
                total.spheres, total.steps);
   } else {
-    const auto d = formats::Case::open(result.case_dirs.front().string()).derived();
+    // What this command wrote (never read back: another generate --force may have replaced it since).
+    const auto& d = result.resolutions.front();
     fmt::print("wrote case {} ({} spheres, dt = {:.4g} s, {} steps, {:.4g} s simulated)\n", g.output, total.spheres, d.dt,
                total.steps, d.duration);
   }
@@ -98,7 +99,8 @@ int generate(CLI::App& cmd, const GenerateFlags& g, const std::vector<std::strin
 Command add_generate(CLI::App& app, const std::vector<std::string>& argv) {
   auto g = std::make_shared<GenerateFlags>();
   auto* cmd = app.add_subcommand("generate", "Write a case directory (or a sweep of them) from a spec");
-  cmd->add_option("-o,--output", g->output, "Case directory to write (a sweep writes one subdirectory per case)")->required();
+  cmd->add_option("-o,--output", g->output, "Case directory to write (a sweep writes one subdirectory per case)")
+      ->check(output_directory())->required();
   cmd->add_option("--config", g->config, "TOML spec file; flags override its fields")->check(CLI::ExistingFile);
   // Every spec field, from model/spec_fields.hpp.
   for (const auto& f : model::spec_fields()) {

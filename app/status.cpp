@@ -17,10 +17,13 @@ struct StatusFlags {
 
 int status(const StatusFlags& f) {
   const auto r = cluster::status(f.targets);
-  fmt::print("{} cases: {} done, {} failed, {} running, {} interrupted, {} pending\n", r.cases.size(), r.done, r.failed,
+  fmt::print("{} cases: {} done, {} failed, {} running, {} interrupted, {} pending", r.cases.size(), r.done, r.failed,
              r.running, r.interrupted, r.pending);
+  fmt::print("{}\n", r.changed > 0 ? fmt::format(", {} changed since their run", r.changed) : "");
   for (const auto& c : r.cases) {
-    if (c.status == "failed" || c.status == "interrupted") fmt::print("{:<12} {}  {}\n", c.status, c.dir, c.error);
+    if (c.status == "failed" || c.status == "interrupted" || c.status == "changed") {
+      fmt::print("{:<12} {}  {}\n", c.status, c.dir, c.error);
+    }
   }
   if (!r.job_ids.empty()) {
     fmt::print("last submission: job{} {}", r.job_ids.size() == 1 ? "" : "s", fmt::join(r.job_ids, ", "));
@@ -29,14 +32,14 @@ int status(const StatusFlags& f) {
     else fmt::print("; in the queue:\n  {}\n", fmt::join(r.queue, "\n  "));
   }
   for (const auto& note : r.notes) fmt::print(stderr, "note: {}\n", note);
-  return r.failed + r.interrupted > 0 ? kCaseFailed : kOk;
+  return r.failed + r.interrupted + r.changed > 0 ? kCaseFailed : kOk;
 }
 
 }  // namespace
 
 Command add_status(CLI::App& app) {
   auto f = std::make_shared<StatusFlags>();
-  auto* cmd = app.add_subcommand("status", "Count the done, failed, running, interrupted and pending cases");
+  auto* cmd = app.add_subcommand("status", "Count the done, failed, running, interrupted and pending cases (and those changed since their run)");
   cmd->add_option("cases", f->targets, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
   return {cmd, [f] { return status(*f); }};
 }

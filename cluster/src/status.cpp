@@ -5,6 +5,7 @@
 #include <granstack/formats/case.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
+#include <granstack/formats/run_digests.hpp>
 #include <granstack/os/case_lock.hpp>
 #include <granstack/os/process.hpp>
 
@@ -13,6 +14,7 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 
 namespace granstack::cluster {
 
@@ -22,15 +24,30 @@ using nlohmann::json;
 namespace {
 
 // run.json's status and, for a failed run, the first line of its error. A damaged record is
-// failed (it never counts as done), naming why it cannot be read.
+// failed (it never counts as done), naming why it cannot be read. A done run whose case was
+// edited since, or whose outputs are not those it wrote (quick check: sizes and times, digests
+// where those differ), is "changed": its results would not be the case's.
 CaseState read_state(const std::string& dir) {
+  std::optional<formats::Case> c;
+  std::string unreadable;
   formats::CaseFiles files;
   try {
-    files = formats::read_manifest(dir).files;
-  } catch (const std::exception&) {  // the run record's name is the default one
+    c.emplace(formats::Case::open(dir));
+    files = c->files();
+  } catch (const std::exception& e) {  // the run record's name is the default one
+    unreadable = e.what();
   }
   const auto record = formats::read_run_record(dir, files);
   if (!record.exists()) return {dir, "pending", ""};
+  if (record.done()) {
+    std::string why = unreadable;
+    try {
+      if (c) why = formats::files_not_as_run(*c, record, formats::DigestCheck::quick);
+    } catch (const std::exception& e) {
+      why = e.what();
+    }
+    if (!why.empty()) return {dir, "changed", why.substr(0, why.find('\n'))};
+  }
   return {dir, record.status == "damaged" ? "failed" : record.status, record.error_line()};
 }
 
@@ -112,6 +129,7 @@ StatusReport status(const std::vector<std::string>& targets, const std::string& 
     else if (c.status == "failed") ++r.failed;
     else if (c.status == "running") ++r.running;
     else if (c.status == "interrupted") ++r.interrupted;
+    else if (c.status == "changed") ++r.changed;
     else ++r.pending;
   }
   return r;

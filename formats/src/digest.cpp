@@ -1,3 +1,4 @@
+#include <granstack/formats/byte_source.hpp>
 #include <granstack/formats/digest.hpp>
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/files.hpp>
@@ -56,6 +57,16 @@ std::string sha256_file(const std::filesystem::path& path) {
     if (got > 0) EVP_DigestUpdate(ctx.get(), buffer.data(), static_cast<std::size_t>(got));
   }
   if (in.bad()) throw FormatError(path.string(), 0, fmt::format("cannot read: {}", std::strerror(errno)));
+  return finish(ctx.get());
+}
+
+std::string sha256_content(const std::filesystem::path& path) {
+  const auto source = open_bytes(path.string());
+  auto ctx = new_context();
+  std::string buffer(std::size_t{1} << 20, '\0');
+  for (std::size_t got; (got = source->read(buffer.data(), buffer.size())) > 0;) {
+    EVP_DigestUpdate(ctx.get(), buffer.data(), got);
+  }
   return finish(ctx.get());
 }
 

@@ -463,8 +463,10 @@ void read_deferred(DumpFrame& f, int fd, const std::string& path) {
 
 DumpWriter::DumpWriter(const std::string& path, bool binary)
     : path_(path), binary_(binary), file_(nullptr, &std::fclose) {
-  if (const auto rank = path_.find('%'); rank != std::string::npos) path_.replace(rank, 1, "0");
-  per_step_ = path_.find('*') != std::string::npos;
+  // Only the file's own name is a pattern: a '*' or '%' in a directory's name is a character.
+  name_at_ = path_.size() - std::filesystem::path(path_).filename().string().size();
+  if (const auto rank = path_.find('%', name_at_); rank != std::string::npos) path_.replace(rank, 1, "0");
+  per_step_ = path_.find('*', name_at_) != std::string::npos;
   if (!per_step_) open(path_);
 }
 
@@ -482,7 +484,7 @@ void DumpWriter::close() {
 void DumpWriter::write(const DumpFrame& f) {
   if (per_step_) {
     std::string name = path_;
-    name.replace(name.find('*'), 1, std::to_string(f.step));
+    name.replace(name.find('*', name_at_), 1, std::to_string(f.step));
     open(name);
   }
   buffer_.clear();

@@ -83,6 +83,7 @@ Manifest manifest_from_json(const json& j, const std::string& source, bool verif
   const auto rendered = older ? json::object() : get<json>(j, "rendered", source);
   m.rendered.deck_sha256 = rendered.value("deck_sha256", std::string());
   m.rendered.data_sha256 = rendered.value("data_sha256", std::string());
+  m.rendered.content_sha256 = rendered.value("content_sha256", std::string());
   if (verify && get<std::string>(rendered, "content_sha256", source) != content_digest(j)) {
     throw FormatError(source, 0, "the manifest was edited after 'granstack generate' (its content no longer has the "
                                  "SHA-256 recorded in rendered.content_sha256), so its spec may not be what the deck "

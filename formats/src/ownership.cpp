@@ -103,7 +103,7 @@ class ForeignFinder {
       if (!e.is_directory(ec) || e.is_symlink(ec)) {
         return files.count(rel) != 0 || temporary(name) || name.rfind("restart_forced_liggghts_", 0) == 0;
       }
-      if (rel == ".granstack-earlier-run") return true;
+      if (name == ".granstack-earlier-run") return true;  // run's stash of an earlier run's outputs
       if (rel == "paraview") return json_object_with(e.path() / kOutputMarker, "written_by");
       if ((rel == "validate/liggghts" || rel == "validate/refsim") && fs::exists(e.path() / "manifest.json")) {
         one_case(e.path(), prefix + rel + "/");
@@ -154,6 +154,13 @@ std::string output_written_by(const fs::path& dir) {
   }
 }
 
+std::string made_by(const fs::path& dir) {
+  if (!made_by_granstack(dir)) return "";
+  std::error_code ec;
+  if (fs::is_regular_file(dir / "manifest.json", ec) || json_object_with(dir / "sweep.json", "cases")) return kGenerate;
+  return output_written_by(dir);
+}
+
 bool made_by_granstack(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_directory(fs::symlink_status(dir, ec))) return false;
@@ -168,7 +175,7 @@ bool made_by_granstack(const fs::path& dir) {
   return json_object_with(dir / "sweep.json", "cases") || json_object_with(dir / kOutputMarker, "written_by");
 }
 
-std::string why_not_replaceable(const fs::path& path) {
+std::string why_not_replaceable(const fs::path& path, const std::string& by) {
   std::error_code ec;
   const auto status = fs::symlink_status(path, ec);
   if (!fs::exists(status)) return "";
@@ -189,6 +196,10 @@ std::string why_not_replaceable(const fs::path& path) {
     return fmt::format("{} was not made by granstack (it holds no manifest.json, sweep.json or {})", path.string(),
                        kOutputMarker);
   }
+  if (const auto maker = made_by(path); !by.empty() && maker != by) {
+    return fmt::format("{} was made by {}, not by {}{}", path.string(), maker, by,
+                       by == kGenerate ? " (which replaces only a case or a sweep)" : "");
+  }
   return "";
 }
 
@@ -206,14 +217,15 @@ void prepare_output_directory(const fs::path& dir, const std::vector<std::string
   if (!fs::is_directory(dir, ec)) {
     throw RefusedError(fmt::format("{} exists and is not a directory; name a directory with -o", dir.string()));
   }
-  const bool ours = json_object_with(dir / kOutputMarker, "written_by");
+  const auto maker = output_written_by(dir);
   for (const auto& name : names) {
     const auto file = dir / name;
     if (!fs::exists(fs::symlink_status(file, ec))) continue;
-    if (!ours) {
-      throw RefusedError(fmt::format("{} exists and {} was not made by granstack: granstack does not replace files it "
-                                     "did not write; choose a new directory with -o",
-                                     file.string(), dir.string()));
+    if (maker != command) {
+      throw RefusedError(fmt::format("{} exists and {} was {}: granstack replaces only files {} wrote; choose a new "
+                                     "directory with -o",
+                                     file.string(), dir.string(),
+                                     maker.empty() ? std::string("not made by granstack") : "made by " + maker, command));
     }
     // A directory granstack wrote there (reduce -o writes one per case) is replaced like a file.
     const bool own_directory = fs::is_directory(fs::symlink_status(file, ec));

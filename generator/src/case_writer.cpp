@@ -355,6 +355,7 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
                                                    c.name, why)}});
     }
     result.costs.push_back(cost);
+    result.resolutions.push_back(res);
     PreparedCase p;
     p.name = c.name;
     p.files = case_files(stack);
@@ -376,7 +377,7 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
     m.layout = layout_json(stack);
     p.deck = options.deck_template_path ? render_template(tmpl, deck_variables(stack, res, p.files, c.name), tmpl_name)
                                         : default_deck(m);
-    m.rendered = {formats::sha256_hex(p.deck), formats::sha256_hex(p.data)};
+    m.rendered = {formats::sha256_hex(p.deck), formats::sha256_hex(p.data), ""};
     p.manifest = formats::manifest_to_json(m).dump(2) + "\n";
     prepared.push_back(std::move(p));
     if (options.on_progress) options.on_progress(static_cast<long>(prepared.size()), 2 * static_cast<long>(cases.size()));
@@ -386,10 +387,14 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
                                                  cases.size(), why)}});
   }
 
+  fs::create_directories(target.parent_path());
+  // One generate at a time in this folder: what is there is checked, and replaced, in one step
+  // (concurrent --force runs each write whole and report what they wrote, the last one's staying).
+  const os::FolderLock folder(target.parent_path());
   std::vector<os::CaseLock> locks;
   if (fs::exists(fs::symlink_status(target))) {
     // --force replaces only what granstack made; anything else is refused whatever the flags.
-    if (const auto why = formats::why_not_replaceable(options.output); !why.empty()) {
+    if (const auto why = formats::why_not_replaceable(options.output, formats::kGenerate); !why.empty()) {
       throw RefusedError(fmt::format("{} exists and is not replaced: {}; choose a new directory with -o", options.output.string(), why));
     }
     if (!options.force) {
@@ -408,10 +413,13 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
       if (fs::is_directory(dir)) locks.emplace_back(dir, "granstack generate --force");
     }
   }
-  fs::create_directories(target.parent_path());
   const auto stamp = fmt::format("{}", ::getpid());
-  const fs::path tmp = target.parent_path() / fmt::format(".{}.tmp-{}", target.filename().string(), stamp);
-  const fs::path old = target.parent_path() / fmt::format(".{}.old-{}", target.filename().string(), stamp);
+  // The siblings' names are kept within NAME_MAX (255 bytes) whatever the case's name is: a case
+  // may be named with 255 bytes, and its temporary names are at most 214 (the folder lock makes
+  // them unique: one generate at a time writes in this folder).
+  const auto short_name = target.filename().string().substr(0, 200);
+  const fs::path tmp = target.parent_path() / fmt::format(".{}.tmp-{}", short_name, stamp);
+  const fs::path old = target.parent_path() / fmt::format(".{}.old-{}", short_name, stamp);
   result.sweep = prepared.size() > 1;
   try {
     fs::remove_all(tmp);

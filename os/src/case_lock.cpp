@@ -35,7 +35,7 @@ CaseLock::CaseLock(const std::filesystem::path& dir, const std::string& what) {
   const auto path = (dir / kFileName).string();
   fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
   if (fd_ < 0) {
-    throw std::runtime_error(fmt::format("{}: cannot make the case's lock file: {}{}", path, std::strerror(errno),
+    throw LockFileError(fmt::format("{}: cannot make the case's lock file: {}{}", path, std::strerror(errno),
                                          errno == EACCES || errno == EROFS ? " (is the case read-only?)" : ""));
   }
   // A probe (holder()) holds a shared lock for an instant: wait that out before calling the case in use.
@@ -57,7 +57,7 @@ CaseLock::CaseLock(const std::filesystem::path& dir, const std::string& what) {
       throw LockedError(fmt::format("{} is in use by another granstack ({}); wait for it to end, or stop it first",
                                     dir.string(), holder.empty() ? "no details recorded" : holder));
     }
-    throw std::runtime_error(fmt::format("{}: cannot lock: {}", path, std::strerror(e)));
+    throw LockFileError(fmt::format("{}: cannot lock: {}", path, std::strerror(e)));
   }
   char host[256] = "?";
   ::gethostname(host, sizeof host - 1);
@@ -93,6 +93,23 @@ CaseLock& CaseLock::operator=(CaseLock&& other) noexcept {
     fd_ = std::exchange(other.fd_, -1);
   }
   return *this;
+}
+
+FolderLock::FolderLock(const std::filesystem::path& folder) {
+  const auto path = folder.empty() ? std::string(".") : folder.string();
+  fd_ = ::open(path.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd_ < 0) throw std::runtime_error(fmt::format("{}: cannot open the folder: {}", path, std::strerror(errno)));
+  while (::flock(fd_, LOCK_EX) != 0) {
+    if (errno == EINTR) continue;
+    const int e = errno;
+    ::close(fd_);
+    fd_ = -1;
+    throw std::runtime_error(fmt::format("{}: cannot lock the folder: {}", path, std::strerror(e)));
+  }
+}
+
+FolderLock::~FolderLock() {
+  if (fd_ >= 0) ::close(fd_);
 }
 
 }  // namespace granstack::os

@@ -5,6 +5,7 @@
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
+#include <granstack/formats/run_digests.hpp>
 #include <granstack/formats/series.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/os/case_lock.hpp>
@@ -45,6 +46,10 @@ void require_successful_run(const formats::Case& c) {
                                          dir, record.error.empty() ? "no message" : record.error));
   }
   if (!record.done()) {
+    if (const auto holder = os::CaseLock::holder(dir)) {  // running now: advice to rerun it would be refused
+      throw std::runtime_error(fmt::format("{}: the case is being run now ({}); reduce it when that run has ended", dir,
+                                           *holder));
+    }
     throw std::runtime_error(fmt::format("{}: the run did not finish (status '{}'); run 'granstack run --force {}'", dir,
                                          record.status, dir));
   }
@@ -424,6 +429,9 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   warn_if_energy_still_arriving(series, cols, res, r);
   r.waves = waves.finish(series);
   final_state(last_energy, stack, r);
+  // Outputs that read cleanly must still be those this case's run wrote, never another case's
+  // under its labels (checked after reading, so a damaged file gets the reader's own message).
+  if (options.verify_run_outputs) formats::require_files_as_run(c);
 
   tables.finish();
   if (options.write_files) {

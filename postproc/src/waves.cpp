@@ -2,6 +2,7 @@
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/manifest.hpp>
+#include <granstack/formats/run_digests.hpp>
 #include <granstack/formats/series.hpp>
 #include <granstack/model/contact.hpp>
 #include <granstack/model/resolution.hpp>
@@ -112,6 +113,7 @@ void WaveTracker::add(long step, const std::vector<double>& samples) {
 
 std::vector<BlockWaves> analyse_waves(const std::string& case_dir) {
   const auto c = formats::Case::open(case_dir);
+  formats::require_files_as_run(c);
   const auto& m = c.manifest();
   const auto& stack = c.stack();
   WaveTracker tracker(stack, c.derived().dt);

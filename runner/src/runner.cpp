@@ -1,14 +1,15 @@
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/deck.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/ownership.hpp>
+#include <granstack/formats/run_digests.hpp>
 #include <granstack/model/version.hpp>
 #include <granstack/os/case_lock.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/os/process.hpp>
 #include <granstack/runner/runner.hpp>
-#include <granstack/formats/case.hpp>
 
 #include "engine.hpp"
 
@@ -35,13 +36,19 @@ void clone_case_inputs(const std::string& case_dir, const std::string& target) {
   // (An edited case makes an edited copy: the copy's run refuses it, as the case's would.)
   const auto m = formats::Case::open(case_dir).manifest();
   // Only a copy granstack made earlier is replaced; anything else in its place is the user's.
-  if (const auto why = formats::why_not_replaceable(target); !why.empty()) {
+  if (const auto why = formats::why_not_replaceable(target, formats::kGenerate); !why.empty()) {
     throw formats::RefusedError(fmt::format("cannot make the copy {}: {}; move it away first", target, why));
   }
   fs::remove_all(target);
-  fs::create_directories(fs::path(target) / fs::path(m.files.dump).parent_path());
-  for (const auto& f : {std::string("manifest.json"), m.files.data, m.files.deck}) {
-    fs::copy_file(fs::path(case_dir) / f, fs::path(target) / f);
+  try {
+    fs::create_directories(fs::path(target) / fs::path(m.files.dump).parent_path());
+    for (const auto& f : {std::string("manifest.json"), m.files.data, m.files.deck}) {
+      fs::copy_file(fs::path(case_dir) / f, fs::path(target) / f);
+    }
+  } catch (...) {  // a full disk: no half-made copy (which, holding no manifest, would not be granstack's)
+    std::error_code ec;
+    fs::remove_all(target, ec);
+    throw;
   }
 }
 
@@ -104,25 +111,30 @@ class Monitor {
   std::vector<Clock::time_point> starts_;
 };
 
-// The outputs of an earlier run, moved aside into CASE/.granstack-earlier-run until the new run
-// has started: a run that cannot start leaves them, and their run.json, as they were. A stash
-// found at the start is a granstack's that was killed before its run began: it is put back.
+// The outputs of an earlier run, moved aside until the new run has started: a run that cannot
+// start leaves them, and their run.json, as they were. Each file is moved into a stash folder
+// (.granstack-earlier-run) in the folder that holds it, reached by the case's own path, so a
+// dumps/ that is a link to scratch space keeps its files on scratch and nothing leaves the
+// folder it was in. A stash found at the start is a granstack's that was killed before its run
+// began: it is put back.
 class EarlierOutputs {
  public:
   static constexpr const char* kStash = ".granstack-earlier-run";
 
-  EarlierOutputs(const fs::path& dir, const formats::CaseFiles& files) : dir_(dir), stash_(dir / kStash) {
-    put_back_stash();
+  EarlierOutputs(const fs::path& dir, const formats::CaseFiles& files) : dir_(dir) {
     std::vector<std::string> names{files.series, files.log, files.screen, files.run_record};
-    // Every piece of an earlier dump (per step, per rank, compressed), and nothing else.
+    // Every piece of an earlier dump (per step, per rank, compressed), and nothing else; named
+    // lexically from the case (never through a resolved link).
     for (const auto& piece : formats::dump_files_matching((dir / files.dump).string())) {
-      for (const char* suffix : {"", ".gz", ".zst"}) names.push_back(fs::relative(piece + suffix, dir).string());
+      for (const char* suffix : {"", ".gz", ".zst"}) names.push_back(fs::path(piece + suffix).lexically_relative(dir).string());
     }
+    for (const auto& name : names) folders_.insert(fs::path(name).parent_path());
+    for (const auto& folder : folders_) put_back_stash(folder);
     for (const auto& name : names) {
       std::error_code ec;
       if (!fs::exists(fs::symlink_status(dir / name, ec))) continue;
-      fs::create_directories((stash_ / name).parent_path());
-      fs::rename(dir / name, stash_ / name);
+      fs::create_directories(stash_of(name).parent_path());
+      fs::rename(dir / name, stash_of(name));
       moved_.push_back(name);
       had_record_ = had_record_ || name == files.run_record;
     }
@@ -137,7 +149,7 @@ class EarlierOutputs {
   // The new run has started: the earlier outputs are gone for good.
   void discard() {
     std::error_code ec;
-    fs::remove_all(stash_, ec);
+    for (const auto& folder : folders_) fs::remove_all(dir_ / folder / kStash, ec);
     moved_.clear();
   }
   // The new run never started: its few files go and the earlier ones come back.
@@ -145,26 +157,33 @@ class EarlierOutputs {
     std::error_code ec;
     for (const auto& name : moved_) {
       fs::remove(dir_ / name, ec);
-      fs::rename(stash_ / name, dir_ / name, ec);
+      fs::rename(stash_of(name), dir_ / name, ec);
     }
     moved_.clear();
-    fs::remove_all(stash_, ec);
+    for (const auto& folder : folders_) fs::remove_all(dir_ / folder / kStash, ec);
   }
 
  private:
-  void put_back_stash() {
-    std::error_code ec;
-    if (!fs::is_directory(fs::symlink_status(stash_, ec))) return;
-    for (const auto& entry : fs::recursive_directory_iterator(stash_, ec)) {
-      if (!entry.is_regular_file(ec)) continue;
-      const auto name = fs::relative(entry.path(), stash_, ec);
-      fs::remove(dir_ / name, ec);
-      fs::create_directories((dir_ / name).parent_path(), ec);
-      fs::rename(entry.path(), dir_ / name, ec);
-    }
-    fs::remove_all(stash_, ec);
+  // CASE/FOLDER/.granstack-earlier-run/NAME for CASE/FOLDER/NAME.
+  fs::path stash_of(const std::string& name) const {
+    const fs::path p(name);
+    return dir_ / p.parent_path() / kStash / p.filename();
   }
-  fs::path dir_, stash_;
+  void put_back_stash(const fs::path& folder) {
+    std::error_code ec;
+    const auto stash = dir_ / folder / kStash;
+    if (!fs::is_directory(fs::symlink_status(stash, ec))) return;
+    for (const auto& entry : fs::recursive_directory_iterator(stash, ec)) {
+      if (!entry.is_regular_file(ec)) continue;
+      const auto back = dir_ / folder / entry.path().lexically_relative(stash);
+      fs::remove(back, ec);
+      fs::create_directories(back.parent_path(), ec);
+      fs::rename(entry.path(), back, ec);
+    }
+    fs::remove_all(stash, ec);
+  }
+  fs::path dir_;
+  std::set<fs::path> folders_;  // the folders the outputs lie in, relative to the case
   std::vector<std::string> moved_;
   bool had_record_ = false;
 };
@@ -215,16 +234,16 @@ void write_final_record(const formats::Case& c, const json& record, RunOutcome& 
   }
 }
 
-// The regular files in a case (relative), but for reduce/, paraview/, validate/ and the stash of
-// an earlier run's outputs.
+// The regular files in a case (relative), but for reduce/, paraview/, validate/ and the stashes
+// of an earlier run's outputs.
 std::set<std::string> files_in_case(const fs::path& dir) {
   std::set<std::string> found;
   std::error_code ec;
   for (auto it = fs::recursive_directory_iterator(dir, ec); it != fs::recursive_directory_iterator() && found.size() < 100000;
        it.increment(ec)) {
     const auto name = it->path().filename().string();
-    if (it.depth() == 0 &&
-        (name == "reduce" || name == "paraview" || name == "validate" || name == EarlierOutputs::kStash)) {
+    if ((it.depth() == 0 && (name == "reduce" || name == "paraview" || name == "validate")) ||
+        name == EarlierOutputs::kStash) {
       it.disable_recursion_pending();
       continue;
     }
@@ -330,6 +349,14 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
   outcome.status = status_of(result);
   if (result.interrupted) outcome.message = fmt::format("stopped by signal {}", os::interrupt_signal());
   record.update(result.record);
+  if (outcome.status == RunStatus::done) {
+    try {  // what the readers will read, so that nothing else is ever read under this case's labels
+      record["digests"] = formats::run_digests(c);
+    } catch (const std::exception& e) {
+      outcome.status = RunStatus::failed;
+      outcome.message = fmt::format("its outputs cannot be read back to record their digests: {}", e.what());
+    }
+  }
   record["status"] = status_word(outcome.status);
   record["finished"] = formats::utc_timestamp();
   record["wall_seconds"] = outcome.wall_seconds;

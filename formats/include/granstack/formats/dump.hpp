@@ -149,7 +149,8 @@ void read_deferred(DumpFrame& frame, int fd, const std::string& path);
 // (ids and types as integers, every other column %.17g, each line ending in a space), or binary.
 class DumpWriter {
  public:
-  // A '*' in `path` writes a file per frame (the step in its place); a '%' stands for rank 0.
+  // A '*' in the file name of `path` writes a file per frame (the step in its place); a '%' there
+  // stands for rank 0. The same characters in its directories are only characters.
   DumpWriter(const std::string& path, bool binary);  // throws std::runtime_error
   void write(const DumpFrame& frame);
   // Writes out what is buffered and closes the file; throws std::runtime_error naming it if
@@ -160,6 +161,7 @@ class DumpWriter {
   void open(const std::string& path);
   void write_atoms(const DumpFrame& f, const std::vector<bool>& integer);
   std::string path_, current_;  // the path given, and the file open now
+  std::size_t name_at_ = 0;     // where the file's name begins in path_
   bool binary_;
   bool per_step_ = false;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;

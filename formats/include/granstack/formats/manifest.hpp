@@ -33,6 +33,7 @@ struct CaseFiles {
 struct Rendered {
   std::string deck_sha256;
   std::string data_sha256;
+  std::string content_sha256;  // the manifest's own, as read (the case's identity); "" when written anew
   bool operator==(const Rendered&) const = default;
 };
 

@@ -17,10 +17,18 @@ bool made_by_granstack(const std::filesystem::path& dir);
 // from its marker; "" when it has none.
 std::string output_written_by(const std::filesystem::path& dir);
 
+// What made `dir`, as a command's words: "granstack generate" for a case or a sweep, the
+// marker's command for another output directory ("granstack reproduce", "granstack plot -o"),
+// "" for a directory granstack did not make. Each command replaces only what it made itself.
+std::string made_by(const std::filesystem::path& dir);
+inline constexpr const char* kGenerate = "granstack generate";
+
 // Why `path` may not be replaced (removed and written anew) even with --force, or "" when it
 // may: it must be a directory made by granstack, and neither '/', the home directory, the
 // working directory nor one of its parents. A regular file or anything else is never replaced.
-std::string why_not_replaceable(const std::filesystem::path& path);
+// With `by` (a command as made_by() says it), it must also be that command's: generate never
+// replaces a reproduction, nor validate a report folder.
+std::string why_not_replaceable(const std::filesystem::path& path, const std::string& by = "");
 
 // What lies in `dir`, a case or sweep granstack made, that granstack did not write there (a
 // user's notes, an analysis folder): paths relative to `dir`, directories ending in '/', at most
@@ -47,8 +55,9 @@ class RefusedError : public OutputError {
 
 // Before a command writes `names` into the directory `dir` (table -o, plot -o): a new directory
 // is made and marked as granstack's; in an existing one, a file of `names` that is already there
-// is replaced only with `force`, and only when granstack made the directory. Throws ExistsError
-// or RefusedError naming the file.
+// is replaced only with `force`, and only when `command` itself made the directory (another
+// command's output directory is as good as the user's: new files only). Throws ExistsError or
+// RefusedError naming the file.
 void prepare_output_directory(const std::filesystem::path& dir, const std::vector<std::string>& names, bool force,
                               const std::string& command);
 

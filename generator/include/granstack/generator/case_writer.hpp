@@ -52,6 +52,7 @@ struct GenerateResult {
   std::vector<std::filesystem::path> case_dirs;
   bool sweep = false;  // true: output holds one subdirectory per case and sweep.json
   std::vector<model::Cost> costs;  // per case
+  std::vector<model::Resolution> resolutions;  // per case: dt, steps and duration as written
 };
 
 // The cost of several cases together.

@@ -81,6 +81,9 @@ struct ReduceOptions {
   std::function<void(long frames)> on_frame;
   // Threads that parse and analyse frames; 0 = one per core.
   int threads = 0;
+  // The outputs must be those the case's run recorded in run.json (formats::require_files_as_run).
+  // Only validate's comparison of the two copies it has just run leaves this off.
+  bool verify_run_outputs = true;
 };
 
 // The results break a law they must obey (energy created, or not conserved where nothing

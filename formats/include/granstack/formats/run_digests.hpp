@@ -1,0 +1,34 @@
+#pragma once
+// What a run wrote, recorded in its run.json ("digests") and checked wherever its outputs are
+// read, so results are never reduced under another case's labels: outputs copied in from a
+// case with other physics, a run.json copied without its outputs, a file changed since.
+#include <granstack/formats/case.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace granstack::formats {
+
+// For run.json: the case the run was of (its manifest's content digest and name), and for each
+// output the readers read (every piece of its dump, its series) the size, modification time and
+// SHA-256 of its content (decompressed: a dump gzipped or zstd-compressed afterwards is still the
+// run's), and the size and time of its inputs (manifest, deck, data file; their digests are the
+// manifest's own).
+nlohmann::json run_digests(const Case& c);
+
+enum class DigestCheck {
+  full,   // every output's content is digested (the commands that read them)
+  quick,  // a file whose size and time are as recorded is taken as unchanged; only the others
+          // are digested (status, over thousands of cases)
+};
+
+// Why the case's files are not those its finished run (`record`) read and wrote, or "" when they
+// are: run.json from another case, an input edited since, an output missing, changed, or not
+// written by the run. A record without digests (an older granstack) has nothing to check: "".
+std::string files_not_as_run(const Case& c, const RunRecord& record, DigestCheck how);
+// For the commands that read a case's outputs: throws FormatError (naming run.json) when they are
+// not what its run wrote (a full check).
+void require_files_as_run(const Case& c);
+
+}  // namespace granstack::formats

@@ -1,0 +1,155 @@
+#include <granstack/formats/byte_source.hpp>
+#include <granstack/formats/digest.hpp>
+#include <granstack/formats/dump.hpp>
+#include <granstack/formats/error.hpp>
+#include <granstack/formats/run_digests.hpp>
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <sys/stat.h>
+#include <map>
+
+namespace granstack::formats {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* kCompressed[] = {".gz", ".zst"};
+
+// Size and modification time (ns since 1970) of a file, as stat(2) gives them; false when absent.
+bool stat_file(const fs::path& p, long long& bytes, long long& mtime_ns) {
+  struct stat st {};
+  if (::stat(p.c_str(), &st) != 0) return false;
+  bytes = static_cast<long long>(st.st_size);
+  mtime_ns = static_cast<long long>(st.st_mtim.tv_sec) * 1000000000LL + st.st_mtim.tv_nsec;
+  return true;
+}
+
+// The file holding `name` in the case: itself, or its compressed copy; "" when none is there.
+fs::path present(const Case& c, const std::string& name) {
+  std::error_code ec;
+  for (const std::string suffix : {"", ".gz", ".zst"}) {
+    const auto p = c.path(name + suffix);
+    if (fs::is_regular_file(p, ec)) return p;
+  }
+  return {};
+}
+
+// The outputs the readers read, by their uncompressed names relative to the case.
+std::vector<std::string> output_names(const Case& c) {
+  std::vector<std::string> names;
+  for (auto piece : dump_files_matching(c.path(c.files().dump).string())) {
+    for (const std::string ext : kCompressed) {
+      if (piece.size() > ext.size() && piece.compare(piece.size() - ext.size(), ext.size(), ext) == 0) {
+        piece.resize(piece.size() - ext.size());
+      }
+    }
+    auto rel = fs::path(piece).lexically_relative(c.dir()).string();
+    if (std::find(names.begin(), names.end(), rel) == names.end()) names.push_back(std::move(rel));
+  }
+  names.push_back(c.files().series);
+  return names;
+}
+
+json stat_of(const fs::path& p) {
+  long long bytes = 0, ns = 0;
+  if (!stat_file(p, bytes, ns)) throw FormatError(p.string(), 0, fmt::format("cannot stat: {}", std::strerror(errno)));
+  return {{"bytes", bytes}, {"mtime_ns", ns}};
+}
+
+bool same_stat(const fs::path& p, const json& recorded) {
+  long long bytes = 0, ns = 0;
+  return stat_file(p, bytes, ns) && recorded.value("bytes", -1LL) == bytes && recorded.value("mtime_ns", -1LL) == ns;
+}
+
+std::string record_problem(const fs::path& run_json) {
+  return fmt::format("; {} no longer describes the case's files: run it again with 'granstack run --force'",
+                     run_json.string());
+}
+
+std::string check_case(const Case& c, const json& d) {
+  const auto recorded = d.value("case_sha256", std::string());
+  if (recorded == c.manifest().rendered.content_sha256) return "";
+  return fmt::format("its run.json is the record of another case ('{}', manifest digest {}; this case's is {})",
+                     d.value("case", std::string("?")), recorded.substr(0, 12),
+                     c.manifest().rendered.content_sha256.substr(0, 12));
+}
+
+std::string check_inputs(const Case& c, const json& inputs) {
+  const auto& m = c.manifest();
+  const std::map<std::string, std::string> digest{{m.files.deck, m.rendered.deck_sha256},
+                                                  {m.files.data, m.rendered.data_sha256}};
+  for (const auto& [name, stat] : inputs.items()) {
+    const auto p = c.path(name);
+    if (same_stat(p, stat)) continue;
+    std::error_code ec;
+    if (!fs::is_regular_file(p, ec)) return fmt::format("its input {} is gone since the run", p.string());
+    const auto it = digest.find(name);  // the manifest itself is verified whenever it is read
+    if (it != digest.end() && sha256_file(p) != it->second) {
+      return fmt::format("its input {} was edited after 'granstack generate'", p.string());
+    }
+  }
+  return "";
+}
+
+std::string check_outputs(const Case& c, const json& outputs, DigestCheck how) {
+  for (const auto& name : output_names(c)) {
+    if (!outputs.contains(name) && !present(c, name).empty()) {
+      return fmt::format("{} was not written by its run (copied in afterwards?)", c.path(name).string());
+    }
+  }
+  for (const auto& [name, rec] : outputs.items()) {
+    const auto p = present(c, name);
+    if (p.empty()) return fmt::format("{}, which its run wrote, is missing", c.path(name).string());
+    if (how == DigestCheck::quick && same_stat(p, rec)) continue;
+    if (sha256_content(p) != rec.value("sha256", std::string())) {
+      return fmt::format("{} is not what its run wrote (its SHA-256 differs from run.json's: copied from another "
+                         "case, or changed since)",
+                         p.string());
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+json run_digests(const Case& c) {
+  json outputs = json::object();
+  for (const auto& name : output_names(c)) {
+    const auto p = present(c, name);
+    if (p.empty()) continue;
+    auto entry = stat_of(p);
+    entry["sha256"] = sha256_content(p);
+    outputs[name] = entry;
+  }
+  json inputs = json::object();
+  for (const auto& name : {std::string("manifest.json"), c.files().deck, c.files().data}) {
+    std::error_code ec;
+    if (fs::is_regular_file(c.path(name), ec)) inputs[name] = stat_of(c.path(name));
+  }
+  return {{"case", c.name()}, {"case_sha256", c.manifest().rendered.content_sha256}, {"inputs", inputs},
+          {"outputs", outputs}};
+}
+
+std::string files_not_as_run(const Case& c, const RunRecord& record, DigestCheck how) {
+  if (!record.record.contains("digests")) return "";
+  const auto& d = record.record.at("digests");
+  if (!d.is_object()) return "its run.json's digests are damaged" + record_problem(c.path(c.files().run_record));
+  auto why = check_case(c, d);
+  if (why.empty()) why = check_inputs(c, d.value("inputs", json::object()));
+  if (why.empty()) why = check_outputs(c, d.value("outputs", json::object()), how);
+  return why.empty() ? why : why + record_problem(c.path(c.files().run_record));
+}
+
+void require_files_as_run(const Case& c) {
+  if (const auto why = files_not_as_run(c, c.run_record(), DigestCheck::full); !why.empty()) {
+    throw FormatError(c.path(c.files().run_record).string(), 0, fmt::format("case {}: {}", c.dir(), why));
+  }
+}
+
+}  // namespace granstack::formats
