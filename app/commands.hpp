@@ -20,6 +20,16 @@ constexpr int kDisagree = 5;    // validate: the engines differ by more than the
 constexpr int kPhysics = 6;     // reduce: the results break a physical law they must obey
 constexpr int kIoError = 7;     // a file or directory could not be read or written (a full disk, permissions)
 
+// -o DIR: an empty name is no directory (refused as invalid input, not met as an I/O error).
+inline CLI::Validator output_directory() {
+  return CLI::Validator(
+      [](const std::string& text) {
+        return text.empty() ? std::string("the output directory's name is empty: name a directory, e.g. -o runs/a")
+                            : std::string();
+      },
+      "DIR");
+}
+
 // A subcommand: its parser and what runs it once the command line is parsed.
 struct Command {
   CLI::App* parser = nullptr;

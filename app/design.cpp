@@ -126,7 +126,8 @@ Command add_design(CLI::App& app) {
   run->add_option("space", f->space_file, "Design space file (TOML: [fixed], [vary], [constraints], objectives, [search])")
       ->required()
       ->check(CLI::ExistingFile);
-  run->add_option("-o,--output", f->dir, "Design directory: its store (design.sqlite), space and report")->required();
+  run->add_option("-o,--output", f->dir, "Design directory: its store (design.sqlite), space and report")
+      ->check(output_directory())->required();
   run->add_option("-j,--jobs", f->jobs, "Designs run at once (refsim, one thread each)")->check(CLI::Range(1, 1024));
   run->add_option("--generations", f->generations, "Generations to reach (overrides [search] generations; more resumes further)")
       ->check(CLI::Range(0, 100000));

@@ -47,7 +47,7 @@ Command add_export(CLI::App& app) {
   auto f = std::make_shared<ExportFlags>();
   auto* cmd = app.add_subcommand("export", "Write a run case's dump as ParaView files (VTK XML: a .vtp per frame, a .pvd series)");
   cmd->add_option("case", f->case_dir, "A run case directory")->required()->check(CLI::ExistingDirectory);
-  cmd->add_option("-o,--output", f->output, "Output directory [CASE/paraview]");
+  cmd->add_option("-o,--output", f->output, "Output directory [CASE/paraview]")->check(output_directory());
   cmd->add_option("--frames", f->frames,
                   "Frames to write: all, frame numbers (0 the first, -1 the last) or slices such as ::10 (every tenth), "
                   "comma-separated [all]");

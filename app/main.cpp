@@ -53,6 +53,27 @@ std::string control_character_in(const std::vector<std::string>& args) {
   return "";
 }
 
+// Every argument must be UTF-8: paths and names are recorded in JSON (manifests, run records,
+// sweep indexes), which holds UTF-8 text only.
+std::string invalid_utf8_in(const std::vector<std::string>& args) {
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    const auto& a = args[i];
+    for (std::size_t k = 0; k < a.size();) {
+      const auto c = static_cast<unsigned char>(a[k]);
+      const std::size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xe ? 3 : (c >> 3) == 0x1e ? 4 : 0;
+      bool ok = n != 0 && k + n <= a.size() && !(n == 2 && c < 0xc2);
+      for (std::size_t j = 1; ok && j < n; ++j) ok = (static_cast<unsigned char>(a[k + j]) >> 6) == 0x2;
+      if (!ok) {
+        return fmt::format("argument {} is not valid UTF-8 (byte 0x{:02x} at {}): granstack records paths and names in "
+                           "JSON files, which hold UTF-8 text only; rename it",
+                           i, c, k);
+      }
+      k += n;
+    }
+  }
+  return "";
+}
+
 // Says what went wrong and gives the exit code for it.
 int said(const std::string& message, int code) {
   fmt::print(stderr, "error: {}\n", message);
@@ -78,6 +99,8 @@ int guarded(const std::function<int()>& run) {
   } catch (const os::LockedError& e) {
     return said(e.what(), app::kCaseFailed);
   } catch (const formats::IoError& e) {
+    return said(e.what(), app::kIoError);
+  } catch (const os::LockFileError& e) {
     return said(e.what(), app::kIoError);
   } catch (const std::filesystem::filesystem_error& e) {
     return said(io_message(e), app::kIoError);
@@ -108,6 +131,7 @@ int main(int argc, char** argv) {
     return app::kBadInput;
   }
   if (const auto why = control_character_in(args); !why.empty()) return said(why, app::kBadInput);
+  if (const auto why = invalid_utf8_in(args); !why.empty()) return said(why, app::kBadInput);
   os::install_interrupt_handlers();
   for (const auto& c : commands) {
     if (c.parser->parsed()) return app::unless_interrupted(guarded(c.run));

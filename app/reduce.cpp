@@ -7,6 +7,7 @@
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/ownership.hpp>
+#include <granstack/os/case_lock.hpp>
 #include <granstack/postproc/plot.hpp>
 #include <granstack/postproc/table.hpp>
 
@@ -51,6 +52,9 @@ int reduce_one(const std::string& dir, const std::string& label, postproc::Reduc
     return kIoError;
   } catch (const formats::IoError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
+    return kIoError;
+  } catch (const os::LockFileError& e) {  // a read-only case: its reduce/ cannot be written
+    fmt::print(stderr, "error: {}; reduce it into another directory with 'granstack reduce -o DIR {}'\n", e.what(), dir);
     return kIoError;
   } catch (const std::runtime_error& e) {
     fmt::print(stderr, "error: {}\n", e.what());
@@ -194,7 +198,8 @@ Command add_reduce(CLI::App& app) {
   cmd->add_option("--threads", f->threads, "Threads that parse and analyse the dump frames [one per core]")
       ->check(CLI::Range(1, 256));
   cmd->add_option("-o,--output", f->output,
-                  "Write each case's results into DIR/CASE instead of CASE/reduce (e.g. for a read-only case)");
+                  "Write each case's results into DIR/CASE instead of CASE/reduce (e.g. for a read-only case)")
+      ->check(output_directory());
   cmd->add_flag("--force", f->force, "With -o: replace results an earlier 'reduce -o' wrote there");
   return {cmd, [f] { return reduce(*f); }};
 }
@@ -203,7 +208,8 @@ Command add_table(CLI::App& app) {
   auto f = std::make_shared<TableFlags>();
   auto* cmd = app.add_subcommand("table", "Output fraction against N_B per group of cases, with exponential fits");
   cmd->add_option("cases", f->cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
-  cmd->add_option("-o,--output", f->output, "Also write table.md, table.csv and fits.csv into this directory");
+  cmd->add_option("-o,--output", f->output, "Also write table.md, table.csv and fits.csv into this directory")
+      ->check(output_directory());
   cmd->add_flag("--json", f->json, "Print the table and fits as one JSON object");
   cmd->add_flag("--force", f->force, "Replace table files an earlier 'table -o' wrote there");
   return {cmd, [f] { return table(*f); }};
@@ -213,7 +219,8 @@ Command add_plot(CLI::App& app) {
   auto f = std::make_shared<PlotFlags>();
   auto* cmd = app.add_subcommand("plot", "Figures with gnuplot: per-block energy of each case, output fraction against N_B");
   cmd->add_option("cases", f->cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
-  cmd->add_option("-o,--output", f->output, "Directory for the images, their data and gnuplot scripts")->required();
+  cmd->add_option("-o,--output", f->output, "Directory for the images, their data and gnuplot scripts")
+      ->check(output_directory())->required();
   cmd->add_option("--format", f->format, "png or svg [png]")->check(CLI::IsMember({"png", "svg"}));
   cmd->add_flag("--force", f->force, "Replace figures an earlier 'plot -o' wrote there");
   return {cmd, [f] { return plot(*f); }};

@@ -81,7 +81,8 @@ Command add_reproduce(CLI::App& app) {
   auto* cmd = app.add_subcommand("reproduce", "Reproduce the study's figures and numbers, with a report");
   cmd->add_option("experiments", o.experiments,
                   fmt::format("Experiments to run [all]: {}", fmt::join(study::builtin_catalogue().names(), ", ")));
-  cmd->add_option("-o,--output", o.output, "The reproduction's directory (its cases are reused on a rerun)")->required();
+  cmd->add_option("-o,--output", o.output, "The reproduction's directory (its cases are reused on a rerun)")
+      ->check(output_directory())->required();
   cmd->add_option("-j,--jobs", o.jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
   cmd->add_option("--engine", o.engine, "liggghts or refsim [liggghts]")->check(CLI::IsMember(runner::engine_names()));
   cmd->add_flag("--validate", o.validate, "Also run every case with the other engine and report the agreement");

@@ -85,7 +85,19 @@ Command add_submit(CLI::App& app) {
                                      text);
           },
           "TIME"));
-  cmd->add_option("--mem", o.mem_mb, "Memory per task, MB [the site's default]")->check(CLI::PositiveNumber);
+  cmd->add_option("--mem", o.mem_mb, "Memory per task: MB, or with SLURM's units M, G or T (4G = 4096 MB) [the site's default]")
+      ->transform(CLI::Validator(
+          [](std::string& text) {
+            const auto mb = cluster::parse_memory_mb(text);
+            if (!mb) {
+              return fmt::format("'{}' is not a memory size: give megabytes (4000) or a size with M, G or T (4G), "
+                                 "above zero and at most 1024 T",
+                                 text);
+            }
+            text = std::to_string(*mb);
+            return std::string();
+          },
+          "SIZE"));
   cmd->add_option("--account", o.account, "SLURM account [the site's default]");
   cmd->add_option("--sbatch-arg", o.sbatch_args, "An argument passed to sbatch as it is (repeatable)");
   cmd->add_flag("--gather", o.gather, "Add a job that runs `table` over the targets once the arrays end");

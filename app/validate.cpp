@@ -14,6 +14,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <memory>
 #include <optional>
 
@@ -54,7 +55,7 @@ int validate(const ValidateFlags& f) {
     // Both copies' places are checked before either engine spends its time.
     for (const auto engine : {runner::Engine::liggghts, runner::Engine::refsim}) {
       const auto copy = runner::copy_dir(d, engine);
-      if (const auto why = formats::why_not_replaceable(copy); !why.empty()) {
+      if (const auto why = formats::why_not_replaceable(copy, formats::kGenerate); !why.empty()) {
         throw formats::RefusedError(fmt::format("cannot make the copy {}: {}; move it away first", copy, why));
       }
     }
@@ -93,7 +94,17 @@ Command add_validate(CLI::App& app) {
   cmd->add_option("--tolerance", f->tolerance,
                   "Largest accepted difference of any dumped column, series column or the output fraction, "
                   "relative to max(|liggghts|, |refsim|, a physical floor) [1e-7: round-off, see docs/reference/commands.md]")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            double t = 0.0;
+            const bool number = CLI::detail::lexical_cast(text, t);
+            return number && std::isfinite(t) && t > 0.0 && t < 1.0
+                       ? std::string()
+                       : fmt::format("'{}' is not a relative tolerance: give a number above 0 and below 1 (1e-7 is "
+                                     "round-off; a difference is relative to the larger value)",
+                                     text);
+          },
+          "TOLERANCE"));
   cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
   cmd->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
   return {cmd, [f] { return validate(*f); }};

@@ -14,6 +14,25 @@ namespace granstack::cluster {
 
 namespace fs = std::filesystem;
 
+std::optional<long> parse_memory_mb(const std::string& text) {
+  constexpr long kMostMb = 1024L * 1024 * 1024;  // 1024 T
+  const auto digits = text.find_first_not_of("0123456789");  // the unit's place, or npos
+  const std::size_t count = digits == std::string::npos ? text.size() : digits;
+  if (count == 0 || count > 10 || (digits != std::string::npos && digits != text.size() - 1)) return std::nullopt;
+  long unit = 1;
+  if (digits != std::string::npos) {
+    switch (text[digits]) {
+      case 'M': case 'm': unit = 1; break;
+      case 'G': case 'g': unit = 1024; break;
+      case 'T': case 't': unit = 1024L * 1024; break;
+      default: return std::nullopt;
+    }
+  }
+  const long n = std::stol(text.substr(0, count));
+  if (n <= 0 || n > kMostMb / unit) return std::nullopt;
+  return n * unit;
+}
+
 std::optional<long> parse_slurm_time(const std::string& text) {
   std::vector<long> parts;
   long days = 0;

@@ -316,6 +316,9 @@ std::string spec_toml(const model::StackSpec& spec) {
   for (const auto& f : model::spec_fields()) {
     if (!f.conflicts_with.empty() && j.contains(f.name)) j.erase(f.conflicts_with);
   }
+  // The space fixes the wall's material (the study's steel) for every design; a design without a
+  // wall leaves it out (generate refuses a wall's material where there is none).
+  if (!spec.has_walls()) j.erase("wall_material");
   const auto t = toml_of(j);
   std::ostringstream os;
   os << *t->as_table() << "\n";

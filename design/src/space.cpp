@@ -87,9 +87,10 @@ void read_fixed(const toml::table* fixed, const std::string& source, Space& s, s
     if (!sweep.axes.empty()) problems.push_back(fmt::format("[fixed] {}: one value, not a list (a design space is not a sweep)", sweep.axes.front().field));
     s.fixed = sweep.base;
     // The striker and the wall belong to the test, not the design: they stay the study's steel
-    // unless fixed otherwise (left empty they would follow the top and bottom blocks).
+    // unless fixed otherwise (left empty they would follow the top and bottom blocks); a stack
+    // without a wall has no wall material.
     if (s.fixed.striker_material.empty()) s.fixed.striker_material = kStudyMaterial;
-    if (s.fixed.wall_material.empty()) s.fixed.wall_material = kStudyMaterial;
+    if (s.fixed.wall_material.empty() && s.fixed.has_walls()) s.fixed.wall_material = kStudyMaterial;
   } catch (const model::SpecError& e) {
     for (const auto& i : e.issues()) problems.push_back(fmt::format("[fixed] {}: {}", i.field, i.message));
   }

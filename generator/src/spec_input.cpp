@@ -194,6 +194,7 @@ Sweep build_sweep(const RawSpec& raw) {
     if (axis->values.size() > 1) sweep.axes.push_back(std::move(*axis));
   }
   if (!issues.empty()) throw SpecError(std::move(issues));
+  for (const auto& [name, tokens] : raw) sweep.given.insert(name);
   // Case names list the swept fields in the table's order (blocks first, then e, mu, ...).
   auto rank = [](const SweepAxis& a) {
     const auto& all = model::spec_fields();
@@ -201,8 +202,45 @@ Sweep build_sweep(const RawSpec& raw) {
   };
   std::sort(sweep.axes.begin(), sweep.axes.end(), [&](const auto& a, const auto& b) { return rank(a) < rank(b); });
   // Checks that do not depend on the swept values are reported once, here.
-  if (sweep.axes.empty()) model::require_valid(s);
+  if (sweep.axes.empty()) {
+    model::require_valid(s);
+    if (auto ignored = ignored_fields(s, sweep.given); !ignored.empty()) throw SpecError(std::move(ignored));
+  }
   return sweep;
+}
+
+std::vector<SpecIssue> ignored_fields(const model::StackSpec& s, const std::set<std::string>& given) {
+  std::vector<SpecIssue> issues;
+  const auto named = [&](const char* field) { return given.count(field) != 0; };
+  if (s.geometry != model::Geometry::panels) {
+    for (const char* f : {"panels", "impact_panel", "separator", "matrix_material"}) {
+      if (named(f)) {
+        issues.push_back({f, fmt::format("applies to geometry = panels only (this spec's geometry is {}): remove it, or "
+                                         "set geometry = panels",
+                                         model::to_string(s.geometry))});
+      }
+    }
+  }
+  if (named("wall_material") && !s.has_walls()) {
+    issues.push_back({"wall_material", "this stack has no wall (bottom and sides are free): remove it, or set bottom = "
+                                       "\"wall\" or sides = \"wall\""});
+  }
+  const auto all_zero = [](const model::PairTable& t) {
+    return t.value == 0.0 && std::all_of(t.pairs.begin(), t.pairs.end(), [](const auto& p) { return p.second == 0.0; });
+  };
+  if (s.rolling_model == model::RollingModel::epsd2 && all_zero(s.rolling_friction)) {
+    issues.push_back({"rolling_model", "epsd2 with rolling_friction 0 everywhere exerts no torque: give rolling_friction "
+                                       "> 0 (0..1), or leave rolling_model off"});
+  }
+  const bool elastic = s.restitution.value == 1.0 &&
+                       std::all_of(s.restitution.pairs.begin(), s.restitution.pairs.end(),
+                                   [](const auto& p) { return p.second == 1.0; });
+  if (s.tangential_model == model::TangentialModel::no_history && !all_zero(s.friction) && elastic) {
+    issues.push_back({"friction", "with tangential_model = no_history the tangential force is viscous, made with the "
+                                  "normal damping, which e = 1 makes zero: this friction would do nothing; use "
+                                  "tangential_model = history, or e < 1"});
+  }
+  return issues;
 }
 
 std::vector<CaseSpec> expand(const Sweep& sweep) {
@@ -220,6 +258,7 @@ std::vector<CaseSpec> expand(const Sweep& sweep) {
     }
     c.name = parts.empty() ? "case" : fmt::format("{}", fmt::join(parts, "_"));
     auto issues = model::validate(c.spec);
+    if (issues.empty()) issues = ignored_fields(c.spec, sweep.given);
     if (!issues.empty()) {
       for (auto& i : issues) i.message += fmt::format(" (in the sweep case {})", c.name);
       throw SpecError(std::move(issues));

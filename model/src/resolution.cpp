@@ -146,6 +146,26 @@ std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& r)
                                                    "lower speed",
                                                    spec.striker_speed, overlap / top.radius, law_name(spec),
                                                    kMaxOverlapPerRadius)});
+  } else if (!(overlap >= kMinOverlapPerRadius * top.radius)) {
+    issues.push_back({"striker_speed", fmt::format("{} m/s presses the striker only {:.3g} of a radius into the top "
+                                                   "spheres, below the {:g} that double precision resolves (positions "
+                                                   "hold 16 digits of a radius): its forces would be round-off; use "
+                                                   "a higher speed",
+                                                   spec.striker_speed, overlap / top.radius, kMinOverlapPerRadius)});
+  }
+  if (spec.characteristic_velocity) {
+    const double calibrated = hertz_max_overlap(striker_contact(stack), *spec.characteristic_velocity);
+    if (!(calibrated <= kMaxOverlapPerRadius * top.radius)) {
+      issues.push_back({"characteristic_velocity",
+                        fmt::format("{} m/s calibrates the Hooke spring on a Hertz overlap of {:.3g} of a radius, beyond "
+                                    "the {:g} where Hertz's law holds: use a lower speed, or 'auto' (the striker speed)",
+                                    *spec.characteristic_velocity, calibrated / top.radius, kMaxOverlapPerRadius)});
+    }
+  }
+  if (spec.dump_every && *spec.dump_every > r.steps) {
+    issues.push_back({"dump_every", fmt::format("{} steps is more than the run's {} steps: the dump would hold its first "
+                                                "and last frames only; give at most {}, or 'auto'",
+                                                *spec.dump_every, r.steps, r.steps)});
   }
   return issues;
 }

@@ -113,6 +113,11 @@ int StackSpec::measured_panel() const {
   return impact_panel > 0 ? impact_panel : (panels + 1) / 2;
 }
 
+bool StackSpec::has_walls() const {
+  return bottom == Boundary::wall || sides == Boundary::wall ||
+         (geometry == Geometry::panels && separator == Separator::walls);
+}
+
 bool StackSpec::strikes_every_panel() const { return geometry == Geometry::panels && impact_panel == kAllPanels; }
 
 MaterialLibrary StackSpec::material_library() const {
@@ -333,8 +338,7 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
   std::vector<std::string> used = s.materials;
   if (!s.striker_material.empty()) used.push_back(s.striker_material);
   if (s.geometry == Geometry::panels && s.separator == Separator::matrix) used.push_back(s.effective_matrix_material());
-  if (s.bottom == Boundary::wall || s.sides == Boundary::wall ||
-      (s.geometry == Geometry::panels && s.separator == Separator::walls)) {
+  if (s.has_walls()) {
     used.push_back(!s.wall_material.empty() ? s.wall_material : s.materials.empty() ? "" : s.materials.back());
   }
   std::sort(used.begin(), used.end());

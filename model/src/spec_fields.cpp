@@ -60,7 +60,14 @@ void parse_pairs(PairTable& table, const std::string& field, const Tokens& token
     if (colon == std::string::npos || eq == std::string::npos || eq < colon) {
       issues.push_back({field, fmt::format("'{}' is not MATERIAL_A:MATERIAL_B=VALUE", t)});
     } else if (number(field, t.substr(eq + 1), v, issues)) {
-      table.set(t.substr(0, colon), t.substr(colon + 1, eq - colon - 1), v);
+      const auto a = t.substr(0, colon), b = t.substr(colon + 1, eq - colon - 1);
+      const auto key = a <= b ? std::make_pair(a, b) : std::make_pair(b, a);
+      if (const auto it = table.pairs.find(key); it != table.pairs.end()) {  // a:b and b:a are one pair
+        issues.push_back({field, fmt::format("the pair {}:{} is given twice ({} and {}): give each pair once", a, b,
+                                             it->second, v)});
+        continue;
+      }
+      table.set(a, b, v);
     }
   }
 }

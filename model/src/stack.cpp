@@ -229,10 +229,7 @@ std::vector<Wall> Stack::walls() const {
   return w;
 }
 
-bool Stack::has_walls() const {
-  return spec_.bottom == Boundary::wall || spec_.sides == Boundary::wall ||
-         (container() && spec_.separator == Separator::walls);
-}
+bool Stack::has_walls() const { return spec_.has_walls(); }
 
 std::vector<std::string> Stack::type_materials() const {
   std::vector<std::string> out;

@@ -1,13 +1,14 @@
+#include <granstack/formats/case.hpp>
+#include <granstack/formats/deck.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/files.hpp>
-#include <granstack/formats/deck.hpp>
-#include <granstack/formats/case.hpp>
 #include <granstack/formats/manifest.hpp>
-#include <granstack/os/case_lock.hpp>
 #include <granstack/formats/ownership.hpp>
+#include <granstack/formats/run_digests.hpp>
 #include <granstack/formats/vtk.hpp>
 #include <granstack/model/stack.hpp>
+#include <granstack/os/case_lock.hpp>
 #include <granstack/postproc/energy.hpp>
 #include <granstack/postproc/export.hpp>
 
@@ -72,6 +73,11 @@ std::vector<bool> select_frames(const std::string& selection, long count) {
       const long end = std::clamp(frame_number(selection, item.substr(c1 + 1, c2 == std::string_view::npos ? std::string_view::npos : c2 - c1 - 1),
                                                count, count),
                                   0L, count);
+      if (first >= end) {
+        bad_selection(selection, fmt::format("the range '{}' selects no frame (of the dump's {}, 0 to {}): its start "
+                                             "must come before its end",
+                                             item, count, count - 1));
+      }
       for (long k = first; k < end; k += stride) picked[static_cast<std::size_t>(k)] = true;
     }
     start = comma + 1;
@@ -141,6 +147,7 @@ formats::VtkPoints frame_points(const model::Stack& stack, const formats::DumpFr
 ExportResult export_case(const std::string& case_dir, const ExportOptions& o) {
   const auto c = formats::Case::open(case_dir);
   formats::check_deck_matches_manifest(c);  // an edited case's frames would carry the manifest's labels
+  formats::require_files_as_run(c);          // and so would another case's dump copied in
   // Writing into the case (its paraview/), export holds the case's lock, as every command that writes a case does.
   std::optional<os::CaseLock> lock;
   if (o.output_dir.empty()) lock.emplace(c.lock("granstack export"));

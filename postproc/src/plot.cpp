@@ -144,6 +144,12 @@ std::string plot_panel_energy(const CaseReduction& r, const std::string& label, 
   }
   const auto name = panel_plot_name(label);
   const std::string hit = r.spec.strikes_every_panel() ? "every panel" : fmt::format("panel {}", r.spec.measured_panel());
+  std::string curves;
+  const auto every = std::max<std::size_t>(1, r.panel_frames.size() / 12);
+  for (int p = 1; p <= panels; ++p) {
+    curves += fmt::format("'{}.dat' using 1:{} with linespoints pointtype {} pointinterval {} dashtype {} title 'panel {}', \\\n     ",
+                          name, p + 1, p + 3, every, p > r.spec.measured_panel() ? 3 : 1, p);
+  }
   const auto script = fmt::format(
       "# granstack: kinetic energy of each panel of the container {} and of its matrix, over E_in.\n"
       "# Data: {}.dat (time in us, then panel 1 (smallest y) .. {}, then the matrix). The striker hits {}.\n"
@@ -153,10 +159,11 @@ std::string plot_panel_energy(const CaseReduction& r, const std::string& label, 
       "set xlabel 'time t (µs)'\nset ylabel 'E_k / E_{{in}}'\n"
       "set grid\nset key outside right top\nset logscale y\nset format y '10^{{%L}}'\nset yrange [1e-6:2]\n"
       "set autoscale xfix\n"
-      "plot for [p=1:{}] '{}.dat' using 1:(column(p+1)) with lines title sprintf('panel %d', p), \\\n"
-      "     '{}.dat' using 1:{} with lines dashtype 2 linecolor 'black' title 'matrix'\n",
+      "# Panels beyond the struck one are dashed, each with its own marker: mirrored panels of a\n"
+      "# symmetric container have the same curve, and neither hides the other.\n"
+      "plot {}'{}.dat' using 1:{} with lines dashtype 2 linecolor 'black' title 'matrix'\n",
       safe_name(label), name, panels, hit, name, gnuplot_terminal(o), name, o.format, panels, r.spec.blocks,
-      r.spec.blocks == 1 ? "" : "s", model::to_string(r.spec.separator), hit, panels, name, name, panels + 2);
+      r.spec.blocks == 1 ? "" : "s", model::to_string(r.spec.separator), hit, curves, name, panels + 2);
   return render_gnuplot(out_dir, name, fmt::to_string(data), script, o);
 }
 

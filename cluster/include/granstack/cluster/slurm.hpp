@@ -73,16 +73,20 @@ inline constexpr double kTimeSafety = 3.0;
 // seconds; nullopt for anything else, for zero (which SLURM reads as no limit at all) and for
 // more than a year.
 std::optional<long> parse_slurm_time(const std::string& text);
+// A memory size as SLURM's --mem takes it (a whole number, with M, G or T as binary multiples of
+// a megabyte; none means M) in MB; nullopt for anything else, zero or above 1024 T.
+std::optional<long> parse_memory_mb(const std::string& text);
 inline constexpr double kMinTaskSeconds = 300.0;
 
 struct CaseState {
-  std::string dir, status;  // done, failed, running, interrupted, pending
-  std::string error;        // the first line of a failed case's error
+  std::string dir, status;  // done, changed (done, but edited or its outputs replaced since), failed, running,
+                            // interrupted, pending
+  std::string error;        // the first line of a failed case's error, or of why a changed one is
 };
 
 struct StatusReport {
   std::vector<CaseState> cases;
-  int done = 0, failed = 0, running = 0, interrupted = 0, pending = 0;
+  int done = 0, changed = 0, failed = 0, running = 0, interrupted = 0, pending = 0;
   std::vector<std::string> job_ids;       // of the last submission, when there is one
   std::vector<std::string> queue;         // squeue's lines for those jobs (when squeue answered)
   bool squeue_available = false;          // squeue answered

@@ -5,6 +5,7 @@
 #include <granstack/model/spec.hpp>
 
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,7 @@ struct SweepAxis {
 struct Sweep {
   model::StackSpec base;
   std::vector<SweepAxis> axes;  // fields given more than one value
+  std::set<std::string> given;  // the fields the input named (to refuse those that would do nothing)
 };
 
 // Throws model::SpecError listing every problem.
@@ -40,7 +42,13 @@ struct CaseSpec {
 };
 
 // One case per combination of the axes (the last axis varies fastest). Every case is
-// validated; throws model::SpecError naming the case.
+// validated, and a field the input gave that would do nothing in it is refused (ignored_fields);
+// throws model::SpecError naming the case.
 std::vector<CaseSpec> expand(const Sweep& sweep);
+
+// The fields of `given` that would do nothing in `spec`, each with why (a container's field on a
+// strip, a wall's material with no wall, rolling friction's model with none, no_history's
+// friction where nothing damps): a value set that has no effect is a mistake, never a choice.
+std::vector<model::SpecIssue> ignored_fields(const model::StackSpec& spec, const std::set<std::string>& given);
 
 }  // namespace granstack::generator

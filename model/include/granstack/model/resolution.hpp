@@ -48,6 +48,10 @@ inline constexpr long kMaxSteps = 10'000'000'000;
 // - the striker's Hertz overlap on the top spheres at most this fraction of their radius: Hertz
 //   theory is a small-strain theory, and a steel sphere yields long before (about 0.1 m/s).
 inline constexpr double kMaxOverlapPerRadius = 0.05;
+// - and at least this fraction: the overlap is the difference of two distances of order R held
+//   to about 1e-16 of R (double precision), so below 1e-9 R it keeps fewer than 7 digits and the
+//   contact forces are round-off (at 1e-30 m/s the automatic run lasted 68 s of nothing).
+inline constexpr double kMinOverlapPerRadius = 1e-9;
 
 struct Resolution {
   double dt = 0.0;        // s

@@ -104,6 +104,8 @@ struct StackSpec {
   double radius_factor(int k) const;
   // The wall's material name (wall_material, or the bottom block's).
   const std::string& effective_wall_material() const;
+  // Whether the stack has a wall: a bottom or side wall, or a container's rigid separators.
+  bool has_walls() const;
   // The striker's material name (striker_material, or the top block's).
   const std::string& effective_striker_material() const;
   // The matrix's material name (matrix_material, or teflon).
