@@ -1,7 +1,8 @@
 # Runs one example spec through the whole pipeline with the real LIGGGHTS (ctest, script mode):
 #   cmake -DGRANSTACK=... -DEXAMPLE=... -DWORK=... -DCASES=N [-DOVERRIDES=a;b] -P run_example.cmake
-# Each stage must succeed, reduce --json must print one line per case, and no case may carry
-# a warning (e.g. an output sphere that has not separated).
+# Each stage must succeed, reduce --json must print one line per case, no case may carry a
+# warning (e.g. an output sphere that has not separated), and every output fraction must be the
+# one measured (tests/data/examples.json).
 function(step)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
@@ -66,7 +67,13 @@ function(check_case json)
     endif()
   endif()
 endfunction()
-string(REPLACE "\n" ";" lines "${out}")
+# The values themselves, against those measured (tests/data/examples.json, with its tolerance).
+get_filename_component(example_name ${EXAMPLE} NAME_WE)
+set(reduced "${out}")
+file(WRITE ${WORK}.reduce.json "${reduced}")
+step(python3 ${CMAKE_CURRENT_LIST_DIR}/check_example.py ${example_name} ${WORK}.reduce.json)
+message("${out}")
+string(REPLACE "\n" ";" lines "${reduced}")
 foreach(line IN LISTS lines)
   if(line MATCHES "^{")
     check_case("${line}")

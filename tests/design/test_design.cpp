@@ -1,9 +1,11 @@
 // granstack design: the space file and its refusals, the in-situ evaluation against reduce on
 // the same case, the store, and the search's reproducibility and resumption.
 #include <granstack/design/report.hpp>
+#include <granstack/formats/dump.hpp>
 #include <granstack/design/search.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/generator/spec_input.hpp>
+#include <granstack/model/spec_fields.hpp>
 #include <granstack/os/process.hpp>
 #include <granstack/postproc/reduce.hpp>
 #include <granstack/refsim/case_run.hpp>
@@ -17,6 +19,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <thread>
 
 #include "../support/program.hpp"
@@ -47,6 +51,38 @@ std::string problems_of(const std::string& text) {
     return fmt::format("{}", fmt::join(e.problems(), "\n"));
   }
   return "";
+}
+
+// The output fractions from their definition alone (physics.md section 4), read from the run's
+// last dump frame with nothing of granstack's energy code: a sphere's kinetic energy
+// 1/2 m |v|^2 + 1/5 m r^2 |omega|^2 (a solid sphere), over E_in = 1/2 m v0^2 of the striker at
+// step 0; the output sphere alone, and the bottom row summed.
+struct ByDefinition {
+  double output = 0.0, bottom_row = 0.0;
+};
+ByDefinition fractions_by_definition(const fs::path& case_dir, const model::Stack& stack) {
+  const auto reader = formats::open_dump((case_dir / "dumps" / "dump.txt").string(), false, {});
+  formats::DumpFrame f, first, last;
+  for (bool at_start = true; reader->next(f); at_start = false) {
+    if (at_start) first = f;
+    last = f;
+  }
+  const auto energy = [](const formats::DumpFrame& fr, int id) {
+    for (long row = 0; row < fr.atoms; ++row) {
+      if (static_cast<int>(fr.at(row, fr.column("id"))) != id) continue;
+      const auto c = [&](const char* name) { return fr.at(row, fr.column(name)); };
+      const double v2 = c("vx") * c("vx") + c("vy") * c("vy") + c("vz") * c("vz");
+      const double w2 = c("omegax") * c("omegax") + c("omegay") * c("omegay") + c("omegaz") * c("omegaz");
+      return 0.5 * c("mass") * v2 + 0.2 * c("mass") * c("radius") * c("radius") * w2;
+    }
+    ADD_FAILURE() << "no sphere " << id << " in the frame at step " << fr.step;
+    return 0.0;
+  };
+  const double e_in = energy(first, model::Stack::striker_id());
+  ByDefinition d;
+  d.output = energy(last, stack.output_sphere_id()) / e_in;
+  for (const int id : stack.bottom_row_ids()) d.bottom_row += energy(last, id) / e_in;
+  return d;
 }
 
 }  // namespace
@@ -92,6 +128,11 @@ TEST(InSitu, EqualsReduceOfTheSameCaseRunOnRefsim) {
       EXPECT_EQ(e.peak_wall_force_time, r.peak_wall_force_time);
     }
     EXPECT_EQ(e.output_separated, bottom == model::Boundary::free_surface && r.output_separated);
+    if (bottom == model::Boundary::free_surface) {  // both read the last frame: the definition checked
+      const auto d = fractions_by_definition(o.output, stack);
+      EXPECT_NEAR(r.output_fraction, d.output, 1e-13 * d.output);
+      EXPECT_NEAR(r.output_fraction_bottom_row, d.bottom_row, 1e-13 * d.bottom_row);
+    }
     EXPECT_EQ(e.final_momentum_ratio, r.final_momentum_ratio);  // m vz summed in id order by both
     if (bottom == model::Boundary::wall) {
       EXPECT_GT(r.final_momentum_ratio, 0.0);  // the wall threw the stack back
@@ -226,6 +267,113 @@ TEST(Search, IsReproducibleAndResumesWhereItStopped) {
   // The hypervolume never falls: NSGA-II keeps its best (elitism).
   EXPECT_GE(ga[2].hypervolume, ga[0].hypervolume);
   EXPECT_GT(ga[0].hypervolume, 0.0);
+}
+
+// The front is the store's non-dominated feasible set, computed here independently of
+// design::pareto_front: by brute force over every pair, on the objectives read straight from
+// each evaluation's fields (all minimised). A front that kept a dominated design, or dropped a
+// non-dominated one, fails.
+TEST(Search, TheFrontIsTheNonDominatedSetByBruteForce) {
+  const auto dir = work_dir();
+  const auto space = small_space();
+  auto store = design::Store::open((dir / "store.sqlite").string(), space.digest(), kSmallSpace);
+  design::run_search(space, store, {});
+  const auto all = store.evaluations();
+  ASSERT_GT(all.size(), 4u);
+  // The small space's objectives, in its order: output_fraction, areal_mass.
+  const auto objectives = [](const design::Evaluation& e) {
+    return std::vector<double>{e.output_fraction.value(), e.areal_mass};
+  };
+  std::set<std::string> expected;
+  for (const auto& a : all) {
+    if (!a.feasible) continue;
+    bool dominated = false;
+    for (const auto& b : all) {
+      if (!b.feasible || &a == &b) continue;
+      const auto oa = objectives(a), ob = objectives(b);
+      bool no_worse = true, better = false;
+      for (std::size_t k = 0; k < oa.size(); ++k) {
+        no_worse = no_worse && ob[k] <= oa[k];
+        better = better || ob[k] < oa[k];
+      }
+      dominated = dominated || (no_worse && better);
+    }
+    if (!dominated) expected.insert(a.digest);
+  }
+  std::set<std::string> front;
+  for (const auto& e : design::pareto_front(space, all)) front.insert(e.digest);
+  EXPECT_EQ(front, expected);
+  EXPECT_GE(expected.size(), 2u);          // a real trade-off: lighter stacks pass more
+  EXPECT_LT(expected.size(), all.size());  // and some designs are beaten
+}
+
+// The store's key tells every spec field apart: for each field of model::spec_fields, two specs
+// that differ in that field alone have different digests (a key blind to one, per-block rows
+// say, would run one design and store it for another). The table must name every field.
+TEST(Space, TheStoreKeyChangesWithEverySpecField) {
+  using Raw = generator::RawSpec;
+  struct Variant {
+    Raw a, b;
+  };
+  const Raw panels{{"geometry", {"panels"}}, {"panels", {"3"}}};
+  const auto with = [](Raw base, const Raw& more) {
+    for (const auto& [k, v] : more) base[k] = v;
+    return base;
+  };
+  const Raw two{{"blocks", {"2"}}, {"materials", {"steel", "brass"}}};
+  const std::map<std::string, Variant> variants{
+      {"geometry", {{{"blocks", {"2"}}}, {{"blocks", {"2"}}, {"geometry", {"nested3d"}}}}},
+      {"panels", {with(panels, {}), with(panels, {{"panels", {"5"}}})}},
+      {"impact_panel", {with(panels, {{"impact_panel", {"1"}}}), with(panels, {{"impact_panel", {"2"}}})}},
+      {"separator", {with(panels, {{"separator", {"walls"}}}), with(panels, {{"separator", {"none"}}})}},
+      {"matrix_material", {with(panels, {{"matrix_material", {"nylon"}}}), with(panels, {{"matrix_material", {"brass"}}})}},
+      {"blocks", {{{"blocks", {"3"}}}, {{"blocks", {"4"}}}}},
+      {"rows", {{{"rows", {"6"}}}, {{"rows", {"8"}}}}},
+      {"top_columns", {{{"top_columns", {"2"}}}, {{"top_columns", {"4"}}}}},
+      {"bottom_radius", {{{"bottom_radius", {"1e-3"}}}, {{"bottom_radius", {"2e-3"}}}}},
+      {"radius_ratio", {{{"blocks", {"3"}}, {"radius_ratio", {"2", "3"}}}, {{"blocks", {"3"}}, {"radius_ratio", {"3", "2"}}}}},
+      {"block_rows", {{{"blocks", {"3"}}, {"block_rows", {"2", "3", "4"}}}, {{"blocks", {"3"}}, {"block_rows", {"4", "3", "2"}}}}},
+      {"materials", {two, with(two, {{"materials", {"brass", "steel"}}})}},
+      {"restitution", {{{"restitution", {"1"}}}, {{"restitution", {"0.9"}}}}},
+      {"friction", {{{"friction", {"0"}}}, {{"friction", {"0.3"}}}}},
+      {"restitution_pairs", {with(two, {{"restitution_pairs", {"steel:brass=0.9"}}}), with(two, {{"restitution_pairs", {"steel:brass=0.8"}}})}},
+      {"friction_pairs", {with(two, {{"friction_pairs", {"steel:brass=0.2"}}}), with(two, {{"friction_pairs", {"steel:brass=0.3"}}})}},
+      {"striker_speed", {{{"striker_speed", {"1"}}}, {{"striker_speed", {"2"}}}}},
+      {"striker_radius_ratio", {{{"striker_radius_ratio", {"1"}}}, {{"striker_radius_ratio", {"1.5"}}}}},
+      {"striker_material", {{{"striker_material", {"steel"}}}, {{"striker_material", {"brass"}}}}},
+      {"bottom", {{{"bottom", {"free"}}}, {{"bottom", {"wall"}}}}},
+      {"sides", {{{"sides", {"free"}}}, {{"sides", {"wall"}}}}},
+      {"wall_material", {{{"bottom", {"wall"}}, {"wall_material", {"steel"}}}, {{"bottom", {"wall"}}, {"wall_material", {"brass"}}}}},
+      {"gravity", {{{"gravity", {"0"}}}, {{"gravity", {"9.81"}}}}},
+      {"dt", {{{"dt", {"1e-8"}}}, {{"dt", {"2e-8"}}}}},
+      {"duration", {{{"duration", {"1e-4"}}}, {{"duration", {"2e-4"}}}}},
+      {"dump_every", {{{"dump_every", {"10"}}}, {{"dump_every", {"20"}}}}},
+      {"series_every", {{{"series_every", {"1"}}}, {{"series_every", {"2"}}}}},
+      {"dump_files", {{{"dump_files", {"single"}}}, {{"dump_files", {"per_step"}}}}},
+      {"dump_format", {{{"dump_format", {"text"}}}, {{"dump_format", {"binary"}}}}},
+      {"custom_materials", {{{"materials", {"mine"}}, {"custom_materials", {"mine:1000:1e7:0.4"}}},
+                            {{"materials", {"mine"}}, {"custom_materials", {"mine:1100:1e7:0.4"}}}}},
+      {"normal_model", {{{"normal_model", {"hertz"}}}, {{"normal_model", {"hooke"}}}}},
+      {"tangential_model", {{{"friction", {"0.3"}}, {"restitution", {"0.9"}}},
+                            {{"friction", {"0.3"}}, {"restitution", {"0.9"}}, {"tangential_model", {"no_history"}}}}},
+      {"rolling_model", {{}, {{"rolling_model", {"epsd2"}}, {"rolling_friction", {"0.1"}}}}},
+      {"rolling_friction", {{{"rolling_model", {"epsd2"}}, {"rolling_friction", {"0.1"}}},
+                            {{"rolling_model", {"epsd2"}}, {"rolling_friction", {"0.2"}}}}},
+      {"rolling_friction_pairs", {with(two, {{"rolling_model", {"epsd2"}}, {"rolling_friction", {"0.1"}}, {"rolling_friction_pairs", {"steel:brass=0.2"}}}),
+                                  with(two, {{"rolling_model", {"epsd2"}}, {"rolling_friction", {"0.1"}}, {"rolling_friction_pairs", {"steel:brass=0.3"}}})}},
+      {"characteristic_velocity", {{{"normal_model", {"hooke"}}, {"characteristic_velocity", {"1"}}},
+                                   {{"normal_model", {"hooke"}}, {"characteristic_velocity", {"2"}}}}},
+  };
+  for (const auto& f : model::spec_fields()) {
+    const auto v = variants.find(f.name);
+    if (v == variants.end()) {
+      ADD_FAILURE() << "no variant pair for the spec field " << f.name << ": add one to this test";
+      continue;
+    }
+    const auto a = generator::build_sweep(v->second.a).base, b = generator::build_sweep(v->second.b).base;
+    EXPECT_NE(design::spec_digest(design::canonical(a)), design::spec_digest(design::canonical(b))) << f.name;
+  }
+  EXPECT_EQ(variants.size(), model::spec_fields().size());
 }
 
 namespace {

@@ -134,3 +134,23 @@ TEST(Resolution, ExplicitValuesAreHonoured) {
 }
 
 }  // namespace
+
+// Hooke's spring is calibrated so that its largest overlap at the characteristic velocity is
+// Hertz's; left automatic, that velocity is the striker's speed. At 3 m/s (not the 1 m/s default
+// speed, where a constant 1 m/s would pass unseen) the striker's Hooke overlap on a top sphere is
+// Hertz's at 3 m/s, and a spring calibrated at 1 m/s gives another one (v sqrt(m*/k), k fixed).
+TEST(Contact, HookesAutomaticCalibrationIsAtTheStrikersSpeed) {
+  StackSpec spec;
+  spec.blocks = 1;
+  spec.normal_model = NormalModel::hooke;
+  spec.striker_speed = 3.0;
+  const auto stack = Stack::build(spec);
+  const auto pair = striker_contact(stack);
+  const double hertz = hertz_max_overlap(pair, 3.0);
+  EXPECT_NEAR(max_overlap(spec.contact_model(), pair, 3.0), hertz, 1e-12 * hertz);
+  spec.characteristic_velocity = 1.0;
+  const double at_one = max_overlap(spec.contact_model(), pair, 3.0);
+  // Calibrated at 1 m/s: Hertz's overlap at 1 m/s, times 3 (linear in v).
+  EXPECT_NEAR(at_one, 3.0 * hertz_max_overlap(pair, 1.0), 1e-12 * at_one);
+  EXPECT_GT(std::abs(at_one - hertz), 0.1 * hertz);
+}
