@@ -2,6 +2,7 @@
 #include "commands.hpp"
 #include "progress.hpp"
 
+#include <granstack/os/case_lock.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/postproc/export.hpp>
 
@@ -30,7 +31,13 @@ int export_case(const ExportFlags& f) {
   if (status.active()) {
     o.on_frame = [&](long done, long total) { status.show(fmt::format("export: frame {}/{}", done, total)); };
   }
-  const auto r = postproc::export_case(f.case_dir, o);
+  postproc::ExportResult r;
+  try {
+    r = postproc::export_case(f.case_dir, o);
+  } catch (const os::LockFileError& e) {  // a read-only case: its paraview/ cannot be written
+    throw os::LockFileError(fmt::format("{}; export it into another directory with 'granstack export -o DIR {}'",
+                                        e.what(), f.case_dir));
+  }
   status.clear();
   fmt::print("{}: {} frames of {} spheres; open it in ParaView (File > Open), colour by kinetic_energy\n", r.pvd, r.frames,
              r.spheres);

@@ -141,9 +141,10 @@ int table(const TableFlags& f) {
   fmt::print("{}", f.json ? postproc::table_json(t).dump() + "\n" : postproc::table_markdown(t));
   if (!f.output.empty()) {
     const fs::path out(f.output);
-    formats::write_file_atomically(out / names[0], postproc::table_markdown(t));
-    formats::write_file_atomically(out / names[1], postproc::table_csv(t));
-    formats::write_file_atomically(out / names[2], postproc::fits_csv(t));
+    // All three or none (a full disk left table.md alone behind).
+    formats::write_files_atomically(out, {{names[0], postproc::table_markdown(t)},
+                                          {names[1], postproc::table_csv(t)},
+                                          {names[2], postproc::fits_csv(t)}});
     fmt::print(stderr, "wrote {0}/table.md, {0}/table.csv and {0}/fits.csv\n", f.output);
   }
   return rc;

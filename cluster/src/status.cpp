@@ -28,27 +28,21 @@ namespace {
 // edited since, or whose outputs are not those it wrote (quick check: sizes and times, digests
 // where those differ), is "changed": its results would not be the case's.
 CaseState read_state(const std::string& dir) {
-  std::optional<formats::Case> c;
-  std::string unreadable;
-  formats::CaseFiles files;
-  try {
-    c.emplace(formats::Case::open(dir));
-    files = c->files();
-  } catch (const std::exception& e) {  // the run record's name is the default one
-    unreadable = e.what();
-  }
+  // Most cases of a big sweep are told by their run.json alone (the name generate gives it): the
+  // manifest is read only for a finished run whose files are not as it left them.
+  const formats::CaseFiles files;
   const auto record = formats::read_run_record(dir, files);
   if (!record.exists()) return {dir, "pending", ""};
-  if (record.done()) {
-    std::string why = unreadable;
-    try {
-      if (c) why = formats::files_not_as_run(*c, record, formats::DigestCheck::quick);
-    } catch (const std::exception& e) {
-      why = e.what();
-    }
-    if (!why.empty()) return {dir, "changed", why.substr(0, why.find('\n'))};
+  if (!record.done()) return {dir, record.status == "damaged" ? "failed" : record.status, record.error_line()};
+  if (!record.record.contains("digests") || formats::files_untouched_since_run(dir, record)) return {dir, "done", ""};
+  std::string why;
+  try {
+    why = formats::files_not_as_run(formats::Case::open(dir), record, formats::DigestCheck::quick);
+  } catch (const std::exception& e) {  // an edited or unreadable manifest
+    why = e.what();
   }
-  return {dir, record.status == "damaged" ? "failed" : record.status, record.error_line()};
+  if (why.empty()) return {dir, "done", ""};
+  return {dir, "changed", why.substr(0, why.find('\n'))};
 }
 
 std::vector<std::string> job_ids_of(const RecordedSubmission& s) {

@@ -23,20 +23,38 @@ void close_written(std::FILE* file, const std::string& path) {
   }
 }
 
-void write_file_atomically(const std::filesystem::path& path, std::string_view text) {
+namespace {
+// Writes `text` to PATH.tmp; throws IoError naming `path` (the temporary removed) when it cannot.
+std::string write_temporary(const std::filesystem::path& path, std::string_view text) {
   const auto tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.close();
-    if (!out) {
-      const int e = errno;
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw IoError(fmt::format("{}: cannot write: {}", path.string(), std::strerror(e)));
-    }
+  std::ofstream out(tmp, std::ios::binary);
+  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  out.close();
+  if (!out) {
+    const int e = errno;
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw IoError(fmt::format("{}: cannot write: {}", path.string(), std::strerror(e)));
   }
-  std::filesystem::rename(tmp, path);
+  return tmp;
+}
+}  // namespace
+
+void write_file_atomically(const std::filesystem::path& path, std::string_view text) {
+  std::filesystem::rename(write_temporary(path, text), path);
+}
+
+void write_files_atomically(const std::filesystem::path& dir,
+                            const std::vector<std::pair<std::string, std::string>>& files) {
+  std::vector<std::string> written;
+  try {
+    for (const auto& [name, text] : files) written.push_back(write_temporary(dir / name, text));
+  } catch (...) {
+    std::error_code ec;
+    for (const auto& tmp : written) std::filesystem::remove(tmp, ec);
+    throw;
+  }
+  for (std::size_t i = 0; i < files.size(); ++i) std::filesystem::rename(written[i], dir / files[i].first);
 }
 
 void require_regular_file(const std::string& path) {

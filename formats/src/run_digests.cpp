@@ -146,6 +146,19 @@ std::string files_not_as_run(const Case& c, const RunRecord& record, DigestCheck
   return why.empty() ? why : why + record_problem(c.path(c.files().run_record));
 }
 
+bool files_untouched_since_run(const fs::path& case_dir, const RunRecord& record) {
+  const auto& d = record.record.value("digests", json());
+  if (!d.is_object()) return false;
+  for (const char* part : {"inputs", "outputs"}) {
+    const auto& files = d.value(part, json());
+    if (!files.is_object() || files.empty()) return false;
+    for (const auto& [name, stat] : files.items()) {
+      if (!same_stat(case_dir / name, stat)) return false;
+    }
+  }
+  return true;
+}
+
 void require_files_as_run(const Case& c) {
   if (const auto why = files_not_as_run(c, c.run_record(), DigestCheck::full); !why.empty()) {
     throw FormatError(c.path(c.files().run_record).string(), 0, fmt::format("case {}: {}", c.dir(), why));

@@ -11,6 +11,9 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sys/mount.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
 #include <regex>
 #include <string>
 #include <vector>
@@ -181,6 +184,46 @@ TEST_F(Trust, ConcurrentGeneratesEachReportWhatTheyWrote) {
     EXPECT_EQ(manifest.at("derived"), solo.at("derived"));
     EXPECT_EQ(manifest.at("spec"), solo.at("spec"));
   }
+}
+
+// A full disk leaves nothing half-written that blocks the next try: table -o writes its three
+// files all or none (table.md stayed alone behind), and validate removes its half-made copy (its
+// rerun was refused as "not made by granstack", exit 3).
+TEST_F(Trust, AFullDiskLeavesNothingHalfWritten) {
+  const auto disk = path("disk");
+  fs::create_directories(disk);
+  if (::geteuid() != 0 || ::mount("tmpfs", disk.c_str(), "tmpfs", 0, "size=4m") != 0) {
+    GTEST_SKIP() << "a small file system to fill needs root and mount(2) (a tmpfs of 4 MB)";
+  }
+  struct Unmount {
+    fs::path at;
+    ~Unmount() { ::umount2(at.c_str(), MNT_DETACH); }
+  } unmount{disk};
+  generate_and_run("case", {"--blocks", "1"});
+  const auto c = disk / "case";
+  ASSERT_EQ(granstack({"generate", "-o", c.string(), "--blocks", "1"}).code, 0);
+  // Fill the disk but two pages (tmpfs counts 4096-byte pages): the marker takes one, table.md's
+  // temporary the other, and table.csv finds none.
+  const auto fill = [&] {
+    struct statvfs st {};
+    ASSERT_EQ(::statvfs(disk.c_str(), &st), 0);
+    const auto free_bytes = static_cast<std::size_t>(st.f_bavail) * st.f_frsize;
+    std::ofstream(disk / "fill", std::ios::binary) << std::string(free_bytes - 2 * 4096, 'x');
+  };
+  fill();
+  auto r = granstack({"table", "case", "-o", (disk / "table").string()});
+  EXPECT_EQ(r.code, 7) << r.output;
+  for (const char* f : {"table.md", "table.csv", "fits.csv", "table.md.tmp"}) {
+    EXPECT_FALSE(fs::exists(disk / "table" / f)) << f << " was left behind";
+  }
+  r = granstack({"validate", c.string()});
+  EXPECT_NE(r.code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(c / "validate" / "liggghts")) << "validate left its half-made copy";
+  fs::remove(disk / "fill");
+  r = granstack({"validate", c.string()});
+  EXPECT_EQ(r.code, 0) << r.output;
+  r = granstack({"table", "case", "-o", (disk / "table").string()});
+  EXPECT_EQ(r.code, 0) << r.output;
 }
 
 }  // namespace

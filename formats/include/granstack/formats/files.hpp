@@ -4,12 +4,19 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace granstack::formats {
 
 // Writes `text` to a temporary file beside `path` and renames it over `path`, so a reader never
 // sees a half-written file. Throws IoError naming the path.
 void write_file_atomically(const std::filesystem::path& path, std::string_view text);
+// Writes several files into `dir` all or none: each to its temporary first, and only when every
+// one is whole are they renamed into place (a full disk leaves none of them, nor a temporary).
+// `files`: (name, text). Throws IoError naming the file that could not be written.
+void write_files_atomically(const std::filesystem::path& dir,
+                            const std::vector<std::pair<std::string, std::string>>& files);
 // Throws FormatError unless `path` is a regular file (after following links): granstack reads
 // no FIFO, device or directory, which could block or never end.
 void require_regular_file(const std::string& path);

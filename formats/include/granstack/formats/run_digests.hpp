@@ -27,6 +27,12 @@ enum class DigestCheck {
 // are: run.json from another case, an input edited since, an output missing, changed, or not
 // written by the run. A record without digests (an older granstack) has nothing to check: "".
 std::string files_not_as_run(const Case& c, const RunRecord& record, DigestCheck how);
+// The quick look of status over thousands of cases, without the manifest: true when `record`
+// holds digests and every input and output it lists has the size and time it recorded (the run's
+// files, untouched since); false when anything differs or is missing, and then
+// files_not_as_run says what.
+bool files_untouched_since_run(const std::filesystem::path& case_dir, const RunRecord& record);
+
 // For the commands that read a case's outputs: throws FormatError (naming run.json) when they are
 // not what its run wrote (a full check).
 void require_files_as_run(const Case& c);
