@@ -8,7 +8,7 @@
 # sphere's kinetic energy).
 # Usage: bench/nest_whole_impact.sh [REPEATS]   (about 6 minutes a round)
 set -euo pipefail
-repeats=${1:-2}
+repeats=${1:-3}
 source "$(dirname "$0")/common.sh"
 nest=(--geometry nested3d --blocks 5 --top-columns 8 --rows 5 --dump-every 1000000000 --series-every 1000)
 "$gs" generate -o "$work/case" "${nest[@]}" | head -1
