@@ -10,6 +10,8 @@
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/ownership.hpp>
 #include <granstack/os/case_lock.hpp>
+#include <granstack/os/interrupt.hpp>
+#include <granstack/refsim/in_situ.hpp>
 
 #include <fmt/format.h>
 
@@ -81,7 +83,16 @@ int run_design(const DesignFlags& f) {
     line.clear();
     if (line.active()) fmt::print(stderr, "generation {}: {} new designs run, hypervolume {:.6g}\n", g.index, g.evaluations, g.hypervolume);
   };
-  const auto r = design::run_search(space, store, o);
+  design::SearchResult r;
+  try {
+    r = design::run_search(space, store, o);
+  } catch (const refsim::InSituStopped&) {  // a signal: the designs running were abandoned, none stored
+    line.clear();
+    fmt::print(stderr, "design run: stopped by signal {}; the store keeps the {} designs that finished and its "
+                       "finished generations: 'granstack design run {} -o {}' resumes\n",
+               os::interrupt_signal(), store.evaluations().size(), f.space_file, dir.string());
+    return kCaseFailed;  // the caller's exit code says the signal (130, 143)
+  }
   design::evaluate_study_designs(space, store);
   fmt::print("{}: generation {} reached ({} refsim runs this time; the store holds {} designs)\n", dir.string(),
              space.search.generations, r.runs, store.evaluations().size());

@@ -2,6 +2,7 @@
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/refsim/case_run.hpp>
 #include <granstack/model/resolution.hpp>
+#include <granstack/os/interrupt.hpp>
 #include <granstack/refsim/in_situ.hpp>
 
 #include <fmt/format.h>
@@ -19,7 +20,9 @@ namespace {
 Outcome run(const model::StackSpec& spec) {
   const auto stack = model::Stack::build(spec);
   // The particles exactly as a generated case's data file gives them to refsim.
-  const auto r = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "design")));
+  refsim::InSituOptions options;
+  options.stop = [] { return os::interrupt_signal() != 0; };  // a signal abandons the design at once
+  const auto r = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "design")), options);
   return {r.output_fraction,        r.bottom_row_fraction,  r.output_separated,     r.peak_wall_force,
           r.output_last_change_time, r.output_settled,       r.peak_wall_force_time, r.final_momentum_ratio,
           r.run_time,               r.seconds};
@@ -98,6 +101,11 @@ class LocalRunner : public BatchRunner {
     std::exception_ptr error;
     auto worker = [&] {
       for (std::size_t k; (k = next.fetch_add(1)) < specs.size();) {
+        if (os::interrupt_signal() != 0) {  // no design starts once a signal came; the batch ends
+          const std::lock_guard<std::mutex> lock(m);
+          if (!error) error = std::make_exception_ptr(refsim::InSituStopped("stopped by a signal"));
+          break;
+        }
         try {
           store.put(evaluate_design(space, specs[k]));
         } catch (...) {

@@ -342,9 +342,11 @@ std::string status_text(const Space& space, const Store& store) {
   const auto gens = store.generations();
   const auto front = pareto_front(space, all);
   const auto feasible = std::count_if(all.begin(), all.end(), [](const auto& e) { return e.feasible; });
-  std::string out = fmt::format("generations 0 to {} done (the space asks for {}); {} designs evaluated ({} within the "
-                                "constraints); the front holds {}\n",
-                                gens.empty() ? -1 : gens.back().index, space.search.generations, all.size(), feasible, front.size());
+  const auto done = gens.empty() ? std::string("no generation finished yet (the initial population was stopped)")
+                                 : fmt::format("generations 0 to {} done", gens.back().index);
+  std::string out = fmt::format("{} (the space asks for {}); {} designs evaluated ({} within the constraints); the "
+                                "front holds {}\n",
+                                done, space.search.generations, all.size(), feasible, front.size());
   if (!gens.empty()) out += fmt::format("hypervolume: {:.6g} at generation 0, {:.6g} at generation {}\n", gens.front().hypervolume, gens.back().hypervolume, gens.back().index);
   const auto headers = objective_headers(space);
   for (std::size_t i = 0; i < std::min<std::size_t>(front.size(), 10); ++i) {

@@ -1,4 +1,6 @@
 #include <granstack/design/search.hpp>
+#include <granstack/os/interrupt.hpp>
+#include <granstack/refsim/in_situ.hpp>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -108,7 +110,7 @@ std::vector<Evaluation> pareto_front(const Space& space, const std::vector<Evalu
     points.push_back(p);
   }
   std::vector<Evaluation> front;
-  if (points.empty()) return front;
+  if (points.size() < 2) return feasible;  // none, or one: it dominates nothing and nothing it
   const auto fronts = std::get<0>(pagmo::fast_non_dominated_sorting(points));
   for (const auto i : fronts.front()) front.push_back(feasible[i]);
   const auto first = space.objectives.front();
@@ -166,6 +168,7 @@ SearchResult run_search(const Space& space, Store& store, const SearchOptions& o
     result.first_generation = 1;
   }
   for (int gen = result.first_generation; gen <= space.search.generations; ++gen) {
+    if (os::interrupt_signal() != 0) throw refsim::InSituStopped("stopped by a signal between generations");
     context->generation = gen;
     const int before = evaluator.runs();
     pagmo::nsga2 algorithm(1u, 0.95, 10., 1.0 / static_cast<double>(space.genes()), 50., generation_seed(space.search.seed, gen));

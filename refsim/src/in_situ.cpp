@@ -4,6 +4,8 @@
 #include <granstack/refsim/case_run.hpp>
 #include <granstack/refsim/in_situ.hpp>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <tuple>
@@ -61,6 +63,9 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
     if (last_frame > system.step_count() && last_frame < step) {
       advance_to(last_frame);
       final_ke = final_energies();
+    }
+    if (options.stop && options.stop()) {
+      throw InSituStopped(fmt::format("stopped at step {} of {}", system.step_count(), res.steps));
     }
     advance_to(step);
     // The series' output-sphere columns hold its translational and rotational energy; reduce adds them.

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <csignal>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -545,4 +546,35 @@ TEST(DesignCli, ASearchKilledOutrightResumesToTheSameGenerations) {
     EXPECT_EQ(a[g].digests, b[g].digests) << "generation " << g;
     EXPECT_EQ(a[g].hypervolume, b[g].hypervolume) << "generation " << g;
   }
+}
+
+// A signal stops a search at once (#34): designs of some 300 rows take seconds each on refsim,
+// and SIGTERM in the middle of the first ends the search within 2 s with 143, the running
+// designs abandoned (never stored half-run), the store readable and the search resumable.
+TEST(DesignCli, ASignalStopsTheSearchWithinTwoSeconds) {
+  const auto dir = work_dir();
+  auto space = kSmallSpace;
+  space.replace(space.find("rows = [1, 3]"), 13, "rows = [300, 400]");
+  std::ofstream(dir / "slow.toml") << space;
+  os::StartOptions o;
+  o.output = dir / "stopped.log";
+  const auto child = os::start({GRANSTACK_EXE, "design", "run", (dir / "slow.toml").string(), "-o", (dir / "s").string(),
+                                "--generations", "0", "--no-report", "-j", "2"}, o);
+  ASSERT_EQ(child.error, "");
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // inside the first designs' runs
+  ASSERT_FALSE(os::poll(child)) << "the search ended before the signal: its designs are too quick for this test";
+  const auto sent = std::chrono::steady_clock::now();
+  ASSERT_EQ(::kill(child.pid, SIGTERM), 0);
+  const auto end = os::wait(child);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  EXPECT_LT(seconds, 2.0);
+  EXPECT_EQ(end.code, 143);
+  const auto log = test::read_bytes(dir / "stopped.log");
+  EXPECT_NE(log.find("stopped by signal 15"), std::string::npos) << log;
+  auto store = design::Store::open_existing((dir / "s" / "design.sqlite").string());
+  EXPECT_LT(store.evaluations().size(), 8u);  // not every design of the population ran
+  for (const auto& e : store.evaluations()) EXPECT_TRUE(e.output_fraction.has_value()) << e.description;
+  const auto status = program({"design", "status", (dir / "s").string()}, dir / "status.log");
+  EXPECT_EQ(status.code, 0) << status.output;
+  std::printf("stopped %.3f s after SIGTERM with %zu design(s) stored\n", seconds, store.evaluations().size());
 }

@@ -5,7 +5,9 @@
 // design search evaluates thousands of stacks this way.
 #include <granstack/refsim/system.hpp>
 
+#include <functional>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,14 @@ namespace granstack::refsim {
 struct InSituOptions {
   int threads = 1;
   std::string kernel = "auto";
+  // Asked between the series' samples (every series_every steps): true stops the run, which then
+  // throws InSituStopped (a signal: the design search abandons the design and ends).
+  std::function<bool()> stop;
+};
+
+class InSituStopped : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 struct InSituResult {
