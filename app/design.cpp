@@ -35,6 +35,7 @@ struct DesignFlags {
   int generations = -1;
   int top = 3;
   bool no_report = false;
+  std::string liggghts;  // confirm: the LIGGGHTS executable ("" for the one on PATH)
 };
 
 // A design directory holds its store, its space and its report; anything else in it is not ours.
@@ -115,7 +116,15 @@ int confirm(const DesignFlags& f) {
   const auto space = design::parse_space(*text, (dir / kSpaceName).string());
   auto store = design::Store::open((dir / kStoreName).string(), space.digest(), *text);
   StatusLine line;
-  const auto results = design::confirm_front(space, store, dir / "confirm", f.top, [&](const std::string& what) { line.show(what); });
+  std::vector<design::Confirmation> results;
+  try {
+    results = design::confirm_front(space, store, dir / "confirm", f.top, [&](const std::string& what) { line.show(what); },
+                                    f.liggghts);
+  } catch (const design::ConfirmRunFailed& e) {  // a run that failed: exit 1, as run's
+    line.clear();
+    fmt::print(stderr, "error: {}\n", e.what());
+    return kCaseFailed;
+  }
   line.clear();
   int disagreements = 0;
   for (const auto& c : results) {
@@ -141,7 +150,7 @@ Command add_design(CLI::App& app) {
       ->check(output_directory())->required();
   run->add_option("-j,--jobs", f->jobs, "Designs run at once (refsim, one thread each)")->check(CLI::Range(1, 1024));
   run->add_option("--generations", f->generations, "Generations to reach (overrides [search] generations; more resumes further)")
-      ->check(CLI::Range(0, 100000));
+      ->check(CLI::Range(0, design::kMaxGenerations));
   run->add_flag("--no-report", f->no_report, "Do not write the report");
   run->add_flag("--slurm", f->slurm, "Run each generation's designs as SLURM job arrays (granstack submit's) and wait for them");
   auto& b = f->batch;
@@ -159,6 +168,7 @@ Command add_design(CLI::App& app) {
   auto* conf = cmd->add_subcommand("confirm", "Run the front's best designs on LIGGGHTS and refsim and compare (validate)");
   conf->add_option("dir", f->dir, "Design directory")->required()->check(CLI::ExistingDirectory);
   conf->add_option("--top", f->top, "How many of the front's designs, best first objective first")->check(CLI::Range(1, 100));
+  conf->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
   return {cmd, [f, run, status, rep, conf] {
             if (run->parsed()) return run_design(*f);
             if (status->parsed()) return print_status(f->dir);

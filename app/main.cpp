@@ -88,6 +88,8 @@ int guarded(const std::function<int()>& run) {
     return said(e.what(), app::kBadInput);
   } catch (const design::SpaceError& e) {
     return said(fmt::format("the design space cannot be searched:\n  {}", fmt::join(e.problems(), "\n  ")), app::kBadInput);
+  } catch (const design::StoreIoError& e) {
+    return said(e.what(), app::kIoError);
   } catch (const design::StoreError& e) {
     return said(e.what(), app::kBadFile);
   } catch (const cluster::SubmitError& e) {

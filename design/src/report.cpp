@@ -18,6 +18,7 @@
 #include <cmath>
 #include <iterator>
 #include <ctime>
+#include <regex>
 #include <sstream>
 
 namespace granstack::design {
@@ -260,6 +261,14 @@ json report_json(const Space& space, const Snapshot& s, const std::vector<Evalua
 
 void write_front_specs(const std::vector<Evaluation>& front, const fs::path& dir) {
   fs::create_directories(dir / "front");
+  // The front of an earlier report goes first (after a resume the front changes: old and new
+  // files numbered 01 stood side by side); only files named as this writes them, never others.
+  static const std::regex ours(R"(\d{2,}_[0-9a-f]{8}\.toml)");
+  std::vector<fs::path> earlier;
+  for (const auto& e : fs::directory_iterator(dir / "front")) {
+    if (e.is_regular_file() && std::regex_match(e.path().filename().string(), ours)) earlier.push_back(e.path());
+  }
+  for (const auto& f : earlier) fs::remove(f);
   for (std::size_t i = 0; i < front.size(); ++i) {
     const auto path = dir / "front" / fmt::format("{:02}_{}.toml", i + 1, front[i].digest.substr(0, 8));
     formats::write_file_atomically(path, fmt::format("# granstack design: front design {} ({}); run it with\n#   granstack "
@@ -377,8 +386,13 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
     }
   }
   d.push_back(postproc::Heading{2, "Convergence", "convergence"});
-  d.push_back(generations_table(s));
-  d.push_back(hypervolume_figure(s, dir));
+  if (s.generations.empty()) {  // stopped in its initial population: nothing to draw yet
+    d.push_back(postproc::Paragraph{"No generation has finished yet (the search was stopped in its initial population); "
+                                    "`granstack design run` resumes it."});
+  } else {
+    d.push_back(generations_table(s));
+    d.push_back(hypervolume_figure(s, dir));
+  }
   if (!s.confirmations.empty()) {
     d.push_back(postproc::Heading{2, "Confirmed on LIGGGHTS", "confirmed"});
     d.push_back(confirmations_table(s));
@@ -391,7 +405,8 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
 }
 
 std::vector<Confirmation> confirm_front(const Space& space, Store& store, const fs::path& dir, int top,
-                                        const std::function<void(const std::string&)>& on_progress) {
+                                        const std::function<void(const std::string&)>& on_progress,
+                                        const std::string& liggghts_exe) {
   auto front = pareto_front(space, store.evaluations());
   if (front.size() > static_cast<std::size_t>(top)) front.resize(static_cast<std::size_t>(top));
   std::vector<std::string> dirs;
@@ -404,11 +419,12 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
   }
   for (const auto engine : {runner::Engine::liggghts, runner::Engine::refsim}) {
     runner::RunOptions o;
+    if (!liggghts_exe.empty()) o.liggghts = liggghts_exe;
     o.on_progress = [&](const runner::ProgressSnapshot& s) {
       if (on_progress) on_progress(fmt::format("confirm: {} runs {} of {}", runner::to_string(engine), s.finished, s.total));
     };
     for (const auto& r : runner::run_copies(dirs, engine, o)) {
-      if (r.status == runner::RunStatus::failed) throw std::runtime_error(fmt::format("{}: {}", r.case_dir, r.message));
+      if (r.status == runner::RunStatus::failed) throw ConfirmRunFailed(fmt::format("{}: {}", r.case_dir, r.message));
     }
   }
   std::vector<Confirmation> out;

@@ -60,6 +60,9 @@ std::vector<T> list_of(const toml::table& t, const char* key, std::vector<std::s
   }
   for (const auto& e : *a) {
     if (const auto v = e.value<T>()) {
+      if (std::find(out.begin(), out.end(), *v) != out.end()) {
+        problems.push_back(fmt::format("[vary] {}: {} is listed twice; list each choice once", key, *v));
+      }
       out.push_back(*v);
     } else {
       problems.push_back(fmt::format("[vary] {}: every entry must be a {}", key, std::is_same_v<T, std::string> ? "name" : "whole number"));
@@ -168,7 +171,9 @@ void read_constraints(const toml::table* c, Space& s, std::vector<std::string>& 
       problems.push_back(fmt::format("[constraints] {}: a positive number", key));
       continue;
     }
-    if (key == "max_spheres") s.constraints.max_spheres = static_cast<long>(*number);
+    if (key == "max_spheres" && *number != std::floor(*number)) {
+      problems.push_back(fmt::format("[constraints] max_spheres = {}: a whole number of spheres", *number));
+    } else if (key == "max_spheres") s.constraints.max_spheres = static_cast<long>(*number);
     else if (key == "max_height") s.constraints.max_height = *number;
     else if (key == "max_areal_mass") s.constraints.max_areal_mass = *number;
     else problems.push_back(fmt::format("[constraints] {}: unknown; max_spheres, max_height (m) or max_areal_mass (kg/m^2)", key));
@@ -180,11 +185,15 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
   for (const auto& [k, v] : *t) {
     const std::string key(k.str());
     const auto n = v.value<std::int64_t>();
-    if (!n || *n < 0) problems.push_back(fmt::format("[search] {}: a whole number >= 0", key));
-    else if (key == "population") s.search.population = static_cast<int>(*n);
+    const long most = key == "population" ? kMaxPopulation : key == "generations" ? kMaxGenerations : -1;
+    if (key != "population" && key != "generations" && key != "seed") {
+      problems.push_back(fmt::format("[search] {}: unknown; population, generations or seed (this search is NSGA-II)", key));
+    } else if (!n || *n < 0 || (most >= 0 && *n > most)) {
+      problems.push_back(most >= 0 ? fmt::format("[search] {}: a whole number from 0 to {}", key, most)
+                                   : fmt::format("[search] {}: a whole number >= 0", key));
+    } else if (key == "population") s.search.population = static_cast<int>(*n);
     else if (key == "generations") s.search.generations = static_cast<int>(*n);
-    else if (key == "seed") s.search.seed = static_cast<std::uint64_t>(*n);
-    else problems.push_back(fmt::format("[search] {}: unknown; population, generations or seed", key));
+    else s.search.seed = static_cast<std::uint64_t>(*n);
   }
   if (s.search.population < 8 || s.search.population % 4 != 0) {
     problems.push_back(fmt::format("[search] population = {}: NSGA-II needs a multiple of 4, at least 8", s.search.population));

@@ -72,9 +72,7 @@ class Statement {
   }
 
  private:
-  [[noreturn]] void fail(const char* what) const {
-    throw StoreError(fmt::format("design store: {} failed: {}", what, sqlite3_errmsg(db_)));
-  }
+  [[noreturn]] void fail(const char* what) const { throw_store_error(db_, fmt::format("{} failed", what)); }
   sqlite3* db_;
   sqlite3_stmt* s_ = nullptr;
 };
@@ -119,13 +117,29 @@ sqlite3* open_db(const std::string& path, int flags) {
   sqlite3* db = nullptr;
   if (sqlite3_open_v2(path.c_str(), &db, flags, nullptr) != SQLITE_OK) {
     const std::string why = db ? sqlite3_errmsg(db) : "out of memory";
+    const int code = db ? sqlite3_errcode(db) & 0xff : SQLITE_NOMEM;
     sqlite3_close(db);
-    throw StoreError(fmt::format("{}: cannot open the design store: {}", path, why));
+    const auto message = fmt::format("{}: cannot open the design store: {}", path, why);
+    if (code == SQLITE_CANTOPEN || code == SQLITE_READONLY || code == SQLITE_IOERR) throw StoreIoError(message);
+    throw StoreError(message);
   }
   sqlite3_busy_timeout(db, 10000);
   return db;
 }
 }  // namespace
+
+void throw_store_error(sqlite3* db, const std::string& what) {
+  const char* file = sqlite3_db_filename(db, "main");
+  const int code = sqlite3_errcode(db) & 0xff;  // the primary code
+  const auto message = fmt::format("design store {}: {}: {}", file != nullptr && *file != '\0' ? file : "(in memory)",
+                                   what, sqlite3_errmsg(db));
+  if (code == SQLITE_FULL || code == SQLITE_IOERR || code == SQLITE_READONLY || code == SQLITE_CANTOPEN) {
+    throw StoreIoError(message + (code == SQLITE_FULL ? " (free some space and run it again: the store keeps what it "
+                                                       "had)"
+                                                     : ""));
+  }
+  throw StoreError(message);
+}
 
 Store::Store(sqlite3* db) : db_(db), mutex_(std::make_unique<std::mutex>()) {}
 Store::Store(Store&& o) noexcept : db_(o.db_), mutex_(std::move(o.mutex_)) { o.db_ = nullptr; }
@@ -134,9 +148,8 @@ Store::~Store() { sqlite3_close(db_); }
 void Store::exec(const std::string& sql) const {
   char* error = nullptr;
   if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
-    const std::string why = error ? error : "unknown";
     sqlite3_free(error);
-    throw StoreError(fmt::format("design store: {}", why));
+    throw_store_error(db_, "a statement failed");
   }
 }
 

@@ -35,8 +35,9 @@ CaseLock::CaseLock(const std::filesystem::path& dir, const std::string& what) {
   const auto path = (dir / kFileName).string();
   fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
   if (fd_ < 0) {
-    throw LockFileError(fmt::format("{}: cannot make the case's lock file: {}{}", path, std::strerror(errno),
-                                         errno == EACCES || errno == EROFS ? " (is the case read-only?)" : ""));
+    // The directory may be a case, a sweep's or a design search's: named by its path alone.
+    throw LockFileError(fmt::format("{}: cannot make the lock file: {}{}", path, std::strerror(errno),
+                                    errno == EACCES || errno == EROFS ? " (is the directory read-only?)" : ""));
   }
   // A probe (holder()) holds a shared lock for an instant: wait that out before calling the case in use.
   int e = 0;

@@ -188,6 +188,13 @@ TEST(Space, BadSpacesAreRefusedNamingTheKeyAndTheFix) {
   EXPECT_NE(problems_of(with("top_radius = 2e-3", "top_radius = 2e-3\nrestitution = [0.9, 1.0]")).find("not a list"), std::string::npos);
   EXPECT_NE(problems_of(base + "[extra]\n").find("extra: unknown"), std::string::npos);
   EXPECT_NE(problems_of(with("population = 8", "population = 10")).find("multiple of 4"), std::string::npos);
+  // A population that cannot fit in memory, an algorithm this search does not have, a choice
+  // listed twice, a fraction of a sphere (#34): each refused by name, before anything runs.
+  EXPECT_NE(problems_of(with("population = 8", "population = 100000000")).find("population: a whole number from 0 to 100000"),
+            std::string::npos);
+  EXPECT_NE(problems_of(with("seed = 7", "seed = 7\nalgorithm = \"moead\"")).find("algorithm: unknown"), std::string::npos);
+  EXPECT_NE(problems_of(with("\"teflon\"]", "\"teflon\", \"steel\"]")).find("steel is listed twice"), std::string::npos);
+  EXPECT_NE(problems_of(base + "[constraints]\nmax_spheres = 200.5\n").find("a whole number of spheres"), std::string::npos);
 }
 
 // A design granstack would refuse as a case (here 8 blocks at the ratio 16: bottom spheres of
@@ -434,6 +441,36 @@ TEST(DesignCli, AnotherSpacesStoreAndAForeignDirectoryAreRefusedAndKept) {
 
 // status reads the store; the front's spec files generate cases; the store answers SQL from
 // another program (Python's sqlite3, as pandas would use it).
+// After a resume the report's front files are the new front's alone (#34: old and new files
+// numbered 01 stood side by side), and a user's file in front/ stays.
+TEST(DesignCli, AResumedSearchsFrontFilesAreItsFrontAlone) {
+  const auto dir = work_dir();
+  const auto searched = searched_dir(dir);
+  std::ofstream(searched / "report" / "front" / "my_notes.txt") << "mine";
+  // A front file of an earlier front, as a report names them, whose design has left the front.
+  std::ofstream(searched / "report" / "front" / "09_0123abcd.toml") << "# an earlier front's design\n";
+  const auto r = program({"design", "run", (dir / "small.toml").string(), "-o", searched.string(), "--generations", "5"},
+                         dir / "resumed.log");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto store = design::Store::open_existing((searched / "design.sqlite").string());
+  std::set<std::string> expected{"my_notes.txt"}, files;
+  const auto front = design::pareto_front(small_space(), store.evaluations());
+  for (std::size_t i = 0; i < front.size(); ++i) expected.insert(fmt::format("{:02}_{}.toml", i + 1, front[i].digest.substr(0, 8)));
+  for (const auto& f : fs::directory_iterator(searched / "report" / "front")) files.insert(f.path().filename().string());
+  EXPECT_EQ(files, expected);
+}
+
+// confirm with a LIGGGHTS that cannot run: exit 1 (a failed run, as run's), naming it; the
+// --liggghts its advice names exists (#34: it exited 2 and advised a flag confirm lacked).
+TEST(DesignCli, AConfirmWhoseLiggghtsCannotRunFailsWithOne) {
+  const auto dir = work_dir();
+  const auto searched = searched_dir(dir);
+  const auto r = program({"design", "confirm", searched.string(), "--top", "1", "--liggghts", (dir / "no-liggghts").string()},
+                         dir / "confirm.log");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("no-liggghts"), std::string::npos) << r.output;
+}
+
 TEST(DesignCli, StatusTheFrontsSpecFilesAndTheStoreReadFromPython) {
   const auto dir = work_dir();
   const auto searched = searched_dir(dir);
@@ -576,5 +613,8 @@ TEST(DesignCli, ASignalStopsTheSearchWithinTwoSeconds) {
   for (const auto& e : store.evaluations()) EXPECT_TRUE(e.output_fraction.has_value()) << e.description;
   const auto status = program({"design", "status", (dir / "s").string()}, dir / "status.log");
   EXPECT_EQ(status.code, 0) << status.output;
+  EXPECT_NE(status.output.find("no generation finished yet"), std::string::npos) << status.output;
+  const auto report = program({"design", "report", (dir / "s").string()}, dir / "report.log");
+  EXPECT_EQ(report.code, 0) << report.output;  // no gnuplot error on a front of one design and no generation
   std::printf("stopped %.3f s after SIGTERM with %zu design(s) stored\n", seconds, store.evaluations().size());
 }

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -23,9 +24,16 @@ std::string status_text(const Space& space, const Store& store);
 std::filesystem::path write_report(const Space& space, const Store& store, const std::filesystem::path& dir);
 
 // The front's `top` best designs (first objective first) generated as cases under `dir`, run on
-// LIGGGHTS and on refsim (validate's copies), reduced and compared; stored and returned.
+// LIGGGHTS (`liggghts_exe`: its executable, "" for the one on PATH) and on refsim (validate's
+// copies), reduced and compared; stored and returned. A run that fails throws ConfirmRunFailed.
 std::vector<Confirmation> confirm_front(const Space& space, Store& store, const std::filesystem::path& dir, int top,
-                                        const std::function<void(const std::string&)>& on_progress = {});
+                                        const std::function<void(const std::string&)>& on_progress = {},
+                                        const std::string& liggghts_exe = "");
+
+class ConfirmRunFailed : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 // A design as a spec file `granstack generate --config` takes.
 std::string spec_toml(const model::StackSpec& spec);

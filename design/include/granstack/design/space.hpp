@@ -37,10 +37,14 @@ struct Constraints {
 };
 
 struct Search {
-  int population = 24;  // NSGA-II: a multiple of 4, at least 8
-  int generations = 10;
+  int population = 24;  // NSGA-II: a multiple of 4, at least 8, at most kMaxPopulation
+  int generations = 10;  // at most kMaxGenerations
   std::uint64_t seed = 1;
 };
+// Bounds that keep a typo from a search that cannot fit in memory or never ends (a population of
+// 1e8 ran out of memory before its first design).
+inline constexpr int kMaxPopulation = 100'000;
+inline constexpr int kMaxGenerations = 100'000;  // as the --generations flag
 
 struct Space {
   model::StackSpec fixed;        // everything a design does not vary

@@ -58,6 +58,15 @@ class StoreError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+// The store's file could not be written or read (a full disk, a read-only directory): an I/O
+// error (exit 7), naming the file.
+class StoreIoError : public StoreError {
+ public:
+  using StoreError::StoreError;
+};
+// Throws StoreIoError for SQLite's I/O failures (full, I/O, read-only, cannot open), else
+// StoreError; `what` says what failed. Names the store's file.
+[[noreturn]] void throw_store_error(sqlite3* db, const std::string& what);
 
 class Store {
  public:
