@@ -7,7 +7,6 @@
 #include <nlohmann/json.hpp>
 
 #include <csignal>
-#include <sys/mount.h>
 
 using namespace granstack;
 using namespace granstack::test;
@@ -292,14 +291,8 @@ TEST_F(Reliability, StatusCallsARunKilledOutrightInterrupted) {
 // 8b. A full disk fails the run naming the file it cut short, and status says failed.
 TEST_F(Reliability, AFullDiskFailsTheRunNamingTheFileItCut) {
   const auto disk = path("disk");
-  fs::create_directories(disk);
-  if (::geteuid() != 0 || ::mount("tmpfs", disk.c_str(), "tmpfs", 0, "size=2m") != 0) {
-    GTEST_SKIP() << "a small file system to fill needs root and mount(2) (a tmpfs of 2 MB)";
-  }
-  struct Unmount {
-    fs::path at;
-    ~Unmount() { ::umount2(at.c_str(), MNT_DETACH); }
-  } unmount{disk};
+  const SmallDisk mounted(disk, "2m");
+  if (!mounted.mounted()) GTEST_SKIP() << "a small file system to fill needs root and mount(2) (a tmpfs of 2 MB)";
   const auto c = disk / "case";
   ASSERT_EQ(granstack({"generate", "-o", c.string(), "--blocks", "4", "--rows", "8"}).code, 0);  // 32 MB of dumps
   auto r = granstack({"run", c.string()});

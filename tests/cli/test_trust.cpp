@@ -11,7 +11,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sys/mount.h>
 #include <sys/statvfs.h>
 #include <unistd.h>
 #include <regex>
@@ -191,14 +190,8 @@ TEST_F(Trust, ConcurrentGeneratesEachReportWhatTheyWrote) {
 // rerun was refused as "not made by granstack", exit 3).
 TEST_F(Trust, AFullDiskLeavesNothingHalfWritten) {
   const auto disk = path("disk");
-  fs::create_directories(disk);
-  if (::geteuid() != 0 || ::mount("tmpfs", disk.c_str(), "tmpfs", 0, "size=4m") != 0) {
-    GTEST_SKIP() << "a small file system to fill needs root and mount(2) (a tmpfs of 4 MB)";
-  }
-  struct Unmount {
-    fs::path at;
-    ~Unmount() { ::umount2(at.c_str(), MNT_DETACH); }
-  } unmount{disk};
+  const SmallDisk mounted(disk, "4m");
+  if (!mounted.mounted()) GTEST_SKIP() << "a small file system to fill needs root and mount(2) (a tmpfs of 4 MB)";
   generate_and_run("case", {"--blocks", "1"});
   const auto c = disk / "case";
   ASSERT_EQ(granstack({"generate", "-o", c.string(), "--blocks", "1"}).code, 0);

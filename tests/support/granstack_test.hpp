@@ -14,6 +14,7 @@
 #include <map>
 #include <string>
 #include <thread>
+#include <sys/mount.h>
 #include <unistd.h>
 #include <vector>
 
@@ -116,6 +117,27 @@ bool eventually(Pred pred, double seconds) {
   }
   return true;
 }
+
+// A small file system to fill (a tmpfs of `size`, e.g. "2m") mounted at `dir` for one test and
+// unmounted after it; mounted() is false where that needs what the test does not have (root,
+// mount(2)): the test then says skipped.
+class SmallDisk {
+ public:
+  SmallDisk(const fs::path& dir, const std::string& size) : dir_(dir) {
+    fs::create_directories(dir);
+    mounted_ = ::geteuid() == 0 && ::mount("tmpfs", dir.c_str(), "tmpfs", 0, ("size=" + size).c_str()) == 0;
+  }
+  ~SmallDisk() {
+    if (mounted_) ::umount2(dir_.c_str(), MNT_DETACH);
+  }
+  SmallDisk(const SmallDisk&) = delete;
+  SmallDisk& operator=(const SmallDisk&) = delete;
+  bool mounted() const { return mounted_; }
+
+ private:
+  fs::path dir_;
+  bool mounted_ = false;
+};
 
 inline std::string status_of(const fs::path& case_dir) {
   const auto text = read_bytes(case_dir / "run.json");
