@@ -21,6 +21,7 @@ if [ "${1:-}" = "--tests" ]; then
     chromium                 # reproduce's HTML report, opened in a real headless browser
     python3-vtk9             # granstack export read back with VTK's own reader
     mkdocs                   # the documentation site, built with --strict (scripts/docs.sh)
+    python3                  # the examples' expected values and the docs' tables (tests/check_example.py, scripts/doc_tables.py)
     slurmctld slurmd slurm-client munge   # a real one-node SLURM (scripts/slurm-local.sh) for submit and status
     # refsim's ARM (NEON) kernels, cross-compiled and run under emulation (refsim.neon_emulated)
     g++-aarch64-linux-gnu qemu-user libhwy-dev:arm64 libfmt-dev:arm64

@@ -2,6 +2,7 @@
 #include <granstack/formats/digest.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/error.hpp>
+#include <granstack/formats/manifest.hpp>
 #include <granstack/formats/run_digests.hpp>
 
 #include <fmt/format.h>
@@ -30,14 +31,12 @@ bool stat_file(const fs::path& p, long long& bytes, long long& mtime_ns) {
   return true;
 }
 
-// The file holding `name` in the case: itself, or its compressed copy; "" when none is there.
+// The file holding `name` in the case: itself, or its compressed copy (find_dump's rule, which
+// every reader follows); "" when none is there.
 fs::path present(const Case& c, const std::string& name) {
+  const fs::path p = find_dump(c.dir(), name);
   std::error_code ec;
-  for (const std::string suffix : {"", ".gz", ".zst"}) {
-    const auto p = c.path(name + suffix);
-    if (fs::is_regular_file(p, ec)) return p;
-  }
-  return {};
+  return fs::is_regular_file(p, ec) ? p : fs::path();
 }
 
 // The outputs the readers read, by their uncompressed names relative to the case.

@@ -89,9 +89,9 @@ std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& re
 
 // What a case will cost: its size, its outputs, and the time LIGGGHTS needs on one core at
 // kLiggghtsParticleStepsPerSecond, the slowest loop rate measured on the project's 2-core machine
-// (2026-11-26, text dumps, three runs each: 2.5e6 to 3.4e6 on the default case, 2.9e6 to 3.4e6
-// on a 961-sphere frictional stack, 3.7e6 on a 673-sphere nest; binary dumps run at 5.8e6 to
-// 8.5e6), so the estimate errs long (bench/results/trust-2026-11-26.md).
+// (`bash bench/engine_rates.sh 3`, text dumps, the default case, a 961-sphere frictional stack
+// and a 673-sphere nest: the slowest run of three runs of the script was 2.52e6, 3.3e6 and
+// 2.75e6, medians 3.3e6 to 3.8e6), so the estimate errs long (bench/results/trust-2026-11-26.md).
 inline constexpr double kLiggghtsParticleStepsPerSecond = 2.5e6;
 // Bytes a dumped atom line takes: 147 in text (the default case's 28.8 MB over 811 frames of 241
 // atoms, measured) and 19 doubles in binary; bytes per value of the series (the default case's
