@@ -39,7 +39,7 @@ class SlurmRunner : public BatchRunner {
           continue;
         }
         auto e = measured(space, jobs[i].first);
-        record(e, jobs[i].second, outcomes[i]);
+        record(space, e, jobs[i].second, outcomes[i]);
         store.put(e);
         if (on_done) on_done(++stored, static_cast<int>(specs.size()));
       }
@@ -122,15 +122,7 @@ class SlurmRunner : public BatchRunner {
     } catch (const std::exception&) {
       return std::nullopt;  // not run, interrupted or failed: submitted again
     }
-    const auto res = model::resolve(model::Stack::build(spec));
-    const auto last_change = std::llround(r.output_last_change_time / res.dt);
-    const double run_time = static_cast<double>(res.steps) * res.dt;
-    const bool settled = spec.bottom == model::Boundary::wall
-                             ? model::wall_load_settled(r.peak_wall_force_time, run_time, r.final_momentum_ratio)
-                             : model::output_settled(last_change, res.steps);
-    return Outcome{r.output_fraction,        r.output_fraction_bottom_row, r.output_separated,     r.peak_wall_force,
-                   r.output_last_change_time, settled,                     r.peak_wall_force_time, r.final_momentum_ratio,
-                   run_time,                 0.0};
+    return outcome_of(r, spec);
   }
 
   fs::path dir_;

@@ -22,10 +22,22 @@ Outcome run(const model::StackSpec& spec) {
   // The particles exactly as a generated case's data file gives them to refsim.
   refsim::InSituOptions options;
   options.stop = [] { return os::interrupt_signal() != 0; };  // a signal abandons the design at once
-  const auto r = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "design")), options);
-  return {r.output_fraction,        r.bottom_row_fraction,  r.output_separated,     r.peak_wall_force,
-          r.output_last_change_time, r.output_settled,       r.peak_wall_force_time, r.final_momentum_ratio,
-          r.run_time,               r.seconds};
+  auto r = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "design")), options);
+  Outcome o;
+  o.output_fraction = r.output_fraction;
+  o.bottom_row_fraction = r.bottom_row_fraction;
+  o.output_separated = r.output_separated;
+  o.peak_wall_force = r.peak_wall_force;
+  o.output_last_change_time = r.output_last_change_time;
+  o.output_settled = r.output_settled;
+  o.peak_wall_force_time = r.peak_wall_force_time;
+  o.final_momentum_ratio = r.final_momentum_ratio;
+  o.run_time = r.run_time;
+  o.seconds = r.seconds;
+  o.wall_force = std::move(r.wall_force);
+  o.wall_force_interval = r.wall_force_interval;
+  o.stroke = r.stroke;
+  return o;
 }
 }  // namespace
 
@@ -40,7 +52,7 @@ std::optional<model::StackSpec> extended(const model::StackSpec& ran, const Outc
   return longer;
 }
 
-void record(Evaluation& e, const model::StackSpec& ran, const Outcome& o) {
+void record(const Space& space, Evaluation& e, const model::StackSpec& ran, const Outcome& o) {
   e.spec = ran;
   if (!o.output_settled) {
     e.feasible = false;
@@ -51,12 +63,8 @@ void record(Evaluation& e, const model::StackSpec& ran, const Outcome& o) {
                        : fmt::format("output not final: the output sphere's energy still changed at t = {:.4g} s, beyond "
                                      "{:g} of the run", o.output_last_change_time, model::kLastChangeFraction);
   }
-  if (ran.bottom == model::Boundary::free_surface) {
-    e.output_fraction = o.output_fraction;
-    e.bottom_row_fraction = o.bottom_row_fraction;
-    e.output_separated = o.output_separated;
-  }
-  e.peak_wall_force = o.peak_wall_force;
+  if (ran.bottom == model::Boundary::free_surface) e.output_separated = o.output_separated;
+  e.measures = run_measures(space, o);
   e.seconds += o.seconds;
 }
 
@@ -70,7 +78,7 @@ Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, boo
     ran = *longer;
     o = run(ran);
   }
-  record(e, ran, o);
+  record(space, e, ran, o);
   return e;
 }
 
@@ -158,17 +166,6 @@ std::vector<Evaluation> Evaluator::evaluate(const std::vector<model::StackSpec>&
     out.push_back(std::move(*e));
   }
   return out;
-}
-
-std::optional<double> objective_value(const Evaluation& e, Objective o) {
-  switch (o) {
-    case Objective::output_fraction: return e.output_fraction;
-    case Objective::bottom_row_fraction: return e.bottom_row_fraction;
-    case Objective::peak_wall_force: return e.peak_wall_force;
-    case Objective::areal_mass: return e.areal_mass;
-    case Objective::height: return e.height;
-  }
-  return std::nullopt;
 }
 
 std::vector<double> Evaluator::fitness(const Evaluation& e) const {

@@ -59,7 +59,7 @@ std::string versus_front(const Space& space, const Evaluation& e, const std::vec
   std::vector<std::string> parts;
   for (const auto o : space.objectives) {
     const auto mine = objective_value(e, o);
-    if (!mine || o == Objective::areal_mass) continue;
+    if (!mine || o == find_objective("areal_mass")) continue;
     const Evaluation* best = nullptr;
     for (const auto& f : front) {
       if (f.areal_mass > e.areal_mass) continue;
@@ -150,9 +150,7 @@ postproc::Table confirmations_table(const Snapshot& s) {
 }
 
 // A value for a log axis or a linear one: the objectives that span decades are drawn on a log axis.
-bool log_axis(Objective o) {
-  return o == Objective::output_fraction || o == Objective::bottom_row_fraction || o == Objective::peak_wall_force;
-}
+bool log_axis(Objective o) { return o->log_axis; }
 
 std::string axis_label(Objective o) { return fmt::format("{} ({})", to_string(o), unit_of(o)); }
 
@@ -232,9 +230,7 @@ json evaluation_json(const Space& space, const Evaluation& e) {
   }
   return {{"digest", e.digest}, {"description", e.description}, {"spheres", e.spheres}, {"feasible", e.feasible},
           {"violations", e.violations}, {"objectives", objectives}, {"areal_mass", e.areal_mass}, {"height", e.height},
-          {"output_fraction", e.output_fraction ? json(*e.output_fraction) : json(nullptr)},
-          {"bottom_row_fraction", e.bottom_row_fraction ? json(*e.bottom_row_fraction) : json(nullptr)},
-          {"peak_wall_force", e.peak_wall_force ? json(*e.peak_wall_force) : json(nullptr)}, {"spec", model::spec_json(e.spec)}};
+          {"measures", e.measures}, {"spec", model::spec_json(e.spec)}};
 }
 
 json report_json(const Space& space, const Snapshot& s, const std::vector<Evaluation>& front) {
@@ -303,14 +299,13 @@ std::unique_ptr<toml::node> toml_of(const json& v) {
 // The largest relative difference between the design's objectives from LIGGGHTS (reduce of
 // its run) and the store's in-situ values.
 double objective_difference(const Space& space, const Evaluation& e, const postproc::CaseReduction& r) {
+  const auto outcome = outcome_of(r, e.spec);
   double worst = 0.0;
   for (const auto o : space.objectives) {
-    std::optional<double> liggghts;
-    if (o == Objective::output_fraction) liggghts = r.output_fraction;
-    if (o == Objective::bottom_row_fraction) liggghts = r.output_fraction_bottom_row;
-    if (o == Objective::peak_wall_force) liggghts = r.peak_wall_force;
+    if (o->from_run == nullptr) continue;  // the geometric ones: the same stack
+    const auto liggghts = o->from_run(outcome, space);
     const auto mine = objective_value(e, o);
-    if (!liggghts || !mine) continue;  // the geometric ones: the same stack
+    if (!liggghts || !mine) continue;
     worst = std::max(worst, std::fabs(*liggghts - *mine) / std::max(std::fabs(*liggghts), std::fabs(*mine)));
   }
   return worst;

@@ -1,6 +1,7 @@
 #include <granstack/design/space.hpp>
 #include <granstack/formats/digest.hpp>
 #include <granstack/generator/spec_input.hpp>
+#include <granstack/model/resolution.hpp>
 #include <granstack/model/spec_fields.hpp>
 
 #include <fmt/format.h>
@@ -15,11 +16,6 @@
 namespace granstack::design {
 
 namespace {
-constexpr std::array<std::pair<Objective, const char*>, 5> kObjectives{{{Objective::output_fraction, "output_fraction"},
-                                                                        {Objective::bottom_row_fraction, "bottom_row_fraction"},
-                                                                        {Objective::peak_wall_force, "peak_wall_force"},
-                                                                        {Objective::areal_mass, "areal_mass"},
-                                                                        {Objective::height, "height"}}};
 // The spec fields a design varies: [fixed] may not set them.
 const std::vector<std::string> kVaried{"blocks", "rows", "block_rows", "materials", "radius_ratio", "bottom_radius"};
 // The study's top block (8 rows of 8 mm spheres over 4 blocks with a 1 mm bottom radius).
@@ -128,37 +124,85 @@ void read_vary(const toml::table* vary, Space& s, std::vector<std::string>& prob
   }
 }
 
+std::vector<std::string> objective_names() {
+  std::vector<std::string> names;
+  for (const auto& o : objective_table()) names.emplace_back(o.name);
+  return names;
+}
+
 void read_objectives(const toml::table& root, Space& s, std::vector<std::string>& problems) {
   const auto* a = root.get_as<toml::array>("objectives");
-  std::vector<std::string> names;
-  for (const auto& [o, name] : kObjectives) names.emplace_back(name);
   if (a == nullptr) {
-    problems.push_back(fmt::format("objectives is missing: a list of two or more of {}", joined(names)));
+    problems.push_back(fmt::format("objectives is missing: a list of two or more of {}", joined(objective_names())));
     return;
   }
   for (const auto& e : *a) {
-    const auto o = e.value<std::string>() ? parse_objective(*e.value<std::string>()) : std::nullopt;
-    if (!o) problems.push_back(fmt::format("objectives: '{}' is not one of {}", e.value_or<std::string>("?"), joined(names)));
-    else if (std::find(s.objectives.begin(), s.objectives.end(), *o) != s.objectives.end()) problems.push_back(fmt::format("objectives: {} twice", to_string(*o)));
-    else s.objectives.push_back(*o);
+    const auto o = e.value<std::string>() ? find_objective(*e.value<std::string>()) : nullptr;
+    if (o == nullptr) problems.push_back(fmt::format("objectives: '{}' is not one of {}", e.value_or<std::string>("?"), joined(objective_names())));
+    else if (std::find(s.objectives.begin(), s.objectives.end(), o) != s.objectives.end()) problems.push_back(fmt::format("objectives: {} twice", to_string(o)));
+    else s.objectives.push_back(o);
   }
   if (a->size() < 2) problems.push_back("objectives: at least two (the search is multi-objective; one objective has one best design, no front)");
 }
 
-// Objectives a geometry cannot measure.
+// [measures]: the settings of measures that take one (wall_impulse's window).
+void read_measures(const toml::table* t, Space& s, std::vector<std::string>& problems) {
+  if (t != nullptr) {
+    for (const auto& [k, v] : *t) {
+      const std::string key(k.str());
+      const auto number = v.value<double>();
+      if (key != "impulse_window") {
+        problems.push_back(fmt::format("[measures] {}: unknown; impulse_window (s, the window of wall_impulse)", key));
+      } else if (!number || !(*number > 0) || !std::isfinite(*number)) {
+        problems.push_back("[measures] impulse_window: a time in s, > 0 (the window wall_impulse integrates the wall's force over)");
+      } else {
+        s.impulse_window = *number;
+      }
+    }
+  }
+  const auto wants = std::find(s.objectives.begin(), s.objectives.end(), find_objective("wall_impulse")) != s.objectives.end();
+  if (wants && s.impulse_window <= 0.0) {
+    problems.push_back("objectives: wall_impulse needs its window: set [measures] impulse_window (s), e.g. 1e-4 for the "
+                       "load a body behind the wall feels over 0.1 ms");
+  }
+}
+
+// Whether a space varies the bottom spheres' radius: the footprint is fixed, so any choice of
+// blocks or ratios beyond one changes R_N = R_1 / (product of the ratios).
+bool varies_bottom_radius(const Space& s) {
+  return s.max_blocks > 1 && (s.min_blocks != s.max_blocks || s.radius_ratios.size() > 1);
+}
+
+// Objectives a geometry cannot measure, or that its designs would win by shrinking what they measure.
 void check_measurable(const Space& s, std::vector<std::string>& problems) {
+  const bool wall = s.fixed.bottom == model::Boundary::wall;
   for (const auto o : s.objectives) {
-    if ((o == Objective::output_fraction || o == Objective::bottom_row_fraction) && s.fixed.bottom != model::Boundary::free_surface) {
+    if (o->needs == Needs::free_bottom && wall) {
       problems.push_back(fmt::format("objectives: {} needs a free bottom (the output spheres must leave); set [fixed] "
                                      "bottom = \"free\", or minimise peak_wall_force against the wall", to_string(o)));
     }
-    if (o == Objective::peak_wall_force && s.fixed.bottom != model::Boundary::wall) {
-      problems.push_back("objectives: peak_wall_force needs a bottom wall to measure; set [fixed] bottom = \"wall\"");
+    if (o->needs == Needs::wall && !wall) {
+      problems.push_back(fmt::format("objectives: {} is measured on the protected object, the bottom wall; set [fixed] "
+                                     "bottom = \"wall\"", to_string(o)));
+    }
+    if (o->gameable_by_bottom_radius && varies_bottom_radius(s)) {
+      problems.push_back(fmt::format(
+          "objectives: {} is the energy of the outgoing layer's spheres, whose mass falls as the bottom radius R_1 / "
+          "(product of the ratios) shrinks; this space varies it ({} to {} blocks, ratios {}), so the search would win "
+          "by making the measured spheres lighter, not by protecting. Measure protection on the protected object "
+          "([fixed] bottom = \"wall\" with peak_wall_force, wall_impulse and stroke), or fix the bottom radius (one "
+          "number of blocks and one radius_ratio)",
+          to_string(o), s.min_blocks, s.max_blocks, fmt::join(s.radius_ratios, ", ")));
     }
   }
   if (s.fixed.geometry == model::Geometry::panels) {
     problems.push_back("[fixed] geometry = \"panels\": a container's designs are its panels' designs; search the strip "
                        "(geometry = \"strip\") and set the winners side by side");
+  }
+  if (s.fixed.duration) {
+    problems.push_back("[fixed] duration: each design runs for its own automatic duration, checked to leave its output or "
+                       "its load final; one fixed duration can end before the blow arrives (every design then scores 0). "
+                       "Remove it");
   }
 }
 
@@ -242,29 +286,6 @@ void check_not_empty(const Space& s, std::vector<std::string>& problems) {
 SpaceError::SpaceError(std::vector<std::string> problems)
     : std::runtime_error(problems.empty() ? "bad design space" : problems.front()), problems_(std::move(problems)) {}
 
-std::string_view to_string(Objective o) {
-  for (const auto& [k, name] : kObjectives) {
-    if (k == o) return name;
-  }
-  return "?";
-}
-std::optional<Objective> parse_objective(std::string_view s) {
-  for (const auto& [k, name] : kObjectives) {
-    if (s == name) return k;
-  }
-  return std::nullopt;
-}
-std::string_view unit_of(Objective o) {
-  switch (o) {
-    case Objective::output_fraction:
-    case Objective::bottom_row_fraction: return "of E_in";
-    case Objective::peak_wall_force: return "N";
-    case Objective::areal_mass: return "kg/m^2";
-    case Objective::height: return "m";
-  }
-  return "";
-}
-
 std::pair<std::vector<double>, std::vector<double>> Space::bounds() const {
   std::vector<double> lo(genes(), 0.0), hi(genes(), 0.0);
   lo[0] = min_blocks;
@@ -318,6 +339,7 @@ std::string Space::digest() const {
   std::vector<std::string> objs;
   for (const auto o : objectives) objs.emplace_back(to_string(o));
   j["objectives"] = objs;
+  if (impulse_window > 0.0) j["impulse_window"] = impulse_window;
   j["population"] = search.population;
   j["seed"] = search.seed;
   return formats::sha256_hex(j.dump());
@@ -333,8 +355,9 @@ Space parse_space(std::string_view text, const std::string& source) {
   std::vector<std::string> problems;
   for (const auto& [k, v] : root) {
     const std::string key(k.str());
-    if (key != "fixed" && key != "vary" && key != "constraints" && key != "objectives" && key != "search") {
-      problems.push_back(fmt::format("{}: unknown; a design space has [fixed], [vary], [constraints], objectives and [search]", key));
+    if (key != "fixed" && key != "vary" && key != "constraints" && key != "objectives" && key != "search" && key != "measures") {
+      problems.push_back(fmt::format("{}: unknown; a design space has [fixed], [vary], [constraints], objectives, "
+                                     "[measures] and [search]", key));
     }
   }
   Space s;
@@ -342,6 +365,7 @@ Space parse_space(std::string_view text, const std::string& source) {
   read_fixed(root.get_as<toml::table>("fixed"), source, s, problems);
   read_vary(root.get_as<toml::table>("vary"), s, problems);
   read_objectives(root, s, problems);
+  read_measures(root.get_as<toml::table>("measures"), s, problems);
   read_constraints(root.get_as<toml::table>("constraints"), s, problems);
   read_search(root.get_as<toml::table>("search"), s, problems);
   if (problems.empty()) check_measurable(s, problems);
@@ -361,6 +385,13 @@ Geometry measure(const Space& space, const model::StackSpec& spec) {
     return g;
   }
   const auto stack = model::Stack::build(spec);
+  // ... and what `generate` refuses of its run (the striker's Hertz overlap, dt, the step count):
+  // the design could not be confirmed on LIGGGHTS, so the search may not rank it.
+  if (const auto issues = model::check_resolution(stack, model::resolve(stack)); !issues.empty()) {
+    g.violations.push_back(fmt::format("generate refuses it: {}: {}", issues.front().field, issues.front().message));
+    g.violation = 1.0;
+    return g;
+  }
   g.height = stack.lattice_height();
   g.areal_mass = stack.areal_mass();
   const auto& c = space.constraints;

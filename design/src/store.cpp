@@ -1,3 +1,4 @@
+#include <granstack/design/objectives.hpp>
 #include <granstack/design/store.hpp>
 #include <granstack/model/spec_fields.hpp>
 
@@ -5,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <filesystem>
 
 namespace granstack::design {
@@ -15,8 +17,7 @@ constexpr const char* kSchema = R"sql(
 CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS evaluations (
   digest TEXT PRIMARY KEY, description TEXT NOT NULL, spec TEXT NOT NULL, blocks INTEGER NOT NULL,
-  spheres INTEGER NOT NULL, feasible INTEGER NOT NULL, violations TEXT NOT NULL,
-  output_fraction REAL, bottom_row_fraction REAL, peak_wall_force REAL, areal_mass REAL NOT NULL, height REAL NOT NULL,
+  spheres INTEGER NOT NULL, feasible INTEGER NOT NULL, violations TEXT NOT NULL, areal_mass REAL NOT NULL, height REAL NOT NULL,
   seconds REAL NOT NULL, searched INTEGER NOT NULL, output_separated INTEGER NOT NULL, created TEXT NOT NULL DEFAULT (datetime('now')));
 CREATE TABLE IF NOT EXISTS study_designs (name TEXT PRIMARY KEY, digest TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS generations (
@@ -77,12 +78,13 @@ class Statement {
   sqlite3_stmt* s_ = nullptr;
 };
 
+// The evaluations' fixed columns; each run measure of objective_table() has a REAL column of its
+// own name after them (NULL where the design was not run or its bottom cannot measure it).
 constexpr const char* kEvaluationColumns =
-    "digest, description, spec, spheres, feasible, violations, output_fraction, bottom_row_fraction, peak_wall_force, "
-    "areal_mass, height, "
-    "seconds, searched, output_separated";
+    "digest, description, spec, spheres, feasible, violations, areal_mass, height, seconds, searched, output_separated";
+constexpr int kFixedColumns = 11;
 
-std::string prefixed_columns(const std::string& prefix) {
+std::string prefixed_columns(const std::string& prefix, const std::vector<std::string>& measures) {
   std::string out;
   std::string_view rest = kEvaluationColumns;
   while (!rest.empty()) {
@@ -90,11 +92,12 @@ std::string prefixed_columns(const std::string& prefix) {
     out += (out.empty() ? "" : ", ") + prefix + std::string(rest.substr(0, comma));
     rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 2);
   }
+  for (const auto& m : measures) out += ", " + prefix + m;
   return out;
 }
 
-// The evaluation in columns from..from + 13 of a row.
-Evaluation evaluation_from(const Statement& q, int from = 0) {
+// The evaluation in the columns from `from` of a row (prefixed_columns' order).
+Evaluation evaluation_from(const Statement& q, const std::vector<std::string>& measures, int from = 0) {
   Evaluation e;
   e.digest = q.text(from);
   e.description = q.text(from + 1);
@@ -102,15 +105,24 @@ Evaluation evaluation_from(const Statement& q, int from = 0) {
   e.spheres = q.integer(from + 3);
   e.feasible = q.integer(from + 4) != 0;
   e.violations = q.text(from + 5);
-  e.output_fraction = q.maybe(from + 6);
-  e.bottom_row_fraction = q.maybe(from + 7);
-  e.peak_wall_force = q.maybe(from + 8);
-  e.areal_mass = q.real(from + 9);
-  e.height = q.real(from + 10);
-  e.seconds = q.real(from + 11);
-  e.searched = q.integer(from + 12) != 0;
-  e.output_separated = q.integer(from + 13) != 0;
+  e.areal_mass = q.real(from + 6);
+  e.height = q.real(from + 7);
+  e.seconds = q.real(from + 8);
+  e.searched = q.integer(from + 9) != 0;
+  e.output_separated = q.integer(from + 10) != 0;
+  for (std::size_t k = 0; k < measures.size(); ++k) {
+    if (const auto v = q.maybe(from + kFixedColumns + static_cast<int>(k))) e.measures.emplace(measures[k], *v);
+  }
   return e;
+}
+
+// The run measures of objective_table(), each a column of evaluations.
+std::vector<std::string> run_measure_names() {
+  std::vector<std::string> names;
+  for (const auto& o : objective_table()) {
+    if (o.from_run != nullptr) names.emplace_back(o.name);
+  }
+  return names;
 }
 
 sqlite3* open_db(const std::string& path, int flags) {
@@ -142,7 +154,7 @@ void throw_store_error(sqlite3* db, const std::string& what) {
 }
 
 Store::Store(sqlite3* db) : db_(db), mutex_(std::make_unique<std::mutex>()) {}
-Store::Store(Store&& o) noexcept : db_(o.db_), mutex_(std::move(o.mutex_)) { o.db_ = nullptr; }
+Store::Store(Store&& o) noexcept : db_(o.db_), measures_(std::move(o.measures_)), mutex_(std::move(o.mutex_)) { o.db_ = nullptr; }
 Store::~Store() { sqlite3_close(db_); }
 
 void Store::exec(const std::string& sql) const {
@@ -156,6 +168,13 @@ void Store::exec(const std::string& sql) const {
 Store Store::open(const std::string& path, const std::string& space_digest, const std::string& space_text) {
   Store s(open_db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE));
   s.exec(kSchema);
+  // A measure added to the table since the store was written gets its column (NULL for the
+  // designs evaluated before it).
+  const auto present = s.columns("evaluations");
+  for (const auto& m : run_measure_names()) {
+    if (std::find(present.begin(), present.end(), m) == present.end()) s.exec(fmt::format("ALTER TABLE evaluations ADD COLUMN {} REAL", m));
+  }
+  s.find_measures();
   if (const auto d = s.meta("space_digest")) {
     if (*d != space_digest) {
       throw StoreError(fmt::format("{} holds the search of another design space (digest {}, this one's is {}): give "
@@ -175,6 +194,7 @@ Store Store::open_existing(const std::string& path) {
   }
   Store s(open_db(path, SQLITE_OPEN_READONLY));
   if (!s.meta("space_digest")) throw StoreError(fmt::format("{}: not a granstack design store", path));
+  s.find_measures();
   return s;
 }
 
@@ -197,37 +217,58 @@ void Store::set_meta(const std::string& key, const std::string& value) {
 
 std::optional<Evaluation> Store::find(const std::string& digest) const {
   const std::lock_guard<std::mutex> lock(*mutex_);
-  Statement q(db_, fmt::format("SELECT {} FROM evaluations WHERE digest = ?", kEvaluationColumns));
+  Statement q(db_, fmt::format("SELECT {} FROM evaluations WHERE digest = ?", prefixed_columns("", measures_)));
   q.bind(1, digest);
-  if (q.step()) return evaluation_from(q);
+  if (q.step()) return evaluation_from(q, measures_);
   return std::nullopt;
 }
 
 void Store::put(const Evaluation& e) {
   const std::lock_guard<std::mutex> lock(*mutex_);
-  Statement q(db_, fmt::format("INSERT OR REPLACE INTO evaluations ({}, blocks) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
-                               kEvaluationColumns));
+  std::string marks = "?";
+  for (int k = 1; k < kFixedColumns + static_cast<int>(measures_.size()) + 1; ++k) marks += ", ?";
+  Statement q(db_, fmt::format("INSERT OR REPLACE INTO evaluations ({}, blocks) VALUES ({})", prefixed_columns("", measures_), marks));
   q.bind(1, e.digest).bind(2, e.description).bind(3, model::spec_json(e.spec).dump()).bind(4, e.spheres);
-  q.bind(5, static_cast<long>(e.feasible)).bind(6, e.violations).bind(7, e.output_fraction).bind(8, e.bottom_row_fraction);
-  q.bind(9, e.peak_wall_force).bind(10, e.areal_mass).bind(11, e.height).bind(12, e.seconds);
-  q.bind(13, static_cast<long>(e.searched)).bind(14, static_cast<long>(e.output_separated)).bind(15, static_cast<long>(e.spec.blocks));
+  q.bind(5, static_cast<long>(e.feasible)).bind(6, e.violations).bind(7, e.areal_mass).bind(8, e.height).bind(9, e.seconds);
+  q.bind(10, static_cast<long>(e.searched)).bind(11, static_cast<long>(e.output_separated));
+  int at = kFixedColumns + 1;
+  for (const auto& m : measures_) {
+    const auto v = e.measures.find(m);
+    q.bind(at++, v == e.measures.end() ? std::nullopt : std::optional<double>(v->second));
+  }
+  q.bind(at, static_cast<long>(e.spec.blocks));
   q.step();
+}
+
+std::vector<std::string> Store::columns(const std::string& table) const {
+  Statement q(db_, fmt::format("PRAGMA table_info({})", table));
+  std::vector<std::string> out;
+  while (q.step()) out.push_back(q.text(1));
+  return out;
+}
+
+void Store::find_measures() {
+  const auto present = columns("evaluations");
+  measures_.clear();
+  for (const auto& m : run_measure_names()) {
+    if (std::find(present.begin(), present.end(), m) != present.end()) measures_.push_back(m);
+  }
 }
 
 std::vector<Evaluation> Store::evaluations() const {
   const std::lock_guard<std::mutex> lock(*mutex_);
-  Statement q(db_, fmt::format("SELECT {} FROM evaluations WHERE searched = 1 ORDER BY rowid", kEvaluationColumns));
+  Statement q(db_, fmt::format("SELECT {} FROM evaluations WHERE searched = 1 ORDER BY rowid", prefixed_columns("", measures_)));
   std::vector<Evaluation> out;
-  while (q.step()) out.push_back(evaluation_from(q));
+  while (q.step()) out.push_back(evaluation_from(q, measures_));
   return out;
 }
 
 std::vector<std::pair<std::string, Evaluation>> Store::study_designs() const {
   const std::lock_guard<std::mutex> lock(*mutex_);
   Statement q(db_, fmt::format("SELECT s.name, {} FROM study_designs s JOIN evaluations e ON e.digest = s.digest ORDER BY s.rowid",
-                               prefixed_columns("e.")));
+                               prefixed_columns("e.", measures_)));
   std::vector<std::pair<std::string, Evaluation>> out;
-  while (q.step()) out.emplace_back(q.text(0), evaluation_from(q, 1));
+  while (q.step()) out.emplace_back(q.text(0), evaluation_from(q, measures_, 1));
   return out;
 }
 

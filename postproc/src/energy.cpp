@@ -318,6 +318,7 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
   e.top_row_sideways = e.top_row_downward = e.striker_ke = e.output_sphere_ke = e.bottom_row_ke = 0.0;
   e.momentum_z = 0.0;
   e.kinetic = e.elastic = e.striker_vz = e.matrix_ke = 0.0;
+  e.striker_z = std::numeric_limits<double>::infinity();
   const auto out_index = static_cast<std::size_t>(stack.output_sphere_id() - 1);
   const auto& spheres = stack.spheres();
   const std::size_t n = spheres.size();
@@ -348,6 +349,7 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     if (b == Constants::kStriker) {
       e.striker_ke += ke;
       e.striker_vz = vz;
+      e.striker_z = std::min(e.striker_z, z_[i]);
     } else if (b == Constants::kMatrix) {
       e.matrix_ke += ke;
     } else {

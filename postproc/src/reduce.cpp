@@ -7,6 +7,7 @@
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/run_digests.hpp>
 #include <granstack/formats/series.hpp>
+#include <granstack/model/protection.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/os/case_lock.hpp>
 #include <granstack/os/interrupt.hpp>
@@ -281,6 +282,7 @@ void series_peaks(const formats::Series& series, const SeriesColumns& cols, doub
     r.output_peak_fraction = std::max(r.output_peak_fraction, cols.output_ke(row) / r.e_in);
     if (cols.wall_force >= 0) {
       const double f = SeriesColumns::at(row, cols.wall_force);
+      r.wall_force.push_back(f);
       if (!r.peak_wall_force || f > *r.peak_wall_force) {
         r.peak_wall_force = f;
         r.peak_wall_force_time = t;
@@ -385,6 +387,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   };
   FrameEnergy last_energy;
   long last_step = 0;
+  model::StrokeMeter stroke(stack);
   const long expected_frames = c.derived().frames();
   auto take_result = [&](FrameResult& fr) {
     if (const int signal = os::interrupt_signal(); signal != 0) {
@@ -399,6 +402,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     require_energy_balance(e, spec, r, dump_path);
     require_frame_matches_series(e, series, cols, res.series_every, series_path, r.e_in);
     track_peaks(e, stack, static_cast<double>(e.step) * res.dt, r);
+    stroke.sample(e.striker_z);
     waves.add(e.step, fr.wave_samples);
     tables.append(fr.rows);
     if (fr.separated) r.output_separated = *fr.separated;
@@ -425,7 +429,9 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   }
   r.final_time = static_cast<double>(last_step) * res.dt;
 
+  r.stroke = stroke.stroke();
   series_peaks(series, cols, res.dt, r);
+  r.wall_force_interval = static_cast<double>(res.series_every) * res.dt;
   warn_if_energy_still_arriving(series, cols, res, r);
   r.waves = waves.finish(series);
   final_state(last_energy, stack, r);
@@ -488,6 +494,7 @@ json to_json(const CaseReduction& r) {
           {"peak_wall_force", r.peak_wall_force ? nlohmann::json(*r.peak_wall_force) : nlohmann::json(nullptr)},
           {"peak_wall_force_time", r.peak_wall_force ? nlohmann::json(r.peak_wall_force_time) : nlohmann::json(nullptr)},
           {"final_momentum_ratio", r.final_momentum_ratio},
+          {"stroke_m", r.stroke},
           {"output_definition", r.output_definition},
           {"output_separated", r.output_separated},
           {"output_peak_fraction", r.output_peak_fraction},
@@ -589,7 +596,8 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
     }
     fmt::format_to(out, "output fraction: {:.6g} ({})\n", r.output_fraction, r.output_definition);
     if (r.peak_wall_force) {
-      fmt::format_to(out, "peak bottom-wall force: {:.6g} N at t = {:.4g} s\n", *r.peak_wall_force, r.peak_wall_force_time);
+      fmt::format_to(out, "peak bottom-wall force: {:.6g} N at t = {:.4g} s; stroke (the striker's largest travel): {:.6g} m\n",
+                     *r.peak_wall_force, r.peak_wall_force_time, r.stroke);
     }
     if (!r.panel_frames.empty()) {
       // The blocks above are every panel's together; the panels one by one:

@@ -1,4 +1,5 @@
 #include <granstack/model/contact.hpp>
+#include <granstack/model/protection.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
 #include <granstack/refsim/case_run.hpp>
@@ -29,6 +30,11 @@ bool touches_nothing(const System& s, std::size_t i) {
   }
   return true;
 }
+double lowest_striker_z(const System& s, int strikers) {
+  double z = s.x(0)[2];
+  for (std::size_t i = 1; i < static_cast<std::size_t>(strikers); ++i) z = std::min(z, s.x(i)[2]);
+  return z;
+}
 }  // namespace
 
 InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> particles, const InSituOptions& options) {
@@ -54,16 +60,21 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
     return std::tuple{sphere_ke(system, out), row, momentum};
   };
   auto final_ke = final_energies();
+  model::StrokeMeter stroke(stack);
+  // Every dump frame up to `step` (the frames are every dump_every steps, step 0 the first): the
+  // stroke is read at the frames, as reduce reads it from the dump; the last frame's energies too.
+  long next_frame = 0;
   const auto advance_to = [&](long step) {
+    for (; next_frame <= step && next_frame <= last_frame; next_frame += res.dump_every) {
+      if (next_frame > system.step_count()) system.advance(next_frame - system.step_count());
+      stroke.sample(lowest_striker_z(system, stack.strikers()));
+      if (next_frame == last_frame) final_ke = final_energies();
+    }
     if (step > system.step_count()) system.advance(step - system.step_count());
   };
   std::vector<long> sample_steps;
   std::vector<double> sample_ke;
   for (long step = res.series_every; step <= res.steps; step += res.series_every) {
-    if (last_frame > system.step_count() && last_frame < step) {
-      advance_to(last_frame);
-      final_ke = final_energies();
-    }
     if (options.stop && options.stop()) {
       throw InSituStopped(fmt::format("stopped at step {} of {}", system.step_count(), res.steps));
     }
@@ -72,20 +83,19 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
     const double ke = sphere_ke(system, out);
     sample_steps.push_back(step);
     sample_ke.push_back(ke);
-    if (step == last_frame) final_ke = final_energies();
     r.output_peak_fraction = std::max(r.output_peak_fraction, ke / r.e_in);
     if (wall) {
       const double f = bottom_wall_force(system);
+      r.wall_force.push_back(f);
       if (!r.peak_wall_force || f > *r.peak_wall_force) {
         r.peak_wall_force = f;
         r.peak_wall_force_time = static_cast<double>(step) * res.dt;
       }
     }
   }
-  if (last_frame > system.step_count()) {
-    advance_to(last_frame);
-    final_ke = final_energies();
-  }
+  advance_to(last_frame);
+  r.stroke = stroke.stroke();
+  r.wall_force_interval = static_cast<double>(res.series_every) * res.dt;
   r.output_fraction = wall ? r.output_peak_fraction : std::get<0>(final_ke) / r.e_in;
   r.bottom_row_fraction = std::get<1>(final_ke) / r.e_in;
   r.final_momentum_ratio = std::get<2>(final_ke) / (stack.striker_mass() * stack.spec().striker_speed * stack.strikers());

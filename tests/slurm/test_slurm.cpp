@@ -416,12 +416,12 @@ TEST(Slurm, ADamagedRecordIsSaidAndARequeueKeepsTheFirstLog) {
 }  // namespace
 
 namespace {
-// The evaluations table of a design store as (digest, output fraction) text, sorted.
+// The evaluations table of a design store as (digest, peak wall force, stroke) text, sorted.
 std::string evaluations_of(const fs::path& store) {
   const auto r = run({"python3", "-c",
                       "import sqlite3, sys; c = sqlite3.connect(sys.argv[1]); "
-                      "print('\\n'.join(f'{d} {o!r}' for d, o in c.execute('select digest, output_fraction from "
-                      "evaluations where searched = 1 order by digest')))",
+                      "print('\\n'.join(f'{d} {f!r} {s!r}' for d, f, s in c.execute('select digest, peak_wall_force, "
+                      "stroke from evaluations where searched = 1 order by digest')))",
                       store.string()});
   EXPECT_EQ(r.code, 0) << r.output;
   return r.output;
@@ -429,7 +429,7 @@ std::string evaluations_of(const fs::path& store) {
 
 // granstack design run --slurm: each generation's new designs go out as a job array (submit's),
 // the search waits for them, and a task cancelled before it ran is submitted again; the store
-// ends exactly as a local search's (the same designs, the same output fractions to the bit:
+// ends exactly as a local search's (the same designs, the same peak forces and strokes to the bit:
 // reduce of a refsim case is the in-situ value).
 TEST(Slurm, ADesignSearchRunsItsBatchesAsArraysAndSurvivesACancelledTask) {
   if (!os::find_program("python3")) GTEST_SKIP() << "python3 is not installed (the store is read with its sqlite3)";

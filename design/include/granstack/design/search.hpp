@@ -2,6 +2,7 @@
 // `granstack design`: evaluating designs in situ on refsim (each once, kept in the store) and
 // the multi-objective search over a space with pagmo2's NSGA-II, one generation at a time, its
 // population evaluated as a batch on `jobs` threads.
+#include <granstack/design/objectives.hpp>
 #include <granstack/design/space.hpp>
 #include <granstack/design/store.hpp>
 
@@ -54,30 +55,15 @@ inline constexpr double kWallExtension = 3.0;
 // A design's measures known without running it (geometry and constraints), as an evaluation.
 Evaluation measured(const Space& space, const model::StackSpec& spec);
 
-// What one run of a design gave, in situ or by reduce of its case (the same values).
-struct Outcome {
-  double output_fraction = 0.0, bottom_row_fraction = 0.0;
-  bool output_separated = false;
-  std::optional<double> peak_wall_force;
-  double output_last_change_time = 0.0;  // s
-  bool output_settled = true;            // free bottom: the output's; wall: the load's (model::wall_load_settled)
-  double peak_wall_force_time = 0.0;     // s
-  double final_momentum_ratio = 0.0;     // the stack's z momentum at the end over m v
-  double run_time = 0.0;                 // s
-  double seconds = 0.0;
-};
 // The spec to run again when `o` is not settled (free bottom: its duration set so the last change
 // comes at kExtendedChangeFraction of the run; wall: kWallExtension times as long), or nullopt:
 // settled, or already run with a set duration.
 std::optional<model::StackSpec> extended(const model::StackSpec& ran, const Outcome& o);
 // The evaluation of `e` (measured) after the run of `ran` (its spec, or its extension) gave `o`.
-void record(Evaluation& e, const model::StackSpec& ran, const Outcome& o);
+void record(const Space& space, Evaluation& e, const model::StackSpec& ran, const Outcome& o);
 // One design's evaluation, run now without a store (what `evaluate` runs for a missing one); a
 // design outside the constraints is not run unless `run_anyway`.
 Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway = false);
-
-// The value of objective `o` for an evaluation (nullopt when the design was not run).
-std::optional<double> objective_value(const Evaluation& e, Objective o);
 
 struct SearchOptions {
   int jobs = 1;                  // with no runner: designs at once on this machine

@@ -3,6 +3,7 @@
 // number of blocks, each block's material and rows, each interface's radius ratio), what stays
 // fixed (the footprint, the striker, the boundaries, the contacts: any spec field), the
 // constraints and the objectives, read from a TOML file.
+#include <granstack/design/objectives.hpp>
 #include <granstack/model/spec.hpp>
 #include <granstack/model/stack.hpp>
 
@@ -24,11 +25,6 @@ class SpaceError : public std::runtime_error {
   std::vector<std::string> problems_;
 };
 
-// What a design is judged by, all minimised.
-enum class Objective { output_fraction, bottom_row_fraction, peak_wall_force, areal_mass, height };
-std::string_view to_string(Objective o);
-std::optional<Objective> parse_objective(std::string_view s);
-std::string_view unit_of(Objective o);
 
 struct Constraints {
   std::optional<long> max_spheres;
@@ -54,7 +50,8 @@ struct Space {
   std::vector<int> radius_ratios;      // candidates for each interface
   int min_rows = 1, max_rows = 1;
   Constraints constraints;
-  std::vector<Objective> objectives;
+  std::vector<Objective> objectives;  // all minimised
+  double impulse_window = 0.0;        // s: [measures] impulse_window, wall_impulse's tau
   Search search;
 
   // The decision vector: N_B, a material index per block, a ratio index per interface and a

@@ -5,6 +5,7 @@
 // confirmations. Users may query it with sqlite3 or pandas (docs/design.md gives the tables).
 #include <granstack/model/spec.hpp>
 
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -22,7 +23,8 @@ struct Evaluation {
   long spheres = 0;
   bool feasible = true;
   std::string violations;   // the broken constraints, when not feasible
-  std::optional<double> output_fraction, bottom_row_fraction, peak_wall_force;
+  // What its run measured, by objective name (objective_table's run measures its bottom allows).
+  std::map<std::string, double> measures;
   // With a free bottom: the output sphere had left every contact when the run ended, so its
   // output fraction is final (refsim::InSituResult::output_separated).
   bool output_separated = true;
@@ -99,7 +101,10 @@ class Store {
  private:
   explicit Store(sqlite3* db);
   void exec(const std::string& sql) const;
+  std::vector<std::string> columns(const std::string& table) const;
+  void find_measures();  // measures_: the table's run measures the store has columns for
   sqlite3* db_ = nullptr;
+  std::vector<std::string> measures_;
   std::unique_ptr<std::mutex> mutex_;
 };
 

@@ -24,6 +24,7 @@ struct FrameEnergy {
   double top_row_sideways = 0.0, top_row_downward = 0.0;
   double striker_ke = 0.0;
   double striker_vz = 0.0;       // m/s, the striker's velocity along z (negative: moving down)
+  double striker_z = 0.0;        // m, the lowest striker's centre (model::StrokeMeter reads it)
   double output_sphere_ke = 0.0;
   double bottom_row_ke = 0.0;
   double kinetic = 0.0;          // everything

@@ -35,6 +35,13 @@ struct CaseReduction {
   // case has no bottom wall or its deck predates the column.
   std::optional<double> peak_wall_force;
   double peak_wall_force_time = 0.0;   // s
+  // ... and that force at every series sample, wall_force_interval (s) apart from one interval
+  // after the start: what model::peak_window_impulse reads (the design's wall_impulse).
+  std::vector<double> wall_force;
+  double wall_force_interval = 0.0;
+  // The striker's largest travel below its start over the dump frames (model::StrokeMeter), m:
+  // against a wall, the stack's crush under the blow.
+  double stroke = 0.0;
   // The whole stack's momentum along z at the last frame over the striker's at the start, m v
   // (up positive: above 0 the bottom wall has stopped the blow and thrown the stack back).
   double final_momentum_ratio = 0.0;

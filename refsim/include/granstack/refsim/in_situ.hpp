@@ -52,6 +52,12 @@ struct InSituResult {
   double run_time = 0.0;                 // s, steps x dt
   std::optional<double> peak_wall_force;    // N: reduce's peak_wall_force (bottom wall only)
   double peak_wall_force_time = 0.0;        // s
+  // The bottom wall's force at every series sample (every series_every steps from series_every
+  // on, wall_force_interval apart): what model::peak_window_impulse reads, as reduce does.
+  std::vector<double> wall_force;
+  double wall_force_interval = 0.0;         // s
+  // model::StrokeMeter over the dump's frames (step 0 to the last, every dump_every), as reduce.
+  double stroke = 0.0;                      // m
   long steps = 0;
   long atoms = 0;
   double seconds = 0.0;                     // wall time of the run

@@ -1,0 +1,69 @@
+#pragma once
+// What a design is judged by: one table of measures (docs/design.md prints it from
+// `granstack design objectives`). An entry names the measure, its unit and formula, the boundary
+// it needs and how it is read from a run or from the geometry; the space parser, the store's
+// columns, the report and confirm read the table, so a new measure costs one entry here.
+#include <granstack/design/store.hpp>
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace granstack::postproc {
+struct CaseReduction;
+}
+
+namespace granstack::design {
+
+struct Space;
+
+// What one run of a design gave, in situ or by reduce of its case (the same values).
+struct Outcome {
+  double output_fraction = 0.0, bottom_row_fraction = 0.0;
+  bool output_separated = false;
+  std::optional<double> peak_wall_force;
+  double output_last_change_time = 0.0;  // s
+  bool output_settled = true;            // free bottom: the output's; wall: the load's (model::wall_load_settled)
+  double peak_wall_force_time = 0.0;     // s
+  double final_momentum_ratio = 0.0;     // the stack's z momentum at the end over m v
+  double run_time = 0.0;                 // s
+  double seconds = 0.0;
+  std::vector<double> wall_force;        // N, at every series sample, wall_force_interval apart
+  double wall_force_interval = 0.0;      // s
+  double stroke = 0.0;                   // m, model::StrokeMeter over the dump's frames
+};
+// A case's outcome from its reduction (`ran`: the spec it ran, for the finality rules).
+Outcome outcome_of(const postproc::CaseReduction& r, const model::StackSpec& ran);
+
+// The bottom a measure needs.
+enum class Needs { any, free_bottom, wall };
+
+struct ObjectiveDef {
+  std::string_view name;
+  std::string_view unit;
+  std::string_view formula;  // what it is, in words and symbols (docs and report)
+  Needs needs = Needs::any;
+  // Drawn on a log axis (it spans decades across a space).
+  bool log_axis = false;
+  // Measured on the outgoing layer's spheres, whose mass falls as the bottom radius shrinks: a
+  // space that varies the bottom radius (blocks or radius ratios) would win by shrinking them.
+  bool gameable_by_bottom_radius = false;
+  // From a run (nullptr: from the geometry, with `geometric`).
+  std::optional<double> (*from_run)(const Outcome&, const Space&) = nullptr;
+  double (*geometric)(const Evaluation&) = nullptr;
+};
+using Objective = const ObjectiveDef*;
+
+const std::vector<ObjectiveDef>& objective_table();
+Objective find_objective(std::string_view name);  // nullptr when unknown
+inline std::string_view to_string(Objective o) { return o->name; }
+inline std::string_view unit_of(Objective o) { return o->unit; }
+std::string_view to_string(Needs n);
+
+// The value of objective `o` for an evaluation (nullopt when the design was not run).
+std::optional<double> objective_value(const Evaluation& e, Objective o);
+// Every run measure the space's bottom allows, by name, from one outcome (Evaluation::measures).
+std::map<std::string, double> run_measures(const Space& space, const Outcome& o);
+
+}  // namespace granstack::design

@@ -1,0 +1,108 @@
+#include <granstack/design/objectives.hpp>
+#include <granstack/design/space.hpp>
+#include <granstack/model/protection.hpp>
+#include <granstack/model/resolution.hpp>
+#include <granstack/postproc/reduce.hpp>
+
+#include <cmath>
+
+namespace granstack::design {
+
+namespace {
+std::optional<double> output_fraction(const Outcome& o, const Space&) { return o.output_fraction; }
+std::optional<double> bottom_row_fraction(const Outcome& o, const Space&) { return o.bottom_row_fraction; }
+std::optional<double> peak_wall_force(const Outcome& o, const Space&) { return o.peak_wall_force; }
+std::optional<double> wall_impulse(const Outcome& o, const Space& s) {
+  if (!o.peak_wall_force || s.impulse_window <= 0.0) return std::nullopt;
+  return model::peak_window_impulse(o.wall_force, o.wall_force_interval, s.impulse_window);
+}
+std::optional<double> stroke(const Outcome& o, const Space&) { return o.stroke; }
+double areal_mass(const Evaluation& e) { return e.areal_mass; }
+double height(const Evaluation& e) { return e.height; }
+
+const std::vector<ObjectiveDef> kTable{
+    {"output_fraction", "of E_in",
+     "E_out / E_in: the output sphere's (the bottom row's middle sphere) kinetic energy once it has left the free bottom "
+     "face, over the striker's",
+     Needs::free_bottom, true, true, output_fraction, nullptr},
+    {"bottom_row_fraction", "of E_in", "the whole bottom row's kinetic energy at the end of the run, over E_in",
+     Needs::free_bottom, true, true, bottom_row_fraction, nullptr},
+    {"peak_wall_force", "N",
+     "max over t of F(t), the bottom wall's force on the stack along z, at the in-situ series' samples (every "
+     "series_every steps)",
+     Needs::wall, true, false, peak_wall_force, nullptr},
+    {"wall_impulse", "N s",
+     "max over the series' sample times t of the integral of F from t to t + tau, tau = [measures] impulse_window, F "
+     "linear between the samples: the sustained load, where peak_wall_force is the instant one",
+     Needs::wall, true, false, wall_impulse, nullptr},
+    {"stroke", "m",
+     "max over the dump's frames of z_s(0) - z_s(t), the striker's travel below its start: the stack's crush under the "
+     "blow, what a soft stack pays for a low force",
+     Needs::wall, false, false, stroke, nullptr},
+    {"areal_mass", "kg/m^2", "the lattice's mass over its footprint (Stack::areal_mass: in the strip one top-sphere diameter deep)",
+     Needs::any, false, false, nullptr, areal_mass},
+    {"height", "m", "the lattice's height, from its bottom face (z = 0) to the top of block 1's top row", Needs::any,
+     false, false, nullptr, height},
+};
+}  // namespace
+
+const std::vector<ObjectiveDef>& objective_table() { return kTable; }
+
+Objective find_objective(std::string_view name) {
+  for (const auto& o : kTable) {
+    if (o.name == name) return &o;
+  }
+  return nullptr;
+}
+
+std::string_view to_string(Needs n) {
+  switch (n) {
+    case Needs::any: return "any";
+    case Needs::free_bottom: return "free bottom";
+    case Needs::wall: return "bottom wall";
+  }
+  return "?";
+}
+
+std::optional<double> objective_value(const Evaluation& e, Objective o) {
+  if (o->geometric != nullptr) return o->geometric(e);
+  const auto it = e.measures.find(std::string(o->name));
+  if (it == e.measures.end()) return std::nullopt;
+  return it->second;
+}
+
+std::map<std::string, double> run_measures(const Space& space, const Outcome& o) {
+  const bool wall = space.fixed.bottom == model::Boundary::wall;
+  std::map<std::string, double> out;
+  for (const auto& def : kTable) {
+    if (def.from_run == nullptr) continue;
+    if ((def.needs == Needs::wall && !wall) || (def.needs == Needs::free_bottom && wall)) continue;
+    if (const auto v = def.from_run(o, space)) out.emplace(std::string(def.name), *v);
+  }
+  return out;
+}
+
+Outcome outcome_of(const postproc::CaseReduction& r, const model::StackSpec& ran) {
+  const auto res = model::resolve(model::Stack::build(ran));
+  const auto last_change = std::llround(r.output_last_change_time / res.dt);
+  const double run_time = static_cast<double>(res.steps) * res.dt;
+  const bool settled = ran.bottom == model::Boundary::wall
+                           ? model::wall_load_settled(r.peak_wall_force_time, run_time, r.final_momentum_ratio)
+                           : model::output_settled(last_change, res.steps);
+  Outcome o;
+  o.output_fraction = r.output_fraction;
+  o.bottom_row_fraction = r.output_fraction_bottom_row;
+  o.output_separated = r.output_separated;
+  o.peak_wall_force = r.peak_wall_force;
+  o.output_last_change_time = r.output_last_change_time;
+  o.output_settled = settled;
+  o.peak_wall_force_time = r.peak_wall_force_time;
+  o.final_momentum_ratio = r.final_momentum_ratio;
+  o.run_time = run_time;
+  o.wall_force = r.wall_force;
+  o.wall_force_interval = r.wall_force_interval;
+  o.stroke = r.stroke;
+  return o;
+}
+
+}  // namespace granstack::design
