@@ -24,9 +24,10 @@ class SlurmRunner : public BatchRunner {
 
   void run(const Space& space, const std::vector<model::StackSpec>& specs, Store& store,
            const std::function<void(int, int)>& on_done) override {
-    // Round 1: the designs as given; round 2: those whose output was not final, run longer.
+    // Round 1: the designs to the cap (first_run); round 2: those whose blow ended before it, run
+    // to that end (or, with gravity, those whose output was not final, run longer).
     std::vector<std::pair<model::StackSpec, model::StackSpec>> jobs;  // (the design, the spec run)
-    for (const auto& spec : specs) jobs.emplace_back(spec, spec);
+    for (const auto& spec : specs) jobs.emplace_back(spec, first_run(spec));
     int stored = 0;
     while (!jobs.empty()) {
       std::vector<model::StackSpec> ran;
@@ -34,7 +35,7 @@ class SlurmRunner : public BatchRunner {
       const auto outcomes = run_cases(ran);
       std::vector<std::pair<model::StackSpec, model::StackSpec>> again;
       for (std::size_t i = 0; i < jobs.size(); ++i) {
-        if (auto longer = extended(jobs[i].second, outcomes[i])) {
+        if (auto longer = extended(jobs[i].first, jobs[i].second, outcomes[i])) {
           again.emplace_back(jobs[i].first, std::move(*longer));
           continue;
         }

@@ -1,6 +1,7 @@
 #include <granstack/design/search.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/refsim/case_run.hpp>
+#include <granstack/model/protection.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/refsim/in_situ.hpp>
@@ -17,11 +18,13 @@
 namespace granstack::design {
 
 namespace {
-Outcome run(const model::StackSpec& spec) {
+// One in-situ run of `spec`, to the blow's end when `to_blow_end`.
+Outcome run(const model::StackSpec& spec, bool to_blow_end) {
   const auto stack = model::Stack::build(spec);
   // The particles exactly as a generated case's data file gives them to refsim.
   refsim::InSituOptions options;
   options.stop = [] { return os::interrupt_signal() != 0; };  // a signal abandons the design at once
+  options.stop_at_blow_end = to_blow_end;
   auto r = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "design")), options);
   Outcome o;
   o.output_fraction = r.output_fraction;
@@ -37,11 +40,46 @@ Outcome run(const model::StackSpec& spec) {
   o.wall_force = std::move(r.wall_force);
   o.wall_force_interval = r.wall_force_interval;
   o.stroke = r.stroke;
+  o.steps = r.steps;
+  o.blow_end_time = r.blow_end_time;
+  o.blow_not_ended = r.blow_not_ended;
   return o;
 }
 }  // namespace
 
-std::optional<model::StackSpec> extended(const model::StackSpec& ran, const Outcome& o) {
+bool stops_at_blow_end(const model::StackSpec& design) { return design.gravity == 0.0; }
+
+model::StackSpec running_for(const model::StackSpec& design, long steps) {
+  const auto res = model::resolve(model::Stack::build(design));
+  auto spec = design;
+  spec.dump_every = res.dump_every;
+  spec.series_every = res.series_every;
+  spec.duration = static_cast<double>(steps) * res.dt;
+  // steps x dt / dt may round a hair above `steps` (resolve takes the next whole step): lowered
+  // by an ulp at a time until the case runs exactly `steps`.
+  for (int k = 0; k < 8 && model::resolve(model::Stack::build(spec)).steps > steps; ++k) {
+    spec.duration = std::nextafter(*spec.duration, 0.0);
+  }
+  if (model::resolve(model::Stack::build(spec)).steps != steps) {
+    throw std::logic_error(fmt::format("design {}: no duration runs exactly {} steps", describe(design), steps));
+  }
+  return spec;
+}
+
+model::StackSpec first_run(const model::StackSpec& design) {
+  if (!stops_at_blow_end(design)) return design;
+  return running_for(design, model::blow_end_cap_steps(model::resolve(model::Stack::build(design))));
+}
+
+std::optional<model::StackSpec> extended(const model::StackSpec& design, const model::StackSpec& ran, const Outcome& o) {
+  if (stops_at_blow_end(design)) {
+    // A run to the cap (a SLURM batch's) that saw the blow end earlier: the design's run ends there.
+    const auto res = model::resolve(model::Stack::build(ran));
+    if (!o.blow_end_time) return std::nullopt;
+    const long at = std::llround(*o.blow_end_time / res.dt);
+    if (at >= o.steps) return std::nullopt;
+    return running_for(design, at);
+  }
   // The output sphere was still being kicked late in the run: its energy is not final. Once, the
   // run is made long enough for that last change to sit at kExtendedChangeFraction of it (the
   // evaluated spec then names its duration: confirm and the front's spec files run it).
@@ -54,7 +92,14 @@ std::optional<model::StackSpec> extended(const model::StackSpec& ran, const Outc
 
 void record(const Space& space, Evaluation& e, const model::StackSpec& ran, const Outcome& o) {
   e.spec = ran;
-  if (!o.output_settled) {
+  if (stops_at_blow_end(ran)) {
+    if (!o.blow_end_time) {
+      e.feasible = false;
+      e.violations = fmt::format("censored: the blow had not ended at the cap ({:g} automatic durations, t = {:.4g} s): "
+                                 "{}; its measures are not final",
+                                 model::kBlowEndCapDurations, o.run_time, o.blow_not_ended);
+    }
+  } else if (!o.output_settled) {
     e.feasible = false;
     e.violations = ran.bottom == model::Boundary::wall
                        ? fmt::format("load not final: the wall's peak came at t = {:.4g} s of {:.4g} s, and the stack's "
@@ -71,12 +116,17 @@ void record(const Space& space, Evaluation& e, const model::StackSpec& ran, cons
 Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway) {
   auto e = measured(space, spec);
   if (!e.feasible && !run_anyway) return e;
+  if (stops_at_blow_end(spec)) {
+    const auto o = run(spec, true);
+    record(space, e, running_for(spec, o.steps), o);
+    return e;
+  }
   auto ran = spec;
-  auto o = run(ran);
-  if (const auto longer = extended(ran, o)) {
+  auto o = run(ran, false);
+  if (const auto longer = extended(spec, ran, o)) {
     e.seconds += o.seconds;
     ran = *longer;
-    o = run(ran);
+    o = run(ran, false);
   }
   record(space, e, ran, o);
   return e;

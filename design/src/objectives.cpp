@@ -102,6 +102,9 @@ Outcome outcome_of(const postproc::CaseReduction& r, const model::StackSpec& ran
   o.wall_force = r.wall_force;
   o.wall_force_interval = r.wall_force_interval;
   o.stroke = r.stroke;
+  o.steps = res.steps;
+  o.blow_end_time = r.blow_end_time;
+  o.blow_not_ended = r.blow_not_ended;
   return o;
 }
 

@@ -375,7 +375,11 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   d.push_back(postproc::Heading{2, "The study's designs", "study"});
   d.push_back(study_table(space, s, front));
   d.push_back(postproc::Heading{2, "Figures", "figures"});
-  for (std::size_t i = 0; i < space.objectives.size(); ++i) {
+  const bool any_feasible = std::any_of(s.all.begin(), s.all.end(), [](const auto& e) { return e.feasible; });
+  if (!any_feasible) {  // nothing to draw (a search stopped before its first design finished)
+    d.push_back(postproc::Paragraph{"No design within the constraints has been evaluated yet: no figure to draw."});
+  }
+  for (std::size_t i = 0; any_feasible && i < space.objectives.size(); ++i) {
     for (std::size_t k = i + 1; k < space.objectives.size(); ++k) {
       d.push_back(pair_figure(space, s, front, space.objectives[k], space.objectives[i], dir));
     }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 namespace granstack::model {
 
 namespace {
@@ -39,5 +41,56 @@ StrokeMeter::StrokeMeter(const Stack& stack) {
 }
 
 void StrokeMeter::sample(double lowest_striker_z) { stroke_ = std::max(stroke_, start_z_ - lowest_striker_z); }
+
+BlowEnd::BlowEnd(const Stack& stack, const Resolution& res)
+    : wall_(stack.spec().bottom == Boundary::wall), gravity_(stack.spec().gravity > 0.0) {
+  const double arrivals = kBlowEndHoldArrivals * (res.soft_cavity ? 2.0 : 1.0);
+  hold_steps_ = std::max<long>(1, static_cast<long>(std::ceil(arrivals * res.arrival_estimate / res.dt)));
+}
+
+void BlowEnd::frame(long step, double momentum_z, bool on_bottom_wall, bool output_free, bool output_threatened) {
+  last_step_ = step;
+  last_momentum_ = momentum_z;
+  last_on_wall_ = on_bottom_wall;
+  last_free_ = output_free;
+  last_threatened_ = output_threatened;
+  if (ended_at_ || gravity_) return;
+  const bool holds = wall_ ? momentum_z >= 0.0 && !on_bottom_wall : output_free && !output_threatened;
+  if (!holds) {
+    since_.reset();
+    return;
+  }
+  if (!since_) since_ = step;
+  if (step - *since_ >= hold_steps_) ended_at_ = step;
+}
+
+std::string BlowEnd::rule() const {
+  if (gravity_) return "none with gravity (the stack comes to rest on its support)";
+  return fmt::format("{}, held for {} steps", wall_ ? "the stack's momentum no longer downward and no sphere on the bottom wall"
+                                                    : "the output sphere touching no other sphere and none on course to "
+                                                      "hit it",
+                     hold_steps_);
+}
+
+std::string BlowEnd::why_not_ended() const {
+  if (ended_at_) return "";
+  if (gravity_) return "gravity: the stack comes to rest on its support, so the blow has no end to stop at";
+  if (wall_) {
+    return fmt::format("at step {} the stack's momentum was {:.3g} kg m/s and {} the wall{}", last_step_, last_momentum_,
+                       last_on_wall_ ? "spheres still touched" : "no sphere touched",
+                       since_ ? fmt::format(", clear since step {}", *since_) : "");
+  }
+  if (!last_free_) return fmt::format("at step {} the output sphere still touched another sphere", last_step_);
+  if (last_threatened_) {
+    return fmt::format("at step {} the output sphere was free but another sphere was on course to hit it", last_step_);
+  }
+  return fmt::format("at step {} the output sphere had been free and unthreatened since step {}, short of the {}-step hold",
+                     last_step_, since_.value_or(last_step_), hold_steps_);
+}
+
+long blow_end_cap_steps(const Resolution& res) {
+  const auto cap = static_cast<long>(std::ceil(kBlowEndCapDurations * static_cast<double>(res.steps)));
+  return (cap + res.dump_every - 1) / res.dump_every * res.dump_every;
+}
 
 }  // namespace granstack::model

@@ -1,5 +1,6 @@
 #include <granstack/formats/error.hpp>
 #include <granstack/model/contact.hpp>
+#include <granstack/model/protection.hpp>
 #include <granstack/postproc/energy.hpp>
 
 #include <fmt/format.h>
@@ -322,9 +323,7 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
   const auto out_index = static_cast<std::size_t>(stack.output_sphere_id() - 1);
   const auto& spheres = stack.spheres();
   const std::size_t n = spheres.size();
-  x_.resize(n);
-  y_.resize(n);
-  z_.resize(n);
+  for (auto* column : {&x_, &y_, &z_, &vx_, &vy_, &vz_}) column->resize(n);
   const std::size_t stride = f.columns.size();
   const double* values = f.values.data();
   const auto col = [](int index) { return static_cast<std::size_t>(index); };
@@ -340,6 +339,9 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     z_[i] = a[cz];
     const double m = a[cm], rad = a[cr];
     const double vx = a[cvx], vy = a[cvy], vz = a[cvz];
+    vx_[i] = vx;
+    vy_[i] = vy;
+    vz_[i] = vz;
     const double wx = a[cwx], wy = a[cwy], wz = a[cwz];
     const double rot = model::rotational_energy(m, rad, wx, wy, wz);
     const double ke = model::translational_energy(m, vx, vy, vz) + rot;
@@ -370,11 +372,25 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     if (i == out_index) e.output_sphere_ke = ke;
     if (c.bottom_row[i] != 0) e.bottom_row_ke += ke;
   }
+  e.output_free = true;
   for (const auto& [i, j] : candidates_.pairs(x_, y_, z_)) {
     const double dx = x_[i] - x_[j], dy = y_[i] - y_[j], dz = z_[i] - z_[j];
     const double sum = c.radius[i] + c.radius[j];
     const double d2 = dx * dx + dy * dy + dz * dz;
     if (d2 < sum * sum) e.elastic += c.contacts.pair(spheres[i], spheres[j], sum - std::sqrt(d2));
+    if ((i == out_index || j == out_index) && model::spheres_touch(dx, dy, dz, c.radius[i], c.radius[j])) e.output_free = false;
+  }
+  // Another sphere on course to hit the output sphere (model::BlowEnd), in id order as refsim.
+  e.output_threatened = false;
+  for (std::size_t j = 0; j < n && !e.output_threatened; ++j) {
+    if (j == out_index) continue;
+    e.output_threatened = model::on_collision_course(x_[j] - x_[out_index], y_[j] - y_[out_index], z_[j] - z_[out_index],
+                                                     vx_[j] - vx_[out_index], vy_[j] - vy_[out_index], vz_[j] - vz_[out_index],
+                                                     c.radius[out_index] + c.radius[j]);
+  }
+  e.on_bottom_wall = false;
+  if (stack.spec().bottom == model::Boundary::wall) {
+    for (std::size_t i = 0; i < n && !e.on_bottom_wall; ++i) e.on_bottom_wall = model::touches_bottom_wall(z_[i], c.radius[i]);
   }
   if (stack.has_walls()) {
     for (std::size_t i = 0; i < n; ++i) e.elastic += c.contacts.walls(spheres[i], {x_[i], y_[i], z_[i]});

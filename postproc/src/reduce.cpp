@@ -388,6 +388,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   FrameEnergy last_energy;
   long last_step = 0;
   model::StrokeMeter stroke(stack);
+  model::BlowEnd blow(stack, res);
   const long expected_frames = c.derived().frames();
   auto take_result = [&](FrameResult& fr) {
     if (const int signal = os::interrupt_signal(); signal != 0) {
@@ -403,6 +404,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     require_frame_matches_series(e, series, cols, res.series_every, series_path, r.e_in);
     track_peaks(e, stack, static_cast<double>(e.step) * res.dt, r);
     stroke.sample(e.striker_z);
+    blow.frame(e.step, e.momentum_z, e.on_bottom_wall, e.output_free, e.output_threatened);
     waves.add(e.step, fr.wave_samples);
     tables.append(fr.rows);
     if (fr.separated) r.output_separated = *fr.separated;
@@ -430,6 +432,8 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   r.final_time = static_cast<double>(last_step) * res.dt;
 
   r.stroke = stroke.stroke();
+  if (const auto at = blow.ended_at()) r.blow_end_time = static_cast<double>(*at) * res.dt;
+  r.blow_not_ended = blow.why_not_ended();
   series_peaks(series, cols, res.dt, r);
   r.wall_force_interval = static_cast<double>(res.series_every) * res.dt;
   warn_if_energy_still_arriving(series, cols, res, r);
@@ -495,6 +499,8 @@ json to_json(const CaseReduction& r) {
           {"peak_wall_force_time", r.peak_wall_force ? nlohmann::json(r.peak_wall_force_time) : nlohmann::json(nullptr)},
           {"final_momentum_ratio", r.final_momentum_ratio},
           {"stroke_m", r.stroke},
+          {"blow_end_time", r.blow_end_time ? nlohmann::json(*r.blow_end_time) : nlohmann::json(nullptr)},
+          {"blow_not_ended", r.blow_not_ended},
           {"output_definition", r.output_definition},
           {"output_separated", r.output_separated},
           {"output_peak_fraction", r.output_peak_fraction},
@@ -595,6 +601,11 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
       if (!wave.note.empty()) fmt::format_to(out, "note: block {}: {}\n", wave.block, wave.note);
     }
     fmt::format_to(out, "output fraction: {:.6g} ({})\n", r.output_fraction, r.output_definition);
+    if (r.blow_end_time) {
+      fmt::format_to(out, "the blow ended at t = {:.4g} s (model::BlowEnd): the measures are final\n", *r.blow_end_time);
+    } else {
+      fmt::format_to(out, "the blow had not ended by the run's end: {}\n", r.blow_not_ended);
+    }
     if (r.peak_wall_force) {
       fmt::format_to(out, "peak bottom-wall force: {:.6g} N at t = {:.4g} s; stroke (the striker's largest travel): {:.6g} m\n",
                      *r.peak_wall_force, r.peak_wall_force_time, r.stroke);

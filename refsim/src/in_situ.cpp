@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <tuple>
 
 namespace granstack::refsim {
@@ -25,10 +26,33 @@ bool touches_nothing(const System& s, std::size_t i) {
   for (std::size_t j = 0; j < s.size(); ++j) {
     if (j == i) continue;
     const auto xj = s.x(j);
-    const double dx = xj[0] - xi[0], dy = xj[1] - xi[1], dz = xj[2] - xi[2], sum = s.radius(i) + s.radius(j);
-    if (dx * dx + dy * dy + dz * dz < sum * sum) return false;
+    if (model::spheres_touch(xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2], s.radius(i), s.radius(j))) return false;
   }
   return true;
+}
+double momentum_z(const System& s) {
+  double p = 0.0;  // in id order, as reduce sums a frame
+  for (std::size_t i = 0; i < s.size(); ++i) p += s.mass(i) * s.v(i)[2];
+  return p;
+}
+// Whether any sphere is on course to hit sphere i (model::on_collision_course).
+bool threatened(const System& s, std::size_t i) {
+  const auto xi = s.x(i), vi = s.v(i);
+  for (std::size_t j = 0; j < s.size(); ++j) {
+    if (j == i) continue;
+    const auto xj = s.x(j), vj = s.v(j);
+    if (model::on_collision_course(xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2], vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2],
+                                   s.radius(i) + s.radius(j))) {
+      return true;
+    }
+  }
+  return false;
+}
+bool on_bottom_wall(const System& s) {
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (model::touches_bottom_wall(s.x(i)[2], s.radius(i))) return true;
+  }
+  return false;
 }
 double lowest_striker_z(const System& s, int strikers) {
   double z = s.x(0)[2];
@@ -50,35 +74,44 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
   r.e_in = stack.incident_energy();
   system.setup();
   // reduce reads the free output sphere's energy in the last dump frame, its peaks in the series.
-  const long last_frame = res.steps / res.dump_every * res.dump_every;
+  // The run ends at `end`: the resolution's steps, or (stopping at the blow's end) the frame where
+  // the blow ended, at most the cap.
+  long end = options.stop_at_blow_end ? model::blow_end_cap_steps(res) : res.steps;
   const auto bottom_row = stack.bottom_row_ids();
   // The output sphere's energy and the bottom row's, in the order reduce sums them (ids ascending).
   const auto final_energies = [&] {
-    double row = 0.0, momentum = 0.0;
+    double row = 0.0;
     for (const int id : bottom_row) row += sphere_ke(system, static_cast<std::size_t>(id - 1));
-    for (std::size_t i = 0; i < system.size(); ++i) momentum += system.mass(i) * system.v(i)[2];
-    return std::tuple{sphere_ke(system, out), row, momentum};
+    return std::tuple{sphere_ke(system, out), row, momentum_z(system)};
   };
   auto final_ke = final_energies();
   model::StrokeMeter stroke(stack);
+  model::BlowEnd blow(stack, res);
   // Every dump frame up to `step` (the frames are every dump_every steps, step 0 the first): the
-  // stroke is read at the frames, as reduce reads it from the dump; the last frame's energies too.
+  // stroke and the blow's end are judged at the frames, as reduce judges them from the dump; the
+  // last frame's energies are read there. False when the run ended (at a frame) before `step`.
   long next_frame = 0;
   const auto advance_to = [&](long step) {
-    for (; next_frame <= step && next_frame <= last_frame; next_frame += res.dump_every) {
+    for (; next_frame <= std::min(step, end); next_frame += res.dump_every) {
       if (next_frame > system.step_count()) system.advance(next_frame - system.step_count());
       stroke.sample(lowest_striker_z(system, stack.strikers()));
-      if (next_frame == last_frame) final_ke = final_energies();
+      const bool ended = blow.ended_at().has_value();
+      blow.frame(next_frame, momentum_z(system), wall && on_bottom_wall(system), !wall && touches_nothing(system, out),
+                 !wall && threatened(system, out));
+      if (options.stop_at_blow_end && !ended && blow.ended_at()) end = next_frame;
+      if (next_frame == end) final_ke = final_energies();
     }
+    if (step > end) return false;
     if (step > system.step_count()) system.advance(step - system.step_count());
+    return true;
   };
   std::vector<long> sample_steps;
   std::vector<double> sample_ke;
-  for (long step = res.series_every; step <= res.steps; step += res.series_every) {
+  for (long step = res.series_every; step <= end; step += res.series_every) {
     if (options.stop && options.stop()) {
-      throw InSituStopped(fmt::format("stopped at step {} of {}", system.step_count(), res.steps));
+      throw InSituStopped(fmt::format("stopped at step {} of {}", system.step_count(), end));
     }
-    advance_to(step);
+    if (!advance_to(step)) break;
     // The series' output-sphere columns hold its translational and rotational energy; reduce adds them.
     const double ke = sphere_ke(system, out);
     sample_steps.push_back(step);
@@ -93,19 +126,23 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
       }
     }
   }
-  advance_to(last_frame);
+  advance_to(end);
   r.stroke = stroke.stroke();
   r.wall_force_interval = static_cast<double>(res.series_every) * res.dt;
+  if (const auto at = blow.ended_at()) r.blow_end_time = static_cast<double>(*at) * res.dt;
+  r.blow_not_ended = blow.why_not_ended();
   r.output_fraction = wall ? r.output_peak_fraction : std::get<0>(final_ke) / r.e_in;
   r.bottom_row_fraction = std::get<1>(final_ke) / r.e_in;
   r.final_momentum_ratio = std::get<2>(final_ke) / (stack.striker_mass() * stack.spec().striker_speed * stack.strikers());
-  r.run_time = static_cast<double>(res.steps) * res.dt;
+  r.run_time = static_cast<double>(end) * res.dt;
   const long last_change = model::last_output_change(sample_steps, sample_ke, r.e_in);
   r.output_last_change_time = static_cast<double>(last_change) * res.dt;
   r.output_settled = wall ? model::wall_load_settled(r.peak_wall_force_time, r.run_time, r.final_momentum_ratio)
-                          : model::output_settled(last_change, res.steps);
+                          : model::output_settled(last_change, end);
   r.output_separated = !wall && touches_nothing(system, out);
-  r.steps = res.steps;
+  r.steps = end;
+  r.dump_every = res.dump_every;
+  r.series_every = res.series_every;
   r.atoms = static_cast<long>(system.size());
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.kernel = system.kernel();

@@ -155,6 +155,9 @@ TEST(InSitu, EqualsReduceOfTheSameCaseRunOnRefsim) {
     // The stroke over the same frames, and by its definition from the dump alone: the striker's
     // largest travel below its start.
     EXPECT_EQ(e.stroke, r.stroke);
+    // The blow's end judged at the same frames: when, or why not, alike.
+    EXPECT_EQ(e.blow_end_time, r.blow_end_time);
+    EXPECT_EQ(e.blow_not_ended, r.blow_not_ended);
     EXPECT_EQ(r.stroke, stroke_by_definition(o.output));
     EXPECT_GT(r.stroke, 0.0);
     if (bottom == model::Boundary::wall) {
@@ -729,4 +732,83 @@ TEST(DesignCli, ASignalStopsTheSearchWithinTwoSeconds) {
   const auto report = program({"design", "report", (dir / "s").string()}, dir / "report.log");
   EXPECT_EQ(report.code, 0) << report.output;  // no gnuplot error on a front of one design and no generation
   std::printf("stopped %.3f s after SIGTERM with %zu design(s) stored\n", seconds, store.evaluations().size());
+}
+
+namespace {
+// The example's fixed settings (the study's footprint and striker: 2 top columns of 8 mm spheres,
+// 1 m/s, e = 1) with the old front's first design of examples/design (#32): Teflon, steel, nylon,
+// steel, Teflon; ratios 2/3/3/3; rows 2/8/4/2/6 (804 spheres, its bottom spheres 0.074 mm).
+model::StackSpec old_front_design(model::Boundary bottom) {
+  model::StackSpec s;
+  s.blocks = 5;
+  s.materials = {"teflon", "steel", "nylon", "steel", "teflon"};
+  s.radius_ratios = {2, 3, 3, 3};
+  s.block_rows = {2, 8, 4, 2, 6};
+  s.top_columns = 2;
+  s.bottom_radius = 8e-3 / 54.0;
+  s.striker_speed = 1.0;
+  s.striker_material = "steel";
+  s.bottom = bottom;
+  if (bottom == model::Boundary::wall) s.wall_material = "steel";
+  return s;
+}
+
+refsim::InSituResult in_situ(const model::StackSpec& spec, bool to_blow_end) {
+  const auto stack = model::Stack::build(spec);
+  refsim::InSituOptions o;
+  o.stop_at_blow_end = to_blow_end;
+  return refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "t")), o);
+}
+}  // namespace
+
+// The study's sandwich (steel / Teflon / steel, 8 rows, ratio 2, 8 mm top spheres) on the wall.
+model::StackSpec sandwich_on_wall() {
+  model::StackSpec s;
+  s.blocks = 3;
+  s.materials = {"steel", "teflon", "steel"};
+  s.top_columns = 2;
+  s.bottom_radius = 2e-3;
+  s.bottom = model::Boundary::wall;
+  s.wall_material = "steel";
+  return s;
+}
+
+// Runs end when the physics ends (#32): a run to its blow's end reaches its final values. Run on
+// to twice that length (a run that does not stop, which finds the same end in its own frames),
+// no measure moves by more than 1 % (measured: 0). The old front design 1 (free bottom) ends at
+// 13.8 automatic durations with 1.8 times the output its automatic duration read; the sandwich on
+// a wall (the protected object) ends within its automatic duration.
+TEST(BlowEnd, ARunToTheBlowsEndIsFinal) {
+  const auto rel = [](double a, double b) { return std::fabs(a - b) / std::max(std::fabs(a), std::fabs(b)); };
+  {
+    const auto design = old_front_design(model::Boundary::free_surface);
+    const auto ended = in_situ(design, true);
+    ASSERT_TRUE(ended.blow_end_time) << ended.blow_not_ended;
+    const auto twice = in_situ(design::running_for(design, 2 * ended.steps), false);
+    ASSERT_TRUE(twice.blow_end_time);
+    EXPECT_EQ(*twice.blow_end_time, *ended.blow_end_time);  // the same frames, the same end
+    const auto res = model::resolve(model::Stack::build(design));
+    std::printf("free: the blow ended at t = %.4g s (%.3g automatic durations); output fraction %.6g there, %.6g at twice "
+                "that\n", *ended.blow_end_time, *ended.blow_end_time / res.duration, ended.output_fraction,
+                twice.output_fraction);
+    EXPECT_LE(rel(ended.output_fraction, twice.output_fraction), 1e-2);
+    EXPECT_TRUE(ended.output_separated);
+  }
+  {
+    const auto design = sandwich_on_wall();
+    const auto ended = in_situ(design, true);
+    ASSERT_TRUE(ended.blow_end_time) << ended.blow_not_ended;
+    const auto twice = in_situ(design::running_for(design, 2 * ended.steps), false);
+    const double window = 1e-4;  // s, the example's impulse window
+    const double i1 = model::peak_window_impulse(ended.wall_force, ended.wall_force_interval, window);
+    const double i2 = model::peak_window_impulse(twice.wall_force, twice.wall_force_interval, window);
+    std::printf("wall: the blow ended at t = %.4g s (automatic duration %.4g s); peak force %.6g / %.6g N, impulse %.6g / "
+                "%.6g N s, stroke %.6g / %.6g m (at the end / at twice that)\n",
+                *ended.blow_end_time, model::resolve(model::Stack::build(design)).duration, *ended.peak_wall_force,
+                *twice.peak_wall_force, i1, i2, ended.stroke, twice.stroke);
+    EXPECT_LE(rel(*ended.peak_wall_force, *twice.peak_wall_force), 1e-2);
+    EXPECT_LE(rel(i1, i2), 1e-2);
+    EXPECT_LE(rel(ended.stroke, twice.stroke), 1e-2);
+    EXPECT_GE(ended.final_momentum_ratio, 0.0);  // the wall had taken the whole blow
+  }
 }

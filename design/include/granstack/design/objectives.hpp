@@ -32,6 +32,9 @@ struct Outcome {
   std::vector<double> wall_force;        // N, at every series sample, wall_force_interval apart
   double wall_force_interval = 0.0;      // s
   double stroke = 0.0;                   // m, model::StrokeMeter over the dump's frames
+  long steps = 0;                        // the run's
+  std::optional<double> blow_end_time;   // s, model::BlowEnd; none: not ended within the run
+  std::string blow_not_ended;            // why not
 };
 // A case's outcome from its reduction (`ran`: the spec it ran, for the finality rules).
 Outcome outcome_of(const postproc::CaseReduction& r, const model::StackSpec& ran);

@@ -46,19 +46,29 @@ class Evaluator {
 
 inline constexpr double kInfeasible = 1e12;
 
-// A design whose output sphere was still being kicked late in its run (past
-// model::kLastChangeFraction) is run once more, long enough for that last change to come at
-// this fraction of the run; still unsettled, it is infeasible (its output is not final).
+// A design runs until its blow has ended (model::BlowEnd: the wall has taken the whole blow, or
+// the output sphere flies free, held for an estimated arrival of the pulse), at most
+// model::kBlowEndCapDurations automatic durations; its evaluated spec then names that length and
+// the resolution's output cadences, so a case of it (confirm, the front's spec files) is the same
+// run to the step. A blow not ended at the cap is censored: stored, infeasible, with why.
+// With gravity the blow has no such end: a design whose output sphere was still being kicked late
+// in its run (past model::kLastChangeFraction) is run once more, long enough for that last change
+// to come at kExtendedChangeFraction of the run; still unsettled, it is infeasible.
 inline constexpr double kExtendedChangeFraction = 0.3;
 inline constexpr double kWallExtension = 3.0;
+bool stops_at_blow_end(const model::StackSpec& design);
+// The design's spec run for exactly `steps` steps with its automatic dt and output cadences.
+model::StackSpec running_for(const model::StackSpec& design, long steps);
+// The first spec a case of the design runs (a SLURM batch): to the cap, or (gravity) as it is.
+model::StackSpec first_run(const model::StackSpec& design);
 
 // A design's measures known without running it (geometry and constraints), as an evaluation.
 Evaluation measured(const Space& space, const model::StackSpec& spec);
 
-// The spec to run again when `o` is not settled (free bottom: its duration set so the last change
-// comes at kExtendedChangeFraction of the run; wall: kWallExtension times as long), or nullopt:
-// settled, or already run with a set duration.
-std::optional<model::StackSpec> extended(const model::StackSpec& ran, const Outcome& o);
+// The spec to run again after `ran` of `design` gave `o`, or nullopt: to the blow's end when a run
+// to the cap saw it end earlier; with gravity, longer when not settled (free bottom: the last
+// change at kExtendedChangeFraction of the run; wall: kWallExtension times as long).
+std::optional<model::StackSpec> extended(const model::StackSpec& design, const model::StackSpec& ran, const Outcome& o);
 // The evaluation of `e` (measured) after the run of `ran` (its spec, or its extension) gave `o`.
 void record(const Space& space, Evaluation& e, const model::StackSpec& ran, const Outcome& o);
 // One design's evaluation, run now without a store (what `evaluate` runs for a missing one); a

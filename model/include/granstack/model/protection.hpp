@@ -4,7 +4,13 @@
 // the footprint's size, the same for every design of a space. Each measure is one function here,
 // fed the same samples by refsim's in-situ run and by reduce of a LIGGGHTS or refsim case, so the
 // two engines give the same number from the same run.
+#include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
+
+#include <cmath>
+#include <cstddef>
+#include <optional>
+#include <string>
 
 #include <vector>
 
@@ -32,5 +38,70 @@ class StrokeMeter {
   double start_z_ = 0.0;
   double stroke_ = 0.0;
 };
+
+// Whether two spheres overlap: centres closer than the sum of their radii (LIGGGHTS's contact
+// test, pair_gran_base.h: r^2 < (R_i + R_j)^2).
+inline bool spheres_touch(double dx, double dy, double dz, double ri, double rj) {
+  return dx * dx + dy * dy + dz * dz < (ri + rj) * (ri + rj);
+}
+// Whether two spheres moving in straight lines will touch: d the second's centre less the
+// first's, u its velocity less the first's, r_sum their radii's sum. They approach when d.u < 0,
+// and pass closest at the distance^2 d.d - (d.u)^2 / u.u.
+inline bool on_collision_course(double dx, double dy, double dz, double ux, double uy, double uz, double r_sum) {
+  const double du = dx * ux + dy * uy + dz * uz;
+  if (!(du < 0.0)) return false;
+  const double uu = ux * ux + uy * uy + uz * uz;
+  return dx * dx + dy * dy + dz * dz - du * du / uu < r_sum * r_sum;
+}
+// Whether a sphere at height z of radius r touches the bottom wall (the plane z = 0, Stack::walls;
+// LIGGGHTS's primitive wall: distance - R <= 0).
+inline bool touches_bottom_wall(double z, double r) { return z - r <= 0.0; }
+
+// When the blow has ended for what a run measures (docs/physics.md section 7), judged at the
+// dump's frames, the same in both engines:
+// - against a bottom wall (the protected object): the stack's momentum along z is no longer
+//   downward and no sphere touches the wall;
+// - with a free bottom: the output sphere touches no sphere (its energy cannot change) and no
+//   sphere is on course to hit it (on_collision_course, every other sphere taken in a straight
+//   line from where it is, however far: a horizon as short as the hold let a sphere of the stack
+//   that followed the output sphere hit it again, 45 % more energy, after the blow's end);
+// held at every frame for kBlowEndHoldArrivals estimated arrivals of the pulse (the time a pulse
+// still inside the stack needs to reach the bottom; twice that with a soft cavity, whose bursts
+// come up to 0.8 arrivals apart), so a pulse still on its way cannot be missed. With gravity the
+// stack comes to rest on the wall, so the blow has no such end: never ended.
+inline constexpr double kBlowEndHoldArrivals = 1.0;
+// A run that stops at the blow's end runs at most this many automatic durations (the cap): a blow
+// not ended by then is censored, its measures not final.
+inline constexpr double kBlowEndCapDurations = 20.0;
+
+class BlowEnd {
+ public:
+  BlowEnd(const Stack& stack, const Resolution& res);
+  // One dump frame: its step, the stack's momentum along z (every sphere's, the strikers'
+  // too; up positive), whether any sphere touches the bottom wall, whether the output sphere
+  // touches no other sphere and whether another is on course to hit it.
+  void frame(long step, double momentum_z, bool on_bottom_wall, bool output_free, bool output_threatened);
+  // The step at which the blow ended (the frame at which its condition had held for the hold), or
+  // none yet.
+  std::optional<long> ended_at() const { return ended_at_; }
+  long hold_steps() const { return hold_steps_; }
+  // The rule in words, and why the blow has not ended (for a censored measure).
+  std::string rule() const;
+  std::string why_not_ended() const;
+
+ private:
+  bool wall_ = false, gravity_ = false;
+  long hold_steps_ = 0;
+  std::optional<long> since_;     // the first frame of the condition's current run
+  std::optional<long> ended_at_;
+  long last_step_ = 0;
+  double last_momentum_ = 0.0;
+  bool last_on_wall_ = false, last_free_ = false;
+  bool last_threatened_ = false;
+};
+
+// The steps a run that stops at the blow's end may take at most (kBlowEndCapDurations automatic
+// durations, a whole number of dump frames).
+long blow_end_cap_steps(const Resolution& res);
 
 }  // namespace granstack::model

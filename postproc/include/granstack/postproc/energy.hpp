@@ -25,6 +25,9 @@ struct FrameEnergy {
   double striker_ke = 0.0;
   double striker_vz = 0.0;       // m/s, the striker's velocity along z (negative: moving down)
   double striker_z = 0.0;        // m, the lowest striker's centre (model::StrokeMeter reads it)
+  // What model::BlowEnd reads: any sphere on the bottom wall; the output sphere touching no other.
+  bool on_bottom_wall = false, output_free = false;
+  bool output_threatened = false;  // another sphere on course to hit it (model::on_collision_course)
   double output_sphere_ke = 0.0;
   double bottom_row_ke = 0.0;
   double kinetic = 0.0;          // everything
@@ -103,7 +106,7 @@ class FrameAnalyser {
   FrameView view_;
   ContactCandidates candidates_;
   std::unique_ptr<Constants> constants_;
-  std::vector<double> x_, y_, z_;
+  std::vector<double> x_, y_, z_, vx_, vy_, vz_;
 };
 
 // A sphere has separated (FrameAnalyser::has_separated) when the elastic energy left in its

@@ -42,6 +42,11 @@ struct CaseReduction {
   // The striker's largest travel below its start over the dump frames (model::StrokeMeter), m:
   // against a wall, the stack's crush under the blow.
   double stroke = 0.0;
+  // When the blow ended (model::BlowEnd over the dump's frames: against a wall the stack no
+  // longer moving down and off the wall, with a free bottom the output sphere touching nothing,
+  // held for an estimated arrival of the pulse), or none within the run, and why not.
+  std::optional<double> blow_end_time;  // s
+  std::string blow_not_ended;
   // The whole stack's momentum along z at the last frame over the striker's at the start, m v
   // (up positive: above 0 the bottom wall has stopped the blow and thrown the stack back).
   double final_momentum_ratio = 0.0;

@@ -23,6 +23,10 @@ struct InSituOptions {
   // Asked between the series' samples (every series_every steps): true stops the run, which then
   // throws InSituStopped (a signal: the design search abandons the design and ends).
   std::function<bool()> stop;
+  // Run on past the resolution's steps, up to model::blow_end_cap_steps, and stop at the dump
+  // frame where the blow ended (model::BlowEnd): the run is then exactly what a case of
+  // duration steps x dt with the same dump_every and series_every gives (the design search).
+  bool stop_at_blow_end = false;
 };
 
 class InSituStopped : public std::runtime_error {
@@ -58,7 +62,12 @@ struct InSituResult {
   double wall_force_interval = 0.0;         // s
   // model::StrokeMeter over the dump's frames (step 0 to the last, every dump_every), as reduce.
   double stroke = 0.0;                      // m
-  long steps = 0;
+  // When the blow ended (model::BlowEnd, judged at every dump frame), or none within the run; and
+  // why not.
+  std::optional<double> blow_end_time;      // s
+  std::string blow_not_ended;
+  long steps = 0;                           // the run's (with stop_at_blow_end: where it stopped)
+  int dump_every = 0, series_every = 0;     // the resolution's
   long atoms = 0;
   double seconds = 0.0;                     // wall time of the run
   std::string kernel;
