@@ -136,6 +136,16 @@ int confirm(const DesignFlags& f) {
   return disagreements > 0 ? kDisagree : kOk;
 }
 
+// The objective table (design/objectives.hpp) as docs/how-to/design.md shows it.
+int print_objectives() {
+  fmt::print("| name | unit | what | needs | scenarios |\n|---|---|---|---|---|\n");
+  for (const auto& o : design::objective_table()) {
+    fmt::print("| `{}` | {} | {} | {} | {} |\n", o.name, o.unit, o.formula, o.needs == design::Needs::any ? "" : design::to_string(o.needs),
+               o.from_run != nullptr ? "worst or mean of its runs" : "the design's own");
+  }
+  return 0;
+}
+
 }  // namespace
 
 Command add_design(CLI::App& app) {
@@ -169,7 +179,9 @@ Command add_design(CLI::App& app) {
   conf->add_option("dir", f->dir, "Design directory")->required()->check(CLI::ExistingDirectory);
   conf->add_option("--top", f->top, "How many of the front's designs, best first objective first")->check(CLI::Range(1, 100));
   conf->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
-  return {cmd, [f, run, status, rep, conf] {
+  auto* objectives = cmd->add_subcommand("objectives", "The measures a design space may minimise or bound, as a markdown table");
+  return {cmd, [f, run, status, rep, conf, objectives] {
+            if (objectives->parsed()) return print_objectives();
             if (run->parsed()) return run_design(*f);
             if (status->parsed()) return print_status(f->dir);
             if (rep->parsed()) return report(*f);

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -24,23 +25,40 @@ class SlurmRunner : public BatchRunner {
 
   void run(const Space& space, const std::vector<model::StackSpec>& specs, Store& store,
            const std::function<void(int, int)>& on_done) override {
-    // Round 1: the designs to the cap (first_run); round 2: those whose blow ended before it, run
-    // to that end (or, with gravity, those whose output was not final, run longer).
-    std::vector<std::pair<model::StackSpec, model::StackSpec>> jobs;  // (the design, the spec run)
-    for (const auto& spec : specs) jobs.emplace_back(spec, first_run(spec));
+    // A job: one scenario of one design (design index, scenario index, the spec it runs). Round 1
+    // runs each to the cap (first_run); round 2 those whose blow ended before it, to that end (or,
+    // with gravity, those whose output was not final, longer). A design is stored once every
+    // scenario of it is done.
+    struct Job {
+      std::size_t design, scenario;
+      model::StackSpec spec;
+    };
+    std::vector<std::vector<model::StackSpec>> scenario_of(specs.size());
+    std::vector<std::vector<std::optional<std::pair<model::StackSpec, Outcome>>>> done(specs.size());
+    std::vector<Job> jobs;
+    for (std::size_t d = 0; d < specs.size(); ++d) {
+      scenario_of[d] = scenario_specs(space, specs[d]);
+      done[d].resize(scenario_of[d].size());
+      for (std::size_t k = 0; k < scenario_of[d].size(); ++k) jobs.push_back({d, k, first_run(scenario_of[d][k])});
+    }
     int stored = 0;
     while (!jobs.empty()) {
       std::vector<model::StackSpec> ran;
-      for (const auto& j : jobs) ran.push_back(j.second);
+      for (const auto& j : jobs) ran.push_back(j.spec);
       const auto outcomes = run_cases(ran);
-      std::vector<std::pair<model::StackSpec, model::StackSpec>> again;
+      std::vector<Job> again;
       for (std::size_t i = 0; i < jobs.size(); ++i) {
-        if (auto longer = extended(jobs[i].first, jobs[i].second, outcomes[i])) {
-          again.emplace_back(jobs[i].first, std::move(*longer));
+        const auto& j = jobs[i];
+        if (auto longer = extended(scenario_of[j.design][j.scenario], j.spec, outcomes[i])) {
+          again.push_back({j.design, j.scenario, std::move(*longer)});
           continue;
         }
-        auto e = measured(space, jobs[i].first);
-        record(space, e, jobs[i].second, outcomes[i]);
+        done[j.design][j.scenario].emplace(j.spec, outcomes[i]);
+        if (std::any_of(done[j.design].begin(), done[j.design].end(), [](const auto& r) { return !r; })) continue;
+        std::vector<std::pair<model::StackSpec, Outcome>> runs;
+        for (auto& r : done[j.design]) runs.push_back(std::move(*r));
+        auto e = measured(space, specs[j.design]);
+        record(space, e, runs);
         store.put(e);
         if (on_done) on_done(++stored, static_cast<int>(specs.size()));
       }

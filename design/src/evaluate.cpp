@@ -90,45 +90,96 @@ std::optional<model::StackSpec> extended(const model::StackSpec& design, const m
   return longer;
 }
 
-void record(const Space& space, Evaluation& e, const model::StackSpec& ran, const Outcome& o) {
-  e.spec = ran;
+std::vector<model::StackSpec> scenario_specs(const Space& space, const model::StackSpec& design) {
+  if (space.scenarios.empty()) return {design};
+  std::vector<model::StackSpec> out;
+  for (const auto& sc : space.scenarios) out.push_back(sc.applied_to(design));
+  return out;
+}
+
+std::string not_final(const model::StackSpec& ran, const Outcome& o) {
   if (stops_at_blow_end(ran)) {
-    if (!o.blow_end_time) {
-      e.feasible = false;
-      e.violations = fmt::format("censored: the blow had not ended at the cap ({:g} automatic durations, t = {:.4g} s): "
-                                 "{}; its measures are not final",
-                                 model::kBlowEndCapDurations, o.run_time, o.blow_not_ended);
-    }
-  } else if (!o.output_settled) {
-    e.feasible = false;
-    e.violations = ran.bottom == model::Boundary::wall
-                       ? fmt::format("load not final: the wall's peak came at t = {:.4g} s of {:.4g} s, and the stack's "
-                                     "momentum at the end was {:.3g} m v (the blow not yet taken)",
-                                     o.peak_wall_force_time, o.run_time, o.final_momentum_ratio)
-                       : fmt::format("output not final: the output sphere's energy still changed at t = {:.4g} s, beyond "
-                                     "{:g} of the run", o.output_last_change_time, model::kLastChangeFraction);
+    if (o.blow_end_time) return "";
+    return fmt::format("censored: the blow had not ended at the cap ({:g} automatic durations, t = {:.4g} s): {}; its "
+                       "measures are not final",
+                       model::kBlowEndCapDurations, o.run_time, o.blow_not_ended);
   }
-  if (ran.bottom == model::Boundary::free_surface) e.output_separated = o.output_separated;
-  e.measures = run_measures(space, o);
-  e.seconds += o.seconds;
+  if (o.output_settled) return "";
+  return ran.bottom == model::Boundary::wall
+             ? fmt::format("load not final: the wall's peak came at t = {:.4g} s of {:.4g} s, and the stack's momentum at "
+                           "the end was {:.3g} m v (the blow not yet taken)",
+                           o.peak_wall_force_time, o.run_time, o.final_momentum_ratio)
+             : fmt::format("output not final: the output sphere's energy still changed at t = {:.4g} s, beyond {:g} of the "
+                           "run", o.output_last_change_time, model::kLastChangeFraction);
+}
+
+namespace {
+// Each run measure over the scenarios' runs, as the space aggregates it.
+std::map<std::string, double> aggregated(const Space& space, const std::vector<ScenarioRun>& runs) {
+  std::map<std::string, double> out;
+  for (const auto& [name, first] : runs.front().measures) {
+    double worst = first, sum = 0.0;
+    bool everywhere = true;
+    for (const auto& r : runs) {
+      const auto it = r.measures.find(name);
+      if (it == r.measures.end()) {
+        everywhere = false;
+        break;
+      }
+      worst = std::max(worst, it->second);
+      sum += it->second;
+    }
+    if (everywhere) out[name] = space.aggregate_of(name) == Aggregate::mean ? sum / static_cast<double>(runs.size()) : worst;
+  }
+  return out;
+}
+
+void add_violation(Evaluation& e, const std::string& why) {
+  e.feasible = false;
+  e.violations += (e.violations.empty() ? "" : "; ") + why;
+}
+}  // namespace
+
+void record(const Space& space, Evaluation& e, const std::vector<std::pair<model::StackSpec, Outcome>>& runs) {
+  std::vector<ScenarioRun> done;
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const auto& [ran, o] = runs[k];
+    done.push_back({space.scenarios.empty() ? "" : space.scenarios[k].label, ran, run_measures(space, o), not_final(ran, o)});
+    if (!done.back().not_final.empty()) {
+      add_violation(e, done.back().label.empty() ? done.back().not_final : fmt::format("at {}: {}", done.back().label, done.back().not_final));
+    }
+    if (ran.bottom == model::Boundary::free_surface) e.output_separated = e.output_separated && o.output_separated;
+    e.seconds += o.seconds;
+  }
+  e.measures = aggregated(space, done);
+  for (const auto& [name, bound] : space.constraints.max_measures) {
+    const auto it = e.measures.find(name);
+    if (it != e.measures.end() && it->second > bound) add_violation(e, fmt::format("{} {:.4g} > {:.4g}", name, it->second, bound));
+  }
+  if (space.scenarios.empty()) e.spec = runs.front().first;  // as run: its length and cadences
+  else e.scenarios = std::move(done);
 }
 
 Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway) {
   auto e = measured(space, spec);
   if (!e.feasible && !run_anyway) return e;
-  if (stops_at_blow_end(spec)) {
-    const auto o = run(spec, true);
-    record(space, e, running_for(spec, o.steps), o);
-    return e;
+  std::vector<std::pair<model::StackSpec, Outcome>> runs;
+  for (const auto& one : scenario_specs(space, spec)) {
+    if (stops_at_blow_end(one)) {
+      auto o = run(one, true);
+      runs.emplace_back(running_for(one, o.steps), std::move(o));
+      continue;
+    }
+    auto ran = one;
+    auto o = run(ran, false);
+    if (const auto longer = extended(one, ran, o)) {
+      e.seconds += o.seconds;
+      ran = *longer;
+      o = run(ran, false);
+    }
+    runs.emplace_back(ran, std::move(o));
   }
-  auto ran = spec;
-  auto o = run(ran, false);
-  if (const auto longer = extended(spec, ran, o)) {
-    e.seconds += o.seconds;
-    ran = *longer;
-    o = run(ran, false);
-  }
-  record(space, e, ran, o);
+  record(space, e, runs);
   return e;
 }
 

@@ -7,6 +7,8 @@
 #include <granstack/postproc/document.hpp>
 #include <granstack/postproc/plot.hpp>
 #include <granstack/postproc/reduce.hpp>
+#include <granstack/refsim/case_run.hpp>
+#include <granstack/refsim/in_situ.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include <fmt/format.h>
@@ -95,9 +97,19 @@ postproc::Table space_table(const Space& space) {
   t.rows.push_back({"striker", fmt::format("{} m/s", space.fixed.striker_speed)});
   t.rows.push_back({"bottom", std::string(model::to_string(space.fixed.bottom))});
   const auto& c = space.constraints;
-  t.rows.push_back({"constraints", fmt::format("spheres <= {}, height <= {} m, areal mass <= {} kg/m^2",
+  std::string measures;
+  for (const auto& [name, bound] : c.max_measures) measures += fmt::format(", {} <= {:.4g} {}", name, bound, find_objective(name)->unit);
+  t.rows.push_back({"constraints", fmt::format("spheres <= {}, height <= {} m, areal mass <= {} kg/m^2{}",
                                                c.max_spheres ? std::to_string(*c.max_spheres) : "any", c.max_height ? value_text(c.max_height) : "any",
-                                               c.max_areal_mass ? value_text(c.max_areal_mass) : "any")});
+                                               c.max_areal_mass ? value_text(c.max_areal_mass) : "any", measures)});
+  if (!space.scenarios.empty()) {
+    std::vector<std::string> labels, how;
+    for (const auto& sc : space.scenarios) labels.push_back(sc.label);
+    for (const auto o : space.objectives) {
+      if (o->from_run != nullptr) how.push_back(fmt::format("{}: {}", o->name, to_string(space.aggregate_of(o->name))));
+    }
+    t.rows.push_back({"scenarios", fmt::format("{} (each run objective over them: {})", fmt::join(labels, "; "), fmt::join(how, ", "))});
+  }
   return t;
 }
 
@@ -110,6 +122,27 @@ postproc::Table front_table(const Space& space, const std::vector<Evaluation>& f
     for (auto& c : objective_cells(space, front[i])) row.push_back(std::move(c));
     row.push_back(fmt::format("front/{:02}_{}.toml", i + 1, front[i].digest.substr(0, 8)));
     t.rows.push_back(std::move(row));
+  }
+  return t;
+}
+
+// Each front design's run objectives in each scenario: the spread its aggregate hides.
+postproc::Table scenario_table(const Space& space, const std::vector<Evaluation>& front) {
+  postproc::Table t{"The front's designs in each scenario", {"#", "scenario"}, {}};
+  std::vector<Objective> run;
+  for (const auto o : space.objectives) {
+    if (o->from_run != nullptr) run.push_back(o);
+  }
+  for (const auto o : run) t.header.push_back(fmt::format("{} ({})", o->name, o->unit));
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    for (const auto& r : front[i].scenarios) {
+      std::vector<std::string> row{std::to_string(i + 1), r.label};
+      for (const auto o : run) {
+        const auto v = r.measures.find(std::string(o->name));
+        row.push_back(v == r.measures.end() ? "-" : fmt::format("{:.4g}", v->second));
+      }
+      t.rows.push_back(std::move(row));
+    }
   }
   return t;
 }
@@ -210,6 +243,48 @@ postproc::Figure pair_figure(const Space& space, const Snapshot& s, const std::v
                                      to_string(y), to_string(x))};
 }
 
+// The run of a design the figure shows: its own (no scenarios), else its scenario with the
+// largest peak wall force.
+model::StackSpec worst_run(const Evaluation& e) {
+  if (e.scenarios.empty()) return e.spec;
+  const auto force = [](const ScenarioRun& r) {
+    const auto it = r.measures.find("peak_wall_force");
+    return it == r.measures.end() ? 0.0 : it->second;
+  };
+  return std::max_element(e.scenarios.begin(), e.scenarios.end(), [&](const auto& a, const auto& b) { return force(a) < force(b); })->spec;
+}
+
+// The force on the protected object against time: the front's first designs (least first
+// objective) beside the study's, each rerun in situ to the length the store measured.
+postproc::Figure force_figure(const Snapshot& s, const std::vector<Evaluation>& front, const fs::path& dir) {
+  std::vector<std::pair<std::string, model::StackSpec>> shown;
+  for (std::size_t i = 0; i < std::min<std::size_t>(front.size(), 3); ++i) {
+    shown.emplace_back(fmt::format("front {}: {}", i + 1, front[i].description), worst_run(front[i]));
+  }
+  for (const auto& [name, e] : s.studies) shown.emplace_back(name, worst_run(e));
+  std::string data, plots;
+  for (std::size_t k = 0; k < shown.size(); ++k) {
+    const auto stack = model::Stack::build(shown[k].second);
+    const auto r = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "report")));
+    data += fmt::format("# {}: t (s) F (N)\n", shown[k].first);
+    for (std::size_t j = 0; j < r.wall_force.size(); ++j) {
+      data += fmt::format("{:.9g} {:.9g}\n", static_cast<double>(j + 1) * r.wall_force_interval, r.wall_force[j]);
+    }
+    data += "\n\n";
+    plots += fmt::format("{}'force.dat' index {} using ($1*1e3):2 with lines lw {} title '{}'", k == 0 ? "plot " : ", \\\n     ", k,
+                         k < 3 ? 2 : 1, shown[k].first);
+  }
+  postproc::PlotOptions o;
+  o.format = "svg";
+  const auto script = fmt::format("{}\nset output 'force.svg'\nset xlabel 't (ms)'\nset ylabel 'F on the wall (N)'\n"
+                                  "set key outside right top noenhanced\n{}\n",
+                                  postproc::gnuplot_terminal(o), plots);
+  postproc::render_gnuplot(dir.string(), "force", data, script, o);
+  return {"force.svg", "The force on the protected object (the bottom wall) against time, each run to its blow's end (with "
+                       "scenarios, the one with the largest peak): the front's first three designs (thick) and the study's "
+                       "designs at the same footprint"};
+}
+
 postproc::Figure hypervolume_figure(const Snapshot& s, const fs::path& dir) {
   std::string data = "# generation hypervolume\n";
   for (const auto& g : s.generations) data += fmt::format("{} {:.10g}\n", g.index, g.hypervolume);
@@ -298,17 +373,26 @@ std::unique_ptr<toml::node> toml_of(const json& v) {
 
 // The largest relative difference between the design's objectives from LIGGGHTS (reduce of
 // its run) and the store's in-situ values.
-double objective_difference(const Space& space, const Evaluation& e, const postproc::CaseReduction& r) {
-  const auto outcome = outcome_of(r, e.spec);
+double objective_difference(const Space& space, const model::StackSpec& ran, const std::map<std::string, double>& stored,
+                            const postproc::CaseReduction& r) {
+  const auto outcome = outcome_of(r, ran);
   double worst = 0.0;
   for (const auto o : space.objectives) {
     if (o->from_run == nullptr) continue;  // the geometric ones: the same stack
     const auto liggghts = o->from_run(outcome, space);
-    const auto mine = objective_value(e, o);
-    if (!liggghts || !mine) continue;
-    worst = std::max(worst, std::fabs(*liggghts - *mine) / std::max(std::fabs(*liggghts), std::fabs(*mine)));
+    const auto mine = stored.find(std::string(o->name));
+    if (!liggghts || mine == stored.end()) continue;
+    worst = std::max(worst, std::fabs(*liggghts - mine->second) / std::max(std::fabs(*liggghts), std::fabs(mine->second)));
   }
   return worst;
+}
+
+// What confirm runs of a design: its run spec and stored measures, one per scenario.
+std::vector<std::pair<model::StackSpec, std::map<std::string, double>>> confirm_runs(const Evaluation& e) {
+  if (e.scenarios.empty()) return {{e.spec, e.measures}};
+  std::vector<std::pair<model::StackSpec, std::map<std::string, double>>> out;
+  for (const auto& r : e.scenarios) out.emplace_back(r.spec, r.measures);
+  return out;
 }
 
 }  // namespace
@@ -372,6 +456,7 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   d.push_back(space_table(space));
   d.push_back(postproc::Heading{2, "The front", "front"});
   d.push_back(front_table(space, front));
+  if (!space.scenarios.empty()) d.push_back(scenario_table(space, front));
   d.push_back(postproc::Heading{2, "The study's designs", "study"});
   d.push_back(study_table(space, s, front));
   d.push_back(postproc::Heading{2, "Figures", "figures"});
@@ -384,6 +469,7 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
       d.push_back(pair_figure(space, s, front, space.objectives[k], space.objectives[i], dir));
     }
   }
+  if (any_feasible && space.fixed.bottom == model::Boundary::wall) d.push_back(force_figure(s, front, dir));
   d.push_back(postproc::Heading{2, "Convergence", "convergence"});
   if (s.generations.empty()) {  // stopped in its initial population: nothing to draw yet
     d.push_back(postproc::Paragraph{"No generation has finished yet (the search was stopped in its initial population); "
@@ -408,13 +494,26 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
                                         const std::string& liggghts_exe) {
   auto front = pareto_front(space, store.evaluations());
   if (front.size() > static_cast<std::size_t>(top)) front.resize(static_cast<std::size_t>(top));
+  // A case per design and scenario (DIGEST12, or DIGEST12_sK), each the run the store measured.
+  struct Entry {
+    std::size_t design;
+    std::map<std::string, double> measures;
+    model::StackSpec spec;
+    std::string dir;
+  };
+  std::vector<Entry> entries;
   std::vector<std::string> dirs;
-  for (const auto& e : front) {
-    generator::GenerateOptions o;
-    o.output = dir / e.digest.substr(0, 12);
-    o.force = true;  // replaces only a case granstack made
-    generator::generate({{e.digest.substr(0, 12), e.spec}}, o);
-    dirs.push_back(o.output.string());
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    const auto runs = confirm_runs(front[i]);
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+      const auto name = front[i].digest.substr(0, 12) + (runs.size() > 1 ? fmt::format("_s{}", k + 1) : "");
+      generator::GenerateOptions o;
+      o.output = dir / name;
+      o.force = true;  // replaces only a case granstack made
+      generator::generate({{name, runs[k].first}}, o);
+      entries.push_back({i, runs[k].second, runs[k].first, o.output.string()});
+      dirs.push_back(o.output.string());
+    }
   }
   for (const auto engine : {runner::Engine::liggghts, runner::Engine::refsim}) {
     runner::RunOptions o;
@@ -426,17 +525,26 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
       if (r.status == runner::RunStatus::failed) throw ConfirmRunFailed(fmt::format("{}: {}", r.case_dir, r.message));
     }
   }
+  // Per design: the worst of its scenarios' comparisons, and the largest LIGGGHTS values.
   std::vector<Confirmation> out;
   for (std::size_t i = 0; i < front.size(); ++i) {
-    const auto liggghts = runner::copy_dir(dirs[i], runner::Engine::liggghts), refsim = runner::copy_dir(dirs[i], runner::Engine::refsim);
-    const auto c = postproc::compare_runs(liggghts, refsim);
-    postproc::ReduceOptions quiet;
-    quiet.write_files = false;
-    const auto r = postproc::reduce_case(liggghts, quiet);
-    const double objectives = objective_difference(space, front[i], r);
-    out.push_back({front[i].digest, dirs[i], r.output_fraction, r.peak_wall_force, c.worst(), objectives,
-                   objectives <= postproc::kDefaultTolerance ? "agree" : "DISAGREE"});
-    store.put_confirmation(out.back());
+    Confirmation c{front[i].digest, "", 0.0, std::nullopt, 0.0, 0.0, ""};
+    for (const auto& en : entries) {
+      if (en.design != i) continue;
+      const auto liggghts = runner::copy_dir(en.dir, runner::Engine::liggghts), refsim = runner::copy_dir(en.dir, runner::Engine::refsim);
+      const auto compared = postproc::compare_runs(liggghts, refsim);
+      postproc::ReduceOptions quiet;
+      quiet.write_files = false;
+      const auto r = postproc::reduce_case(liggghts, quiet);
+      if (c.case_dir.empty()) c.case_dir = en.dir;
+      c.liggghts_output_fraction = std::max(c.liggghts_output_fraction, r.output_fraction);
+      if (r.peak_wall_force) c.liggghts_peak_wall_force = std::max(c.liggghts_peak_wall_force.value_or(0.0), *r.peak_wall_force);
+      c.largest_difference = std::max(c.largest_difference, compared.worst());
+      c.objective_difference = std::max(c.objective_difference, objective_difference(space, en.spec, en.measures, r));
+    }
+    c.verdict = c.objective_difference <= postproc::kDefaultTolerance ? "agree" : "DISAGREE";
+    out.push_back(c);
+    store.put_confirmation(c);
   }
   return out;
 }

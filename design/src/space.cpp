@@ -124,6 +124,14 @@ void read_vary(const toml::table* vary, Space& s, std::vector<std::string>& prob
   }
 }
 
+std::vector<std::string> run_measure_names() {
+  std::vector<std::string> names;
+  for (const auto& o : objective_table()) {
+    if (o.from_run != nullptr) names.emplace_back(o.name);
+  }
+  return names;
+}
+
 std::vector<std::string> objective_names() {
   std::vector<std::string> names;
   for (const auto& o : objective_table()) names.emplace_back(o.name);
@@ -167,6 +175,71 @@ void read_measures(const toml::table* t, Space& s, std::vector<std::string>& pro
   }
 }
 
+// [scenarios]: lists of striker speeds and striker radius ratios (their product), and how each
+// objective is taken over them.
+void read_scenarios(const toml::table* t, const toml::table* fixed, Space& s, std::vector<std::string>& problems) {
+  if (t == nullptr) return;
+  std::vector<double> speeds{s.fixed.striker_speed}, ratios{s.fixed.striker_radius_ratio};
+  const auto list = [&](const char* key, double lo, double hi, std::vector<double>& out) {
+    const auto* node = t->get(key);
+    if (node == nullptr) return;
+    if (fixed != nullptr && fixed->contains(key)) {
+      problems.push_back(fmt::format("[fixed] {}: [scenarios] lists it; set it in one place", key));
+    }
+    const auto* a = node->as_array();
+    out.clear();
+    if (a == nullptr || a->empty()) {
+      problems.push_back(fmt::format("[scenarios] {}: a non-empty list of numbers from {:g} to {:g}", key, lo, hi));
+      return;
+    }
+    for (const auto& e : *a) {
+      const auto v = e.value<double>();
+      if (!v || !std::isfinite(*v) || *v < lo || *v > hi) {
+        problems.push_back(fmt::format("[scenarios] {}: {} is not a number from {:g} to {:g}", key,
+                                       v ? fmt::format("{}", *v) : std::string("an entry"), lo, hi));
+      } else if (std::find(out.begin(), out.end(), *v) != out.end()) {
+        problems.push_back(fmt::format("[scenarios] {}: {} is listed twice", key, *v));
+      } else {
+        out.push_back(*v);
+      }
+    }
+  };
+  list("striker_speed", 1e-6, 1e4, speeds);
+  list("striker_radius_ratio", 1.0, 16.0, ratios);
+  for (const auto& [k, v] : *t) {
+    const std::string key(k.str());
+    if (key == "striker_speed" || key == "striker_radius_ratio") continue;
+    if (key != "aggregate") {
+      problems.push_back(fmt::format("[scenarios] {}: unknown; striker_speed, striker_radius_ratio (lists) and aggregate", key));
+      continue;
+    }
+    const auto parse = [&](const toml::node& n, const std::string& what) -> std::optional<Aggregate> {
+      const auto text = n.value<std::string>();
+      if (text == "worst") return Aggregate::worst;
+      if (text == "mean") return Aggregate::mean;
+      problems.push_back(fmt::format("[scenarios] aggregate{}: \"worst\" or \"mean\"", what));
+      return std::nullopt;
+    };
+    if (const auto* per = v.as_table()) {
+      for (const auto& [name, how] : *per) {
+        const auto o = find_objective(name.str());
+        if (o == nullptr || o->from_run == nullptr) {
+          problems.push_back(fmt::format("[scenarios.aggregate] {}: not a run measure ({})", name.str(), joined(run_measure_names())));
+        } else if (const auto a = parse(how, fmt::format(".{}", name.str()))) {
+          s.aggregate[std::string(name.str())] = *a;
+        }
+      }
+    } else if (const auto a = parse(v, "")) {
+      for (const auto& name : run_measure_names()) s.aggregate[name] = *a;
+    }
+  }
+  for (const double v : speeds) {
+    for (const double r : ratios) {
+      s.scenarios.push_back({fmt::format("{:g} m/s, striker {:g} R_1", v, r), v, r});
+    }
+  }
+}
+
 // Whether a space varies the bottom spheres' radius: the footprint is fixed, so any choice of
 // blocks or ratios beyond one changes R_N = R_1 / (product of the ratios).
 bool varies_bottom_radius(const Space& s) {
@@ -195,6 +268,12 @@ void check_measurable(const Space& s, std::vector<std::string>& problems) {
           to_string(o), s.min_blocks, s.max_blocks, fmt::join(s.radius_ratios, ", ")));
     }
   }
+  for (const auto& [name, bound] : s.constraints.max_measures) {
+    const auto o = find_objective(name);
+    if ((o->needs == Needs::wall && !wall) || (o->needs == Needs::free_bottom && wall)) {
+      problems.push_back(fmt::format("[constraints] max_{}: {} needs {}", name, name, to_string(o->needs)));
+    }
+  }
   if (s.fixed.geometry == model::Geometry::panels) {
     problems.push_back("[fixed] geometry = \"panels\": a container's designs are its panels' designs; search the strip "
                        "(geometry = \"strip\") and set the winners side by side");
@@ -220,7 +299,12 @@ void read_constraints(const toml::table* c, Space& s, std::vector<std::string>& 
     } else if (key == "max_spheres") s.constraints.max_spheres = static_cast<long>(*number);
     else if (key == "max_height") s.constraints.max_height = *number;
     else if (key == "max_areal_mass") s.constraints.max_areal_mass = *number;
-    else problems.push_back(fmt::format("[constraints] {}: unknown; max_spheres, max_height (m) or max_areal_mass (kg/m^2)", key));
+    else if (const auto o = key.rfind("max_", 0) == 0 ? find_objective(key.substr(4)) : nullptr; o != nullptr && o->from_run != nullptr) {
+      s.constraints.max_measures[std::string(o->name)] = *number;
+    } else {
+      problems.push_back(fmt::format("[constraints] {}: unknown; max_spheres, max_height (m), max_areal_mass (kg/m^2), or "
+                                     "max_ and a run measure ({})", key, joined(run_measure_names())));
+    }
   }
 }
 
@@ -286,6 +370,19 @@ void check_not_empty(const Space& s, std::vector<std::string>& problems) {
 SpaceError::SpaceError(std::vector<std::string> problems)
     : std::runtime_error(problems.empty() ? "bad design space" : problems.front()), problems_(std::move(problems)) {}
 
+model::StackSpec Scenario::applied_to(model::StackSpec spec) const {
+  spec.striker_speed = striker_speed;
+  spec.striker_radius_ratio = striker_radius_ratio;
+  return spec;
+}
+
+std::string_view to_string(Aggregate a) { return a == Aggregate::mean ? "mean" : "worst"; }
+
+Aggregate Space::aggregate_of(std::string_view measure) const {
+  const auto it = aggregate.find(std::string(measure));
+  return it == aggregate.end() ? Aggregate::worst : it->second;
+}
+
 std::pair<std::vector<double>, std::vector<double>> Space::bounds() const {
   std::vector<double> lo(genes(), 0.0), hi(genes(), 0.0);
   lo[0] = min_blocks;
@@ -340,6 +437,9 @@ std::string Space::digest() const {
   for (const auto o : objectives) objs.emplace_back(to_string(o));
   j["objectives"] = objs;
   if (impulse_window > 0.0) j["impulse_window"] = impulse_window;
+  for (const auto& [name, bound] : constraints.max_measures) j["constraints"]["max_" + name] = bound;
+  for (const auto& sc : scenarios) j["scenarios"].push_back({sc.striker_speed, sc.striker_radius_ratio});
+  for (const auto& [name, a] : aggregate) j["aggregate"][name] = std::string(to_string(a));
   j["population"] = search.population;
   j["seed"] = search.seed;
   return formats::sha256_hex(j.dump());
@@ -355,9 +455,10 @@ Space parse_space(std::string_view text, const std::string& source) {
   std::vector<std::string> problems;
   for (const auto& [k, v] : root) {
     const std::string key(k.str());
-    if (key != "fixed" && key != "vary" && key != "constraints" && key != "objectives" && key != "search" && key != "measures") {
+    if (key != "fixed" && key != "vary" && key != "constraints" && key != "objectives" && key != "search" && key != "measures" &&
+        key != "scenarios") {
       problems.push_back(fmt::format("{}: unknown; a design space has [fixed], [vary], [constraints], objectives, "
-                                     "[measures] and [search]", key));
+                                     "[measures], [scenarios] and [search]", key));
     }
   }
   Space s;
@@ -366,6 +467,7 @@ Space parse_space(std::string_view text, const std::string& source) {
   read_vary(root.get_as<toml::table>("vary"), s, problems);
   read_objectives(root, s, problems);
   read_measures(root.get_as<toml::table>("measures"), s, problems);
+  read_scenarios(root.get_as<toml::table>("scenarios"), root.get_as<toml::table>("fixed"), s, problems);
   read_constraints(root.get_as<toml::table>("constraints"), s, problems);
   read_search(root.get_as<toml::table>("search"), s, problems);
   if (problems.empty()) check_measurable(s, problems);
@@ -385,12 +487,17 @@ Geometry measure(const Space& space, const model::StackSpec& spec) {
     return g;
   }
   const auto stack = model::Stack::build(spec);
-  // ... and what `generate` refuses of its run (the striker's Hertz overlap, dt, the step count):
-  // the design could not be confirmed on LIGGGHTS, so the search may not rank it.
-  if (const auto issues = model::check_resolution(stack, model::resolve(stack)); !issues.empty()) {
-    g.violations.push_back(fmt::format("generate refuses it: {}: {}", issues.front().field, issues.front().message));
-    g.violation = 1.0;
-    return g;
+  // ... and what `generate` refuses of its run (the striker's Hertz overlap, dt, the step count),
+  // in every scenario: the design could not be confirmed on LIGGGHTS, so the search may not rank it.
+  for (const auto& sc : space.scenarios.empty() ? std::vector<Scenario>{{"", spec.striker_speed, spec.striker_radius_ratio}}
+                                                : space.scenarios) {
+    const auto run = model::Stack::build(sc.applied_to(spec));
+    if (const auto issues = model::check_resolution(run, model::resolve(run)); !issues.empty()) {
+      g.violations.push_back(fmt::format("generate refuses it{}: {}: {}", sc.label.empty() ? "" : " at " + sc.label,
+                                         issues.front().field, issues.front().message));
+      g.violation = 1.0;
+      return g;
+    }
   }
   g.height = stack.lattice_height();
   g.areal_mass = stack.areal_mass();

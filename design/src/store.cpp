@@ -84,7 +84,9 @@ constexpr const char* kEvaluationColumns =
     "digest, description, spec, spheres, feasible, violations, areal_mass, height, seconds, searched, output_separated";
 constexpr int kFixedColumns = 11;
 
-std::string prefixed_columns(const std::string& prefix, const std::vector<std::string>& measures) {
+// The columns a row of evaluations is read from: the fixed ones, each run measure's, and the
+// scenarios' runs (JSON; a store written before them reads as none).
+std::string prefixed_columns(const std::string& prefix, const std::vector<std::string>& measures, bool scenarios) {
   std::string out;
   std::string_view rest = kEvaluationColumns;
   while (!rest.empty()) {
@@ -93,6 +95,24 @@ std::string prefixed_columns(const std::string& prefix, const std::vector<std::s
     rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 2);
   }
   for (const auto& m : measures) out += ", " + prefix + m;
+  out += scenarios ? ", " + prefix + "scenarios" : std::string(", '[]'");
+  return out;
+}
+
+nlohmann::json scenarios_json(const std::vector<ScenarioRun>& runs) {
+  auto j = nlohmann::json::array();
+  for (const auto& r : runs) {
+    j.push_back({{"label", r.label}, {"spec", model::spec_json(r.spec)}, {"measures", r.measures}, {"not_final", r.not_final}});
+  }
+  return j;
+}
+
+std::vector<ScenarioRun> scenarios_from(const std::string& text) {
+  std::vector<ScenarioRun> out;
+  for (const auto& r : nlohmann::json::parse(text)) {
+    out.push_back({r.at("label").get<std::string>(), model::spec_from_json_fields(r.at("spec")),
+                   r.at("measures").get<std::map<std::string, double>>(), r.at("not_final").get<std::string>()});
+  }
   return out;
 }
 
@@ -113,6 +133,7 @@ Evaluation evaluation_from(const Statement& q, const std::vector<std::string>& m
   for (std::size_t k = 0; k < measures.size(); ++k) {
     if (const auto v = q.maybe(from + kFixedColumns + static_cast<int>(k))) e.measures.emplace(measures[k], *v);
   }
+  e.scenarios = scenarios_from(q.text(from + kFixedColumns + static_cast<int>(measures.size())));
   return e;
 }
 
@@ -154,7 +175,10 @@ void throw_store_error(sqlite3* db, const std::string& what) {
 }
 
 Store::Store(sqlite3* db) : db_(db), mutex_(std::make_unique<std::mutex>()) {}
-Store::Store(Store&& o) noexcept : db_(o.db_), measures_(std::move(o.measures_)), mutex_(std::move(o.mutex_)) { o.db_ = nullptr; }
+Store::Store(Store&& o) noexcept
+    : db_(o.db_), measures_(std::move(o.measures_)), has_scenarios_(o.has_scenarios_), mutex_(std::move(o.mutex_)) {
+  o.db_ = nullptr;
+}
 Store::~Store() { sqlite3_close(db_); }
 
 void Store::exec(const std::string& sql) const {
@@ -173,6 +197,9 @@ Store Store::open(const std::string& path, const std::string& space_digest, cons
   const auto present = s.columns("evaluations");
   for (const auto& m : run_measure_names()) {
     if (std::find(present.begin(), present.end(), m) == present.end()) s.exec(fmt::format("ALTER TABLE evaluations ADD COLUMN {} REAL", m));
+  }
+  if (std::find(present.begin(), present.end(), "scenarios") == present.end()) {
+    s.exec("ALTER TABLE evaluations ADD COLUMN scenarios TEXT NOT NULL DEFAULT '[]'");
   }
   s.find_measures();
   if (const auto d = s.meta("space_digest")) {
@@ -217,7 +244,7 @@ void Store::set_meta(const std::string& key, const std::string& value) {
 
 std::optional<Evaluation> Store::find(const std::string& digest) const {
   const std::lock_guard<std::mutex> lock(*mutex_);
-  Statement q(db_, fmt::format("SELECT {} FROM evaluations WHERE digest = ?", prefixed_columns("", measures_)));
+  Statement q(db_, fmt::format("SELECT {} FROM evaluations WHERE digest = ?", prefixed_columns("", measures_, has_scenarios_)));
   q.bind(1, digest);
   if (q.step()) return evaluation_from(q, measures_);
   return std::nullopt;
@@ -226,8 +253,8 @@ std::optional<Evaluation> Store::find(const std::string& digest) const {
 void Store::put(const Evaluation& e) {
   const std::lock_guard<std::mutex> lock(*mutex_);
   std::string marks = "?";
-  for (int k = 1; k < kFixedColumns + static_cast<int>(measures_.size()) + 1; ++k) marks += ", ?";
-  Statement q(db_, fmt::format("INSERT OR REPLACE INTO evaluations ({}, blocks) VALUES ({})", prefixed_columns("", measures_), marks));
+  for (int k = 1; k < kFixedColumns + static_cast<int>(measures_.size()) + 2; ++k) marks += ", ?";
+  Statement q(db_, fmt::format("INSERT OR REPLACE INTO evaluations ({}, blocks) VALUES ({})", prefixed_columns("", measures_, has_scenarios_), marks));
   q.bind(1, e.digest).bind(2, e.description).bind(3, model::spec_json(e.spec).dump()).bind(4, e.spheres);
   q.bind(5, static_cast<long>(e.feasible)).bind(6, e.violations).bind(7, e.areal_mass).bind(8, e.height).bind(9, e.seconds);
   q.bind(10, static_cast<long>(e.searched)).bind(11, static_cast<long>(e.output_separated));
@@ -236,6 +263,7 @@ void Store::put(const Evaluation& e) {
     const auto v = e.measures.find(m);
     q.bind(at++, v == e.measures.end() ? std::nullopt : std::optional<double>(v->second));
   }
+  q.bind(at++, scenarios_json(e.scenarios).dump());
   q.bind(at, static_cast<long>(e.spec.blocks));
   q.step();
 }
@@ -249,6 +277,7 @@ std::vector<std::string> Store::columns(const std::string& table) const {
 
 void Store::find_measures() {
   const auto present = columns("evaluations");
+  has_scenarios_ = std::find(present.begin(), present.end(), "scenarios") != present.end();
   measures_.clear();
   for (const auto& m : run_measure_names()) {
     if (std::find(present.begin(), present.end(), m) != present.end()) measures_.push_back(m);
@@ -257,7 +286,7 @@ void Store::find_measures() {
 
 std::vector<Evaluation> Store::evaluations() const {
   const std::lock_guard<std::mutex> lock(*mutex_);
-  Statement q(db_, fmt::format("SELECT {} FROM evaluations WHERE searched = 1 ORDER BY rowid", prefixed_columns("", measures_)));
+  Statement q(db_, fmt::format("SELECT {} FROM evaluations WHERE searched = 1 ORDER BY rowid", prefixed_columns("", measures_, has_scenarios_)));
   std::vector<Evaluation> out;
   while (q.step()) out.push_back(evaluation_from(q, measures_));
   return out;
@@ -266,7 +295,7 @@ std::vector<Evaluation> Store::evaluations() const {
 std::vector<std::pair<std::string, Evaluation>> Store::study_designs() const {
   const std::lock_guard<std::mutex> lock(*mutex_);
   Statement q(db_, fmt::format("SELECT s.name, {} FROM study_designs s JOIN evaluations e ON e.digest = s.digest ORDER BY s.rowid",
-                               prefixed_columns("e.", measures_)));
+                               prefixed_columns("e.", measures_, has_scenarios_)));
   std::vector<std::pair<std::string, Evaluation>> out;
   while (q.step()) out.emplace_back(q.text(0), evaluation_from(q, measures_, 1));
   return out;

@@ -69,8 +69,14 @@ Evaluation measured(const Space& space, const model::StackSpec& spec);
 // to the cap saw it end earlier; with gravity, longer when not settled (free bottom: the last
 // change at kExtendedChangeFraction of the run; wall: kWallExtension times as long).
 std::optional<model::StackSpec> extended(const model::StackSpec& design, const model::StackSpec& ran, const Outcome& o);
-// The evaluation of `e` (measured) after the run of `ran` (its spec, or its extension) gave `o`.
-void record(const Space& space, Evaluation& e, const model::StackSpec& ran, const Outcome& o);
+// The specs a design runs: one per scenario (the design itself when the space has none).
+std::vector<model::StackSpec> scenario_specs(const Space& space, const model::StackSpec& design);
+// Why the outcome `o` of the run `ran` is not final ("" when it is).
+std::string not_final(const model::StackSpec& ran, const Outcome& o);
+// The evaluation of `e` (measured) from the runs of its scenario_specs (each its spec as run, or
+// its extension, and its outcome), in their order: its measures (aggregated over scenarios), and
+// infeasible where a run was not final or a measure breaks its bound.
+void record(const Space& space, Evaluation& e, const std::vector<std::pair<model::StackSpec, Outcome>>& runs);
 // One design's evaluation, run now without a store (what `evaluate` runs for a missing one); a
 // design outside the constraints is not run unless `run_anyway`.
 Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway = false);

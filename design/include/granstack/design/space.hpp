@@ -8,6 +8,7 @@
 #include <granstack/model/stack.hpp>
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -30,7 +31,23 @@ struct Constraints {
   std::optional<long> max_spheres;
   std::optional<double> max_height;      // m
   std::optional<double> max_areal_mass;  // kg/m^2
+  // Bounds on run measures (objective_table's, by name: max_stroke = ... bounds stroke), checked on
+  // a design's measures after it ran (over its scenarios, as each measure aggregates).
+  std::map<std::string, double> max_measures;
 };
+
+// The blows a design must survive: each a change to the fixed spec; a space without [scenarios]
+// has one, the fixed spec itself.
+struct Scenario {
+  std::string label;               // "striker_speed 2 m/s, striker_radius_ratio 1"
+  double striker_speed = 1.0;      // m/s
+  double striker_radius_ratio = 1.0;
+  model::StackSpec applied_to(model::StackSpec spec) const;
+};
+// How an objective is taken over the scenarios: the worst (the largest: every objective is
+// minimised) or the mean.
+enum class Aggregate { worst, mean };
+std::string_view to_string(Aggregate a);
 
 struct Search {
   int population = 24;  // NSGA-II: a multiple of 4, at least 8, at most kMaxPopulation
@@ -51,6 +68,9 @@ struct Space {
   int min_rows = 1, max_rows = 1;
   Constraints constraints;
   std::vector<Objective> objectives;  // all minimised
+  std::vector<Scenario> scenarios;    // [scenarios]: the product of its lists; empty: none
+  std::map<std::string, Aggregate> aggregate;  // per run measure; worst when not named
+  Aggregate aggregate_of(std::string_view measure) const;
   double impulse_window = 0.0;        // s: [measures] impulse_window, wall_impulse's tau
   Search search;
 

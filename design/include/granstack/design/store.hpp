@@ -16,6 +16,14 @@ struct sqlite3;
 
 namespace granstack::design {
 
+// One scenario's run of a design (a space with [scenarios]): the spec it ran and its measures.
+struct ScenarioRun {
+  std::string label;
+  model::StackSpec spec;
+  std::map<std::string, double> measures;
+  std::string not_final;  // why its measures are not final ("" when they are)
+};
+
 struct Evaluation {
   std::string digest;       // spec_digest
   std::string description;  // describe()
@@ -23,8 +31,10 @@ struct Evaluation {
   long spheres = 0;
   bool feasible = true;
   std::string violations;   // the broken constraints, when not feasible
-  // What its run measured, by objective name (objective_table's run measures its bottom allows).
+  // What its run measured, by objective name (objective_table's run measures its bottom allows);
+  // with scenarios, each taken over them as the space says (worst or mean).
   std::map<std::string, double> measures;
+  std::vector<ScenarioRun> scenarios;  // with [scenarios]: each one's run (spec: the design's own)
   // With a free bottom: the output sphere had left every contact when the run ended, so its
   // output fraction is final (refsim::InSituResult::output_separated).
   bool output_separated = true;
@@ -105,6 +115,7 @@ class Store {
   void find_measures();  // measures_: the table's run measures the store has columns for
   sqlite3* db_ = nullptr;
   std::vector<std::string> measures_;
+  bool has_scenarios_ = false;
   std::unique_ptr<std::mutex> mutex_;
 };
 
