@@ -39,7 +39,7 @@ class SlurmRunner : public BatchRunner {
     for (std::size_t d = 0; d < specs.size(); ++d) {
       scenario_of[d] = scenario_specs(space, specs[d]);
       done[d].resize(scenario_of[d].size());
-      for (std::size_t k = 0; k < scenario_of[d].size(); ++k) jobs.push_back({d, k, first_run(scenario_of[d][k])});
+      for (std::size_t k = 0; k < scenario_of[d].size(); ++k) jobs.push_back({d, k, first_run(space, scenario_of[d][k])});
     }
     int stored = 0;
     while (!jobs.empty()) {

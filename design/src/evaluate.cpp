@@ -19,30 +19,21 @@ namespace granstack::design {
 
 namespace {
 // One in-situ run of `spec`, to the blow's end when `to_blow_end`.
-Outcome run(const model::StackSpec& spec, bool to_blow_end) {
+Outcome run(const model::StackSpec& spec, bool to_blow_end, double cap_durations) {
   const auto stack = model::Stack::build(spec);
   // The particles exactly as a generated case's data file gives them to refsim.
   refsim::InSituOptions options;
   options.stop = [] { return os::interrupt_signal() != 0; };  // a signal abandons the design at once
   options.stop_at_blow_end = to_blow_end;
+  options.cap_durations = cap_durations;
   auto r = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "design")), options);
   Outcome o;
-  o.output_fraction = r.output_fraction;
+  take_shared(o, r);
   o.bottom_row_fraction = r.bottom_row_fraction;
-  o.output_separated = r.output_separated;
-  o.peak_wall_force = r.peak_wall_force;
-  o.output_last_change_time = r.output_last_change_time;
   o.output_settled = r.output_settled;
-  o.peak_wall_force_time = r.peak_wall_force_time;
-  o.final_momentum_ratio = r.final_momentum_ratio;
   o.run_time = r.run_time;
   o.seconds = r.seconds;
-  o.wall_force = std::move(r.wall_force);
-  o.wall_force_interval = r.wall_force_interval;
-  o.stroke = r.stroke;
   o.steps = r.steps;
-  o.blow_end_time = r.blow_end_time;
-  o.blow_not_ended = r.blow_not_ended;
   return o;
 }
 }  // namespace
@@ -66,9 +57,9 @@ model::StackSpec running_for(const model::StackSpec& design, long steps) {
   return spec;
 }
 
-model::StackSpec first_run(const model::StackSpec& design) {
+model::StackSpec first_run(const Space& space, const model::StackSpec& design) {
   if (!stops_at_blow_end(design)) return design;
-  return running_for(design, model::blow_end_cap_steps(model::resolve(model::Stack::build(design))));
+  return running_for(design, model::blow_end_cap_steps(model::resolve(model::Stack::build(design)), space.cap_durations));
 }
 
 std::optional<model::StackSpec> extended(const model::StackSpec& design, const model::StackSpec& ran, const Outcome& o) {
@@ -97,12 +88,12 @@ std::vector<model::StackSpec> scenario_specs(const Space& space, const model::St
   return out;
 }
 
-std::string not_final(const model::StackSpec& ran, const Outcome& o) {
+std::string not_final(const Space& space, const model::StackSpec& ran, const Outcome& o) {
   if (stops_at_blow_end(ran)) {
     if (o.blow_end_time) return "";
     return fmt::format("censored: the blow had not ended at the cap ({:g} automatic durations, t = {:.4g} s): {}; its "
                        "measures are not final",
-                       model::kBlowEndCapDurations, o.run_time, o.blow_not_ended);
+                       space.cap_durations, o.run_time, o.blow_not_ended);
   }
   if (o.output_settled) return "";
   return ran.bottom == model::Boundary::wall
@@ -144,7 +135,7 @@ void record(const Space& space, Evaluation& e, const std::vector<std::pair<model
   std::vector<ScenarioRun> done;
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const auto& [ran, o] = runs[k];
-    done.push_back({space.scenarios.empty() ? "" : space.scenarios[k].label, ran, run_measures(space, o), not_final(ran, o)});
+    done.push_back({space.scenarios.empty() ? "" : space.scenarios[k].label, ran, run_measures(space, o), not_final(space, ran, o)});
     if (!done.back().not_final.empty()) {
       add_violation(e, done.back().label.empty() ? done.back().not_final : fmt::format("at {}: {}", done.back().label, done.back().not_final));
     }
@@ -166,16 +157,16 @@ Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, boo
   std::vector<std::pair<model::StackSpec, Outcome>> runs;
   for (const auto& one : scenario_specs(space, spec)) {
     if (stops_at_blow_end(one)) {
-      auto o = run(one, true);
+      auto o = run(one, true, space.cap_durations);
       runs.emplace_back(running_for(one, o.steps), std::move(o));
       continue;
     }
     auto ran = one;
-    auto o = run(ran, false);
+    auto o = run(ran, false, space.cap_durations);
     if (const auto longer = extended(one, ran, o)) {
       e.seconds += o.seconds;
       ran = *longer;
-      o = run(ran, false);
+      o = run(ran, false, space.cap_durations);
     }
     runs.emplace_back(ran, std::move(o));
   }

@@ -90,21 +90,11 @@ Outcome outcome_of(const postproc::CaseReduction& r, const model::StackSpec& ran
                            ? model::wall_load_settled(r.peak_wall_force_time, run_time, r.final_momentum_ratio)
                            : model::output_settled(last_change, res.steps);
   Outcome o;
-  o.output_fraction = r.output_fraction;
+  take_shared(o, r);
   o.bottom_row_fraction = r.output_fraction_bottom_row;
-  o.output_separated = r.output_separated;
-  o.peak_wall_force = r.peak_wall_force;
-  o.output_last_change_time = r.output_last_change_time;
   o.output_settled = settled;
-  o.peak_wall_force_time = r.peak_wall_force_time;
-  o.final_momentum_ratio = r.final_momentum_ratio;
   o.run_time = run_time;
-  o.wall_force = r.wall_force;
-  o.wall_force_interval = r.wall_force_interval;
-  o.stroke = r.stroke;
   o.steps = res.steps;
-  o.blow_end_time = r.blow_end_time;
-  o.blow_not_ended = r.blow_not_ended;
   return o;
 }
 

@@ -263,9 +263,11 @@ postproc::Figure force_figure(const Snapshot& s, const std::vector<Evaluation>& 
   }
   for (const auto& [name, e] : s.studies) shown.emplace_back(name, worst_run(e));
   std::string data, plots;
+  double peak = 0.0;  // the y axis spans three decades below the largest force shown
   for (std::size_t k = 0; k < shown.size(); ++k) {
     const auto stack = model::Stack::build(shown[k].second);
     const auto r = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "report")));
+    peak = std::max(peak, r.peak_wall_force.value_or(0.0));
     data += fmt::format("# {}: t (s) F (N)\n", shown[k].first);
     for (std::size_t j = 0; j < r.wall_force.size(); ++j) {
       data += fmt::format("{:.9g} {:.9g}\n", static_cast<double>(j + 1) * r.wall_force_interval, r.wall_force[j]);
@@ -277,10 +279,10 @@ postproc::Figure force_figure(const Snapshot& s, const std::vector<Evaluation>& 
   postproc::PlotOptions o;
   o.format = "svg";
   const auto script = fmt::format("{}\nset output 'force.svg'\nset xlabel 't (ms)'\nset ylabel 'F on the wall (N)'\n"
-                                  "set key outside right top noenhanced\n{}\n",
-                                  postproc::gnuplot_terminal(o), plots);
+                                  "set key below noenhanced\nset logscale y\nset yrange [1e-3 * {}:*]\nset format y '%g'\n{}\n",
+                                  postproc::gnuplot_terminal(o), fmt::format("{:.6g}", peak), plots);
   postproc::render_gnuplot(dir.string(), "force", data, script, o);
-  return {"force.svg", "The force on the protected object (the bottom wall) against time, each run to its blow's end (with "
+  return {"force.svg", "The force on the protected object (the bottom wall) against time (log scale), each run to its blow's end (with "
                        "scenarios, the one with the largest peak): the front's first three designs (thick) and the study's "
                        "designs at the same footprint"};
 }

@@ -159,8 +159,17 @@ void read_measures(const toml::table* t, Space& s, std::vector<std::string>& pro
     for (const auto& [k, v] : *t) {
       const std::string key(k.str());
       const auto number = v.value<double>();
-      if (key != "impulse_window") {
-        problems.push_back(fmt::format("[measures] {}: unknown; impulse_window (s, the window of wall_impulse)", key));
+      if (key == "cap_durations") {
+        if (!number || !(*number >= model::kMinBlowEndCapDurations) || !(*number <= 1000.0)) {
+          problems.push_back(fmt::format("[measures] cap_durations: from {:g} to 1000 automatic durations (a run stops when "
+                                         "its blow has ended, at most this long; a shorter cap leaves the blow's end no "
+                                         "time to be seen, and every design censored)", model::kMinBlowEndCapDurations));
+        } else {
+          s.cap_durations = *number;
+        }
+      } else if (key != "impulse_window") {
+        problems.push_back(fmt::format("[measures] {}: unknown; impulse_window (s, the window of wall_impulse) or "
+                                       "cap_durations (a run's cap, in automatic durations)", key));
       } else if (!number || !(*number > 0) || !std::isfinite(*number)) {
         problems.push_back("[measures] impulse_window: a time in s, > 0 (the window wall_impulse integrates the wall's force over)");
       } else {
@@ -437,6 +446,7 @@ std::string Space::digest() const {
   for (const auto o : objectives) objs.emplace_back(to_string(o));
   j["objectives"] = objs;
   if (impulse_window > 0.0) j["impulse_window"] = impulse_window;
+  if (cap_durations != model::kBlowEndCapDurations) j["cap_durations"] = cap_durations;
   for (const auto& [name, bound] : constraints.max_measures) j["constraints"]["max_" + name] = bound;
   for (const auto& sc : scenarios) j["scenarios"].push_back({sc.striker_speed, sc.striker_radius_ratio});
   for (const auto& [name, a] : aggregate) j["aggregate"][name] = std::string(to_string(a));

@@ -48,14 +48,14 @@ BlowEnd::BlowEnd(const Stack& stack, const Resolution& res)
   hold_steps_ = std::max<long>(1, static_cast<long>(std::ceil(arrivals * res.arrival_estimate / res.dt)));
 }
 
-void BlowEnd::frame(long step, double momentum_z, bool on_bottom_wall, bool output_free, bool output_threatened) {
+void BlowEnd::frame(long step, const OverFootprint& over, bool output_free, bool output_threatened) {
   last_step_ = step;
-  last_momentum_ = momentum_z;
-  last_on_wall_ = on_bottom_wall;
+  last_momentum_ = over.momentum_z;
+  last_on_wall_ = over.pressing;
   last_free_ = output_free;
   last_threatened_ = output_threatened;
   if (ended_at_ || gravity_) return;
-  const bool holds = wall_ ? momentum_z >= 0.0 && !on_bottom_wall : output_free && !output_threatened;
+  const bool holds = wall_ ? over.momentum_z >= 0.0 && !over.pressing : output_free && !output_threatened;
   if (!holds) {
     since_.reset();
     return;
@@ -66,7 +66,7 @@ void BlowEnd::frame(long step, double momentum_z, bool on_bottom_wall, bool outp
 
 std::string BlowEnd::rule() const {
   if (gravity_) return "none with gravity (the stack comes to rest on its support)";
-  return fmt::format("{}, held for {} steps", wall_ ? "the stack's momentum no longer downward and no sphere on the bottom wall"
+  return fmt::format("{}, held for {} steps", wall_ ? "the momentum over the footprint no longer downward and no sphere there pressing the wall"
                                                     : "the output sphere touching no other sphere and none on course to "
                                                       "hit it",
                      hold_steps_);
@@ -76,8 +76,8 @@ std::string BlowEnd::why_not_ended() const {
   if (ended_at_) return "";
   if (gravity_) return "gravity: the stack comes to rest on its support, so the blow has no end to stop at";
   if (wall_) {
-    return fmt::format("at step {} the stack's momentum was {:.3g} kg m/s and {} the wall{}", last_step_, last_momentum_,
-                       last_on_wall_ ? "spheres still touched" : "no sphere touched",
+    return fmt::format("at step {} the momentum over the footprint was {:.3g} kg m/s and {} the wall{}", last_step_,
+                       last_momentum_, last_on_wall_ ? "spheres still pressed" : "no sphere pressed",
                        since_ ? fmt::format(", clear since step {}", *since_) : "");
   }
   if (!last_free_) return fmt::format("at step {} the output sphere still touched another sphere", last_step_);
@@ -88,8 +88,8 @@ std::string BlowEnd::why_not_ended() const {
                      last_step_, since_.value_or(last_step_), hold_steps_);
 }
 
-long blow_end_cap_steps(const Resolution& res) {
-  const auto cap = static_cast<long>(std::ceil(kBlowEndCapDurations * static_cast<double>(res.steps)));
+long blow_end_cap_steps(const Resolution& res, double cap_durations) {
+  const auto cap = static_cast<long>(std::ceil(cap_durations * static_cast<double>(res.steps)));
   return (cap + res.dump_every - 1) / res.dump_every * res.dump_every;
 }
 

@@ -323,7 +323,7 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
   const auto out_index = static_cast<std::size_t>(stack.output_sphere_id() - 1);
   const auto& spheres = stack.spheres();
   const std::size_t n = spheres.size();
-  for (auto* column : {&x_, &y_, &z_, &vx_, &vy_, &vz_}) column->resize(n);
+  for (auto* column : {&x_, &y_, &z_, &vx_, &vy_, &vz_, &m_, &r_}) column->resize(n);
   const std::size_t stride = f.columns.size();
   const double* values = f.values.data();
   const auto col = [](int index) { return static_cast<std::size_t>(index); };
@@ -342,6 +342,8 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     vx_[i] = vx;
     vy_[i] = vy;
     vz_[i] = vz;
+    m_[i] = m;
+    r_[i] = rad;
     const double wx = a[cwx], wy = a[cwy], wz = a[cwz];
     const double rot = model::rotational_energy(m, rad, wx, wy, wz);
     const double ke = model::translational_energy(m, vx, vy, vz) + rot;
@@ -388,9 +390,11 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
                                                      vx_[j] - vx_[out_index], vy_[j] - vy_[out_index], vz_[j] - vz_[out_index],
                                                      c.radius[out_index] + c.radius[j]);
   }
-  e.on_bottom_wall = false;
+  e.over_footprint = {};
   if (stack.spec().bottom == model::Boundary::wall) {
-    for (std::size_t i = 0; i < n && !e.on_bottom_wall; ++i) e.on_bottom_wall = model::touches_bottom_wall(z_[i], c.radius[i]);
+    e.over_footprint = model::over_footprint(stack, n, [&](std::size_t i) {
+      return std::array<double, 6>{x_[i], y_[i], z_[i], r_[i], m_[i], vz_[i]};
+    });
   }
   if (stack.has_walls()) {
     for (std::size_t i = 0; i < n; ++i) e.elastic += c.contacts.walls(spheres[i], {x_[i], y_[i], z_[i]});

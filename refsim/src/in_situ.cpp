@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <limits>
 #include <tuple>
@@ -48,11 +49,11 @@ bool threatened(const System& s, std::size_t i) {
   }
   return false;
 }
-bool on_bottom_wall(const System& s) {
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    if (model::touches_bottom_wall(s.x(i)[2], s.radius(i))) return true;
-  }
-  return false;
+model::OverFootprint over_footprint(const model::Stack& stack, const System& s) {
+  return model::over_footprint(stack, s.size(), [&](std::size_t i) {
+    const auto x = s.x(i);
+    return std::array<double, 6>{x[0], x[1], x[2], s.radius(i), s.mass(i), s.v(i)[2]};
+  });
 }
 double lowest_striker_z(const System& s, int strikers) {
   double z = s.x(0)[2];
@@ -76,7 +77,7 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
   // reduce reads the free output sphere's energy in the last dump frame, its peaks in the series.
   // The run ends at `end`: the resolution's steps, or (stopping at the blow's end) the frame where
   // the blow ended, at most the cap.
-  long end = options.stop_at_blow_end ? model::blow_end_cap_steps(res) : res.steps;
+  long end = options.stop_at_blow_end ? model::blow_end_cap_steps(res, options.cap_durations) : res.steps;
   const auto bottom_row = stack.bottom_row_ids();
   // The output sphere's energy and the bottom row's, in the order reduce sums them (ids ascending).
   const auto final_energies = [&] {
@@ -96,7 +97,7 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
       if (next_frame > system.step_count()) system.advance(next_frame - system.step_count());
       stroke.sample(lowest_striker_z(system, stack.strikers()));
       const bool ended = blow.ended_at().has_value();
-      blow.frame(next_frame, momentum_z(system), wall && on_bottom_wall(system), !wall && touches_nothing(system, out),
+      blow.frame(next_frame, wall ? over_footprint(stack, system) : model::OverFootprint{}, !wall && touches_nothing(system, out),
                  !wall && threatened(system, out));
       if (options.stop_at_blow_end && !ended && blow.ended_at()) end = next_frame;
       if (next_frame == end) final_ke = final_energies();

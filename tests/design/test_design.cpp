@@ -282,6 +282,9 @@ rows = [1, 3]
   EXPECT_EQ(problems_of(impulse + "[measures]\nimpulse_window = 1e-5\n"), "");
   EXPECT_NE(problems_of(impulse + "[measures]\nimpulse_window = -1\n").find("impulse_window: a time in s, > 0"), std::string::npos);
   EXPECT_NE(problems_of(kSmallSpace + "[measures]\nwindow = 1e-5\n").find("[measures] window: unknown"), std::string::npos);
+  // A cap too short to ever see a blow end.
+  EXPECT_NE(problems_of(kSmallSpace + "[measures]\ncap_durations = 1\n").find("cap_durations: from 2 to 1000"), std::string::npos);
+  EXPECT_EQ(problems_of(kSmallSpace + "[measures]\ncap_durations = 40\n"), "");
   auto fixed_duration = kSmallSpace;
   fixed_duration.replace(fixed_duration.find("top_radius = 2e-3"), 17, "top_radius = 2e-3\nduration = 1e-6");
   EXPECT_NE(problems_of(fixed_duration).find("[fixed] duration: each design runs for its own"), std::string::npos);

@@ -36,6 +36,21 @@ struct Outcome {
   std::optional<double> blow_end_time;   // s, model::BlowEnd; none: not ended within the run
   std::string blow_not_ended;            // why not
 };
+// The fields refsim's in-situ result and reduce's reduction share by name, into an outcome.
+template <class Run>
+void take_shared(Outcome& o, const Run& r) {
+  o.output_fraction = r.output_fraction;
+  o.output_separated = r.output_separated;
+  o.peak_wall_force = r.peak_wall_force;
+  o.output_last_change_time = r.output_last_change_time;
+  o.peak_wall_force_time = r.peak_wall_force_time;
+  o.final_momentum_ratio = r.final_momentum_ratio;
+  o.wall_force = r.wall_force;
+  o.wall_force_interval = r.wall_force_interval;
+  o.stroke = r.stroke;
+  o.blow_end_time = r.blow_end_time;
+  o.blow_not_ended = r.blow_not_ended;
+}
 // A case's outcome from its reduction (`ran`: the spec it ran, for the finality rules).
 Outcome outcome_of(const postproc::CaseReduction& r, const model::StackSpec& ran);
 

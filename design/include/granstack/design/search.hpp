@@ -48,7 +48,7 @@ inline constexpr double kInfeasible = 1e12;
 
 // A design runs until its blow has ended (model::BlowEnd: the wall has taken the whole blow, or
 // the output sphere flies free, held for an estimated arrival of the pulse), at most
-// model::kBlowEndCapDurations automatic durations; its evaluated spec then names that length and
+// the space's cap_durations automatic durations; its evaluated spec then names that length and
 // the resolution's output cadences, so a case of it (confirm, the front's spec files) is the same
 // run to the step. A blow not ended at the cap is censored: stored, infeasible, with why.
 // With gravity the blow has no such end: a design whose output sphere was still being kicked late
@@ -60,7 +60,7 @@ bool stops_at_blow_end(const model::StackSpec& design);
 // The design's spec run for exactly `steps` steps with its automatic dt and output cadences.
 model::StackSpec running_for(const model::StackSpec& design, long steps);
 // The first spec a case of the design runs (a SLURM batch): to the cap, or (gravity) as it is.
-model::StackSpec first_run(const model::StackSpec& design);
+model::StackSpec first_run(const Space& space, const model::StackSpec& design);
 
 // A design's measures known without running it (geometry and constraints), as an evaluation.
 Evaluation measured(const Space& space, const model::StackSpec& spec);
@@ -72,7 +72,7 @@ std::optional<model::StackSpec> extended(const model::StackSpec& design, const m
 // The specs a design runs: one per scenario (the design itself when the space has none).
 std::vector<model::StackSpec> scenario_specs(const Space& space, const model::StackSpec& design);
 // Why the outcome `o` of the run `ran` is not final ("" when it is).
-std::string not_final(const model::StackSpec& ran, const Outcome& o);
+std::string not_final(const Space& space, const model::StackSpec& ran, const Outcome& o);
 // The evaluation of `e` (measured) from the runs of its scenario_specs (each its spec as run, or
 // its extension, and its outcome), in their order: its measures (aggregated over scenarios), and
 // infeasible where a run was not final or a measure breaks its bound.

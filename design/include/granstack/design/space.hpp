@@ -4,6 +4,7 @@
 // fixed (the footprint, the striker, the boundaries, the contacts: any spec field), the
 // constraints and the objectives, read from a TOML file.
 #include <granstack/design/objectives.hpp>
+#include <granstack/model/protection.hpp>
 #include <granstack/model/spec.hpp>
 #include <granstack/model/stack.hpp>
 
@@ -72,6 +73,7 @@ struct Space {
   std::map<std::string, Aggregate> aggregate;  // per run measure; worst when not named
   Aggregate aggregate_of(std::string_view measure) const;
   double impulse_window = 0.0;        // s: [measures] impulse_window, wall_impulse's tau
+  double cap_durations = model::kBlowEndCapDurations;  // [measures] cap_durations: a run's cap
   Search search;
 
   // The decision vector: N_B, a material index per block, a ratio index per interface and a

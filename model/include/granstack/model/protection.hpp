@@ -53,14 +53,36 @@ inline bool on_collision_course(double dx, double dy, double dz, double ux, doub
   const double uu = ux * ux + uy * uy + uz * uz;
   return dx * dx + dy * dy + dz * dz - du * du / uu < r_sum * r_sum;
 }
-// Whether a sphere at height z of radius r touches the bottom wall (the plane z = 0, Stack::walls;
-// LIGGGHTS's primitive wall: distance - R <= 0).
-inline bool touches_bottom_wall(double z, double r) { return z - r <= 0.0; }
+// Whether a sphere at height z of radius r presses the bottom wall (the plane z = 0, Stack::walls):
+// it overlaps it, so the wall pushes on it (at zero overlap, resting, it does not).
+inline bool presses_bottom_wall(double z, double r) { return z - r < 0.0; }
+
+// What the protected object (the bottom wall under the footprint, |x| <= half_width and
+// |y| <= half_depth) still has coming at one frame: the momentum along z of the spheres over it
+// (summed in id order) and whether any of them presses the wall. A sphere that has flown off
+// beside the footprint lands beside the protected object, not on it.
+struct OverFootprint {
+  double momentum_z = 0.0;
+  bool pressing = false;
+};
+// `sphere(i)` for i in 0..n-1 (id order) gives {x, y, z, radius, mass, vz}.
+template <class Sphere>
+OverFootprint over_footprint(const Stack& stack, std::size_t n, const Sphere& sphere) {
+  OverFootprint f;
+  const double hw = stack.half_width(), hd = stack.half_depth();
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto [x, y, z, r, m, vz] = sphere(i);
+    if (std::fabs(x) > hw || std::fabs(y) > hd) continue;
+    f.momentum_z += m * vz;
+    f.pressing = f.pressing || presses_bottom_wall(z, r);
+  }
+  return f;
+}
 
 // When the blow has ended for what a run measures (docs/physics.md section 7), judged at the
 // dump's frames, the same in both engines:
-// - against a bottom wall (the protected object): the stack's momentum along z is no longer
-//   downward and no sphere touches the wall;
+// - against a bottom wall (the protected object): the momentum along z of the spheres over the
+//   footprint (over_footprint) is no longer downward and none of them presses the wall;
 // - with a free bottom: the output sphere touches no sphere (its energy cannot change) and no
 //   sphere is on course to hit it (on_collision_course, every other sphere taken in a straight
 //   line from where it is, however far: a horizon as short as the hold let a sphere of the stack
@@ -70,17 +92,21 @@ inline bool touches_bottom_wall(double z, double r) { return z - r <= 0.0; }
 // come up to 0.8 arrivals apart), so a pulse still on its way cannot be missed. With gravity the
 // stack comes to rest on the wall, so the blow has no such end: never ended.
 inline constexpr double kBlowEndHoldArrivals = 1.0;
-// A run that stops at the blow's end runs at most this many automatic durations (the cap): a blow
-// not ended by then is censored, its measures not final.
+// A run that stops at the blow's end runs at most this many automatic durations by default (the
+// cap; a design space may set its own, [measures] cap_durations): a blow not ended by then is
+// censored, its measures not final. At least kMinBlowEndCapDurations: the hold alone lasts up to
+// one automatic duration (two arrivals of a soft cavity's seven), so a shorter cap could end no
+// blow that starts late in the run.
 inline constexpr double kBlowEndCapDurations = 20.0;
+inline constexpr double kMinBlowEndCapDurations = 2.0;
 
 class BlowEnd {
  public:
   BlowEnd(const Stack& stack, const Resolution& res);
-  // One dump frame: its step, the stack's momentum along z (every sphere's, the strikers'
-  // too; up positive), whether any sphere touches the bottom wall, whether the output sphere
-  // touches no other sphere and whether another is on course to hit it.
-  void frame(long step, double momentum_z, bool on_bottom_wall, bool output_free, bool output_threatened);
+  // One dump frame: its step, what is over the footprint (momentum along z, up positive; whether a
+  // sphere presses the wall), whether the output sphere touches no other sphere and whether another
+  // is on course to hit it.
+  void frame(long step, const OverFootprint& over, bool output_free, bool output_threatened);
   // The step at which the blow ended (the frame at which its condition had held for the hold), or
   // none yet.
   std::optional<long> ended_at() const { return ended_at_; }
@@ -100,8 +126,8 @@ class BlowEnd {
   bool last_threatened_ = false;
 };
 
-// The steps a run that stops at the blow's end may take at most (kBlowEndCapDurations automatic
+// The steps a run that stops at the blow's end may take at most (`cap_durations` automatic
 // durations, a whole number of dump frames).
-long blow_end_cap_steps(const Resolution& res);
+long blow_end_cap_steps(const Resolution& res, double cap_durations = kBlowEndCapDurations);
 
 }  // namespace granstack::model

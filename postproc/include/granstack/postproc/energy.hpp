@@ -1,6 +1,7 @@
 #pragma once
 // Energies of one dump frame, grouped as the study measures them (physics.md section 4).
 #include <granstack/formats/dump.hpp>
+#include <granstack/model/protection.hpp>
 #include <granstack/model/stack.hpp>
 
 #include <memory>
@@ -25,8 +26,10 @@ struct FrameEnergy {
   double striker_ke = 0.0;
   double striker_vz = 0.0;       // m/s, the striker's velocity along z (negative: moving down)
   double striker_z = 0.0;        // m, the lowest striker's centre (model::StrokeMeter reads it)
-  // What model::BlowEnd reads: any sphere on the bottom wall; the output sphere touching no other.
-  bool on_bottom_wall = false, output_free = false;
+  // What model::BlowEnd reads: what is over the footprint (with a bottom wall); the output sphere
+  // touching no other, and another on course to hit it.
+  model::OverFootprint over_footprint;
+  bool output_free = false;
   bool output_threatened = false;  // another sphere on course to hit it (model::on_collision_course)
   double output_sphere_ke = 0.0;
   double bottom_row_ke = 0.0;
@@ -106,7 +109,7 @@ class FrameAnalyser {
   FrameView view_;
   ContactCandidates candidates_;
   std::unique_ptr<Constants> constants_;
-  std::vector<double> x_, y_, z_, vx_, vy_, vz_;
+  std::vector<double> x_, y_, z_, vx_, vy_, vz_, m_, r_;  // as the frame has them
 };
 
 // A sphere has separated (FrameAnalyser::has_separated) when the elastic energy left in its

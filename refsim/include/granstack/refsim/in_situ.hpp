@@ -3,6 +3,7 @@
 // quantities reduce takes from the same run's dump and series (the output fraction and the
 // bottom wall's peak force), equal to them to round-off (tests/refsim/test_in_situ.cpp). The
 // design search evaluates thousands of stacks this way.
+#include <granstack/model/protection.hpp>
 #include <granstack/refsim/system.hpp>
 
 #include <functional>
@@ -27,6 +28,7 @@ struct InSituOptions {
   // frame where the blow ended (model::BlowEnd): the run is then exactly what a case of
   // duration steps x dt with the same dump_every and series_every gives (the design search).
   bool stop_at_blow_end = false;
+  double cap_durations = model::kBlowEndCapDurations;  // the cap, in automatic durations
 };
 
 class InSituStopped : public std::runtime_error {
