@@ -128,8 +128,11 @@ int confirm(const DesignFlags& f) {
   line.clear();
   int disagreements = 0;
   for (const auto& c : results) {
-    fmt::print("{}  {}  objectives: LIGGGHTS against in situ {:.3g}; whole runs: largest difference {:.3g}: {}\n",
-               c.digest.substr(0, 12), c.case_dir, c.objective_difference, c.largest_difference, c.verdict);
+    const double longer = c.longer_difference.value_or(0.0);
+    fmt::print("{}  {}  objectives: LIGGGHTS against in situ {:.3g}; whole runs: largest difference {:.3g}: {}; run twice "
+               "as long on LIGGGHTS, the objectives change by {:.3g}: {}\n",
+               c.digest.substr(0, 12), c.case_dir, c.objective_difference, c.largest_difference, c.verdict, longer,
+               longer <= design::kFinalTolerance ? "final" : "NOT FINAL");
     disagreements += c.verdict != "agree";
   }
   fmt::print("report: {}\n", design::write_report(space, store, dir / "report").string());

@@ -172,12 +172,14 @@ postproc::Table generations_table(const Snapshot& s) {
 postproc::Table confirmations_table(const Snapshot& s) {
   postproc::Table t{"The front's best re-run on LIGGGHTS (granstack design confirm)",
                     {"design", "layers", "case", "LIGGGHTS output fraction", "LIGGGHTS peak wall force (N)",
-                     "objectives: LIGGGHTS against in situ", "whole runs: validate's largest difference", "verdict"}, {}};
+                     "objectives: LIGGGHTS against in situ", "whole runs: validate's largest difference", "verdict",
+                     "objectives: LIGGGHTS twice as long against in situ", "final"}, {}};
   for (const auto& c : s.confirmations) {
     const auto e = std::find_if(s.all.begin(), s.all.end(), [&](const auto& x) { return x.digest == c.digest; });
     t.rows.push_back({c.digest.substr(0, 12), e != s.all.end() ? e->description : "?", c.case_dir, fmt::format("{:.6g}", c.liggghts_output_fraction),
                       value_text(c.liggghts_peak_wall_force), fmt::format("{:.3g}", c.objective_difference),
-                      fmt::format("{:.3g}", c.largest_difference), c.verdict});
+                      fmt::format("{:.3g}", c.largest_difference), c.verdict, value_text(c.longer_difference),
+                      !c.longer_difference ? "-" : *c.longer_difference <= kFinalTolerance ? "final" : "NOT FINAL"});
   }
   return t;
 }
@@ -326,7 +328,8 @@ json report_json(const Space& space, const Snapshot& s, const std::vector<Evalua
     j["confirmations"].push_back({{"digest", c.digest}, {"case", c.case_dir}, {"liggghts_output_fraction", c.liggghts_output_fraction},
                                   {"liggghts_peak_wall_force", c.liggghts_peak_wall_force ? json(*c.liggghts_peak_wall_force) : json(nullptr)},
                                   {"largest_difference", c.largest_difference}, {"objective_difference", c.objective_difference},
-                                  {"verdict", c.verdict}});
+                                  {"verdict", c.verdict},
+                                  {"longer_difference", c.longer_difference ? json(*c.longer_difference) : json(nullptr)}});
   }
   j["evaluations"] = s.all.size();
   return j;
@@ -387,6 +390,14 @@ double objective_difference(const Space& space, const model::StackSpec& ran, con
     worst = std::max(worst, std::fabs(*liggghts - mine->second) / std::max(std::fabs(*liggghts), std::fabs(mine->second)));
   }
   return worst;
+}
+
+// A run of the design `ran` ran, twice as long, with the same dt and output cadences.
+model::StackSpec twice_as_long(const model::StackSpec& ran) {
+  const long steps = model::resolve(model::Stack::build(ran)).steps;
+  auto design = ran;
+  design.duration.reset();
+  return running_for(design, 2 * steps);
 }
 
 // What confirm runs of a design: its run spec and stored measures, one per scenario.
@@ -517,20 +528,38 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
       dirs.push_back(o.output.string());
     }
   }
-  for (const auto engine : {runner::Engine::liggghts, runner::Engine::refsim}) {
-    runner::RunOptions o;
-    if (!liggghts_exe.empty()) o.liggghts = liggghts_exe;
-    o.on_progress = [&](const runner::ProgressSnapshot& s) {
-      if (on_progress) on_progress(fmt::format("confirm: {} runs {} of {}", runner::to_string(engine), s.finished, s.total));
-    };
-    for (const auto& r : runner::run_copies(dirs, engine, o)) {
+  // The physical confirmation: each run again on LIGGGHTS, twice as long as it was measured.
+  std::vector<std::string> longer_dirs;
+  for (const auto& en : entries) {
+    generator::GenerateOptions o;
+    o.output = en.dir + "_x2";
+    o.force = true;
+    generator::generate({{o.output.filename().string(), twice_as_long(en.spec)}}, o);
+    longer_dirs.push_back(o.output.string());
+  }
+  runner::RunOptions ro;
+  if (!liggghts_exe.empty()) ro.liggghts = liggghts_exe;
+  const auto check = [](const std::vector<runner::RunOutcome>& outcomes) {
+    for (const auto& r : outcomes) {
       if (r.status == runner::RunStatus::failed) throw ConfirmRunFailed(fmt::format("{}: {}", r.case_dir, r.message));
     }
+  };
+  for (const auto engine : {runner::Engine::liggghts, runner::Engine::refsim}) {
+    ro.on_progress = [&](const runner::ProgressSnapshot& s) {
+      if (on_progress) on_progress(fmt::format("confirm: {} runs {} of {}", runner::to_string(engine), s.finished, s.total));
+    };
+    check(runner::run_copies(dirs, engine, ro));
   }
+  ro.engine = runner::Engine::liggghts;
+  ro.force = true;
+  ro.on_progress = [&](const runner::ProgressSnapshot& s) {
+    if (on_progress) on_progress(fmt::format("confirm: LIGGGHTS twice as long, {} of {}", s.finished, s.total));
+  };
+  check(runner::run_cases(longer_dirs, ro));
   // Per design: the worst of its scenarios' comparisons, and the largest LIGGGHTS values.
   std::vector<Confirmation> out;
   for (std::size_t i = 0; i < front.size(); ++i) {
-    Confirmation c{front[i].digest, "", 0.0, std::nullopt, 0.0, 0.0, ""};
+    Confirmation c{front[i].digest, "", 0.0, std::nullopt, 0.0, 0.0, "", std::nullopt};
     for (const auto& en : entries) {
       if (en.design != i) continue;
       const auto liggghts = runner::copy_dir(en.dir, runner::Engine::liggghts), refsim = runner::copy_dir(en.dir, runner::Engine::refsim);
@@ -543,6 +572,9 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
       if (r.peak_wall_force) c.liggghts_peak_wall_force = std::max(c.liggghts_peak_wall_force.value_or(0.0), *r.peak_wall_force);
       c.largest_difference = std::max(c.largest_difference, compared.worst());
       c.objective_difference = std::max(c.objective_difference, objective_difference(space, en.spec, en.measures, r));
+      const auto longer = postproc::reduce_case(en.dir + "_x2", quiet);
+      c.longer_difference = std::max(c.longer_difference.value_or(0.0),
+                                     objective_difference(space, twice_as_long(en.spec), en.measures, longer));
     }
     c.verdict = c.objective_difference <= postproc::kDefaultTolerance ? "agree" : "DISAGREE";
     out.push_back(c);

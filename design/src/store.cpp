@@ -201,6 +201,9 @@ Store Store::open(const std::string& path, const std::string& space_digest, cons
   if (std::find(present.begin(), present.end(), "scenarios") == present.end()) {
     s.exec("ALTER TABLE evaluations ADD COLUMN scenarios TEXT NOT NULL DEFAULT '[]'");
   }
+  if (const auto c = s.columns("confirmations"); std::find(c.begin(), c.end(), "longer_difference") == c.end()) {
+    s.exec("ALTER TABLE confirmations ADD COLUMN longer_difference REAL");
+  }
   s.find_measures();
   if (const auto d = s.meta("space_digest")) {
     if (*d != space_digest) {
@@ -345,17 +348,21 @@ std::vector<Generation> Store::generations() const {
 
 void Store::put_confirmation(const Confirmation& c) {
   const std::lock_guard<std::mutex> lock(*mutex_);
-  Statement q(db_, "INSERT OR REPLACE INTO confirmations VALUES (?, ?, ?, ?, ?, ?, ?)");
+  Statement q(db_, "INSERT OR REPLACE INTO confirmations (digest, case_dir, liggghts_output_fraction, liggghts_peak_wall_force, "
+                   "largest_difference, objective_difference, verdict, longer_difference) VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
   q.bind(1, c.digest).bind(2, c.case_dir).bind(3, c.liggghts_output_fraction).bind(4, c.liggghts_peak_wall_force);
-  q.bind(5, c.largest_difference).bind(6, c.objective_difference).bind(7, c.verdict).step();
+  q.bind(5, c.largest_difference).bind(6, c.objective_difference).bind(7, c.verdict).bind(8, c.longer_difference).step();
 }
 
 std::vector<Confirmation> Store::confirmations() const {
   const std::lock_guard<std::mutex> lock(*mutex_);
-  Statement q(db_, "SELECT digest, case_dir, liggghts_output_fraction, liggghts_peak_wall_force, largest_difference, "
-                   "objective_difference, verdict FROM confirmations");
+  const auto present = columns("confirmations");
+  const bool longer = std::find(present.begin(), present.end(), "longer_difference") != present.end();
+  Statement q(db_, fmt::format("SELECT digest, case_dir, liggghts_output_fraction, liggghts_peak_wall_force, largest_difference, "
+                               "objective_difference, verdict, {} FROM confirmations",
+                               longer ? "longer_difference" : "NULL"));
   std::vector<Confirmation> out;
-  while (q.step()) out.push_back({q.text(0), q.text(1), q.real(2), q.maybe(3), q.real(4), q.real(5), q.text(6)});
+  while (q.step()) out.push_back({q.text(0), q.text(1), q.real(2), q.maybe(3), q.real(4), q.real(5), q.text(6), q.maybe(7)});
   return out;
 }
 

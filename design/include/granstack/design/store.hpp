@@ -64,7 +64,11 @@ struct Confirmation {
   // "agree" (objectives within validate's tolerance), or "DISAGREE"; the whole runs' agreement
   // is largest_difference (a long, chaotic run parts from round-off late, after its peaks).
   std::string verdict;
+  // The physical confirmation: the largest relative change of an objective when LIGGGHTS runs the
+  // design twice as long as it was measured (none: not run; below kFinalTolerance: "final").
+  std::optional<double> longer_difference;
 };
+inline constexpr double kFinalTolerance = 1e-2;
 
 class StoreError : public std::runtime_error {
  public:

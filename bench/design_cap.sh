@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# The design example's physics (issue #32): examples/design/least_wall_force.toml searched for
+# GENERATIONS generations (-j 2) at the default cap (20 automatic durations) and at twice it.
+# Prints the front and the study's designs against it (peak force and impulse on the protected
+# object, worst of the three striker speeds), how many designs were censored (their blow not
+# ended at the cap), what the designs cost on refsim (ended ones against censored ones), and
+# whether doubling the cap changed the front or any of its objectives.
+# Usage: bench/design_cap.sh [GENERATIONS]   (about 9 minutes with 6)
+set -euo pipefail
+generations=${1:-6}
+source "$(dirname "$0")/common.sh"
+example="$here/examples/design/least_wall_force.toml"
+sed 's/^impulse_window = \(.*\)/impulse_window = \1\ncap_durations = 40/' "$example" > "$work/cap40.toml"
+for run in cap20 cap40; do
+  space=$example
+  [ "$run" = cap40 ] && space=$work/cap40.toml
+  t0=$(date +%s.%N)
+  "$gs" design run "$space" -o "$work/$run" -j 2 --generations "$generations" >/dev/null 2>&1
+  python3 -c "import sys,time; print(f'{sys.argv[1]}: {time.time() - float(sys.argv[2]):.0f} s wall')" "$run" "$t0"
+done
+python3 - "$work/cap20" "$work/cap40" <<'PY'
+import json, sqlite3, sys
+def load(d):
+    c = sqlite3.connect(f"{d}/design.sqlite")
+    return {r[0]: r[1:] for r in c.execute(
+        "select digest, feasible, description, peak_wall_force, wall_impulse, stroke, areal_mass, violations, seconds "
+        "from evaluations where searched = 1")}
+a, b = load(sys.argv[1]), load(sys.argv[2])
+for name, runs in (("cap 20", a), ("cap 40", b)):
+    censored = [r for r in runs.values() if "censored" in r[6]]
+    ended = [r for r in runs.values() if "censored" not in r[6] and r[7] > 0]
+    print(f"{name}: {len(runs)} designs, {len(censored)} censored; refsim per design (three speeds): "
+          f"{sum(r[7] for r in ended) / max(1, len(ended)):.2f} s ended, {sum(r[7] for r in censored) / max(1, len(censored)):.2f} s censored")
+front = lambda d: {e["digest"]: e for e in json.load(open(f"{d}/report/design.json"))["front"]}
+fa, fb = front(sys.argv[1]), front(sys.argv[2])
+worst = 0.0
+for k in set(fa) & set(fb):
+    for o, v in fa[k]["objectives"].items():
+        w = fb[k]["objectives"][o]
+        worst = max(worst, abs(v - w) / max(abs(v), abs(w)))
+print(f"doubling the cap: front of {len(fa)} and {len(fb)} designs, {len(set(fa) ^ set(fb))} differ; "
+      f"largest relative change of an objective of a front design: {worst:.3g}")
+report = json.load(open(f"{sys.argv[1]}/report/design.json"))
+print("the front (worst of 0.5, 1 and 2 m/s): peak wall force (N), wall impulse in 0.1 ms (N s), areal mass (kg/m^2)")
+for e in report["front"]:
+    o = e["objectives"]
+    print(f"  {e['description']:<55} {o['peak_wall_force']:9.4g} {o['wall_impulse']:9.4g} {o['areal_mass']:8.4g}")
+print("the study's designs at the same footprint, and the front's best at equal or lower areal mass")
+for s in report["study_designs"]:
+    o = s["objectives"]
+    lighter = [e for e in report["front"] if e["objectives"]["areal_mass"] <= o["areal_mass"]]
+    best_f = min(lighter, key=lambda e: e["objectives"]["peak_wall_force"])
+    best_i = min(lighter, key=lambda e: e["objectives"]["wall_impulse"])
+    print(f"  {s['name']:<38} {o['peak_wall_force']:9.4g} N {o['wall_impulse']:9.4g} N s {o['areal_mass']:8.4g} kg/m^2; "
+          f"force {o['peak_wall_force'] / best_f['objectives']['peak_wall_force']:.3g}x ({best_f['description']}), "
+          f"impulse {o['wall_impulse'] / best_i['objectives']['wall_impulse']:.3g}x ({best_i['description']})")
+PY
