@@ -49,7 +49,7 @@ void require_design_dir(const fs::path& dir) {
 
 int print_status(const fs::path& dir) {
   const auto store = design::Store::open_existing((dir / kStoreName).string());
-  const auto space = design::parse_space(*store.meta("space"), (dir / kSpaceName).string());
+  const auto space = design::parse_space(*store.meta("space"), (dir / kSpaceName).string(), true);
   fmt::print("{}", design::status_text(space, store));
   return kOk;
 }
@@ -104,7 +104,7 @@ int run_design(const DesignFlags& f) {
 int report(const DesignFlags& f) {
   const fs::path dir(f.dir);
   auto store = design::Store::open_existing((dir / kStoreName).string());
-  const auto space = design::parse_space(*store.meta("space"), (dir / kSpaceName).string());
+  const auto space = design::parse_space(*store.meta("space"), (dir / kSpaceName).string(), true);
   fmt::print("report: {}\n", design::write_report(space, store, dir / "report").string());
   return kOk;
 }
@@ -113,7 +113,7 @@ int confirm(const DesignFlags& f) {
   const fs::path dir(f.dir);
   const os::CaseLock lock(dir, "granstack design confirm");
   const auto text = design::Store::open_existing((dir / kStoreName).string()).meta("space");
-  const auto space = design::parse_space(*text, (dir / kSpaceName).string());
+  const auto space = design::parse_space(*text, (dir / kSpaceName).string(), true);
   auto store = design::Store::open((dir / kStoreName).string(), space.digest(), *text);
   StatusLine line;
   std::vector<design::Confirmation> results;

@@ -8,7 +8,8 @@
 #     alternating runs, medians: `design run` (in situ) against generating the same designs as
 #     cases and `granstack run --engine refsim -j 2` on them (dumps and series written), the
 #     baseline.
-# Usage: bench/design.sh [REPEATS]   (about 12 minutes with 3)
+# Usage: bench/design.sh [REPEATS]   (long since every design runs to its blow's end over a wall:
+# three generations took 13.5 minutes on 2 cores, 2026-11-26; bench/design_cap.sh is the quick one)
 set -euo pipefail
 repeats=${1:-3}
 source "$(dirname "$0")/common.sh"

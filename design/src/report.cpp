@@ -445,9 +445,10 @@ std::string status_text(const Space& space, const Store& store) {
   const auto feasible = std::count_if(all.begin(), all.end(), [](const auto& e) { return e.feasible; });
   const auto done = gens.empty() ? std::string("no generation finished yet (the initial population was stopped)")
                                  : fmt::format("generations 0 to {} done", gens.back().index);
-  std::string out = fmt::format("{} (the space asks for {}); {} designs evaluated ({} within the constraints); the "
-                                "front holds {}\n",
-                                done, space.search.generations, all.size(), feasible, front.size());
+  std::string out;
+  for (const auto& w : space.warnings) out += fmt::format("warning: this search's measures cannot be trusted: {}\n", w);
+  out += fmt::format("{} (the space asks for {}); {} designs evaluated ({} within the constraints); the front holds {}\n",
+                     done, space.search.generations, all.size(), feasible, front.size());
   if (!gens.empty()) out += fmt::format("hypervolume: {:.6g} at generation 0, {:.6g} at generation {}\n", gens.front().hypervolume, gens.back().hypervolume, gens.back().index);
   const auto headers = objective_headers(space);
   for (std::size_t i = 0; i < std::min<std::size_t>(front.size(), 10); ++i) {
@@ -466,6 +467,9 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   std::vector<postproc::Block> d;
   d.push_back(postproc::Heading{1, "granstack design: the search's front", "top"});
   d.push_back(postproc::Paragraph{run_line(space, s)});
+  for (const auto& w : space.warnings) {
+    d.push_back(postproc::Paragraph{fmt::format("**Warning: this search's measures cannot be trusted.** {}", w)});
+  }
   d.push_back(space_table(space));
   d.push_back(postproc::Heading{2, "The front", "front"});
   d.push_back(front_table(space, front));

@@ -255,8 +255,9 @@ bool varies_bottom_radius(const Space& s) {
   return s.max_blocks > 1 && (s.min_blocks != s.max_blocks || s.radius_ratios.size() > 1);
 }
 
-// Objectives a geometry cannot measure, or that its designs would win by shrinking what they measure.
-void check_measurable(const Space& s, std::vector<std::string>& problems) {
+// Objectives a geometry cannot measure; and (into `unsound`) measures its designs would win by
+// shrinking, or runs a fixed duration could cut before the blow arrives.
+void check_measurable(const Space& s, std::vector<std::string>& problems, std::vector<std::string>& unsound) {
   const bool wall = s.fixed.bottom == model::Boundary::wall;
   for (const auto o : s.objectives) {
     if (o->needs == Needs::free_bottom && wall) {
@@ -268,7 +269,7 @@ void check_measurable(const Space& s, std::vector<std::string>& problems) {
                                      "bottom = \"wall\"", to_string(o)));
     }
     if (o->gameable_by_bottom_radius && varies_bottom_radius(s)) {
-      problems.push_back(fmt::format(
+      unsound.push_back(fmt::format(
           "objectives: {} is the energy of the outgoing layer's spheres, whose mass falls as the bottom radius R_1 / "
           "(product of the ratios) shrinks; this space varies it ({} to {} blocks, ratios {}), so the search would win "
           "by making the measured spheres lighter, not by protecting. Measure protection on the protected object "
@@ -288,7 +289,7 @@ void check_measurable(const Space& s, std::vector<std::string>& problems) {
                        "(geometry = \"strip\") and set the winners side by side");
   }
   if (s.fixed.duration) {
-    problems.push_back("[fixed] duration: each design runs for its own automatic duration, checked to leave its output or "
+    unsound.push_back("[fixed] duration: each design runs for its own automatic duration, checked to leave its output or "
                        "its load final; one fixed duration can end before the blow arrives (every design then scores 0). "
                        "Remove it");
   }
@@ -455,7 +456,7 @@ std::string Space::digest() const {
   return formats::sha256_hex(j.dump());
 }
 
-Space parse_space(std::string_view text, const std::string& source) {
+Space parse_space(std::string_view text, const std::string& source, bool stored) {
   toml::table root;
   try {
     root = toml::parse(text, source);
@@ -480,7 +481,12 @@ Space parse_space(std::string_view text, const std::string& source) {
   read_scenarios(root.get_as<toml::table>("scenarios"), root.get_as<toml::table>("fixed"), s, problems);
   read_constraints(root.get_as<toml::table>("constraints"), s, problems);
   read_search(root.get_as<toml::table>("search"), s, problems);
-  if (problems.empty()) check_measurable(s, problems);
+  if (problems.empty()) {
+    std::vector<std::string> unsound;
+    check_measurable(s, problems, unsound);
+    auto& to = stored ? s.warnings : problems;
+    to.insert(to.end(), unsound.begin(), unsound.end());
+  }
   if (problems.empty()) check_not_empty(s, problems);
   if (!problems.empty()) throw SpaceError(std::move(problems));
   return s;

@@ -884,3 +884,38 @@ TEST(Scenarios, BadScenarioListsAreRefused) {
             std::string::npos);
   EXPECT_NE(with("[constraints]\nmax_color = 1\n").find("max_color: unknown"), std::string::npos);
 }
+
+// A search stored before its measures were refused (an output fraction over a varied bottom
+// radius) is still read: status and report say why its measures cannot be trusted; a new search
+// of that space is refused, with why, and writes nothing.
+TEST(DesignCli, AStoredSearchWhoseMeasuresCanBeGamedIsReadWithAWarning) {
+  const auto dir = work_dir();
+  const std::string text = R"(objectives = ["output_fraction", "areal_mass"]
+[fixed]
+top_radius = 2e-3
+[vary]
+blocks = [1, 2]
+materials = ["steel", "teflon"]
+radius_ratio = [2]
+rows = [1, 3]
+)";
+  EXPECT_THROW(design::parse_space(text, "old.toml"), design::SpaceError);
+  const auto space = design::parse_space(text, "old.toml", true);
+  ASSERT_EQ(space.warnings.size(), 1u);
+  fs::create_directories(dir / "old");
+  {
+    auto store = design::Store::open((dir / "old" / "design.sqlite").string(), space.digest(), text);
+    store.put(design::evaluate_design(space, space.decode({2, 0, 1, 0, 2, 3})));
+  }
+  std::ofstream(dir / "old" / "space.toml") << text;
+  const auto status = program({"design", "status", (dir / "old").string()}, dir / "status.log");
+  EXPECT_EQ(status.code, 0) << status.output;
+  EXPECT_NE(status.output.find("warning: this search's measures cannot be trusted"), std::string::npos) << status.output;
+  const auto report = program({"design", "report", (dir / "old").string()}, dir / "report.log");
+  EXPECT_EQ(report.code, 0) << report.output;
+  EXPECT_NE(test::read_bytes(dir / "old" / "report" / "design.md").find("cannot be trusted"), std::string::npos);
+  const auto again = program({"design", "run", (dir / "old" / "space.toml").string(), "-o", (dir / "new").string()}, dir / "run.log");
+  EXPECT_EQ(again.code, 2) << again.output;
+  EXPECT_NE(again.output.find("would win by making the measured spheres lighter"), std::string::npos) << again.output;
+  EXPECT_FALSE(fs::exists(dir / "new"));
+}

@@ -75,6 +75,7 @@ struct Space {
   double impulse_window = 0.0;        // s: [measures] impulse_window, wall_impulse's tau
   double cap_durations = model::kBlowEndCapDurations;  // [measures] cap_durations: a run's cap
   Search search;
+  std::vector<std::string> warnings;  // a stored space's problems a new search would be refused for
 
   // The decision vector: N_B, a material index per block, a ratio index per interface and a
   // row count per block, for max_blocks (genes past a design's N_B are carried but unused).
@@ -90,7 +91,10 @@ struct Space {
 
 // A design space from the text of its file (`source` names it in messages). Throws SpaceError
 // listing every problem, std::runtime_error for bad TOML (with line and column).
-Space parse_space(std::string_view toml_text, const std::string& source);
+// `stored`: the space of an existing store (status, report, confirm): what a new search may no
+// longer do (a measure that can be gamed, a fixed duration) is said in Space::warnings instead,
+// so that a search run before it was refused can still be read.
+Space parse_space(std::string_view toml_text, const std::string& source, bool stored = false);
 
 // A design's measures known before it runs, and which constraints it breaks (empty: feasible).
 struct Geometry {
