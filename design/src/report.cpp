@@ -256,27 +256,40 @@ model::StackSpec worst_run(const Evaluation& e) {
   return std::max_element(e.scenarios.begin(), e.scenarios.end(), [&](const auto& a, const auto& b) { return force(a) < force(b); })->spec;
 }
 
-// The force on the protected object against time: the front's first designs (least first
-// objective) beside the study's, each rerun in situ to the length the store measured.
-postproc::Figure force_figure(const Snapshot& s, const std::vector<Evaluation>& front, const fs::path& dir) {
+// The front's first designs (least first objective) and the study's, each rerun in situ to the
+// length the store measured (with scenarios, the one with the largest peak force).
+struct Rerun {
+  std::string name;
+  refsim::InSituResult r;
+};
+std::vector<Rerun> rerun_shown(const Snapshot& s, const std::vector<Evaluation>& front) {
   std::vector<std::pair<std::string, model::StackSpec>> shown;
   for (std::size_t i = 0; i < std::min<std::size_t>(front.size(), 3); ++i) {
     shown.emplace_back(fmt::format("front {}: {}", i + 1, front[i].description), worst_run(front[i]));
   }
   for (const auto& [name, e] : s.studies) shown.emplace_back(name, worst_run(e));
+  std::vector<Rerun> out;
+  for (const auto& [name, spec] : shown) {
+    const auto stack = model::Stack::build(spec);
+    out.push_back({name, refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "report")))});
+  }
+  return out;
+}
+
+// The force on the protected object against time.
+postproc::Figure force_figure(const std::vector<Rerun>& shown, const fs::path& dir) {
   std::string data, plots;
   double peak = 0.0;  // the y axis spans three decades below the largest force shown
   for (std::size_t k = 0; k < shown.size(); ++k) {
-    const auto stack = model::Stack::build(shown[k].second);
-    const auto r = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "report")));
+    const auto& r = shown[k].r;
     peak = std::max(peak, r.peak_wall_force.value_or(0.0));
-    data += fmt::format("# {}: t (s) F (N)\n", shown[k].first);
+    data += fmt::format("# {}: t (s) F (N)\n", shown[k].name);
     for (std::size_t j = 0; j < r.wall_force.size(); ++j) {
       data += fmt::format("{:.9g} {:.9g}\n", static_cast<double>(j + 1) * r.wall_force_interval, r.wall_force[j]);
     }
     data += "\n\n";
     plots += fmt::format("{}'force.dat' index {} using ($1*1e3):2 with lines lw {} title '{}'", k == 0 ? "plot " : ", \\\n     ", k,
-                         k < 3 ? 2 : 1, shown[k].first);
+                         k < 3 ? 2 : 1, shown[k].name);
   }
   postproc::PlotOptions o;
   o.format = "svg";
@@ -287,6 +300,32 @@ postproc::Figure force_figure(const Snapshot& s, const std::vector<Evaluation>& 
   return {"force.svg", "The force on the protected object (the bottom wall) against time (log scale), each run to its blow's end (with "
                        "scenarios, the one with the largest peak): the front's first three designs (thick) and the study's "
                        "designs at the same footprint"};
+}
+
+// Where the energy is when each run ends, over E_in: the striker, each block, the part of the
+// blocks' that moves sideways, and the rest (elastic energy in the contacts, less what damping and
+// friction took).
+postproc::Table energy_table(const std::vector<Rerun>& shown) {
+  std::size_t blocks = 0;
+  for (const auto& x : shown) blocks = std::max(blocks, x.r.end_block_ke.size());
+  postproc::Table t{"Where the energy is when the blow has ended, over E_in", {"design", "ended at (s)", "striker"}, {}};
+  for (std::size_t k = 0; k < blocks; ++k) t.header.push_back(fmt::format("block {}", k + 1));
+  t.header.push_back("of the blocks', sideways");
+  t.header.push_back("the rest (contacts, dissipated)");
+  for (const auto& x : shown) {
+    const auto& r = x.r;
+    std::vector<std::string> row{x.name, r.blow_end_time ? fmt::format("{:.4g}", *r.blow_end_time) : "not ended",
+                                 fmt::format("{:.3g}", r.end_striker_ke / r.e_in)};
+    double sum = r.end_striker_ke;
+    for (std::size_t k = 0; k < blocks; ++k) {
+      row.push_back(k < r.end_block_ke.size() ? fmt::format("{:.3g}", r.end_block_ke[k] / r.e_in) : "");
+      if (k < r.end_block_ke.size()) sum += r.end_block_ke[k];
+    }
+    row.push_back(fmt::format("{:.3g}", r.end_sideways_ke / r.e_in));
+    row.push_back(fmt::format("{:.3g}", 1.0 - sum / r.e_in));
+    t.rows.push_back(std::move(row));
+  }
+  return t;
 }
 
 postproc::Figure hypervolume_figure(const Snapshot& s, const fs::path& dir) {
@@ -486,7 +525,11 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
       d.push_back(pair_figure(space, s, front, space.objectives[k], space.objectives[i], dir));
     }
   }
-  if (any_feasible && space.fixed.bottom == model::Boundary::wall) d.push_back(force_figure(s, front, dir));
+  if (any_feasible && space.fixed.bottom == model::Boundary::wall) {
+    const auto shown = rerun_shown(s, front);
+    d.push_back(force_figure(shown, dir));
+    d.push_back(energy_table(shown));
+  }
   d.push_back(postproc::Heading{2, "Convergence", "convergence"});
   if (s.generations.empty()) {  // stopped in its initial population: nothing to draw yet
     d.push_back(postproc::Paragraph{"No generation has finished yet (the search was stopped in its initial population); "

@@ -86,6 +86,22 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
     return std::tuple{sphere_ke(system, out), row, momentum_z(system)};
   };
   auto final_ke = final_energies();
+  // Where the energy is at the last frame (read there, with final_ke).
+  const auto energy_at_end = [&] {
+    r.end_block_ke.assign(stack.blocks().size(), 0.0);
+    r.end_striker_ke = r.end_sideways_ke = 0.0;
+    for (const auto& sphere : stack.spheres()) {
+      const auto i = static_cast<std::size_t>(sphere.id - 1);
+      const double ke = sphere_ke(system, i);
+      if (sphere.block == 0) {
+        r.end_striker_ke += ke;
+      } else if (!stack.is_matrix(sphere)) {
+        const auto v = system.v(i);
+        r.end_block_ke[static_cast<std::size_t>(sphere.block - 1)] += ke;
+        r.end_sideways_ke += 0.5 * system.mass(i) * (v[0] * v[0] + v[1] * v[1]);
+      }
+    }
+  };
   model::StrokeMeter stroke(stack);
   model::BlowEnd blow(stack, res);
   // Every dump frame up to `step` (the frames are every dump_every steps, step 0 the first): the
@@ -100,7 +116,10 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
       blow.frame(next_frame, wall ? over_footprint(stack, system) : model::OverFootprint{}, !wall && touches_nothing(system, out),
                  !wall && threatened(system, out));
       if (options.stop_at_blow_end && !ended && blow.ended_at()) end = next_frame;
-      if (next_frame == end) final_ke = final_energies();
+      if (next_frame == end) {
+        final_ke = final_energies();
+        energy_at_end();
+      }
     }
     if (step > end) return false;
     if (step > system.step_count()) system.advance(step - system.step_count());

@@ -68,6 +68,13 @@ struct InSituResult {
   // why not.
   std::optional<double> blow_end_time;      // s
   std::string blow_not_ended;
+  // Where the energy is at the run's last frame, J: the strikers' kinetic energy, each block's
+  // (index 0 = block 1; a container's matrix in none) and the part of those blocks' that moves
+  // sideways (1/2 m (vx^2 + vy^2)). With e = 1 and no friction, E_in less their sum is the elastic
+  // energy left in the contacts.
+  double end_striker_ke = 0.0;
+  std::vector<double> end_block_ke;
+  double end_sideways_ke = 0.0;
   long steps = 0;                           // the run's (with stop_at_blow_end: where it stopped)
   int dump_every = 0, series_every = 0;     // the resolution's
   long atoms = 0;
