@@ -45,6 +45,18 @@ const std::string kSmallSpace = test::read_bytes(fs::path(GRANSTACK_TEST_DATA) /
 
 design::Space small_space() { return design::parse_space(kSmallSpace, "small.toml"); }
 
+// The small space with a free bottom and the output fraction, over one or two blocks: a space
+// that varies the bottom radius with a measure of the outgoing layer (refused since #32).
+const std::string kGameableSpace = R"(objectives = ["output_fraction", "areal_mass"]
+[fixed]
+top_radius = 2e-3
+[vary]
+blocks = [1, 2]
+materials = ["steel", "teflon"]
+radius_ratio = [2]
+rows = [1, 3]
+)";
+
 // Every problem of a space file, or "" when it is accepted.
 std::string problems_of(const std::string& text) {
   try {
@@ -258,15 +270,7 @@ TEST(Space, BadSpacesAreRefusedNamingTheKeyAndTheFix) {
 // accepted. wall_impulse needs its window; a fixed duration, which can end before the blow
 // arrives, is refused; an unknown [measures] key too.
 TEST(Space, MeasuresThatCanBeGamedOrCannotBeFinalAreRefused) {
-  const std::string free_space = R"(objectives = ["output_fraction", "areal_mass"]
-[fixed]
-top_radius = 2e-3
-[vary]
-blocks = [1, 2]
-materials = ["steel", "teflon"]
-radius_ratio = [2]
-rows = [1, 3]
-)";
+  const std::string free_space = kGameableSpace;
   EXPECT_NE(problems_of(free_space).find("would win by making the measured spheres lighter"), std::string::npos)
       << problems_of(free_space);
   auto fixed_radius = free_space;
@@ -903,15 +907,7 @@ TEST(Scenarios, BadScenarioListsAreRefused) {
 // of that space is refused, with why, and writes nothing.
 TEST(DesignCli, AStoredSearchWhoseMeasuresCanBeGamedIsReadWithAWarning) {
   const auto dir = work_dir();
-  const std::string text = R"(objectives = ["output_fraction", "areal_mass"]
-[fixed]
-top_radius = 2e-3
-[vary]
-blocks = [1, 2]
-materials = ["steel", "teflon"]
-radius_ratio = [2]
-rows = [1, 3]
-)";
+  const std::string text = kGameableSpace;
   EXPECT_THROW(design::parse_space(text, "old.toml"), design::SpaceError);
   const auto space = design::parse_space(text, "old.toml", true);
   ASSERT_EQ(space.warnings.size(), 1u);
