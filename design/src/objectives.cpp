@@ -55,6 +55,14 @@ Objective find_objective(std::string_view name) {
   return nullptr;
 }
 
+std::vector<std::string> run_measure_names() {
+  std::vector<std::string> names;
+  for (const auto& o : objective_table()) {
+    if (o.from_run != nullptr) names.emplace_back(o.name);
+  }
+  return names;
+}
+
 std::string_view to_string(Needs n) {
   switch (n) {
     case Needs::any: return "any";

@@ -124,14 +124,6 @@ void read_vary(const toml::table* vary, Space& s, std::vector<std::string>& prob
   }
 }
 
-std::vector<std::string> run_measure_names() {
-  std::vector<std::string> names;
-  for (const auto& o : objective_table()) {
-    if (o.from_run != nullptr) names.emplace_back(o.name);
-  }
-  return names;
-}
-
 std::vector<std::string> objective_names() {
   std::vector<std::string> names;
   for (const auto& o : objective_table()) names.emplace_back(o.name);

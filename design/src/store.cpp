@@ -137,15 +137,6 @@ Evaluation evaluation_from(const Statement& q, const std::vector<std::string>& m
   return e;
 }
 
-// The run measures of objective_table(), each a column of evaluations.
-std::vector<std::string> run_measure_names() {
-  std::vector<std::string> names;
-  for (const auto& o : objective_table()) {
-    if (o.from_run != nullptr) names.emplace_back(o.name);
-  }
-  return names;
-}
-
 sqlite3* open_db(const std::string& path, int flags) {
   sqlite3* db = nullptr;
   if (sqlite3_open_v2(path.c_str(), &db, flags, nullptr) != SQLITE_OK) {

@@ -383,8 +383,10 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     if ((i == out_index || j == out_index) && model::spheres_touch(dx, dy, dz, c.radius[i], c.radius[j])) e.output_free = false;
   }
   // Another sphere on course to hit the output sphere (model::BlowEnd), in id order as refsim.
+  // Judged with a free bottom only (model::BlowEnd reads it there), as refsim's in-situ run does.
   e.output_threatened = false;
-  for (std::size_t j = 0; j < n && !e.output_threatened; ++j) {
+  const bool free_bottom = stack.spec().bottom != model::Boundary::wall;
+  for (std::size_t j = 0; free_bottom && j < n && !e.output_threatened; ++j) {
     if (j == out_index) continue;
     e.output_threatened = model::on_collision_course(x_[j] - x_[out_index], y_[j] - y_[out_index], z_[j] - z_[out_index],
                                                      vx_[j] - vx_[out_index], vy_[j] - vy_[out_index], vz_[j] - vz_[out_index],

@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <limits>
 #include <tuple>
 
 namespace granstack::refsim {

@@ -75,6 +75,8 @@ using Objective = const ObjectiveDef*;
 
 const std::vector<ObjectiveDef>& objective_table();
 Objective find_objective(std::string_view name);  // nullptr when unknown
+// The names of the table's run measures (each a column of the store's evaluations).
+std::vector<std::string> run_measure_names();
 inline std::string_view to_string(Objective o) { return o->name; }
 inline std::string_view unit_of(Objective o) { return o->unit; }
 std::string_view to_string(Needs n);
