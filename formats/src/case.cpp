@@ -32,6 +32,19 @@ RunRecord read_run_record(const fs::path& case_dir, const CaseFiles& files) {
   return r;
 }
 
+long frames_written(const Case& c) {
+  if (c.spec().stop != model::StopRule::blow_end) return c.derived().frames();
+  const auto record = read_run_record(c.dir(), c.files());
+  const auto steps = record.record.value("steps", json());
+  if (!steps.is_number_integer() || steps.get<long>() < 0 || steps.get<long>() > c.derived().steps ||
+      steps.get<long>() % c.derived().dump_every != 0) {
+    throw FormatError((fs::path(c.dir()) / c.files().run_record).string(), 0,
+                      "this case stops at the blow's end, and its run record does not say where its run stopped (a "
+                      "whole number of dump intervals up to the cap): run the case with granstack");
+  }
+  return steps.get<long>() / c.derived().dump_every + 1;
+}
+
 void write_run_record(const fs::path& case_dir, const CaseFiles& files, const json& record) {
   write_file_atomically(case_dir / files.run_record, record.dump(2) + "\n");
 }

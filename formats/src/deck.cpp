@@ -57,6 +57,9 @@ void check_deck_matches_manifest(const Case& c) {
   std::string_view line;
   std::vector<std::string_view> words;
   long timestep_line = 0, run_line = 0, run_steps = -1;
+  const bool blow_end = manifest.spec.stop == model::StopRule::blow_end;
+  const auto cap = fmt::format("$(step<{})", steps);
+  bool capped = false;
   while (reader.next(line)) {
     split_words(line, words);
     if (words.size() < 2 || words[0].front() == '#') continue;
@@ -73,10 +76,18 @@ void check_deck_matches_manifest(const Case& c) {
       if (!parse_long(words[1], run_steps)) run_steps = -1;
       run_line = reader.line_number();
     }
+    capped = capped || line.find(cap) != std::string_view::npos;
   }
   if (timestep_line == 0) throw FormatError(path, 0, fmt::format("no 'timestep' line (the manifest's dt is {})", dt));
   if (run_line == 0) throw FormatError(path, 0, fmt::format("no 'run' line (the manifest has {} steps)", steps));
-  if (run_steps != steps) {
+  // A case that stops at the blow's end runs one dump interval at a time, up to its cap.
+  if (blow_end && (run_steps != c.derived().dump_every || !capped)) {
+    throw FormatError(path, run_line, fmt::format("the deck does not run one dump interval ({} steps) at a time up to "
+                                                  "the manifest's cap of {} steps, as a case that stops at the blow's "
+                                                  "end does{}",
+                                                  c.derived().dump_every, steps, fix));
+  }
+  if (!blow_end && run_steps != steps) {
     throw FormatError(path, run_line, fmt::format("the deck runs {} steps, the manifest has {}{}",
                                                   run_steps < 0 ? "an unknown number of" : std::to_string(run_steps),
                                                   steps, fix));

@@ -52,10 +52,10 @@ void LogScanner::add_line(std::string_view line) {
   if (line.substr(0, 13) == "Loop time of ") {
     std::match_results<std::string_view::const_iterator> m;
     if (std::regex_search(line.begin(), line.end(), m, loop_re)) {
-      LoopTime t;
-      t.seconds = std::stod(m[1].str());
+      LoopTime t = loop_.value_or(LoopTime{});
+      t.seconds += std::stod(m[1].str());
       t.procs = std::stoi(m[2].str());
-      t.steps = std::stol(m[3].str());
+      t.steps += std::stol(m[3].str());
       t.atoms = std::stol(m[4].str());
       loop_ = t;
     }

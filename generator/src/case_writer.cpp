@@ -4,6 +4,7 @@
 #include <granstack/formats/ownership.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/contact.hpp>
+#include <granstack/model/protection.hpp>
 #include <granstack/model/version.hpp>
 #include <granstack/os/case_lock.hpp>
 
@@ -50,6 +51,79 @@ std::string contact_model_fixes(const model::StackSpec& spec, const std::vector<
                        types.size(), matrix);
   }
   return out;
+}
+
+// The run of a case that stops at the blow's end (model::BlowEnd, docs/physics.md section 7):
+// one dump interval at a time (`pre no`: one run's trajectory, bit for bit), the frame judged after
+// each by what refsim judges, in the same arithmetic (over the footprint, momentum summed in atom
+// order; the output sphere's neighbours and their straight-line courses), and the run ended at the
+// frame where the condition has held for the hold, at most res.steps (the cap).
+std::string blow_end_run(const model::Stack& stack, const model::Resolution& res) {
+  std::string judge;
+  if (stack.spec().bottom == model::Boundary::wall) {
+    const auto over = fmt::format("(abs(x)<={})*(abs(y)<={})", stack.half_width(), stack.half_depth());
+    judge = fmt::format(
+        "variable        gs_pz atom mass*vz*{0}\n"
+        "variable        gs_press atom {0}*(z-r<0)\n"
+        "compute         gs_pz all reduce update_on_run_end yes sum v_gs_pz\n"
+        "compute         gs_press all reduce update_on_run_end yes max v_gs_press\n"
+        "variable        gs_holds equal (c_gs_pz>=0)&&(c_gs_press==0)\n",
+        over);
+  } else {
+    const int o = stack.output_sphere_id();
+    const double ro = stack.spheres()[static_cast<std::size_t>(o - 1)].radius;
+    judge = fmt::format(
+        "variable        gs_dx atom x-x[{0}]\nvariable        gs_dy atom y-y[{0}]\nvariable        gs_dz atom z-z[{0}]\n"
+        "variable        gs_ux atom vx-vx[{0}]\nvariable        gs_uy atom vy-vy[{0}]\nvariable        gs_uz atom vz-vz[{0}]\n"
+        "variable        gs_dd atom v_gs_dx*v_gs_dx+v_gs_dy*v_gs_dy+v_gs_dz*v_gs_dz\n"
+        "variable        gs_du atom v_gs_dx*v_gs_ux+v_gs_dy*v_gs_uy+v_gs_dz*v_gs_uz\n"
+        "variable        gs_uu atom v_gs_ux*v_gs_ux+v_gs_uy*v_gs_uy+v_gs_uz*v_gs_uz\n"
+        "variable        gs_touch atom (id!={0})*(v_gs_dd<(r+{1})*(r+{1}))\n"
+        "# (uu==0) keeps LIGGGHTS from dividing by 0 where du = 0 already rules the sphere out.\n"
+        "variable        gs_aim atom (id!={0})*(v_gs_du<0)*(v_gs_dd-v_gs_du*v_gs_du/(v_gs_uu+(v_gs_uu==0))<(r+{1})*(r+{1}))\n"
+        "compute         gs_touch all reduce update_on_run_end yes max v_gs_touch\n"
+        "compute         gs_aim all reduce update_on_run_end yes max v_gs_aim\n"
+        "variable        gs_holds equal (c_gs_touch==0)&&(c_gs_aim==0)\n",
+        o, ro);
+  }
+  model::BlowEnd start(stack, res);
+  model::judge_start(start, stack);
+  // After each interval (the judge's computes are brought up to date at the end of every run, so
+  // the deck reads them between runs; `run ... every` would also change when LIGGGHTS tallies
+  // energies, and with it the last bit of some torques): whether the condition holds, the first
+  // frame of its current run (-1: none), whether it has held for the hold, whether the cap is ahead.
+  const auto judge_frame = fmt::format(
+      "variable        gs_h equal $(v_gs_holds)\n"
+      "variable        gs_since equal $(v_gs_h*((v_gs_since>=0)*v_gs_since+(v_gs_since<0)*step)-(1-v_gs_h))\n"
+      "variable        gs_ended equal $(v_gs_since>=0&&step-v_gs_since>={})\n"
+      "variable        gs_more equal $(step<{})\n",
+      model::blow_end_hold_steps(res), res.steps);
+  return fmt::format(
+      "# The run stops at the dump frame where the blow has ended (docs/physics.md section 7), at most\n"
+      "# {0} steps: it holds once {1}.\n"
+      "# Frame 0, judged by granstack from the stack as generated (LIGGGHTS reads its computes\n"
+      "# between runs only after a run of at least one step): the condition {5} there.\n"
+      "{2}variable        gs_since equal {6}\n"
+      "label           gs_frame\n"
+      "run             {4} pre no post no\n"
+      "{3}"
+      "if              \"${{gs_ended}} == 0 && ${{gs_more}} == 1\" then \"jump SELF gs_frame\"\n"
+      "print           \"granstack: the run ended at step $(step), the blow ${{gs_ended}} (1: ended)\"",
+      res.steps, start.rule(), judge, judge_frame, res.dump_every, start.holding_since() ? "holds" : "does not hold",
+      start.holding_since() ? 0 : -1);
+}
+
+// Whether a deck template runs its case through {{run}} (spaces allowed inside the braces).
+bool runs_by_placeholder(std::string_view tmpl) {
+  for (auto at = tmpl.find("{{"); at != std::string_view::npos; at = tmpl.find("{{", at + 2)) {
+    const auto close = tmpl.find("}}", at);
+    if (close == std::string_view::npos) return false;
+    auto name = tmpl.substr(at + 2, close - at - 2);
+    while (!name.empty() && name.front() == ' ') name.remove_prefix(1);
+    while (!name.empty() && name.back() == ' ') name.remove_suffix(1);
+    if (name == "run") return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -137,6 +211,7 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
                                         : "# The stack is one sphere thick in y: MPI ranks split x and z, never y.\nprocessors      * 1 *";
   v["dt"] = fmt::format("{}", res.dt);
   v["steps"] = std::to_string(res.steps);
+  v["run"] = res.stops_at_blow_end ? blow_end_run(stack, res) : fmt::format("run             {}", res.steps);
   v["thermo_every"] = std::to_string(res.thermo_every);
   v["dump_every"] = std::to_string(res.dump_every);
   v["dump_file"] = files.dump;
@@ -348,6 +423,11 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
         for (auto& i : issues) i.message += fmt::format(" (in the sweep case {})", c.name);
       }
       throw model::SpecError(std::move(issues));
+    }
+    if (res.stops_at_blow_end && options.deck_template_path && !runs_by_placeholder(tmpl)) {
+      throw model::SpecError({{"stop", fmt::format("{} has no {{{{run}}}} placeholder, so its deck would run all {} steps "
+                                                   "of the cap: end the template with {{{{run}}}}, or use stop = 'duration'",
+                                                   tmpl_name, res.steps)}});
     }
     const auto cost = model::estimate_cost(stack, res);
     if (const auto why = model::why_large(cost); !why.empty() && !options.allow_large) {

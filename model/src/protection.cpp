@@ -1,6 +1,7 @@
 #include <granstack/model/protection.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -44,8 +45,32 @@ void StrokeMeter::sample(double lowest_striker_z) { stroke_ = std::max(stroke_, 
 
 BlowEnd::BlowEnd(const Stack& stack, const Resolution& res)
     : wall_(stack.spec().bottom == Boundary::wall), gravity_(stack.spec().gravity > 0.0) {
+  hold_steps_ = blow_end_hold_steps(res);
+}
+
+void judge_start(BlowEnd& blow, const Stack& stack) {
+  const auto& spheres = stack.spheres();
+  const auto vz = [&](const Sphere& s) { return s.block == 0 ? -stack.spec().striker_speed : 0.0; };
+  if (stack.spec().bottom == Boundary::wall) {
+    blow.frame(0, over_footprint(stack, spheres.size(), [&](std::size_t i) {
+      const auto& s = spheres[i];
+      return std::array<double, 6>{s.x, s.y, s.z, s.radius, stack.mass(s), vz(s)};
+    }), false, false);
+    return;
+  }
+  const auto& o = spheres[static_cast<std::size_t>(stack.output_sphere_id() - 1)];
+  bool free = true, threatened = false;
+  for (const auto& s : spheres) {
+    if (s.id == o.id) continue;
+    free = free && !spheres_touch(s.x - o.x, s.y - o.y, s.z - o.z, o.radius, s.radius);
+    threatened = threatened || on_collision_course(s.x - o.x, s.y - o.y, s.z - o.z, 0.0, 0.0, vz(s) - vz(o), o.radius + s.radius);
+  }
+  blow.frame(0, OverFootprint{}, free, threatened);
+}
+
+long blow_end_hold_steps(const Resolution& res) {
   const double arrivals = kBlowEndHoldArrivals * (res.soft_cavity ? 2.0 : 1.0);
-  hold_steps_ = std::max<long>(1, static_cast<long>(std::ceil(arrivals * res.arrival_estimate / res.dt)));
+  return std::max<long>(1, static_cast<long>(std::ceil(arrivals * res.arrival_estimate / res.dt)));
 }
 
 void BlowEnd::frame(long step, const OverFootprint& over, bool output_free, bool output_threatened) {

@@ -1,4 +1,5 @@
 #include <granstack/model/contact.hpp>
+#include <granstack/model/protection.hpp>
 #include <granstack/model/resolution.hpp>
 
 #include <fmt/format.h>
@@ -115,6 +116,12 @@ Resolution resolve(const Stack& stack) {
   r.series_every = spec.series_every.value_or(cadence(r.steps, kAutoSeriesSamples));
   r.thermo_every = cadence(r.steps, kAutoThermoLines);
   r.skin = 0.25 * blocks.back().radius;
+  if (spec.stop == StopRule::blow_end) {
+    r.stops_at_blow_end = true;
+    r.steps = blow_end_cap_steps(r, spec.cap_durations);
+    r.duration = static_cast<double>(r.steps) * r.dt;
+    r.thermo_every = cadence(r.steps, kAutoThermoLines);
+  }
   return r;
 }
 

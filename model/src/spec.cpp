@@ -59,6 +59,14 @@ std::optional<DumpFiles> parse_dump_files(std::string_view s) {
   return std::nullopt;
 }
 
+std::string_view to_string(StopRule r) { return r == StopRule::blow_end ? "blow_end" : "duration"; }
+
+std::optional<StopRule> parse_stop_rule(std::string_view s) {
+  if (s == "duration") return StopRule::duration;
+  if (s == "blow_end") return StopRule::blow_end;
+  return std::nullopt;
+}
+
 namespace {
 std::pair<std::string, std::string> ordered(const std::string& a, const std::string& b) {
   return a <= b ? std::make_pair(a, b) : std::make_pair(b, a);
@@ -366,6 +374,17 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
               fmt::format("in [0, {:g}]", kMaxRollingFriction));
   validate_contact_model(s, bad);
 
+  if (s.stop == StopRule::blow_end && s.duration) {
+    bad("duration", "a run that stops at the blow's end lasts until then, at most cap_durations automatic durations: "
+                    "leave duration 'auto' and set cap_durations, or use stop = 'duration'");
+  }
+  if (s.stop == StopRule::blow_end && s.gravity > 0.0) {
+    bad("stop", "with gravity the stack comes to rest on its support, so the blow has no end to stop at: use stop = "
+                "'duration' (the default), or gravity 0");
+  }
+  if (s.stop == StopRule::duration && s.cap_durations != kBlowEndCapDurations) {
+    bad("cap_durations", "caps a run that stops at the blow's end: give it with stop = 'blow_end'");
+  }
   if (s.dt && s.duration && finite_positive(*s.dt) && *s.dt >= *s.duration) {
     bad("dt", fmt::format("{} must be smaller than the duration {}", *s.dt, *s.duration));
   }

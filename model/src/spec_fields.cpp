@@ -494,6 +494,33 @@ std::vector<SpecField> resolution_rows() {
     }
   };
   rows.push_back(std::move(duration));
+  auto stop = choice_row(
+      "stop", &StackSpec::stop, parse_stop_rule, [](StopRule r) { return to_string(r); }, "'duration' or 'blow_end'",
+      "duration", "How the run ends: duration | blow_end (at the blow's end, at most cap_durations)");
+  stop.doc = "`blow_end`: both engines stop at the dump frame where the blow has ended (against a bottom wall the "
+             "momentum over the footprint no longer downward and no sphere pressing the wall; with a free bottom "
+             "the output sphere free and none on course to hit it; held for one estimated arrival, two with a soft "
+             "cavity; docs/physics.md section 7). A blow not ended by the cap is censored: reduce says why";
+  stop.in_every_manifest = false;
+  const auto save_stop = stop.save;  // written where it is not the default, so older manifests stay as they were
+  stop.save = [save_stop](const StackSpec& s, json& j) {
+    if (s.stop != StopRule::duration) save_stop(s, j);
+  };
+  rows.push_back(std::move(stop));
+  auto cap = number_row("cap_durations", &StackSpec::cap_durations, fmt::format("{:g}", kBlowEndCapDurations),
+                        fmt::format("With stop = blow_end: the run's cap, in automatic durations, {:g}..{:g}",
+                                    kMinBlowEndCapDurations, kMaxBlowEndCapDurations));
+  cap.in_every_manifest = false;
+  cap.save = [](const StackSpec& s, json& j) {
+    if (s.stop == StopRule::blow_end) j["cap_durations"] = s.cap_durations;
+  };
+  cap.check = [](const StackSpec& s, Issues& i) {
+    check_range(i, "cap_durations", within(s.cap_durations, kMinBlowEndCapDurations, kMaxBlowEndCapDurations),
+                fmt::format("{} must be in [{:g}, {:g}]: the hold alone lasts up to one automatic duration, so a "
+                            "shorter cap could end no blow",
+                            s.cap_durations, kMinBlowEndCapDurations, kMaxBlowEndCapDurations));
+  };
+  rows.push_back(std::move(cap));
   auto dump_every = auto_row("dump_every", &StackSpec::dump_every,
                              "auto: the smaller of a 250th of the run and 0.2 t_c", "Steps between dump frames, or auto");
   dump_every.doc = "the automatic cadence times the smallest block's wave (811 frames for the default case)";

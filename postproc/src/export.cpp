@@ -155,7 +155,7 @@ ExportResult export_case(const std::string& case_dir, const ExportOptions& o) {
   const auto& stack = c.stack();
   const double dt = c.derived().dt;
   const long steps = c.derived().steps, every = c.derived().dump_every;
-  const long count = c.derived().frames();  // frames at steps 0, every, 2 every, ..., up to the run's end
+  const long count = formats::frames_written(c);  // frames at steps 0, every, 2 every, ..., up to the run's end
   const auto picked = select_frames(o.frames, count);
   const fs::path out = o.output_dir.empty() ? fs::path(case_dir) / "paraview" : fs::path(o.output_dir);
   // The case directory's own name, however it was written ("runs/a/", ".", "../a").

@@ -110,8 +110,8 @@ SeriesColumns series_columns(const formats::Series& series, const std::string& p
 // Every series_every steps from the first multiple after the start (`fix print` writes at the
 // end of a step) to the last step, nothing missing, nothing more.
 void require_series_matches_run(const formats::Series& series, const SeriesColumns& c, const std::string& path,
-                                const model::Resolution& res) {
-  const long expected = res.steps / res.series_every;
+                                const model::Resolution& res, long run_steps) {
+  const long expected = run_steps / res.series_every;
   for (std::size_t i = 0; i < series.rows.size(); ++i) {
     const double step = SeriesColumns::at(series.rows[i], c.step);
     const long want = static_cast<long>(i + 1) * res.series_every;
@@ -124,7 +124,7 @@ void require_series_matches_run(const formats::Series& series, const SeriesColum
   if (static_cast<long>(series.rows.size()) != expected) {
     throw formats::FormatError(path, 0, fmt::format("{} rows, the run wrote {} (steps {} to {} every {}): the series was "
                                                     "cut or damaged (run the case again with --force)",
-                                                    series.rows.size(), expected, res.series_every, res.steps,
+                                                    series.rows.size(), expected, res.series_every, run_steps,
                                                     res.series_every));
   }
 }
@@ -180,6 +180,24 @@ void require_frame_matches_series(const FrameEnergy& e, const formats::Series& s
 }
 
 
+// A case that stops at the blow's end (StopRule::blow_end) ran to the frame where its blow ended,
+// as judged here from its dump, or to its cap with the blow not ended (censored): any other end
+// means the engine did not judge the frames as reduce does, and its run is not the case's.
+void require_stopped_at_blow_end(const model::BlowEnd& blow, long last_step, const model::Resolution& res,
+                                 const std::string& dump_path) {
+  const auto at = blow.ended_at();
+  if (at && *at == last_step) return;
+  if (!at && last_step == res.steps) return;
+  throw formats::FormatError(
+      dump_path, 0,
+      at ? fmt::format("the run went on to step {} after its blow ended at step {} (judged from the dump): the deck did "
+                       "not stop it there (an edited deck or template?); generate and run the case again",
+                       last_step, *at)
+         : fmt::format("the run stopped at step {}, before its cap of {} steps, but its blow had not ended there "
+                       "(judged from the dump: {}); generate and run the case again",
+                       last_step, res.steps, blow.why_not_ended()));
+}
+
 void warn_if_energy_still_arriving(const formats::Series& series, const SeriesColumns& c, const model::Resolution& res,
                                    CaseReduction& r) {
   std::vector<long> steps;
@@ -191,7 +209,9 @@ void warn_if_energy_still_arriving(const formats::Series& series, const SeriesCo
   const auto last_step = static_cast<double>(model::last_output_change(steps, ke, r.e_in));
   r.output_last_change_time = last_step * res.dt;
   // Against a bottom wall the output sphere never leaves and its peak is the output: no warning.
-  if (r.spec.bottom == model::Boundary::free_surface && !model::output_settled(static_cast<long>(last_step), res.steps)) {
+  // A run that stops at the blow's end is final there, or says why not (blow_not_ended).
+  if (r.spec.bottom == model::Boundary::free_surface && !res.stops_at_blow_end &&
+      !model::output_settled(static_cast<long>(last_step), res.steps)) {
     r.warnings.push_back(fmt::format(
         "the output sphere's energy still changed at t = {:.4g} s, {:.2f} of the run (at most {:g} leaves room for "
         "later kicks): energy may still be on its way to the bottom; generate the case again with a longer "
@@ -257,13 +277,15 @@ void track_peaks(const FrameEnergy& e, const model::Stack& stack, double time, C
 }  // namespace
 
 // The run's in-situ series, whole and physical, or FormatError naming what is wrong.
-formats::Series read_checked_series(const std::string& path, const model::Stack& stack, const model::Resolution& res) {
+// `run_steps`: where the run ended (the resolution's steps, or the blow's end of a case that stops there).
+formats::Series read_checked_series(const std::string& path, const model::Stack& stack, const model::Resolution& res,
+                                    long run_steps) {
   if (!fs::exists(path)) {
     throw formats::FormatError(path, 0, "missing: the run's in-situ energy series is what the peaks are taken from; "
                                         "run the case again with --force");
   }
   auto series = formats::read_series(path);
-  require_series_matches_run(series, series_columns(series, path, stack.spec().blocks), path, res);
+  require_series_matches_run(series, series_columns(series, path, stack.spec().blocks), path, res, run_steps);
   require_series_physical(series, path, stack);
   return series;
 }
@@ -358,7 +380,8 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   // The in-situ series gives the peaks. It must be the run's own and whole (checked here), and
   // agree with every dump frame where both have data (checked as the frames arrive).
   const auto series_path = c.path(manifest.files.series).string();
-  const auto series = read_checked_series(series_path, stack, res);
+  const long expected_frames = formats::frames_written(c);
+  const auto series = read_checked_series(series_path, stack, res, (expected_frames - 1) * res.dump_every);
   const SeriesColumns cols = series_columns(series, series_path, nb);
   const auto dump_path = formats::find_dump(case_dir, manifest.files.dump);
   const bool binary = spec.dump_format == model::DumpFormat::binary;
@@ -389,7 +412,6 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   long last_step = 0;
   model::StrokeMeter stroke(stack);
   model::BlowEnd blow(stack, res);
-  const long expected_frames = c.derived().frames();
   auto take_result = [&](FrameResult& fr) {
     if (const int signal = os::interrupt_signal(); signal != 0) {
       throw std::runtime_error(fmt::format("{}: reduce stopped by signal {} at frame {}", case_dir, signal, r.frames + 1));
@@ -430,6 +452,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
                                                          r.frames, expected_frames, res.steps, res.dump_every));
   }
   r.final_time = static_cast<double>(last_step) * res.dt;
+  if (res.stops_at_blow_end) require_stopped_at_blow_end(blow, last_step, res, dump_path);
 
   r.stroke = stroke.stroke();
   if (const auto at = blow.ended_at()) r.blow_end_time = static_cast<double>(*at) * res.dt;

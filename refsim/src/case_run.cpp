@@ -4,6 +4,7 @@
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/model/contact.hpp>
+#include <granstack/model/protection.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
 #include <granstack/refsim/case_run.hpp>
@@ -21,6 +22,7 @@
 #include <mutex>
 #include <vector>
 
+#include "frame_judge.hpp"
 #include "write_behind.hpp"
 
 namespace granstack::refsim {
@@ -325,20 +327,30 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
     samples.clear();
   };
 
+  // A case that stops at the blow's end judges it at every dump frame (as the deck does in
+  // LIGGGHTS) and stops at the frame where it ended; res.steps is then the cap.
+  model::BlowEnd blow(stack, res);
+  const auto frame = [&] {
+    write_frame();
+    if (!res.stops_at_blow_end) return false;
+    detail::judge_blow_end(blow, stack, system);
+    return blow.ended_at().has_value();
+  };
   system.setup();
-  write_frame();
+  bool ended = frame();
   // As LIGGGHTS's "Loop time" (run.cpp): the setup force call and the step-0 output are not in
   // it; the writing of the outputs of its steps is.
   const auto t0 = std::chrono::steady_clock::now();
-  for (long step = 1; step <= res.steps; ++step) {
+  long last = 0;
+  for (long step = 1; step <= res.steps && !ended; ++step) {
     // Up to the next step with output, a progress report or the end, in one go.
     const long next = std::min({res.steps, (step + res.series_every - 1) / res.series_every * res.series_every,
                                 (step + res.dump_every - 1) / res.dump_every * res.dump_every, (step + 255) / 256 * 256});
     system.advance(next - step + 1);
-    step = next;
+    step = last = next;
     if (step % res.series_every == 0) series.sample(system, samples);
-    if (step % res.dump_every == 0) write_frame();
-    if (step % 256 == 0 || step == res.steps) {
+    if (step % res.dump_every == 0) ended = frame();
+    if (step % 256 == 0 || step == res.steps || ended) {
       write_samples();  // in batches: a line each would cost the thread a wake-up each
       if (options.on_progress) options.on_progress(step, res.steps);
     }
@@ -349,7 +361,8 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   series.close();
   RunStats stats;
   stats.loop_seconds = loop_seconds;
-  stats.steps = res.steps;
+  stats.steps = last;
+  stats.blow_ended = ended;
   stats.atoms = static_cast<long>(system.size());
   stats.particle_steps_per_second =
       stats.loop_seconds > 0 ? static_cast<double>(stats.steps) * static_cast<double>(stats.atoms) / stats.loop_seconds : 0.0;

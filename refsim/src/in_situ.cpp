@@ -12,52 +12,19 @@
 #include <chrono>
 #include <tuple>
 
+#include "frame_judge.hpp"
+
 namespace granstack::refsim {
+
+using detail::lowest_striker_z;
+using detail::momentum_z;
+using detail::touches_nothing;
 
 namespace {
 double sphere_ke(const System& s, std::size_t i) {
   const auto v = s.v(i), w = s.omega(i);
   return model::translational_energy(s.mass(i), v[0], v[1], v[2]) +
          model::rotational_energy(s.mass(i), s.radius(i), w[0], w[1], w[2]);
-}
-// Whether sphere i overlaps no other (positions at the current step).
-bool touches_nothing(const System& s, std::size_t i) {
-  const auto xi = s.x(i);
-  for (std::size_t j = 0; j < s.size(); ++j) {
-    if (j == i) continue;
-    const auto xj = s.x(j);
-    if (model::spheres_touch(xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2], s.radius(i), s.radius(j))) return false;
-  }
-  return true;
-}
-double momentum_z(const System& s) {
-  double p = 0.0;  // in id order, as reduce sums a frame
-  for (std::size_t i = 0; i < s.size(); ++i) p += s.mass(i) * s.v(i)[2];
-  return p;
-}
-// Whether any sphere is on course to hit sphere i (model::on_collision_course).
-bool threatened(const System& s, std::size_t i) {
-  const auto xi = s.x(i), vi = s.v(i);
-  for (std::size_t j = 0; j < s.size(); ++j) {
-    if (j == i) continue;
-    const auto xj = s.x(j), vj = s.v(j);
-    if (model::on_collision_course(xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2], vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2],
-                                   s.radius(i) + s.radius(j))) {
-      return true;
-    }
-  }
-  return false;
-}
-model::OverFootprint over_footprint(const model::Stack& stack, const System& s) {
-  return model::over_footprint(stack, s.size(), [&](std::size_t i) {
-    const auto x = s.x(i);
-    return std::array<double, 6>{x[0], x[1], x[2], s.radius(i), s.mass(i), s.v(i)[2]};
-  });
-}
-double lowest_striker_z(const System& s, int strikers) {
-  double z = s.x(0)[2];
-  for (std::size_t i = 1; i < static_cast<std::size_t>(strikers); ++i) z = std::min(z, s.x(i)[2]);
-  return z;
 }
 }  // namespace
 
@@ -76,7 +43,10 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
   // reduce reads the free output sphere's energy in the last dump frame, its peaks in the series.
   // The run ends at `end`: the resolution's steps, or (stopping at the blow's end) the frame where
   // the blow ended, at most the cap.
-  long end = options.stop_at_blow_end ? model::blow_end_cap_steps(res, options.cap_durations) : res.steps;
+  // A case that stops at the blow's end has its cap in its resolution already.
+  const bool stops = options.stop_at_blow_end || res.stops_at_blow_end;
+  long end = options.stop_at_blow_end && !res.stops_at_blow_end ? model::blow_end_cap_steps(res, options.cap_durations)
+                                                                  : res.steps;
   const auto bottom_row = stack.bottom_row_ids();
   // The output sphere's energy and the bottom row's, in the order reduce sums them (ids ascending).
   const auto final_energies = [&] {
@@ -112,9 +82,8 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
       if (next_frame > system.step_count()) system.advance(next_frame - system.step_count());
       stroke.sample(lowest_striker_z(system, stack.strikers()));
       const bool ended = blow.ended_at().has_value();
-      blow.frame(next_frame, wall ? over_footprint(stack, system) : model::OverFootprint{}, !wall && touches_nothing(system, out),
-                 !wall && threatened(system, out));
-      if (options.stop_at_blow_end && !ended && blow.ended_at()) end = next_frame;
+      detail::judge_blow_end(blow, stack, system);
+      if (stops && !ended && blow.ended_at()) end = next_frame;
       if (next_frame == end) {
         final_ke = final_energies();
         energy_at_end();

@@ -226,7 +226,7 @@ EngineResult run_liggghts(const formats::Case& c, const RunOptions& o, const std
                                  quote.empty() ? "it printed nothing" : started ? "its last lines" : "its first lines",
                                  files.screen, quote.empty() ? "" : ":");
       for (const auto& line : quote) result.error += "\n    " + line;
-    } else if (!loop || loop->steps != total_steps) {
+    } else if (!loop || !(c.spec().stop == model::StopRule::blow_end ? loop->steps <= total_steps : loop->steps == total_steps)) {
       result.error = fmt::format("LIGGGHTS ended without finishing the run of {} steps (see {})", total_steps,
                                  files.screen);
     }

@@ -94,6 +94,12 @@ TEST_F(Cli, InvalidSpecsExitWith2NameTheFieldAndWriteNothing) {
       {"--geometry panels --panels 3 --separator walls --matrix-material steel",
        "matrix_material: applies to separator = matrix only (this spec's separator is walls)"},
       {"--geometry panels --panels 3 --gravity", "gravity: the matrix's chains hang between the panels"},
+      // A run that stops at the blow's end (#32): no end with gravity, no duration of its own, a cap that can end a blow.
+      {"--stop impact", "stop: 'impact' is not 'duration' or 'blow_end'"},
+      {"--stop blow_end --gravity", "stop: with gravity the stack comes to rest on its support"},
+      {"--stop blow_end --duration 1e-3", "duration: a run that stops at the blow's end lasts until then"},
+      {"--stop blow_end --cap-durations 1.5", "cap_durations: 1.5 must be in [2, 1000]"},
+      {"--cap-durations 40", "cap_durations: caps a run that stops at the blow's end: give it with stop = 'blow_end'"},
   };
   for (const auto& c : cases) {
     const auto r = granstack("generate -o " + path("case") + " " + c.flags);

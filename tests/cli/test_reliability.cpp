@@ -125,7 +125,7 @@ TEST_F(Reliability, GenerateForceKeepsWhatTheUserAddedToACaseOrSweep) {
   EXPECT_TRUE(fs::is_directory(c / "analysis"));
   // What a user's template has LIGGGHTS write is the run's (run.json lists it), not the user's.
   auto deck = read_bytes(fs::path(GRANSTACK_SOURCE_DIR) / "templates/in.granstack.tmpl");
-  deck.insert(deck.rfind("run "), "fix             kt all ave/time 10 1 10 c_kt1 file ave_time.txt\n");
+  deck.insert(deck.rfind("{{run}}"), "fix             kt all ave/time 10 1 10 c_kt1 file ave_time.txt\n");
   std::ofstream(path("ave.tmpl")) << deck;
   const auto t = path("templated");
   ASSERT_EQ(granstack({"generate", "-o", t.string(), "--blocks", "1", "--rows", "4", "--template", path("ave.tmpl").string()}).code, 0);

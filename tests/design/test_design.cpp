@@ -475,6 +475,8 @@ TEST(Space, TheStoreKeyChangesWithEverySpecField) {
       {"gravity", {{{"gravity", {"0"}}}, {{"gravity", {"9.81"}}}}},
       {"dt", {{{"dt", {"1e-8"}}}, {{"dt", {"2e-8"}}}}},
       {"duration", {{{"duration", {"1e-4"}}}, {{"duration", {"2e-4"}}}}},
+      {"stop", {{}, {{"stop", {"blow_end"}}}}},
+      {"cap_durations", {{{"stop", {"blow_end"}}, {"cap_durations", {"20"}}}, {{"stop", {"blow_end"}}, {"cap_durations", {"40"}}}}},
       {"dump_every", {{{"dump_every", {"10"}}}, {{"dump_every", {"20"}}}}},
       {"series_every", {{{"series_every", {"1"}}}, {{"series_every", {"2"}}}}},
       {"dump_files", {{{"dump_files", {"single"}}}, {{"dump_files", {"per_step"}}}}},

@@ -698,7 +698,7 @@ TEST(Reduce, TheNumberOfThreadsChangesNoByteOfTheResult) {
 // in-situ series to the 6 digits ave/time writes.
 TEST(Reduce, FixAveTimeFilesFromAUserTemplateAreRead) {
   const fs::path dir = generate_with_template([](std::string& text) {
-    text.insert(text.rfind("run "), "fix             kt all ave/time 10 1 10 c_kt1 c_kr1 file ave_time.txt\n");
+    text.insert(text.rfind("{{run}}"), "fix             kt all ave/time 10 1 10 c_kt1 c_kr1 file ave_time.txt\n");
   });
   ASSERT_EQ(runner::run_cases({dir.string()}, {}).at(0).status, runner::RunStatus::done);
   const auto ave = formats::read_series((dir / "ave_time.txt").string());

@@ -1,15 +1,19 @@
 // postproc::compare_runs, what `granstack validate` certifies with, on a real LIGGGHTS run and a
 // refsim run of one case: it agrees to round-off, and every way a run can be incomplete or
 // different is a disagreement, named, never skipped.
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/generator/spec_input.hpp>
 #include <granstack/postproc/compare.hpp>
 #include <granstack/postproc/reduce.hpp>
+#include <granstack/model/resolution.hpp>
+#include <granstack/model/stack.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -227,3 +231,108 @@ TEST(ValidatePairs, PerPairRestitutionAndFrictionReachLiggghts) {
   const double pairs = postproc::reduce_case((root / "paired" / "liggghts").string()).output_fraction;
   EXPECT_GT(std::abs(pairs - diagonal), 0.05 * diagonal) << "the pair's coefficients changed nothing";
 }
+
+// Runs that stop at the blow's end (#32, stop = blow_end). LIGGGHTS's deck judges each dump frame
+// as refsim does, and both stop at the same frame. Reduce judges the dumps itself: it finds the blow
+// ended at the last frame, or the cap reached with the blow not ended (censored). The deck's stop
+// runs one dump interval at a time, and that changes no bit of LIGGGHTS's trajectory: its dump and
+// series equal, byte for byte, those of a plain run (stop = duration) of the same length and
+// cadences.
+namespace {
+
+struct BlowEndCase {
+  const char* name;
+  model::StackSpec spec;
+  bool ends;  // before the cap
+};
+
+model::StackSpec blow_end_spec(int blocks, std::vector<int> rows, std::vector<std::string> materials, model::Boundary bottom,
+                               double cap = model::kBlowEndCapDurations, model::Geometry g = model::Geometry::strip) {
+  model::StackSpec s;
+  s.geometry = g;
+  s.blocks = blocks;
+  s.block_rows = std::move(rows);
+  s.materials = std::move(materials);
+  s.bottom = bottom;
+  s.stop = model::StopRule::blow_end;
+  s.cap_durations = cap;
+  return s;
+}
+
+long steps_run(const fs::path& dir) {
+  const auto c = formats::Case::open(dir.string());
+  return formats::read_run_record(dir, c.files()).record.at("steps").get<long>();
+}
+
+void PrintTo(const BlowEndCase& c, std::ostream* os) { *os << c.name; }
+
+class StopAtBlowEnd : public ::testing::TestWithParam<BlowEndCase> {};
+
+TEST_P(StopAtBlowEnd, BothEnginesStopAtTheFrameWhereTheBlowEndedAndTheDeckChangesNoBit) {
+  const auto& param = GetParam();
+  const auto root = fs::path(GRANSTACK_TEST_WORKDIR) / (std::string("blow_end_") + param.name);
+  fs::remove_all(root);
+  run_both_engines(root, param.spec);
+  if (HasFatalFailure()) return;
+  const auto res = model::resolve(model::Stack::build(param.spec));
+  const long steps = steps_run(root / "liggghts");
+  EXPECT_EQ(steps_run(root / "refsim"), steps);
+  postproc::ReduceOptions quiet;
+  quiet.write_files = false;
+  for (const auto* engine : {"liggghts", "refsim"}) {
+    const auto r = postproc::reduce_case((root / engine).string(), quiet);
+    if (param.ends) {
+      ASSERT_TRUE(r.blow_end_time) << engine << ": " << r.blow_not_ended;
+      EXPECT_EQ(*r.blow_end_time, static_cast<double>(steps) * res.dt) << engine;
+      EXPECT_LT(steps, res.steps) << engine;
+    } else {
+      EXPECT_FALSE(r.blow_end_time) << engine;
+      EXPECT_EQ(steps, res.steps) << engine << ": a censored run goes to its cap";
+      EXPECT_FALSE(r.blow_not_ended.empty()) << engine;
+    }
+  }
+  std::printf("%s: both engines stopped at step %ld of the cap's %ld (%.3g automatic durations), the blow %s\n",
+              param.name, steps, res.steps, static_cast<double>(steps) / static_cast<double>(res.steps) * param.spec.cap_durations,
+              param.ends ? "ended" : "not ended (censored)");
+  const auto c = postproc::compare_runs((root / "liggghts").string(), (root / "refsim").string());
+  EXPECT_TRUE(c.mismatches.empty()) << c.mismatches.front();
+  EXPECT_LE(c.worst(), postproc::kDefaultTolerance) << c.largest().quantity;
+
+  auto plain = param.spec;
+  plain.stop = model::StopRule::duration;
+  plain.cap_durations = model::kBlowEndCapDurations;
+  plain.duration = static_cast<double>(steps) * res.dt;
+  plain.dump_every = res.dump_every;
+  plain.series_every = res.series_every;
+  ASSERT_EQ(model::resolve(model::Stack::build(plain)).steps, steps);
+  generator::GenerateOptions o;
+  o.output = root / "plain";
+  generator::generate({{"plain", plain}}, o);
+  runner::RunOptions r;
+  ASSERT_EQ(runner::run_cases({o.output.string()}, r).front().status, runner::RunStatus::done);
+  const auto files = formats::Case::open((root / "plain").string()).files();
+  for (const auto& file : {files.dump, files.series}) {
+    const auto stopped = read_bytes(root / "liggghts" / file), whole = read_bytes(root / "plain" / file);
+    const auto at = std::mismatch(stopped.begin(), stopped.end(), whole.begin(), whole.end()).first - stopped.begin();
+    EXPECT_TRUE(stopped == whole) << file << ": " << stopped.size() << " and " << whole.size() << " bytes, first differing at byte "
+                                  << at;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, StopAtBlowEnd,
+    ::testing::Values(
+        BlowEndCase{"wall", blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::wall), true},
+        BlowEndCase{"free", blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::free_surface), true},
+        // A soft cavity over a wall (the hold is two arrivals).
+        BlowEndCase{"sandwich_wall", blow_end_spec(3, {8, 8, 8}, {"steel", "teflon", "steel"}, model::Boundary::wall), true},
+        // A 3D nest over a wall: the footprint in y as well as x.
+        BlowEndCase{"nest_wall", blow_end_spec(2, {3, 3}, {"steel"}, model::Boundary::wall, model::kBlowEndCapDurations,
+                                               model::Geometry::nested3d),
+                    true},
+        // Steel on Teflon with a free bottom, capped at 2 automatic durations: a sphere is still on
+        // course to hit the output sphere at the cap (measured with refsim).
+        BlowEndCase{"censored", blow_end_spec(2, {3, 3}, {"steel", "teflon"}, model::Boundary::free_surface, 2.0), false}),
+    [](const auto& param_info) { return std::string(param_info.param.name); });
+
+}  // namespace

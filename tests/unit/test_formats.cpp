@@ -445,6 +445,10 @@ TEST(LogScanner, FindsVersionProgressErrorsAndLoopTime) {
   EXPECT_EQ(log.loop_time()->procs, 2);
   EXPECT_EQ(log.loop_time()->steps, 20000);
   EXPECT_EQ(log.loop_time()->atoms, 1024);
+  // A deck that stops at the blow's end runs a dump interval at a time: its runs are summed.
+  log.add_line("Loop time of 0.25 on 2 procs for 8 steps with 1024 atoms, finish time Sat Nov 21 23:29:32 2026");
+  EXPECT_EQ(log.loop_time()->seconds, 1.7712 + 0.25);
+  EXPECT_EQ(log.loop_time()->steps, 20008);
   EXPECT_FALSE(log.lost_atoms());
   log.add_line("ERROR: Lost atoms: original 241 current 240 (./src/thermo.cpp:442)");
   EXPECT_TRUE(log.lost_atoms());

@@ -286,6 +286,8 @@ wall_material = "steel"
 gravity = 0
 dt = 1e-8
 duration = 1e-4
+stop = "duration"
+cap_durations = 20
 dump_every = 50
 series_every = 5
 dump_files = "per_step"
@@ -308,6 +310,12 @@ characteristic_velocity = 2
   EXPECT_EQ(spec.dump_files, model::DumpFiles::per_step);
   EXPECT_EQ(*spec.characteristic_velocity, 2.0);
   EXPECT_EQ(spec.rolling_friction.get("steel", "steel"), 0.05);
+  // A run that stops at the blow's end, with its cap, reads back from the manifest as it was.
+  auto stopping = spec;
+  stopping.duration.reset();
+  stopping.stop = model::StopRule::blow_end;
+  stopping.cap_durations = 7.5;
+  EXPECT_EQ(model::spec_from_json_fields(nlohmann::json::parse(model::spec_json(stopping).dump())), stopping);
   EXPECT_EQ(spec.block_rows, (std::vector<int>{3, 5}));
 }
 

@@ -46,6 +46,12 @@ RunRecord read_run_record(const std::filesystem::path& case_dir, const CaseFiles
 // Writes it atomically (a temporary file renamed into place).
 void write_run_record(const std::filesystem::path& case_dir, const CaseFiles& files, const nlohmann::json& record);
 
+class Case;
+// The dump frames a case's run wrote: step 0 and every dump_every-th step to the end of the run
+// (Derived::frames()); for a case that stops at the blow's end (StopRule::blow_end), to the step
+// where its run stopped, which its run record holds (a FormatError when it holds none).
+long frames_written(const Case& c);
+
 class Case {
  public:
   // Opens DIR: reads and verifies its manifest (FormatError naming what is wrong) and reads the

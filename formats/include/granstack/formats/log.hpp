@@ -35,6 +35,8 @@ class LogScanner {
   // LIGGGHTS caught SIGINT or SIGTERM and quit early (writing a forced restart).
   bool stopped_by_signal() const { return stopped_by_signal_; }
   std::optional<long> last_step() const { return last_step_; }  // of the last thermo row seen
+  // The deck's runs together: their seconds and steps summed (a case that stops at the blow's
+  // end runs one dump interval at a time, a "Loop time" line each), the last one's atoms and ranks.
   const std::optional<LoopTime>& loop_time() const { return loop_; }
   // Every thermo block, one per run command.
   const std::vector<ThermoBlock>& thermo() const { return thermo_; }

@@ -92,13 +92,8 @@ OverFootprint over_footprint(const Stack& stack, std::size_t n, const Sphere& sp
 // come up to 0.8 arrivals apart), so a pulse still on its way cannot be missed. With gravity the
 // stack comes to rest on the wall, so the blow has no such end: never ended.
 inline constexpr double kBlowEndHoldArrivals = 1.0;
-// A run that stops at the blow's end runs at most this many automatic durations by default (the
-// cap; a design space may set its own, [measures] cap_durations): a blow not ended by then is
-// censored, its measures not final. At least kMinBlowEndCapDurations: the hold alone lasts up to
-// one automatic duration (two arrivals of a soft cavity's seven), so a shorter cap could end no
-// blow that starts late in the run.
-inline constexpr double kBlowEndCapDurations = 20.0;
-inline constexpr double kMinBlowEndCapDurations = 2.0;
+// A run that stops at the blow's end runs at most kBlowEndCapDurations automatic durations by
+// default (spec.hpp; a design space may set its own, [measures] cap_durations).
 
 class BlowEnd {
  public:
@@ -110,6 +105,8 @@ class BlowEnd {
   // The step at which the blow ended (the frame at which its condition had held for the hold), or
   // none yet.
   std::optional<long> ended_at() const { return ended_at_; }
+  // The first frame of the condition's current run of frames, or none (it does not hold now).
+  std::optional<long> holding_since() const { return since_; }
   long hold_steps() const { return hold_steps_; }
   // The rule in words, and why the blow has not ended (for a censored measure).
   std::string rule() const;
@@ -126,6 +123,13 @@ class BlowEnd {
   bool last_threatened_ = false;
 };
 
+// Gives `blow` frame 0, read from the stack as generated (every sphere at rest but the strikers,
+// moving down at the striker speed): what LIGGGHTS's deck is given as its first frame's judgement,
+// since LIGGGHTS can reduce its spheres between runs only after a run of at least one step.
+void judge_start(BlowEnd& blow, const Stack& stack);
+// The steps the blow's end must hold for: kBlowEndHoldArrivals estimated arrivals (twice with a
+// soft cavity), at least one.
+long blow_end_hold_steps(const Resolution& res);
 // The steps a run that stops at the blow's end may take at most (`cap_durations` automatic
 // durations, a whole number of dump frames).
 long blow_end_cap_steps(const Resolution& res, double cap_durations = kBlowEndCapDurations);

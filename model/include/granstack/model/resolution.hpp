@@ -69,6 +69,9 @@ struct Resolution {
   double arrival_estimate = 0.0;    // s, estimated arrival of the pulse at the bottom face
   bool soft_cavity = false;         // has_soft_cavity: the automatic duration is longer
   double skin = 0.0;                // m, neighbour-list skin
+  // StopRule::blow_end: `steps` is the cap (blow_end_cap_steps of the automatic duration, whose
+  // dump and series cadences the run keeps), and the run stops at the blow's end before it.
+  bool stops_at_blow_end = false;
 };
 
 // Applies the spec's explicit values and the automatic rules for the rest. The number of steps

@@ -23,6 +23,9 @@ enum class Geometry { strip, nested3d, panels };
 // between panels), or nothing.
 enum class Separator { matrix, walls, none };
 enum class DumpFormat { text, binary };
+// How a run ends: after its duration, or at the dump frame where the blow has ended
+// (model::BlowEnd, docs/physics.md section 7), at most cap_durations automatic durations.
+enum class StopRule { duration, blow_end };
 // One dump file; one per dumped step (LIGGGHTS's '*'); one per MPI rank (its '%').
 enum class DumpFiles { single, per_step, per_rank };
 
@@ -36,6 +39,16 @@ std::optional<Separator> parse_separator(std::string_view s);
 std::optional<DumpFormat> parse_dump_format(std::string_view s);
 std::string_view to_string(DumpFiles f);      // "single" | "per_step" | "per_rank"
 std::optional<DumpFiles> parse_dump_files(std::string_view s);
+std::string_view to_string(StopRule r);       // "duration" | "blow_end"
+std::optional<StopRule> parse_stop_rule(std::string_view s);
+
+// A run that stops at the blow's end runs at most this many automatic durations by default (the
+// cap): a blow not ended by then is censored, its measures not final. At least
+// kMinBlowEndCapDurations: the hold alone lasts up to one automatic duration (two arrivals of a
+// soft cavity's seven), so a shorter cap could end no blow that starts late in the run.
+inline constexpr double kBlowEndCapDurations = 20.0;
+inline constexpr double kMinBlowEndCapDurations = 2.0;
+inline constexpr double kMaxBlowEndCapDurations = 1000.0;
 
 // A coefficient that has one value for every material pair, optionally overridden for
 // particular (unordered) pairs, e.g. restitution 0.9 but 0.8 between steel and teflon.
@@ -81,6 +94,10 @@ struct StackSpec {
   double gravity = 0.0;                        // m/s^2 along -z; 0 = off
   std::optional<double> dt;                    // s; nullopt = automatic rule
   std::optional<double> duration;              // s; nullopt = automatic rule
+  // blow_end: the run stops at the dump frame where the blow has ended, at most cap_durations
+  // automatic durations (duration stays automatic; gravity is refused: the stack comes to rest).
+  StopRule stop = StopRule::duration;
+  double cap_durations = kBlowEndCapDurations;
   std::optional<int> dump_every;               // steps; nullopt = automatic
   std::optional<int> series_every;             // steps between in-situ energy samples; nullopt = automatic
   DumpFormat dump_format = DumpFormat::text;
