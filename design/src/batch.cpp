@@ -26,9 +26,8 @@ class SlurmRunner : public BatchRunner {
   void run(const Space& space, const std::vector<model::StackSpec>& specs, Store& store,
            const std::function<void(int, int)>& on_done) override {
     // A job: one scenario of one design (design index, scenario index, the spec it runs). Round 1
-    // runs each to the cap (first_run); round 2 those whose blow ended before it, to that end (or,
-    // with gravity, those whose output was not final, longer). A design is stored once every
-    // scenario of it is done.
+    // runs each as first_run says (to its blow's end); round 2, with gravity only, those whose
+    // output was not final, longer. A design is stored once every scenario of it is done.
     struct Job {
       std::size_t design, scenario;
       model::StackSpec spec;

@@ -41,8 +41,11 @@ Outcome run(const model::StackSpec& spec, bool to_blow_end, double cap_durations
 bool stops_at_blow_end(const model::StackSpec& design) { return design.gravity == 0.0; }
 
 model::StackSpec running_for(const model::StackSpec& design, long steps) {
-  const auto res = model::resolve(model::Stack::build(design));
   auto spec = design;
+  spec.stop = model::StopRule::duration;
+  spec.cap_durations = model::kBlowEndCapDurations;
+  spec.duration.reset();
+  const auto res = model::resolve(model::Stack::build(spec));
   spec.dump_every = res.dump_every;
   spec.series_every = res.series_every;
   spec.duration = static_cast<double>(steps) * res.dt;
@@ -57,20 +60,20 @@ model::StackSpec running_for(const model::StackSpec& design, long steps) {
   return spec;
 }
 
+model::StackSpec stopping_at_blow_end(const model::StackSpec& design, double cap_durations) {
+  auto spec = design;
+  spec.stop = model::StopRule::blow_end;
+  spec.cap_durations = cap_durations;
+  return spec;
+}
+
 model::StackSpec first_run(const Space& space, const model::StackSpec& design) {
-  if (!stops_at_blow_end(design)) return design;
-  return running_for(design, model::blow_end_cap_steps(model::resolve(model::Stack::build(design)), space.cap_durations));
+  return stops_at_blow_end(design) ? stopping_at_blow_end(design, space.cap_durations) : design;
 }
 
 std::optional<model::StackSpec> extended(const model::StackSpec& design, const model::StackSpec& ran, const Outcome& o) {
-  if (stops_at_blow_end(design)) {
-    // A run to the cap (a SLURM batch's) that saw the blow end earlier: the design's run ends there.
-    const auto res = model::resolve(model::Stack::build(ran));
-    if (!o.blow_end_time) return std::nullopt;
-    const long at = std::llround(*o.blow_end_time / res.dt);
-    if (at >= o.steps) return std::nullopt;
-    return running_for(design, at);
-  }
+  // A run that stops at its blow's end (first_run) has ended where it should, or at its cap.
+  if (stops_at_blow_end(design)) return std::nullopt;
   // The output sphere was still being kicked late in the run: its energy is not final. Once, the
   // run is made long enough for that last change to sit at kExtendedChangeFraction of it (the
   // evaluated spec then names its duration: confirm and the front's spec files run it).
@@ -158,7 +161,7 @@ Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, boo
   for (const auto& one : scenario_specs(space, spec)) {
     if (stops_at_blow_end(one)) {
       auto o = run(one, true, space.cap_durations);
-      runs.emplace_back(running_for(one, o.steps), std::move(o));
+      runs.emplace_back(stopping_at_blow_end(one, space.cap_durations), std::move(o));
       continue;
     }
     auto ran = one;

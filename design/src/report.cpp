@@ -1,4 +1,5 @@
 #include <granstack/design/report.hpp>
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/spec_fields.hpp>
@@ -431,12 +432,13 @@ double objective_difference(const Space& space, const model::StackSpec& ran, con
   return worst;
 }
 
-// A run of the design `ran` ran, twice as long, with the same dt and output cadences.
-model::StackSpec twice_as_long(const model::StackSpec& ran) {
-  const long steps = model::resolve(model::Stack::build(ran)).steps;
-  auto design = ran;
-  design.duration.reset();
-  return running_for(design, 2 * steps);
+// A run of the design `ran` ran for `steps` steps, twice as long, with the same dt and output cadences.
+model::StackSpec twice_as_long(const model::StackSpec& ran, long steps) { return running_for(ran, 2 * steps); }
+
+// The steps the run of a case took: its run record's (a case that stops at its blow's end), or its spec's.
+long steps_run(const std::string& case_dir) {
+  const auto c = formats::Case::open(case_dir);
+  return (formats::frames_written(c) - 1) * c.derived().dump_every;
 }
 
 // What confirm runs of a design: its run spec and stored measures, one per scenario.
@@ -575,15 +577,6 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
       dirs.push_back(o.output.string());
     }
   }
-  // The physical confirmation: each run again on LIGGGHTS, twice as long as it was measured.
-  std::vector<std::string> longer_dirs;
-  for (const auto& en : entries) {
-    generator::GenerateOptions o;
-    o.output = en.dir + "_x2";
-    o.force = true;
-    generator::generate({{o.output.filename().string(), twice_as_long(en.spec)}}, o);
-    longer_dirs.push_back(o.output.string());
-  }
   runner::RunOptions ro;
   if (!liggghts_exe.empty()) ro.liggghts = liggghts_exe;
   const auto check = [](const std::vector<runner::RunOutcome>& outcomes) {
@@ -597,6 +590,18 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
     };
     check(runner::run_copies(dirs, engine, ro));
   }
+  // The physical confirmation: each run again on LIGGGHTS, twice as long as LIGGGHTS ran it
+  // (to the frame where it judged the blow ended), with the same cadences.
+  std::vector<std::string> longer_dirs;
+  std::vector<model::StackSpec> longer_specs;
+  for (const auto& en : entries) {
+    generator::GenerateOptions o;
+    o.output = en.dir + "_x2";
+    o.force = true;
+    longer_specs.push_back(twice_as_long(en.spec, steps_run(runner::copy_dir(en.dir, runner::Engine::liggghts))));
+    generator::generate({{o.output.filename().string(), longer_specs.back()}}, o);
+    longer_dirs.push_back(o.output.string());
+  }
   ro.engine = runner::Engine::liggghts;
   ro.force = true;
   ro.on_progress = [&](const runner::ProgressSnapshot& s) {
@@ -607,7 +612,8 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
   std::vector<Confirmation> out;
   for (std::size_t i = 0; i < front.size(); ++i) {
     Confirmation c{front[i].digest, "", 0.0, std::nullopt, 0.0, 0.0, "", std::nullopt};
-    for (const auto& en : entries) {
+    for (std::size_t n = 0; n < entries.size(); ++n) {
+      const auto& en = entries[n];
       if (en.design != i) continue;
       const auto liggghts = runner::copy_dir(en.dir, runner::Engine::liggghts), refsim = runner::copy_dir(en.dir, runner::Engine::refsim);
       const auto compared = postproc::compare_runs(liggghts, refsim);
@@ -621,7 +627,7 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
       c.objective_difference = std::max(c.objective_difference, objective_difference(space, en.spec, en.measures, r));
       const auto longer = postproc::reduce_case(en.dir + "_x2", quiet);
       c.longer_difference = std::max(c.longer_difference.value_or(0.0),
-                                     objective_difference(space, twice_as_long(en.spec), en.measures, longer));
+                                     objective_difference(space, longer_specs[n], en.measures, longer));
     }
     c.verdict = c.objective_difference <= postproc::kDefaultTolerance ? "agree" : "DISAGREE";
     out.push_back(c);

@@ -1,6 +1,7 @@
 // granstack design: the space file and its refusals, the in-situ evaluation against reduce on
 // the same case, the store, and the search's reproducibility and resumption.
 #include <granstack/design/report.hpp>
+#include <granstack/formats/case.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/design/search.hpp>
 #include <granstack/generator/case_writer.hpp>
@@ -642,6 +643,16 @@ TEST(DesignCli, TheFrontsBestIsConfirmedOnLiggghts) {
     EXPECT_EQ(c.objective_difference, 0.0);
     EXPECT_LE(c.largest_difference, 1e-7);
     EXPECT_NEAR(*c.liggghts_peak_wall_force, in_situ, 1e-7 * in_situ);
+    // Each engine judged the blow's end itself (the stored run stops there) and stopped at the
+    // same frame, before the cap.
+    const auto steps = [](const std::string& copy) {
+      const auto cs = formats::Case::open(copy);
+      return std::pair{formats::frames_written(cs) - 1, cs.derived().frames() - 1};
+    };
+    const auto lig = steps(runner::copy_dir(c.case_dir, runner::Engine::liggghts));
+    EXPECT_EQ(e->spec.stop, model::StopRule::blow_end);
+    EXPECT_EQ(lig, steps(runner::copy_dir(c.case_dir, runner::Engine::refsim)));
+    EXPECT_LT(lig.first, lig.second) << "frames to the blow's end, and to the cap";
     // The physical confirmation: LIGGGHTS run twice as long changes no objective (measured: 0).
     ASSERT_TRUE(c.longer_difference);
     EXPECT_LE(*c.longer_difference, design::kFinalTolerance);

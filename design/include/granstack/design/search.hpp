@@ -48,9 +48,9 @@ inline constexpr double kInfeasible = 1e12;
 
 // A design runs until its blow has ended (model::BlowEnd: the wall has taken the whole blow, or
 // the output sphere flies free, held for an estimated arrival of the pulse), at most
-// the space's cap_durations automatic durations; its evaluated spec then names that length and
-// the resolution's output cadences, so a case of it (confirm, the front's spec files) is the same
-// run to the step. A blow not ended at the cap is censored: stored, infeasible, with why.
+// the space's cap_durations automatic durations; its evaluated spec then says so (stop =
+// blow_end, the space's cap), so a case of it (confirm, the front's spec files) stops at the same
+// frame on either engine. A blow not ended at the cap is censored: stored, infeasible, with why.
 // With gravity the blow has no such end: a design whose output sphere was still being kicked late
 // in its run (past model::kLastChangeFraction) is run once more, long enough for that last change
 // to come at kExtendedChangeFraction of the run; still unsettled, it is infeasible.
@@ -59,15 +59,17 @@ inline constexpr double kWallExtension = 3.0;
 bool stops_at_blow_end(const model::StackSpec& design);
 // The design's spec run for exactly `steps` steps with its automatic dt and output cadences.
 model::StackSpec running_for(const model::StackSpec& design, long steps);
-// The first spec a case of the design runs (a SLURM batch): to the cap, or (gravity) as it is.
+// The design's spec stopping at its blow's end, at most `cap_durations` automatic durations.
+model::StackSpec stopping_at_blow_end(const model::StackSpec& design, double cap_durations);
+// The first spec a case of the design runs (a SLURM batch): to its blow's end, or (gravity) as it is.
 model::StackSpec first_run(const Space& space, const model::StackSpec& design);
 
 // A design's measures known without running it (geometry and constraints), as an evaluation.
 Evaluation measured(const Space& space, const model::StackSpec& spec);
 
-// The spec to run again after `ran` of `design` gave `o`, or nullopt: to the blow's end when a run
-// to the cap saw it end earlier; with gravity, longer when not settled (free bottom: the last
-// change at kExtendedChangeFraction of the run; wall: kWallExtension times as long).
+// The spec to run again after `ran` of `design` gave `o`, or nullopt (always, for a run that stops
+// at its blow's end): with gravity, longer when not settled (free bottom: the last change at
+// kExtendedChangeFraction of the run; wall: kWallExtension times as long).
 std::optional<model::StackSpec> extended(const model::StackSpec& design, const model::StackSpec& ran, const Outcome& o);
 // The specs a design runs: one per scenario (the design itself when the space has none).
 std::vector<model::StackSpec> scenario_specs(const Space& space, const model::StackSpec& design);
