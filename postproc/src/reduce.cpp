@@ -627,7 +627,11 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
     if (r.blow_end_time) {
       fmt::format_to(out, "the blow ended at t = {:.4g} s (model::BlowEnd): the measures are final\n", *r.blow_end_time);
     } else {
-      fmt::format_to(out, "the blow had not ended by the run's end: {}\n", r.blow_not_ended);
+      fmt::format_to(out, "the blow had not ended by the run's end: {}{}\n", r.blow_not_ended,
+                     r.spec.gravity > 0.0 ? ""
+                     : r.spec.stop == model::StopRule::blow_end
+                         ? fmt::format(" (censored at the cap of {:g} automatic durations)", r.spec.cap_durations)
+                         : "; generate the case with --stop blow_end to run it until then");
     }
     if (r.peak_wall_force) {
       fmt::format_to(out, "peak bottom-wall force: {:.6g} N at t = {:.4g} s; stroke (the striker's largest travel): {:.6g} m\n",
