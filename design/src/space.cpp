@@ -180,7 +180,8 @@ void read_measures(const toml::table* t, Space& s, std::vector<std::string>& pro
 // objective is taken over them.
 void read_scenarios(const toml::table* t, const toml::table* fixed, Space& s, std::vector<std::string>& problems) {
   if (t == nullptr) return;
-  std::vector<double> speeds{s.fixed.striker_speed}, ratios{s.fixed.striker_radius_ratio};
+  std::vector<double> speeds{s.fixed.striker_speed}, ratios{s.fixed.striker_radius_ratio},
+      offsets{static_cast<double>(s.fixed.impact_offset)};
   const auto list = [&](const char* key, double lo, double hi, std::vector<double>& out) {
     const auto* node = t->get(key);
     if (node == nullptr) return;
@@ -207,11 +208,23 @@ void read_scenarios(const toml::table* t, const toml::table* fixed, Space& s, st
   };
   list("striker_speed", 1e-6, 1e4, speeds);
   list("striker_radius_ratio", 1.0, 16.0, ratios);
+  // Off-centre blows: whole numbers of top-sphere diameters, within the footprint's top row.
+  const double most = std::max(0, s.fixed.top_columns / 2 - 1);
+  if (most == 0 && t->contains("impact_offset")) {
+    problems.push_back(fmt::format("[scenarios] impact_offset: the footprint's {} top columns leave no room off centre; "
+                                   "give [fixed] top_columns = 4 or more", s.fixed.top_columns));
+  } else {
+    list("impact_offset", -most, most, offsets);
+  }
+  for (const double k : offsets) {
+    if (k != std::floor(k)) problems.push_back(fmt::format("[scenarios] impact_offset: {} is not a whole number", k));
+  }
   for (const auto& [k, v] : *t) {
     const std::string key(k.str());
-    if (key == "striker_speed" || key == "striker_radius_ratio") continue;
+    if (key == "striker_speed" || key == "striker_radius_ratio" || key == "impact_offset") continue;
     if (key != "aggregate") {
-      problems.push_back(fmt::format("[scenarios] {}: unknown; striker_speed, striker_radius_ratio (lists) and aggregate", key));
+      problems.push_back(fmt::format("[scenarios] {}: unknown; striker_speed, striker_radius_ratio, impact_offset (lists) "
+                                     "and aggregate", key));
       continue;
     }
     const auto parse = [&](const toml::node& n, const std::string& what) -> std::optional<Aggregate> {
@@ -236,7 +249,12 @@ void read_scenarios(const toml::table* t, const toml::table* fixed, Space& s, st
   }
   for (const double v : speeds) {
     for (const double r : ratios) {
-      s.scenarios.push_back({fmt::format("{:g} m/s, striker {:g} R_1", v, r), v, r});
+      for (const double k : offsets) {
+        const int off = static_cast<int>(k);
+        s.scenarios.push_back({fmt::format("{:g} m/s, striker {:g} R_1{}", v, r,
+                                           off == 0 ? "" : fmt::format(", {} diameter{} off centre", off, std::abs(off) == 1 ? "" : "s")),
+                               v, r, off});
+      }
     }
   }
 }
@@ -375,6 +393,7 @@ SpaceError::SpaceError(std::vector<std::string> problems)
 model::StackSpec Scenario::applied_to(model::StackSpec spec) const {
   spec.striker_speed = striker_speed;
   spec.striker_radius_ratio = striker_radius_ratio;
+  spec.impact_offset = impact_offset;
   return spec;
 }
 
@@ -441,7 +460,11 @@ std::string Space::digest() const {
   if (impulse_window > 0.0) j["impulse_window"] = impulse_window;
   if (cap_durations != model::kBlowEndCapDurations) j["cap_durations"] = cap_durations;
   for (const auto& [name, bound] : constraints.max_measures) j["constraints"]["max_" + name] = bound;
-  for (const auto& sc : scenarios) j["scenarios"].push_back({sc.striker_speed, sc.striker_radius_ratio});
+  for (const auto& sc : scenarios) {
+    auto one = nlohmann::json::array({sc.striker_speed, sc.striker_radius_ratio});
+    if (sc.impact_offset != 0) one.push_back(sc.impact_offset);  // a space without offsets keeps its key
+    j["scenarios"].push_back(one);
+  }
   for (const auto& [name, a] : aggregate) j["aggregate"][name] = std::string(to_string(a));
   j["population"] = search.population;
   j["seed"] = search.seed;
@@ -497,10 +520,16 @@ Geometry measure(const Space& space, const model::StackSpec& spec) {
   const auto stack = model::Stack::build(spec);
   // ... and what `generate` refuses of its run (the striker's Hertz overlap, dt, the step count),
   // in every scenario: the design could not be confirmed on LIGGGHTS, so the search may not rank it.
-  for (const auto& sc : space.scenarios.empty() ? std::vector<Scenario>{{"", spec.striker_speed, spec.striker_radius_ratio}}
+  for (const auto& sc : space.scenarios.empty() ? std::vector<Scenario>{{"", spec.striker_speed, spec.striker_radius_ratio,
+                                                                         spec.impact_offset}}
                                                 : space.scenarios) {
-    const auto run = model::Stack::build(sc.applied_to(spec));
-    if (const auto issues = model::check_resolution(run, model::resolve(run)); !issues.empty()) {
+    const auto scenario = sc.applied_to(spec);
+    auto issues = model::validate(scenario);  // an off-centre blow's striker may reach a side wall
+    if (issues.empty()) {
+      const auto run = model::Stack::build(scenario);
+      issues = model::check_resolution(run, model::resolve(run));
+    }
+    if (!issues.empty()) {
       g.violations.push_back(fmt::format("generate refuses it{}: {}: {}", sc.label.empty() ? "" : " at " + sc.label,
                                          issues.front().field, issues.front().message));
       g.violation = 1.0;

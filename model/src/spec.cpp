@@ -6,6 +6,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
 #include <regex>
 
@@ -334,10 +335,12 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
   if (!within(s.striker_radius_ratio, 1.0, kMaxStrikerRadiusRatio)) {
     bad("striker_radius_ratio", fmt::format("{} must be in [1, {:g}] (the striker's radius over the top spheres')",
                                             s.striker_radius_ratio, kMaxStrikerRadiusRatio));
-  } else if (s.sides == Boundary::wall && !(s.striker_radius_ratio < s.top_columns)) {  // x and, in 3D, y
-    bad("striker_radius_ratio", fmt::format("{} would make the striker touch the side walls (at -+{} top radii): use "
-                                            "a smaller striker, more top columns or free sides",
-                                            s.striker_radius_ratio, s.top_columns));
+  } else if (s.sides == Boundary::wall && !(s.striker_radius_ratio + 2 * std::abs(s.impact_offset) < s.top_columns)) {  // x and, in 3D, y
+    bad("striker_radius_ratio", fmt::format("{}{} would make the striker touch the side walls (at -+{} top radii): use "
+                                            "a smaller striker, {}more top columns or free sides",
+                                            s.striker_radius_ratio,
+                                            s.impact_offset != 0 ? fmt::format(" at impact_offset {}", s.impact_offset) : "",
+                                            s.top_columns, s.impact_offset != 0 ? "a blow nearer the centre, " : ""));
   }
 
   validate_container(s, bad, known, known_list);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdlib>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -444,6 +445,24 @@ std::vector<SpecField> striker_and_boundary_rows() {
               "two spheres and ratio 2 is the isolated collision of Eq. 3)";
   ratio.in_every_manifest = false;  // absent from manifests written before the striker could be chosen
   rows.push_back(std::move(ratio));
+
+  auto offset = number_row("impact_offset", &StackSpec::impact_offset, "0",
+                           "An off-centre blow: the striker k top-sphere diameters along +x from the centre, "
+                           "|k| <= top_columns/2 - 1",
+                           "io");
+  offset.doc = "the striker rests on top spheres `top_columns/2 + k` and `top_columns/2 + k + 1` (along x only in a 3D "
+               "nest); the impact path, the output sphere and the middle spheres follow it down";
+  offset.in_every_manifest = false;  // written where it is not 0, so older manifests stay as they were
+  offset.save = [](const StackSpec& s, json& j) {
+    if (s.impact_offset != 0) j["impact_offset"] = s.impact_offset;
+  };
+  offset.check = [](const StackSpec& s, Issues& i) {
+    const int most = s.top_columns / 2 - 1;
+    check_range(i, "impact_offset", std::abs(s.impact_offset) <= std::max(most, 0),
+                fmt::format("{} must be in [-{}, {}]: the striker must rest on two of the {} top spheres", s.impact_offset,
+                            std::max(most, 0), std::max(most, 0), s.top_columns));
+  };
+  rows.push_back(std::move(offset));
 
   auto striker = text_row("striker_material", &StackSpec::striker_material, "the top block's", "Material of the striker");
   striker.in_every_manifest = false;

@@ -86,8 +86,8 @@ Stack Stack::build(const StackSpec& spec) {
   const double seat = seat_height(top.radius, striker_radius, supports);
   for (int p = 1; p <= s.panels(); ++p) {
     if (!s.struck(p)) continue;
-    // Above the midpoint of the central top row (x = 0, on the panel's plane).
-    const Eigen::Vector3d below{0.0, s.panel_y(p), s.site(top, 1, 1, 1).z()};
+    // Above the midpoint of the two struck top spheres (x = 2 k R_1 for impact_offset k, on the panel's plane).
+    const Eigen::Vector3d below{2.0 * spec.impact_offset * top.radius, s.panel_y(p), s.site(top, 1, 1, 1).z()};
     s.add({static_cast<int>(s.spheres_.size()) + 1, 0, 0, 0, 0, 0, s.striker_type(), striker_radius},
           below + seat * Eigen::Vector3d::UnitZ());
   }
@@ -162,22 +162,31 @@ int Stack::id_of(int block_index, int row, int column, int column_y) const {
   return id_of(b, row, column, column_y);
 }
 
-int Stack::impact_column(int block_index) const {
-  // The path's centre in block k is x_k = u_k R_k: u_1 = 1 (the top block's right central
-  // sphere); an even ratio n rests a sphere on two at x_k -+ R_(k+1), of which the path takes the
-  // inner, u_(k+1) = n u_k - 1; an odd one on the one straight below, u_(k+1) = n u_k. u_k stays
-  // odd, and x_j = (2j - 1 - C_k) R_k gives j = (u_k + 1 + C_k) / 2.
-  long u = 1;
-  for (int k = 1; k < block_index; ++k) {
-    const long n = spec_.ratio_below(k);
-    u = n % 2 == 0 ? n * u - 1 : n * u;
+namespace {
+// The column of block k of the path down from top sphere u_1 (its centre at x = u_1 R_1, u_1 odd).
+// The path's centre in block k is x_k = u_k R_k; an even ratio n rests a sphere on two at
+// x_k -+ R_(k+1), of which the path takes the inner (toward the axis; for u_k = 1, x_k - R_(k+1)),
+// u_(k+1) = n u_k - sign(u_k); an odd one on the one straight below, u_(k+1) = n u_k. u_k stays
+// odd, and x_j = (2j - 1 - C_k) R_k gives j = (u_k + 1 + C_k) / 2.
+int path_column(const StackSpec& spec, const Block& b, long u) {
+  for (int k = 1; k < b.index; ++k) {
+    const long n = spec.ratio_below(k);
+    u = n % 2 == 0 ? n * u - (u > 0 ? 1 : -1) : n * u;
   }
-  return static_cast<int>((u + 1 + block(block_index).columns) / 2);
+  return static_cast<int>((u + 1 + b.columns) / 2);
+}
+}  // namespace
+
+int Stack::impact_column(int block_index) const {
+  // The top block's struck sphere on the right (x = R_1 + 2 k R_1 for impact_offset k); with k < 0
+  // the one on the right is nearer the axis still.
+  return path_column(spec_, block(block_index), 1 + 2L * spec_.impact_offset);
 }
 
 int Stack::impact_path_id(int block_index, int row) const {
   const int c = impact_column(block_index);
-  return id_of(block_index, row, c, three_d() ? c : impact_panel());
+  // In 3D the y-column follows the same rule from y = R_1 (the offset is along x only).
+  return id_of(block_index, row, c, three_d() ? path_column(spec_, block(block_index), 1) : impact_panel());
 }
 
 int Stack::output_sphere_id() const { return impact_path_id(spec_.blocks, blocks_.back().rows); }

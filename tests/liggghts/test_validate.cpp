@@ -326,6 +326,15 @@ INSTANTIATE_TEST_SUITE_P(
         BlowEndCase{"free", blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::free_surface), true},
         // A soft cavity over a wall (the hold is two arrivals).
         BlowEndCase{"sandwich_wall", blow_end_spec(3, {8, 8, 8}, {"steel", "teflon", "steel"}, model::Boundary::wall), true},
+        // An off-centre blow over a wall: the striker one top-sphere diameter right of the centre.
+        BlowEndCase{"off_centre_wall",
+                    [] {
+                      auto s = blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::wall);
+                      s.top_columns = 4;
+                      s.impact_offset = 1;
+                      return s;
+                    }(),
+                    true},
         // A 3D nest over a wall: the footprint in y as well as x.
         BlowEndCase{"nest_wall", blow_end_spec(2, {3, 3}, {"steel"}, model::Boundary::wall, model::kBlowEndCapDurations,
                                                model::Geometry::nested3d),

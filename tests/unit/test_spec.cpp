@@ -280,6 +280,7 @@ friction_pairs = { "soft:steel" = 0.3 }
 striker_speed = 0.5
 striker_radius_ratio = 1.5
 striker_material = "teflon"
+impact_offset = -1
 bottom = "wall"
 sides = "free"
 wall_material = "steel"
@@ -310,6 +311,7 @@ characteristic_velocity = 2
   EXPECT_EQ(spec.dump_files, model::DumpFiles::per_step);
   EXPECT_EQ(*spec.characteristic_velocity, 2.0);
   EXPECT_EQ(spec.rolling_friction.get("steel", "steel"), 0.05);
+  EXPECT_EQ(spec.impact_offset, -1);
   // A run that stops at the blow's end, with its cap, reads back from the manifest as it was.
   auto stopping = spec;
   stopping.duration.reset();

@@ -40,9 +40,10 @@ struct Constraints {
 // The blows a design must survive: each a change to the fixed spec; a space without [scenarios]
 // has one, the fixed spec itself.
 struct Scenario {
-  std::string label;               // "striker_speed 2 m/s, striker_radius_ratio 1"
+  std::string label;               // "2 m/s, striker 1 R_1", and ", 1 diameter off centre" for an offset
   double striker_speed = 1.0;      // m/s
   double striker_radius_ratio = 1.0;
+  int impact_offset = 0;           // top-sphere diameters along +x (model::StackSpec::impact_offset)
   model::StackSpec applied_to(model::StackSpec spec) const;
 };
 // How an objective is taken over the scenarios: the worst (the largest: every objective is

@@ -88,6 +88,9 @@ struct StackSpec {
   // section 5 (a large sphere on two small ones, the interface's geometry).
   double striker_radius_ratio = 1.0;
   std::string striker_material;                // empty: the top block's material
+  // An off-centre blow: the striker rests on top spheres C/2 + k and C/2 + k + 1 of block 1's C
+  // columns, k top-sphere diameters along +x from the centre (|k| <= C/2 - 1; along x only in 3D).
+  int impact_offset = 0;
   Boundary bottom = Boundary::free_surface;
   Boundary sides = Boundary::free_surface;
   std::string wall_material;                   // empty: the bottom block's material

@@ -130,12 +130,13 @@ class Stack {
   }
   static constexpr int striker_id() { return 1; }  // the first striker
   // The column of block k on the impact path, the chain of contacts down from the top block's
-  // right central sphere (x = R_1): with an even radius ratio each sphere rests on two and the
-  // path takes the inner one (for the study's ratio 2, the central column just right of the
+  // right central sphere (x = R_1; with impact_offset k, the right one of the two struck, at
+  // x = (1 + 2k) R_1): with an even radius ratio each sphere rests on two and the path takes the
+  // inner one, toward the axis (for the study's ratio 2, the central column just right of the
   // axis in every block); with an odd ratio each rests on the one straight below (x = R_1 in
   // every block), and its side neighbours receive no downward push. In a 3D nest the path starts
   // at the central top sphere at (R_1, R_1) and follows the same rule along x and along y, so
-  // its y-column is this column too.
+  // without an offset its y-column is this column too.
   int impact_column(int block) const;
   // The sphere of row `row` of block k on the impact path: the impact column, in 3D its y-column
   // along the same rule, in a container the impacted panel.
