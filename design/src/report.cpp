@@ -257,23 +257,27 @@ model::StackSpec worst_run(const Evaluation& e) {
   return std::max_element(e.scenarios.begin(), e.scenarios.end(), [&](const auto& a, const auto& b) { return force(a) < force(b); })->spec;
 }
 
-// The front's first designs (least first objective) and the study's, each rerun in situ to the
-// length the store measured (with scenarios, the one with the largest peak force).
+// The front's designs and the study's, each rerun in situ as the store measured it (to its blow's
+// end; with scenarios, the one with the largest peak force). The figure shows the front's first
+// kFiguredFront (least first objective) beside the study's; the energy table all of them.
+constexpr std::size_t kFiguredFront = 3;
 struct Rerun {
   std::string name;
   refsim::InSituResult r;
+  double striker_speed = 0.0;  // m/s, of the run
+  bool figured = true;
 };
 std::vector<Rerun> rerun_shown(const Snapshot& s, const std::vector<Evaluation>& front) {
-  std::vector<std::pair<std::string, model::StackSpec>> shown;
-  for (std::size_t i = 0; i < std::min<std::size_t>(front.size(), 3); ++i) {
-    shown.emplace_back(fmt::format("front {}: {}", i + 1, front[i].description), worst_run(front[i]));
-  }
-  for (const auto& [name, e] : s.studies) shown.emplace_back(name, worst_run(e));
   std::vector<Rerun> out;
-  for (const auto& [name, spec] : shown) {
+  const auto add = [&](const std::string& name, const model::StackSpec& spec, bool figured) {
     const auto stack = model::Stack::build(spec);
-    out.push_back({name, refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "report")))});
+    out.push_back({name, refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "report"))),
+                   spec.striker_speed, figured});
+  };
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    add(fmt::format("front {}: {}", i + 1, front[i].description), worst_run(front[i]), i < kFiguredFront);
   }
+  for (const auto& [name, e] : s.studies) add(name, worst_run(e), true);
   return out;
 }
 
@@ -281,16 +285,19 @@ std::vector<Rerun> rerun_shown(const Snapshot& s, const std::vector<Evaluation>&
 postproc::Figure force_figure(const std::vector<Rerun>& shown, const fs::path& dir) {
   std::string data, plots;
   double peak = 0.0;  // the y axis spans three decades below the largest force shown
-  for (std::size_t k = 0; k < shown.size(); ++k) {
-    const auto& r = shown[k].r;
+  std::size_t index = 0;  // of the figure's data sets
+  for (const auto& one : shown) {
+    if (!one.figured) continue;
+    const std::size_t k = index++;
+    const auto& r = one.r;
     peak = std::max(peak, r.peak_wall_force.value_or(0.0));
-    data += fmt::format("# {}: t (s) F (N)\n", shown[k].name);
+    data += fmt::format("# {}: t (s) F (N)\n", one.name);
     for (std::size_t j = 0; j < r.wall_force.size(); ++j) {
       data += fmt::format("{:.9g} {:.9g}\n", static_cast<double>(j + 1) * r.wall_force_interval, r.wall_force[j]);
     }
     data += "\n\n";
     plots += fmt::format("{}'force.dat' index {} using ($1*1e3):2 with lines lw {} title '{}'", k == 0 ? "plot " : ", \\\n     ", k,
-                         k < 3 ? 2 : 1, shown[k].name);
+                         k < kFiguredFront ? 2 : 1, one.name);
   }
   postproc::PlotOptions o;
   o.format = "svg";
@@ -305,14 +312,20 @@ postproc::Figure force_figure(const std::vector<Rerun>& shown, const fs::path& d
 
 // Where the energy is when each run ends, over E_in: the striker, each block, the part of the
 // blocks' that moves sideways, and the rest (elastic energy in the contacts, less what damping and
-// friction took).
-postproc::Table energy_table(const std::vector<Rerun>& shown) {
+// friction took); and the striker's and (free bottom) the output sphere's speed then, over the
+// striker's speed at impact.
+postproc::Table energy_table(const std::vector<Rerun>& shown, bool wall) {
   std::size_t blocks = 0;
   for (const auto& x : shown) blocks = std::max(blocks, x.r.end_block_ke.size());
-  postproc::Table t{"Where the energy is when the blow has ended, over E_in", {"design", "ended at (s)", "striker"}, {}};
+  postproc::Table t{"Where the energy is when the blow has ended, over E_in; and how fast the striker comes back up "
+                    "(and, with a free bottom, the output sphere leaves), over the striker's speed",
+                    {"design", "ended at (s)", "striker"},
+                    {}};
   for (std::size_t k = 0; k < blocks; ++k) t.header.push_back(fmt::format("block {}", k + 1));
   t.header.push_back("of the blocks', sideways");
   t.header.push_back("the rest (contacts, dissipated)");
+  t.header.push_back("v_striker up / v_0");
+  if (!wall) t.header.push_back("v_out / v_0");
   for (const auto& x : shown) {
     const auto& r = x.r;
     std::vector<std::string> row{x.name, r.blow_end_time ? fmt::format("{:.4g}", *r.blow_end_time) : "not ended",
@@ -324,6 +337,8 @@ postproc::Table energy_table(const std::vector<Rerun>& shown) {
     }
     row.push_back(fmt::format("{:.3g}", r.end_sideways_ke / r.e_in));
     row.push_back(fmt::format("{:.3g}", 1.0 - sum / r.e_in));
+    row.push_back(fmt::format("{:.3g}", r.end_striker_vz / x.striker_speed));
+    if (!wall) row.push_back(fmt::format("{:.3g}", r.end_output_speed / x.striker_speed));
     t.rows.push_back(std::move(row));
   }
   return t;
@@ -527,10 +542,11 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
       d.push_back(pair_figure(space, s, front, space.objectives[k], space.objectives[i], dir));
     }
   }
-  if (any_feasible && space.fixed.bottom == model::Boundary::wall) {
+  if (any_feasible) {
+    const bool wall = space.fixed.bottom == model::Boundary::wall;
     const auto shown = rerun_shown(s, front);
-    d.push_back(force_figure(shown, dir));
-    d.push_back(energy_table(shown));
+    if (wall) d.push_back(force_figure(shown, dir));
+    d.push_back(energy_table(shown, wall));
   }
   d.push_back(postproc::Heading{2, "Convergence", "convergence"});
   if (s.generations.empty()) {  // stopped in its initial population: nothing to draw yet

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <tuple>
 
 #include "frame_judge.hpp"
@@ -59,6 +60,9 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
   const auto energy_at_end = [&] {
     r.end_block_ke.assign(stack.blocks().size(), 0.0);
     r.end_striker_ke = r.end_sideways_ke = 0.0;
+    r.end_striker_vz = system.v(0)[2];
+    const auto vo = system.v(out);
+    r.end_output_speed = std::sqrt(vo[0] * vo[0] + vo[1] * vo[1] + vo[2] * vo[2]);
     for (const auto& sphere : stack.spheres()) {
       const auto i = static_cast<std::size_t>(sphere.id - 1);
       const double ke = sphere_ke(system, i);

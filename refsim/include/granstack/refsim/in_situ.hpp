@@ -75,6 +75,10 @@ struct InSituResult {
   double end_striker_ke = 0.0;
   std::vector<double> end_block_ke;
   double end_sideways_ke = 0.0;
+  // And how fast the first striker moves back up and the output sphere moves, at that frame (m/s):
+  // a stack that throws the striker back, or kicks its output sphere off faster than it was struck.
+  double end_striker_vz = 0.0;
+  double end_output_speed = 0.0;
   long steps = 0;                           // the run's (with stop_at_blow_end: where it stopped)
   int dump_every = 0, series_every = 0;     // the resolution's
   long atoms = 0;
