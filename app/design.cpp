@@ -36,6 +36,7 @@ struct DesignFlags {
   int top = 3;
   bool no_report = false;
   std::string liggghts;  // confirm: the LIGGGHTS executable ("" for the one on PATH)
+  std::string geometry, sides;  // confirm: the physical variant, over the space's [confirm]
 };
 
 // A design directory holds its store, its space and its report; anything else in it is not ours.
@@ -113,8 +114,14 @@ int confirm(const DesignFlags& f) {
   const fs::path dir(f.dir);
   const os::CaseLock lock(dir, "granstack design confirm");
   const auto text = design::Store::open_existing((dir / kStoreName).string()).meta("space");
-  const auto space = design::parse_space(*text, (dir / kSpaceName).string(), true);
+  auto space = design::parse_space(*text, (dir / kSpaceName).string(), true);
   auto store = design::Store::open((dir / kStoreName).string(), space.digest(), *text);
+  if (!f.geometry.empty()) space.confirm_variant.geometry = model::Geometry::nested3d;  // CLI's check: nested3d only
+  if (!f.sides.empty()) space.confirm_variant.sides = *model::parse_boundary(f.sides);
+  if (const auto why = space.confirm_variant.problem(space.fixed); !why.empty()) {
+    fmt::print(stderr, "error: the variant to confirm on ({}): {}\n", space.confirm_variant.label(), why);
+    return kBadInput;
+  }
   StatusLine line;
   std::vector<design::Confirmation> results;
   try {
@@ -134,6 +141,12 @@ int confirm(const DesignFlags& f) {
                c.digest.substr(0, 12), c.case_dir, c.objective_difference, c.largest_difference, c.verdict, longer,
                longer <= design::kFinalTolerance ? "final" : "NOT FINAL");
     disagreements += c.verdict != "agree";
+    if (!c.variant.empty()) {
+      std::string measures;
+      for (const auto& [name, value] : c.variant_measures) measures += fmt::format(" {} {:.4g}", name, value);
+      fmt::print("{}  {}:{}{}\n", c.digest.substr(0, 12), c.variant, measures,
+                 c.variant_not_final.empty() ? "" : "; " + c.variant_not_final);
+    }
   }
   fmt::print("report: {}\n", design::write_report(space, store, dir / "report").string());
   return disagreements > 0 ? kDisagree : kOk;
@@ -182,6 +195,9 @@ Command add_design(CLI::App& app) {
   conf->add_option("dir", f->dir, "Design directory")->required()->check(CLI::ExistingDirectory);
   conf->add_option("--top", f->top, "How many of the front's designs, best first objective first")->check(CLI::Range(1, 100));
   conf->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
+  conf->add_option("--geometry", f->geometry, "Also run each design as this body on LIGGGHTS: nested3d (the strip's blocks as a 3D nest) [the space's [confirm]]")
+      ->check(CLI::IsMember({"nested3d"}));
+  conf->add_option("--sides", f->sides, "... and with these sides: wall | free [the space's [confirm]]")->check(CLI::IsMember({"wall", "free"}));
   auto* objectives = cmd->add_subcommand("objectives", "The measures a design space may minimise or bound, as a markdown table");
   return {cmd, [f, run, status, rep, conf, objectives] {
             if (objectives->parsed()) return print_objectives();

@@ -170,17 +170,30 @@ postproc::Table generations_table(const Snapshot& s) {
   return t;
 }
 
+// The physical variant's run measures beside the design's (the worst over its scenarios).
+std::string variant_text(const Confirmation& c, const Evaluation* e) {
+  if (c.variant.empty()) return "-";
+  std::string out = c.variant + ":";
+  for (const auto& [name, value] : c.variant_measures) {
+    const auto mine = e != nullptr ? e->measures.find(name) : std::map<std::string, double>::const_iterator{};
+    out += fmt::format(" {} {:.4g}{}", name, value,
+                       e != nullptr && mine != e->measures.end() ? fmt::format(" ({:.4g})", mine->second) : "");
+  }
+  return out + (c.variant_not_final.empty() ? "" : "; " + c.variant_not_final);
+}
+
 postproc::Table confirmations_table(const Snapshot& s) {
   postproc::Table t{"The front's best re-run on LIGGGHTS (granstack design confirm)",
                     {"design", "layers", "case", "LIGGGHTS output fraction", "LIGGGHTS peak wall force (N)",
                      "objectives: LIGGGHTS against in situ", "whole runs: validate's largest difference", "verdict",
-                     "objectives: LIGGGHTS twice as long against in situ", "final"}, {}};
+                     "objectives: LIGGGHTS twice as long against in situ", "final", "a body it stands for: measures (the strip's)"}, {}};
   for (const auto& c : s.confirmations) {
     const auto e = std::find_if(s.all.begin(), s.all.end(), [&](const auto& x) { return x.digest == c.digest; });
     t.rows.push_back({c.digest.substr(0, 12), e != s.all.end() ? e->description : "?", c.case_dir, fmt::format("{:.6g}", c.liggghts_output_fraction),
                       value_text(c.liggghts_peak_wall_force), fmt::format("{:.3g}", c.objective_difference),
                       fmt::format("{:.3g}", c.largest_difference), c.verdict, value_text(c.longer_difference),
-                      !c.longer_difference ? "-" : *c.longer_difference <= kFinalTolerance ? "final" : "NOT FINAL"});
+                      !c.longer_difference ? "-" : *c.longer_difference <= kFinalTolerance ? "final" : "NOT FINAL",
+                      variant_text(c, e != s.all.end() ? &*e : nullptr)});
   }
   return t;
 }
@@ -624,10 +637,28 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
     if (on_progress) on_progress(fmt::format("confirm: LIGGGHTS twice as long, {} of {}", s.finished, s.total));
   };
   check(runner::run_cases(longer_dirs, ro));
+  // The physical variant the space asks for, of each design's worst scenario, on LIGGGHTS.
+  const auto& variant = space.confirm_variant;
+  std::vector<std::pair<std::string, model::StackSpec>> variant_runs(front.size());
+  if (!variant.empty()) {
+    std::vector<std::string> variant_dirs;
+    for (std::size_t i = 0; i < front.size(); ++i) {
+      generator::GenerateOptions o;
+      o.output = dir / (front[i].digest.substr(0, 12) + variant.suffix());
+      o.force = true;
+      variant_runs[i] = {o.output.string(), variant.applied_to(worst_run(front[i]))};
+      generator::generate({{o.output.filename().string(), variant_runs[i].second}}, o);
+      variant_dirs.push_back(o.output.string());
+    }
+    ro.on_progress = [&](const runner::ProgressSnapshot& s) {
+      if (on_progress) on_progress(fmt::format("confirm: LIGGGHTS, {}, {} of {}", variant.label(), s.finished, s.total));
+    };
+    check(runner::run_cases(variant_dirs, ro));
+  }
   // Per design: the worst of its scenarios' comparisons, and the largest LIGGGHTS values.
   std::vector<Confirmation> out;
   for (std::size_t i = 0; i < front.size(); ++i) {
-    Confirmation c{front[i].digest, "", 0.0, std::nullopt, 0.0, 0.0, "", std::nullopt};
+    Confirmation c{front[i].digest, "", 0.0, std::nullopt, 0.0, 0.0, "", std::nullopt, "", {}, ""};
     for (std::size_t n = 0; n < entries.size(); ++n) {
       const auto& en = entries[n];
       if (en.design != i) continue;
@@ -646,6 +677,15 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
                                      objective_difference(space, longer_specs[n], en.measures, longer));
     }
     c.verdict = c.objective_difference <= postproc::kDefaultTolerance ? "agree" : "DISAGREE";
+    if (!variant.empty()) {
+      postproc::ReduceOptions quiet;
+      quiet.write_files = false;
+      const auto& [vdir, vspec] = variant_runs[i];
+      const auto outcome = outcome_of(postproc::reduce_case(vdir, quiet), vspec);
+      c.variant = variant.label();
+      c.variant_measures = run_measures(space, outcome);
+      c.variant_not_final = not_final(space, vspec, outcome);
+    }
     out.push_back(c);
     store.put_confirmation(c);
   }

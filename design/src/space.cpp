@@ -259,6 +259,26 @@ void read_scenarios(const toml::table* t, const toml::table* fixed, Space& s, st
   }
 }
 
+// [confirm]: geometry = "nested3d" and/or sides = "wall" | "free".
+void read_confirm(const toml::table* t, Space& s, std::vector<std::string>& problems) {
+  if (t == nullptr) return;
+  for (const auto& [k, v] : *t) {
+    const std::string key(k.str());
+    const auto text = v.value<std::string>();
+    if (key == "geometry") {
+      if (text == "nested3d") s.confirm_variant.geometry = model::Geometry::nested3d;
+      else problems.push_back("[confirm] geometry: \"nested3d\" (the strip's blocks as a 3D nest)");
+    } else if (key == "sides") {
+      const auto b = text ? model::parse_boundary(*text) : std::nullopt;
+      if (b) s.confirm_variant.sides = *b;
+      else problems.push_back("[confirm] sides: \"wall\" or \"free\"");
+    } else {
+      problems.push_back(fmt::format("[confirm] {}: unknown; geometry and sides", key));
+    }
+  }
+  if (const auto why = s.confirm_variant.problem(s.fixed); !why.empty()) problems.push_back("[confirm] " + why);
+}
+
 // Whether a space varies the bottom spheres' radius: the footprint is fixed, so any choice of
 // blocks or ratios beyond one changes R_N = R_1 / (product of the ratios).
 bool varies_bottom_radius(const Space& s) {
@@ -390,6 +410,35 @@ void check_not_empty(const Space& s, std::vector<std::string>& problems) {
 SpaceError::SpaceError(std::vector<std::string> problems)
     : std::runtime_error(problems.empty() ? "bad design space" : problems.front()), problems_(std::move(problems)) {}
 
+std::string ConfirmVariant::label() const {
+  std::string out = geometry ? "3D nest" : "";
+  if (sides) out += fmt::format("{}{}", out.empty() ? "" : ", ", *sides == model::Boundary::wall ? "side walls" : "free sides");
+  return out;
+}
+
+std::string ConfirmVariant::suffix() const {
+  std::string out = geometry ? "_3d" : "";
+  if (sides) out += *sides == model::Boundary::wall ? "_walls" : "_free";
+  return out;
+}
+
+model::StackSpec ConfirmVariant::applied_to(model::StackSpec spec) const {
+  if (geometry) spec.geometry = *geometry;
+  if (sides) spec.sides = *sides;
+  return spec;
+}
+
+std::string ConfirmVariant::problem(const model::StackSpec& fixed) const {
+  if (empty()) return "";
+  if (geometry && fixed.geometry != model::Geometry::strip) return "geometry: the variant makes a nest of the strip; this space's designs are not strips";
+  if (geometry && *geometry == fixed.geometry && (!sides || *sides == fixed.sides)) return "the variant is the designs themselves";
+  if (!geometry && sides && *sides == fixed.sides) return "sides: the designs have these sides already";
+  if (const auto issues = model::validate(applied_to(fixed)); !issues.empty()) {
+    return fmt::format("{}: {}", issues.front().field, issues.front().message);
+  }
+  return "";
+}
+
 model::StackSpec Scenario::applied_to(model::StackSpec spec) const {
   spec.striker_speed = striker_speed;
   spec.striker_radius_ratio = striker_radius_ratio;
@@ -482,9 +531,9 @@ Space parse_space(std::string_view text, const std::string& source, bool stored)
   for (const auto& [k, v] : root) {
     const std::string key(k.str());
     if (key != "fixed" && key != "vary" && key != "constraints" && key != "objectives" && key != "search" && key != "measures" &&
-        key != "scenarios") {
+        key != "scenarios" && key != "confirm") {
       problems.push_back(fmt::format("{}: unknown; a design space has [fixed], [vary], [constraints], objectives, "
-                                     "[measures], [scenarios] and [search]", key));
+                                     "[measures], [scenarios], [confirm] and [search]", key));
     }
   }
   Space s;
@@ -495,6 +544,7 @@ Space parse_space(std::string_view text, const std::string& source, bool stored)
   read_measures(root.get_as<toml::table>("measures"), s, problems);
   read_scenarios(root.get_as<toml::table>("scenarios"), root.get_as<toml::table>("fixed"), s, problems);
   read_constraints(root.get_as<toml::table>("constraints"), s, problems);
+  read_confirm(root.get_as<toml::table>("confirm"), s, problems);
   read_search(root.get_as<toml::table>("search"), s, problems);
   if (problems.empty()) {
     std::vector<std::string> unsound;

@@ -195,6 +195,9 @@ Store Store::open(const std::string& path, const std::string& space_digest, cons
   if (const auto c = s.columns("confirmations"); std::find(c.begin(), c.end(), "longer_difference") == c.end()) {
     s.exec("ALTER TABLE confirmations ADD COLUMN longer_difference REAL");
   }
+  if (const auto c = s.columns("confirmations"); std::find(c.begin(), c.end(), "variant") == c.end()) {
+    s.exec("ALTER TABLE confirmations ADD COLUMN variant TEXT NOT NULL DEFAULT '{}'");
+  }
   s.find_measures();
   if (const auto d = s.meta("space_digest")) {
     if (*d != space_digest) {
@@ -340,20 +343,34 @@ std::vector<Generation> Store::generations() const {
 void Store::put_confirmation(const Confirmation& c) {
   const std::lock_guard<std::mutex> lock(*mutex_);
   Statement q(db_, "INSERT OR REPLACE INTO confirmations (digest, case_dir, liggghts_output_fraction, liggghts_peak_wall_force, "
-                   "largest_difference, objective_difference, verdict, longer_difference) VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
+                   "largest_difference, objective_difference, verdict, longer_difference, variant) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  const nlohmann::json variant = c.variant.empty() ? nlohmann::json::object()
+                                                   : nlohmann::json{{"label", c.variant},
+                                                                    {"measures", c.variant_measures},
+                                                                    {"not_final", c.variant_not_final}};
   q.bind(1, c.digest).bind(2, c.case_dir).bind(3, c.liggghts_output_fraction).bind(4, c.liggghts_peak_wall_force);
-  q.bind(5, c.largest_difference).bind(6, c.objective_difference).bind(7, c.verdict).bind(8, c.longer_difference).step();
+  q.bind(5, c.largest_difference).bind(6, c.objective_difference).bind(7, c.verdict).bind(8, c.longer_difference);
+  q.bind(9, variant.dump()).step();
 }
 
 std::vector<Confirmation> Store::confirmations() const {
   const std::lock_guard<std::mutex> lock(*mutex_);
   const auto present = columns("confirmations");
   const bool longer = std::find(present.begin(), present.end(), "longer_difference") != present.end();
+  const bool variant = std::find(present.begin(), present.end(), "variant") != present.end();
   Statement q(db_, fmt::format("SELECT digest, case_dir, liggghts_output_fraction, liggghts_peak_wall_force, largest_difference, "
-                               "objective_difference, verdict, {} FROM confirmations",
-                               longer ? "longer_difference" : "NULL"));
+                               "objective_difference, verdict, {}, {} FROM confirmations",
+                               longer ? "longer_difference" : "NULL", variant ? "variant" : "'{}'"));
   std::vector<Confirmation> out;
-  while (q.step()) out.push_back({q.text(0), q.text(1), q.real(2), q.maybe(3), q.real(4), q.real(5), q.text(6), q.maybe(7)});
+  while (q.step()) {
+    out.push_back({q.text(0), q.text(1), q.real(2), q.maybe(3), q.real(4), q.real(5), q.text(6), q.maybe(7), "", {}, ""});
+    const auto v = nlohmann::json::parse(q.text(8), nullptr, false);
+    if (v.is_object() && v.contains("label")) {
+      out.back().variant = v.value("label", "");
+      out.back().variant_measures = v.value("measures", std::map<std::string, double>{});
+      out.back().variant_not_final = v.value("not_final", "");
+    }
+  }
   return out;
 }
 

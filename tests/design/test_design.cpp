@@ -663,6 +663,40 @@ TEST(DesignCli, TheFrontsBestIsConfirmedOnLiggghts) {
   EXPECT_NE(md.find("Where the energy is when the blow has ended"), std::string::npos);
 }
 
+// The physical variant (#32.5): confirm also runs each confirmed design as the body the strip
+// stands for, here its blocks as a 3D nest, on LIGGGHTS to the blow's end, and reports its
+// measures beside the strip's. A variant that is the designs themselves is refused.
+TEST(DesignCli, ConfirmAlsoRunsTheFrontAsA3DNestOnLiggghts) {
+  const auto dir = work_dir();
+  std::ofstream(dir / "same.toml") << kSmallSpace << "[confirm]\nsides = \"free\"\n";
+  const auto same = program({"design", "run", (dir / "same.toml").string(), "-o", (dir / "same").string()}, dir / "same.log");
+  EXPECT_EQ(same.code, 2) << same.output;
+  EXPECT_NE(same.output.find("[confirm] sides: the designs have these sides already"), std::string::npos) << same.output;
+  EXPECT_FALSE(fs::exists(dir / "same"));
+  std::ofstream(dir / "small.toml") << kSmallSpace << "[confirm]\ngeometry = \"nested3d\"\n";
+  ASSERT_EQ(program({"design", "run", (dir / "small.toml").string(), "-o", (dir / "search").string(), "-j", "2"}, dir / "run.log").code, 0);
+  const auto r = program({"design", "confirm", (dir / "search").string(), "--top", "1"}, dir / "confirm.log");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto store = design::Store::open_existing((dir / "search" / "design.sqlite").string());
+  const auto confirmed = store.confirmations();
+  ASSERT_EQ(confirmed.size(), 1u);
+  const auto& c = confirmed.front();
+  EXPECT_EQ(c.variant, "3D nest");
+  EXPECT_EQ(c.variant_not_final, "");  // its blow ended before the cap
+  const auto e = store.find(c.digest);
+  ASSERT_TRUE(e);
+  for (const char* m : {"peak_wall_force", "stroke"}) {
+    ASSERT_EQ(c.variant_measures.count(m), 1u) << m;
+    EXPECT_GT(c.variant_measures.at(m), 0.0) << m;
+    EXPECT_TRUE(std::isfinite(c.variant_measures.at(m))) << m;
+    std::printf("%s: %s %.6g as a 3D nest, %.6g as the strip\n", e->description.c_str(), m, c.variant_measures.at(m), e->measures.at(m));
+  }
+  const auto nest = formats::Case::open((dir / "search" / "confirm" / (c.digest.substr(0, 12) + "_3d")).string());
+  EXPECT_EQ(nest.spec().geometry, model::Geometry::nested3d);
+  EXPECT_EQ(formats::read_run_record(nest.dir(), nest.files()).status, "done");
+  EXPECT_NE(test::read_bytes(dir / "search" / "report" / "design.md").find("3D nest: peak_wall_force"), std::string::npos);
+}
+
 // The HTML report in a real browser (headless Chromium, no network): it loads, and each figure
 // is an inline SVG the browser drew.
 TEST(DesignCli, TheHtmlReportRendersInChromium) {

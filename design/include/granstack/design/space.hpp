@@ -46,6 +46,21 @@ struct Scenario {
   int impact_offset = 0;           // top-sphere diameters along +x (model::StackSpec::impact_offset)
   model::StackSpec applied_to(model::StackSpec spec) const;
 };
+// [confirm] (or confirm's --geometry and --sides): a physical variant of each confirmed design that
+// confirm also runs on LIGGGHTS, to its blow's end: the strip as a 3D nest of the same blocks,
+// or between rigid side walls. Its measures stand beside the strip's: how far the strip's answer
+// carries to the body it stands for. Not part of the space's digest (the search is the same).
+struct ConfirmVariant {
+  std::optional<model::Geometry> geometry;  // nested3d (from the strip)
+  std::optional<model::Boundary> sides;
+  bool empty() const { return !geometry && !sides; }
+  std::string label() const;   // "3D nest", "side walls", "3D nest, side walls"
+  std::string suffix() const;  // of its case's name: "_3d", "_walls", "_3d_walls"
+  model::StackSpec applied_to(model::StackSpec spec) const;
+  // Why the variant cannot be run on `fixed` (a space's fixed spec), or "".
+  std::string problem(const model::StackSpec& fixed) const;
+};
+
 // How an objective is taken over the scenarios: the worst (the largest: every objective is
 // minimised) or the mean.
 enum class Aggregate { worst, mean };
@@ -75,6 +90,7 @@ struct Space {
   Aggregate aggregate_of(std::string_view measure) const;
   double impulse_window = 0.0;        // s: [measures] impulse_window, wall_impulse's tau
   double cap_durations = model::kBlowEndCapDurations;  // [measures] cap_durations: a run's cap
+  ConfirmVariant confirm_variant;     // [confirm]
   Search search;
   std::vector<std::string> warnings;  // a stored space's problems a new search would be refused for
 

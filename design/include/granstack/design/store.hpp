@@ -67,6 +67,11 @@ struct Confirmation {
   // The physical confirmation: the largest relative change of an objective when LIGGGHTS runs the
   // design twice as long as it was measured (none: not run; below kFinalTolerance: "final").
   std::optional<double> longer_difference;
+  // The physical variant the space asked for (ConfirmVariant; "" when none): its run on LIGGGHTS
+  // of the design's worst scenario, to its blow's end: each run measure, and why not final ("").
+  std::string variant;
+  std::map<std::string, double> variant_measures;
+  std::string variant_not_final;
 };
 inline constexpr double kFinalTolerance = 1e-2;
 
