@@ -170,6 +170,17 @@ postproc::Table generations_table(const Snapshot& s) {
   return t;
 }
 
+// The run of the physical variant of a design's run `ran`: the variant's own, to its own blow's end
+// (a store written before runs stopped there holds the strip's length and cadences: not the nest's).
+model::StackSpec variant_run(const Space& space, const model::StackSpec& ran) {
+  auto v = space.confirm_variant.applied_to(ran);
+  if (!stops_at_blow_end(v)) return v;
+  v.duration.reset();
+  v.dump_every.reset();
+  v.series_every.reset();
+  return stopping_at_blow_end(v, space.cap_durations);
+}
+
 // The physical variant's run measures beside the design's (the worst over its scenarios).
 std::string variant_text(const Confirmation& c, const Evaluation* e) {
   if (c.variant.empty()) return "-";
@@ -646,7 +657,7 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
       generator::GenerateOptions o;
       o.output = dir / (front[i].digest.substr(0, 12) + variant.suffix());
       o.force = true;
-      variant_runs[i] = {o.output.string(), variant.applied_to(worst_run(front[i]))};
+      variant_runs[i] = {o.output.string(), variant_run(space, worst_run(front[i]))};
       generator::generate({{o.output.filename().string(), variant_runs[i].second}}, o);
       variant_dirs.push_back(o.output.string());
     }
