@@ -86,11 +86,17 @@ int generate(CLI::App& cmd, const GenerateFlags& g, const std::vector<std::strin
   } else {
     // What this command wrote (never read back: another generate --force may have replaced it since).
     const auto& d = result.resolutions.front();
-    fmt::print("wrote case {} ({} spheres, dt = {:.4g} s, {} steps, {:.4g} s simulated)\n", g.output, total.spheres, d.dt,
-               total.steps, d.duration);
+    if (d.stops_at_blow_end) {
+      fmt::print("wrote case {} ({} spheres, dt = {:.4g} s; it stops at its blow's end, at most {} steps, {:.4g} s "
+                 "simulated)\n", g.output, total.spheres, d.dt, total.steps, d.duration);
+    } else {
+      fmt::print("wrote case {} ({} spheres, dt = {:.4g} s, {} steps, {:.4g} s simulated)\n", g.output, total.spheres, d.dt,
+                 total.steps, d.duration);
+    }
   }
-  fmt::print("cost: about {} of dumps and series, about {} of LIGGGHTS on one core\n", bytes_text(total.dump_bytes),
-             seconds_text(total.liggghts_seconds));
+  const bool capped = std::any_of(result.resolutions.begin(), result.resolutions.end(), [](const auto& r) { return r.stops_at_blow_end; });
+  fmt::print("cost{}: about {} of dumps and series, about {} of LIGGGHTS on one core\n", capped ? ", if it runs to its cap" : "",
+             bytes_text(total.dump_bytes), seconds_text(total.liggghts_seconds));
   return kOk;
 }
 
