@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 double RunComparison::worst() const {
   if (!mismatches.empty()) return std::numeric_limits<double>::infinity();
   double w = output_fraction.relative;
-  for (const auto* list : {&dump, &series}) {
+  for (const auto* list : {&dump, &series, &measures}) {
     for (const auto& d : *list) w = std::max(w, d.relative);
   }
   return w;
@@ -30,7 +30,7 @@ double RunComparison::worst() const {
 
 const Difference& RunComparison::largest() const {
   const Difference* w = &output_fraction;
-  for (const auto* list : {&dump, &series}) {
+  for (const auto* list : {&dump, &series, &measures}) {
     for (const auto& d : *list) {
       if (d.relative > w->relative) w = &d;
     }
@@ -203,6 +203,23 @@ void recorded(RunComparison& c, F what) {
   }
 }
 
+// The protection measures of two reductions of one case, and where each judged the blow ended.
+void compare_measures(const CaseReduction& a, const CaseReduction& b, const Scales& scale, RunComparison& c) {
+  c.measures.push_back({"stroke", "m", scale.radius});
+  add(c.measures.back(), a.stroke, b.stroke, -1, -1);
+  if (a.peak_wall_force && b.peak_wall_force) {
+    c.measures.push_back({"peak_wall_force", "N", scale.force});
+    add(c.measures.back(), *a.peak_wall_force, *b.peak_wall_force, -1, -1);
+  } else if (a.peak_wall_force.has_value() != b.peak_wall_force.has_value()) {
+    c.mismatches.push_back("only one run has a bottom wall's force");
+  }
+  if (a.blow_end_time != b.blow_end_time) {
+    const auto when = [](const std::optional<double>& t) { return t ? fmt::format("at t = {:.17g} s", *t) : std::string("not"); };
+    c.mismatches.push_back(fmt::format("the blow ended {} in one run and {} in the other (judged from each dump)",
+                                       when(a.blow_end_time), when(b.blow_end_time)));
+  }
+}
+
 }  // namespace
 
 RunComparison compare_runs(const std::string& dir_a, const std::string& dir_b) {
@@ -221,6 +238,7 @@ RunComparison compare_runs(const std::string& dir_a, const std::string& dir_b) {
     const auto a = reduce_case(dir_a, quiet);
     const auto b = reduce_case(dir_b, quiet);
     add(c.output_fraction, a.output_fraction, b.output_fraction, -1, -1);
+    compare_measures(a, b, Scales(stack), c);
   });
   return c;
 }
@@ -241,6 +259,7 @@ std::string format_comparison(const RunComparison& c, const std::string& name_a,
   for (const auto& d : c.dump) row(d);
   for (const auto& d : c.series) row(d);
   row(c.output_fraction);
+  for (const auto& d : c.measures) row(d);
   for (const auto& m : c.mismatches) fmt::format_to(out, "MISMATCH: {}\n", m);
   const auto& w = c.largest();
   if (c.mismatches.empty()) {
