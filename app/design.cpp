@@ -148,6 +148,12 @@ int confirm(const DesignFlags& f) {
                  c.variant_not_final.empty() ? "" : "; " + c.variant_not_final);
     }
   }
+  std::uintmax_t bytes = 0;  // what confirm's cases hold on disk now
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(dir / "confirm", ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    if (it->is_regular_file(ec)) bytes += it->file_size(ec);
+  }
+  fmt::print("confirm: its cases take {:.3g} MB in {}\n", static_cast<double>(bytes) / 1e6, (dir / "confirm").string());
   fmt::print("report: {}\n", design::write_report(space, store, dir / "report").string());
   return disagreements > 0 ? kDisagree : kOk;
 }
