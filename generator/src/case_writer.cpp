@@ -431,8 +431,13 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
     }
     const auto cost = model::estimate_cost(stack, res);
     if (const auto why = model::why_large(cost); !why.empty() && !options.allow_large) {
-      throw model::SpecError({{"size", fmt::format("{}{} is large: {}; pass --large if you mean it", cases.size() > 1 ? "the sweep case " : "the case ",
-                                                   c.name, why)}});
+      const auto capped = res.stops_at_blow_end
+                              ? fmt::format(" if it runs to its cap of {:g} automatic durations (it stops at its blow's end, "
+                                            "often far sooner: a lower cap_durations lowers this)",
+                                            c.spec.cap_durations)
+                              : std::string();
+      throw model::SpecError({{"size", fmt::format("{}{} is large: {}{}; pass --large if you mean it",
+                                                   cases.size() > 1 ? "the sweep case " : "the case ", c.name, why, capped)}});
     }
     result.costs.push_back(cost);
     result.resolutions.push_back(res);

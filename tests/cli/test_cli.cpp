@@ -100,6 +100,9 @@ TEST_F(Cli, InvalidSpecsExitWith2NameTheFieldAndWriteNothing) {
       {"--stop blow_end --duration 1e-3", "duration: a run that stops at the blow's end lasts until then"},
       {"--stop blow_end --cap-durations 1.5", "cap_durations: 1.5 must be in [2, 1000]"},
       {"--cap-durations 40", "cap_durations: caps a run that stops at the blow's end: give it with stop = 'blow_end'"},
+      // Its cost is its cap's, and the message says so and how to lower it.
+      {"--geometry nested3d --blocks 4 --top-columns 4 --stop blow_end",
+       "if it runs to its cap of 20 automatic durations (it stops at its blow's end, often far sooner"},
   };
   for (const auto& c : cases) {
     const auto r = granstack("generate -o " + path("case") + " " + c.flags);
