@@ -281,6 +281,7 @@ TEST_P(StopAtBlowEnd, BothEnginesStopAtTheFrameWhereTheBlowEndedAndTheDeckChange
   quiet.write_files = false;
   for (const auto* engine : {"liggghts", "refsim"}) {
     const auto r = postproc::reduce_case((root / engine).string(), quiet);
+    for (const auto& w : r.warnings) EXPECT_EQ(w.find("otherwise than reduce does"), std::string::npos) << engine << ": " << w;
     if (param.ends) {
       ASSERT_TRUE(r.blow_end_time) << engine << ": " << r.blow_not_ended;
       EXPECT_EQ(*r.blow_end_time, static_cast<double>(steps) * res.dt) << engine;
@@ -317,6 +318,32 @@ TEST_P(StopAtBlowEnd, BothEnginesStopAtTheFrameWhereTheBlowEndedAndTheDeckChange
     EXPECT_TRUE(stopped == whole) << file << ": " << stopped.size() << " and " << whole.size() << " bytes, first differing at byte "
                                   << at;
   }
+}
+
+// A deck that stops where the blow has not ended (a template of the user's that runs one dump
+// interval and jumps over the judging loop, which the checks on its run lines still find): reduce
+// says so, and does not take the blow as ended; the measures are read as reduce judges them.
+TEST(StopAtBlowEndCheck, ARunThatStopsElsewhereIsSaidAndItsBlowIsNotTakenAsEnded) {
+  const auto root = fs::path(GRANSTACK_TEST_WORKDIR) / "blow_end_elsewhere";
+  fs::remove_all(root);
+  fs::create_directories(root);
+  std::string text(generator::default_deck_template());
+  text.replace(text.rfind("{{run}}"), 7,
+               "run             {{dump_every}}\njump            SELF skipped\n{{run}}\nlabel           skipped");
+  std::ofstream(root / "deck.tmpl") << text;
+  generator::GenerateOptions o;
+  o.output = root / "case";
+  o.deck_template_path = (root / "deck.tmpl").string();
+  generator::generate({{"case", blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::wall)}}, o);
+  ASSERT_EQ(runner::run_cases({o.output.string()}, {}).front().status, runner::RunStatus::done);
+  postproc::ReduceOptions quiet;
+  quiet.write_files = false;
+  const auto r = postproc::reduce_case(o.output.string(), quiet);
+  EXPECT_FALSE(r.blow_end_time);
+  const bool said = std::any_of(r.warnings.begin(), r.warnings.end(), [](const std::string& w) {
+    return w.find("before its cap") != std::string::npos && w.find("otherwise than reduce does") != std::string::npos;
+  });
+  EXPECT_TRUE(said) << (r.warnings.empty() ? std::string("no warning") : r.warnings.front());
 }
 
 INSTANTIATE_TEST_SUITE_P(
