@@ -193,9 +193,9 @@ std::string variant_text(const Confirmation& c, const Evaluation* e) {
   if (c.variant.empty()) return "-";
   std::string out = c.variant + ":";
   for (const auto& [name, value] : c.variant_measures) {
-    const auto mine = e != nullptr ? e->measures.find(name) : std::map<std::string, double>::const_iterator{};
-    out += fmt::format(" {} {:.4g}{}", name, value,
-                       e != nullptr && mine != e->measures.end() ? fmt::format(" ({:.4g})", mine->second) : "");
+    out += fmt::format(" {} {:.4g}", name, value);
+    if (e == nullptr) continue;
+    if (const auto mine = e->measures.find(name); mine != e->measures.end()) out += fmt::format(" ({:.4g})", mine->second);
   }
   return out + (c.variant_not_final.empty() ? "" : "; " + c.variant_not_final);
 }

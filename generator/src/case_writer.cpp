@@ -113,19 +113,6 @@ std::string blow_end_run(const model::Stack& stack, const model::Resolution& res
       start.holding_since() ? 0 : -1);
 }
 
-// Whether a deck template runs its case through {{run}} (spaces allowed inside the braces).
-bool runs_by_placeholder(std::string_view tmpl) {
-  for (auto at = tmpl.find("{{"); at != std::string_view::npos; at = tmpl.find("{{", at + 2)) {
-    const auto close = tmpl.find("}}", at);
-    if (close == std::string_view::npos) return false;
-    auto name = tmpl.substr(at + 2, close - at - 2);
-    while (!name.empty() && name.front() == ' ') name.remove_prefix(1);
-    while (!name.empty() && name.back() == ' ') name.remove_suffix(1);
-    if (name == "run") return true;
-  }
-  return false;
-}
-
 }  // namespace
 
 formats::CaseFiles case_files(const model::Stack& stack) {
@@ -424,7 +411,7 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
       }
       throw model::SpecError(std::move(issues));
     }
-    if (res.stops_at_blow_end && options.deck_template_path && !runs_by_placeholder(tmpl)) {
+    if (res.stops_at_blow_end && options.deck_template_path && !uses_placeholder(tmpl, "run")) {
       throw model::SpecError({{"stop", fmt::format("{} has no {{{{run}}}} placeholder, so its deck would run all {} steps "
                                                    "of the cap: end the template with {{{{run}}}}, or use stop = 'duration'",
                                                    tmpl_name, res.steps)}});

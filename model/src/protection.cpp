@@ -58,14 +58,12 @@ void judge_start(BlowEnd& blow, const Stack& stack) {
     }), false, false);
     return;
   }
-  const auto& o = spheres[static_cast<std::size_t>(stack.output_sphere_id() - 1)];
-  bool free = true, threatened = false;
-  for (const auto& s : spheres) {
-    if (s.id == o.id) continue;
-    free = free && !spheres_touch(s.x - o.x, s.y - o.y, s.z - o.z, o.radius, s.radius);
-    threatened = threatened || on_collision_course(s.x - o.x, s.y - o.y, s.z - o.z, 0.0, 0.0, vz(s) - vz(o), o.radius + s.radius);
-  }
-  blow.frame(0, OverFootprint{}, free, threatened);
+  const auto state = [&](std::size_t i) {
+    const auto& s = spheres[i];
+    return std::array<double, 7>{s.x, s.y, s.z, 0.0, 0.0, vz(s), s.radius};
+  };
+  const auto out = static_cast<std::size_t>(stack.output_sphere_id() - 1);
+  blow.frame(0, OverFootprint{}, touches_nothing(spheres.size(), out, state), threatened(spheres.size(), out, state));
 }
 
 long blow_end_hold_steps(const Resolution& res) {

@@ -384,14 +384,9 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
   }
   // Another sphere on course to hit the output sphere (model::BlowEnd), in id order as refsim.
   // Judged with a free bottom only (model::BlowEnd reads it there), as refsim's in-situ run does.
-  e.output_threatened = false;
-  const bool free_bottom = stack.spec().bottom != model::Boundary::wall;
-  for (std::size_t j = 0; free_bottom && j < n && !e.output_threatened; ++j) {
-    if (j == out_index) continue;
-    e.output_threatened = model::on_collision_course(x_[j] - x_[out_index], y_[j] - y_[out_index], z_[j] - z_[out_index],
-                                                     vx_[j] - vx_[out_index], vy_[j] - vy_[out_index], vz_[j] - vz_[out_index],
-                                                     c.radius[out_index] + c.radius[j]);
-  }
+  e.output_threatened = stack.spec().bottom != model::Boundary::wall && model::threatened(n, out_index, [&](std::size_t i) {
+    return std::array<double, 7>{x_[i], y_[i], z_[i], vx_[i], vy_[i], vz_[i], c.radius[i]};
+  });
   e.over_footprint = {};
   if (stack.spec().bottom == model::Boundary::wall) {
     e.over_footprint = model::over_footprint(stack, n, [&](std::size_t i) {

@@ -362,7 +362,6 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   RunStats stats;
   stats.loop_seconds = loop_seconds;
   stats.steps = last;
-  stats.blow_ended = ended;
   stats.atoms = static_cast<long>(system.size());
   stats.particle_steps_per_second =
       stats.loop_seconds > 0 ? static_cast<double>(stats.steps) * static_cast<double>(stats.atoms) / stats.loop_seconds : 0.0;

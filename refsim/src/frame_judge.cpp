@@ -5,28 +5,19 @@
 
 namespace granstack::refsim::detail {
 
-bool touches_nothing(const System& s, std::size_t i) {
-  const auto xi = s.x(i);
-  for (std::size_t j = 0; j < s.size(); ++j) {
-    if (j == i) continue;
-    const auto xj = s.x(j);
-    if (model::spheres_touch(xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2], s.radius(i), s.radius(j))) return false;
-  }
-  return true;
+namespace {
+// Sphere i's centre, velocity and radius, as model::touches_nothing and model::threatened read them.
+auto state(const System& s) {
+  return [&s](std::size_t i) {
+    const auto x = s.x(i), v = s.v(i);
+    return std::array<double, 7>{x[0], x[1], x[2], v[0], v[1], v[2], s.radius(i)};
+  };
 }
+}  // namespace
 
-bool threatened(const System& s, std::size_t i) {
-  const auto xi = s.x(i), vi = s.v(i);
-  for (std::size_t j = 0; j < s.size(); ++j) {
-    if (j == i) continue;
-    const auto xj = s.x(j), vj = s.v(j);
-    if (model::on_collision_course(xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2], vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2],
-                                   s.radius(i) + s.radius(j))) {
-      return true;
-    }
-  }
-  return false;
-}
+bool touches_nothing(const System& s, std::size_t i) { return model::touches_nothing(s.size(), i, state(s)); }
+
+bool threatened(const System& s, std::size_t i) { return model::threatened(s.size(), i, state(s)); }
 
 double momentum_z(const System& s) {
   double p = 0.0;  // in id order, as reduce sums a frame

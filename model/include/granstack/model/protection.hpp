@@ -53,6 +53,31 @@ inline bool on_collision_course(double dx, double dy, double dz, double ux, doub
   const double uu = ux * ux + uy * uy + uz * uz;
   return dx * dx + dy * dy + dz * dz - du * du / uu < r_sum * r_sum;
 }
+// Sphere `out` of n against every other, in id order: whether it touches none (spheres_touch) and
+// whether any is on course to hit it (on_collision_course), each taken as the other's centre and
+// velocity less out's. `sphere(i)` for i in 0..n-1 gives {x, y, z, vx, vy, vz, radius}: refsim's
+// state, a dump frame, or the stack as generated give the same answers from the same numbers.
+template <class Sphere>
+bool touches_nothing(std::size_t n, std::size_t out, const Sphere& sphere) {
+  const auto o = sphere(out);
+  for (std::size_t j = 0; j < n; ++j) {
+    if (j == out) continue;
+    const auto s = sphere(j);
+    if (spheres_touch(s[0] - o[0], s[1] - o[1], s[2] - o[2], o[6], s[6])) return false;
+  }
+  return true;
+}
+template <class Sphere>
+bool threatened(std::size_t n, std::size_t out, const Sphere& sphere) {
+  const auto o = sphere(out);
+  for (std::size_t j = 0; j < n; ++j) {
+    if (j == out) continue;
+    const auto s = sphere(j);
+    if (on_collision_course(s[0] - o[0], s[1] - o[1], s[2] - o[2], s[3] - o[3], s[4] - o[4], s[5] - o[5], o[6] + s[6])) return true;
+  }
+  return false;
+}
+
 // Whether a sphere at height z of radius r presses the bottom wall (the plane z = 0, Stack::walls):
 // it overlaps it, so the wall pushes on it (at zero overlap, resting, it does not).
 inline bool presses_bottom_wall(double z, double r) { return z - r < 0.0; }

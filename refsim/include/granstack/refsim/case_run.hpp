@@ -28,7 +28,6 @@ struct RunOptions {
 
 struct RunStats {
   long steps = 0;                          // run (a case that stops at the blow's end: up to that frame)
-  bool blow_ended = false;                 // it stopped at the blow's end (StopRule::blow_end) before its cap
   long atoms = 0;
   double loop_seconds = 0.0;               // wall time of the step loop, as LIGGGHTS's "Loop time"
   double particle_steps_per_second = 0.0;
