@@ -4,8 +4,10 @@
 # Prints the front and the study's designs against it (peak force and impulse on the protected
 # object, worst of the three striker speeds), how many designs were censored (their blow not
 # ended at the cap), what the designs cost on refsim (ended ones against censored ones), and
-# whether doubling the cap changed the front or any of its objectives.
-# Usage: bench/design_cap.sh [GENERATIONS]   (about 9 minutes with 6)
+# whether doubling the cap changed the front or any of its objectives. Then confirms the front's
+# first two designs on LIGGGHTS, also as 3D nests (confirm --geometry nested3d): its output, its
+# time, and each design's measures as the strip and as the nest.
+# Usage: bench/design_cap.sh [GENERATIONS]   (about 10 minutes with 6)
 set -euo pipefail
 generations=${1:-6}
 source "$(dirname "$0")/common.sh"
@@ -54,4 +56,18 @@ for s in report["study_designs"]:
     print(f"  {s['name']:<38} {o['peak_wall_force']:9.4g} N {o['wall_impulse']:9.4g} N s {o['areal_mass']:8.4g} kg/m^2; "
           f"force {o['peak_wall_force'] / best_f['objectives']['peak_wall_force']:.3g}x ({best_f['description']}), "
           f"impulse {o['wall_impulse'] / best_i['objectives']['wall_impulse']:.3g}x ({best_i['description']})")
+PY
+t0=$(date +%s.%N)
+"$gs" design confirm "$work/cap20" --top 2 --geometry nested3d | sed "s#$work/##g"
+python3 -c "import sys,time; print(f'confirm --top 2 --geometry nested3d: {time.time() - float(sys.argv[1]):.0f} s wall')" "$t0"
+python3 - "$work/cap20" <<'PY'
+import json, sqlite3, sys
+c = sqlite3.connect(f"{sys.argv[1]}/design.sqlite")
+print("as the strip and as a 3D nest (its worst scenario): peak wall force (N), stroke (m), wall impulse (N s)")
+for digest, variant in c.execute("select digest, variant from confirmations"):
+    desc, force, stroke, impulse = c.execute(
+        "select description, peak_wall_force, stroke, wall_impulse from evaluations where digest = ?", (digest,)).fetchone()
+    v = json.loads(variant)["measures"]
+    print(f"  {desc:<45} strip {force:9.4g} {stroke:9.4g} {impulse:9.4g}   nest {v['peak_wall_force']:9.4g} "
+          f"{v['stroke']:9.4g} {v['wall_impulse']:9.4g}")
 PY
