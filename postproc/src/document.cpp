@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
+
 namespace granstack::postproc {
 
 namespace fs = std::filesystem;
@@ -88,8 +90,13 @@ std::string html(const std::vector<Block>& d, const fs::path& dir, const std::st
       body += "</tr>\n";
       for (const auto& row : t->rows) {
         body += "<tr>";
-        for (const auto& c : row) {
-          const char* cls = c.rfind("within", 0) == 0 ? " class=\"within\"" : c.rfind("outside", 0) == 0 ? " class=\"outside\"" : "";
+        for (std::size_t i = 0; i < row.size(); ++i) {
+          const auto& c = row[i];
+          const bool verdict = std::find(t->verdict_columns.begin(), t->verdict_columns.end(), i) != t->verdict_columns.end();
+          const char* cls = !verdict                     ? ""
+                            : c.rfind("within", 0) == 0  ? " class=\"within\""
+                            : c.rfind("outside", 0) == 0 ? " class=\"outside\""
+                                                         : "";
           body += fmt::format("<td{}>{}</td>", cls, escape(c));
         }
         body += "</tr>\n";

@@ -1,15 +1,19 @@
 // The Teflon experiments (Fig. 4's stack and the sandwich): the output read every way, the
-// restitution scan of the Teflon contacts, and the hypotheses that fit both figures at once.
+// restitution scan of the Teflon contacts, the output against the block height, and the
+// hypotheses that fit both figures at once. The read-outs are the blow's end (each run stops
+// there) and a fixed time, two estimated arrivals of the pulse at the bottom face.
 #include "analyses.hpp"
 #include "analysis_text.hpp"
 #include "curves.hpp"
 #include "figures.hpp"
 
 #include <granstack/model/contact.hpp>
+#include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -17,16 +21,31 @@ namespace granstack::study::analyses {
 
 namespace {
 
-// The output sphere of a case: its energy curve and the kicks it receives (stretches of change
-// separated by at least two contact times of the bottom block's spheres).
+// The fixed read-out time, in estimated arrivals of the pulse at the bottom face: the study's
+// automatic duration for a stack without a soft cavity.
+constexpr double kReadoutArrivals = 2.0;
+
+// The output sphere of a case: its energy curve, the kicks it receives (stretches of change
+// separated by at least two contact times of the bottom block's spheres; marked in its figure),
+// and its energy over E_in at the fixed read-out time (none when the run stopped before that time
+// without its blow having ended).
 struct OutputReadings {
   Curve curve;
   std::vector<Kick> kicks;
+  double readout_time = 0.0;  // s
+  std::optional<double> at_readout;
 };
 
 OutputReadings output_readings(const postproc::CaseReduction& r) {
-  OutputReadings o{series_energy(r, "output_sphere"), {}};
+  OutputReadings o{series_energy(r, "output_sphere"), {}, 0.0, std::nullopt};
   const auto stack = model::Stack::build(r.spec);
+  o.readout_time = kReadoutArrivals * model::resolve(stack).arrival_estimate;
+  if (!o.curve.t.empty() && (o.readout_time <= o.curve.t.back() || r.blow_end_time)) {
+    // After the blow's end the sphere flies free and its energy stays what it was.
+    const auto it = std::upper_bound(o.curve.t.begin(), o.curve.t.end(), o.readout_time);
+    const auto i = it == o.curve.t.begin() ? 0 : static_cast<std::size_t>(it - o.curve.t.begin()) - 1;
+    o.at_readout = o.curve.y[i] / r.e_in;
+  }
   const auto lib = r.spec.material_library();
   const auto& bottom = stack.blocks().back();
   const auto& m = lib.at(bottom.material);
@@ -43,59 +62,84 @@ double teflon_restitution(const model::StackSpec& s) {
   return s.restitution.value;
 }
 
-// A value of the restitution scan, scan.e<E>.<final|kickN>: E and the read-out; none for another value.
+// A value of the restitution scan, scan.e<E>.<end|arrivals2>: E and the read-out; none for another value.
 std::optional<std::pair<double, std::string>> scan_key(const std::string& key) {
   if (key.rfind("scan.e", 0) != 0) return std::nullopt;
   const auto last = key.rfind('.');
   return std::pair{std::stod(key.substr(6, last - 6)), key.substr(last + 1)};
 }
 
-// Each scanned e's output after every kick, as values scan.eE.kickN (kick N's reading) and
-// scan.eE.final (scan_key), with a table.
+// The read-outs' names in values (scan.eE.NAME) and in words.
+const std::pair<const char*, const char*> kReadouts[] = {{"end", "at the blow's end"}, {"arrivals2", "at 2 arrivals"}};
+
+// A censored blow's output is no final reading: none.
+std::optional<double> end_reading(const postproc::CaseReduction& r) {
+  if (r.spec.stop == model::StopRule::blow_end && !r.blow_end_time) return std::nullopt;
+  return r.output_fraction;
+}
+
+// Each scanned e's output at the blow's end and at the fixed time, as values scan.eE.end and
+// scan.eE.arrivals2 (scan_key), with a table.
 void restitution_scan(const AnalysisInput& in, ExperimentResult& out, const std::string& main_name) {
-  std::map<double, std::pair<double, std::vector<double>>> scan;  // e -> final, after each kick
+  Table t{"Restitution of the contacts involving Teflon against the read-out: the output at the blow's end (where each "
+          "run stopped, and when) and at a fixed time, 2 estimated arrivals of the pulse at the bottom face",
+          {"e (Teflon contacts)", "at the blow's end", "the blow ended at (us)", "at 2 arrivals", "2 arrivals (us)"}, {}};
+  std::map<double, std::vector<std::string>> rows;
   for (const auto& c : in.experiment.cases) {
     if (c.name != main_name && c.name.rfind("teflon_e", 0) != 0) continue;
     const auto* r = in.own(c.name);
     if (r == nullptr) continue;
     const auto o = output_readings(*r);
-    auto& row = scan[teflon_restitution(c.spec)];
-    row.first = r->output_fraction;
-    for (const auto& k : o.kicks) row.second.push_back(k.after / r->e_in);
+    const double e = teflon_restitution(c.spec);
+    const auto end = end_reading(*r);
+    if (end) out.values[fmt::format("scan.e{:g}.end", e)] = *end;
+    if (o.at_readout) out.values[fmt::format("scan.e{:g}.arrivals2", e)] = *o.at_readout;
+    rows[e] = {fmt::format("{:g}", e), end ? pct(*end) : "censored",
+               r->blow_end_time ? fmt::format("{:.0f}", *r->blow_end_time * 1e6) : "-", o.at_readout ? pct(*o.at_readout) : "-",
+               fmt::format("{:.0f}", o.readout_time * 1e6)};
   }
-  std::size_t most = 0;
-  for (const auto& [e, row] : scan) most = std::max(most, row.second.size());
-  Table t{"Restitution of the contacts involving Teflon against the read-out: the output after each kick of the output "
-          "sphere, and at the run's end",
-          {"e (Teflon contacts)", "final"}, {}};
-  for (std::size_t k = 1; k <= most; ++k) t.header.push_back(fmt::format("after kick {}", k));
-  for (const auto& [e, row] : scan) {
-    out.values[fmt::format("scan.e{:g}.final", e)] = row.first;
-    std::vector<std::string> cells{fmt::format("{:g}", e), pct(row.first)};
-    for (std::size_t k = 0; k < most; ++k) {
-      if (k < row.second.size()) out.values[fmt::format("scan.e{:g}.kick{}", e, k + 1)] = row.second[k];
-      cells.push_back(k < row.second.size() ? pct(row.second[k]) : "-");
-    }
-    t.rows.push_back(cells);
+  for (auto& [e, row] : rows) t.rows.push_back(std::move(row));
+  out.tables.push_back(t);
+}
+
+// The output against the block height (cases rowsN beside the main case), at the blow's end and
+// at the fixed time, as values output.rowsN.
+void height_table(const AnalysisInput& in, ExperimentResult& out, const std::string& main_name) {
+  std::map<int, const postproc::CaseReduction*> by_rows;
+  for (const auto& c : in.experiment.cases) {
+    if (c.name != main_name && c.name.rfind("rows", 0) != 0) continue;
+    if (const auto* r = in.own(c.name)) by_rows[c.spec.rows] = r;
+  }
+  if (by_rows.size() < 2) return;
+  Table t{"The output against the block height (every block the same height; 16 and 32 rows with --full)",
+          {"rows", "at the blow's end", "at 2 arrivals", "the blow ended at (us)"}, {}};
+  for (const auto& [n, r] : by_rows) {
+    const auto end = end_reading(*r);
+    if (end) out.values[fmt::format("output.rows{}", n)] = *end;
+    const auto o = output_readings(*r);
+    t.rows.push_back({std::to_string(n), end ? pct(*end) : "censored", o.at_readout ? pct(*o.at_readout) : "-",
+                      r->blow_end_time ? fmt::format("{:.0f}", *r->blow_end_time * 1e6) : "-"});
   }
   out.tables.push_back(t);
 }
 
-// The main case's output read other ways: the definitions, and after each kick.
+// The main case's output read other ways: at the blow's end, at the fixed time, its peak and per
+// bottom-row sphere.
 void main_readings(ExperimentResult& out, const postproc::CaseReduction& main, const OutputReadings& o, double paper) {
   Table d{"The output of the main case read other ways", {"reading", "value", "over the paper's"}, {}};
-  auto add = [&](const std::string& key, const std::string& label, double v) {
-    out.values[key] = v;
-    d.rows.push_back({label, pct(v), num(v / paper)});
+  auto add = [&](const std::string& key, const std::string& label, std::optional<double> v) {
+    if (v) out.values[key] = *v;
+    d.rows.push_back({label, v ? pct(*v) : "-", v ? num(*v / paper) : "-"});
   };
-  add("output_def.final", "output sphere, after it left (granstack's output_fraction; primary)", main.output_fraction);
+  add("output_def.end",
+      main.blow_end_time ? fmt::format("output sphere at the blow's end, {:.0f} us (granstack's output_fraction; primary)",
+                                       *main.blow_end_time * 1e6)
+                         : "output sphere at the run's end (granstack's output_fraction; primary)",
+      end_reading(main));
+  add("output_def.at_arrivals2", fmt::format("output sphere at 2 estimated arrivals of the pulse, {:.0f} us", o.readout_time * 1e6),
+      o.at_readout);
   add("output_def.peak", "output sphere, peak kinetic energy", main.output_peak_fraction);
   add("output_def.bottom_row_per_sphere", "bottom row's final energy per sphere", main.output_fraction_bottom_row_per_sphere);
-  for (std::size_t i = 0; i < o.kicks.size(); ++i) {
-    add(fmt::format("output_def.after_kick{}", i + 1),
-        fmt::format("output sphere after kick {} of {} (ends at {:.0f} us)", i + 1, o.kicks.size(), o.kicks[i].end * 1e6),
-        o.kicks[i].after / main.e_in);
-  }
   out.values["kicks"] = static_cast<double>(o.kicks.size());
   out.tables.push_back(d);
 }
@@ -121,15 +165,20 @@ void teflon_outputs(const AnalysisInput& in, ExperimentResult& out, const std::s
   const auto* main = in.own(main_name);
   if (main == nullptr) return;
   const double paper = in.paper("output." + main_name);
-  out.values["output." + main_name] = main->output_fraction;
-  if (const auto* r8 = in.own("rows8")) out.values["output.rows8"] = r8->output_fraction;
+  if (const auto end = end_reading(*main)) out.values["output." + main_name] = *end;
   const auto o = output_readings(*main);
   main_readings(out, *main, o, paper);
   material_sensitivity(in, out, *main, paper);
+  height_table(in, out, main_name);
   restitution_scan(in, out, main_name);
-  out.figures.push_back(output_figure(*main, o.curve, o.kicks, paper, in.figures_dir, main_name + "_output", in.gnuplot,
-                                      "The output sphere's kinetic energy over E_in against time, its kicks marked; dashed, "
-                                      "the paper's value and the estimated arrival of the pulse at the bottom face"));
+  OutputFigure f{teflon_restitution(main->spec), o.readout_time, paper, {}};
+  for (const auto* name : {"teflon_e0.9", "teflon_e0.5"}) {
+    if (const auto* r = in.own(name)) f.damped.emplace_back(fmt::format("e = {:g} (Teflon contacts)", teflon_restitution(r->spec)), series_energy(*r, "output_sphere"));
+  }
+  out.figures.push_back(output_figure(*main, o.curve, f, in.figures_dir, main_name + "_output", in.gnuplot,
+                                      "The output sphere's kinetic energy over E_in against time, elastic and with the "
+                                      "Teflon contacts damped; dotted, where the elastic run's blow ended; dashed, the "
+                                      "fixed read-out time (2 estimated arrivals of the pulse) and the paper's value"));
 }
 
 namespace {
@@ -146,7 +195,9 @@ Fits fits_of(const ExperimentResult& r, const Claim& claim) {
     if (!scanned) continue;
     const auto& [e, readout] = *scanned;
     auto& set = f.by_e[e];
-    if (v >= claim.low && v <= claim.high) set.insert(readout == "final" ? "final" : "after kick " + readout.substr(4));
+    for (const auto& [name, words] : kReadouts) {
+      if (readout == name && v >= claim.low && v <= claim.high) set.insert(words);
+    }
   }
   return f;
 }
@@ -161,26 +212,33 @@ std::string hypotheses(const AnalysisInput& in, const ExperimentResult& sandwich
   const auto* fig4 = in.result("fig4");
   if (fig4_claim == nullptr || own_claim == nullptr || fig4 == nullptr) return {};
   const auto a = fits_of(*fig4, *fig4_claim), b = fits_of(sandwich, *own_claim);
-  std::vector<std::string> both, fig4_only, sandwich_only;
+  std::vector<std::string> both, same_readout, fig4_only, sandwich_only, neither;
   for (const auto& [e, readouts] : a.by_e) {
     const auto it = b.by_e.find(e);
     if (it == b.by_e.end()) continue;
+    for (const auto& r : readouts) {
+      if (it->second.count(r) != 0) same_readout.push_back(fmt::format("e = {:g} {}", e, r));
+    }
     if (!readouts.empty() && !it->second.empty()) {
       both.push_back(fmt::format("e = {:g} (Fig. 4: {}; sandwich: {})", e, list(readouts), list(it->second)));
     } else if (!readouts.empty()) {
       fig4_only.push_back(fmt::format("{:g}", e));
     } else if (!it->second.empty()) {
       sandwich_only.push_back(fmt::format("{:g}", e));
+    } else {
+      neither.push_back(fmt::format("{:g}", e));
     }
   }
   auto join = [](const std::vector<std::string>& v) { return v.empty() ? std::string("no scanned e") : fmt::format("{}", fmt::join(v, ", ")); };
   auto for_e = [&](const std::vector<std::string>& v) { return v.empty() ? std::string("no scanned e") : "e = " + join(v); };
   return fmt::format(
-      "Hypotheses, from the restitution scan of both figures (every scanned e, every read-out: the output after each "
-      "kick and at the end): a Teflon restitution puts both outputs within their bands at once for {}. Only Fig. 4's "
-      "output falls within its band for {}; only the sandwich's for {}.{}",
-      join(both), for_e(fig4_only), for_e(sandwich_only),
-      both.empty() ? " No single Teflon restitution with any read-out explains both figures: damping of the Teflon "
+      "Hypotheses, from the restitution scan of both figures, both read at the blow's end and at 2 estimated arrivals "
+      "of the pulse: a Teflon restitution puts both outputs within their bands at once for {}; with one read-out for "
+      "both figures, for {}. Fig. 4's output alone falls within its band for {}; the sandwich's alone for {}; neither "
+      "for {}.{}",
+      join(both), same_readout.empty() ? std::string("no scanned e") : fmt::format("{}", fmt::join(same_readout, ", ")),
+      for_e(fig4_only), for_e(sandwich_only), for_e(neither),
+      both.empty() ? " No single Teflon restitution with either read-out explains both figures: damping of the Teflon "
                      "contacts alone does not account for the paper's two values together."
                    : "");
 }
@@ -202,21 +260,36 @@ void scan_plot(const AnalysisInput& in, ExperimentResult& out) {
   const auto* fig4 = in.result("fig4");
   if (fig4 != nullptr && fig4_claim != nullptr && fig4_claim->paper) {
     bands.push_back({"Fig. 4: the paper's value, its band shaded", fig4_claim->low, fig4_claim->high, *fig4_claim->paper});
-    series.push_back({"Fig. 4, final", scan_series(fig4->values, "final"), 0});
+    for (const auto& [name, words] : kReadouts) series.push_back({fmt::format("Fig. 4, {}", words), scan_series(fig4->values, name), 0});
   }
   if (own_claim == nullptr || !own_claim->paper) return;
   const int band = static_cast<int>(bands.size());
   bands.push_back({"sandwich: the paper's value, its band shaded", own_claim->low, own_claim->high, *own_claim->paper});
-  for (const auto* readout : {"kick1", "kick2", "final"}) {
-    auto s = scan_series(out.values, readout);
-    if (s.empty()) continue;
-    series.push_back({std::string("sandwich, ") + (readout == std::string("final") ? "final" : fmt::format("after kick {}", readout + 4)),
-                      std::move(s), band});
+  for (const auto& [name, words] : kReadouts) {
+    auto s = scan_series(out.values, name);
+    if (!s.empty()) series.push_back({fmt::format("sandwich, {}", words), std::move(s), band});
   }
   out.figures.push_back(scan_figure(series, bands, in.figures_dir, in.gnuplot,
                                     "The restitution scan: each figure's output against the restitution of the contacts "
-                                    "involving Teflon, read at the end and after each kick of the output sphere; shaded, "
-                                    "each figure's acceptance band around the paper's value (dotted)"));
+                                    "involving Teflon, read at the blow's end and at 2 estimated arrivals of the pulse; "
+                                    "shaded, each figure's acceptance band around the paper's value (dotted)"));
+}
+
+}  // namespace
+
+namespace {
+
+// The lowest steel block's leading maximum against the Teflon block's and against Nesterenko's
+// speed, as values speed{PREFIX}.b3_over_b2 and speed_over_nesterenko{PREFIX}.b3.
+void sandwich_speeds(const postproc::CaseReduction& r, const std::string& prefix, ExperimentResult& out) {
+  const auto& teflon = r.waves.at(1);
+  const auto& lowest = r.waves.at(2);
+  if (teflon.maximum_speed && lowest.maximum_speed) {
+    out.values["speed" + prefix + ".b3_over_b2"] = *lowest.maximum_speed / *teflon.maximum_speed;
+  }
+  if (lowest.maximum_speed && lowest.nesterenko_speed) {
+    out.values["speed_over_nesterenko" + prefix + ".b3"] = *lowest.maximum_speed / *lowest.nesterenko_speed;
+  }
 }
 
 }  // namespace
@@ -225,13 +298,15 @@ void sandwich(const AnalysisInput& in, ExperimentResult& out) {
   const auto* r = in.own("sandwich");
   if (r == nullptr) return;
   teflon_outputs(in, out, "sandwich");
-  if (const auto steel3 = in.earlier("fig3", "output.e1.nb3")) out.values["output.sandwich_over_steel3"] = r->output_fraction / *steel3;
-  const auto& teflon = r->waves.at(1);
-  const auto& lowest = r->waves.at(2);
-  if (teflon.maximum_speed && lowest.maximum_speed) out.values["speed.b3_over_b2"] = *lowest.maximum_speed / *teflon.maximum_speed;
-  if (lowest.maximum_speed && lowest.nesterenko_speed) {
-    out.values["speed_over_nesterenko.b3"] = *lowest.maximum_speed / *lowest.nesterenko_speed;
+  const auto* steel3 = in.own("steel3");
+  if (const auto end = end_reading(*r); end && steel3 != nullptr) out.values["output.sandwich_over_steel3.rows24"] = *end / steel3->output_fraction;
+  const auto* r8 = in.own("rows8");
+  const auto steel3_rows8 = in.earlier("fig3", "output.e1.nb3");
+  if (r8 != nullptr && steel3_rows8) {
+    if (const auto end = end_reading(*r8)) out.values["output.sandwich_over_steel3.rows8"] = *end / *steel3_rows8;
   }
+  sandwich_speeds(*r, "", out);
+  if (r8 != nullptr) sandwich_speeds(*r8, ".rows8", out);
   Table w{"The leading maximum in each block of the sandwich", {"block", "material", "speed (m/s)", "Nesterenko (m/s)", "ratio", "pulses", "note"}, {}};
   for (const auto& b : r->waves) {
     std::optional<double> ratio;

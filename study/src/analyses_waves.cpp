@@ -30,6 +30,9 @@ std::vector<Curve> sphere_curves(const postproc::CaseReduction& r) {
   return out;
 }
 
+// The readings of "block k's peak over the top block's", by name.
+const char* const kReadings[] = {"sphere", "sphere_leading", "whole_block", "per_column", "leading_peak", "column", "column_leading"};
+
 // Every reading of "block k's peak over the top block's" of one case, as VARIANT.bK values and
 // table rows: the caption's per-sphere reading and the other readings of the statement.
 void readings(const postproc::CaseReduction& r, const std::string& variant, ExperimentResult& out, Table& t) {
@@ -37,10 +40,12 @@ void readings(const postproc::CaseReduction& r, const std::string& variant, Expe
   const auto blocks = block_energies(r);
   const auto columns = impact_column_energies(r);
   const double top_block = r.blocks.front().peak_ke, top_column = columns.front().max();
+  const auto stack = model::Stack::build(r.spec);
   const std::pair<const char*, const char*> names[] = {
       {"sphere", "middle-row sphere of the impact path, its peak (the caption's)"},
       {"sphere_leading", "middle-row sphere, its leading wave"},
       {"whole_block", "whole block, peak over the run (reduce's peak/top)"},
+      {"per_column", "whole block per column: its peak over its columns, over the top block's"},
       {"leading_peak", "whole block, its first peak"},
       {"column", "impact column, peak over the run"},
       {"column_leading", "impact column, its first peak"}};
@@ -52,6 +57,7 @@ void readings(const postproc::CaseReduction& r, const std::string& variant, Expe
       const double x = name == "sphere"           ? sphere_ratio(r, k)
                        : name == "sphere_leading" ? sphere_leading_ratio(r, k)
                        : name == "whole_block"    ? r.blocks[i].normalised
+                       : name == "per_column"     ? r.blocks[i].normalised * stack.block(1).columns / stack.block(k).columns
                        : name == "leading_peak"   ? blocks[i].first_peak() / top_block
                        : name == "column"         ? columns[i].max() / top_column
                                                   : columns[i].first_peak() / top_column;
@@ -124,9 +130,70 @@ void fig2(const AnalysisInput& in, ExperimentResult& out) {
                                      "E_k of the block / its peak in block 1",
                                      "Sensitivity: the whole blocks' kinetic energy over block 1's peak (reduce's reading); "
                                      "the inset magnifies blocks 3 and 4 with the paper's values dashed",
-                                     blocks, r->blocks.front().peak_ke, 3, paper, action_window(curves, 0.01, 0.2)},
+                                     blocks, r->blocks.front().peak_ke, 3, paper, action_window(blocks, 0.01, 0.2)},
                                     in.figures_dir, in.gnuplot));
 }
+
+namespace {
+
+// Whether v lies in a claim's band (false when either is missing).
+bool in_band(const Claim* c, std::optional<double> v) { return c != nullptr && v && *v >= c->low && *v <= c->high; }
+
+// Every reading of Fig. 2's statements set against Fig. 4's 'almost half' with the same reading and
+// bottom: which reading, if any, reproduces both figures.
+void one_reading_for_both(const AnalysisInput& in, ExperimentResult& out) {
+  const Claim* b3 = in.claim_on("fig2", "sphere.free.b3");
+  const Claim* b4 = in.claim_on("fig2", "sphere.free.b4");
+  const Claim* half = in.claim_on("fig4", "sphere.b2_over_fig2");
+  Table t{"Every reading of 'block k over the top block', in Fig. 2's stack (blocks 3 and 4, against the paper's 10 % and "
+          "3 %) and in Fig. 4's (the Teflon block over Fig. 2's block 2, against 'almost half'), with the same bottom",
+          {"reading", "bottom", "Fig. 2, block 3", "Fig. 2, block 4", "Fig. 4 over Fig. 2", "reproduces"}, {}};
+  std::vector<std::string> fig2_fits, fig4_fits, both;
+  for (const char* bottom : {"free", "wall"}) {
+    const auto* f4 = in.own(bottom == std::string("free") ? "steel_on_teflon" : "wall");
+    if (f4 == nullptr) continue;
+    ExperimentResult own;
+    Table unused{"", {}, {}};
+    readings(*f4, "fig4", own, unused);
+    for (const char* key : kReadings) {
+      const auto v3 = in.earlier("fig2", fmt::format("{}.{}.b3", key, bottom));
+      const auto v4 = in.earlier("fig2", fmt::format("{}.{}.b4", key, bottom));
+      const auto v2 = in.earlier("fig2", fmt::format("{}.{}.b2", key, bottom));
+      if (!v3 || !v4 || !v2) continue;
+      const double ratio = own.values.at(fmt::format("{}.fig4.b2", key)) / *v2;
+      out.values[fmt::format("{}.{}.b2_over_fig2", key, bottom)] = ratio;
+      const bool two = in_band(b3, v3) && in_band(b4, v4), four = in_band(half, ratio);
+      const auto name = fmt::format("{} ({} bottom)", key, bottom);
+      if (two) fig2_fits.push_back(name);
+      if (four) fig4_fits.push_back(name);
+      if (two && four) both.push_back(name);
+      t.rows.push_back({key, bottom, pct(*v3), pct(*v4), num(ratio),
+                        two && four ? "both" : two ? "Fig. 2 only" : four ? "Fig. 4 only" : "neither"});
+    }
+  }
+  if (t.rows.empty()) return;
+  out.tables.push_back(t);
+  auto list = [](const std::vector<std::string>& v) { return v.empty() ? std::string("none") : fmt::format("{}", fmt::join(v, ", ")); };
+  out.notes.push_back(fmt::format(
+      "One reading for Fig. 2 and Fig. 4 (computed from the table above): the readings that put both of Fig. 2's values "
+      "within their bands are {}; those that put Fig. 4's 'almost half' within its band are {}; {}.",
+      list(fig2_fits), list(fig4_fits),
+      both.empty() ? "no single reading reproduces both Fig. 2's 10 % and 3 % and Fig. 4's 'almost half'"
+                   : "both figures are reproduced at once by " + list(both)));
+}
+
+// Fig. 4's 8-row sensitivity readings, against Fig. 2's 8-row stack.
+void fig4_rows8(const AnalysisInput& in, ExperimentResult& out) {
+  const auto* r = in.own("rows8");
+  const auto* f2 = in.reduction("fig2", "rows8");
+  if (r == nullptr || f2 == nullptr) return;
+  const auto &teflon = r->waves.at(1), &steel = f2->waves.at(1);
+  out.values["pulses.rows8.teflon_over_fig2"] = static_cast<double>(teflon.pulses) / steel.pulses;
+  out.values["sphere.rows8.b2_over_fig2"] = sphere_ratio(*r, 2) / sphere_ratio(*f2, 2);
+  if (teflon.speed && steel.speed) out.values["speed.rows8.teflon_over_steel"] = *teflon.speed / *steel.speed;
+}
+
+}  // namespace
 
 void fig4(const AnalysisInput& in, ExperimentResult& out) {
   const auto* r = in.own("steel_on_teflon");
@@ -146,6 +213,9 @@ void fig4(const AnalysisInput& in, ExperimentResult& out) {
     return columns.at(1).first_peak() / columns.front().first_peak();
   };
   out.values["column_leading.b2_over_fig2"] = column_leading(*r) / column_leading(*f2);
+  out.values["whole_block.b2_over_fig2"] = r->blocks.at(1).normalised / f2->blocks.at(1).normalised;
+  fig4_rows8(in, out);
+  one_reading_for_both(in, out);
   if (teflon.speed && steel.speed) out.values["speed.teflon_over_steel"] = *teflon.speed / *steel.speed;
   Table w{"Block 2 (24 rows): steel (Fig. 2) against Teflon (Fig. 4), the middle-row sphere over the top block's",
           {"", "sphere peak / top", "leading wave / top", "pulses", "speed (m/s)", "Nesterenko (m/s)"}, {}};
@@ -161,7 +231,9 @@ void fig4(const AnalysisInput& in, ExperimentResult& out) {
        "E_k of the middle-row sphere / its peak in block 1",
        "Fig. 4 re-made: the middle-row sphere of each block over the top block's solitary-wave peak (its middle-row "
        "sphere's); the inset magnifies the Teflon block, dashed at the paper's 'almost half' of Fig. 2's block 2",
-       curves, r->waves.front().middle_peak_ke, 2, {{fmt::format("paper: {:g} of Fig. 2's block 2", in.paper("sphere.b2_over_fig2")), half}}, std::nullopt},
+       curves, r->waves.front().middle_peak_ke, 2, {{fmt::format("paper: {:g} of Fig. 2's block 2", in.paper("sphere.b2_over_fig2")), half}},
+       // Every pulse the Teflon block's count includes: to where its sphere's energy last exceeds 1 % of its peak.
+       action_window(curves, 0.01, 0.01)},
       in.figures_dir, in.gnuplot));
 }
 

@@ -63,6 +63,73 @@ void add_cases(const std::string& name, toml::table spec, const std::string& whe
   }
 }
 
+// A record's first values (fixed = { date, commit, FIELD = "value", ... }) and its changes
+// ([[...change]]): every value is text, as recorded_fields and geometry_text write it.
+Record parse_record(const toml::table& t, const std::string& where, const std::vector<std::string>& fields) {
+  Record r;
+  const auto* fixed = t.get_as<toml::table>("fixed");
+  if (fixed == nullptr) return r;
+  r.date = text(*fixed, "date", where + ".fixed");
+  r.commit = text(*fixed, "commit", where + ".fixed", false);
+  for (const auto& [key, node] : *fixed) {
+    const std::string k(key.str());
+    if (k == "date" || k == "commit") continue;
+    if (std::find(fields.begin(), fields.end(), k) == fields.end() || !node.is_string()) {
+      throw CatalogueError(fmt::format("{}.fixed: '{}' is not a recorded field (recorded: {}), or its value is not text", where,
+                                       k, fmt::join(fields, ", ")));
+    }
+    r.fixed[k] = node.as_string()->get();
+  }
+  if (const auto* changes = t.get_as<toml::array>("change")) {
+    for (const auto& node : *changes) {
+      const auto* c = node.as_table();
+      if (c == nullptr) throw CatalogueError(where + ": [[...change]] entries are tables");
+      const auto w = where + ".change";
+      Change ch{text(*c, "date", w), text(*c, "commit", w, false), text(*c, "field", w), text(*c, "before", w), text(*c, "after", w),
+                text(*c, "why", w), false};
+      if (const auto* known = c->get_as<bool>("results_known")) ch.results_known = known->get();
+      if (std::find(fields.begin(), fields.end(), ch.field) == fields.end()) {
+        throw CatalogueError(fmt::format("{}: field '{}' is not recorded (recorded: {})", w, ch.field, fmt::join(fields, ", ")));
+      }
+      r.changes.push_back(std::move(ch));
+    }
+  }
+  return r;
+}
+
+const std::vector<std::string> kClaimFields{"quantity", "band", "paper", "scope"};
+const std::vector<std::string> kScopes{"paper", "granstack", "model check", "arithmetic"};
+
+// The problems of one record against the current values (unrecorded_changes).
+void check_record(const Record& r, const std::map<std::string, std::string>& now, const std::string& who,
+                  const std::string& table, std::vector<std::string>& out) {
+  if (r.date.empty()) {
+    out.push_back(fmt::format("{}: no record: add fixed = {{ date = \"YYYY-MM-DD\", ... }} with its values", who));
+    return;
+  }
+  for (const auto& [field, current] : now) {
+    const auto it = r.fixed.find(field);
+    std::string v = it != r.fixed.end() ? it->second : field == "scope" ? "paper" : "";
+    if (it == r.fixed.end() && field != "scope") {
+      out.push_back(fmt::format("{}: its record's fixed values lack '{}'", who, field));
+      continue;
+    }
+    for (const auto& c : r.changes) {
+      if (c.field != field) continue;
+      if (c.before != v) {
+        out.push_back(fmt::format("{}: the change of {} on {} says before = \"{}\", but the record had \"{}\"", who, field,
+                                  c.date, c.before, v));
+      }
+      v = c.after;
+    }
+    if (v != current) {
+      out.push_back(fmt::format("{}: its {} is \"{}\" but its record gives \"{}\": add a [[{}.change]] with date, field = "
+                                "\"{}\", before = \"{}\", after = \"{}\" and why",
+                                who, field, current, v, table, field, v, current));
+    }
+  }
+}
+
 Claim parse_claim(const toml::table& t, const std::string& experiment, std::size_t index) {
   Claim c;
   c.id = fmt::format("{}.{}", experiment, index);
@@ -83,6 +150,12 @@ Claim parse_claim(const toml::table& t, const std::string& experiment, std::size
   c.band_reason = text(t, "band_reason", where);
   c.expect = text(t, "expect", where);
   if (c.expect != "within" && c.expect != "outside") throw CatalogueError(where + ": 'expect' is \"within\" or \"outside\"");
+  if (t.contains("scope")) c.scope = text(t, "scope", where);
+  if (std::find(kScopes.begin(), kScopes.end(), c.scope) == kScopes.end()) {
+    throw CatalogueError(fmt::format("{}: 'scope' is one of {}", where, fmt::join(kScopes, ", ")));
+  }
+  c.scope_reason = text(t, "scope_reason", where, c.scope != "paper");
+  c.record = parse_record(t, where, kClaimFields);
   return c;
 }
 
@@ -109,6 +182,7 @@ Experiment parse_experiment(const toml::table& t) {
     throw CatalogueError(fmt::format("{}: main = \"{}\" is not one of its cases", where, e.main));
   }
   if (e.main.empty() && !e.cases.empty()) e.main = e.cases.front().name;
+  e.record = parse_record(t, where, {"geometry"});
   if (const auto* claims = t.get_as<toml::array>("claim")) {
     std::size_t n = 0;
     for (const auto& node : *claims) {
@@ -121,6 +195,40 @@ Experiment parse_experiment(const toml::table& t) {
 }
 
 }  // namespace
+
+std::map<std::string, std::string> recorded_fields(const Claim& c) {
+  return {{"quantity", c.quantity},
+          {"band", fmt::format("[{:g}, {:g}]", c.low, c.high)},
+          {"paper", c.paper ? fmt::format("{:g}", *c.paper) : "none"},
+          {"scope", c.scope}};
+}
+
+std::string geometry_text(const model::StackSpec& s) {
+  std::vector<std::string> rows, ratios, materials;
+  for (int k = 1; k <= s.blocks; ++k) {
+    rows.push_back(std::to_string(s.rows_of(k)));
+    materials.push_back(s.block_material(k));
+    if (k < s.blocks) ratios.push_back(std::to_string(s.ratio_below(k)));
+  }
+  const bool one_height = std::all_of(rows.begin(), rows.end(), [&](const std::string& r) { return r == rows.front(); });
+  const bool one_ratio = std::all_of(ratios.begin(), ratios.end(), [&](const std::string& r) { return r == ratios.front(); });
+  return fmt::format("{}{} block{} of {} rows, {} top columns{}, {}, bottom {}, sides {}, stop {}",
+                     s.geometry == model::Geometry::strip ? "" : fmt::format("{}: ", model::to_string(s.geometry)), s.blocks,
+                     s.blocks == 1 ? "" : "s",
+                     one_height ? rows.front() : fmt::format("{}", fmt::join(rows, "/")), s.top_columns,
+                     ratios.empty() ? "" : ", ratio " + (one_ratio ? ratios.front() : fmt::format("{}", fmt::join(ratios, "/"))),
+                     fmt::join(materials, "/"),
+                     model::to_string(s.bottom), model::to_string(s.sides), model::to_string(s.stop));
+}
+
+std::vector<std::string> unrecorded_changes(const Experiment& e) {
+  std::vector<std::string> out;
+  for (const auto& c : e.claims) check_record(c.record, recorded_fields(c), "claim " + c.id, "experiment.claim", out);
+  for (const auto& c : e.cases) {
+    if (c.name == e.main) check_record(e.record, {{"geometry", geometry_text(c.spec)}}, "experiment " + e.name, "experiment", out);
+  }
+  return out;
+}
 
 const Experiment* Catalogue::find(std::string_view name) const {
   for (const auto& e : experiments) {
@@ -150,6 +258,13 @@ Catalogue parse_catalogue(std::string_view toml_text, const std::string& source)
     const auto* t = node.as_table();
     if (t == nullptr) throw CatalogueError(source + ": [[experiment]] entries are tables");
     c.experiments.push_back(parse_experiment(*t));
+  }
+  if (const auto* out = root.get_as<toml::array>("out_of_scope")) {
+    for (const auto& node : *out) {
+      const auto* t = node.as_table();
+      if (t == nullptr) throw CatalogueError(source + ": [[out_of_scope]] entries are tables");
+      c.out_of_scope.push_back({text(*t, "statement", "out_of_scope"), text(*t, "why", "out_of_scope")});
+    }
   }
   for (const auto& e : c.experiments) {
     for (const auto& n : e.needs) {

@@ -170,34 +170,45 @@ Figure bar_figure(const std::vector<BarGroup>& groups, const std::vector<std::st
   return render(dir, name, fmt::to_string(data), body, gnuplot, style.caption);
 }
 
-Figure output_figure(const postproc::CaseReduction& r, const Curve& output, const std::vector<Kick>& kicks, double paper,
-                     const std::string& dir, const std::string& name, const std::string& gnuplot, const std::string& caption) {
+Figure output_figure(const postproc::CaseReduction& r, const Curve& output, const OutputFigure& f, const std::string& dir,
+                     const std::string& name, const std::string& gnuplot, const std::string& caption) {
   fmt::memory_buffer data;
   auto out = std::back_inserter(data);
-  fmt::format_to(out, "# time (us), output sphere E_k / E_in\n");
-  const std::size_t stride = std::max<std::size_t>(1, output.t.size() / 3000);
-  for (std::size_t i = 0; i < output.t.size(); i += stride) fmt::format_to(out, "{:.6g} {:.6g}\n", output.t[i] * 1e6, output.y[i] / r.e_in);
-  std::string marks;
-  for (std::size_t i = 0; i < kicks.size(); ++i) {
-    marks += fmt::format("set label {} 'kick {}' at {:.6g}, {:.6g} right offset -0.5, 0.8\n", i + 1, i + 1, kicks[i].end * 1e6,
-                         kicks[i].after / r.e_in);
+  auto write = [&](const std::string& title, const Curve& c) {
+    fmt::format_to(out, "# {}: time (us), output sphere E_k / E_in\n", title);
+    const std::size_t stride = std::max<std::size_t>(1, c.t.size() / 3000);
+    for (std::size_t i = 0; i < c.t.size(); i += stride) fmt::format_to(out, "{:.6g} {:.6g}\n", c.t[i] * 1e6, c.y[i] / r.e_in);
+    fmt::format_to(out, "\n\n");
+  };
+  write("output sphere", output);
+  std::string plots = fmt::format("'{}.dat' index 0 using 1:2 with lines linewidth 2 title 'e = {:g}'", name, f.restitution);
+  double t_last = r.blow_end_time.value_or(output.t.empty() ? 0.0 : output.t.back()), y_max = output.max() / r.e_in;
+  for (std::size_t i = 0; i < f.damped.size(); ++i) {
+    write(f.damped[i].first, f.damped[i].second);
+    plots += fmt::format(", '{}.dat' index {} using 1:2 with lines linewidth 2 dashtype {} title {} noenhanced", name, i + 1, i + 2,
+                         gp_quote(f.damped[i].first));
+    y_max = std::max(y_max, f.damped[i].second.max() / r.e_in);
   }
-  const double arrival = model::resolve(model::Stack::build(r.spec)).arrival_estimate * 1e6;
   std::string materials;
   for (int k = 1; k <= r.spec.blocks; ++k) materials += fmt::format("{}{}", k > 1 ? "/" : "", r.spec.block_material(k));
-  marks += fmt::format("set label 100 'estimated arrival' at {:.6g}, graph 0.05 offset 0.5, 0 textcolor rgb 'gray40'\n", arrival);
+  const double readout = f.readout_time * 1e6;
+  std::string marks = fmt::format(
+      "set arrow 100 from {0:.6g}, graph 0 to {0:.6g}, graph 1 nohead dashtype 2 linecolor rgb 'gray40'\n"
+      "set label 100 '2 arrivals' at {0:.6g}, graph 0.05 offset 0.5, 0 textcolor rgb 'gray40'\n", readout);
+  if (r.blow_end_time) {
+    marks += fmt::format("set arrow 102 from {0:.6g}, graph 0 to {0:.6g}, graph 1 nohead dashtype 3 linecolor rgb 'gray20'\n"
+                         "set label 102 'blow ended' at {0:.6g}, graph 0.12 right offset -0.5, 0 textcolor rgb 'gray20'\n",
+                         *r.blow_end_time * 1e6);
+  }
   marks += fmt::format("set arrow 101 from graph 0, first {0:.6g} to graph 1, first {0:.6g} nohead dashtype 2 linewidth 1.5 "
-                       "linecolor rgb 'black'\nset label 101 'paper: {1}' at graph 0.02, first {0:.6g} offset 0, 0.6\n",
-                       paper, fmt::format("{:g} %", 100.0 * paper));
-  // The action: up to the last kick (or the estimated arrival), and room above the highest value.
-  const double t_end = 1.3 * std::max(kicks.empty() ? 0.0 : kicks.back().end * 1e6, arrival);
-  const double y_top = 1.2 * std::max(output.max() / r.e_in, paper);
+                       "linecolor rgb 'black'\nset label 101 'paper: {1}' at graph 0.98, first {0:.6g} right offset 0, 0.6\n",
+                       f.paper, fmt::format("{:g} %", 100.0 * f.paper));
+  const double t_end = 1.1 * std::max(t_last * 1e6, readout);
+  const double y_top = 1.25 * std::max(y_max, f.paper);
   const auto body = fmt::format(
-      "set title 'Output sphere, {}, e = {}' noenhanced\nset xlabel 'time t (µs)'\nset ylabel 'E_k / E_{{in}}'\n"
-      "set grid\nset key top left\nset xrange [0:{:.6g}]\nset yrange [0:{:.6g}]\n"
-      "set arrow 100 from {:.6g}, graph 0 to {:.6g}, graph 1 nohead dashtype 2 linecolor rgb 'gray40'\n{}"
-      "plot '{}.dat' using 1:2 with lines linewidth 2 title 'output sphere'\n",
-      materials, r.spec.restitution.value, t_end, y_top, arrival, arrival, marks, name);
+      "set title 'Output sphere, {}' noenhanced\nset xlabel 'time t (µs)'\nset ylabel 'E_k / E_{{in}}'\n"
+      "set grid\nset key top left\nset xrange [0:{:.6g}]\nset yrange [0:{:.6g}]\n{}plot {}\n",
+      materials, t_end, y_top, marks, plots);
   return render(dir, name, fmt::to_string(data), body, gnuplot, caption);
 }
 

@@ -54,9 +54,17 @@ struct BarStyle {
 Figure bar_figure(const std::vector<BarGroup>& groups, const std::vector<std::string>& series, const BarStyle& style,
                   const std::string& dir, const std::string& gnuplot);
 
-// The output sphere's energy over E_in against time, its kicks marked, the paper's value dashed.
-Figure output_figure(const postproc::CaseReduction& r, const Curve& output, const std::vector<Kick>& kicks, double paper,
-                     const std::string& dir, const std::string& name, const std::string& gnuplot, const std::string& caption);
+// The output sphere's energy over E_in against time, with the same stack's damped runs beside it
+// (their curves over the same E_in), the read-out times marked (the blow's end and the fixed
+// time) and the paper's value dashed.
+struct OutputFigure {
+  double restitution = 1.0;  // the main curve's
+  double readout_time = 0.0;  // s
+  double paper = 0.0;
+  std::vector<std::pair<std::string, Curve>> damped;  // title, curve
+};
+Figure output_figure(const postproc::CaseReduction& r, const Curve& output, const OutputFigure& f, const std::string& dir,
+                     const std::string& name, const std::string& gnuplot, const std::string& caption);
 
 // Outputs against the restitution of the Teflon contacts, one line per series (a figure and a
 // read-out), on a log axis, with each figure's acceptance band shaded and the paper's value dashed.

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <filesystem>
@@ -64,22 +65,76 @@ std::string from_paper_text(const Verdict& v) {
   return out;
 }
 
+// Whose statement a claim is, in the summary's words.
+std::string whose(const Claim& c) {
+  return c.scope == "paper" ? "the paper" : c.scope == "granstack" ? "granstack's" : c.scope;
+}
+
+// The statement with what its analysis adds for the summary (ExperimentResult::claim_notes).
+std::string statement_text(const ExperimentResult& e, const Claim& c) {
+  const auto it = e.claim_notes.find(c.quantity);
+  return it == e.claim_notes.end() ? c.statement : fmt::format("{} ({})", c.statement, it->second);
+}
+
 Table summary_table(const StudyResult& r) {
-  Table t{"Every statement of the paper, granstack's primary reading of it (fixed in the catalogue before the run), its "
-          "distance from the paper's value and the verdict against the band",
-          {"claim", "the paper says", "paper", "granstack", "from the paper", "band", "verdict", "expected"}, {}};
+  Table t{"Every statement, whose it is, granstack's primary reading of it (fixed in the catalogue; the record below "
+          "lists every change), its distance from the paper's value and the verdict against the band",
+          {"claim", "whose", "the statement", "paper", "granstack", "from the paper", "band", "verdict", "expected"}, {}, {7}};
   for (const auto& e : r.experiments) {
     for (const auto& v : e.verdicts) {
-      t.rows.push_back({v.claim->id, v.claim->statement, value_text(v.claim->paper), value_text(v.value), from_paper_text(v),
-                        band_text(*v.claim), verdict_text(v), v.claim->expect});
+      t.rows.push_back({v.claim->id, whose(*v.claim), statement_text(e, *v.claim), value_text(v.claim->paper), value_text(v.value),
+                        from_paper_text(v), band_text(*v.claim), verdict_text(v), v.claim->expect});
     }
   }
   return t;
 }
 
+// Every change to a reading, band, paper value, scope or geometry of the experiments that ran.
+Table record_table(const StudyResult& r) {
+  Table t{"The record: every change to a claim's reading, band, paper value or scope, or to an experiment's geometry, "
+          "since the catalogue first fixed it (study/data/catalogue.toml)",
+          {"date", "commit", "claim or experiment", "field", "before", "after", "with results known", "why"}, {}};
+  auto add = [&](const std::string& who, const Record& rec) {
+    for (const auto& c : rec.changes) {
+      t.rows.push_back({c.date, c.commit.empty() ? "this version" : c.commit, who, c.field, c.before, c.after,
+                        c.results_known ? "yes" : "no", c.why});
+    }
+  };
+  for (const auto& e : r.experiments) {
+    add(e.experiment->name, e.experiment->record);
+    for (const auto& c : e.experiment->claims) add(c.id, c.record);
+  }
+  std::stable_sort(t.rows.begin(), t.rows.end(), [](const auto& a, const auto& b) { return a.front() < b.front(); });
+  return t;
+}
+
+// What the record says in a sentence: how many readings were chosen with results in view.
+std::string record_note(const StudyResult& r) {
+  int claims = 0, changed = 0, known = 0;
+  std::vector<std::string> with_results;
+  for (const auto& e : r.experiments) {
+    for (const auto& c : e.experiment->claims) {
+      ++claims;
+      if (!c.record.changes.empty()) ++changed;
+      const bool k = std::any_of(c.record.changes.begin(), c.record.changes.end(), [](const Change& x) { return x.results_known; });
+      if (k) {
+        ++known;
+        with_results.push_back(c.id);
+      }
+    }
+  }
+  return fmt::format(
+      "The record. Each claim's reading, band, paper value and scope, and each experiment's geometry, is fixed in the "
+      "catalogue with the date it was first fixed; every change since is recorded with its date, the values before "
+      "and after and why, and a test fails when a change has no record. Of the {} claims here, {} changed since they "
+      "were first fixed, {} of them with the run's values for the old reading in view ({}): their verdicts are not "
+      "predictions made before the run, and the table below says what each change was.",
+      claims, changed, known, with_results.empty() ? std::string("none") : fmt::format("{}", fmt::join(with_results, ", ")));
+}
+
 Table claim_table(const ExperimentResult& e) {
   Table t{"The statements: the primary reading, which alone gives the verdict, and the other readings as sensitivity",
-          {"claim", "reading", "value", "band", "verdict"}, {}};
+          {"claim", "reading", "value", "band", "verdict"}, {}, {4}};
   for (const auto& v : e.verdicts) {
     t.rows.push_back({v.claim->id, v.claim->quantity + " (primary)", value_text(v.value), band_text(*v.claim), verdict_text(v)});
     for (const auto& [q, x] : v.sensitivity) {
@@ -123,7 +178,9 @@ Table parameter_table(const StudyResult& r) {
                         std::to_string(s.top_columns), fmt::format("{:g}", s.bottom_radius), fmt::format("{:g}", s.striker_speed),
                         fmt::format("{}, {}", s.bottom == model::Boundary::wall ? "wall" : "free",
                                     s.sides == model::Boundary::wall ? "walls" : "free"),
-                        fmt::format("{:.3g}", res.dt), fmt::format("{:.3g}", res.duration),
+                        fmt::format("{:.3g}", res.dt),
+                        res.stops_at_blow_end ? fmt::format("{} (blow's end; cap {:.3g})", c.reduction->blow_end_time ? fmt::format("{:.3g}", *c.reduction->blow_end_time) : "censored", res.duration)
+                                              : fmt::format("{:.3g}", res.duration),
                         fmt::format("dt {}; duration {}{}", res.dt_auto ? "automatic" : "given", res.duration_auto ? "automatic" : "given",
                                     res.soft_cavity ? " (soft cavity: 7 arrivals)" : "")});
       break;
@@ -149,7 +206,8 @@ std::string parameter_note(const StudyResult& r) {
       "not depend on either (experiment scale: 5 m/s over 1 m/s {}, 100 nm over 1 mm {}). Teflon's Poisson ratio, which "
       "the paper does not give, is 0.46 (the usual value; --full runs 0.35 as sensitivity). The boundaries are the "
       "study's (free bottom, free sides, no gravity) unless the table says otherwise; the duration is twice the "
-      "estimated arrival of the pulse at the bottom face, seven times with a soft block between stiffer ones.",
+      "estimated arrival of the pulse at the bottom face, seven times with a soft block between stiffer ones, except "
+      "where a case stops at its blow's end (the Teflon experiments), which the table gives with the time it came.",
       value("scale", "output.r1mm_over_dt1e-9"), value("scale", "output.v5_over_v1"), value("scale", "output.r100nm_over_r1mm"));
 }
 
@@ -159,16 +217,33 @@ std::vector<Block> document(const StudyResult& r) {
   d.push_back(Paragraph{run_line(r)});
   d.push_back(Paragraph{"Each statement of the paper is set beside granstack's measurement of it and judged against an "
                         "acceptance band whose width study/data/catalogue.toml justifies. Every statement has one "
-                        "primary reading, fixed in the catalogue before the run, with the same boundaries and "
-                        "definitions for every statement of one figure; other readings of an ambiguous statement are "
+                        "primary reading, fixed in the catalogue, with the same boundaries and definitions for every "
+                        "statement of one figure (the record below lists every change to a reading, band, paper value "
+                        "or geometry, and which were made with results known); other readings of an ambiguous statement are "
                         "shown in the experiment's section as sensitivity and never count as a pass. 'from the "
                         "paper' is (granstack - paper) / paper, and in standard errors (s.e.) where granstack's value "
                         "comes from a fit that gives one; 'outside, by X %' means the value lies X % beyond the nearer "
                         "band edge, relative to that edge. 'expected' is what the elastic model gives, measured when "
                         "the catalogue was written; a verdict that differs from it means the physics changed. Where "
-                        "the model misses the paper, the experiment's section shows the evidence."});
+                        "the model misses the paper, the experiment's section shows the evidence. 'whose' "
+                        "says whose statement a claim scores: the paper's, granstack's own extension or model of it, a "
+                        "model check (a property of the model the paper's claim rests on) or the paper's arithmetic."});
   if (r.validated) d.push_back(Paragraph{validation_summary(r)});
   d.push_back(summary_table(r));
+  for (const auto& e : r.experiments) {
+    for (const auto& c : e.experiment->claims) {
+      if (c.scope != "paper") d.push_back(Paragraph{fmt::format("{} is {}: {}.", c.id, c.scope == "granstack" ? "granstack's" : "a " + c.scope, c.scope_reason)});
+    }
+  }
+  if (!builtin_catalogue().out_of_scope.empty()) {
+    std::string text = "Out of scope, not tested:";
+    for (const auto& o : builtin_catalogue().out_of_scope) text += fmt::format(" {} ({});", o.statement, o.why);
+    text.back() = '.';
+    d.push_back(Paragraph{text});
+  }
+  d.push_back(Heading{2, "The record of the readings", "record"});
+  d.push_back(Paragraph{record_note(r)});
+  d.push_back(record_table(r));
   d.push_back(Heading{2, "The paper's parameters and granstack's", "parameters"});
   d.push_back(Paragraph{parameter_note(r)});
   d.push_back(parameter_table(r));
@@ -192,7 +267,15 @@ std::vector<Block> document(const StudyResult& r) {
   return d;
 }
 
-// Markdown.
+nlohmann::json record_json(const Record& r) {
+  nlohmann::json changes = nlohmann::json::array();
+  for (const auto& c : r.changes) {
+    changes.push_back({{"date", c.date}, {"commit", c.commit}, {"field", c.field}, {"before", c.before}, {"after", c.after},
+                       {"why", c.why}, {"results_known", c.results_known}});
+  }
+  return {{"fixed", {{"date", r.date}, {"commit", r.commit}, {"values", r.fixed}}}, {"changes", changes}};
+}
+
 nlohmann::json optional_json(const std::optional<double>& v) { return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json(nullptr); }
 }  // namespace
 
@@ -209,7 +292,8 @@ nlohmann::json report_json(const StudyResult& r) {
                         {"expect", v.claim->expect}, {"quantity", v.claim->quantity}, {"value", optional_json(v.value)},
                         {"error", optional_json(v.error)}, {"from_paper", optional_json(v.from_paper)},
                         {"sigmas", optional_json(v.sigmas)}, {"verdict", v.verdict}, {"off", v.off},
-                        {"sensitivity", sensitivity}});
+                        {"sensitivity", sensitivity}, {"scope", v.claim->scope}, {"scope_reason", v.claim->scope_reason},
+                        {"summary", statement_text(e, *v.claim)}, {"record", record_json(v.claim->record)}});
     }
     for (const auto& [k, x] : e.values) values[k] = std::isfinite(x) ? json(x) : json(nullptr);
     for (const auto& c : e.cases) {
@@ -222,6 +306,7 @@ nlohmann::json report_json(const StudyResult& r) {
     json figures = json::array();
     for (const auto& f : e.figures) figures.push_back({{"file", f.file}, {"caption", f.caption}});
     experiments.push_back({{"name", e.experiment->name}, {"title", e.experiment->title}, {"source", e.experiment->source},
+                           {"record", record_json(e.experiment->record)},
                            {"claims", claims}, {"values", values}, {"cases", cases}, {"figures", figures}, {"notes", e.notes}});
   }
   return {{"granstack_version", std::string(version())}, {"validation", r.validated ? json(validation_summary(r)) : json(nullptr)}, {"git_commit", std::string(git_commit())}, {"engine", r.engine},
@@ -264,11 +349,12 @@ void write_report(const StudyResult& r, const std::string& dir) {
 std::string summary_text(const StudyResult& r) {
   auto shorten = [](const std::string& text) { return text.size() <= 56 ? text : text.substr(0, 53) + "..."; };
   std::string out = fmt::format("{:<11} {:>9} {:>10} {:>20}  {:<18} {}\n", "claim", "paper", "granstack", "from the paper",
-                                "verdict", "the paper says");
+                                "verdict", "the statement");
   for (const auto& e : r.experiments) {
     for (const auto& v : e.verdicts) {
       out += fmt::format("{:<11} {:>9} {:>10} {:>20}  {:<18} {}{}\n", v.claim->id, value_text(v.claim->paper),
-                         value_text(v.value), from_paper_text(v), verdict_text(v), shorten(v.claim->statement),
+                         value_text(v.value), from_paper_text(v), verdict_text(v),
+                         shorten(v.claim->scope == "paper" ? v.claim->statement : fmt::format("[{}] {}", whose(*v.claim), v.claim->statement)),
                          v.verdict == v.claim->expect || v.verdict == "not measured" ? "" : "   (expected " + v.claim->expect + ")");
     }
   }

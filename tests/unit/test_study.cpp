@@ -4,6 +4,8 @@
 #include <granstack/study/catalogue.hpp>
 #include <granstack/study/reproduce.hpp>
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -24,7 +26,7 @@ TEST(Catalogue, TheBuiltInCatalogueHoldsTheStudysExperimentsWithValidCasesAndCla
       EXPECT_LE(claim.low, claim.high) << claim.id;
       EXPECT_FALSE(claim.band_reason.empty()) << claim.id;
       EXPECT_FALSE(claim.quantity.empty()) << claim.id;
-      if (claim.paper && claim.id != "eq45.2" && claim.id != "fig3.7") {
+      if (claim.paper && claim.id != "fig3.7") {
         // A stated value lies inside its own acceptance band (except where the claim is the
         // paper's value set against another law).
         EXPECT_TRUE(*claim.paper >= claim.low && *claim.paper <= claim.high) << claim.id;
@@ -46,6 +48,21 @@ TEST(Catalogue, TheBuiltInCatalogueHoldsTheStudysExperimentsWithValidCasesAndCla
   // The tall blocks of Fig. 2 and 4 (the paper's "large enough"), and the convergence study only with --full.
   EXPECT_EQ(c.find("fig2")->cases.front().spec.rows, 24);
   EXPECT_TRUE(c.find("rows")->full);
+  // One geometry for the figures that share a stack: Fig. 2, Fig. 4 and the sandwich built from
+  // Fig. 4's stack run one height, and every claim of the Teflon figures has its 8-row reading.
+  auto main_case = [&](const char* name) {
+    const auto* e = c.find(name);
+    return *std::find_if(e->cases.begin(), e->cases.end(), [&](const CaseEntry& x) { return x.name == e->main; });
+  };
+  EXPECT_EQ(main_case("fig4").spec.rows, main_case("fig2").spec.rows);
+  EXPECT_EQ(main_case("sandwich").spec.rows, main_case("fig4").spec.rows);
+  for (const char* name : {"fig4", "sandwich"}) {
+    for (const auto& claim : c.find(name)->claims) {
+      EXPECT_TRUE(std::any_of(claim.sensitivity.begin(), claim.sensitivity.end(),
+                              [](const std::string& q) { return q.find("rows8") != std::string::npos; }))
+          << claim.id << " has no 8-row sensitivity reading";
+    }
+  }
 }
 
 // Every number the report gives as measured is computed by the run: an explanation written by
@@ -153,6 +170,66 @@ analysis = "fig3"
   } catch (const CatalogueError& e) {
     EXPECT_NE(std::string(e.what()).find("one primary reading"), std::string::npos) << e.what();
   }
+}
+
+// The catalogue's record: every claim's reading, band, paper value and scope, and every
+// experiment's geometry, is what its first fixed values and its recorded changes give.
+TEST(Catalogue, EveryChangeToAReadingBandPaperValueOrGeometryIsRecorded) {
+  for (const auto& e : builtin_catalogue().experiments) {
+    const auto problems = unrecorded_changes(e);
+    EXPECT_TRUE(problems.empty()) << e.name << ":\n" << fmt::format("{}", fmt::join(problems, "\n"));
+    for (const auto& c : e.claims) EXPECT_FALSE(c.record.date.empty()) << c.id << " has no record";
+    if (!e.cases.empty()) {
+      EXPECT_FALSE(e.record.date.empty()) << e.name << " has no record of its geometry";
+    }
+  }
+}
+
+TEST(Catalogue, AChangeWithoutARecordOrWithAWrongBeforeIsFound) {
+  const std::string head = R"([[experiment]]
+name = "x"
+title = "t"
+source = "s"
+analysis = "fig3"
+fixed = { date = "2026-01-01", geometry = "1 block of 8 rows, 2 top columns, steel, bottom free, sides free, stop duration" }
+  [experiment.cases.a]
+  blocks = 1
+  [[experiment.claim]]
+  statement = "s"
+  quantity = "q"
+  band = [0, 2]
+  band_reason = "r"
+  expect = "within"
+  fixed = { date = "2026-01-01", quantity = "q", band = "[0, 1]", paper = "none" }
+)";
+  // The band moved from [0, 1] to [0, 2] with no record.
+  auto problems = unrecorded_changes(parse_catalogue(head, "t").experiments.front());
+  ASSERT_EQ(problems.size(), 1u) << fmt::format("{}", fmt::join(problems, "\n"));
+  EXPECT_NE(problems[0].find("claim x.1: its band is \"[0, 2]\" but its record gives \"[0, 1]\""), std::string::npos) << problems[0];
+  // Recorded, it passes; a change whose before is not the recorded value is found.
+  const std::string change = R"(  [[experiment.claim.change]]
+  date = "2026-01-02"
+  field = "band"
+  before = "BEFORE"
+  after = "[0, 2]"
+  why = "w"
+)";
+  auto with = [&](const std::string& before) {
+    auto text = head + change;
+    text.replace(text.find("BEFORE"), 6, before);
+    return unrecorded_changes(parse_catalogue(text, "t").experiments.front());
+  };
+  EXPECT_TRUE(with("[0, 1]").empty());
+  problems = with("[0, 3]");
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_NE(problems[0].find("says before = \"[0, 3]\", but the record had \"[0, 1]\""), std::string::npos) << problems[0];
+  // The main case's geometry is recorded too: 24 rows where the record says 8.
+  auto taller = head + change;
+  taller.replace(taller.find("BEFORE"), 6, "[0, 1]");
+  taller.replace(taller.find("blocks = 1\n"), 11, "blocks = 1\n  rows = 24\n");
+  problems = unrecorded_changes(parse_catalogue(taller, "t").experiments.front());
+  ASSERT_EQ(problems.size(), 1u) << fmt::format("{}", fmt::join(problems, "\n"));
+  EXPECT_NE(problems[0].find("experiment x: its geometry is \"1 block of 24 rows"), std::string::npos) << problems[0];
 }
 
 TEST(Kicks, StepsSeparatedByQuietStretchesAreCountedWithTheEnergyAfterEach) {

@@ -20,6 +20,9 @@ struct Table {
   std::string caption;
   std::vector<std::string> header;
   std::vector<std::vector<std::string>> rows;
+  // Columns of verdicts: their cells that begin "within" or "outside" take the verdict's colour in
+  // HTML (no other cell does: an "expected" column is no verdict).
+  std::vector<std::size_t> verdict_columns = {};
 };
 struct Figure {
   std::string file;     // the SVG, relative to the report's directory

@@ -4,12 +4,28 @@
 // measures them.
 #include <granstack/model/spec.hpp>
 
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace granstack::study {
+
+// One entry of the catalogue's record: a change to a claim's reading ("quantity"), "band", "paper"
+// value or "scope", or to an experiment's "geometry" (its main case's, geometry_text), with the
+// values before and after (as recorded_fields and geometry_text write them) and why.
+struct Change {
+  std::string date, commit, field, before, after, why;
+  bool results_known = false;  // made when the run's values for the old reading were known
+};
+
+// The values a claim or an experiment was first fixed with, and its changes since, oldest first.
+struct Record {
+  std::string date, commit;
+  std::map<std::string, std::string> fixed;  // field -> value as text
+  std::vector<Change> changes;
+};
 
 // One statement of the paper and how it is judged.
 struct Claim {
@@ -22,7 +38,17 @@ struct Claim {
   double low = 0.0, high = 0.0;        // the acceptance band
   std::string band_reason;
   std::string expect;                  // "within" or "outside": what the elastic model gives
+  // Whose statement it is: "paper" (the paper's claim), "granstack" (granstack's extension or
+  // model of it, not the paper's words), "model check" (a property of the model the claim rests
+  // on) or "arithmetic" (the paper's calculation, checked); scope_reason says why, where not "paper".
+  std::string scope = "paper";
+  std::string scope_reason;
+  Record record;
 };
+
+// The claim's recorded fields as the record writes them: quantity, band "[low, high]", paper
+// ("none" when it states none) and scope.
+std::map<std::string, std::string> recorded_fields(const Claim& c);
 
 struct CaseEntry {
   std::string name;      // the case's directory under DIR/<experiment>/
@@ -39,10 +65,28 @@ struct Experiment {
   bool full = false;               // run only with --full, or when named
   std::vector<CaseEntry> cases;
   std::vector<Claim> claims;
+  Record record;  // of "geometry", the main case's geometry_text
+};
+
+// What a claim's verdict rests on in a case: its blocks, rows, top columns, radius ratio,
+// materials, boundaries and when the run stops, e.g. "3 blocks of 24 rows, 2 top columns, ratio 2,
+// steel/teflon/steel, bottom free, sides free, stop blow_end".
+std::string geometry_text(const model::StackSpec& s);
+
+// Each recorded field whose value is not what its record gives (the first fixed value, then each
+// change's after in turn, each change's before being the value it replaced), and each record that
+// is malformed: one line per problem, naming the claim or experiment and the fix. Empty when every
+// change is recorded.
+std::vector<std::string> unrecorded_changes(const Experiment& e);
+
+// A statement of the paper granstack does not test, and why.
+struct OutOfScope {
+  std::string statement, why;
 };
 
 struct Catalogue {
   std::vector<Experiment> experiments;
+  std::vector<OutOfScope> out_of_scope;
   const Experiment* find(std::string_view name) const;  // nullptr when unknown
   std::vector<std::string> names() const;
 };

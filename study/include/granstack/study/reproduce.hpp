@@ -50,6 +50,7 @@ struct ExperimentResult {
   std::vector<Table> tables;
   std::vector<Figure> figures;
   std::vector<std::string> notes;          // what the analysis found worth saying
+  std::map<std::string, std::string> claim_notes;  // by a claim's primary reading: what its summary row adds
   std::vector<Verdict> verdicts;
   const CaseRecord* find_case(const std::string& name) const;
 };
