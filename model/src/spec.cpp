@@ -43,6 +43,17 @@ std::optional<Separator> parse_separator(std::string_view s) {
   return std::nullopt;
 }
 
+std::string_view to_string(Stacking s) {
+  return s == Stacking::nested ? "nested" : s == Stacking::aligned ? "aligned" : "by_ratio";
+}
+
+std::optional<Stacking> parse_stacking(std::string_view s) {
+  if (s == "by_ratio") return Stacking::by_ratio;
+  if (s == "nested") return Stacking::nested;
+  if (s == "aligned") return Stacking::aligned;
+  return std::nullopt;
+}
+
 std::optional<DumpFormat> parse_dump_format(std::string_view s) {
   if (s == "text") return DumpFormat::text;
   if (s == "binary") return DumpFormat::binary;
@@ -158,7 +169,8 @@ double spheres(const StackSpec& spec) {
       count += (panels - 1.0) * (spec.rows_of(k) - 1) * (columns - 1.0) * matrix_chain(radius, 1.0).count;
     }
     if (k < spec.blocks) {
-      columns *= spec.ratio_below(k);
+      const bool odd = std::fmod(columns, 2.0) == 1.0;
+      columns = columns * spec.ratio_below(k) + (extra_column_below(spec, k, odd) ? 1.0 : 0.0);
       radius /= spec.ratio_below(k);
     }
   }
@@ -238,6 +250,15 @@ void validate_block_lists(const StackSpec& s, Bad&& bad) {
     bad("radius_ratio", fmt::format("{} ratios listed for {} blocks: list one per interface ({}), top first, or one "
                                     "for all",
                                     s.radius_ratios.size(), s.blocks, s.blocks - 1));
+  }
+  if (s.stacking != Stacking::by_ratio && s.geometry != Geometry::strip) {
+    bad("stacking", fmt::format("{} applies to geometry = strip only (this spec's geometry is {}): leave it out for the "
+                                "ratio's own stacking",
+                                to_string(s.stacking), to_string(s.geometry)));
+  } else if (s.stacking != Stacking::by_ratio && s.sides == Boundary::wall) {
+    bad("stacking", fmt::format("{} with side walls: where a block gets a column more, the blocks' widths differ by a "
+                                "sphere and no pair of walls holds them all; use sides = free",
+                                to_string(s.stacking)));
   }
 }
 

@@ -407,6 +407,15 @@ std::vector<SpecField> stack_rows() {
   rows.push_back(std::move(radius));
 
   rows.push_back(radius_ratio_row());
+  auto stacking = choice_row(
+      "stacking", &StackSpec::stacking, parse_stacking, [](Stacking v) { return to_string(v); },
+      "'by_ratio', 'nested' or 'aligned'", "by_ratio",
+      "How a block rests on the one below: by_ratio (even: on two; odd: on one) | nested (on two) | aligned (on one)");
+  stacking.doc = "`nested` or `aligned` at every interface, against the ratio's parity where need be: the block below "
+                 "then has `n C_k + 1` columns (ratio 2 aligned: each sphere straight on one of a block of `2 C_k + 1`; "
+                 "ratio 1 nested: equal spheres, each on two of a block of `C_k + 1`); geometry = strip and free sides only";
+  unless_default(stacking, [](const StackSpec& s) { return s.stacking != Stacking::by_ratio; });
+  rows.push_back(std::move(stacking));
   rows.push_back(block_rows_row());
 
   auto materials = row("materials", "list of material names", "steel", "Material per block, top first; one name for all");

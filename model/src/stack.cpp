@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace granstack::model {
@@ -13,9 +14,22 @@ double seat_height(double lower_radius, double upper_radius, int supports) {
   return std::sqrt(d * d - 0.5 * static_cast<double>(supports) * lower_radius * lower_radius);
 }
 
-double interface_height(double lower_radius, int n, int supports) {
-  if (n % 2 == 0) return seat_height(lower_radius, n * lower_radius, supports);
+double interface_height(double lower_radius, int n, bool aligned, int supports) {
+  if (!aligned) return seat_height(lower_radius, n * lower_radius, supports);
   return static_cast<double>(n + 1) * lower_radius;
+}
+
+bool aligned_interface(int n, bool upper_columns_odd, bool lower_columns_odd) {
+  const bool upper_site_odd = n % 2 == 1 && !upper_columns_odd;  // n (1 + C_k) mod 2
+  const bool lower_site_odd = !lower_columns_odd;                 // (1 + C_(k+1)) mod 2
+  return upper_site_odd == lower_site_odd;
+}
+
+bool extra_column_below(const StackSpec& spec, int k, bool upper_columns_odd) {
+  if (spec.stacking == Stacking::by_ratio) return false;
+  const int n = spec.ratio_below(k);
+  const bool natural_odd = n % 2 == 1 && upper_columns_odd;  // n C_k
+  return aligned_interface(n, upper_columns_odd, natural_odd) != (spec.stacking == Stacking::aligned);
 }
 
 MatrixChain matrix_chain(double block_radius, double half_pitch) {
@@ -48,7 +62,7 @@ Stack Stack::build(const StackSpec& spec) {
   const int supports = s.three_d() ? 4 : 2;
 
   // Radii and columns, top block first: R_k = r n_k n_(k+1) ... n_(N_B - 1) (r n^(N_B - k) with one
-  // ratio n), C_(k+1) = C_k n_k.
+  // ratio n), C_(k+1) = C_k n_k (one more where the stacking asks, extra_column_below).
   int first_id = 1 + s.strikers();
   int columns = spec.top_columns;
   for (int k = 1; k <= nb; ++k) {
@@ -63,7 +77,7 @@ Stack Stack::build(const StackSpec& spec) {
     b.atom_type = k;
     b.sphere_mass = sphere_mass(b.radius, lib.at(b.material).density);
     first_id += b.count();
-    if (k < nb) columns *= spec.ratio_below(k);
+    if (k < nb) columns = columns * spec.ratio_below(k) + (extra_column_below(spec, k, columns % 2 == 1) ? 1 : 0);
     s.blocks_.push_back(b);
   }
 
@@ -72,8 +86,8 @@ Stack Stack::build(const StackSpec& spec) {
   for (int k = nb - 1; k >= 1; --k) {
     const auto& below = s.block(k + 1);
     const double top_row_below = below.bottom_row_z + 2.0 * below.radius * (below.rows - 1);
-    s.blocks_[static_cast<std::size_t>(k - 1)].bottom_row_z =
-        top_row_below + interface_height(below.radius, spec.ratio_below(k), supports);
+    const bool aligned = aligned_interface(spec.ratio_below(k), s.block(k).columns % 2 == 1, below.columns % 2 == 1);
+    s.blocks_[static_cast<std::size_t>(k - 1)].bottom_row_z = top_row_below + interface_height(below.radius, spec.ratio_below(k), aligned, supports);
   }
 
   s.spheres_.reserve(static_cast<std::size_t>(first_id - 1));
@@ -164,14 +178,15 @@ int Stack::id_of(int block_index, int row, int column, int column_y) const {
 
 namespace {
 // The column of block k of the path down from top sphere u_1 (its centre at x = u_1 R_1, u_1 odd).
-// The path's centre in block k is x_k = u_k R_k; an even ratio n rests a sphere on two at
-// x_k -+ R_(k+1), of which the path takes the inner (toward the axis; for u_k = 1, x_k - R_(k+1)),
-// u_(k+1) = n u_k - sign(u_k); an odd one on the one straight below, u_(k+1) = n u_k. u_k stays
-// odd, and x_j = (2j - 1 - C_k) R_k gives j = (u_k + 1 + C_k) / 2.
-int path_column(const StackSpec& spec, const Block& b, long u) {
+// The path's centre in block k is x_k = u_k R_k, at v = n u_k in units of R_(k+1); the block below
+// has a sphere there when v + 1 + C_(k+1) is even (x_j = (2j - 1 - C) R), and the path goes
+// straight down to it (aligned); else the sphere rests on two at v -+ 1, of which the path takes
+// the inner (toward the axis; on the axis, the right one). j = (u_k + 1 + C_k) / 2.
+int path_column(const Stack& s, const Block& b, long u) {
   for (int k = 1; k < b.index; ++k) {
-    const long n = spec.ratio_below(k);
-    u = n % 2 == 0 ? n * u - (u > 0 ? 1 : -1) : n * u;
+    const long v = s.spec().ratio_below(k) * u;
+    const bool on_site = (v + 1 + s.block(k + 1).columns) % 2 == 0;
+    u = on_site ? v : v == 0 ? 1 : v - (v > 0 ? 1 : -1);
   }
   return static_cast<int>((u + 1 + b.columns) / 2);
 }
@@ -180,13 +195,13 @@ int path_column(const StackSpec& spec, const Block& b, long u) {
 int Stack::impact_column(int block_index) const {
   // The top block's struck sphere on the right (x = R_1 + 2 k R_1 for impact_offset k); with k < 0
   // the one on the right is nearer the axis still.
-  return path_column(spec_, block(block_index), 1 + 2L * spec_.impact_offset);
+  return path_column(*this, block(block_index), 1 + 2L * spec_.impact_offset);
 }
 
 int Stack::impact_path_id(int block_index, int row) const {
   const int c = impact_column(block_index);
   // In 3D the y-column follows the same rule from y = R_1 (the offset is along x only).
-  return id_of(block_index, row, c, three_d() ? path_column(spec_, block(block_index), 1) : impact_panel());
+  return id_of(block_index, row, c, three_d() ? path_column(*this, block(block_index), 1) : impact_panel());
 }
 
 int Stack::output_sphere_id() const { return impact_path_id(spec_.blocks, blocks_.back().rows); }
@@ -249,7 +264,11 @@ std::vector<std::string> Stack::type_materials() const {
   return out;
 }
 
-double Stack::half_width() const { return spec_.top_columns * block(1).radius; }
+double Stack::half_width() const {
+  double w = 0.0;  // the widest block's (they are one width unless the stacking adds a column)
+  for (const auto& b : blocks_) w = std::max(w, b.columns * b.radius);
+  return w;
+}
 double Stack::half_depth() const {
   return three_d() ? half_width() : static_cast<double>(panels()) * block(1).radius;
 }

@@ -478,6 +478,7 @@ TEST(Space, TheStoreKeyChangesWithEverySpecField) {
       {"dt", {{{"dt", {"1e-8"}}}, {{"dt", {"2e-8"}}}}},
       {"duration", {{{"duration", {"1e-4"}}}, {{"duration", {"2e-4"}}}}},
       {"stop", {{}, {{"stop", {"blow_end"}}}}},
+      {"stacking", {{}, {{"stacking", {"aligned"}}}}},
       {"cap_durations", {{{"stop", {"blow_end"}}, {"cap_durations", {"20"}}}, {{"stop", {"blow_end"}}, {"cap_durations", {"40"}}}}},
       {"dump_every", {{{"dump_every", {"10"}}}, {{"dump_every", {"20"}}}}},
       {"series_every", {{{"series_every", {"1"}}}, {{"series_every", {"2"}}}}},

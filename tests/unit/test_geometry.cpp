@@ -177,6 +177,88 @@ std::vector<Layout> layouts() {
 
 INSTANTIATE_TEST_SUITE_P(Stacks, GeometryTest, ::testing::ValuesIn(layouts()), layout_name);
 
+// The stacking chosen against the ratio's parity (physics.md section 1): ratio 2 aligned sets each
+// bottom-row sphere straight on one sphere of a block of 2 C + 1 columns, equal spheres nested on
+// two of C + 1; each sphere touches exactly the one or two below it and nothing else touches, the
+// stack stays mirror-symmetric, and the impact path is a chain of contacts.
+TEST(Geometry, AStackingAgainstTheRatiosParityAddsAColumnAndRestsEachSphereAsChosen) {
+  using granstack::model::Stacking;
+  struct Case {
+    std::vector<int> ratios;
+    Stacking stacking;
+  };
+  for (const auto& c : {Case{{2, 2}, Stacking::aligned}, Case{{1, 1}, Stacking::nested}, Case{{3, 1}, Stacking::nested},
+                        Case{{4, 1}, Stacking::aligned}, Case{{2, 1}, Stacking::nested}}) {
+    StackSpec spec;
+    spec.blocks = 3;
+    spec.rows = 3;
+    spec.radius_ratios = c.ratios;
+    spec.stacking = c.stacking;
+    const auto stack = Stack::build(spec);
+    const auto name = fmt::format("ratios {} {}", fmt::join(c.ratios, ","), granstack::model::to_string(c.stacking));
+    const int supports = c.stacking == Stacking::aligned ? 1 : 2;
+    granstack::test::DesignedContacts designed(stack);
+    for (const auto& b : stack.blocks()) {
+      for (int i = 1; i <= b.rows; ++i) {
+        for (int j = 1; j <= b.columns; ++j) {
+          if (j < b.columns) designed.expect(stack.id_of(b.index, i, j), stack.id_of(b.index, i, j + 1));
+          if (i < b.rows) designed.expect(stack.id_of(b.index, i, j), stack.id_of(b.index, i + 1, j));
+        }
+      }
+      if (b.index == spec.blocks) continue;
+      const auto& below = stack.block(b.index + 1);
+      const int n = spec.ratio_below(b.index);
+      const int natural = n * b.columns;
+      EXPECT_EQ(below.columns, natural + ((n % 2 == 0) == (supports == 1) ? 1 : 0)) << name << ", block " << below.index;
+      for (int j = 1; j <= b.columns; ++j) {  // every sphere below within a radius sum of this one's centre
+        const auto& upper = stack.sphere(stack.id_of(b.index, b.rows, j));
+        int touches = 0;
+        for (int l = 1; l <= below.columns; ++l) {
+          const int id = stack.id_of(below.index, 1, l);
+          if (touching(upper, stack.sphere(id))) {
+            designed.expect(upper.id, id);
+            ++touches;
+          }
+        }
+        EXPECT_EQ(touches, supports) << name << ", block " << b.index << " column " << j;
+      }
+    }
+    const int cols = stack.block(1).columns;
+    designed.expect(Stack::striker_id(), stack.id_of(1, 1, cols / 2));
+    designed.expect(Stack::striker_id(), stack.id_of(1, 1, cols / 2 + 1));
+    EXPECT_EQ(touching_pairs(stack), designed.count()) << name;
+    for (const auto& sp : stack.spheres()) {
+      if (sp.block == 0) continue;
+      EXPECT_EQ(stack.sphere(stack.id_of(sp.block, sp.row, stack.block(sp.block).columns + 1 - sp.column)).x, -sp.x) << name;
+    }
+    for (int k = 1; k < spec.blocks; ++k) {
+      const auto& upper = stack.sphere(stack.id_of(k, spec.rows, stack.impact_column(k)));
+      const auto& lower = stack.sphere(stack.id_of(k + 1, 1, stack.impact_column(k + 1)));
+      EXPECT_TRUE(touching(upper, lower)) << name << ": the impact path breaks below block " << k;
+      if (supports == 1) {
+        EXPECT_EQ(lower.x, upper.x) << name;
+      }
+    }
+  }
+}
+
+TEST(Geometry, AStackingOtherThanTheRatiosIsRefusedWithSideWallsOrOffTheStrip) {
+  StackSpec s;
+  s.stacking = granstack::model::Stacking::nested;
+  s.radius_ratio = 1;
+  s.sides = granstack::model::Boundary::wall;
+  auto issues = granstack::model::validate(s);
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].field, "stacking");
+  EXPECT_NE(issues[0].message.find("use sides = free"), std::string::npos) << issues[0].message;
+  s.sides = granstack::model::Boundary::free_surface;
+  s.geometry = granstack::model::Geometry::nested3d;
+  issues = granstack::model::validate(s);
+  ASSERT_FALSE(issues.empty());
+  EXPECT_EQ(issues[0].field, "stacking");
+  EXPECT_NE(issues[0].message.find("applies to geometry = strip only"), std::string::npos) << issues[0].message;
+}
+
 // The isolated collision of physics.md section 5: a striker rho times the top radius on one row
 // of two spheres touches both, at sin(theta) = 1 / (rho + 1) from the vertical, and nothing else.
 TEST(Geometry, ALargeStrikerRestsOnTheTwoCentralSpheresAtTheAngleOfItsRadius) {

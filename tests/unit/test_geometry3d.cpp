@@ -147,7 +147,7 @@ INSTANTIATE_TEST_SUITE_P(Nests, Geometry3dTest,
 // four central top spheres.
 TEST(Geometry3d, FourSphereSeatsAreThoseOfTheSquarePocket) {
   const double r = 1e-3;
-  EXPECT_NEAR(granstack::model::interface_height(r, 2, 4), std::sqrt(7.0) * r, 1e-15 * r);
+  EXPECT_NEAR(granstack::model::interface_height(r, 2, false, 4), std::sqrt(7.0) * r, 1e-15 * r);
   EXPECT_NEAR(granstack::model::seat_height(r, r, 4), std::sqrt(2.0) * r, 1e-15 * r);
   EXPECT_NEAR(granstack::model::interface_height(r, 3, 4), 4.0 * r, 1e-15 * r);  // odd: on the one below
   const auto stack = build({2, 2, 3, 2});

@@ -301,8 +301,9 @@ rolling_friction = 0.1
 rolling_friction_pairs = { "steel:steel" = 0.05 }
 characteristic_velocity = 2
 )", "every.toml");
-  // Every field but rows, which block_rows replaces (the two are refused together).
-  EXPECT_EQ(every.size() + 1, model::spec_fields().size()) << "a field of the table is missing from this test's file";
+  // Every field but rows, which block_rows replaces (the two are refused together), and stacking,
+  // which the container refuses (strip only; read and written below).
+  EXPECT_EQ(every.size() + 2, model::spec_fields().size()) << "a field of the table is missing from this test's file";
   EXPECT_EQ(every.count("rows"), 0u);
   const auto spec = generator::build_sweep(every).base;
   EXPECT_EQ(model::spec_from_json_fields(nlohmann::json::parse(model::spec_json(spec).dump())), spec);
@@ -312,6 +313,9 @@ characteristic_velocity = 2
   EXPECT_EQ(*spec.characteristic_velocity, 2.0);
   EXPECT_EQ(spec.rolling_friction.get("steel", "steel"), 0.05);
   EXPECT_EQ(spec.impact_offset, -1);
+  auto nested = generator::build_sweep(generator::parse_spec_toml("radius_ratio = 3\nstacking = \"nested\"\n", "t")).base;
+  EXPECT_EQ(nested.stacking, model::Stacking::nested);
+  EXPECT_EQ(model::spec_from_json_fields(nlohmann::json::parse(model::spec_json(nested).dump())), nested);
   // A run that stops at the blow's end, with its cap, reads back from the manifest as it was.
   auto stopping = spec;
   stopping.duration.reset();

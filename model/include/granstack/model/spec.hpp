@@ -22,6 +22,12 @@ enum class Geometry { strip, nested3d, panels };
 // bridging each pocket of a panel to the same pocket of the next), rigid walls (planes midway
 // between panels), or nothing.
 enum class Separator { matrix, walls, none };
+// How a block's bottom row rests on the block below: by the ratio's parity (the study's: an even
+// ratio nests each sphere on two below, an odd one sets it on the one straight below), nested on
+// two at every interface, or aligned on the one straight below at every interface. Where the
+// choice goes against the ratio's parity, the lower block has one column more (n C_k + 1), so
+// that every sphere of the row above rests as chosen (model::columns_below).
+enum class Stacking { by_ratio, nested, aligned };
 enum class DumpFormat { text, binary };
 // How a run ends: after its duration, or at the dump frame where the blow has ended
 // (model::BlowEnd, docs/physics.md section 7), at most cap_durations automatic durations.
@@ -36,6 +42,8 @@ std::string_view to_string(Geometry g);
 std::optional<Geometry> parse_geometry(std::string_view s);
 std::string_view to_string(Separator s);  // "matrix" | "walls" | "none"
 std::optional<Separator> parse_separator(std::string_view s);
+std::string_view to_string(Stacking s);   // "by_ratio" | "nested" | "aligned"
+std::optional<Stacking> parse_stacking(std::string_view s);
 std::optional<DumpFormat> parse_dump_format(std::string_view s);
 std::string_view to_string(DumpFiles f);      // "single" | "per_step" | "per_rank"
 std::optional<DumpFiles> parse_dump_files(std::string_view s);
@@ -78,6 +86,7 @@ struct StackSpec {
   double bottom_radius = 1e-3;                 // m, radius of the bottom block's spheres
   int radius_ratio = 2;                        // R_k / R_{k+1} at every interface
   std::vector<int> radius_ratios;              // per interface, top first (N_B - 1); empty: radius_ratio at each
+  Stacking stacking = Stacking::by_ratio;      // how a block rests on the one below
   std::vector<std::string> materials{"steel"}; // per block, top first; one name means every block
   std::vector<Material> custom_materials;      // defined by the spec
   PairTable restitution{1.0, {}};              // e, 0.05 < e <= 1

@@ -210,10 +210,17 @@ inline constexpr const char* kBottomWallForceColumn = "fz_wall_bottom";
 inline constexpr const char* kBottomWallName = "wall_bottom";
 
 // The vertical distance between the centre of a sphere of radius R_k and the centres it rests
-// on in the block below (radius R_k / n): with n even it rests on two spheres at +-R_{k+1}
-// (sqrt((n+1)^2 - 1) R_{k+1}, 2 sqrt(2) R_{k+1} for the study's n = 2), with n odd on the one
-// directly below ((n+1) R_{k+1}). In a 3D nest (supports = 4) an even ratio rests it on four.
-double interface_height(double lower_radius, int radius_ratio, int supports = 2);
+// on in the block below (radius R_k / n): nested, on two spheres at +-R_{k+1}
+// (sqrt((n+1)^2 - 1) R_{k+1}, 2 sqrt(2) R_{k+1} for the study's n = 2); aligned, on the one
+// directly below ((n+1) R_{k+1}). In a 3D nest (supports = 4) a nested sphere rests on four.
+double interface_height(double lower_radius, int radius_ratio, bool aligned, int supports = 2);
+// Whether the bottom row of a block with `upper_columns_odd` columns sits straight on lattice
+// sites of the block below (ratio n, `lower_columns_odd` columns) or between two: the parity of
+// the centres' x, n (2j - 1 - C_k) against (2i - 1 - C_(k+1)), in units of the lower radius.
+bool aligned_interface(int radius_ratio, bool upper_columns_odd, bool lower_columns_odd);
+// Whether block k + 1 has one column more than n C_k, so that block k rests on it as the spec's
+// stacking says (StackSpec::stacking; never with by_ratio).
+bool extra_column_below(const StackSpec& spec, int k, bool upper_columns_odd);
 // The height of the centre of a sphere of radius `upper_radius` above the centres of the
 // touching spheres of radius `lower_radius` it rests on, touching each: two at -+lower_radius
 // (supports = 2), sqrt((R_u + R_l)^2 - R_l^2); or the four of a square pocket at (-+R_l, -+R_l)
