@@ -48,6 +48,7 @@ void container(const AnalysisInput& in, ExperimentResult& out);
 void eq3(const AnalysisInput& in, ExperimentResult& out);
 void eq45(const AnalysisInput& in, ExperimentResult& out);
 void rows(const AnalysisInput& in, ExperimentResult& out);
+void mechanisms(const AnalysisInput& in, ExperimentResult& out);
 
 // The output of the main case of a Teflon experiment (fig4, sandwich) read every way, the
 // restitution scan of its Teflon contacts and the material sensitivity runs.

@@ -69,15 +69,14 @@ Figure energy_plot(const EnergyPlot& p, const std::string& dir, const std::strin
     }
     fmt::format_to(out, "\n\n");
   }
+  // The paper's values as dashed lines with their labels in the inset's own key (top right, in
+  // the room the inset's y range leaves above its curves): no label is written over a curve.
   std::string references;
   for (std::size_t i = 0; i < p.references.size(); ++i) {
     const auto& [label, value] = p.references[i];
     lower = std::max(lower, value);
-    references += fmt::format("set arrow {} from graph 0, first {:.6g} to graph 1, first {:.6g} nohead dashtype 2 linewidth 1.5 "
-                              "linecolor rgb 'black' front\nset label {} {} at graph {}, first {:.6g} {} offset 0, 0.6 "
-                              "front noenhanced\n",
-                              i + 1, value, value, i + 1, gp_quote(label), i % 2 == 0 ? "0.99" : "0.01", value,
-                              i % 2 == 0 ? "right" : "left");  // alternate sides: close values' labels never meet
+    references += fmt::format(", {:.6g} with lines dashtype {} linewidth 1.5 linecolor rgb 'black' title {} noenhanced", value,
+                              i + 2, gp_quote(label));
   }
   // Fixed margins, so the inset sits in the empty band above the curves (the y axis reaches 1.75,
   // the curves 1): it covers no curve, and the key sits at the top left, beside it.
@@ -89,13 +88,13 @@ Figure energy_plot(const EnergyPlot& p, const std::string& dir, const std::strin
       "plot for [k=1:{}] '{}.dat' index (k-1) using 1:2 with lines linewidth 2 linecolor k title sprintf('block %d', k)\n"
       "# The inset: blocks {} to {}, magnified on their own scales, the paper's values dashed.\n"
       "set lmargin at screen 0.40\nset rmargin at screen 0.95\nset bmargin at screen 0.62\nset tmargin at screen 0.895\n"
-      "unset title\nunset xlabel\nunset ylabel\nunset key\nset ytics autofreq\n"
+      "unset title\nunset xlabel\nunset ylabel\nset key default\nset key inside right top box opaque samplen 2\nset ytics autofreq\n"
       "set object 1 rectangle from graph 0, graph 0 to graph 1, graph 1 behind fillcolor rgb 'white' fillstyle solid noborder\n"
-      "set xrange [{:.6g}:{:.6g}]\nset yrange [0:{:.3g}]\n{}"
-      "plot for [k={}:{}] '{}.dat' index (k-1) using 1:2 with lines linewidth 2 linecolor k notitle\n"
+      "set xrange [{:.6g}:{:.6g}]\nset yrange [0:{:.3g}]\n"
+      "plot for [k={}:{}] '{}.dat' index (k-1) using 1:2 with lines linewidth 2 linecolor k notitle{}\n"
       "unset multiplot\n",
       gp_quote(p.title), gp_quote(p.ylabel), t0 * 1e6, t1 * 1e6, nb, p.name, p.inset_from, nb, i0 * 1e6, i1 * 1e6,
-      lower > 0.0 ? 1.3 * lower : 1.0, references, p.inset_from, nb, p.name);
+      lower > 0.0 ? (1.3 + 0.2 * static_cast<double>(p.references.size())) * lower : 1.0, p.inset_from, nb, p.name, references);
   return render(dir, p.name, fmt::to_string(data), body, gnuplot, p.caption);
 }
 
@@ -188,26 +187,28 @@ Figure output_figure(const postproc::CaseReduction& r, const Curve& output, cons
     plots += fmt::format(", '{}.dat' index {} using 1:2 with lines linewidth 2 dashtype {} title {} noenhanced", name, i + 1, i + 2,
                          gp_quote(f.damped[i].first));
     y_max = std::max(y_max, f.damped[i].second.max() / r.e_in);
+    if (!f.damped[i].second.t.empty()) t_last = std::max(t_last, f.damped[i].second.t.back());
   }
   std::string materials;
   for (int k = 1; k <= r.spec.blocks; ++k) materials += fmt::format("{}{}", k > 1 ? "/" : "", r.spec.block_material(k));
   const double readout = f.readout_time * 1e6;
   std::string marks = fmt::format(
       "set arrow 100 from {0:.6g}, graph 0 to {0:.6g}, graph 1 nohead dashtype 2 linecolor rgb 'gray40'\n"
-      "set label 100 '2 arrivals' at {0:.6g}, graph 0.05 offset 0.5, 0 textcolor rgb 'gray40'\n", readout);
+      "set label 100 '2 arrivals' at {0:.6g}, graph 0.05 offset 0.5, 0 textcolor rgb 'gray40' front\n", readout);
   if (r.blow_end_time) {
     marks += fmt::format("set arrow 102 from {0:.6g}, graph 0 to {0:.6g}, graph 1 nohead dashtype 3 linecolor rgb 'gray20'\n"
-                         "set label 102 'blow ended' at {0:.6g}, graph 0.12 right offset -0.5, 0 textcolor rgb 'gray20'\n",
+                         "set label 102 'blow ended (e = 1)' at {0:.6g}, graph 0.12 right offset -0.5, 0 textcolor rgb 'gray20' front\n",
                          *r.blow_end_time * 1e6);
   }
   marks += fmt::format("set arrow 101 from graph 0, first {0:.6g} to graph 1, first {0:.6g} nohead dashtype 2 linewidth 1.5 "
-                       "linecolor rgb 'black'\nset label 101 'paper: {1}' at graph 0.98, first {0:.6g} right offset 0, 0.6\n",
+                       "linecolor rgb 'black'\nset label 101 'paper: {1}' at graph 0.98, first {0:.6g} right offset 0, 0.6 front\n",
                        f.paper, fmt::format("{:g} %", 100.0 * f.paper));
   const double t_end = 1.1 * std::max(t_last * 1e6, readout);
   const double y_top = 1.25 * std::max(y_max, f.paper);
   const auto body = fmt::format(
       "set title 'Output sphere, {}' noenhanced\nset xlabel 'time t (µs)'\nset ylabel 'E_k / E_{{in}}'\n"
-      "set grid\nset key top left\nset xrange [0:{:.6g}]\nset yrange [0:{:.6g}]\n{}plot {}\n",
+      "set grid\nset key top left box opaque\n"
+      "set xrange [0:{:.6g}]\nset yrange [0:{:.6g}]\n{}plot {}\n",
       materials, t_end, y_top, marks, plots);
   return render(dir, name, fmt::to_string(data), body, gnuplot, caption);
 }

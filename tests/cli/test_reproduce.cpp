@@ -226,7 +226,7 @@ TEST(Reproduce, AStoppedReproductionContinuesWhereItStopped) {
 TEST(Reproduce, AnUnknownExperimentAndADirectoryOfTheUsersAreRefused) {
   auto r = granstack({"reproduce", "fig9", "-o", (work() / "never").string()});
   EXPECT_EQ(r.code, 2) << r.output;
-  EXPECT_NE(r.output.find("unknown experiment 'fig9'; known: fig2, fig3, scale, friction, fig4, sandwich, container, eq3, eq45, rows"), std::string::npos)
+  EXPECT_NE(r.output.find("unknown experiment 'fig9'; known: fig2, fig3, scale, friction, fig4, sandwich, container, eq3, eq45, mechanisms, rows"), std::string::npos)
       << r.output;
   EXPECT_FALSE(fs::exists(work() / "never"));
   const auto mine = work() / "mine";

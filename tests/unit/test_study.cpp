@@ -18,7 +18,7 @@ namespace {
 
 TEST(Catalogue, TheBuiltInCatalogueHoldsTheStudysExperimentsWithValidCasesAndClaims) {
   const auto& c = builtin_catalogue();
-  const std::vector<std::string> expected{"fig2", "fig3", "scale", "friction", "fig4", "sandwich", "container", "eq3", "eq45", "rows"};
+  const std::vector<std::string> expected{"fig2", "fig3", "scale", "friction", "fig4", "sandwich", "container", "eq3", "eq45", "mechanisms", "rows"};
   EXPECT_EQ(c.names(), expected);
   for (const auto& e : c.experiments) {
     EXPECT_FALSE(e.claims.empty()) << e.name;
