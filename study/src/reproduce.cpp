@@ -3,6 +3,7 @@
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/ownership.hpp>
 #include <granstack/generator/case_writer.hpp>
+#include <granstack/model/resolution.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/postproc/compare.hpp>
 #include <granstack/runner/runner.hpp>
@@ -11,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -122,6 +124,16 @@ std::string status_name(runner::RunStatus s) {
   return "failed";
 }
 
+// A case's expected run time, to start the longest cases first (the last to start is then a
+// short one and the cores stay busy to the end): LIGGGHTS's estimate, and for a run that stops at
+// its blow's end that of one automatic duration (its cap's over cap_durations).
+double expected_cost(const model::StackSpec& spec) {
+  const auto stack = model::Stack::build(spec);
+  const auto res = model::resolve(stack);
+  const double seconds = model::estimate_cost(stack, res).liggghts_seconds;
+  return res.stops_at_blow_end ? seconds / spec.cap_durations : seconds;
+}
+
 // Runs every case with the chosen engine; the records get their status.
 void run_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, StudyResult& result) {
   std::vector<std::string> dirs;
@@ -216,7 +228,7 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& o) {
   const fs::path root(o.output);
   prepare_directory(root);
 
-  std::vector<CaseRecord*> records;
+  std::vector<std::pair<double, CaseRecord*>> by_cost;
   result.experiments.reserve(selected.size());
   for (const auto* e : selected) {
     auto& er = result.experiments.emplace_back();
@@ -229,9 +241,13 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& o) {
       record.status = "not run";
       er.cases.push_back(std::move(record));
       ensure_case(er.cases.back().dir, c, o.force, o);
+      by_cost.emplace_back(expected_cost(c.spec), nullptr);
     }
-    for (auto& c : er.cases) records.push_back(&c);
+    for (std::size_t i = 0; i < er.cases.size(); ++i) by_cost[by_cost.size() - er.cases.size() + i].second = &er.cases[i];
   }
+  std::stable_sort(by_cost.begin(), by_cost.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<CaseRecord*> records;
+  for (const auto& [cost, rec] : by_cost) records.push_back(rec);
   run_all(records, o, result);
   reduce_all(records, o, result);
   if (o.validate && os::interrupt_signal() == 0) validate_all(records, o);
