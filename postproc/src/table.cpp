@@ -74,8 +74,21 @@ OutputTable build_table(const std::vector<CaseReduction>& reductions) {
   OutputTable t;
   std::set<int> all_blocks;
   std::vector<json> sort_keys;  // per group: the differing fields' values, compared as values
-  for (auto& [text, cases] : by_key) {
-    std::sort(cases.begin(), cases.end(), [](auto* a, auto* b) { return a->spec.blocks < b->spec.blocks; });
+  for (auto& [text, all_cases] : by_key) {
+    std::stable_sort(all_cases.begin(), all_cases.end(), [](auto* a, auto* b) { return a->spec.blocks < b->spec.blocks; });
+    // The same case run twice (a reproduction runs one spec in two experiments) is one row when
+    // the two gave the same output to the bit; two outputs for one case are refused.
+    std::vector<const CaseReduction*> cases;
+    for (const auto* c : all_cases) {
+      if (!cases.empty() && cases.back()->spec.blocks == c->spec.blocks) {
+        if (cases.back()->output_fraction == c->output_fraction) continue;
+        throw std::invalid_argument(fmt::format("cases {} and {} differ in nothing but their directory, yet their outputs "
+                                                "differ ({:.17g} and {:.17g}): give each (group, N_B) once",
+                                                cases.back()->case_dir, c->case_dir, cases.back()->output_fraction,
+                                                c->output_fraction));
+      }
+      cases.push_back(c);
+    }
     TableGroup g;
     g.cases = cases;
     g.restitution = cases.front()->spec.restitution.value;
@@ -99,11 +112,6 @@ OutputTable build_table(const std::vector<CaseReduction>& reductions) {
     std::vector<int> nb;
     std::vector<double> f;
     for (const auto* c : cases) {
-      if (!nb.empty() && nb.back() == c->spec.blocks) {
-        throw std::invalid_argument(fmt::format("cases {} and {} differ in nothing but their directory: give each "
-                                                "(group, N_B) once",
-                                                g.cases[nb.size() - 1]->case_dir, c->case_dir));
-      }
       nb.push_back(c->spec.blocks);
       f.push_back(c->output_fraction);
       all_blocks.insert(c->spec.blocks);
