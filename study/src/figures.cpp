@@ -241,7 +241,7 @@ Figure scan_figure(const std::vector<ScanSeries>& series, const std::vector<Scan
   const auto body = fmt::format(
       "set title 'The output against the restitution of the Teflon contacts, by read-out'\n"
       "set xlabel 'restitution e of the steel/Teflon and Teflon/Teflon contacts'\nset ylabel 'E_{{out}} / E_{{in}}'\n"
-      "set logscale y\nset grid\nset key below maxcols 2\nset xrange [0.48:1.02]\n{}plot {}\n",
+      "set logscale y\nset grid\nset key below maxcols 2 spacing 1.2\nset bmargin 7\nset xrange [0.48:1.02]\n{}plot {}\n",
       shading, plots);
   return render(dir, name, fmt::to_string(data), body, gnuplot, caption);
 }
