@@ -2,9 +2,11 @@
 """The documentation's result tables, from a run: each lies between the markers
 <!-- doc-table: NAME --> and <!-- /doc-table --> in the files below, and this script runs the
 cases that make it (LIGGGHTS, as the docs say) and writes it (--write) or checks that the docs
-hold exactly what the run gives (--check, the test docs.tables).
+hold exactly what the run gives (--check, the test docs.tables). With --reproduce it also runs
+`granstack reproduce` (every experiment, about a minute on 2 cores, which the test leaves out) for
+the reproduction tutorial's summary.
 
-usage: doc_tables.py --write|--check GRANSTACK WORKDIR
+usage: doc_tables.py --write|--check [--reproduce] GRANSTACK WORKDIR
 """
 import json
 import pathlib
@@ -19,6 +21,10 @@ PLACES = {
     "decay": ["docs/tutorials/decay.md"],
     "objectives": ["docs/how-to/design.md"],
 }
+# Made only with --reproduce.
+REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"]}
+# The notes of the report the tutorial quotes: what the consistent runs show, computed.
+QUOTED_NOTES = ("One reading for Fig. 2 and Fig. 4", "Hypotheses, from the restitution scan", "Each mechanism's share")
 MARK = re.compile(r"(<!-- doc-table: (\w+) -->\n)(.*?)(<!-- /doc-table -->)", re.S)
 
 
@@ -54,14 +60,53 @@ def tables(exe, work):
     return {"depth": "\n".join(rows) + "\n", "decay": decay, "objectives": objectives}
 
 
+def number(v):
+    return "-" if v is None else f"{v:.4g}"
+
+
+def from_paper(c):
+    """(granstack - paper) / paper as the report prints it, with standard errors where a fit has them."""
+    if c["from_paper"] is None:
+        return "-"
+    p = 100.0 * c["from_paper"]
+    a = abs(p)
+    text = "0.000 %" if a < 0.0005 else f"{p:+.3f} %" if a < 1 else f"{p:+.2f} %" if a < 10 else f"{p:+.1f} %" if a < 100 else f"{p:+.0f} %"
+    if c["sigmas"] is not None:
+        text += f" ({c['sigmas']:+.2g} s.e.)"
+    return text
+
+
+def reproduce_table(exe, work):
+    """The report's summary (every claim, whose it is, its primary reading and verdict) and the
+    notes it quotes, from `granstack reproduce` run again from scratch."""
+    out = work / "reproduce"
+    granstack(exe, "reproduce", "-j", "2", "--force", "-o", str(out))
+    report = json.loads((out / "report.json").read_text())
+    whose = {"paper": "the paper", "granstack": "granstack's"}
+    rows = ["| claim | whose | the statement | paper | granstack | from the paper | verdict |", "|---|---|---|---|---|---|---|"]
+    notes = []
+    for e in report["experiments"]:
+        for c in e["claims"]:
+            verdict = f"outside, by {100 * c['off']:.0f} %" if c["verdict"] == "outside" else c["verdict"]
+            rows.append(f"| {c['id']} | {whose.get(c['scope'], c['scope'])} | {c['summary']} | {number(c['paper'])} | "
+                        f"{number(c['value'])} | {from_paper(c)} | {verdict} |")
+        notes += [n for n in e["notes"] if n.startswith(QUOTED_NOTES)]
+    return "\n".join(rows) + "\n\n" + "\n\n".join(notes) + "\n"
+
+
 def main():
-    if len(sys.argv) != 4 or sys.argv[1] not in ("--write", "--check"):
+    args = [a for a in sys.argv[1:] if a != "--reproduce"]
+    if len(args) != 3 or args[0] not in ("--write", "--check"):
         sys.exit(__doc__)
-    mode, exe, work = sys.argv[1], sys.argv[2], pathlib.Path(sys.argv[3])
+    mode, exe, work = args[0], args[1], pathlib.Path(args[2])
     work.mkdir(parents=True, exist_ok=True)
     made = tables(exe, work)
+    places = dict(PLACES)
+    if "--reproduce" in sys.argv[1:]:
+        made["reproduce"] = reproduce_table(exe, work)
+        places.update(REPRODUCE_PLACES)
     stale = []
-    for name, files in PLACES.items():
+    for name, files in places.items():
         for f in files:
             path = ROOT / f
             text = path.read_text()
@@ -76,8 +121,9 @@ def main():
                 path.write_text(text[: m.start(3)] + made[name] + text[m.end(3):])
     if mode == "--check" and stale:
         sys.exit("\n".join(stale) + "\nrun: python3 scripts/doc_tables.py --write GRANSTACK WORKDIR")
-    print(f"doc tables: {sum(len(v) for v in PLACES.values())} places, "
-          f"{'rewritten where stale' if mode == '--write' else 'all as the run gives'}")
+    print(f"doc tables: {sum(len(v) for v in places.values())} places, "
+          f"{'rewritten where stale' if mode == '--write' else 'all as the run gives'}"
+          f"{'' if '--reproduce' in sys.argv[1:] else ' (the reproduction summary left out: --reproduce makes it)'}")
 
 
 main()

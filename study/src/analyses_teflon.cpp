@@ -25,19 +25,16 @@ namespace {
 // automatic duration for a stack without a soft cavity.
 constexpr double kReadoutArrivals = 2.0;
 
-// The output sphere of a case: its energy curve, the kicks it receives (stretches of change
-// separated by at least two contact times of the bottom block's spheres; marked in its figure),
-// and its energy over E_in at the fixed read-out time (none when the run stopped before that time
-// without its blow having ended).
+// The output sphere of a case: its energy curve and its energy over E_in at the fixed read-out
+// time (none when the run stopped before that time without its blow having ended).
 struct OutputReadings {
   Curve curve;
-  std::vector<Kick> kicks;
   double readout_time = 0.0;  // s
   std::optional<double> at_readout;
 };
 
 OutputReadings output_readings(const postproc::CaseReduction& r) {
-  OutputReadings o{series_energy(r, "output_sphere"), {}, 0.0, std::nullopt};
+  OutputReadings o{series_energy(r, "output_sphere"), 0.0, std::nullopt};
   const auto stack = model::Stack::build(r.spec);
   o.readout_time = kReadoutArrivals * model::resolve(stack).arrival_estimate;
   if (!o.curve.t.empty() && (o.readout_time <= o.curve.t.back() || r.blow_end_time)) {
@@ -46,12 +43,19 @@ OutputReadings output_readings(const postproc::CaseReduction& r) {
     const auto i = it == o.curve.t.begin() ? 0 : static_cast<std::size_t>(it - o.curve.t.begin()) - 1;
     o.at_readout = o.curve.y[i] / r.e_in;
   }
-  const auto lib = r.spec.material_library();
-  const auto& bottom = stack.blocks().back();
-  const auto& m = lib.at(bottom.material);
-  const double tc = model::hertz_contact_time(model::sphere_sphere(m, bottom.radius, m, bottom.radius), r.spec.striker_speed);
-  o.kicks = kicks(o.curve, 2.0 * tc, 1e-4 * o.curve.max());
   return o;
+}
+
+// The output readings of the cases the Teflon analysis reads (the main case, the restitution
+// scan's and the heights'), each case's series read once.
+using ReadingsByCase = std::map<std::string, std::pair<const postproc::CaseReduction*, OutputReadings>>;
+ReadingsByCase readings_of(const AnalysisInput& in, const std::string& main_name) {
+  ReadingsByCase out;
+  for (const auto& c : in.experiment.cases) {
+    if (c.name != main_name && c.name.rfind("teflon_e", 0) != 0 && c.name.rfind("rows", 0) != 0) continue;
+    if (const auto* r = in.own(c.name)) out.emplace(c.name, std::pair{r, output_readings(*r)});
+  }
+  return out;
 }
 
 // The restitution of the Teflon contacts of a case (1 for the main case).
@@ -80,17 +84,15 @@ std::optional<double> end_reading(const postproc::CaseReduction& r) {
 
 // Each scanned e's output at the blow's end and at the fixed time, as values scan.eE.end and
 // scan.eE.arrivals2 (scan_key), with a table.
-void restitution_scan(const AnalysisInput& in, ExperimentResult& out, const std::string& main_name) {
+void restitution_scan(const ReadingsByCase& cases, ExperimentResult& out, const std::string& main_name) {
   Table t{"Restitution of the contacts involving Teflon against the read-out: the output at the blow's end (where each "
           "run stopped, and when) and at a fixed time, 2 estimated arrivals of the pulse at the bottom face",
           {"e (Teflon contacts)", "at the blow's end", "the blow ended at (us)", "at 2 arrivals", "2 arrivals (us)"}, {}};
   std::map<double, std::vector<std::string>> rows;
-  for (const auto& c : in.experiment.cases) {
-    if (c.name != main_name && c.name.rfind("teflon_e", 0) != 0) continue;
-    const auto* r = in.own(c.name);
-    if (r == nullptr) continue;
-    const auto o = output_readings(*r);
-    const double e = teflon_restitution(c.spec);
+  for (const auto& [name, case_readings] : cases) {
+    if (name != main_name && name.rfind("teflon_e", 0) != 0) continue;
+    const auto& [r, o] = case_readings;
+    const double e = teflon_restitution(r->spec);
     const auto end = end_reading(*r);
     if (end) out.values[fmt::format("scan.e{:g}.end", e)] = *end;
     if (o.at_readout) out.values[fmt::format("scan.e{:g}.arrivals2", e)] = *o.at_readout;
@@ -104,19 +106,18 @@ void restitution_scan(const AnalysisInput& in, ExperimentResult& out, const std:
 
 // The output against the block height (cases rowsN beside the main case), at the blow's end and
 // at the fixed time, as values output.rowsN.
-void height_table(const AnalysisInput& in, ExperimentResult& out, const std::string& main_name) {
-  std::map<int, const postproc::CaseReduction*> by_rows;
-  for (const auto& c : in.experiment.cases) {
-    if (c.name != main_name && c.name.rfind("rows", 0) != 0) continue;
-    if (const auto* r = in.own(c.name)) by_rows[c.spec.rows] = r;
+void height_table(const ReadingsByCase& cases, ExperimentResult& out, const std::string& main_name) {
+  std::map<int, const std::pair<const postproc::CaseReduction*, OutputReadings>*> by_rows;
+  for (const auto& [name, case_readings] : cases) {
+    if (name == main_name || name.rfind("rows", 0) == 0) by_rows[case_readings.first->spec.rows] = &case_readings;
   }
   if (by_rows.size() < 2) return;
   Table t{"The output against the block height (every block the same height; 16 and 32 rows with --full)",
           {"rows", "at the blow's end", "at 2 arrivals", "the blow ended at (us)"}, {}};
-  for (const auto& [n, r] : by_rows) {
+  for (const auto& [n, case_readings] : by_rows) {
+    const auto& [r, o] = *case_readings;
     const auto end = end_reading(*r);
     if (end) out.values[fmt::format("output.rows{}", n)] = *end;
-    const auto o = output_readings(*r);
     t.rows.push_back({std::to_string(n), end ? pct(*end) : "censored", o.at_readout ? pct(*o.at_readout) : "-",
                       r->blow_end_time ? fmt::format("{:.0f}", *r->blow_end_time * 1e6) : "-"});
   }
@@ -140,7 +141,6 @@ void main_readings(ExperimentResult& out, const postproc::CaseReduction& main, c
       o.at_readout);
   add("output_def.peak", "output sphere, peak kinetic energy", main.output_peak_fraction);
   add("output_def.bottom_row_per_sphere", "bottom row's final energy per sphere", main.output_fraction_bottom_row_per_sphere);
-  out.values["kicks"] = static_cast<double>(o.kicks.size());
   out.tables.push_back(d);
 }
 
@@ -166,14 +166,17 @@ void teflon_outputs(const AnalysisInput& in, ExperimentResult& out, const std::s
   if (main == nullptr) return;
   const double paper = in.paper("output." + main_name);
   if (const auto end = end_reading(*main)) out.values["output." + main_name] = *end;
-  const auto o = output_readings(*main);
+  const auto cases = readings_of(in, main_name);
+  const auto& o = cases.at(main_name).second;
   main_readings(out, *main, o, paper);
   material_sensitivity(in, out, *main, paper);
-  height_table(in, out, main_name);
-  restitution_scan(in, out, main_name);
+  height_table(cases, out, main_name);
+  restitution_scan(cases, out, main_name);
   OutputFigure f{teflon_restitution(main->spec), o.readout_time, paper, {}};
   for (const auto* name : {"teflon_e0.9", "teflon_e0.5"}) {
-    if (const auto* r = in.own(name)) f.damped.emplace_back(fmt::format("e = {:g} (Teflon contacts)", teflon_restitution(r->spec)), series_energy(*r, "output_sphere"));
+    if (const auto it = cases.find(name); it != cases.end()) {
+      f.damped.emplace_back(fmt::format("e = {:g} (Teflon contacts)", teflon_restitution(it->second.first->spec)), it->second.second.curve);
+    }
   }
   out.figures.push_back(output_figure(*main, o.curve, f, in.figures_dir, main_name + "_output", in.gnuplot,
                                       "The output sphere's kinetic energy over E_in against time, elastic and with the "

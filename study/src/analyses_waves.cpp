@@ -31,40 +31,48 @@ std::vector<Curve> sphere_curves(const postproc::CaseReduction& r) {
   return out;
 }
 
-// The readings of "block k's peak over the top block's", by name.
-const char* const kReadings[] = {"sphere", "sphere_leading", "whole_block", "per_column", "leading_peak", "column", "column_leading"};
+// The readings of "block k's peak over the top block's": name, and what it reads.
+const std::pair<const char*, const char*> kReadings[] = {
+    {"sphere", "middle-row sphere of the impact path, its peak (the caption's)"},
+    {"sphere_leading", "middle-row sphere, its leading wave"},
+    {"whole_block", "whole block, peak over the run (reduce's peak/top)"},
+    {"per_column", "whole block per column: its peak over its columns, over the top block's"},
+    {"leading_peak", "whole block, its first peak"},
+    {"column", "impact column, peak over the run"},
+    {"column_leading", "impact column, its first peak"}};
 
-// Every reading of "block k's peak over the top block's" of one case, as VARIANT.bK values and
-// table rows: the caption's per-sphere reading and the other readings of the statement.
-void readings(const postproc::CaseReduction& r, const std::string& variant, ExperimentResult& out, Table& t) {
-  const int nb = r.spec.blocks;
+// Every reading of one case, for blocks 2 to N, as values NAME.VARIANT.bK.
+std::map<std::string, double> reading_values(const postproc::CaseReduction& r, const std::string& variant) {
   const auto blocks = block_energies(r);
   const auto columns = impact_column_energies(r);
   const double top_block = r.blocks.front().peak_ke, top_column = columns.front().max();
   const auto stack = model::Stack::build(r.spec);
-  const std::pair<const char*, const char*> names[] = {
-      {"sphere", "middle-row sphere of the impact path, its peak (the caption's)"},
-      {"sphere_leading", "middle-row sphere, its leading wave"},
-      {"whole_block", "whole block, peak over the run (reduce's peak/top)"},
-      {"per_column", "whole block per column: its peak over its columns, over the top block's"},
-      {"leading_peak", "whole block, its first peak"},
-      {"column", "impact column, peak over the run"},
-      {"column_leading", "impact column, its first peak"}};
-  for (const auto& [key, label] : names) {
-    std::vector<std::string> row{label, variant};
-    for (int k = 2; k <= nb; ++k) {
+  std::map<std::string, double> out;
+  for (const auto& [key, label] : kReadings) {
+    for (int k = 2; k <= r.spec.blocks; ++k) {
       const auto i = static_cast<std::size_t>(k - 1);
       const std::string name(key);
-      const double x = name == "sphere"           ? sphere_ratio(r, k)
-                       : name == "sphere_leading" ? sphere_leading_ratio(r, k)
-                       : name == "whole_block"    ? r.blocks[i].normalised
-                       : name == "per_column"     ? r.blocks[i].normalised * stack.block(1).columns / stack.block(k).columns
-                       : name == "leading_peak"   ? blocks[i].first_peak() / top_block
-                       : name == "column"         ? columns[i].max() / top_column
-                                                  : columns[i].first_peak() / top_column;
-      out.values[fmt::format("{}.{}.b{}", key, variant, k)] = x;
-      row.push_back(pct(x));
+      out[fmt::format("{}.{}.b{}", key, variant, k)] =
+          name == "sphere"           ? sphere_ratio(r, k)
+          : name == "sphere_leading" ? sphere_leading_ratio(r, k)
+          : name == "whole_block"    ? r.blocks[i].normalised
+          : name == "per_column"     ? r.blocks[i].normalised * stack.block(1).columns / stack.block(k).columns
+          : name == "leading_peak"   ? blocks[i].first_peak() / top_block
+          : name == "column"         ? columns[i].max() / top_column
+                                     : columns[i].first_peak() / top_column;
     }
+  }
+  return out;
+}
+
+// Every reading of one case as values and table rows: the caption's per-sphere reading and the
+// other readings of the statement.
+void readings(const postproc::CaseReduction& r, const std::string& variant, ExperimentResult& out, Table& t) {
+  const auto values = reading_values(r, variant);
+  out.values.insert(values.begin(), values.end());
+  for (const auto& [key, label] : kReadings) {
+    std::vector<std::string> row{label, variant};
+    for (int k = 2; k <= r.spec.blocks; ++k) row.push_back(pct(values.at(fmt::format("{}.{}.b{}", key, variant, k))));
     t.rows.push_back(row);
   }
 }
@@ -153,15 +161,13 @@ void one_reading_for_both(const AnalysisInput& in, ExperimentResult& out) {
   for (const char* bottom : {"free", "wall"}) {
     const auto* f4 = in.own(bottom == std::string("free") ? "steel_on_teflon" : "wall");
     if (f4 == nullptr) continue;
-    ExperimentResult own;
-    Table unused{"", {}, {}};
-    readings(*f4, "fig4", own, unused);
-    for (const char* key : kReadings) {
+    const auto own = reading_values(*f4, "fig4");
+    for (const auto& [key, label] : kReadings) {
       const auto v3 = in.earlier("fig2", fmt::format("{}.{}.b3", key, bottom));
       const auto v4 = in.earlier("fig2", fmt::format("{}.{}.b4", key, bottom));
       const auto v2 = in.earlier("fig2", fmt::format("{}.{}.b2", key, bottom));
       if (!v3 || !v4 || !v2) continue;
-      const double ratio = own.values.at(fmt::format("{}.fig4.b2", key)) / *v2;
+      const double ratio = own.at(fmt::format("{}.fig4.b2", key)) / *v2;
       out.values[fmt::format("{}.{}.b2_over_fig2", key, bottom)] = ratio;
       const bool two = in_band(b3, v3) && in_band(b4, v4), four = in_band(half, ratio);
       const auto name = fmt::format("{} ({} bottom)", key, bottom);
@@ -176,7 +182,7 @@ void one_reading_for_both(const AnalysisInput& in, ExperimentResult& out) {
   out.tables.push_back(t);
   auto list = [](const std::vector<std::string>& v) { return v.empty() ? std::string("none") : fmt::format("{}", fmt::join(v, ", ")); };
   out.notes.push_back(fmt::format(
-      "One reading for Fig. 2 and Fig. 4 (computed from the table above): the readings that put both of Fig. 2's values "
+      "One reading for Fig. 2 and Fig. 4 (computed from the table of every reading in this section): the readings that put both of Fig. 2's values "
       "within their bands are {}; those that put Fig. 4's 'almost half' within its band are {}; {}.",
       list(fig2_fits), list(fig4_fits),
       both.empty() ? "no single reading reproduces both Fig. 2's 10 % and 3 % and Fig. 4's 'almost half'"
@@ -290,25 +296,31 @@ void rows(const AnalysisInput& in, ExperimentResult& out) {
 
 namespace {
 
-// How many columns of block k carry its leading wave: the participation number (sum E_j)^2 / sum
-// E_j^2 of its columns' kinetic energies at the frame of the block's first prominent peak (1 when
-// one column carries it all, C when all C carry it equally).
-double loaded_columns(const postproc::CaseReduction& r, const model::Stack& stack, int k) {
+// How many columns of blocks 1 and 2 carry each block's leading wave: the participation number
+// (sum E_j)^2 / sum E_j^2 of its columns' kinetic energies at the frame of the block's first
+// prominent peak (1 when one column carries it all, C when all C carry it equally), column_ke.csv
+// read once.
+std::pair<double, double> loaded_columns(const postproc::CaseReduction& r, const model::Stack& stack) {
   std::vector<std::string> names;
-  for (int j = 1; j <= stack.block(k).columns; ++j) names.push_back(fmt::format("ke_block{}_column{}_J", k, j));
-  const auto columns = reduce_columns(r, "column_ke", names);
-  Curve total{columns.front().t, std::vector<double>(columns.front().y.size(), 0.0)};
-  for (const auto& c : columns) {
-    for (std::size_t i = 0; i < c.y.size(); ++i) total.y[i] += c.y[i];
+  for (int k = 1; k <= 2; ++k) {
+    for (int j = 1; j <= stack.block(k).columns; ++j) names.push_back(fmt::format("ke_block{}_column{}_J", k, j));
   }
-  const double peak = total.first_peak();
-  const auto i = static_cast<std::size_t>(std::find(total.y.begin(), total.y.end(), peak) - total.y.begin());
-  double sum = 0.0, squares = 0.0;
-  for (const auto& c : columns) {
-    sum += c.y[i];
-    squares += c.y[i] * c.y[i];
-  }
-  return squares > 0.0 ? sum * sum / squares : 0.0;
+  const auto all = reduce_columns(r, "column_ke", names);
+  const auto split = all.begin() + stack.block(1).columns;
+  auto participation = [](std::vector<Curve>::const_iterator first, std::vector<Curve>::const_iterator last) {
+    Curve total{first->t, std::vector<double>(first->y.size(), 0.0)};
+    for (auto c = first; c != last; ++c) {
+      for (std::size_t i = 0; i < c->y.size(); ++i) total.y[i] += c->y[i];
+    }
+    const auto i = static_cast<std::size_t>(std::find(total.y.begin(), total.y.end(), total.first_peak()) - total.y.begin());
+    double sum = 0.0, squares = 0.0;
+    for (auto c = first; c != last; ++c) {
+      sum += c->y[i];
+      squares += c->y[i] * c->y[i];
+    }
+    return squares > 0.0 ? sum * sum / squares : 0.0;
+  };
+  return {participation(all.begin(), split), participation(split, all.end())};
 }
 
 }  // namespace
@@ -323,7 +335,7 @@ void mechanisms(const AnalysisInput& in, ExperimentResult& out) {
     const auto* r = in.own(c.name);
     if (r == nullptr) continue;
     const auto stack = model::Stack::build(r->spec);
-    const double one = loaded_columns(*r, stack, 1), two = loaded_columns(*r, stack, 2);
+    const auto [one, two] = loaded_columns(*r, stack);
     out.values["pulses." + c.name] = r->waves.at(1).pulses;
     out.values["spread." + c.name] = two / one;
     out.values["sphere." + c.name] = sphere_ratio(*r, 2);

@@ -119,16 +119,4 @@ std::vector<Curve> impact_column_energies(const postproc::CaseReduction& r) {
   return reduce_columns(r, "column_ke", columns);
 }
 
-std::vector<Kick> kicks(const Curve& c, double min_gap, double tolerance) {
-  std::vector<Kick> out;
-  double last_change = -1.0;
-  for (std::size_t i = 1; i < c.y.size(); ++i) {
-    if (std::fabs(c.y[i] - c.y[i - 1]) <= tolerance) continue;
-    if (out.empty() || c.t[i] - last_change >= min_gap) out.push_back({});
-    last_change = c.t[i];
-    out.back() = {c.t[i], c.y[i]};
-  }
-  return out;
-}
-
 }  // namespace granstack::study

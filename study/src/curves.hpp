@@ -31,13 +31,4 @@ Curve series_energy(const postproc::CaseReduction& r, const std::string& group);
 std::vector<Curve> block_energies(const postproc::CaseReduction& r);
 std::vector<Curve> impact_column_energies(const postproc::CaseReduction& r);
 
-// The kicks a sphere receives: stretches of time in which its energy changes (by more than
-// `tolerance`), separated by quiet stretches of at least `min_gap` s; for each, when it ends and
-// the energy after it.
-struct Kick {
-  double end = 0.0;
-  double after = 0.0;
-};
-std::vector<Kick> kicks(const Curve& c, double min_gap, double tolerance);
-
 }  // namespace granstack::study

@@ -235,9 +235,9 @@ std::vector<Block> document(const StudyResult& r) {
       if (c.scope != "paper") d.push_back(Paragraph{fmt::format("{} is {}: {}.", c.id, c.scope == "granstack" ? "granstack's" : "a " + c.scope, c.scope_reason)});
     }
   }
-  if (!builtin_catalogue().out_of_scope.empty()) {
+  if (!r.out_of_scope.empty()) {
     std::string text = "Out of scope, not tested:";
-    for (const auto& o : builtin_catalogue().out_of_scope) text += fmt::format(" {} ({});", o.statement, o.why);
+    for (const auto& o : r.out_of_scope) text += fmt::format(" {} ({});", o.statement, o.why);
     text.back() = '.';
     d.push_back(Paragraph{text});
   }

@@ -224,6 +224,7 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& o) {
   result.full = o.full;
   result.validated = o.validate;
   result.engine = o.engine;
+  result.out_of_scope = catalogue.out_of_scope;
   const auto selected = select(catalogue, o.experiments, o.quick, o.full);
   const fs::path root(o.output);
   prepare_directory(root);

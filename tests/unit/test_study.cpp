@@ -1,5 +1,4 @@
 // The study catalogue (study/data/catalogue.toml) and the judging of claims.
-#include "../../study/src/curves.hpp"
 
 #include <granstack/study/catalogue.hpp>
 #include <granstack/study/reproduce.hpp>
@@ -230,23 +229,6 @@ fixed = { date = "2026-01-01", geometry = "1 block of 8 rows, 2 top columns, ste
   problems = unrecorded_changes(parse_catalogue(taller, "t").experiments.front());
   ASSERT_EQ(problems.size(), 1u) << fmt::format("{}", fmt::join(problems, "\n"));
   EXPECT_NE(problems[0].find("experiment x: its geometry is \"1 block of 24 rows"), std::string::npos) << problems[0];
-}
-
-TEST(Kicks, StepsSeparatedByQuietStretchesAreCountedWithTheEnergyAfterEach) {
-  Curve c;
-  // Energy 0, rising to 1 over t = 10..12, quiet, rising to 3 over t = 30..31, quiet to t = 50.
-  for (int i = 0; i <= 50; ++i) {
-    const double t = i;
-    c.t.push_back(t);
-    c.y.push_back(t < 10 ? 0.0 : t < 12 ? (t - 9) / 3.0 : t < 30 ? 1.0 : t < 31 ? 2.0 : 3.0);
-  }
-  const auto k = kicks(c, 5.0, 1e-9);
-  ASSERT_EQ(k.size(), 2u);
-  EXPECT_EQ(k[0].end, 12.0);
-  EXPECT_EQ(k[0].after, 1.0);
-  EXPECT_EQ(k[1].end, 31.0);
-  EXPECT_EQ(k[1].after, 3.0);
-  EXPECT_EQ(kicks(c, 25.0, 1e-9).size(), 1u);  // quiet stretches shorter than min_gap join the kicks
 }
 
 }  // namespace

@@ -57,25 +57,25 @@ inline bool on_collision_course(double dx, double dy, double dz, double ux, doub
 // whether any is on course to hit it (on_collision_course), each taken as the other's centre and
 // velocity less out's. `sphere(i)` for i in 0..n-1 gives {x, y, z, vx, vy, vz, radius}: refsim's
 // state, a dump frame, or the stack as generated give the same answers from the same numbers.
-template <class Sphere>
-bool touches_nothing(std::size_t n, std::size_t out, const Sphere& sphere) {
+template <class Sphere, class Test>
+bool any_other(std::size_t n, std::size_t out, const Sphere& sphere, Test&& test) {
   const auto o = sphere(out);
   for (std::size_t j = 0; j < n; ++j) {
-    if (j == out) continue;
-    const auto s = sphere(j);
-    if (spheres_touch(s[0] - o[0], s[1] - o[1], s[2] - o[2], o[6], s[6])) return false;
+    if (j != out && test(sphere(j), o)) return true;
   }
-  return true;
+  return false;
+}
+template <class Sphere>
+bool touches_nothing(std::size_t n, std::size_t out, const Sphere& sphere) {
+  return !any_other(n, out, sphere, [](const auto& s, const auto& o) {
+    return spheres_touch(s[0] - o[0], s[1] - o[1], s[2] - o[2], o[6], s[6]);
+  });
 }
 template <class Sphere>
 bool threatened(std::size_t n, std::size_t out, const Sphere& sphere) {
-  const auto o = sphere(out);
-  for (std::size_t j = 0; j < n; ++j) {
-    if (j == out) continue;
-    const auto s = sphere(j);
-    if (on_collision_course(s[0] - o[0], s[1] - o[1], s[2] - o[2], s[3] - o[3], s[4] - o[4], s[5] - o[5], o[6] + s[6])) return true;
-  }
-  return false;
+  return any_other(n, out, sphere, [](const auto& s, const auto& o) {
+    return on_collision_course(s[0] - o[0], s[1] - o[1], s[2] - o[2], s[3] - o[3], s[4] - o[4], s[5] - o[5], o[6] + s[6]);
+  });
 }
 
 // Whether a sphere at height z of radius r presses the bottom wall (the plane z = 0, Stack::walls):

@@ -81,6 +81,7 @@ struct StudyResult {
   int interrupted_cases = 0;  // stopped by a signal, or not begun because one came first
   bool interrupted = false;
   bool report_kept = false;   // interrupted: the report of an earlier run was left as it was
+  std::vector<OutOfScope> out_of_scope;  // the catalogue's statements not tested, for the report
 };
 
 // Thrown when DIR or one of its cases is not granstack's, or holds a case of another spec and
