@@ -12,9 +12,11 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <memory>
 #include <mutex>
+#include <optional>
 
 namespace granstack::app {
 
@@ -25,6 +27,7 @@ struct RunFlags {
   std::string engine = "liggghts";
   int jobs = 1;
   int ranks = 1;
+  std::string grid;
   int threads = 1;
   std::string kernel = "auto";
   bool force = false;
@@ -95,11 +98,39 @@ std::vector<std::string> kernel_choices() {
   return choices;
 }
 
+// "4,4,1" or "4x4x1": ranks along x, y and z.
+std::optional<std::array<int, 3>> parse_grid(const std::string& text) {
+  std::array<int, 3> g{};
+  std::size_t at = 0;
+  for (std::size_t d = 0; d < 3; ++d) {
+    std::size_t used = 0;
+    try {
+      g[d] = std::stoi(text.substr(at), &used);
+    } catch (const std::exception&) {
+      return std::nullopt;
+    }
+    at += used;
+    if (g[d] < 1 || (d < 2 && (at >= text.size() || (text[at] != ',' && text[at] != 'x')))) return std::nullopt;
+    ++at;
+  }
+  if (at != text.size() + 1) return std::nullopt;
+  return g;
+}
+
 int run(const RunFlags& f) {
   const auto dirs = formats::expand_case_dirs(f.cases);
   runner::RunOptions o;
   o.jobs = f.jobs;
   o.ranks = f.ranks;
+  if (!f.grid.empty()) {
+    const auto grid = parse_grid(f.grid);
+    if (!grid || (*grid)[0] * (*grid)[1] * (*grid)[2] != f.ranks) {
+      fmt::print(stderr, "error: --grid {}: give three whole numbers of ranks along x, y and z whose product is --np ({}), "
+                 "e.g. --grid 4,4,1 with --np 16\n", f.grid, f.ranks);
+      return kBadInput;
+    }
+    o.grid = *grid;
+  }
   o.threads = f.threads;
   o.kernel = f.kernel;
   o.force = f.force;
@@ -129,6 +160,9 @@ Command add_run(CLI::App& app) {
   cmd->add_option("cases", f->cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
   cmd->add_option("--np", f->ranks, "MPI ranks per case (mpirun when > 1) [1]")->check(CLI::Range(1, 4096));
+  cmd->add_option("--grid", f->grid,
+                  "LIGGGHTS's MPI processor grid, ranks along x,y,z (product --np), e.g. 4,4,1; by default the grid "
+                  "whose busiest rank holds the fewest spheres, owned and ghost (run.json's \"decomposition\")");
   cmd->add_option("--threads", f->threads,
                   "Threads per case for --engine refsim (results do not depend on it; where a CPU is left over, "
                   "refsim writes its outputs on one more) [1]")

@@ -65,6 +65,7 @@ void LogScanner::add_line(std::string_view line) {
   // Thermo block: a header line starting with "Step", then rows of numbers.
   std::vector<std::string_view> words;
   split_words(line, words);
+  if (scan_decomposition(words)) return;
   if (!words.empty() && words[0] == "Step") {
     in_thermo_ = true;
     thermo_.push_back({std::vector<std::string>(words.begin(), words.end()), {}});
@@ -82,6 +83,26 @@ void LogScanner::add_line(std::string_view line) {
       in_thermo_ = false;  // a warning or the end of the block
     }
   }
+}
+
+bool LogScanner::scan_decomposition(const std::vector<std::string_view>& w) {
+  // "  4 by 4 by 1 MPI processor grid"
+  if (w.size() == 8 && w[1] == "by" && w[3] == "by" && w[5] == "MPI" && w[7] == "grid") {
+    std::array<long, 3> g{};
+    if (parse_long(w[0], g[0]) && parse_long(w[2], g[1]) && parse_long(w[4], g[2])) {
+      grid_ = std::array<int, 3>{static_cast<int>(g[0]), static_cast<int>(g[1]), static_cast<int>(g[2])};
+      return true;
+    }
+  }
+  // "Nlocal:    6120.06 ave 7812 max 4644 min"
+  if (w.size() == 7 && (w[0] == "Nlocal:" || w[0] == "Nghost:") && w[2] == "ave" && w[4] == "max" && w[6] == "min") {
+    RankSpread r;
+    if (parse_double(w[1], r.mean) && parse_double(w[3], r.max) && parse_double(w[5], r.min)) {
+      (w[0] == "Nlocal:" ? owned_ : ghosts_) = r;
+      return true;
+    }
+  }
+  return false;
 }
 
 LogScanner read_log(const std::string& path) {

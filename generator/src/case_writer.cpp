@@ -113,6 +113,23 @@ std::string blow_end_run(const model::Stack& stack, const model::Resolution& res
       start.holding_since() ? 0 : -1);
 }
 
+// The processor grid: `granstack run --np N` chooses one for the stack and passes it with -var
+// (runner/decomposition.hpp); the defaults are for a run by hand, where LIGGGHTS factors the
+// ranks over the free directions.
+std::string processors_lines(const model::Stack& stack) {
+  const bool strip = !stack.three_d() && !stack.container();
+  return fmt::format(
+      "# MPI ranks: `granstack run --np N` passes the processor grid it chose for this stack\n"
+      "# (-var gs_ranks_x X -var gs_ranks_y Y -var gs_ranks_z Z; run.json's \"decomposition\" gives its loads). Run by\n"
+      "# hand, LIGGGHTS chooses: {}.\n"
+      "variable        gs_ranks_x index *\n"
+      "variable        gs_ranks_y index {}\n"
+      "variable        gs_ranks_z index {}\n"
+      "processors      ${{gs_ranks_x}} ${{gs_ranks_y}} ${{gs_ranks_z}}",
+      strip ? "the strip is one sphere thick in y, so x and z are split" : "x and y are split, never z",
+      strip ? "1" : "*", strip ? "*" : "1");
+}
+
 }  // namespace
 
 formats::CaseFiles case_files(const model::Stack& stack) {
@@ -191,11 +208,8 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
   v["walls"] = walls.empty() ? "# free bottom and free sides: no walls" : walls.substr(0, walls.size() - 1);
   v["gravity"] = spec.gravity > 0.0 ? fmt::format("fix             gravity all gravity {} vector 0 0 -1", spec.gravity)
                                     : std::string("# no gravity");
-  // A nest's blocks hold very different numbers of spheres (the bottom one most), so a split
-  // along z would leave one rank most of the work: 1.01x on 2 ranks against 1.6x splitting x.
-  v["processors"] = stack.three_d()     ? "# A 3D nest: MPI ranks split x and y, never z (its blocks differ in size).\nprocessors      * * 1"
-                    : stack.container() ? "# A container: MPI ranks split x and y (across panels), never z.\nprocessors      * * 1"
-                                        : "# The stack is one sphere thick in y: MPI ranks split x and z, never y.\nprocessors      * 1 *";
+  v["processors"] = processors_lines(stack);
+  v["contact_distance_factor"] = fmt::format("{}", model::kContactDistanceFactor);
   v["dt"] = fmt::format("{}", res.dt);
   v["steps"] = std::to_string(res.steps);
   v["run"] = res.stops_at_blow_end ? blow_end_run(stack, res) : fmt::format("run             {}", res.steps);
@@ -259,9 +273,7 @@ formats::DataFile data_file(const model::Stack& stack, const std::string& case_n
   formats::DataFile d;
   d.title = fmt::format("granstack {} case {}: LIGGGHTS data file for atom_style granular, SI units", version(), case_name);
   d.atom_types = stack.atom_types();
-  const double r1 = stack.block(1).radius;
-  const double half_y = stack.three_d() || stack.container() ? stack.half_depth() + r1 : stack.half_depth();
-  d.box = {-stack.half_width() - r1, stack.half_width() + r1, -half_y, half_y, -r1, stack.top_z() + r1};
+  d.box = stack.box();
   for (const auto& s : stack.spheres()) {
     formats::DataAtom a;
     a.id = s.id;

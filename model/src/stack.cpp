@@ -284,6 +284,10 @@ double Stack::lattice_height() const {
 double Stack::footprint_area() const { return 4.0 * half_width() * half_depth(); }
 
 double Stack::top_z() const { return spheres_.front().z + spheres_.front().radius; }
+std::array<double, 6> Stack::box() const {
+  const double r1 = block(1).radius;
+  return {-half_width(), half_width(), -half_depth(), half_depth(), -r1, top_z() + r1};
+}
 double Stack::striker_radius() const { return spheres_.front().radius; }
 double Stack::striker_mass() const { return striker_mass_; }
 

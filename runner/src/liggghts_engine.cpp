@@ -2,6 +2,8 @@
 // log followed for progress and errors.
 #include "engine.hpp"
 
+#include <granstack/runner/decomposition.hpp>
+
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/log.hpp>
 #include <granstack/os/interrupt.hpp>
@@ -12,6 +14,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <thread>
 #include <unistd.h>
 
@@ -117,6 +120,34 @@ std::string liggghts_unavailable(const RunOptions& o) {
   return "";
 }
 
+// Whether `ranks` need mpirun's --oversubscribe: more than this machine's CPUs, unless a SLURM
+// allocation holds them (its ranks may span several nodes, each with its own CPUs).
+bool oversubscribed(int ranks) {
+  const char* allocated = std::getenv("SLURM_NTASKS");
+  if (allocated != nullptr && std::strtol(allocated, nullptr, 10) >= ranks) return false;
+  return ranks > static_cast<int>(std::thread::hardware_concurrency());
+}
+
+// run.json's "decomposition": the grid granstack chose with its predicted loads, and the loads
+// LIGGGHTS reported at the end of the run.
+json decomposition_record(const Decomposition& d, const formats::LogScanner& log) {
+  const auto loads = [](double owned_mean, double owned_max, double ghosts_mean) {
+    return json{{"owned_mean", owned_mean},
+                {"owned_max", owned_max},
+                {"ghosts_mean", ghosts_mean},
+                {"busiest_over_mean", owned_mean > 0 ? owned_max / owned_mean : 1.0},
+                {"ghosts_per_owned", owned_mean > 0 ? ghosts_mean / owned_mean : 0.0}};
+  };
+  json r{{"grid", d.grid}, {"predicted", loads(d.owned_mean, d.owned_max, d.ghosts_mean)}};
+  if (log.owned_per_rank() && log.ghosts_per_rank()) {
+    auto& l = r["liggghts"] = loads(log.owned_per_rank()->mean, log.owned_per_rank()->max, log.ghosts_per_rank()->mean);
+    l["owned_min"] = log.owned_per_rank()->min;
+    l["ghosts_max"] = log.ghosts_per_rank()->max;
+    if (log.processor_grid()) l["grid"] = *log.processor_grid();
+  }
+  return r;
+}
+
 EngineResult run_liggghts(const formats::Case& c, const RunOptions& o, const std::function<void(long)>& on_step,
                           const std::function<void()>& on_started) {
   EngineResult result;
@@ -131,15 +162,25 @@ EngineResult run_liggghts(const formats::Case& c, const RunOptions& o, const std
   if (o.ranks > 1) {
     argv = {o.mpirun, "-np", std::to_string(o.ranks)};
     if (::geteuid() == 0) argv.push_back("--allow-run-as-root");
-    if (o.ranks > static_cast<int>(std::thread::hardware_concurrency())) argv.push_back("--oversubscribe");
+    if (oversubscribed(o.ranks)) argv.push_back("--oversubscribe");
   }
   // Unbuffered, so an MPI_Abort cannot swallow LIGGGHTS's error message (docs/liggghts.md section 9).
   const auto stdbuf = os::find_program("stdbuf");
   if (stdbuf) argv.insert(argv.end(), {*stdbuf, "-o0", "-e0"});
   // Absolute: the program starts in the case directory, where a relative path would mean something else.
   argv.insert(argv.end(), {fs::absolute(*liggghts).string(), "-in", files.deck, "-log", files.log});
+  std::optional<Decomposition> decomposition;
+  if (o.ranks > 1) {
+    decomposition = o.grid[0] > 0 ? predict_decomposition(c, o.grid) : choose_decomposition(c, o.ranks);
+    for (std::size_t d = 0; d < 3; ++d) {
+      argv.insert(argv.end(), {"-var", std::string("gs_ranks_") + "xyz"[d], std::to_string(decomposition->grid[d])});
+    }
+  }
   result.record["command"] = argv;
   result.record["ranks"] = o.ranks;
+  if (const char* nodes = std::getenv("SLURM_JOB_NODELIST"); nodes != nullptr && o.ranks > 1) {
+    result.record["slurm_nodes"] = nodes;  // the allocation mpirun spread the ranks over
+  }
 
   const long total_steps = c.derived().steps;
   formats::LogScanner scanner;
@@ -242,6 +283,7 @@ EngineResult run_liggghts(const formats::Case& c, const RunOptions& o, const std
     result.record["atoms"] = loop->atoms;
     result.record["procs"] = loop->procs;
   }
+  if (decomposition) result.record["decomposition"] = decomposition_record(*decomposition, scanner);
   return result;
 }
 

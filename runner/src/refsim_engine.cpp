@@ -2,6 +2,7 @@
 #include "engine.hpp"
 
 #include <granstack/generator/case_writer.hpp>
+#include <granstack/model/version.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/os/process.hpp>
 #include <granstack/refsim/case_run.hpp>
@@ -22,10 +23,15 @@ struct Interrupted {};
 // refsim takes its physics from the manifest, LIGGGHTS from the deck: they must say the same.
 std::string refsim_unavailable(const fs::path& dir, const formats::Manifest& manifest) {
   if (generator::has_default_deck(dir.string(), manifest)) return "";
-  return fmt::format("refsim: {} is not the deck granstack's own template gives for this case (it was rendered from "
-                     "a --template of yours), so refsim cannot be sure to run the same physics; run it with LIGGGHTS, "
-                     "or generate the case without --template",
-                     (dir / manifest.files.deck).string());
+  const bool other_build = manifest.git_commit != granstack::git_commit();
+  return fmt::format("refsim: {} is not the deck this granstack's template gives for this case ({}), so refsim cannot "
+                     "be sure to run the same physics; run it with LIGGGHTS, or generate the case again{}",
+                     (dir / manifest.files.deck).string(),
+                     other_build ? fmt::format("the case was written by granstack commit {}, this is {}; or it was "
+                                               "rendered from a --template of yours",
+                                               manifest.git_commit, granstack::git_commit())
+                                 : "it was rendered from a --template of yours",
+                     other_build ? "" : " without --template");
 }
 
 EngineResult run_refsim(const fs::path& dir, const RunOptions& o,

@@ -575,7 +575,7 @@ TEST_F(Safety, RefsimAndValidateRefuseADeckFromAnotherTemplate) {
   EXPECT_EQ(granstack({"run", "--engine", "refsim", path("same").string()}).code, 0);
   auto r = granstack({"run", "--engine", "refsim", path("mine").string()});
   EXPECT_EQ(r.code, 1) << r.output;
-  expect_contains(r, "is not the deck granstack's own template gives for this case");
+  expect_contains(r, "is not the deck this granstack's template gives for this case (it was rendered from a --template of yours)");
   r = granstack({"validate", path("mine").string()});
   EXPECT_EQ(r.code, 1) << r.output;
   expect_contains(r, "cannot be validated");

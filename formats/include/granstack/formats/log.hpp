@@ -1,6 +1,7 @@
 #pragma once
 // What granstack needs from LIGGGHTS's screen output and log file (docs/liggghts.md section 9):
 // the version banner, thermo progress, errors, warnings, lost atoms and the loop time.
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -22,6 +23,11 @@ struct LoopTime {
   long atoms = 0;
 };
 
+// A per-rank count of LIGGGHTS's run summary ("Nlocal:    6120.06 ave 7812 max 4644 min").
+struct RankSpread {
+  double mean = 0.0, max = 0.0, min = 0.0;
+};
+
 class LogScanner {
  public:
   // Feed the output line by line, as it arrives.
@@ -38,6 +44,11 @@ class LogScanner {
   // The deck's runs together: their seconds and steps summed (a case that stops at the blow's
   // end runs one dump interval at a time, a "Loop time" line each), the last one's atoms and ranks.
   const std::optional<LoopTime>& loop_time() const { return loop_; }
+  // The MPI processor grid LIGGGHTS chose or was given ("4 by 4 by 1 MPI processor grid").
+  const std::optional<std::array<int, 3>>& processor_grid() const { return grid_; }
+  // Owned (Nlocal) and ghost (Nghost) atoms per rank at the end of the last run.
+  const std::optional<RankSpread>& owned_per_rank() const { return owned_; }
+  const std::optional<RankSpread>& ghosts_per_rank() const { return ghosts_; }
   // Every thermo block, one per run command.
   const std::vector<ThermoBlock>& thermo() const { return thermo_; }
   // The first and the last few lines of text seen (at most kQuoteLines each; blank lines and
@@ -48,6 +59,7 @@ class LogScanner {
   std::vector<std::string> tail() const;
 
  private:
+  bool scan_decomposition(const std::vector<std::string_view>& words);
   std::string version_;
   std::vector<std::string> errors_;
   std::vector<std::string> warnings_;
@@ -56,6 +68,8 @@ class LogScanner {
   bool in_thermo_ = false;
   std::optional<long> last_step_;
   std::optional<LoopTime> loop_;
+  std::optional<std::array<int, 3>> grid_;
+  std::optional<RankSpread> owned_, ghosts_;
   std::vector<ThermoBlock> thermo_;
   std::vector<std::string> head_;
   std::vector<std::string> tail_;  // ring of kQuoteLines entries

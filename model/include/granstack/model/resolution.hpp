@@ -53,6 +53,11 @@ inline constexpr double kMaxOverlapPerRadius = 0.05;
 //   contact forces are round-off (at 1e-30 m/s the automatic run lasted 68 s of nothing).
 inline constexpr double kMinOverlapPerRadius = 1e-9;
 
+// The deck's neigh_modify contact_distance_factor: a pair is in the neighbour list within
+// (R_i + R_j) x this + skin, and its tangential history is reset as soon as it separates by more
+// than the factor. refsim and the MPI decomposition's ghost reach use the same value.
+constexpr double kContactDistanceFactor = 1.01;
+
 struct Resolution {
   double dt = 0.0;        // s
   double duration = 0.0;  // s (steps * dt)

@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -168,6 +169,12 @@ class Stack {
   double half_width() const;       // m: the lattice spans -half_width..half_width in x (C R_1)
   double half_depth() const;       // m: and -half_depth..half_depth in y (R_1 in the strip, C R_1 in 3D, P R_1 in a container)
   double top_z() const;            // m: the top of the striker
+  // m: the data file's box (xlo xhi ylo yhi zlo zhi), the least box LIGGGHTS's shrink-wrapped
+  // boundaries keep. x and y end at the lattice's faces, so that MPI ranks' uniform split planes
+  // fall between columns of every block (a margin put the planes through columns: the busiest
+  // of 16 ranks held 1.28 times the mean); z runs from one top radius below the bottom face to
+  // one above the striker.
+  std::array<double, 6> box() const;
   double striker_radius() const;   // m
   double striker_mass() const;     // kg
   double mass(const Sphere& s) const;  // kg: the striker's, its block's or a matrix sphere's

@@ -1,6 +1,7 @@
 #pragma once
 // Runs LIGGGHTS on generated case directories, several at once, with a progress display,
 // failure detection and a run record (run.json) in each case directory.
+#include <array>
 #include <functional>
 #include <optional>
 #include <string>
@@ -53,6 +54,9 @@ struct RunOptions {
   Engine engine = Engine::liggghts;
   int jobs = 1;           // cases run at the same time
   int ranks = 1;          // MPI ranks per case (mpirun when > 1; LIGGGHTS only)
+  // The MPI processor grid (ranks along x, y, z); all zero: chosen for each case's stack
+  // (choose_decomposition in decomposition.hpp).
+  std::array<int, 3> grid{0, 0, 0};
   int threads = 1;        // threads per case (refsim only)
   std::string kernel = "auto";  // refsim's kernels: auto, reference or a vector instruction set (refsim::vector_kernels())
   bool force = false;     // rerun cases that finished
