@@ -26,6 +26,16 @@ int submit(SubmitFlags& f) {
   auto& o = f.options;
   o.granstack = std::filesystem::read_symlink("/proc/self/exe").string();
   o.cases_per_task_given = f.cases_per_task_given;
+  if (o.nodes > o.ranks) {
+    fmt::print(stderr, "error: --nodes {} with --np {}: a node would hold no rank; give at most as many nodes as ranks\n",
+               o.nodes, o.ranks);
+    return kBadInput;
+  }
+  if (o.nodes > 1 && o.engine != "liggghts") {
+    fmt::print(stderr, "error: --nodes {}: refsim runs in one process on one node; use --nodes with --engine liggghts\n",
+               o.nodes);
+    return kBadInput;
+  }
   cluster::Submission s;
   try {
     s = cluster::submit(f.targets, o);
@@ -70,6 +80,10 @@ Command add_submit(CLI::App& app) {
   cmd->add_option("cases", f->targets, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("--engine", o.engine, "liggghts or refsim [liggghts]")->check(CLI::IsMember(runner::engine_names()));
   cmd->add_option("--np", o.ranks, "MPI ranks per case (the task's --ntasks) [1]")->check(CLI::Range(1, 4096));
+  cmd->add_option("--nodes", o.nodes,
+                  "Nodes per task (sbatch --nodes) for a case bigger than one node: its --np ranks spread over them, "
+                  "started by mpirun inside the allocation [as SLURM places them]")
+      ->check(CLI::Range(1, 4096));
   cmd->add_option("--cases-per-task", o.cases_per_task, "Cases each array task runs, one after the other [1]")
       ->check(CLI::Range(1, 1000000));
   cmd->add_option("--max-parallel", o.max_parallel, "At most this many tasks at once (the array's %K) [no limit]")

@@ -171,9 +171,10 @@ class Slurm final : public Scheduler {
   }
 
   std::string array_script(const Submission& sub, const ArrayJob& a, std::size_t index, const SubmitOptions& o) const override {
-    std::string head = fmt::format("#!/bin/bash\n#SBATCH --array=0-{}{}\n#SBATCH --ntasks={}\n#SBATCH --cpus-per-task=1\n"
+    std::string head = fmt::format("#!/bin/bash\n#SBATCH --array=0-{}{}\n{}#SBATCH --ntasks={}\n#SBATCH --cpus-per-task=1\n"
                                    "#SBATCH --time={}\n",
-                                   a.tasks - 1, a.throttle > 0 ? fmt::format("%{}", a.throttle) : "", o.ranks,
+                                   a.tasks - 1, a.throttle > 0 ? fmt::format("%{}", a.throttle) : "",
+                                   o.nodes > 0 ? fmt::format("#SBATCH --nodes={}\n", o.nodes) : "", o.ranks,
                                    sbatch_value("--time", a.time));
     if (!o.partition.empty()) head += fmt::format("#SBATCH --partition={}\n", sbatch_value("--partition", o.partition));
     if (!o.account.empty()) head += fmt::format("#SBATCH --account={}\n", sbatch_value("--account", o.account));

@@ -175,11 +175,18 @@ TEST(Slurm, ACancelledTaskIsInterruptedAndAResubmitRunsOnlyWhatDidNotFinish) {
 TEST(Slurm, TwoMpiRanksInsideAnAllocationGiveWhatOneRankGives) {
   const auto d = work("mpi");
   for (const auto* name : {"two", "one"}) ASSERT_EQ(granstack({"generate", "-o", (d / name).string()}).code, 0);
-  const auto s = granstack({"submit", (d / "two").string(), "--np", "2"});
+  const auto s = granstack({"submit", (d / "two").string(), "--np", "2", "--nodes", "1"});
   ASSERT_EQ(s.code, 0) << s.output;
   ASSERT_TRUE(wait_for(job_ids(s.output)));
   expect_done_with_output(d / "two");
-  EXPECT_EQ(run_record(d / "two").value("ranks", 0), 2);
+  const auto record = run_record(d / "two");
+  EXPECT_EQ(record.value("ranks", 0), 2);
+  // The script asks for the nodes; mpirun spread the ranks over the allocation it names, on the
+  // grid granstack chose, and LIGGGHTS took that grid.
+  EXPECT_NE(read_bytes(d / "two" / "slurm" / "submit-1" / "array-1.sbatch").find("#SBATCH --nodes=1\n#SBATCH --ntasks=2\n"),
+            std::string::npos);
+  EXPECT_FALSE(record.value("slurm_nodes", std::string()).empty()) << record.dump();
+  EXPECT_EQ(record.at("decomposition").at("liggghts").at("grid"), record.at("decomposition").at("grid"));
   ASSERT_EQ(granstack({"run", (d / "one").string()}).code, 0);
   auto fraction = [&](const char* name) {
     const auto r = granstack({"reduce", "--json", (d / name).string()});
@@ -187,6 +194,20 @@ TEST(Slurm, TwoMpiRanksInsideAnAllocationGiveWhatOneRankGives) {
   };
   // Two ranks sum forces in another order: round-off, as tests/liggghts measures (1e-9).
   EXPECT_NEAR(fraction("two"), fraction("one"), 1e-9 * fraction("one"));
+}
+
+// A case bigger than one node: this cluster has one, so SLURM refuses two, in its own words,
+// and nothing is left submitted; more nodes than ranks is refused before SLURM is asked.
+TEST(Slurm, MoreNodesThanTheClusterHasAreRefusedBySlurmAndMoreThanRanksByGranstack) {
+  const auto d = work("nodes");
+  ASSERT_EQ(granstack({"generate", "-o", (d / "big").string()}).code, 0);
+  const auto two = granstack({"submit", (d / "big").string(), "--np", "2", "--nodes", "2"});
+  EXPECT_EQ(two.code, 1) << two.output;
+  EXPECT_NE(two.output.find("node"), std::string::npos) << two.output;
+  EXPECT_FALSE(fs::exists(d / "big" / "slurm" / "submissions.json"));
+  const auto three = granstack({"submit", (d / "big").string(), "--np", "2", "--nodes", "3"});
+  EXPECT_EQ(three.code, 2) << three.output;
+  EXPECT_NE(three.output.find("--nodes 3 with --np 2"), std::string::npos) << three.output;
 }
 
 TEST(Slurm, MissingSbatchAndAnUnknownPartitionAreSaidAndNothingIsSubmitted) {

@@ -12,6 +12,9 @@ namespace granstack::cluster {
 struct SubmitOptions {
   std::string engine = "liggghts";       // or refsim
   int ranks = 1;                         // MPI ranks per case (--np)
+  // Nodes per task (sbatch --nodes), for a case bigger than one node: its --np ranks are spread
+  // over them and mpirun starts them inside the allocation. 0: SLURM places the ranks.
+  int nodes = 0;
   int cases_per_task = 1;                // M
   bool cases_per_task_given = false;     // M was asked for: never packed to fit MaxJobCount
   int max_parallel = 0;                  // K: the array's %K throttle; 0 = none
