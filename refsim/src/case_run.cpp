@@ -303,7 +303,7 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   std::array<double, 6> box{};
   // The data file's atoms only while the system is built (a million spheres' take 110 MB).
   System system = [&] {
-    const auto data = formats::parse_data_file((dir / manifest.files.data).string());
+    const auto data = formats::parse_data_file((dir / manifest.files.data).string(), options.threads);
     box = data.box;
     return System(particles_from(data), params);
   }();
@@ -319,7 +319,14 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   const auto write_frame = [&] {
     auto frame = frames.take();
     fill_frame(system, manifest.files.dump_columns, columns, box, *frame);
-    out.submit([&dump, frame = std::move(frame)] { dump.write(*frame); });
+    // Written in line, the frame's text is formatted on the system's threads, which would wait.
+    formats::ForShares shares;
+    if (!options.write_behind && options.threads > 1) {
+      shares = [&system](std::size_t count, const std::function<void(std::size_t, std::size_t)>& job) {
+        system.run_in_shares(count, job);
+      };
+    }
+    out.submit([&dump, frame = std::move(frame), shares = std::move(shares)] { dump.write(*frame, shares); });
   };
   const auto write_samples = [&] {
     if (samples.empty()) return;

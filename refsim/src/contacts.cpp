@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <mutex>
 
 namespace granstack::refsim::detail {
 
@@ -24,6 +25,12 @@ void PairTable::clear() {
   touching.clear();
   records.assign(1, PairRecord{});
   model_records.assign(1, ModelRecord{});
+}
+
+void PairTable::reserve(std::size_t pairs) {
+  for (auto* a : {&i, &j, &record}) a->reserve(pairs);
+  for (auto* a : {&shear_x, &shear_y, &shear_z, &roll_x, &roll_y, &roll_z}) a->reserve(pairs);
+  touching.reserve(pairs);
 }
 
 void PairTable::add(std::int32_t a, std::int32_t b, double ra, double rb, double ma, double mb, const PairConstants& k,
@@ -117,73 +124,111 @@ void PairTable::finish() {
 }
 
 void SumPlan::build(const std::vector<std::size_t>& offsets,
-                    const std::vector<std::pair<std::int32_t, std::uint32_t>>& contributions, std::size_t j_side) {
+                    const std::vector<std::pair<std::int32_t, std::uint32_t>>& contributions, std::size_t j_side,
+                    const ForShares& for_shares) {
   const std::size_t n = offsets.size() - 1;
+  const std::size_t groups = (n + kLanes - 1) / kLanes;
+  struct Item {
+    std::int64_t offset;
+    std::size_t lane;
+    std::uint32_t entry;
+  };
+  // A share of the groups planned on its own: its rounds, and per group how many and how many
+  // of them subtract.
+  struct Part {
+    std::size_t first_group = 0;
+    AlignedVector<std::uint8_t> lanes_in;
+    AlignedVector<Fetch> fetch;
+    std::vector<std::int32_t> window;
+    AlignedVector<std::int32_t> entry;
+    std::vector<std::size_t> rounds, subtracting;
+  };
+  std::mutex m;
+  std::vector<Part> parts;
+  const auto plan = [&](std::size_t first_group, std::size_t end_group) {
+    Part part;
+    part.first_group = first_group;
+    std::vector<Item> items;
+    for (std::size_t g = first_group; g < end_group; ++g) {
+      items.clear();
+      for (std::size_t l = 0; l < kLanes && g * kLanes + l < n; ++l) {
+        const std::size_t k = g * kLanes + l;
+        for (std::size_t e = offsets[k]; e < offsets[k + 1]; ++e) {
+          const std::uint32_t q = contributions[e].second;  // j's (offset < 0) at j_side + p
+          items.push_back({static_cast<std::int64_t>(contributions[e].first) - static_cast<std::int64_t>(k), l,
+                           q >= j_side ? static_cast<std::uint32_t>(q - j_side) : q});
+        }
+      }
+      std::sort(items.begin(), items.end(),
+                [](const Item& a, const Item& b) { return a.offset != b.offset ? a.offset < b.offset : a.lane < b.lane; });
+      std::uint32_t round_entry[kLanes] = {};
+      unsigned in = 0;
+      bool round_subtracts = false;
+      std::size_t subtracting = 0;
+      const std::size_t rounds_before = part.lanes_in.size();
+      auto close = [&] {
+        if (in == 0) return;
+        std::uint32_t lo = 0xffffffffU;
+        std::int64_t base = -1;  // entry - lane, if the same for every lane in the round
+        bool run = true;
+        for (std::size_t l = 0; l < kLanes; ++l) {
+          if (in >> l & 1U) {
+            lo = std::min(lo, round_entry[l]);
+            const std::int64_t b = static_cast<std::int64_t>(round_entry[l]) - static_cast<std::int64_t>(l);
+            run = run && (base < 0 || b == base) && b >= 0;
+            base = b;
+          }
+        }
+        part.lanes_in.push_back(static_cast<std::uint8_t>(in));
+        part.fetch.push_back(run ? kRun : kGather);
+        part.window.push_back(static_cast<std::int32_t>(run ? static_cast<std::uint32_t>(base) : lo));
+        for (std::size_t l = 0; l < kLanes; ++l) {
+          const std::uint32_t e = in >> l & 1U ? round_entry[l] : lo;  // absent lanes read a real entry, unused
+          part.entry.push_back(static_cast<std::int32_t>(e));
+        }
+        subtracting += round_subtracts ? 1 : 0;
+        in = 0;
+      };
+      for (std::size_t a = 0; a < items.size();) {
+        std::size_t b = a;
+        unsigned group = 0;
+        while (b < items.size() && items[b].offset == items[a].offset) group |= 1U << items[b++].lane;
+        const bool subtracts = items[a].offset < 0;
+        if ((group & in) != 0 || (in != 0 && subtracts != round_subtracts)) close();
+        round_subtracts = subtracts;
+        for (std::size_t c = a; c < b; ++c) round_entry[items[c].lane] = items[c].entry;
+        in |= group;
+        a = b;
+      }
+      close();
+      part.rounds.push_back(part.lanes_in.size() - rounds_before);
+      part.subtracting.push_back(subtracting);
+    }
+    const std::lock_guard<std::mutex> lock(m);
+    parts.push_back(std::move(part));
+  };
+  if (for_shares) {
+    for_shares(groups, plan);
+  } else {
+    plan(0, groups);
+  }
+  // The parts one after the other, in the groups' order.
+  std::sort(parts.begin(), parts.end(), [](const Part& a, const Part& b) { return a.first_group < b.first_group; });
   first_round.assign(1, 0);
   first_added.clear();
   lanes_in.clear();
   fetch.clear();
   window.clear();
   entry.clear();
-  struct Item {
-    std::int64_t offset;
-    std::size_t lane;
-    std::uint32_t entry;
-  };
-  std::vector<Item> items;
-  for (std::size_t g = 0; g * kLanes < n; ++g) {
-    items.clear();
-    for (std::size_t l = 0; l < kLanes && g * kLanes + l < n; ++l) {
-      const std::size_t k = g * kLanes + l;
-      for (std::size_t e = offsets[k]; e < offsets[k + 1]; ++e) {
-        const std::uint32_t q = contributions[e].second;  // j's (offset < 0) at j_side + p
-        items.push_back({static_cast<std::int64_t>(contributions[e].first) - static_cast<std::int64_t>(k), l,
-                         q >= j_side ? static_cast<std::uint32_t>(q - j_side) : q});
-      }
+  for (const auto& part : parts) {
+    lanes_in.insert(lanes_in.end(), part.lanes_in.begin(), part.lanes_in.end());
+    fetch.insert(fetch.end(), part.fetch.begin(), part.fetch.end());
+    window.insert(window.end(), part.window.begin(), part.window.end());
+    entry.insert(entry.end(), part.entry.begin(), part.entry.end());
+    for (std::size_t g = 0; g < part.rounds.size(); ++g) {
+      first_added.push_back(first_round.back() + part.subtracting[g]);
+      first_round.push_back(first_round.back() + part.rounds[g]);
     }
-    std::sort(items.begin(), items.end(),
-              [](const Item& a, const Item& b) { return a.offset != b.offset ? a.offset < b.offset : a.lane < b.lane; });
-    std::uint32_t round_entry[kLanes] = {};
-    unsigned in = 0;
-    bool round_subtracts = false;
-    std::size_t subtracting = 0;
-    auto close = [&] {
-      if (in == 0) return;
-      std::uint32_t lo = 0xffffffffU;
-      std::int64_t base = -1;  // entry - lane, if the same for every lane in the round
-      bool run = true;
-      for (std::size_t l = 0; l < kLanes; ++l) {
-        if (in >> l & 1U) {
-          lo = std::min(lo, round_entry[l]);
-          const std::int64_t b = static_cast<std::int64_t>(round_entry[l]) - static_cast<std::int64_t>(l);
-          run = run && (base < 0 || b == base) && b >= 0;
-          base = b;
-        }
-      }
-      lanes_in.push_back(static_cast<std::uint8_t>(in));
-      fetch.push_back(run ? kRun : kGather);
-      window.push_back(static_cast<std::int32_t>(run ? static_cast<std::uint32_t>(base) : lo));
-      for (std::size_t l = 0; l < kLanes; ++l) {
-        const std::uint32_t e = in >> l & 1U ? round_entry[l] : lo;  // absent lanes read a real entry, unused
-        entry.push_back(static_cast<std::int32_t>(e));
-      }
-      subtracting += round_subtracts ? 1 : 0;
-      in = 0;
-    };
-    for (std::size_t a = 0; a < items.size();) {
-      std::size_t b = a;
-      unsigned group = 0;
-      while (b < items.size() && items[b].offset == items[a].offset) group |= 1U << items[b++].lane;
-      const bool subtracts = items[a].offset < 0;
-      if ((group & in) != 0 || (in != 0 && subtracts != round_subtracts)) close();
-      round_subtracts = subtracts;
-      for (std::size_t c = a; c < b; ++c) round_entry[items[c].lane] = items[c].entry;
-      in |= group;
-      a = b;
-    }
-    close();
-    first_added.push_back(first_round.back() + subtracting);
-    first_round.push_back(lanes_in.size());
   }
 }
 

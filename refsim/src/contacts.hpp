@@ -13,6 +13,7 @@
 
 #include <granstack/model/contact.hpp>
 #include <granstack/refsim/aligned.hpp>
+#include <granstack/refsim/neighbors.hpp>
 
 namespace granstack::refsim::detail {
 
@@ -107,6 +108,7 @@ struct PairTable {
 
   std::size_t padded() const { return (count + kPairBlock - 1) / kPairBlock * kPairBlock; }
   void clear();
+  void reserve(std::size_t pairs);  // room for this many entries, padding included
   void add(std::int32_t a, std::int32_t b, double ra, double rb, double ma, double mb, const PairConstants& k,
            const ModelConstants& mk);
   void pad_to(std::size_t multiple);  // padding entries up to a multiple
@@ -131,8 +133,9 @@ struct SumPlan {
   AlignedVector<std::int32_t> entry;   // kLanes per round
   // contributions[offsets[k] .. offsets[k + 1]]: particle k's (other particle, entry), in order.
   // From PairTable entries as the contributions give them (j's at padded + p, `j_side`).
+  // The groups are planned in for_shares' shares (empty: in one); the plan does not depend on them.
   void build(const std::vector<std::size_t>& offsets, const std::vector<std::pair<std::int32_t, std::uint32_t>>& contributions,
-             std::size_t j_side);
+             std::size_t j_side, const ForShares& for_shares = {});
 };
 
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <mutex>
 
 namespace granstack::refsim {
 
@@ -33,7 +34,9 @@ Pairs every_pair(const SphereArrays& s, double factor, double skin) {
 
 }  // namespace
 
-std::vector<std::pair<std::int32_t, std::int32_t>> candidate_pairs(const SphereArrays& s, double factor, double skin) {
+std::vector<std::pair<std::int32_t, std::int32_t>> candidate_pairs(const SphereArrays& s, double factor, double skin,
+                                                                   const ForShares& for_shares) {
+  const ForShares run = for_shares ? for_shares : ForShares([](std::size_t count, const auto& job) { job(0, count); });
   const std::size_t n = s.count;
   if (n < 2) return {};
   const std::array<const double*, 3> p{s.x, s.y, s.z};
@@ -81,33 +84,59 @@ std::vector<std::pair<std::int32_t, std::int32_t>> candidate_pairs(const SphereA
     for (std::size_t k = 0; k < n; ++k) members[next[home[k]]++] = k;
   }
   // Each pair is looked for from its larger sphere (of equal ones, the lower-numbered), so
-  // within 2 R_i factor + skin of it; with a margin far above the rounding of the bounds.
-  Pairs found;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double reach = 2.0 * s.radius[i] * factor + skin;
-    std::array<std::size_t, 3> from{}, to{};
-    for (std::size_t d = 0; d < 3; ++d) {
-      const double margin = 1.01 * reach + 1e-15 * (std::abs(p[d][i]) + reach);
-      from[d] = cell(d, p[d][i] - margin);
-      to[d] = cell(d, p[d][i] + margin);
-    }
-    std::array<std::size_t, 3> c{};
-    for (c[2] = from[2]; c[2] <= to[2]; ++c[2]) {
-      for (c[1] = from[1]; c[1] <= to[1]; ++c[1]) {
-        for (c[0] = from[0]; c[0] <= to[0]; ++c[0]) {
-          const std::size_t f = flat(c);
-          for (std::size_t m = first[f]; m < first[f + 1]; ++m) {
-            const std::size_t j = members[m];
-            if (!(s.radius[j] < s.radius[i] || (s.radius[j] == s.radius[i] && j > i))) continue;
-            const std::size_t a = std::min(i, j), b = std::max(i, j);
-            if (within(s, a, b, factor, skin)) found.emplace_back(static_cast<std::int32_t>(a), static_cast<std::int32_t>(b));
+  // within 2 R_i factor + skin of it; with a margin far above the rounding of the bounds. Each
+  // share of the spheres keeps what it finds apart (by where the share begins).
+  std::mutex m;
+  std::vector<std::pair<std::size_t, Pairs>> by_share;
+  run(n, [&](std::size_t begin, std::size_t end) {
+    Pairs found;
+    for (std::size_t i = begin; i < end; ++i) {
+      const double reach = 2.0 * s.radius[i] * factor + skin;
+      std::array<std::size_t, 3> from{}, to{};
+      for (std::size_t d = 0; d < 3; ++d) {
+        const double margin = 1.01 * reach + 1e-15 * (std::abs(p[d][i]) + reach);
+        from[d] = cell(d, p[d][i] - margin);
+        to[d] = cell(d, p[d][i] + margin);
+      }
+      std::array<std::size_t, 3> c{};
+      for (c[2] = from[2]; c[2] <= to[2]; ++c[2]) {
+        for (c[1] = from[1]; c[1] <= to[1]; ++c[1]) {
+          for (c[0] = from[0]; c[0] <= to[0]; ++c[0]) {
+            const std::size_t f = flat(c);
+            for (std::size_t q = first[f]; q < first[f + 1]; ++q) {
+              const std::size_t j = members[q];
+              if (!(s.radius[j] < s.radius[i] || (s.radius[j] == s.radius[i] && j > i))) continue;
+              const std::size_t a = std::min(i, j), b = std::max(i, j);
+              if (within(s, a, b, factor, skin)) found.emplace_back(static_cast<std::int32_t>(a), static_cast<std::int32_t>(b));
+            }
           }
         }
       }
     }
-  }
-  std::sort(found.begin(), found.end());
-  return found;
+    const std::lock_guard<std::mutex> lock(m);
+    by_share.emplace_back(begin, std::move(found));
+  });
+  // In (i, j) order: each share of the first spheres gathers the pairs that start in it, sorts
+  // them, and the shares follow one another.
+  std::vector<std::pair<std::size_t, Pairs>> sorted;
+  run(n, [&](std::size_t begin, std::size_t end) {
+    Pairs mine;
+    for (const auto& share : by_share) {
+      for (const auto& q : share.second) {
+        if (static_cast<std::size_t>(q.first) >= begin && static_cast<std::size_t>(q.first) < end) mine.push_back(q);
+      }
+    }
+    std::sort(mine.begin(), mine.end());
+    const std::lock_guard<std::mutex> lock(m);
+    sorted.emplace_back(begin, std::move(mine));
+  });
+  std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  Pairs all;
+  std::size_t total = 0;
+  for (const auto& share : sorted) total += share.second.size();
+  all.reserve(total);
+  for (const auto& share : sorted) all.insert(all.end(), share.second.begin(), share.second.end());
+  return all;
 }
 
 }  // namespace granstack::refsim

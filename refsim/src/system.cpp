@@ -77,9 +77,10 @@ System::System(std::vector<Particle> particles, Parameters params)
     }
   }
   choose_kernels();
-  build_pairs();
+  // The threads first: the first neighbour build runs on them.
   threads_ = std::max(1, p_.threads);
   for (int t = 1; t < threads_; ++t) workers_.emplace_back([this, t] { worker(t); });
+  build_pairs();
 }
 
 std::vector<std::string> vector_kernels() { return detail::vector_targets(); }
@@ -175,7 +176,12 @@ void System::build_pairs() {
   const double* x = x_.data();
   const double* y = x + stride_;
   const double* z = y + stride_;
-  for (const auto& [a, b] : candidate_pairs({x, y, z, radius_.data(), n_}, cdf, p_.skin)) {
+  const auto shares = [this](std::size_t count, const std::function<void(std::size_t, std::size_t)>& job) {
+    for_shares(count, job, 1);
+  };
+  const auto candidates = candidate_pairs({x, y, z, radius_.data(), n_}, cdf, p_.skin, shares);
+  found.reserve(candidates.size());
+  for (const auto& [a, b] : candidates) {
     const auto i = static_cast<std::size_t>(a), j = static_cast<std::size_t>(b);
     const double delx = x[i] - x[j];
     const double dely = y[i] - y[j];
@@ -197,8 +203,9 @@ void System::build_pairs() {
     bool touching;
     double shear[3], roll[3];
   };
-  std::vector<Kept> kept(found.size(), Kept{false, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}});
-  for (std::size_t c = 0, o = 0; c < found.size(); ++c) {
+  // (None at the first build: nothing to keep.)
+  std::vector<Kept> kept(old_order.empty() ? 0 : found.size(), Kept{false, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}});
+  for (std::size_t c = 0, o = 0; c < found.size() && !old_order.empty(); ++c) {
     const auto& f = found[c];
     while (o < old_order.size() && (old.i[old_order[o]] < f.i || (old.i[old_order[o]] == f.i && old.j[old_order[o]] < f.j))) ++o;
     const std::size_t q = o < old_order.size() ? old_order[o] : 0;
@@ -208,16 +215,30 @@ void System::build_pairs() {
   }
   // Table order: by tile of i, then j - i, then i, so that a block's particles lie in a window;
   // each tile padded to whole kernel blocks.
+  // The candidates come in (i, j) order, so each tile's are together: each sorted on its own.
   std::vector<std::size_t> order(found.size());
   for (std::size_t c = 0; c < order.size(); ++c) order[c] = c;
   const auto tile = [](std::int32_t i) { return static_cast<std::size_t>(i) / kTile; };
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    const auto &u = found[a], &v = found[b];
-    if (tile(u.i) != tile(v.i)) return tile(u.i) < tile(v.i);
-    return u.j - u.i != v.j - v.i ? u.j - u.i < v.j - v.i : u.i < v.i;
-  });
+  std::vector<std::size_t> tile_start;
+  for (std::size_t c = 0; c < found.size(); ++c) {
+    if (c == 0 || tile(found[c].i) != tile(found[c - 1].i)) tile_start.push_back(c);
+  }
+  tile_start.push_back(found.size());
+  for_shares(
+      tile_start.size() - 1,
+      [&](std::size_t first_tile, std::size_t end_tile) {
+        for (std::size_t t = first_tile; t < end_tile; ++t) {
+          std::sort(order.begin() + static_cast<std::ptrdiff_t>(tile_start[t]),
+                    order.begin() + static_cast<std::ptrdiff_t>(tile_start[t + 1]), [&](std::size_t a, std::size_t b) {
+                      const auto &u = found[a], &v = found[b];
+                      return u.j - u.i != v.j - v.i ? u.j - u.i < v.j - v.i : u.i < v.i;
+                    });
+        }
+      },
+      1);
   auto& pairs = *pairs_;
   pairs.clear();
+  pairs.reserve(found.size() + (tile_start.size() + 1) * detail::kPairBlock);
   pairs.model = p_.contact;
   const std::size_t tiles = (n_ + kTile - 1) / kTile;
   tile_first_.assign(1, 0);
@@ -228,8 +249,8 @@ void System::build_pairs() {
     const std::size_t type_pair = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
                                   static_cast<std::size_t>(type_[j] - 1);
     pairs.add(f.i, f.j, radius_[i], radius_[j], mass_[i], mass_[j], type_constants_[type_pair], model_constants_[type_pair]);
-    const auto& k = kept[order[c]];
-    if (k.touching) {
+    if (!kept.empty() && kept[order[c]].touching) {
+      const auto& k = kept[order[c]];
       const std::size_t p = pairs.count - 1;
       pairs.touching[p] = 1;
       pairs.shear_x[p] = k.shear[0];
@@ -245,22 +266,40 @@ void System::build_pairs() {
   }
   while (tile_first_.size() <= tiles) tile_first_.push_back(pairs.count);
   pairs.finish();
-  // Each particle's contributions in LIGGGHTS's pair order: by the other particle's index.
-  std::vector<std::vector<std::pair<std::int32_t, std::uint32_t>>> lists(n_);
+  // Each particle's contributions in LIGGGHTS's pair order: by the other particle's index
+  // (counted, placed, then each particle's sorted).
   const std::size_t side_j = pairs.padded();
+  contribution_offsets_.assign(n_ + 1, 0);
   for (std::size_t p = 0; p < pairs.count; ++p) {
     if (pairs.record[p] == 0) continue;  // padding
-    lists[static_cast<std::size_t>(pairs.i[p])].emplace_back(pairs.j[p], static_cast<std::uint32_t>(p));
-    lists[static_cast<std::size_t>(pairs.j[p])].emplace_back(pairs.i[p], static_cast<std::uint32_t>(side_j + p));
+    ++contribution_offsets_[static_cast<std::size_t>(pairs.i[p]) + 1];
+    ++contribution_offsets_[static_cast<std::size_t>(pairs.j[p]) + 1];
   }
-  contribution_offsets_.assign(1, 0);
-  contributions_.clear();
-  for (auto& l : lists) {
-    std::sort(l.begin(), l.end());
-    contributions_.insert(contributions_.end(), l.begin(), l.end());
-    contribution_offsets_.push_back(contributions_.size());
+  for (std::size_t k = 0; k < n_; ++k) contribution_offsets_[k + 1] += contribution_offsets_[k];
+  contributions_.resize(contribution_offsets_[n_]);
+  {
+    std::vector<std::size_t> next(contribution_offsets_.begin(), contribution_offsets_.end() - 1);
+    for (std::size_t p = 0; p < pairs.count; ++p) {
+      if (pairs.record[p] == 0) continue;
+      contributions_[next[static_cast<std::size_t>(pairs.i[p])]++] = {pairs.j[p], static_cast<std::uint32_t>(p)};
+      contributions_[next[static_cast<std::size_t>(pairs.j[p])]++] = {pairs.i[p], static_cast<std::uint32_t>(side_j + p)};
+    }
   }
-  if (vector_) sum_plan_->build(contribution_offsets_, contributions_, side_j);
+  for_shares(
+      n_,
+      [&](std::size_t begin, std::size_t end) {
+        for (std::size_t k = begin; k < end; ++k) {
+          std::sort(contributions_.begin() + static_cast<std::ptrdiff_t>(contribution_offsets_[k]),
+                    contributions_.begin() + static_cast<std::ptrdiff_t>(contribution_offsets_[k + 1]));
+        }
+      },
+      1);
+  if (vector_) {
+    sum_plan_->build(contribution_offsets_, contributions_, side_j,
+                     [this](std::size_t count, const std::function<void(std::size_t, std::size_t)>& job) {
+                       for_shares(count, job, 1);
+                     });
+  }
   x_at_build_ = x_;
   ++builds_;
 }

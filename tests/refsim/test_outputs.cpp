@@ -82,9 +82,10 @@ void expect_complete(const std::string& dir, const model::StackSpec& spec) {
   }
 }
 
-refsim::RunStats run(const std::string& dir, bool behind) {
+refsim::RunStats run(const std::string& dir, bool behind, int threads = 1) {
   refsim::RunOptions o;
   o.write_behind = behind;
+  o.threads = threads;
   return refsim::run_case(dir, o);
 }
 
@@ -168,11 +169,15 @@ TEST(Outputs, WritingBehindTheStepsGivesTheSameBytes) {
     spec.friction.value = c.friction;
     const auto in_line = generate(std::string(c.name) + "_in_line", spec);
     const auto behind = generate(std::string(c.name) + "_behind", spec);
+    // In line on three threads: each frame's text formatted in three shares of its atoms.
+    const auto shared = generate(std::string(c.name) + "_in_line_3_threads", spec);
     EXPECT_FALSE(run(in_line, false).write_behind);
     EXPECT_TRUE(run(behind, true).write_behind);
+    EXPECT_FALSE(run(shared, false, 3).write_behind);
     expect_complete(in_line, spec);
     expect_complete(behind, spec);
     const auto a = outputs(in_line), b = outputs(behind);
+    EXPECT_TRUE(outputs(shared) == a) << c.name;
     ASSERT_EQ(a.size(), b.size()) << c.name;
     EXPECT_GT(a.size(), c.files == model::DumpFiles::per_step ? 100U : 1U) << c.name;
     for (std::size_t k = 0; k < a.size(); ++k) {

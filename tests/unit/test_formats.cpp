@@ -79,6 +79,51 @@ TEST_F(DataFileTest, MalformedFilesAreRejectedWithTheLine) {
   EXPECT_THROW(formats::parse_data_file(write("empty.data", "")), formats::FormatError);
 }
 
+// A big file is parsed in pieces on several threads: the same atoms, and the same first error
+// (a line-by-line reading's: the earliest failing line, a repeated id before a later bad line).
+TEST_F(DataFileTest, PiecesOnSeveralThreadsGiveTheSameAtomsAndTheSameFirstError) {
+  model::StackSpec s;
+  s.geometry = model::Geometry::nested3d;
+  s.blocks = 4;
+  s.top_columns = 4;
+  s.rows = 8;
+  const auto data = generator::data_file(model::Stack::build(s), "pieces");
+  ASSERT_GT(data.atoms.size(), 10000u);
+  const auto text = formats::format_data_file(data);
+  const auto path = write("data.stack", text);
+  EXPECT_EQ(formats::parse_data_file(path, 4), data);
+  // Ids in another order (not 1..N): looked up, not indexed.
+  auto shuffled = data;
+  std::reverse(shuffled.atoms.begin(), shuffled.atoms.end());
+  EXPECT_EQ(formats::parse_data_file(write("reversed.stack", formats::format_data_file(shuffled)), 4), shuffled);
+  const auto error = [&](const std::string& name, const std::string& bad_text, int threads) {
+    try {
+      formats::parse_data_file(write(name, bad_text), threads);
+    } catch (const formats::FormatError& e) {
+      return std::make_pair(e.line(), e.message());
+    }
+    return std::make_pair(0L, std::string("no error"));
+  };
+  // Line L of the file, counted from 1.
+  const auto line_start = [&](const std::string& t, long line) {
+    std::size_t at = 0;
+    for (long k = 1; k < line; ++k) at = t.find('\n', at) + 1;
+    return at;
+  };
+  auto bad = text;
+  const auto late = line_start(bad, 9000);
+  bad.replace(late, bad.find(' ', late) - late, "x1");  // a Velocities or Atoms id that is no number
+  auto twice = bad;
+  const auto early = line_start(twice, 5000);
+  twice.replace(early, twice.find(' ', early) - early, "1");  // atom id 1 again
+  for (const auto& [name, t] : {std::make_pair("bad", bad), std::make_pair("twice", twice)}) {
+    const auto one = error(std::string(name) + "1", t, 1);
+    EXPECT_NE(one.first, 0) << one.second;
+    EXPECT_EQ(error(std::string(name) + "4", t, 4), one) << name;
+  }
+  EXPECT_EQ(error("twice1", twice, 1).second, "atom id 1 appears twice");
+}
+
 TEST(Manifest, SpecRoundTripsThroughJson) {
   model::StackSpec s;
   s.blocks = 3;
@@ -452,6 +497,20 @@ TEST(LogScanner, FindsVersionProgressErrorsAndLoopTime) {
   EXPECT_FALSE(log.lost_atoms());
   log.add_line("ERROR: Lost atoms: original 241 current 240 (./src/thermo.cpp:442)");
   EXPECT_TRUE(log.lost_atoms());
+}
+
+TEST(LogScanner, ReadsTheProcessorGridAndTheAtomsPerRank) {
+  formats::LogScanner log;
+  log.add_text("  4 by 4 by 1 MPI processor grid\nNlocal:    6120.06 ave 7812 max 4644 min\nHistogram: 4 0 0 0 8 0 0 0 0 4\n"
+               "Nghost:    7614.19 ave 11952 max 4140 min\nHistogram: 4 0 0 8 0 0 0 0 0 4\n");
+  ASSERT_TRUE(log.processor_grid());
+  EXPECT_EQ(*log.processor_grid(), (std::array<int, 3>{4, 4, 1}));
+  ASSERT_TRUE(log.owned_per_rank() && log.ghosts_per_rank());
+  EXPECT_EQ(log.owned_per_rank()->mean, 6120.06);
+  EXPECT_EQ(log.owned_per_rank()->max, 7812);
+  EXPECT_EQ(log.owned_per_rank()->min, 4644);
+  EXPECT_EQ(log.ghosts_per_rank()->mean, 7614.19);
+  EXPECT_EQ(log.ghosts_per_rank()->max, 11952);
 }
 
 TEST(LogScanner, QuotesTheFirstAndLastLinesOfTextWithoutBlanksOrRules) {

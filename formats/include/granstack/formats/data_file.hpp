@@ -30,7 +30,10 @@ struct DataFile {
 std::string format_data_file(const DataFile& data);
 // Parses what format_data_file writes and what LIGGGHTS accepts for this atom style
 // (header keywords, Atoms and optional Velocities sections, '#' comments).
-// Throws FormatError with the line number.
-DataFile parse_data_file(const std::string& path);
+// Throws FormatError with the line number. The sections' lines are parsed in `threads` pieces
+// at once; the result and the error (the first failing line) do not depend on how many.
+DataFile parse_data_file(const std::string& path, int threads = 1);
+// The title, atom types and box alone (no atoms), for what needs the box of a big case.
+DataFile read_data_header(const std::string& path);
 
 }  // namespace granstack::formats

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <optional>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -147,19 +148,24 @@ void read_deferred(DumpFrame& frame, int fd, const std::string& path);
 
 // Writes frames in LIGGGHTS's `dump custom` layouts: text as the generated decks ask for it
 // (ids and types as integers, every other column %.17g, each line ending in a space), or binary.
+// Runs job(begin, end) over shares of [0, count) that cover it, perhaps several at once.
+using ForShares = std::function<void(std::size_t count, const std::function<void(std::size_t, std::size_t)>& job)>;
+
 class DumpWriter {
  public:
   // A '*' in the file name of `path` writes a file per frame (the step in its place); a '%' there
   // stands for rank 0. The same characters in its directories are only characters.
   DumpWriter(const std::string& path, bool binary);  // throws std::runtime_error
-  void write(const DumpFrame& frame);
+  // A text frame's lines are formatted in `shares`' shares of its atoms (empty: in one); the
+  // file does not depend on them.
+  void write(const DumpFrame& frame, const ForShares& shares = {});
   // Writes out what is buffered and closes the file; throws std::runtime_error naming it if
   // the system could not write all of it (a full disk). The destructor closes without checking.
   void close();
 
  private:
   void open(const std::string& path);
-  void write_atoms(const DumpFrame& f, const std::vector<bool>& integer);
+  void write_atoms(const DumpFrame& f, const std::vector<bool>& integer, const ForShares& shares);
   std::string path_, current_;  // the path given, and the file open now
   std::size_t name_at_ = 0;     // where the file's name begins in path_
   bool binary_;

@@ -4,6 +4,7 @@
 // granular neighbour lists (neigh_gran), found through a grid in time linear in the spheres.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -18,9 +19,14 @@ struct SphereArrays {
   std::size_t count = 0;
 };
 
+// Runs job(begin, end) over shares of [0, count) that cover it, perhaps several at once.
+using ForShares = std::function<void(std::size_t count, const std::function<void(std::size_t, std::size_t)>& job)>;
+
 // Pairs (i, j), i < j, in increasing (i, j) order, for which
 //   rsq <= cut * cut,  rsq = dx*dx + dy*dy + dz*dz (d = x_i - x_j),  cut = (R_i + R_j) * factor + skin,
 // evaluated in that order in double precision: the same pairs as testing every pair that way.
-std::vector<std::pair<std::int32_t, std::int32_t>> candidate_pairs(const SphereArrays& spheres, double factor, double skin);
+// The search runs in `for_shares`' shares (empty: in one); the result does not depend on them.
+std::vector<std::pair<std::int32_t, std::int32_t>> candidate_pairs(const SphereArrays& spheres, double factor, double skin,
+                                                                   const ForShares& for_shares = {});
 
 }  // namespace granstack::refsim

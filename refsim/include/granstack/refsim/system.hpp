@@ -112,6 +112,10 @@ class System {
   std::array<double, 2> kinetic_energy(std::size_t begin, std::size_t end) const;
   const std::string& kernel() const { return kernel_; }  // "reference" or a vector instruction set
 
+  // Runs job(begin, end) over shares of [0, count) on this system's threads, between steps
+  // (for outputs written in line, while the threads would only wait).
+  void run_in_shares(std::size_t count, const std::function<void(std::size_t, std::size_t)>& job) { for_shares(count, job); }
+
  private:
   Vec3 get(const detail::AlignedVector<double>& a, std::size_t i) const { return {a[i], a[stride_ + i], a[2 * stride_ + i]}; }
   void choose_kernels();
