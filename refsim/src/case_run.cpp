@@ -234,8 +234,9 @@ double column_value(const System& s, std::size_t i, Column c) {
   return 0.0;
 }
 
+// The frame's rows filled in `shares`' shares of the spheres (empty: in one).
 void fill_frame(const System& s, const std::vector<std::string>& columns, const std::vector<Column>& resolved,
-                const std::array<double, 6>& box0, formats::DumpFrame& f) {
+                const std::array<double, 6>& box0, formats::DumpFrame& f, const formats::ForShares& shares) {
   const std::size_t n = s.size();
   f.step = s.step_count();
   f.atoms = static_cast<long>(n);
@@ -244,14 +245,28 @@ void fill_frame(const System& s, const std::vector<std::string>& columns, const 
   f.values.resize(n * columns.size());
   // Shrink-wrapped with a minimum: the data file's box, grown to hold every sphere.
   f.box = box0;
-  double* out = f.values.data();
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto x = s.x(i);
-    for (int d = 0; d < 3; ++d) {
-      f.box[static_cast<std::size_t>(2 * d)] = std::min(f.box[static_cast<std::size_t>(2 * d)], x[d]);
-      f.box[static_cast<std::size_t>(2 * d + 1)] = std::max(f.box[static_cast<std::size_t>(2 * d + 1)], x[d]);
+  std::mutex m;
+  const auto fill = [&](std::size_t begin, std::size_t end) {
+    auto box = box0;
+    double* out = f.values.data() + begin * columns.size();
+    for (std::size_t i = begin; i < end; ++i) {
+      const auto x = s.x(i);
+      for (std::size_t d = 0; d < 3; ++d) {
+        box[2 * d] = std::min(box[2 * d], x[d]);
+        box[2 * d + 1] = std::max(box[2 * d + 1], x[d]);
+      }
+      for (const auto c : resolved) *out++ = column_value(s, i, c);
     }
-    for (const auto c : resolved) *out++ = column_value(s, i, c);
+    const std::lock_guard<std::mutex> lock(m);
+    for (std::size_t d = 0; d < 3; ++d) {
+      f.box[2 * d] = std::min(f.box[2 * d], box[2 * d]);
+      f.box[2 * d + 1] = std::max(f.box[2 * d + 1], box[2 * d + 1]);
+    }
+  };
+  if (shares) {
+    shares(n, fill);
+  } else {
+    fill(0, n);
   }
 }
 
@@ -316,17 +331,19 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   std::vector<double> samples;
   // Declared last, so that it ends (its jobs done) before what they write to.
   detail::WriteBehind out(options.write_behind);
+  // A frame is filled on the system's threads, which would wait; written in line, its text is
+  // formatted on them too.
+  formats::ForShares on_threads;
+  if (options.threads > 1) {
+    on_threads = [&system](std::size_t count, const std::function<void(std::size_t, std::size_t)>& job) {
+      system.run_in_shares(count, job);
+    };
+  }
   const auto write_frame = [&] {
     auto frame = frames.take();
-    fill_frame(system, manifest.files.dump_columns, columns, box, *frame);
-    // Written in line, the frame's text is formatted on the system's threads, which would wait.
-    formats::ForShares shares;
-    if (!options.write_behind && options.threads > 1) {
-      shares = [&system](std::size_t count, const std::function<void(std::size_t, std::size_t)>& job) {
-        system.run_in_shares(count, job);
-      };
-    }
-    out.submit([&dump, frame = std::move(frame), shares = std::move(shares)] { dump.write(*frame, shares); });
+    fill_frame(system, manifest.files.dump_columns, columns, box, *frame, on_threads);
+    const auto shares = options.write_behind ? formats::ForShares() : on_threads;
+    out.submit([&dump, frame = std::move(frame), shares] { dump.write(*frame, shares); });
   };
   const auto write_samples = [&] {
     if (samples.empty()) return;

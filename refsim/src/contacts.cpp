@@ -27,45 +27,41 @@ void PairTable::clear() {
   model_records.assign(1, ModelRecord{});
 }
 
-void PairTable::reserve(std::size_t pairs) {
-  for (auto* a : {&i, &j, &record}) a->reserve(pairs);
-  for (auto* a : {&shear_x, &shear_y, &shear_z, &roll_x, &roll_y, &roll_z}) a->reserve(pairs);
-  touching.reserve(pairs);
+void PairTable::resize(std::size_t entries) {
+  count = entries;
+  for (auto* a : {&i, &j, &record}) a->assign(entries, 0);
+  for (auto* a : {&shear_x, &shear_y, &shear_z, &roll_x, &roll_y, &roll_z}) a->assign(entries, 0.0);
+  touching.assign(entries, 0);
 }
 
-void PairTable::add(std::int32_t a, std::int32_t b, double ra, double rb, double ma, double mb, const PairConstants& k,
-                    const ModelConstants& mk) {
-  i.push_back(a);
-  j.push_back(b);
+std::pair<PairRecord, ModelRecord> PairTable::describe(const model::ContactModel& model, double ra, double rb, double ma,
+                                                       double mb, const PairConstants& k, const ModelConstants& mk) {
   const PairRecord r{ra,          rb,          ra * rb / (ra + rb), ma * mb / (ma + mb), k.kn_factor,
                      k.sn_factor, k.st_factor, k.damping_factor,    k.friction};
-  const ModelRecord mr = model_record(model, mk, r.reff, r.meff);
-  // Bitwise equal, newest first (neighbouring pairs mostly share one).
+  return {r, model_record(model, mk, r.reff, r.meff)};
+}
+
+std::int32_t RecordSet::intern(const PairRecord& r, const ModelRecord& mr) {
   std::size_t found = records.size();
-  while (found > 1 && (std::memcmp(&records[found - 1], &r, sizeof r) != 0 || !(model_records[found - 1] == mr))) --found;
+  while (found > 1 && (std::memcmp(&records[found - 1], &r, sizeof r) != 0 || !(models[found - 1] == mr))) --found;
   if (found == 1) {
     records.push_back(r);
-    model_records.push_back(mr);
+    models.push_back(mr);
     found = records.size();
   }
-  record.push_back(static_cast<std::int32_t>(found - 1));
-  for (auto* h : {&shear_x, &shear_y, &shear_z, &roll_x, &roll_y, &roll_z}) h->push_back(0.0);
-  touching.push_back(0);
-  ++count;
+  return static_cast<std::int32_t>(found - 1);
 }
 
-void PairTable::pad_to(std::size_t multiple) {
-  while (count % multiple != 0) {
-    i.push_back(count > 0 ? i[count - 1] : 0);
-    j.push_back(count > 0 ? j[count - 1] : 0);
-    record.push_back(0);
-    for (auto* a : {&shear_x, &shear_y, &shear_z, &roll_x, &roll_y, &roll_z}) a->push_back(0.0);
-    touching.push_back(0);
-    ++count;
-  }
+std::vector<std::int32_t> PairTable::merge_records(const RecordSet& set) {
+  RecordSet mine{records, model_records};
+  std::vector<std::int32_t> number(set.records.size(), 0);
+  for (std::size_t k = 1; k < set.records.size(); ++k) number[k] = mine.intern(set.records[k], set.models[k]);
+  records = std::move(mine.records);
+  model_records = std::move(mine.models);
+  return number;
 }
 
-void PairTable::finish() {
+void PairTable::finish(const ForShares& shares) {
   const std::size_t n = padded();
   // Padding repeats the last pair at zero radius: never touching, never close, so it changes
   // nothing, and it stays within the block's windows.
@@ -81,46 +77,58 @@ void PairTable::finish() {
   evaluated.assign(n / kPairBlock, 0);
   particles_i.assign(n / kLanes, 0);
   particles_j.assign(n / kLanes, 0);
-  window_i.clear();
-  window_j.clear();
-  fetch_i.clear();
-  fetch_j.clear();
-  shared_record.clear();
-  elastic_frictionless.clear();
+  const std::size_t blocks = n / kLanes;
+  window_i.assign(blocks, 0);
+  window_j.assign(blocks, 0);
+  fetch_i.assign(blocks, kGather);
+  fetch_j.assign(blocks, kGather);
+  shared_record.assign(blocks, 0);
+  elastic_frictionless.assign(blocks, 0);
   // Rolling friction turns even an elastic frictionless contact's rotation into torque.
   torque_free = model.rolling == model::RollingModel::off &&
                 std::all_of(record.begin(), record.end(),
                             [&](std::int32_t r) { return records[static_cast<std::size_t>(r)].elastic_frictionless(); });
-  for (std::size_t b = 0; b < n; b += kLanes) {
-    const auto [i_lo, i_hi] = std::minmax_element(i.begin() + static_cast<std::ptrdiff_t>(b),
-                                                  i.begin() + static_cast<std::ptrdiff_t>(b + kLanes));
-    const auto [j_lo, j_hi] = std::minmax_element(j.begin() + static_cast<std::ptrdiff_t>(b),
-                                                  j.begin() + static_cast<std::ptrdiff_t>(b + kLanes));
-    window_i.push_back(*i_lo);
-    window_j.push_back(*j_lo);
-    // Padding (record 0) may take the block's shared record: its results are never summed.
-    const auto first = record.begin() + static_cast<std::ptrdiff_t>(b), last = first + kLanes;
-    const auto real = std::find_if(first, last, [](std::int32_t r) { return r != 0; });
-    const std::int32_t shared = real == last ? 0 : *real;
-    shared_record.push_back(std::all_of(first, last, [&](std::int32_t r) { return r == 0 || r == shared; }) ? shared : -1);
-    elastic_frictionless.push_back(std::all_of(
-        first, last, [&](std::int32_t r) { return records[static_cast<std::size_t>(r)].elastic_frictionless(); }));
-    // One side: its lanes and particles in the window, and how to fetch them. Padding lanes
-    // (record 0, zero radii) never touch, whatever particles a run reads for them.
-    const auto side = [&](const AlignedVector<std::int32_t>& index, std::int32_t lo, std::int32_t hi,
-                          std::vector<std::uint16_t>& particles) {
-      if (hi - lo >= kWindow) return kGather;
-      bool run = true;
-      for (std::size_t k = 0; k < kLanes; ++k) {
-        const auto lane = static_cast<std::uint32_t>(index[b + k] - lo);
-        particles[b / kLanes] = static_cast<std::uint16_t>(particles[b / kLanes] | 1U << lane);
-        run = run && (record[b + k] == 0 || lane == k);
-      }
-      return run ? kRun : kWindowed;
-    };
-    fetch_i.push_back(side(i, *i_lo, *i_hi, particles_i));
-    fetch_j.push_back(side(j, *j_lo, *j_hi, particles_j));
+  // Each block of kLanes pairs on its own, in the shares of the blocks.
+  const auto describe = [&](std::size_t first_block, std::size_t end_block) {
+    for (std::size_t block = first_block; block < end_block; ++block) describe_block(block);
+  };
+  if (shares) {
+    shares(blocks, describe);
+  } else {
+    describe(0, blocks);
   }
+}
+
+void PairTable::describe_block(std::size_t block) {
+  const std::size_t b = block * kLanes;
+  const auto [i_lo, i_hi] = std::minmax_element(i.begin() + static_cast<std::ptrdiff_t>(b),
+                                                i.begin() + static_cast<std::ptrdiff_t>(b + kLanes));
+  const auto [j_lo, j_hi] = std::minmax_element(j.begin() + static_cast<std::ptrdiff_t>(b),
+                                                j.begin() + static_cast<std::ptrdiff_t>(b + kLanes));
+  window_i[block] = *i_lo;
+  window_j[block] = *j_lo;
+  // Padding (record 0) may take the block's shared record: its results are never summed.
+  const auto first = record.begin() + static_cast<std::ptrdiff_t>(b), last = first + kLanes;
+  const auto real = std::find_if(first, last, [](std::int32_t r) { return r != 0; });
+  const std::int32_t shared = real == last ? 0 : *real;
+  shared_record[block] = std::all_of(first, last, [&](std::int32_t r) { return r == 0 || r == shared; }) ? shared : -1;
+  elastic_frictionless[block] = std::all_of(
+      first, last, [&](std::int32_t r) { return records[static_cast<std::size_t>(r)].elastic_frictionless(); });
+  // One side: its lanes and particles in the window, and how to fetch them. Padding lanes
+  // (record 0, zero radii) never touch, whatever particles a run reads for them.
+  const auto side = [&](const AlignedVector<std::int32_t>& index, std::int32_t lo, std::int32_t hi,
+                        std::vector<std::uint16_t>& particles) {
+    if (hi - lo >= kWindow) return kGather;
+    bool run = true;
+    for (std::size_t k = 0; k < kLanes; ++k) {
+      const auto lane = static_cast<std::uint32_t>(index[b + k] - lo);
+      particles[b / kLanes] = static_cast<std::uint16_t>(particles[b / kLanes] | 1U << lane);
+      run = run && (record[b + k] == 0 || lane == k);
+    }
+    return run ? kRun : kWindowed;
+  };
+  fetch_i[block] = side(i, *i_lo, *i_hi, particles_i);
+  fetch_j[block] = side(j, *j_lo, *j_hi, particles_j);
 }
 
 void SumPlan::build(const std::vector<std::size_t>& offsets,

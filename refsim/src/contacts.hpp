@@ -72,6 +72,15 @@ ModelRecord model_record(const model::ContactModel& m, const ModelConstants& k, 
 // (else mostly within 16 particles). The arrays start on cache lines
 // (aligned.hpp) and blocks of pairs at multiples of kLanes, so the kernels' 64-byte accesses
 // to a block's entries never split a line.
+// Distinct records, each numbered as first met; number 0 is the padding's (all zero).
+struct RecordSet {
+  std::vector<PairRecord> records{PairRecord{}};
+  std::vector<ModelRecord> models{ModelRecord{}};
+  // The number of a record bitwise equal to r (and mr), newest first (neighbouring pairs mostly
+  // share one); a new one is added.
+  std::int32_t intern(const PairRecord& r, const ModelRecord& mr);
+};
+
 struct PairTable {
   std::size_t count = 0;  // entries, padding (record 0) included; the arrays hold padded()
   AlignedVector<std::int32_t> i, j;
@@ -108,11 +117,17 @@ struct PairTable {
 
   std::size_t padded() const { return (count + kPairBlock - 1) / kPairBlock * kPairBlock; }
   void clear();
-  void reserve(std::size_t pairs);  // room for this many entries, padding included
-  void add(std::int32_t a, std::int32_t b, double ra, double rb, double ma, double mb, const PairConstants& k,
-           const ModelConstants& mk);
-  void pad_to(std::size_t multiple);  // padding entries up to a multiple
-  void finish();  // after the last add: pads, and finds each block's windows
+  // `entries` entries, all padding (record 0, no history) until filled in.
+  void resize(std::size_t entries);
+  // What a pair of spheres of radii ra, rb and masses ma, mb with their type pair's constants
+  // gives the table.
+  static std::pair<PairRecord, ModelRecord> describe(const model::ContactModel& model, double ra, double rb, double ma,
+                                                     double mb, const PairConstants& k, const ModelConstants& mk);
+  // Takes a set's records into the table's; returns each one's number in the table.
+  std::vector<std::int32_t> merge_records(const RecordSet& set);
+  // Once filled: pads, and finds each block's windows (in `shares`' shares of the blocks).
+  void finish(const ForShares& shares = {});
+  void describe_block(std::size_t block);  // finish's, for the kLanes pairs from block * kLanes
 };
 
 // How eight particles at a time add their contributions. Each particle adds its contributions

@@ -8,6 +8,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <mutex>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
@@ -164,13 +165,86 @@ void System::for_shares(std::size_t count, const std::function<void(std::size_t,
   });
 }
 
+namespace {
+
+struct Candidate {
+  std::int32_t i, j;
+  bool touching;
+};
+// A pair's history carried across a rebuild.
+struct Kept {
+  bool touching;
+  double shear[3], roll[3];
+};
+
+// The table's entries: the candidates in `order`, each tile's group padded to whole kernel
+// blocks (padding repeats the group's last pair with record 0), filled in the shares of the
+// groups. Each share numbers the records it meets; the table's numbers are then given in the
+// groups' order, as one pass through the table gives them. describe(i, j) gives a pair's records.
+// Returns where each group starts in the table, and the table's end.
+template <class Describe>
+std::vector<std::size_t> fill_table(detail::PairTable& pairs, const std::vector<Candidate>& found, const std::vector<std::size_t>& order,
+                const std::vector<std::size_t>& tile_start, const std::vector<Kept>& kept, const ForShares& shares,
+                Describe describe) {
+  const std::size_t groups = tile_start.size() - 1;
+  std::vector<std::size_t> entry_start(groups + 1, 0);
+  for (std::size_t g = 0; g < groups; ++g) {
+    entry_start[g + 1] = entry_start[g] + (tile_start[g + 1] - tile_start[g] + detail::kPairBlock - 1) / detail::kPairBlock * detail::kPairBlock;
+  }
+  pairs.resize(entry_start[groups]);
+  struct Local {
+    std::size_t first_group = 0, end_group = 0;
+    detail::RecordSet records;  // its padding record first, as the table's
+  };
+  std::mutex m;
+  std::vector<Local> locals;
+  shares(groups, [&](std::size_t first_group, std::size_t end_group) {
+    Local local{first_group, end_group, {}};
+    for (std::size_t g = first_group; g < end_group; ++g) {
+      std::size_t q = entry_start[g];
+      for (std::size_t c = tile_start[g]; c < tile_start[g + 1]; ++c, ++q) {
+        const auto& f = found[order[c]];
+        pairs.i[q] = f.i;
+        pairs.j[q] = f.j;
+        const auto [r, mr] = describe(static_cast<std::size_t>(f.i), static_cast<std::size_t>(f.j));
+        pairs.record[q] = local.records.intern(r, mr);
+        if (!kept.empty() && kept[order[c]].touching) {
+          const auto& k = kept[order[c]];
+          pairs.touching[q] = 1;
+          pairs.shear_x[q] = k.shear[0];
+          pairs.shear_y[q] = k.shear[1];
+          pairs.shear_z[q] = k.shear[2];
+          pairs.roll_x[q] = k.roll[0];
+          pairs.roll_y[q] = k.roll[1];
+          pairs.roll_z[q] = k.roll[2];
+        }
+      }
+      for (; q < entry_start[g + 1]; ++q) {  // padding
+        pairs.i[q] = pairs.i[q - 1];
+        pairs.j[q] = pairs.j[q - 1];
+      }
+    }
+    const std::lock_guard<std::mutex> lock(m);
+    locals.push_back(std::move(local));
+  });
+  std::sort(locals.begin(), locals.end(), [](const Local& a, const Local& b) { return a.first_group < b.first_group; });
+  std::vector<std::vector<std::int32_t>> renumber;
+  for (const auto& local : locals) renumber.push_back(pairs.merge_records(local.records));
+  shares(locals.size(), [&](std::size_t first, std::size_t end) {
+    for (std::size_t l = first; l < end; ++l) {
+      for (std::size_t q = entry_start[locals[l].first_group]; q < entry_start[locals[l].end_group]; ++q) {
+        pairs.record[q] = renumber[l][static_cast<std::size_t>(pairs.record[q])];
+      }
+    }
+  });
+  return entry_start;
+}
+
+}  // namespace
+
 void System::build_pairs() {
   // Candidates: (R_i + R_j) * cdf + skin, as neigh_gran.cpp. A pair keeps its history across
   // the rebuild only if it was flagged as touching and is within the contact distance now.
-  struct Candidate {
-    std::int32_t i, j;
-    bool touching;
-  };
   std::vector<Candidate> found;
   const double cdf = p_.contact_distance_factor;
   const double* x = x_.data();
@@ -199,10 +273,6 @@ void System::build_pairs() {
   }
   std::sort(old_order.begin(), old_order.end(),
             [&](std::size_t a, std::size_t b) { return old.i[a] != old.i[b] ? old.i[a] < old.i[b] : old.j[a] < old.j[b]; });
-  struct Kept {
-    bool touching;
-    double shear[3], roll[3];
-  };
   // (None at the first build: nothing to keep.)
   std::vector<Kept> kept(old_order.empty() ? 0 : found.size(), Kept{false, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}});
   for (std::size_t c = 0, o = 0; c < found.size() && !old_order.empty(); ++c) {
@@ -236,36 +306,22 @@ void System::build_pairs() {
         }
       },
       1);
-  auto& pairs = *pairs_;
-  pairs.clear();
-  pairs.reserve(found.size() + (tile_start.size() + 1) * detail::kPairBlock);
-  pairs.model = p_.contact;
-  const std::size_t tiles = (n_ + kTile - 1) / kTile;
-  tile_first_.assign(1, 0);
-  for (std::size_t c = 0; c < order.size(); ++c) {
-    const auto& f = found[order[c]];
-    while (tile_first_.size() <= tile(f.i)) tile_first_.push_back(pairs.count);  // the tile starts here
-    const auto i = static_cast<std::size_t>(f.i), j = static_cast<std::size_t>(f.j);
+  pairs_->clear();
+  pairs_->model = p_.contact;
+  const auto entry_start = fill_table(*pairs_, found, order, tile_start, kept, shares, [&](std::size_t i, std::size_t j) {
     const std::size_t type_pair = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
                                   static_cast<std::size_t>(type_[j] - 1);
-    pairs.add(f.i, f.j, radius_[i], radius_[j], mass_[i], mass_[j], type_constants_[type_pair], model_constants_[type_pair]);
-    if (!kept.empty() && kept[order[c]].touching) {
-      const auto& k = kept[order[c]];
-      const std::size_t p = pairs.count - 1;
-      pairs.touching[p] = 1;
-      pairs.shear_x[p] = k.shear[0];
-      pairs.shear_y[p] = k.shear[1];
-      pairs.shear_z[p] = k.shear[2];
-      pairs.roll_x[p] = k.roll[0];
-      pairs.roll_y[p] = k.roll[1];
-      pairs.roll_z[p] = k.roll[2];
-    }
-    const bool last = c + 1 == order.size();
-    const auto* next = last ? nullptr : &found[order[c + 1]];
-    if (last || tile(next->i) != tile(f.i)) pairs.pad_to(detail::kPairBlock);
+    return detail::PairTable::describe(p_.contact, radius_[i], radius_[j], mass_[i], mass_[j], type_constants_[type_pair],
+                                       model_constants_[type_pair]);
+  });
+  // Where each tile's pairs start (a tile without pairs where the next one's do).
+  tile_first_.assign(1, 0);
+  for (std::size_t g = 0; g + 1 < tile_start.size(); ++g) {
+    while (tile_first_.size() <= tile(found[tile_start[g]].i)) tile_first_.push_back(entry_start[g]);
   }
-  while (tile_first_.size() <= tiles) tile_first_.push_back(pairs.count);
-  pairs.finish();
+  while (tile_first_.size() <= (n_ + kTile - 1) / kTile) tile_first_.push_back(pairs_->count);
+  auto& pairs = *pairs_;
+  pairs.finish(shares);
   // Each particle's contributions in LIGGGHTS's pair order: by the other particle's index
   // (counted, placed, then each particle's sorted).
   const std::size_t side_j = pairs.padded();
