@@ -10,3 +10,39 @@ if [ -n "${repeats:-}" ] && ! [ "$repeats" -ge 3 ] 2>/dev/null; then
   echo "$(basename "$0"): REPEATS is $repeats; give at least 3 (medians of fewer runs are not reported)" >&2
   exit 2
 fi
+# LIGGGHTS itself on a case directory (for a deck or data file granstack would refuse to run as
+# edited): liggghts_directly DIR RANKS X Y Z runs it on an X x Y x Z grid into DIR/log.direct and
+# prints "LOOP_SECONDS WALL_SECONDS BUSIEST_OVER_MEAN GHOSTS_PER_OWNED" from its log.
+liggghts_directly() {
+  local dir=$1 ranks=$2 t0 t1 mpi=(mpirun -np "$2")
+  [ "$(id -u)" = 0 ] && mpi+=(--allow-run-as-root)
+  [ "$ranks" -gt "$(nproc)" ] && mpi+=(--oversubscribe)
+  t0=$(date +%s.%N)
+  (cd "$dir" && "${mpi[@]}" liggghts -in in.stack -log log.direct -var gs_ranks_x "$3" -var gs_ranks_y "$4" \
+    -var gs_ranks_z "$5" >/dev/null)
+  t1=$(date +%s.%N)
+  awk -v wall="$(awk "BEGIN{print $t1 - $t0}")" '
+    /^Loop time of/ {loop += $4}
+    /^Nlocal:/ {own = $2; own_max = $4}
+    /^Nghost:/ {ghost = $2}
+    END {printf "%s %s %s %s\n", loop, wall, own_max / own, ghost / own}' "$dir/log.direct"
+}
+# The data file's box as granstack wrote it before 2026-11-26: one top radius (the striker's, the
+# first atom's) beyond the lattice's faces in x and y, computed as it was (half_width + r1, whose
+# last bit decides on which side of a split plane the centres lying on it fall).
+# widen_box_as_before DATA_FILE
+widen_box_as_before() {
+  python3 - "$1" <<'PY'
+import sys
+path = sys.argv[1]
+lines = open(path).read().split("\n")
+x = next(i for i, l in enumerate(lines) if l.endswith(" xlo xhi"))
+y = x + 1
+half = float(lines[x].split()[1])
+first = next(l for l in lines[lines.index("Atoms") + 1:] if l.strip())
+wide = half + float(first.split()[2]) / 2
+lines[x] = f"{-wide!r} {wide!r} xlo xhi"
+lines[y] = f"{-wide!r} {wide!r} ylo yhi"
+open(path, "w").write("\n".join(lines))
+PY
+}

@@ -2,6 +2,7 @@
 // the fix, nothing written or lost on bad input, and bad dump files on real LIGGGHTS output.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -151,6 +152,25 @@ TEST_F(Cli, AnExistingCaseIsKeptUnlessForced) {
   EXPECT_TRUE(fs::exists(path("case/notes.txt")));
   fs::remove(path("case/notes.txt"));
   EXPECT_EQ(granstack("generate -o " + path("case") + " --blocks 2 --force").code, 0);
+}
+
+// decompose says each grid's loads of a case and which one run --np takes; a --grid whose
+// product is not --np is refused before anything runs.
+TEST_F(Cli, DecomposeSaysTheGridsAndABadGridIsRefusedBeforeAnyRun) {
+  auto r = granstack("decompose " + dir_.string());
+  EXPECT_EQ(r.code, 4);
+  expect_contains(r, "is this a case directory");
+  ASSERT_EQ(granstack("generate -o " + path("nest") + " --geometry nested3d --blocks 2 --top-columns 4 --rows 4").code, 0);
+  r = granstack("decompose " + path("nest") + " --np 4 8 --grids 2");
+  EXPECT_EQ(r.code, 0) << r.output;
+  expect_contains(r, "<- run --np chooses");
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 7) << r.output;  // title, header, 2 x 2 grids, note
+  for (const auto* grid : {"2,2", "2,2,2", "0,4,1", "2x2x1x1", "a,b,c"}) {
+    r = granstack("run --np 4 --grid " + std::string(grid) + " " + path("nest"));
+    EXPECT_EQ(r.code, 2) << grid << ": " << r.output;
+    expect_contains(r, "whose product is --np (4)");
+  }
+  EXPECT_FALSE(fs::exists(path("nest") + "/run.json"));
 }
 
 TEST_F(Cli, ReduceAndRunRefuseWhatIsNotACaseOrNotRun) {
