@@ -46,3 +46,14 @@ lines[y] = f"{-wide!r} {wide!r} ylo yhi"
 open(path, "w").write("\n".join(lines))
 PY
 }
+# generate_ends_only DIR ARGS...: `granstack generate -o DIR ARGS...` whose dump holds the run's
+# first and last frames only (generate refuses a dump cadence longer than the run, so the run's
+# own length, read from a first generation dumping every step, which no cadence rounds up).
+# Prints the second generation's lines.
+generate_ends_only() {
+  local dir=$1 steps
+  shift
+  "$gs" generate -o "$dir" --force "$@" --dump-every 1 --large >/dev/null
+  steps=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['derived']['steps'])" "$dir/manifest.json")
+  "$gs" generate -o "$dir" --force "$@" --dump-every "$steps"
+}

@@ -10,8 +10,8 @@
 set -euo pipefail
 repeats=${1:-3}
 source "$(dirname "$0")/common.sh"
-nest=(--geometry nested3d --top-columns 4 --dump-every 1000000000 --series-every 1000000000)
-"$gs" generate -o "$work/case" "${nest[@]}" --blocks 6 --duration 2e-5 >/dev/null
+nest=(--geometry nested3d --top-columns 4 --series-every 1000000000)
+generate_ends_only "$work/case" "${nest[@]}" --blocks 6 --duration 2e-5 >/dev/null
 for run in l1 l2 r1 r2; do cp -r "$work/case" "$work/$run"; done
 rate() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['particle_steps_per_second'])" "$1/run.json"; }
 declare -A rates

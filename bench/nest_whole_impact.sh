@@ -10,8 +10,8 @@
 set -euo pipefail
 repeats=${1:-3}
 source "$(dirname "$0")/common.sh"
-nest=(--geometry nested3d --blocks 5 --top-columns 8 --rows 5 --dump-every 1000000000 --series-every 1000)
-"$gs" generate -o "$work/case" "${nest[@]}" | head -1
+nest=(--geometry nested3d --blocks 5 --top-columns 8 --rows 5 --series-every 1000)
+generate_ends_only "$work/case" "${nest[@]}" | head -1
 for run in l1 l2 r1 r2; do cp -r "$work/case" "$work/$run"; done
 loop() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['loop_seconds'])" "$1/run.json"; }
 declare -A loops

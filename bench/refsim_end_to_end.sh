@@ -13,14 +13,14 @@
 set -euo pipefail
 repeats=${1:-5}
 source "$(dirname "$0")/common.sh"
-off=(--dump-every 1000000000 --series-every 1000000000)
+off=(--series-every 1000000000)
 declare -A args=([quick]="" [wide]="--top-columns 8" [damped]="--top-columns 8 --restitution 0.9 --friction 0.25")
 cases=(quick wide damped)
 for c in "${cases[@]}"; do
   # shellcheck disable=SC2086
   "$gs" generate -o "$work/$c" ${args[$c]} >/dev/null
   # shellcheck disable=SC2086
-  "$gs" generate -o "$work/${c}_off" ${args[$c]} "${off[@]}" >/dev/null
+  generate_ends_only "$work/${c}_off" ${args[$c]} "${off[@]}" >/dev/null
 done
 best=$("$gs" run --help | sed -n 's/.*or one of this CPU.s: \([a-z0-9]*\).*/\1/p')
 engines=(liggghts best onecpu)

@@ -17,10 +17,10 @@
 set -euo pipefail
 repeats=${1:-7}
 source "$(dirname "$0")/common.sh"
-stack=(--blocks 4 --top-columns 8 --dump-every 1000000000 --series-every 1000000000)
-"$gs" generate -o "$work/case" "${stack[@]}" --duration 2e-4 >/dev/null
-"$gs" generate -o "$work/whole" "${stack[@]}" >/dev/null
-"$gs" generate -o "$work/damped" "${stack[@]}" --duration 2e-4 --restitution 0.9 --friction 0.25 >/dev/null
+stack=(--blocks 4 --top-columns 8 --series-every 1000000000)
+generate_ends_only "$work/case" "${stack[@]}" --duration 2e-4 >/dev/null
+generate_ends_only "$work/whole" "${stack[@]}" >/dev/null
+generate_ends_only "$work/damped" "${stack[@]}" --duration 2e-4 --restitution 0.9 --friction 0.25 >/dev/null
 for run in liggghts liggghts2 refsim refsim2 reference; do cp -r "$work/case" "$work/$run"; done
 for run in liggghts refsim; do cp -r "$work/whole" "$work/whole_$run"; done
 for run in liggghts refsim; do cp -r "$work/damped" "$work/damped_$run"; done

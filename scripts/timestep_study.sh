@@ -17,7 +17,11 @@ for e in 1 0.9; do
       if [ "$factor" = study ]; then dt=1e-9; else dt=$(python3 -c "print($auto_dt*$factor)"); fi
       dir="$out/e${e}_nb${nb}_dt${factor}"
       # The duration of the automatic rule, so only dt changes.
-      "$gs" generate -o "$dir" --blocks "$nb" --restitution "$e" --dt "$dt" --dump-every 1000000000 --force >/dev/null
+      # The dump at the run's first and last steps only (generate refuses a longer cadence; a
+      # first generation dumping every step gives the run's length, which no cadence rounds up).
+      "$gs" generate -o "$dir" --blocks "$nb" --restitution "$e" --dt "$dt" --dump-every 1 --large --force >/dev/null
+      steps=$(python3 -c "import json,sys;print(json.load(open(sys.argv[1]))['derived']['steps'])" "$dir/manifest.json")
+      "$gs" generate -o "$dir" --blocks "$nb" --restitution "$e" --dt "$dt" --dump-every "$steps" --force >/dev/null
       "$gs" run "$dir" >/dev/null
       "$gs" reduce --json "$dir" | python3 -c "import json,sys
 r=json.loads(sys.stdin.read()); m=json.load(open('$dir/manifest.json'))['derived']
