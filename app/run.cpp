@@ -136,6 +136,9 @@ int run(const RunFlags& f) {
   o.force = f.force;
   o.liggghts = f.liggghts;
   o.engine = runner::parse_engine(f.engine);
+  if (o.engine == runner::Engine::refsim && !f.grid.empty()) {
+    fmt::print(stderr, "note: --grid is LIGGGHTS's MPI processor grid; refsim runs in this process and ignores it\n");
+  }
   if (o.engine == runner::Engine::refsim && f.ranks > 1) {
     fmt::print(stderr, "note: refsim runs in this process and does not use MPI ranks (--np); use --threads {}\n", f.ranks);
   }
