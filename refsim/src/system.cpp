@@ -240,6 +240,82 @@ std::vector<std::size_t> fill_table(detail::PairTable& pairs, const std::vector<
   return entry_start;
 }
 
+// The history each candidate keeps from the table before the rebuild: a pair keeps it only if it
+// was flagged as touching and is within the contact distance now (none at the first build).
+std::vector<Kept> kept_history(const detail::PairTable& old, const std::vector<Candidate>& found) {
+  std::vector<std::size_t> old_order;
+  for (std::size_t q = 0; q < old.count; ++q) {
+    if (old.record[q] != 0) old_order.push_back(q);  // padding has record 0
+  }
+  if (old_order.empty()) return {};
+  std::sort(old_order.begin(), old_order.end(),
+            [&](std::size_t a, std::size_t b) { return old.i[a] != old.i[b] ? old.i[a] < old.i[b] : old.j[a] < old.j[b]; });
+  std::vector<Kept> kept(found.size(), Kept{false, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}});
+  for (std::size_t c = 0, o = 0; c < found.size(); ++c) {
+    const auto& f = found[c];
+    while (o < old_order.size() && (old.i[old_order[o]] < f.i || (old.i[old_order[o]] == f.i && old.j[old_order[o]] < f.j))) ++o;
+    const std::size_t q = o < old_order.size() ? old_order[o] : 0;
+    if (o < old_order.size() && old.i[q] == f.i && old.j[q] == f.j && old.touching[q] && f.touching) {
+      kept[c] = {true, {old.shear_x[q], old.shear_y[q], old.shear_z[q]}, {old.roll_x[q], old.roll_y[q], old.roll_z[q]}};
+    }
+  }
+  return kept;
+}
+
+// The table's order of the candidates: by tile of i, then j - i, then i, so that a block's
+// particles lie in a window (tiles of tile_size particles). The candidates come in (i, j) order,
+// so each tile's are together (tile_start gets where each tile's group starts, and their end), and
+// each is sorted on its own.
+std::vector<std::size_t> table_order(const std::vector<Candidate>& found, std::size_t tile_size, const ForShares& shares,
+                                     std::vector<std::size_t>& tile_start) {
+  std::vector<std::size_t> order(found.size());
+  for (std::size_t c = 0; c < order.size(); ++c) order[c] = c;
+  const auto tile = [&](std::int32_t i) { return static_cast<std::size_t>(i) / tile_size; };
+  tile_start.clear();
+  for (std::size_t c = 0; c < found.size(); ++c) {
+    if (c == 0 || tile(found[c].i) != tile(found[c - 1].i)) tile_start.push_back(c);
+  }
+  tile_start.push_back(found.size());
+  shares(tile_start.size() - 1, [&](std::size_t first_tile, std::size_t end_tile) {
+    for (std::size_t t = first_tile; t < end_tile; ++t) {
+      std::sort(order.begin() + static_cast<std::ptrdiff_t>(tile_start[t]),
+                order.begin() + static_cast<std::ptrdiff_t>(tile_start[t + 1]), [&](std::size_t a, std::size_t b) {
+                  const auto &u = found[a], &v = found[b];
+                  return u.j - u.i != v.j - v.i ? u.j - u.i < v.j - v.i : u.i < v.i;
+                });
+    }
+  });
+  return order;
+}
+
+// Each particle's contributions in LIGGGHTS's pair order, by the other particle's index (counted,
+// placed, then each particle's sorted in the shares): particle k's are contributions[offsets[k]
+// .. offsets[k + 1]], j's entries at padded() + p.
+void list_contributions(const detail::PairTable& pairs, std::size_t n, const ForShares& shares,
+                        std::vector<std::size_t>& offsets, std::vector<std::pair<std::int32_t, std::uint32_t>>& contributions) {
+  const std::size_t side_j = pairs.padded();
+  offsets.assign(n + 1, 0);
+  for (std::size_t p = 0; p < pairs.count; ++p) {
+    if (pairs.record[p] == 0) continue;  // padding
+    ++offsets[static_cast<std::size_t>(pairs.i[p]) + 1];
+    ++offsets[static_cast<std::size_t>(pairs.j[p]) + 1];
+  }
+  for (std::size_t k = 0; k < n; ++k) offsets[k + 1] += offsets[k];
+  contributions.resize(offsets[n]);
+  std::vector<std::size_t> next(offsets.begin(), offsets.end() - 1);
+  for (std::size_t p = 0; p < pairs.count; ++p) {
+    if (pairs.record[p] == 0) continue;
+    contributions[next[static_cast<std::size_t>(pairs.i[p])]++] = {pairs.j[p], static_cast<std::uint32_t>(p)};
+    contributions[next[static_cast<std::size_t>(pairs.j[p])]++] = {pairs.i[p], static_cast<std::uint32_t>(side_j + p)};
+  }
+  shares(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      std::sort(contributions.begin() + static_cast<std::ptrdiff_t>(offsets[k]),
+                contributions.begin() + static_cast<std::ptrdiff_t>(offsets[k + 1]));
+    }
+  });
+}
+
 }  // namespace
 
 void System::build_pairs() {
@@ -264,48 +340,13 @@ void System::build_pairs() {
     const double radsum = (radius_[i] + radius_[j]) * cdf;
     found.push_back({a, b, rsq < radsum * radsum});
   }
-  // The history of the old pairs, merged in (i, j) order (the padding has record 0).
+  // The history of the old pairs, merged in (i, j) order.
   detail::PairTable old;
   std::swap(old, *pairs_);
-  std::vector<std::size_t> old_order;
-  for (std::size_t q = 0; q < old.count; ++q) {
-    if (old.record[q] != 0) old_order.push_back(q);
-  }
-  std::sort(old_order.begin(), old_order.end(),
-            [&](std::size_t a, std::size_t b) { return old.i[a] != old.i[b] ? old.i[a] < old.i[b] : old.j[a] < old.j[b]; });
-  // (None at the first build: nothing to keep.)
-  std::vector<Kept> kept(old_order.empty() ? 0 : found.size(), Kept{false, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}});
-  for (std::size_t c = 0, o = 0; c < found.size() && !old_order.empty(); ++c) {
-    const auto& f = found[c];
-    while (o < old_order.size() && (old.i[old_order[o]] < f.i || (old.i[old_order[o]] == f.i && old.j[old_order[o]] < f.j))) ++o;
-    const std::size_t q = o < old_order.size() ? old_order[o] : 0;
-    if (o < old_order.size() && old.i[q] == f.i && old.j[q] == f.j && old.touching[q] && f.touching) {
-      kept[c] = {true, {old.shear_x[q], old.shear_y[q], old.shear_z[q]}, {old.roll_x[q], old.roll_y[q], old.roll_z[q]}};
-    }
-  }
-  // Table order: by tile of i, then j - i, then i, so that a block's particles lie in a window;
-  // each tile padded to whole kernel blocks.
-  // The candidates come in (i, j) order, so each tile's are together: each sorted on its own.
-  std::vector<std::size_t> order(found.size());
-  for (std::size_t c = 0; c < order.size(); ++c) order[c] = c;
-  const auto tile = [](std::int32_t i) { return static_cast<std::size_t>(i) / kTile; };
+  const auto kept = kept_history(old, found);
   std::vector<std::size_t> tile_start;
-  for (std::size_t c = 0; c < found.size(); ++c) {
-    if (c == 0 || tile(found[c].i) != tile(found[c - 1].i)) tile_start.push_back(c);
-  }
-  tile_start.push_back(found.size());
-  for_shares(
-      tile_start.size() - 1,
-      [&](std::size_t first_tile, std::size_t end_tile) {
-        for (std::size_t t = first_tile; t < end_tile; ++t) {
-          std::sort(order.begin() + static_cast<std::ptrdiff_t>(tile_start[t]),
-                    order.begin() + static_cast<std::ptrdiff_t>(tile_start[t + 1]), [&](std::size_t a, std::size_t b) {
-                      const auto &u = found[a], &v = found[b];
-                      return u.j - u.i != v.j - v.i ? u.j - u.i < v.j - v.i : u.i < v.i;
-                    });
-        }
-      },
-      1);
+  const auto order = table_order(found, kTile, shares, tile_start);
+  const auto tile = [](std::int32_t i) { return static_cast<std::size_t>(i) / kTile; };
   pairs_->clear();
   pairs_->model = p_.contact;
   const auto entry_start = fill_table(*pairs_, found, order, tile_start, kept, shares, [&](std::size_t i, std::size_t j) {
@@ -322,39 +363,10 @@ void System::build_pairs() {
   while (tile_first_.size() <= (n_ + kTile - 1) / kTile) tile_first_.push_back(pairs_->count);
   auto& pairs = *pairs_;
   pairs.finish(shares);
-  // Each particle's contributions in LIGGGHTS's pair order: by the other particle's index
-  // (counted, placed, then each particle's sorted).
   const std::size_t side_j = pairs.padded();
-  contribution_offsets_.assign(n_ + 1, 0);
-  for (std::size_t p = 0; p < pairs.count; ++p) {
-    if (pairs.record[p] == 0) continue;  // padding
-    ++contribution_offsets_[static_cast<std::size_t>(pairs.i[p]) + 1];
-    ++contribution_offsets_[static_cast<std::size_t>(pairs.j[p]) + 1];
-  }
-  for (std::size_t k = 0; k < n_; ++k) contribution_offsets_[k + 1] += contribution_offsets_[k];
-  contributions_.resize(contribution_offsets_[n_]);
-  {
-    std::vector<std::size_t> next(contribution_offsets_.begin(), contribution_offsets_.end() - 1);
-    for (std::size_t p = 0; p < pairs.count; ++p) {
-      if (pairs.record[p] == 0) continue;
-      contributions_[next[static_cast<std::size_t>(pairs.i[p])]++] = {pairs.j[p], static_cast<std::uint32_t>(p)};
-      contributions_[next[static_cast<std::size_t>(pairs.j[p])]++] = {pairs.i[p], static_cast<std::uint32_t>(side_j + p)};
-    }
-  }
-  for_shares(
-      n_,
-      [&](std::size_t begin, std::size_t end) {
-        for (std::size_t k = begin; k < end; ++k) {
-          std::sort(contributions_.begin() + static_cast<std::ptrdiff_t>(contribution_offsets_[k]),
-                    contributions_.begin() + static_cast<std::ptrdiff_t>(contribution_offsets_[k + 1]));
-        }
-      },
-      1);
+  list_contributions(pairs, n_, shares, contribution_offsets_, contributions_);
   if (vector_) {
-    sum_plan_->build(contribution_offsets_, contributions_, side_j,
-                     [this](std::size_t count, const std::function<void(std::size_t, std::size_t)>& job) {
-                       for_shares(count, job, 1);
-                     });
+    sum_plan_->build(contribution_offsets_, contributions_, side_j, shares);
   }
   x_at_build_ = x_;
   ++builds_;
