@@ -8,7 +8,9 @@
 # Deterministic: counts, not times, so a 2-core machine measures them (ranks oversubscribed, 4
 # steps each). Also granstack's prediction beside its choice (they agree to the last digit
 # LIGGGHTS prints).
-# Usage: bench/decomposition.sh   (about three minutes on 2 cores)
+# With OUT set, also writes the rows to $OUT/decomposition.json (the docs' table is made from the
+# one kept in bench/results/ by scripts/doc_tables.py).
+# Usage: bench/decomposition.sh   (about four minutes on 2 cores)
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 few=(--dt 6.27e-8 --duration 2.508e-7 --dump-every 2 --series-every 2)
@@ -23,17 +25,26 @@ for n in 97921 991441; do
     side=$([ "$ranks" = 16 ] && echo 4 || echo 8)
     # granstack's choice, with its prediction beside LIGGGHTS's counts
     "$gs" run --force --np "$ranks" "$work/$n" >/dev/null 2>&1
-    python3 - "$work/$n/run.json" "$n" "$ranks" <<'PY'
+    python3 - "$work/$n/run.json" "$n" "$ranks" "$work/rows.jsonl" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))["decomposition"]
 l, p = d["liggghts"], d["predicted"]
 grid = "x".join(str(g) for g in l["grid"])
 print(f"{sys.argv[2]:8s} {sys.argv[3]:>5s} {'now':7s} {grid:8s} {l['busiest_over_mean']:16.3f} {l['ghosts_per_owned']:16.3f}"
       f"     ({p['busiest_over_mean']:.3f}, {p['ghosts_per_owned']:.3f})")
+row = {"spheres": int(sys.argv[2]), "ranks": int(sys.argv[3]), "deck": "now", "grid": l["grid"],
+       "busiest_over_mean": l["busiest_over_mean"], "ghosts_per_owned": l["ghosts_per_owned"],
+       "predicted": {"busiest_over_mean": p["busiest_over_mean"], "ghosts_per_owned": p["ghosts_per_owned"]}}
+open(sys.argv[4], "a").write(json.dumps(row) + "\n")
 PY
     # the deck as it was: granstack refuses an edited data file, so LIGGGHTS runs it directly,
     # on the grid it chose for `processors * * 1` (side x side x 1)
     read -r _ _ busiest ghosts < <(liggghts_directly "$work/$n-before" "$ranks" "$side" "$side" 1)
     printf '%-8s %5s %-7s %-8s %16.3f %16.3f\n' "$n" "$ranks" before "${side}x${side}x1" "$busiest" "$ghosts"
+    printf '{"spheres": %s, "ranks": %s, "deck": "before", "grid": [%s, %s, 1], "busiest_over_mean": %s, "ghosts_per_owned": %s}\n' \
+      "$n" "$ranks" "$side" "$side" "$busiest" "$ghosts" >>"$work/rows.jsonl"
   done
 done
+[ -n "${OUT:-}" ] && python3 -c "import json,sys; json.dump([json.loads(l) for l in open(sys.argv[1])], open(sys.argv[2], 'w'), indent=1)" \
+  "$work/rows.jsonl" "$OUT/decomposition.json"
+exit 0

@@ -4,7 +4,9 @@
 cases that make it (LIGGGHTS, as the docs say) and writes it (--write) or checks that the docs
 hold exactly what the run gives (--check, the test docs.tables). With --reproduce it also runs
 `granstack reproduce` (every experiment, about a minute on 2 cores, which the test leaves out) for
-the reproduction tutorial's summary.
+the reproduction tutorial's summary. The big-nest tables are made from the records their
+benchmarks wrote into bench/results/ (RECORDS): the 16-core timings cannot be run again here,
+and the decomposition counts take minutes (bench/decomposition.sh with OUT set makes them anew).
 
 usage: doc_tables.py --write|--check [--reproduce] GRANSTACK WORKDIR
 """
@@ -21,6 +23,13 @@ PLACES = {
     "decay": ["docs/tutorials/decay.md"],
     "objectives": ["docs/how-to/design.md"],
 }
+# Made from the benchmarks' records (bench/results/): the runs behind them are named there.
+RECORDS = {
+    "mpi_scaling": "bench/results/mpi-scaling-2026-11-26.json",         # bench/mpi_scaling.sh 3, 16 cores
+    "refsim_scaling": "bench/results/mpi-scaling-refsim-2026-11-26.json",  # ONLY=refsim bench/mpi_scaling.sh 5
+    "decomposition": "bench/results/decomposition-2026-11-26.json",     # OUT=... bench/decomposition.sh
+}
+RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"]}
 # Made only with --reproduce.
 REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"]}
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
@@ -58,6 +67,33 @@ def tables(exe, work):
     # The design objectives: the program's own table (design/objectives.hpp), as it prints it.
     objectives = granstack(exe, "design", "objectives")
     return {"depth": "\n".join(rows) + "\n", "decay": decay, "objectives": objectives}
+
+
+def record(name):
+    return json.loads((ROOT / RECORDS[name]).read_text())
+
+
+def nest_counts():
+    """LIGGGHTS's own counts per rank, the deck before and now (bench/decomposition.sh)."""
+    rows = ["| spheres | ranks | deck | grid | busiest / mean | ghosts / owned |", "|---|---|---|---|---|---|"]
+    order = {"before": 0, "now": 1}
+    for r in sorted(record("decomposition"), key=lambda r: (r["spheres"], r["ranks"], order[r["deck"]])):
+        grid = " x ".join(str(g) for g in r["grid"])
+        rows.append(f"| {r['spheres']:,} | {r['ranks']} | {r['deck']} | {grid} | {r['busiest_over_mean']:.3f} | "
+                    f"{r['ghosts_per_owned']:.3f} |")
+    return "\n".join(rows) + "\n"
+
+
+def nest_speed():
+    """Loop and wall seconds on 16 cores, medians (bench/mpi_scaling.sh; refsim from its own run)."""
+    runs = {**{k: v for k, v in record("mpi_scaling").items() if k.startswith("l")}, **record("refsim_scaling")}
+    rows = ["| run | loop | speed-up | efficiency | wall (run.json) | speed-up | last frame against 1 rank or thread |",
+            "|---|---|---|---|---|---|---|"]
+    for r in runs.values():
+        efficiency = "" if r["units"] == 1 else f"{100 * r['efficiency']:.0f} %"
+        rows.append(f"| {r['label']} | {r['loop_seconds']:.3g} s | {r['loop_speedup']:.2f} | {efficiency} | "
+                    f"{r['wall_seconds']:.3g} s | {r['wall_speedup']:.2f} | {r['last_frame_vs_liggghts_1']:.1e} |")
+    return "\n".join(rows) + "\n"
 
 
 def number(v):
@@ -101,7 +137,8 @@ def main():
     mode, exe, work = args[0], args[1], pathlib.Path(args[2])
     work.mkdir(parents=True, exist_ok=True)
     made = tables(exe, work)
-    places = dict(PLACES)
+    made.update(nest_counts=nest_counts(), nest_speed=nest_speed())
+    places = {**PLACES, **RECORD_PLACES}
     if "--reproduce" in sys.argv[1:]:
         made["reproduce"] = reproduce_table(exe, work)
         places.update(REPRODUCE_PLACES)
