@@ -33,6 +33,8 @@ struct DesignFlags {
   bool slurm = false;
   design::SlurmBatchOptions batch;
   int generations = -1;
+  long max_designs = 0;
+  double time_limit = 0.0;
   int top = 3;
   bool no_report = false;
   std::string liggghts;  // confirm: the LIGGGHTS executable ("" for the one on PATH)
@@ -50,17 +52,38 @@ void require_design_dir(const fs::path& dir) {
 
 int print_status(const fs::path& dir) {
   const auto store = design::Store::open_existing((dir / kStoreName).string());
-  const auto space = design::parse_space(*store.meta("space"), (dir / kSpaceName).string(), true);
+  const auto space = design::stored_space(store, (dir / kSpaceName).string());
   fmt::print("{}", design::status_text(space, store));
   return kOk;
+}
+
+// Why a search ended, in words.
+std::string ended_because(const std::string& why, const design::Space& space) {
+  if (why == "max_designs") return fmt::format("its budget of {} designs is spent", *space.search.max_designs);
+  if (why == "time limit") return "its time limit has passed";
+  if (why == "stagnation") {
+    return fmt::format("it stagnated (the hypervolume gained no more than {:g} of itself over {} generations)",
+                       space.search.stagnation_tolerance, space.search.stagnation);
+  }
+  if (why == "exhausted") {
+    return fmt::format("the space is exhausted (no new design within its constraints in {} draws)", design::kDrawsPerDesign);
+  }
+  return fmt::format("generation {} reached", space.search.generations);
 }
 
 int run_design(const DesignFlags& f) {
   const auto text = formats::read_file(f.space_file);
   auto space = design::parse_space(text, f.space_file);
   if (f.generations >= 0) space.search.generations = f.generations;
+  if (f.max_designs > 0) space.search.max_designs = f.max_designs;
   const fs::path dir(f.dir);
   require_design_dir(dir);
+  if (fs::exists(dir / kStoreName)) design::adopt_schedule(space, design::Store::open_existing((dir / kStoreName).string()));
+  if (f.slurm && space.search.schedule == design::Schedule::asynchronous) {
+    fmt::print(stderr, "error: --slurm runs a search a generation at a time, as job arrays; {} asks for an asynchronous "
+                       "one: set [search] evaluation = \"generational\" (a new search), or leave out --slurm\n", f.space_file);
+    return kBadInput;
+  }
   fs::create_directories(dir);
   const os::CaseLock lock(dir, "granstack design run");
   auto store = design::Store::open((dir / kStoreName).string(), space.digest(), text);
@@ -81,9 +104,10 @@ int run_design(const DesignFlags& f) {
     o.runner = slurm.get();
   }
   o.on_progress = [&](int gen, int done, int total) { line.count(fmt::format("generation {}: designs", gen), done, total); };
-  o.on_generation = [&](const design::Generation& g) {
+  o.time_limit = f.time_limit;
+  o.on_generation = [&](const design::Generation& g) {  // a line each, on a terminal or in a log
     line.clear();
-    if (line.active()) fmt::print(stderr, "generation {}: {} new designs run, hypervolume {:.6g}\n", g.index, g.evaluations, g.hypervolume);
+    fmt::print(stderr, "generation {}: {} new designs, hypervolume {:.6g}\n", g.index, g.evaluations, g.hypervolume);
   };
   design::SearchResult r;
   try {
@@ -96,8 +120,9 @@ int run_design(const DesignFlags& f) {
     return kCaseFailed;  // the caller's exit code says the signal (130, 143)
   }
   design::evaluate_study_designs(space, store);
-  fmt::print("{}: generation {} reached ({} refsim runs this time; the store holds {} designs)\n", dir.string(),
-             space.search.generations, r.runs, store.evaluations().size());
+  const auto gens = store.generations();
+  fmt::print("{}: {}; generation {} done ({} designs run this time; the search has run {} distinct designs)\n", dir.string(),
+             ended_because(r.ended, space), gens.empty() ? -1 : gens.back().index, r.runs, store.evaluations().size());
   if (!f.no_report) fmt::print("report: {}\n", design::write_report(space, store, dir / "report").string());
   return kOk;
 }
@@ -105,7 +130,7 @@ int run_design(const DesignFlags& f) {
 int report(const DesignFlags& f) {
   const fs::path dir(f.dir);
   auto store = design::Store::open_existing((dir / kStoreName).string());
-  const auto space = design::parse_space(*store.meta("space"), (dir / kSpaceName).string(), true);
+  const auto space = design::stored_space(store, (dir / kSpaceName).string());
   fmt::print("report: {}\n", design::write_report(space, store, dir / "report").string());
   return kOk;
 }
@@ -113,8 +138,9 @@ int report(const DesignFlags& f) {
 int confirm(const DesignFlags& f) {
   const fs::path dir(f.dir);
   const os::CaseLock lock(dir, "granstack design confirm");
-  const auto text = design::Store::open_existing((dir / kStoreName).string()).meta("space");
-  auto space = design::parse_space(*text, (dir / kSpaceName).string(), true);
+  const auto existing = design::Store::open_existing((dir / kStoreName).string());
+  const auto text = existing.meta("space");
+  auto space = design::stored_space(existing, (dir / kSpaceName).string());
   auto store = design::Store::open((dir / kStoreName).string(), space.digest(), *text);
   if (!f.geometry.empty()) space.confirm_variant.geometry = model::Geometry::nested3d;  // CLI's check: nested3d only
   if (!f.sides.empty()) space.confirm_variant.sides = *model::parse_boundary(f.sides);
@@ -172,7 +198,7 @@ int print_objectives() {
 
 Command add_design(CLI::App& app) {
   auto f = std::make_shared<DesignFlags>();
-  auto* cmd = app.add_subcommand("design", "Search a space of nested stacks for the least transmitted impact (NSGA-II on refsim)");
+  auto* cmd = app.add_subcommand("design", "Search a space of nested stacks for the least transmitted impact (NSGA-II on refsim, asynchronous or generational)");
   cmd->require_subcommand(1);
   auto* run = cmd->add_subcommand("run", "Run (or resume) the search of a design space; writes the store and the report");
   run->add_option("space", f->space_file, "Design space file (TOML: [fixed], [vary], [constraints], objectives, [search])")
@@ -183,6 +209,10 @@ Command add_design(CLI::App& app) {
   run->add_option("-j,--jobs", f->jobs, "Designs run at once (refsim, one thread each)")->check(CLI::Range(1, 1024));
   run->add_option("--generations", f->generations, "Generations to reach (overrides [search] generations; more resumes further)")
       ->check(CLI::Range(0, design::kMaxGenerations));
+  run->add_option("--max-designs", f->max_designs, "End once the search has run this many distinct designs (overrides [search] max_designs)")
+      ->check(CLI::Range(1L, 100'000'000L));
+  run->add_option("--time-limit", f->time_limit, "Start no design after this many seconds; those running finish (resume goes on)")
+      ->check(CLI::Range(1.0, 1e9));
   run->add_flag("--no-report", f->no_report, "Do not write the report");
   run->add_flag("--slurm", f->slurm, "Run each generation's designs as SLURM job arrays (granstack submit's) and wait for them");
   auto& b = f->batch;

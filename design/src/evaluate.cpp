@@ -1,3 +1,4 @@
+#include <granstack/design/convergence.hpp>
 #include <granstack/design/search.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/refsim/case_run.hpp>
@@ -263,14 +264,14 @@ std::vector<Evaluation> Evaluator::evaluate(const std::vector<model::StackSpec>&
   return out;
 }
 
-std::vector<double> Evaluator::fitness(const Evaluation& e) const {
+std::vector<double> fitness(const Space& space, const Evaluation& e, const Normalisation* normalisation) {
   if (!e.feasible) {
     // The further outside the constraints, the worse: the search is led back into them.
-    const double penalty = kInfeasible * (1.0 + measure(space_, e.spec).violation);
-    return std::vector<double>(space_.objectives.size(), penalty);
+    const double penalty = kInfeasible * (1.0 + measure(space, e.spec).violation);
+    return std::vector<double>(space.objectives.size(), penalty);
   }
   std::vector<double> f;
-  for (const auto o : space_.objectives) {
+  for (const auto o : space.objectives) {
     const auto v = objective_value(e, o);
     if (!v || !std::isfinite(*v)) {
       throw std::runtime_error(fmt::format("design {} ({}): no finite {} was measured", e.digest.substr(0, 12),
@@ -278,7 +279,9 @@ std::vector<double> Evaluator::fitness(const Evaluation& e) const {
     }
     f.push_back(*v);
   }
-  return f;
+  return normalisation != nullptr ? normalisation->point(f) : f;
 }
+
+std::vector<double> Evaluator::fitness(const Evaluation& e) const { return design::fitness(space_, e); }
 
 }  // namespace granstack::design

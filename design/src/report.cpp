@@ -513,18 +513,6 @@ std::string spec_toml(const model::StackSpec& spec) {
   return os.str();
 }
 
-void evaluate_study_designs(const Space& space, Store& store) {
-  for (const auto& [name, spec] : study_designs(space)) {
-    const auto digest = spec_digest(spec);
-    if (!store.find(digest)) {
-      auto e = evaluate_design(space, spec, true);
-      e.searched = false;
-      store.put(e);
-    }
-    store.put_study_design(name, digest);
-  }
-}
-
 std::string status_text(const Space& space, const Store& store) {
   const auto all = store.evaluations();
   const auto gens = store.generations();

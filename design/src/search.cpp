@@ -1,3 +1,4 @@
+#include <granstack/design/convergence.hpp>
 #include <granstack/design/search.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/refsim/in_situ.hpp>
@@ -14,6 +15,8 @@
 
 #include <algorithm>
 #include <memory>
+#include <set>
+#include <thread>
 
 namespace granstack::design {
 
@@ -65,10 +68,10 @@ unsigned generation_seed(std::uint64_t seed, int generation) {
   return static_cast<unsigned>((seed * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(generation) * 0xBF58476D1CE4E5B9ULL) >> 32);
 }
 
+// The raw hypervolume's reference point of a store from before the normalised box: 1.1 times the
+// worst feasible value of its first generation in each objective.
 std::vector<double> reference_point(const Space& space, Store& store, const std::vector<Evaluation>& first) {
   if (const auto saved = store.meta("reference_point")) return nlohmann::json::parse(*saved).get<std::vector<double>>();
-  // 1.1 times the worst feasible value of the first generation in each objective, fixed from then
-  // on, so that every generation's hypervolume is measured against the same point.
   std::vector<double> ref(space.objectives.size(), 0.0);
   bool any = false;
   for (const auto& e : first) {
@@ -81,6 +84,9 @@ std::vector<double> reference_point(const Space& space, Store& store, const std:
   return ref;
 }
 
+// A generation of the generational search, stored: its population, and the hypervolume of every
+// design run so far (in the normalised box; a store from before it keeps its raw one of the
+// generation's own designs).
 Generation record(const Space& space, Store& store, const pagmo::population& pop, int index, int runs) {
   Generation g;
   g.index = index;
@@ -92,9 +98,74 @@ Generation record(const Space& space, Store& store, const pagmo::population& pop
     g.digests.push_back(spec_digest(spec));
     if (auto e = store.find(g.digests.back())) members.push_back(std::move(*e));
   }
-  g.hypervolume = hypervolume(space, members, reference_point(space, store, members));
+  const auto n = stored_normalisation(store);
+  g.hypervolume = n ? normalised_hypervolume(space, *n, store.evaluations())
+                    : hypervolume(space, members, reference_point(space, store, members));
   store.put_generation(g);
   return g;
+}
+
+SearchResult run_generational(const Space& space, Store& store, const SearchOptions& options) {
+  const auto local = options.runner ? nullptr : local_runner(options.jobs);
+  Evaluator evaluator(space, store, options.runner ? *options.runner : *local);
+  auto context = std::make_shared<Context>(Context{&space, &evaluator, 0, &options});
+  pagmo::problem problem{DesignProblem{context}};
+  const pagmo::bfe batch{pagmo::member_bfe{}};
+  SearchResult result;
+  pagmo::population pop;
+  const auto last = store.last_generation();
+  if (last) {
+    // Resume: the last finished generation's population, its fitness from the store.
+    pop = pagmo::population(problem, 0u, generation_seed(space.search.seed, last->index));
+    for (const auto& x : last->population) pop.push_back(x, problem.fitness(x));
+    result.first_generation = last->index + 1;
+  } else {
+    const auto size = static_cast<pagmo::population::size_type>(space.search.population);
+    pop = pagmo::population(problem, batch, size, generation_seed(space.search.seed, 0));
+    const auto g = record(space, store, pop, 0, evaluator.runs());
+    if (options.on_generation) options.on_generation(g);
+    result.first_generation = 1;
+  }
+  for (int gen = result.first_generation; gen <= space.search.generations; ++gen) {
+    if (os::interrupt_signal() != 0) throw refsim::InSituStopped("stopped by a signal between generations");
+    context->generation = gen;
+    const int before = evaluator.runs();
+    pagmo::nsga2 algorithm(1u, 0.95, 10., 1.0 / static_cast<double>(space.genes()), 50., generation_seed(space.search.seed, gen));
+    algorithm.set_bfe(batch);
+    pop = algorithm.evolve(pop);
+    const auto g = record(space, store, pop, gen, evaluator.runs() - before);
+    if (options.on_generation) options.on_generation(g);
+    result.last_generation = gen;
+  }
+  result.runs = evaluator.runs();
+  result.ended = "generations";
+  return result;
+}
+
+// Before the first design: the study's designs run, and the normalised box fixed from them and
+// the space (a store from before the box keeps its raw hypervolume). An asynchronous search then
+// starts from the study's designs that are designs of the space (warm start).
+int prepare(const Space& space, Store& store) {
+  if (stored_normalisation(store) || (space.search.schedule == Schedule::generational && store.last_generation())) return 0;
+  std::set<std::string> to_run;  // the probes not stored yet
+  for (const auto& [name, spec] : study_designs(space)) to_run.insert(spec_digest(spec));
+  for (const auto& spec : {space.extreme_designs().first, space.extreme_designs().second}) {
+    if (measure(space, spec).violations.empty()) to_run.insert(spec_digest(spec));
+  }
+  std::erase_if(to_run, [&](const std::string& d) { return store.find(d).has_value(); });
+  evaluate_study_designs(space, store);
+  std::vector<Evaluation> probes;
+  for (auto& [name, e] : store.study_designs()) probes.push_back(std::move(e));
+  for (auto& e : evaluate_extreme_designs(space, store)) probes.push_back(std::move(e));
+  store_normalisation(store, fix_normalisation(space, probes));
+  const int ran = static_cast<int>(to_run.size());
+  if (space.search.schedule != Schedule::asynchronous || !store.evaluations().empty()) return ran;
+  for (auto& e : probes) {
+    if (!e.feasible || !space.encode(e.spec) || e.searched) continue;
+    e.searched = true;
+    store.put(e);
+  }
+  return ran;
 }
 
 }  // namespace
@@ -146,40 +217,91 @@ std::vector<std::pair<std::string, model::StackSpec>> study_designs(const Space&
           {"the sandwich (steel / Teflon / steel)", design({"steel", "teflon", "steel"})}};
 }
 
+namespace {
+// Each design on a thread of its own, those the store lacks; their evaluations, in their order
+// (nullopt: already stored).
+std::vector<std::optional<Evaluation>> evaluate_at_once(const Space& space, const Store& store,
+                                                        const std::vector<model::StackSpec>& designs) {
+  std::vector<std::optional<Evaluation>> done(designs.size());
+  std::vector<std::exception_ptr> errors(designs.size());
+  std::vector<std::thread> threads;
+  for (std::size_t k = 0; k < designs.size(); ++k) {
+    if (store.find(spec_digest(designs[k]))) continue;
+    threads.emplace_back([&, k] {
+      try {
+        done[k] = evaluate_design(space, designs[k], true);
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+    });
+  }
+  for (auto& t : threads) t.join();
+  for (const auto& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+  return done;
+}
+}  // namespace
+
+std::vector<Evaluation> evaluate_extreme_designs(const Space& space, Store& store) {
+  const auto [light, heavy] = space.extreme_designs();
+  std::vector<model::StackSpec> designs;
+  for (const auto& d : {light, heavy}) {
+    if (measure(space, d).violations.empty()) designs.push_back(d);
+  }
+  auto done = evaluate_at_once(space, store, designs);
+  std::vector<Evaluation> out;
+  for (std::size_t k = 0; k < designs.size(); ++k) {
+    if (done[k]) {
+      done[k]->searched = false;
+      store.put(*done[k]);
+    }
+    out.push_back(*store.find(spec_digest(designs[k])));
+  }
+  return out;
+}
+
+void evaluate_study_designs(const Space& space, Store& store) {
+  const auto designs = study_designs(space);
+  std::vector<model::StackSpec> specs;
+  for (const auto& d : designs) specs.push_back(d.second);
+  auto done = evaluate_at_once(space, store, specs);
+  for (std::size_t k = 0; k < designs.size(); ++k) {
+    if (done[k]) {
+      done[k]->searched = false;
+      store.put(*done[k]);
+    }
+    store.put_study_design(designs[k].first, spec_digest(designs[k].second));
+  }
+}
+
+void adopt_schedule(Space& space, const Store& store) {
+  if (space.search.schedule_given || !store.meta("space_digest")) return;
+  const auto named = store.meta("schedule");
+  space.search.schedule = named && *named == to_string(Schedule::asynchronous) ? Schedule::asynchronous : Schedule::generational;
+}
+
+Space stored_space(const Store& store, const std::string& source) {
+  auto space = parse_space(*store.meta("space"), source, true);
+  adopt_schedule(space, store);
+  return space;
+}
+
 SearchResult run_search(const Space& space, Store& store, const SearchOptions& options) {
-  const auto local = options.runner ? nullptr : local_runner(options.jobs);
-  Evaluator evaluator(space, store, options.runner ? *options.runner : *local);
-  auto context = std::make_shared<Context>(Context{&space, &evaluator, 0, &options});
-  pagmo::problem problem{DesignProblem{context}};
-  const pagmo::bfe batch{pagmo::member_bfe{}};
-  SearchResult result;
-  pagmo::population pop;
-  const auto last = store.last_generation();
-  if (last) {
-    // Resume: the last finished generation's population, its fitness from the store.
-    pop = pagmo::population(problem, 0u, generation_seed(space.search.seed, last->index));
-    for (const auto& x : last->population) pop.push_back(x, problem.fitness(x));
-    result.first_generation = last->index + 1;
-  } else {
-    const auto size = static_cast<pagmo::population::size_type>(space.search.population);
-    pop = pagmo::population(problem, batch, size, generation_seed(space.search.seed, 0));
-    const auto g = record(space, store, pop, 0, evaluator.runs());
-    if (options.on_generation) options.on_generation(g);
-    result.first_generation = 1;
+  if (!store.meta("schedule")) store.set_meta("schedule", std::string(to_string(space.search.schedule)));
+  const int probes = prepare(space, store);
+  if (space.search.schedule == Schedule::asynchronous) {
+    if (options.runner != nullptr) {
+      throw std::invalid_argument("an asynchronous search runs on this machine's threads; SLURM batches need [search] "
+                                  "evaluation = \"generational\"");
+    }
+    auto r = run_asynchronous(space, store, options);
+    r.runs += probes;
+    return r;
   }
-  for (int gen = result.first_generation; gen <= space.search.generations; ++gen) {
-    if (os::interrupt_signal() != 0) throw refsim::InSituStopped("stopped by a signal between generations");
-    context->generation = gen;
-    const int before = evaluator.runs();
-    pagmo::nsga2 algorithm(1u, 0.95, 10., 1.0 / static_cast<double>(space.genes()), 50., generation_seed(space.search.seed, gen));
-    algorithm.set_bfe(batch);
-    pop = algorithm.evolve(pop);
-    const auto g = record(space, store, pop, gen, evaluator.runs() - before);
-    if (options.on_generation) options.on_generation(g);
-    result.last_generation = gen;
-  }
-  result.runs = evaluator.runs();
-  return result;
+  auto r = run_generational(space, store, options);
+  r.runs += probes;
+  return r;
 }
 
 }  // namespace granstack::design

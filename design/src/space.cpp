@@ -348,23 +348,48 @@ void read_constraints(const toml::table* c, Space& s, std::vector<std::string>& 
   }
 }
 
+// [search]'s whole-number keys: population, generations, seed, max_designs, stagnation.
+void read_search_count(const std::string& key, const toml::node& v, Space& s, std::vector<std::string>& problems) {
+  const auto n = v.value_exact<std::int64_t>();
+  const long most = key == "population" ? kMaxPopulation : key == "generations" ? kMaxGenerations
+                    : key == "stagnation" ? kMaxGenerations : -1;
+  const long least = key == "max_designs" ? 1 : 0;
+  if (!n || *n < least || (most >= 0 && *n > most)) {
+    problems.push_back(most >= 0 ? fmt::format("[search] {}: a whole number from {} to {}", key, least, most)
+                                 : fmt::format("[search] {}: a whole number >= {}", key, least));
+  } else if (key == "population") s.search.population = static_cast<int>(*n);
+  else if (key == "generations") s.search.generations = static_cast<int>(*n);
+  else if (key == "stagnation") s.search.stagnation = static_cast<int>(*n);
+  else if (key == "max_designs") s.search.max_designs = static_cast<long>(*n);
+  else s.search.seed = static_cast<std::uint64_t>(*n);
+}
+
 void read_search(const toml::table* t, Space& s, std::vector<std::string>& problems) {
   if (t == nullptr) return;
   for (const auto& [k, v] : *t) {
     const std::string key(k.str());
-    const auto n = v.value<std::int64_t>();
-    const long most = key == "population" ? kMaxPopulation : key == "generations" ? kMaxGenerations : -1;
-    if (key != "population" && key != "generations" && key != "seed") {
-      problems.push_back(fmt::format("[search] {}: unknown; population, generations or seed (this search is NSGA-II)", key));
-    } else if (!n || *n < 0 || (most >= 0 && *n > most)) {
-      problems.push_back(most >= 0 ? fmt::format("[search] {}: a whole number from 0 to {}", key, most)
-                                   : fmt::format("[search] {}: a whole number >= 0", key));
-    } else if (key == "population") s.search.population = static_cast<int>(*n);
-    else if (key == "generations") s.search.generations = static_cast<int>(*n);
-    else s.search.seed = static_cast<std::uint64_t>(*n);
+    if (key == "evaluation") {
+      const auto name = v.value_exact<std::string>();
+      if (name == "asynchronous" || name == "generational") {
+        s.search.schedule = *name == "asynchronous" ? Schedule::asynchronous : Schedule::generational;
+        s.search.schedule_given = true;
+      } else {
+        problems.push_back("[search] evaluation: \"asynchronous\" (a design starts whenever one ends: every core busy) or "
+                           "\"generational\" (a generation at a time: the same search on any number of cores)");
+      }
+    } else if (key == "stagnation_tolerance") {
+      const auto x = v.value<double>();
+      if (!x || !(*x >= 0.0 && *x < 1.0)) problems.push_back("[search] stagnation_tolerance: a fraction from 0 to below 1");
+      else s.search.stagnation_tolerance = *x;
+    } else if (key == "population" || key == "generations" || key == "seed" || key == "max_designs" || key == "stagnation") {
+      read_search_count(key, v, s, problems);
+    } else {
+      problems.push_back(fmt::format("[search] {}: unknown; evaluation, population, generations, seed, max_designs, "
+                                     "stagnation or stagnation_tolerance", key));
+    }
   }
   if (s.search.population < 8 || s.search.population % 4 != 0) {
-    problems.push_back(fmt::format("[search] population = {}: NSGA-II needs a multiple of 4, at least 8", s.search.population));
+    problems.push_back(fmt::format("[search] population = {}: a multiple of 4, at least 8 (NSGA-II's pairs)", s.search.population));
   }
 }
 
@@ -492,6 +517,54 @@ model::StackSpec Space::decode(const std::vector<double>& x) const {
   return canonical(std::move(s));
 }
 
+std::optional<std::vector<double>> Space::encode(const model::StackSpec& spec) const {
+  if (spec.blocks < min_blocks || spec.blocks > max_blocks) return std::nullopt;
+  std::vector<double> x(genes(), 0.0);
+  x[0] = spec.blocks;
+  const auto index = [](const auto& choices, const auto& value) -> std::optional<double> {
+    const auto at = std::find(choices.begin(), choices.end(), value);
+    if (at == choices.end()) return std::nullopt;
+    return static_cast<double>(at - choices.begin());
+  };
+  for (int k = 0; k < max_blocks; ++k) {
+    const int block = std::min(k + 1, spec.blocks);  // past N_B: the last block's genes
+    const auto m = index(materials, spec.block_material(block));
+    const int rows = spec.rows_of(block);
+    if (!m || rows < min_rows || rows > max_rows) return std::nullopt;
+    x[static_cast<std::size_t>(1 + k)] = *m;
+    x[static_cast<std::size_t>(2 * max_blocks + k)] = rows;
+    if (k + 1 == max_blocks) continue;
+    const auto r = spec.blocks > 1 ? index(radius_ratios, spec.ratio_below(std::min(k + 1, spec.blocks - 1))) : std::optional<double>(0.0);
+    if (!r) return std::nullopt;
+    x[static_cast<std::size_t>(1 + max_blocks + k)] = *r;
+  }
+  return x;
+}
+
+std::pair<model::StackSpec, model::StackSpec> Space::extreme_designs() const {
+  const auto lib = fixed.material_library();
+  std::size_t light = 0, dense = 0;
+  for (std::size_t m = 0; m < materials.size(); ++m) {
+    const auto* a = lib.find(materials[m]);
+    if (a == nullptr) continue;
+    if (a->density < lib.at(materials[light]).density) light = m;
+    if (a->density > lib.at(materials[dense]).density) dense = m;
+  }
+  const auto corner = [&](int blocks, std::size_t material, std::size_t ratio, int rows) {
+    std::vector<double> x(genes(), 0.0);
+    x[0] = blocks;
+    for (int k = 0; k < max_blocks; ++k) {
+      x[static_cast<std::size_t>(1 + k)] = static_cast<double>(material);
+      if (k + 1 < max_blocks) x[static_cast<std::size_t>(1 + max_blocks + k)] = static_cast<double>(ratio);
+      x[static_cast<std::size_t>(2 * max_blocks + k)] = rows;
+    }
+    return decode(x);
+  };
+  return {corner(min_blocks, light, radius_ratios.size() - 1, min_rows), corner(max_blocks, dense, 0, max_rows)};
+}
+
+std::string_view to_string(Schedule s) { return s == Schedule::asynchronous ? "asynchronous" : "generational"; }
+
 std::string Space::digest() const {
   nlohmann::json j;
   j["fixed"] = model::spec_json(fixed);
@@ -517,6 +590,8 @@ std::string Space::digest() const {
   for (const auto& [name, a] : aggregate) j["aggregate"][name] = std::string(to_string(a));
   j["population"] = search.population;
   j["seed"] = search.seed;
+  // A generational search keeps the digest it had before the asynchronous one existed.
+  if (search.schedule != Schedule::generational) j["evaluation"] = std::string(to_string(search.schedule));
   return formats::sha256_hex(j.dump());
 }
 

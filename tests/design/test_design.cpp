@@ -372,17 +372,22 @@ TEST(Store, KeepsEvaluationsAndRefusesAnotherSpacesStore) {
 
 // Seeded: the same space gives the same generations; a search stopped after generation 1 and
 // resumed reaches the same generation 2, running only designs it has not run.
-TEST(Search, IsReproducibleAndResumesWhereItStopped) {
+// A search stopped after generation 1 and resumed gives the generations of one run straight
+// through, design for design and bit for bit (the asynchronous one on one job: on several, the
+// order designs end in shapes it); its hypervolume, of every design run so far, never falls.
+void expect_resumes_where_it_stopped(design::Schedule schedule) {
   const auto dir = work_dir();
-  const auto space = small_space();
+  auto space = small_space();
+  space.search.schedule = schedule;
   auto whole = design::Store::open((dir / "whole.sqlite").string(), space.digest(), kSmallSpace);
   const auto a = design::run_search(space, whole, {});
-  EXPECT_EQ(a.first_generation, 1);
+  const int first = schedule == design::Schedule::asynchronous ? 0 : 1;  // generational: 0 is the initial population
+  EXPECT_EQ(a.first_generation, first);
   EXPECT_EQ(a.last_generation, 2);
   auto parts = design::Store::open((dir / "parts.sqlite").string(), space.digest(), kSmallSpace);
-  auto first = space;
-  first.search.generations = 1;
-  const auto b1 = design::run_search(first, parts, {});
+  auto first_part = space;
+  first_part.search.generations = 1;
+  const auto b1 = design::run_search(first_part, parts, {});
   const auto b2 = design::run_search(space, parts, {});
   EXPECT_EQ(b2.first_generation, 2);
   EXPECT_EQ(b1.runs + b2.runs, a.runs);
@@ -393,10 +398,13 @@ TEST(Search, IsReproducibleAndResumesWhereItStopped) {
     EXPECT_EQ(ga[g].digests, gb[g].digests) << "generation " << g;
     EXPECT_EQ(ga[g].hypervolume, gb[g].hypervolume) << "generation " << g;
   }
-  // The hypervolume never falls: NSGA-II keeps its best (elitism).
-  EXPECT_GE(ga[2].hypervolume, ga[0].hypervolume);
+  EXPECT_GE(ga[2].hypervolume, ga[1].hypervolume);
+  EXPECT_GE(ga[1].hypervolume, ga[0].hypervolume);
   EXPECT_GT(ga[0].hypervolume, 0.0);
 }
+
+TEST(Search, IsReproducibleAndResumesWhereItStopped) { expect_resumes_where_it_stopped(design::Schedule::asynchronous); }
+TEST(Search, AGenerationalSearchResumesWhereItStopped) { expect_resumes_where_it_stopped(design::Schedule::generational); }
 
 // The front is the store's non-dominated feasible set, computed here independently of
 // design::pareto_front: by brute force over every pair, on the objectives read straight from

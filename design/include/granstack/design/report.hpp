@@ -12,10 +12,6 @@
 
 namespace granstack::design {
 
-// The study's designs (study_designs) evaluated at the space's footprint and stored by name;
-// run even where they break the space's constraints (they are marked so).
-void evaluate_study_designs(const Space& space, Store& store);
-
 // Generations run, hypervolume, designs evaluated and the front's first designs.
 std::string status_text(const Space& space, const Store& store);
 

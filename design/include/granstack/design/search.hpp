@@ -12,6 +12,8 @@
 
 namespace granstack::design {
 
+struct Normalisation;
+
 // Where a batch of designs runs: on this machine (local_runner) or as SLURM job arrays
 // (slurm_runner, batch.hpp). run() evaluates every design of `specs` (feasible, none in the
 // store) and stores each as it finishes, so a killed batch keeps what it finished; on_done(finished,
@@ -85,7 +87,8 @@ Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, boo
 
 struct SearchOptions {
   int jobs = 1;                  // with no runner: designs at once on this machine
-  BatchRunner* runner = nullptr;  // where batches run (none: local_runner(jobs))
+  BatchRunner* runner = nullptr;  // where batches run (none: local_runner(jobs)); generational only
+  double time_limit = 0.0;       // s of wall time after which no design starts (0: none)
   // Called after each design run (generation, finished, to run) and after each generation.
   std::function<void(int, int, int)> on_progress;
   std::function<void(const Generation&)> on_generation;
@@ -94,15 +97,51 @@ struct SearchOptions {
 struct SearchResult {
   int first_generation = 0;  // the first this call ran (above 0: resumed)
   int last_generation = 0;
-  int runs = 0;              // refsim runs this call needed
+  int runs = 0;              // refsim runs this call needed (distinct designs, the study's included)
+  std::string ended;         // why it ended: "generations", "max_designs", "time limit", "stagnation", "exhausted"
 };
 
-// Runs the search up to space.search.generations, resuming after the store's last generation.
+// Runs the search up to space.search.generations (or its other ends), resuming where the store
+// stopped. Before the first design, the study's designs are run and the normalised box of the
+// hypervolume fixed (convergence.hpp). An asynchronous search starts a design whenever one of its
+// `jobs` ends; a generational one (pagmo2's NSGA-II) runs each generation as a batch.
 SearchResult run_search(const Space& space, Store& store, const SearchOptions& options);
+
+// The asynchronous search (search.cpp calls it): a steady-state NSGA-II. Each new design is bred
+// from the population as it stands (binary tournaments on rank and crowding in the normalised
+// objectives, SBX and polynomial mutation, pagmo2's operators, its genes made canonical); one equal
+// to a design the store holds or one running is drawn again, and one outside the known constraints
+// (spheres, height, areal mass, validity) is rejected before it runs. When a design ends it joins
+// the population, which drops its worst (rank, then crowding). Every `population` designs make a
+// generation. With one job the search is the same wherever it is stopped and resumed.
+SearchResult run_asynchronous(const Space& space, Store& store, const SearchOptions& options);
+// Draws before the space is called exhausted (no new design within its constraints).
+inline constexpr int kDrawsPerDesign = 2000;
+inline constexpr int kBredDraws = 200;  // of them bred; the rest drawn uniformly from the space
+
+// The fitness the search ranks by: the objectives in the space's order, each in the normalised box
+// (`normalisation`) when given, else raw; an infeasible design gets kInfeasible * (1 + its relative
+// violation) in each, behind every feasible one.
+std::vector<double> fitness(const Space& space, const Evaluation& e, const Normalisation* normalisation = nullptr);
 
 // The study's own designs at the space's footprint and fixed settings: 4 steel blocks, steel over
 // Teflon, and the sandwich (steel / Teflon / steel), each with 8 rows and the ratio 2.
 std::vector<std::pair<std::string, model::StackSpec>> study_designs(const Space& space);
+
+// A store's search keeps the schedule it was run with: a space file that does not name one takes
+// the store's ([search] evaluation; a store from before the key is generational).
+void adopt_schedule(Space& space, const Store& store);
+// The space a store was written for, as status, report and confirm read it (parse_space's stored).
+Space stored_space(const Store& store, const std::string& source);
+
+// The study's designs (study_designs) evaluated at the space's footprint and stored by name, each
+// on a thread of its own; run even where they break the space's constraints (they are marked so).
+void evaluate_study_designs(const Space& space, Store& store);
+
+// The space's lightest and heaviest designs (Space::extreme_designs) that lie within its known
+// constraints, evaluated (stored, not searched, where new): with the study's, the probes that fix
+// the normalised box before the search.
+std::vector<Evaluation> evaluate_extreme_designs(const Space& space, Store& store);
 
 // The feasible evaluations no other dominates in the space's objectives, best first objective first.
 std::vector<Evaluation> pareto_front(const Space& space, const std::vector<Evaluation>& all);

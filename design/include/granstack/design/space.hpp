@@ -66,10 +66,24 @@ struct ConfirmVariant {
 enum class Aggregate { worst, mean };
 std::string_view to_string(Aggregate a);
 
+// How the designs of a search are run. asynchronous: a steady-state search that starts a new
+// design whenever one finishes (every core busy; with more than one job the order in which designs
+// finish shapes the search, so two runs on several cores may differ, and the store keeps that
+// order); generational: pagmo2's NSGA-II, a generation's designs as one batch (any number of jobs
+// gives the same search, bit for bit; SLURM batches run this way).
+enum class Schedule { asynchronous, generational };
+std::string_view to_string(Schedule s);
+
 struct Search {
-  int population = 24;  // NSGA-II: a multiple of 4, at least 8, at most kMaxPopulation
-  int generations = 10;  // at most kMaxGenerations
+  int population = 24;  // a multiple of 4, at least 8, at most kMaxPopulation
+  int generations = 10;  // at most kMaxGenerations; asynchronous: population designs make one
   std::uint64_t seed = 1;
+  Schedule schedule = Schedule::asynchronous;  // [search] evaluation
+  bool schedule_given = false;                 // the file named it (a resumed store keeps its own otherwise)
+  // When the search also ends (none of them part of the space's digest, as generations):
+  std::optional<long> max_designs;  // distinct designs run by the search, in all
+  int stagnation = 0;               // generations over which the hypervolume gains no more than
+  double stagnation_tolerance = 1e-3;  // this fraction of itself (0: never)
 };
 // Bounds that keep a typo from a search that cannot fit in memory or never ends (a population of
 // 1e8 ran out of memory before its first design).
@@ -101,6 +115,15 @@ struct Space {
   std::pair<std::vector<double>, std::vector<double>> bounds() const;
   // The stack a decision vector stands for (whole numbers; rounded).
   model::StackSpec decode(const std::vector<double>& x) const;
+  // The one decision vector of a stack of the space (nullopt: not one of its designs): whole
+  // genes, and the genes past its N_B repeat its last block's (its last interface's; with one
+  // block, the first ratio), so that one design has one vector.
+  std::optional<std::vector<double>> encode(const model::StackSpec& spec) const;
+  std::vector<double> canonical_genes(const std::vector<double>& x) const { return *encode(decode(x)); }
+  // The space's lightest and heaviest designs (fewest blocks and rows of its lightest material at
+  // its largest ratio; most of its densest at its smallest): every design's areal mass and height
+  // lie between theirs.
+  std::pair<model::StackSpec, model::StackSpec> extreme_designs() const;
   // The canonical digest of what makes two searches the same (all but the generation count):
   // a store written for another space is refused.
   std::string digest() const;

@@ -1,0 +1,337 @@
+// The asynchronous search (search.hpp, run_asynchronous): a steady-state NSGA-II whose designs
+// run on a pool of threads, a new one started whenever one ends.
+#include <granstack/design/convergence.hpp>
+#include <granstack/design/search.hpp>
+#include <granstack/os/interrupt.hpp>
+#include <granstack/refsim/in_situ.hpp>
+
+#include <fmt/format.h>
+#include <pagmo/utils/genetic_operators.hpp>
+#include <pagmo/utils/multi_objective.hpp>
+
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <limits>
+#include <mutex>
+#include <random>
+#include <set>
+#include <thread>
+
+namespace granstack::design {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// NSGA-II's operator settings, as the generational search passes them to pagmo2.
+constexpr double kCrossoverProbability = 0.95, kCrossoverEta = 10.0, kMutationEta = 50.0;
+
+struct Member {
+  std::vector<double> x;  // canonical genes
+  std::string digest;
+  std::vector<double> f;  // fitness() in the normalised box
+};
+
+// A design to run, and what its run gave.
+struct Job {
+  std::vector<double> x;
+  model::StackSpec spec;
+};
+struct Finished {
+  std::vector<double> x;
+  std::optional<Evaluation> evaluation;
+  std::exception_ptr error;
+};
+
+// `jobs` threads, each running one design at a time (in situ on refsim, one core). The search
+// starts a design only when a thread is free, and takes the finished ones back in the order
+// they finished.
+class Pool {
+ public:
+  Pool(const Space& space, int jobs) : space_(space) {
+    for (int t = 0; t < jobs; ++t) threads_.emplace_back([this] { work(); });
+  }
+  Pool(const Pool&) = delete;
+  Pool& operator=(const Pool&) = delete;
+  // Joins the threads; a design still running ends when it sees a stop signal, or runs out.
+  ~Pool() {
+    {
+      const std::lock_guard<std::mutex> lock(m_);
+      closing_ = true;
+      queue_.clear();
+    }
+    work_cv_.notify_all();
+    for (auto& t : threads_) t.join();
+  }
+  void start(Job job) {
+    {
+      const std::lock_guard<std::mutex> lock(m_);
+      queue_.push_back(std::move(job));
+      ++running_;
+    }
+    work_cv_.notify_one();
+  }
+  // The designs finished since the last call, waiting up to `up_to` for one.
+  std::vector<Finished> finished(std::chrono::milliseconds up_to) {
+    std::unique_lock<std::mutex> lock(m_);
+    done_cv_.wait_for(lock, up_to, [&] { return !done_.empty(); });
+    std::vector<Finished> out;
+    out.swap(done_);
+    running_ -= static_cast<int>(out.size());
+    return out;
+  }
+  int running() {
+    const std::lock_guard<std::mutex> lock(m_);
+    return running_;
+  }
+
+ private:
+  void work() {
+    for (;;) {
+      Job job;
+      {
+        std::unique_lock<std::mutex> lock(m_);
+        work_cv_.wait(lock, [&] { return closing_ || !queue_.empty(); });
+        if (queue_.empty()) return;
+        job = std::move(queue_.front());
+        queue_.pop_front();
+      }
+      Finished f{std::move(job.x), std::nullopt, nullptr};
+      try {
+        f.evaluation = evaluate_design(space_, job.spec);
+      } catch (...) {
+        f.error = std::current_exception();
+      }
+      {
+        const std::lock_guard<std::mutex> lock(m_);
+        done_.push_back(std::move(f));
+      }
+      done_cv_.notify_one();
+    }
+  }
+  const Space& space_;
+  std::mutex m_;
+  std::condition_variable work_cv_, done_cv_;
+  std::deque<Job> queue_;
+  std::vector<Finished> done_;
+  int running_ = 0;
+  bool closing_ = false;
+  std::vector<std::thread> threads_;
+};
+
+// Design number `n`'s own random stream, from the search's seed.
+std::mt19937 stream(std::uint64_t seed, long n) {
+  std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32), static_cast<std::uint32_t>(n),
+                    static_cast<std::uint32_t>(static_cast<std::uint64_t>(n) >> 32), 0x61737963u};
+  return std::mt19937(seq);
+}
+
+class Asynchronous {
+ public:
+  Asynchronous(const Space& space, Store& store, const SearchOptions& options, Normalisation n)
+      : space_(space), store_(store), options_(options), norm_(std::move(n)), bounds_(space.bounds()),
+        population_(static_cast<std::size_t>(space.search.population)) {}
+
+  SearchResult run();
+
+ private:
+  void replay();
+  void join(const Evaluation& e, bool replaying);
+  void record_generation(int index);
+  std::optional<Job> draw();
+  std::vector<double> bred(std::mt19937& rng) const;
+  std::vector<double> uniform(std::mt19937& rng) const;
+  bool may_start(int running);
+  void take(std::vector<Finished> done, std::exception_ptr& error);
+
+  const Space& space_;
+  Store& store_;
+  const SearchOptions& options_;
+  Normalisation norm_;
+  std::pair<std::vector<double>, std::vector<double>> bounds_;
+  std::size_t population_;
+  std::vector<Member> members_;
+  std::vector<Evaluation> archive_;  // the designs the search has joined, in order
+  std::set<std::string> known_;      // stored, running or rejected: never drawn again
+  long drawn_ = 0;                   // designs started, over every call (the random streams' numbers)
+  int last_generation_ = -1;
+  std::vector<double> hypervolumes_;
+  std::string ended_;
+  Clock::time_point deadline_ = Clock::time_point::max();
+  SearchResult result_;
+};
+
+void Asynchronous::replay() {
+  for (const auto& e : store_.evaluations()) join(e, true);
+  for (const auto& [name, e] : store_.study_designs()) known_.insert(e.digest);
+  drawn_ = static_cast<long>(archive_.size());
+  if (const auto g = store_.last_generation()) last_generation_ = g->index;
+  result_.first_generation = last_generation_ + 1;
+}
+
+// A finished design joins the archive and the population, which then drops its worst; every
+// `population` designs close a generation.
+void Asynchronous::join(const Evaluation& e, bool replaying) {
+  const auto x = space_.encode(e.spec);
+  if (!x) throw std::logic_error(fmt::format("design {} is not one of the space's", e.description));
+  archive_.push_back(e);
+  known_.insert(e.digest);
+  members_.push_back({*x, e.digest, fitness(space_, e, &norm_)});
+  if (members_.size() > population_) {
+    std::vector<pagmo::vector_double> f;
+    for (const auto& m : members_) f.push_back(m.f);
+    auto keep = pagmo::select_best_N_mo(f, population_);
+    std::sort(keep.begin(), keep.end());
+    std::vector<Member> kept;
+    for (const auto i : keep) kept.push_back(std::move(members_[i]));
+    members_ = std::move(kept);
+  }
+  if (archive_.size() % population_ == 0) {
+    const int index = static_cast<int>(archive_.size() / population_) - 1;
+    hypervolumes_.push_back(normalised_hypervolume(space_, norm_, archive_));
+    if (!replaying || index > last_generation_) record_generation(index);
+  }
+}
+
+void Asynchronous::record_generation(int index) {
+  Generation g;
+  g.index = index;
+  for (const auto& m : members_) {
+    g.population.push_back(m.x);
+    g.digests.push_back(m.digest);
+  }
+  g.hypervolume = hypervolumes_.back();
+  g.evaluations = static_cast<int>(population_);
+  store_.put_generation(g);
+  last_generation_ = index;
+  result_.last_generation = index;
+  if (options_.on_generation) options_.on_generation(g);
+  const int k = space_.search.stagnation;
+  if (k > 0 && index >= k) {
+    const double now = hypervolumes_[static_cast<std::size_t>(index)], then = hypervolumes_[static_cast<std::size_t>(index - k)];
+    if (now - then <= space_.search.stagnation_tolerance * now && ended_.empty()) ended_ = "stagnation";
+  }
+}
+
+std::vector<double> Asynchronous::uniform(std::mt19937& rng) const {
+  std::vector<double> x(space_.genes());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    x[i] = std::uniform_int_distribution<int>(static_cast<int>(bounds_.first[i]), static_cast<int>(bounds_.second[i]))(rng);
+  }
+  return x;
+}
+
+// Two binary tournaments on (rank, crowding), SBX of the winners, polynomial mutation.
+std::vector<double> Asynchronous::bred(std::mt19937& rng) const {
+  std::vector<pagmo::vector_double> f;
+  for (const auto& m : members_) f.push_back(m.f);
+  const auto [fronts, dom_list, dom_count, rank] = pagmo::fast_non_dominated_sorting(f);
+  std::vector<double> crowding(members_.size(), std::numeric_limits<double>::infinity());
+  for (const auto& front : fronts) {
+    if (front.size() < 3) continue;
+    std::vector<pagmo::vector_double> points;
+    for (const auto i : front) points.push_back(f[i]);
+    const auto d = pagmo::crowding_distance(points);
+    for (std::size_t j = 0; j < front.size(); ++j) crowding[front[j]] = d[j];
+  }
+  std::uniform_int_distribution<std::size_t> any(0, members_.size() - 1);
+  const auto tournament = [&] {
+    const auto a = any(rng), b = any(rng);
+    if (rank[a] != rank[b]) return rank[a] < rank[b] ? a : b;
+    return crowding[a] >= crowding[b] ? a : b;
+  };
+  const auto p1 = tournament(), p2 = tournament();
+  auto child = pagmo::sbx_crossover(members_[p1].x, members_[p2].x, bounds_, space_.genes(), kCrossoverProbability,
+                                    kCrossoverEta, rng).first;
+  pagmo::polynomial_mutation(child, bounds_, space_.genes(), 1.0 / static_cast<double>(space_.genes()), kMutationEta, rng);
+  return child;
+}
+
+// The next design to run: bred once the population holds two, drawn uniformly before (the
+// initial population) and after kBredDraws clones; nullopt when kDrawsPerDesign draws found no new
+// design within the constraints.
+std::optional<Job> Asynchronous::draw() {
+  auto rng = stream(space_.search.seed, drawn_);
+  const bool initial = static_cast<std::size_t>(drawn_) < population_ || members_.size() < 2;
+  for (int attempt = 0; attempt < kDrawsPerDesign; ++attempt) {
+    const auto x = space_.canonical_genes(!initial && attempt < kBredDraws ? bred(rng) : uniform(rng));
+    auto spec = space_.decode(x);
+    auto digest = spec_digest(spec);
+    if (!known_.insert(digest).second) continue;
+    if (!measure(space_, spec).violations.empty()) continue;  // rejected before it runs; known from now on
+    ++drawn_;
+    return Job{x, std::move(spec)};
+  }
+  return std::nullopt;
+}
+
+bool Asynchronous::may_start(int running) {
+  const long target = static_cast<long>(population_) * (space_.search.generations + 1);
+  const long limit = std::min(target, space_.search.max_designs.value_or(target));
+  const long done = static_cast<long>(archive_.size()) + running;
+  if (ended_.empty() && done >= limit) ended_ = done >= target ? "generations" : "max_designs";
+  if (ended_.empty() && Clock::now() >= deadline_) ended_ = "time limit";
+  return ended_.empty();
+}
+
+void Asynchronous::take(std::vector<Finished> done, std::exception_ptr& error) {
+  for (auto& f : done) {
+    if (f.error) {
+      if (!error) error = f.error;
+      known_.erase(spec_digest(space_.decode(f.x)));  // not stored: a resume runs it
+      continue;
+    }
+    f.evaluation->searched = true;
+    store_.put(*f.evaluation);
+    ++result_.runs;
+    join(*f.evaluation, false);
+    if (options_.on_progress) {
+      const auto in = archive_.size() % population_;
+      options_.on_progress(last_generation_ + 1, static_cast<int>(in == 0 ? population_ : in), static_cast<int>(population_));
+    }
+  }
+}
+
+SearchResult Asynchronous::run() {
+  replay();
+  if (options_.time_limit > 0.0) {
+    deadline_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.time_limit));
+  }
+  const int jobs = std::max(1, options_.jobs);
+  std::exception_ptr error;
+  {
+    Pool pool(space_, jobs);
+    for (;;) {
+      if (os::interrupt_signal() != 0) {
+        take(pool.finished(std::chrono::milliseconds(0)), error);
+        throw refsim::InSituStopped("stopped by a signal");  // the pool abandons what runs
+      }
+      int running = pool.running();
+      while (!error && running < jobs && may_start(running)) {
+        auto job = draw();
+        if (!job) {
+          ended_ = "exhausted";
+          break;
+        }
+        pool.start(std::move(*job));
+        ++running;
+      }
+      if (running == 0) break;
+      take(pool.finished(std::chrono::milliseconds(100)), error);
+    }
+  }
+  if (error) std::rethrow_exception(error);
+  result_.ended = ended_.empty() ? "generations" : ended_;
+  return result_;
+}
+
+}  // namespace
+
+SearchResult run_asynchronous(const Space& space, Store& store, const SearchOptions& options) {
+  const auto n = stored_normalisation(store);
+  if (!n) throw std::logic_error("run_asynchronous: the store has no normalisation (run_search fixes it first)");
+  return Asynchronous(space, store, options, *n).run();
+}
+
+}  // namespace granstack::design
