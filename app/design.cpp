@@ -119,7 +119,7 @@ int run_design(const DesignFlags& f) {
                os::interrupt_signal(), store.evaluations().size(), f.space_file, dir.string());
     return kCaseFailed;  // the caller's exit code says the signal (130, 143)
   }
-  design::evaluate_study_designs(space, store);
+  design::evaluate_study_designs(space, store, f.jobs);
   const auto gens = store.generations();
   fmt::print("{}: {}; generation {} done ({} designs run this time; the search has run {} distinct designs)\n", dir.string(),
              ended_because(r.ended, space), gens.empty() ? -1 : gens.back().index, r.runs, store.evaluations().size());

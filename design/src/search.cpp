@@ -14,7 +14,9 @@
 #include <pagmo/utils/multi_objective.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <thread>
 
@@ -142,23 +144,14 @@ SearchResult run_generational(const Space& space, Store& store, const SearchOpti
   return result;
 }
 
-// Before the first design: the study's designs run, and the normalised box fixed from them and
-// the space (a store from before the box keeps its raw hypervolume). An asynchronous search then
-// starts from the study's designs that are designs of the space (warm start).
-int prepare(const Space& space, Store& store) {
+// Before the first design: the probes run (the study's designs and the space's extreme ones) and
+// the normalised box fixed from them and the space (a store from before the box keeps its raw
+// hypervolume). An asynchronous search then starts from the probes that are designs of the space
+// (warm start). Returns the designs run.
+int prepare(const Space& space, Store& store, int jobs) {
   if (stored_normalisation(store) || (space.search.schedule == Schedule::generational && store.last_generation())) return 0;
-  std::set<std::string> to_run;  // the probes not stored yet
-  for (const auto& [name, spec] : study_designs(space)) to_run.insert(spec_digest(spec));
-  for (const auto& spec : {space.extreme_designs().first, space.extreme_designs().second}) {
-    if (measure(space, spec).violations.empty()) to_run.insert(spec_digest(spec));
-  }
-  std::erase_if(to_run, [&](const std::string& d) { return store.find(d).has_value(); });
-  evaluate_study_designs(space, store);
-  std::vector<Evaluation> probes;
-  for (auto& [name, e] : store.study_designs()) probes.push_back(std::move(e));
-  for (auto& e : evaluate_extreme_designs(space, store)) probes.push_back(std::move(e));
+  auto [probes, ran] = evaluate_probes(space, store, jobs);
   store_normalisation(store, fix_normalisation(space, probes));
-  const int ran = static_cast<int>(to_run.size());
   if (space.search.schedule != Schedule::asynchronous || !store.evaluations().empty()) return ran;
   for (auto& e : probes) {
     if (!e.feasible || !space.encode(e.spec) || e.searched) continue;
@@ -218,38 +211,34 @@ std::vector<std::pair<std::string, model::StackSpec>> study_designs(const Space&
 }
 
 namespace {
-// Each design on a thread of its own, those the store lacks; their evaluations, in their order
-// (nullopt: already stored).
-std::vector<std::optional<Evaluation>> evaluate_at_once(const Space& space, const Store& store,
-                                                        const std::vector<model::StackSpec>& designs) {
+// The designs the store lacks, `jobs` at a time (each in situ on one core), stored as not
+// searched; their evaluations, in their order.
+std::pair<std::vector<Evaluation>, int> evaluate_at_once(const Space& space, Store& store,
+                                                         const std::vector<model::StackSpec>& designs, int jobs) {
   std::vector<std::optional<Evaluation>> done(designs.size());
-  std::vector<std::exception_ptr> errors(designs.size());
-  std::vector<std::thread> threads;
+  std::vector<std::size_t> missing;
   for (std::size_t k = 0; k < designs.size(); ++k) {
-    if (store.find(spec_digest(designs[k]))) continue;
-    threads.emplace_back([&, k] {
+    if (!store.find(spec_digest(designs[k]))) missing.push_back(k);
+  }
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr error;
+  std::mutex m;
+  const auto work = [&] {
+    for (std::size_t i; (i = next.fetch_add(1)) < missing.size();) {
       try {
-        done[k] = evaluate_design(space, designs[k], true);
+        done[missing[i]] = evaluate_design(space, designs[missing[i]], true);
       } catch (...) {
-        errors[k] = std::current_exception();
+        const std::lock_guard<std::mutex> lock(m);
+        if (!error) error = std::current_exception();
       }
-    });
+    }
+  };
+  std::vector<std::thread> threads;
+  for (std::size_t t = 0; t < std::min<std::size_t>(static_cast<std::size_t>(std::max(1, jobs)), missing.size()); ++t) {
+    threads.emplace_back(work);
   }
   for (auto& t : threads) t.join();
-  for (const auto& e : errors) {
-    if (e) std::rethrow_exception(e);
-  }
-  return done;
-}
-}  // namespace
-
-std::vector<Evaluation> evaluate_extreme_designs(const Space& space, Store& store) {
-  const auto [light, heavy] = space.extreme_designs();
-  std::vector<model::StackSpec> designs;
-  for (const auto& d : {light, heavy}) {
-    if (measure(space, d).violations.empty()) designs.push_back(d);
-  }
-  auto done = evaluate_at_once(space, store, designs);
+  if (error) std::rethrow_exception(error);
   std::vector<Evaluation> out;
   for (std::size_t k = 0; k < designs.size(); ++k) {
     if (done[k]) {
@@ -258,21 +247,29 @@ std::vector<Evaluation> evaluate_extreme_designs(const Space& space, Store& stor
     }
     out.push_back(*store.find(spec_digest(designs[k])));
   }
-  return out;
+  return {out, static_cast<int>(missing.size())};
+}
+}  // namespace
+
+std::pair<std::vector<Evaluation>, int> evaluate_probes(const Space& space, Store& store, int jobs) {
+  const auto study = study_designs(space);
+  std::vector<model::StackSpec> designs;
+  for (const auto& d : study) designs.push_back(d.second);
+  const auto [light, heavy] = space.extreme_designs();
+  for (const auto& d : {light, heavy}) {
+    if (measure(space, d).violations.empty()) designs.push_back(d);
+  }
+  auto done = evaluate_at_once(space, store, designs, jobs);
+  for (std::size_t k = 0; k < study.size(); ++k) store.put_study_design(study[k].first, spec_digest(study[k].second));
+  return done;
 }
 
-void evaluate_study_designs(const Space& space, Store& store) {
-  const auto designs = study_designs(space);
-  std::vector<model::StackSpec> specs;
-  for (const auto& d : designs) specs.push_back(d.second);
-  auto done = evaluate_at_once(space, store, specs);
-  for (std::size_t k = 0; k < designs.size(); ++k) {
-    if (done[k]) {
-      done[k]->searched = false;
-      store.put(*done[k]);
-    }
-    store.put_study_design(designs[k].first, spec_digest(designs[k].second));
-  }
+void evaluate_study_designs(const Space& space, Store& store, int jobs) {
+  const auto study = study_designs(space);
+  std::vector<model::StackSpec> designs;
+  for (const auto& d : study) designs.push_back(d.second);
+  evaluate_at_once(space, store, designs, jobs);
+  for (std::size_t k = 0; k < study.size(); ++k) store.put_study_design(study[k].first, spec_digest(study[k].second));
 }
 
 void adopt_schedule(Space& space, const Store& store) {
@@ -289,7 +286,7 @@ Space stored_space(const Store& store, const std::string& source) {
 
 SearchResult run_search(const Space& space, Store& store, const SearchOptions& options) {
   if (!store.meta("schedule")) store.set_meta("schedule", std::string(to_string(space.search.schedule)));
-  const int probes = prepare(space, store);
+  const int probes = prepare(space, store, options.jobs);
   if (space.search.schedule == Schedule::asynchronous) {
     if (options.runner != nullptr) {
       throw std::invalid_argument("an asynchronous search runs on this machine's threads; SLURM batches need [search] "

@@ -1,5 +1,6 @@
 // granstack design: the space file and its refusals, the in-situ evaluation against reduce on
 // the same case, the store, and the search's reproducibility and resumption.
+#include <granstack/design/convergence.hpp>
 #include <granstack/design/report.hpp>
 #include <granstack/formats/case.hpp>
 #include <granstack/formats/dump.hpp>
@@ -405,6 +406,116 @@ void expect_resumes_where_it_stopped(design::Schedule schedule) {
 
 TEST(Search, IsReproducibleAndResumesWhereItStopped) { expect_resumes_where_it_stopped(design::Schedule::asynchronous); }
 TEST(Search, AGenerationalSearchResumesWhereItStopped) { expect_resumes_where_it_stopped(design::Schedule::generational); }
+
+namespace {
+// The small space with `search` as its [search] table and `constraints` as its [constraints].
+design::Space small_space_with(const std::string& search, const std::string& constraints = "") {
+  auto text = kSmallSpace.substr(0, kSmallSpace.find("[search]")) + "[search]\n" + search + "\n";
+  if (!constraints.empty()) text += "[constraints]\n" + constraints + "\n";
+  return design::parse_space(text, "small.toml");
+}
+}  // namespace
+
+// #34: the asynchronous search spends every run on a new design within the known constraints.
+// With a bound on spheres, three generations of 8 run 24 designs exactly: all distinct, none
+// above the bound (rejected before running, never stored), every generation's population 8
+// distinct designs; the space's lightest design, run first as a probe of the normalised box, is
+// in generation 0 (warm start), and the study's designs lie inside the box.
+TEST(Search, EveryDesignRunIsNewAndWithinTheKnownConstraints) {
+  const auto dir = work_dir();
+  const auto space = small_space_with("population = 8\ngenerations = 2\nseed = 3", "max_spheres = 20");
+  auto store = design::Store::open((dir / "s.sqlite").string(), space.digest(), kSmallSpace);
+  const auto r = design::run_search(space, store, {});
+  EXPECT_EQ(r.ended, "generations");
+  const auto all = store.evaluations();
+  ASSERT_EQ(all.size(), 24u);
+  std::set<std::string> digests;
+  for (const auto& e : all) {
+    digests.insert(e.digest);
+    EXPECT_LE(e.spheres, 20) << e.description;
+    EXPECT_EQ(e.violations.find("spheres"), std::string::npos) << e.violations;
+  }
+  EXPECT_EQ(digests.size(), all.size());
+  for (const auto& g : store.generations()) {
+    EXPECT_EQ(std::set<std::string>(g.digests.begin(), g.digests.end()).size(), 8u) << "generation " << g.index;
+  }
+  const auto lightest = design::spec_digest(space.extreme_designs().first);
+  const auto g0 = store.generations().front().digests;
+  EXPECT_NE(std::find(g0.begin(), g0.end(), lightest), g0.end());
+  const auto box = design::stored_normalisation(store);
+  ASSERT_TRUE(box);
+  for (const auto& [name, e] : store.study_designs()) {
+    for (const double x : box->point(design::objective_values(space, e))) EXPECT_LE(x, 1.0) << name;
+  }
+  for (std::size_t k = 0; k < space.objectives.size(); ++k) EXPECT_EQ(box->axes[k].log, space.objectives[k]->log_axis);
+}
+
+// A space with fewer designs than the search asks for ends when it has run them all (#34: an
+// exhausted space spun empty generations for minutes); a budget of designs ends the search at
+// exactly that many, on one job or two; so do a time limit and a stagnant hypervolume.
+TEST(Search, EndsWhenTheSpaceIsExhaustedTheBudgetSpentTheTimeUpOrTheFrontStill) {
+  const auto dir = work_dir();
+  auto one_block = small_space_with("population = 8\ngenerations = 50");
+  one_block.min_blocks = one_block.max_blocks = 1;  // 2 materials x 3 row counts: 6 designs
+  auto s1 = design::Store::open((dir / "exhausted.sqlite").string(), one_block.digest(), kSmallSpace);
+  const auto exhausted = design::run_search(one_block, s1, {});
+  EXPECT_EQ(exhausted.ended, "exhausted");
+  EXPECT_EQ(s1.evaluations().size(), 6u);
+  for (const int jobs : {1, 2}) {
+    const auto budget = small_space_with("population = 8\ngenerations = 50\nmax_designs = 11");
+    auto s2 = design::Store::open((dir / fmt::format("budget{}.sqlite", jobs)).string(), budget.digest(), kSmallSpace);
+    design::SearchOptions o;
+    o.jobs = jobs;
+    EXPECT_EQ(design::run_search(budget, s2, o).ended, "max_designs");
+    EXPECT_EQ(s2.evaluations().size(), 11u) << jobs << " jobs";
+  }
+  const auto timed = small_space_with("population = 8\ngenerations = 50");
+  auto s3 = design::Store::open((dir / "timed.sqlite").string(), timed.digest(), kSmallSpace);
+  design::SearchOptions o;
+  o.time_limit = 1e-9;
+  EXPECT_EQ(design::run_search(timed, s3, o).ended, "time limit");
+  EXPECT_LE(s3.evaluations().size(), 2u);  // the probes that are designs of the space, no more
+  // Stagnation over one generation with a tolerance of 0.99: any hypervolume above zero at
+  // generation 0 ends the search at generation 1.
+  const auto still = small_space_with("population = 8\ngenerations = 50\nstagnation = 1\nstagnation_tolerance = 0.99");
+  auto s4 = design::Store::open((dir / "still.sqlite").string(), still.digest(), kSmallSpace);
+  const auto r = design::run_search(still, s4, {});
+  EXPECT_EQ(r.ended, "stagnation");
+  EXPECT_EQ(r.last_generation, 1);
+}
+
+// The normalised hypervolume against its definition for one point: the product over the axes of
+// 1.1 minus the point's place on each, a log axis counting decades. An output fraction of 1e-6
+// against 1e-4 on an axis from 1e-9 to 1e-2 is two sevenths of it (the raw hypervolume moved by
+// 0.02 %, #34). IGD+ is 0 for a front that reaches its reference and, for one dominated by it by
+// d along one axis, d.
+TEST(Convergence, TheNormalisedHypervolumeAndIgdPlusFollowTheirDefinitions) {
+  const auto space = design::parse_space(R"(objectives = ["output_fraction", "areal_mass"]
+[fixed]
+top_radius = 2e-3
+[vary]
+blocks = 2
+materials = ["steel", "teflon"]
+radius_ratio = [2]
+rows = [1, 3]
+)", "fixed_bottom.toml");
+  design::Normalisation box{{{"output_fraction", true, 1e-9, 1e-2, ""}, {"areal_mass", false, 10.0, 110.0, ""}}};
+  const auto design_with = [](double fraction, double mass) {
+    design::Evaluation e;
+    e.digest = fmt::format("{}-{}", fraction, mass);
+    e.measures["output_fraction"] = fraction;
+    e.areal_mass = mass;
+    return e;
+  };
+  const double low = design::normalised_hypervolume(space, box, {design_with(1e-6, 60.0)});
+  const double high = design::normalised_hypervolume(space, box, {design_with(1e-4, 60.0)});
+  EXPECT_NEAR(low, (1.1 - 3.0 / 7.0) * (1.1 - 0.5), 1e-12);
+  EXPECT_NEAR(low - high, 2.0 / 7.0 * (1.1 - 0.5), 1e-12);
+  const std::vector<design::Evaluation> reference{design_with(1e-6, 20.0), design_with(1e-4, 10.0)};
+  EXPECT_NEAR(design::igd_plus(space, box, reference, reference), 0.0, 1e-15);
+  const std::vector<design::Evaluation> behind{design_with(1e-6, 30.0), design_with(1e-4, 20.0)};
+  EXPECT_NEAR(design::igd_plus(space, box, behind, reference), 0.1, 1e-12);
+}
 
 // The front is the store's non-dominated feasible set, computed here independently of
 // design::pareto_front: by brute force over every pair, on the objectives read straight from

@@ -455,7 +455,10 @@ std::string evaluations_of(const fs::path& store) {
 TEST(Slurm, ADesignSearchRunsItsBatchesAsArraysAndSurvivesACancelledTask) {
   if (!os::find_program("python3")) GTEST_SKIP() << "python3 is not installed (the store is read with its sqlite3)";
   const auto d = work("design");
-  const auto space = fs::path(GRANSTACK_TEST_DATA) / "design" / "small_space.toml";
+  // SLURM batches run a search a generation at a time.
+  const auto space = d / "generational.toml";
+  std::ofstream(space) << read_bytes(fs::path(GRANSTACK_TEST_DATA) / "design" / "small_space.toml")
+                       << "evaluation = \"generational\"\n";
   os::StartOptions o;
   o.output = d / "search.log";
   const auto child = os::start({GRANSTACK_EXE, "design", "run", space.string(), "-o", (d / "slurm").string(), "--generations",

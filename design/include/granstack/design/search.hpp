@@ -134,14 +134,14 @@ void adopt_schedule(Space& space, const Store& store);
 // The space a store was written for, as status, report and confirm read it (parse_space's stored).
 Space stored_space(const Store& store, const std::string& source);
 
-// The study's designs (study_designs) evaluated at the space's footprint and stored by name, each
-// on a thread of its own; run even where they break the space's constraints (they are marked so).
-void evaluate_study_designs(const Space& space, Store& store);
-
-// The space's lightest and heaviest designs (Space::extreme_designs) that lie within its known
-// constraints, evaluated (stored, not searched, where new): with the study's, the probes that fix
-// the normalised box before the search.
-std::vector<Evaluation> evaluate_extreme_designs(const Space& space, Store& store);
+// The study's designs (study_designs) evaluated at the space's footprint and stored by name,
+// `jobs` at a time; run even where they break the space's constraints (they are marked so).
+void evaluate_study_designs(const Space& space, Store& store, int jobs = 1);
+// The probes that fix the normalised box before a search: the study's designs (as above) and the
+// space's lightest and heaviest designs (Space::extreme_designs) that lie within its known
+// constraints, run `jobs` at a time where the store lacks them (stored as not searched); their
+// evaluations, and how many ran.
+std::pair<std::vector<Evaluation>, int> evaluate_probes(const Space& space, Store& store, int jobs);
 
 // The feasible evaluations no other dominates in the space's objectives, best first objective first.
 std::vector<Evaluation> pareto_front(const Space& space, const std::vector<Evaluation>& all);
