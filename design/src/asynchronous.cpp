@@ -37,9 +37,11 @@ struct Member {
 struct Job {
   std::vector<double> x;
   model::StackSpec spec;
+  std::optional<Probe> probe;  // a probe: run even outside the constraints, stored apart
+  std::optional<Evaluation> ready;  // run before (by another seed's run): joins without running
 };
 struct Finished {
-  std::vector<double> x;
+  Job job;
   std::optional<Evaluation> evaluation;
   std::exception_ptr error;
 };
@@ -97,9 +99,9 @@ class Pool {
         job = std::move(queue_.front());
         queue_.pop_front();
       }
-      Finished f{std::move(job.x), std::nullopt, nullptr};
+      Finished f{std::move(job), std::nullopt, nullptr};
       try {
-        f.evaluation = evaluate_design(space_, job.spec);
+        f.evaluation = evaluate_design(space_, f.job.spec, f.job.probe.has_value());
       } catch (...) {
         f.error = std::current_exception();
       }
@@ -129,8 +131,9 @@ std::mt19937 stream(std::uint64_t seed, long n) {
 
 class Asynchronous {
  public:
-  Asynchronous(const Space& space, Store& store, const SearchOptions& options, Normalisation n)
-      : space_(space), store_(store), options_(options), norm_(std::move(n)), bounds_(space.bounds()),
+  Asynchronous(const Space& space, Store& store, const SearchOptions& options, int run)
+      : space_(space), store_(store), options_(options), run_(run), seed_(space.search.seeds.at(static_cast<std::size_t>(run))),
+        norm_(stored_normalisation(store)), bounds_(space.bounds()),
         population_(static_cast<std::size_t>(space.search.population)) {}
 
   SearchResult run();
@@ -144,11 +147,19 @@ class Asynchronous {
   std::vector<double> uniform(std::mt19937& rng) const;
   bool may_start(int running);
   void take(std::vector<Finished> done, std::exception_ptr& error);
+  void joined(const Evaluation& e, bool stored);
+  void start_probes(Pool& pool);
+  void probe_done(const Finished& f);
 
   const Space& space_;
   Store& store_;
   const SearchOptions& options_;
-  Normalisation norm_;
+  int run_;
+  std::uint64_t seed_;
+  std::optional<Normalisation> norm_;  // none until the probes have run
+  int probes_running_ = 0;
+  long warm_expected_ = 0;             // probes that are designs of the space, before they ran
+  std::vector<Evaluation> held_;       // designs that ended before the box was fixed, in order
   std::pair<std::vector<double>, std::vector<double>> bounds_;
   std::size_t population_;
   std::vector<Member> members_;
@@ -163,10 +174,21 @@ class Asynchronous {
 };
 
 void Asynchronous::replay() {
-  for (const auto& e : store_.evaluations()) join(e, true);
-  for (const auto& [name, e] : store_.study_designs()) known_.insert(e.digest);
-  drawn_ = static_cast<long>(archive_.size());
-  if (const auto g = store_.last_generation()) last_generation_ = g->index;
+  std::set<std::string> probes;
+  for (const auto& p : probe_designs(space_)) probes.insert(spec_digest(p.spec));
+  known_ = probes;
+  if (!norm_) return;  // nothing joined before the box
+  const auto joins = store_.joins(run_);
+  for (const auto& digest : joins) {
+    const auto e = store_.find(digest);
+    if (!e) throw StoreError(fmt::format("the store's run {} joined design {}, which it does not hold", run_, digest.substr(0, 12)));
+    join(*e, true);
+    drawn_ += probes.count(digest) == 0;  // the probes that began the search were not drawn
+  }
+  if (joins.empty()) {  // a later seed's run: it begins with the probes that are designs of the space, as the first did
+    for (const auto& e : warm_designs(space_, store_)) join(e, false);
+  }
+  if (const auto g = store_.last_generation(run_)) last_generation_ = g->index;
   result_.first_generation = last_generation_ + 1;
 }
 
@@ -175,9 +197,10 @@ void Asynchronous::replay() {
 void Asynchronous::join(const Evaluation& e, bool replaying) {
   const auto x = space_.encode(e.spec);
   if (!x) throw std::logic_error(fmt::format("design {} is not one of the space's", e.description));
+  if (!replaying) store_.put_join(run_, static_cast<long>(archive_.size()), e.digest);
   archive_.push_back(e);
   known_.insert(e.digest);
-  members_.push_back({*x, e.digest, fitness(space_, e, &norm_)});
+  members_.push_back({*x, e.digest, fitness(space_, e, &*norm_)});
   if (members_.size() > population_) {
     std::vector<pagmo::vector_double> f;
     for (const auto& m : members_) f.push_back(m.f);
@@ -189,13 +212,14 @@ void Asynchronous::join(const Evaluation& e, bool replaying) {
   }
   if (archive_.size() % population_ == 0) {
     const int index = static_cast<int>(archive_.size() / population_) - 1;
-    hypervolumes_.push_back(normalised_hypervolume(space_, norm_, archive_));
+    hypervolumes_.push_back(normalised_hypervolume(space_, *norm_, archive_));
     if (!replaying || index > last_generation_) record_generation(index);
   }
 }
 
 void Asynchronous::record_generation(int index) {
   Generation g;
+  g.run = run_;
   g.index = index;
   for (const auto& m : members_) {
     g.population.push_back(m.x);
@@ -252,7 +276,7 @@ std::vector<double> Asynchronous::bred(std::mt19937& rng) const {
 // initial population) and after kBredDraws clones; nullopt when kDrawsPerDesign draws found no new
 // design within the constraints.
 std::optional<Job> Asynchronous::draw() {
-  auto rng = stream(space_.search.seed, drawn_);
+  auto rng = stream(seed_, drawn_);
   const bool initial = static_cast<std::size_t>(drawn_) < population_ || members_.size() < 2;
   for (int attempt = 0; attempt < kDrawsPerDesign; ++attempt) {
     const auto x = space_.canonical_genes(!initial && attempt < kBredDraws ? bred(rng) : uniform(rng));
@@ -261,7 +285,7 @@ std::optional<Job> Asynchronous::draw() {
     if (!known_.insert(digest).second) continue;
     if (!measure(space_, spec).violations.empty()) continue;  // rejected before it runs; known from now on
     ++drawn_;
-    return Job{x, std::move(spec)};
+    return Job{x, std::move(spec), std::nullopt, store_.find(digest)};
   }
   return std::nullopt;
 }
@@ -269,27 +293,70 @@ std::optional<Job> Asynchronous::draw() {
 bool Asynchronous::may_start(int running) {
   const long target = static_cast<long>(population_) * (space_.search.generations + 1);
   const long limit = std::min(target, space_.search.max_designs.value_or(target));
-  const long done = static_cast<long>(archive_.size()) + running;
+  // Before the box, the probes that may begin the search count as joined.
+  const long done = static_cast<long>(archive_.size() + held_.size()) + running - probes_running_ + (norm_ ? 0 : warm_expected_);
   if (ended_.empty() && done >= limit) ended_ = done >= target ? "generations" : "max_designs";
   if (ended_.empty() && Clock::now() >= deadline_) ended_ = "time limit";
   return ended_.empty();
+}
+
+// The probes the store lacks start first (the search's first designs fill the other threads).
+void Asynchronous::start_probes(Pool& pool) {
+  if (norm_) return;
+  std::set<std::string> warm;
+  for (const auto& p : probe_designs(space_)) {
+    if (space_.encode(p.spec)) warm.insert(spec_digest(p.spec));
+    if (store_.find(spec_digest(p.spec))) continue;
+    pool.start(Job{{}, p.spec, p, std::nullopt});
+    ++probes_running_;
+  }
+  warm_expected_ = static_cast<long>(warm.size());
+  if (probes_running_ == 0) probe_done(Finished{});
+}
+
+// A probe ended: stored; after the last, the box is fixed, the probes that are designs of the
+// space join first, then the designs that ended meanwhile, in the order they ended.
+void Asynchronous::probe_done(const Finished& f) {
+  if (f.evaluation) {
+    store_probe(store_, *f.job.probe, *f.evaluation);
+    ++result_.runs;
+    --probes_running_;
+  }
+  if (probes_running_ > 0) return;
+  fix_box(space_, store_);
+  norm_ = stored_normalisation(store_);
+  for (const auto& e : warm_designs(space_, store_)) join(e, false);
+  for (const auto& e : std::exchange(held_, {})) joined(e, false);
+}
+
+// A design that ended (stored: run before, by another seed's run) joins, or waits for the box.
+void Asynchronous::joined(const Evaluation& e, bool stored) {
+  if (!norm_) {
+    held_.push_back(e);
+    return;
+  }
+  if (!stored) store_.put(e);
+  join(e, false);
+  if (options_.on_progress) {
+    const auto in = archive_.size() % population_;
+    options_.on_progress(last_generation_ + 1, static_cast<int>(in == 0 ? population_ : in), static_cast<int>(population_));
+  }
 }
 
 void Asynchronous::take(std::vector<Finished> done, std::exception_ptr& error) {
   for (auto& f : done) {
     if (f.error) {
       if (!error) error = f.error;
-      known_.erase(spec_digest(space_.decode(f.x)));  // not stored: a resume runs it
+      if (!f.job.probe) known_.erase(spec_digest(f.job.spec));  // not stored: a resume runs it
+      continue;
+    }
+    if (f.job.probe) {
+      probe_done(f);
       continue;
     }
     f.evaluation->searched = true;
-    store_.put(*f.evaluation);
     ++result_.runs;
-    join(*f.evaluation, false);
-    if (options_.on_progress) {
-      const auto in = archive_.size() % population_;
-      options_.on_progress(last_generation_ + 1, static_cast<int>(in == 0 ? population_ : in), static_cast<int>(population_));
-    }
+    joined(*f.evaluation, false);
   }
 }
 
@@ -302,6 +369,7 @@ SearchResult Asynchronous::run() {
   std::exception_ptr error;
   {
     Pool pool(space_, jobs);
+    start_probes(pool);
     for (;;) {
       if (os::interrupt_signal() != 0) {
         take(pool.finished(std::chrono::milliseconds(0)), error);
@@ -313,6 +381,10 @@ SearchResult Asynchronous::run() {
         if (!job) {
           ended_ = "exhausted";
           break;
+        }
+        if (job->ready) {
+          joined(*job->ready, true);
+          continue;
         }
         pool.start(std::move(*job));
         ++running;
@@ -328,10 +400,8 @@ SearchResult Asynchronous::run() {
 
 }  // namespace
 
-SearchResult run_asynchronous(const Space& space, Store& store, const SearchOptions& options) {
-  const auto n = stored_normalisation(store);
-  if (!n) throw std::logic_error("run_asynchronous: the store has no normalisation (run_search fixes it first)");
-  return Asynchronous(space, store, options, *n).run();
+SearchResult run_asynchronous(const Space& space, Store& store, const SearchOptions& options, int run) {
+  return Asynchronous(space, store, options, run).run();
 }
 
 }  // namespace granstack::design

@@ -1,3 +1,4 @@
+#include <granstack/design/convergence.hpp>
 #include <granstack/design/report.hpp>
 #include <granstack/formats/case.hpp>
 #include <granstack/formats/files.hpp>
@@ -22,6 +23,7 @@
 #include <iterator>
 #include <ctime>
 #include <regex>
+#include <set>
 #include <sstream>
 
 namespace granstack::design {
@@ -31,16 +33,75 @@ using nlohmann::json;
 
 namespace {
 
+// One seed's run of a search, against the front of every run together.
+struct RunSummary {
+  int run = 0;
+  std::uint64_t seed = 0;
+  std::size_t designs = 0;      // distinct designs it joined (ran, or took from another run)
+  int last_generation = -1;
+  double hypervolume = 0.0;     // its last generation's
+  double igd_plus = 0.0;        // of its own front against the front of all runs, in the box
+  std::size_t on_front = 0;     // of the front of all runs, the designs it found
+};
+
+// Each run's designs, from its joins (a store from before them: run 0 joined every design).
+std::vector<RunSummary> summarise_runs(const Space& space, const Store& store, const std::vector<Evaluation>& all,
+                                       const std::vector<Generation>& generations) {
+  std::vector<RunSummary> out;
+  const auto box = stored_normalisation(store);
+  const auto front = pareto_front(space, all);
+  std::map<std::string, const Evaluation*> by_digest;
+  for (const auto& e : all) by_digest[e.digest] = &e;
+  for (std::size_t r = 0; r < space.search.seeds.size(); ++r) {
+    RunSummary s{static_cast<int>(r), space.search.seeds[r], 0, -1, 0.0, 0.0, 0};
+    std::vector<Evaluation> mine;
+    const auto joins = store.joins(s.run);
+    for (const auto& d : joins) {
+      if (const auto it = by_digest.find(d); it != by_digest.end()) mine.push_back(*it->second);
+    }
+    if (joins.empty() && r == 0) mine = all;
+    for (const auto& g : generations) {
+      if (g.run != s.run) continue;
+      s.last_generation = g.index;
+      s.hypervolume = g.hypervolume;
+    }
+    s.designs = mine.size();
+    if (box && !mine.empty()) s.igd_plus = igd_plus(space, *box, mine, front);
+    std::set<std::string> found;
+    for (const auto& e : mine) found.insert(e.digest);
+    s.on_front = static_cast<std::size_t>(std::count_if(front.begin(), front.end(), [&](const auto& e) { return found.count(e.digest) > 0; }));
+    out.push_back(s);
+  }
+  return out;
+}
+
 // What the report shows, read from the store once (each read parses every design's spec).
 struct Snapshot {
-  explicit Snapshot(const Store& store)
+  Snapshot(const Space& space, const Store& store)
       : all(store.evaluations()), studies(store.study_designs()), generations(store.generations()),
-        confirmations(store.confirmations()) {}
+        confirmations(store.confirmations()), box(stored_normalisation(store)),
+        runs(summarise_runs(space, store, all, generations)) {}
   std::vector<Evaluation> all;
   std::vector<std::pair<std::string, Evaluation>> studies;
   std::vector<Generation> generations;
   std::vector<Confirmation> confirmations;
+  std::optional<Normalisation> box;
+  std::vector<RunSummary> runs;
 };
+
+// The hypervolume over the runs that finished a generation: "mean M, standard deviation S, from A to B".
+std::string hypervolume_spread(const std::vector<RunSummary>& runs) {
+  std::vector<double> v;
+  for (const auto& r : runs) {
+    if (r.last_generation >= 0) v.push_back(r.hypervolume);
+  }
+  if (v.empty()) return "no run has finished a generation";
+  double mean = 0.0, var = 0.0;
+  for (const double x : v) mean += x / static_cast<double>(v.size());
+  for (const double x : v) var += (x - mean) * (x - mean) / static_cast<double>(std::max<std::size_t>(1, v.size() - 1));
+  return fmt::format("mean {:.6g}, standard deviation {:.3g}, from {:.6g} to {:.6g} over {} seed(s)", mean, std::sqrt(var),
+                     *std::min_element(v.begin(), v.end()), *std::max_element(v.begin(), v.end()), v.size());
+}
 
 std::string value_text(std::optional<double> v) { return v ? fmt::format("{:.4g}", *v) : "-"; }
 
@@ -82,10 +143,13 @@ std::string run_line(const Space& space, const Snapshot& s) {
   std::time_t now = std::time(nullptr);
   char date[32];
   std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
-  return fmt::format("granstack {} ({}), {}. NSGA-II (pagmo2), population {}, generations 0 to {}, seed {}; {} designs "
+  int last = -1;
+  for (const auto& g : gens) last = std::max(last, g.index);
+  return fmt::format("granstack {} ({}), {}. NSGA-II, {}, population {}, generations 0 to {}, seed{} {}; {} distinct designs "
                      "evaluated in situ on refsim ({:.1f} s of refsim in all). Space digest {}.",
-                     granstack::version(), granstack::git_commit(), date, space.search.population, gens.empty() ? 0 : gens.back().index,
-                     space.search.seed, s.all.size(), seconds, space.digest().substr(0, 12));
+                     granstack::version(), granstack::git_commit(), date, to_string(space.search.schedule), space.search.population,
+                     last, space.search.seeds.size() > 1 ? "s" : "", fmt::join(space.search.seeds, ", "), s.all.size(), seconds,
+                     space.digest().substr(0, 12));
 }
 
 postproc::Table space_table(const Space& space) {
@@ -162,10 +226,35 @@ postproc::Table study_table(const Space& space, const Snapshot& s, const std::ve
 }
 
 postproc::Table generations_table(const Snapshot& s) {
-  postproc::Table t{"Hypervolume of each generation's front (against a reference point fixed at generation 0)",
-                    {"generation", "hypervolume", "new designs run"}, {}};
+  postproc::Table t{s.box ? "Hypervolume of every design run up to each generation, in the normalised box"
+                          : "Hypervolume of each generation's front (raw objectives, against a reference point fixed at "
+                            "generation 0: a store from before the normalised box)",
+                    {"seed", "generation", "hypervolume", "new designs run"}, {}};
   for (const auto& g : s.generations) {
-    t.rows.push_back({std::to_string(g.index), fmt::format("{:.6g}", g.hypervolume), std::to_string(g.evaluations)});
+    t.rows.push_back({std::to_string(s.runs.at(static_cast<std::size_t>(g.run)).seed), std::to_string(g.index),
+                      fmt::format("{:.6g}", g.hypervolume), std::to_string(g.evaluations)});
+  }
+  return t;
+}
+
+// Each seed's run: its designs, its last hypervolume, IGD+ of its front against all runs' front.
+postproc::Table runs_table(const Snapshot& s, std::size_t front_size) {
+  postproc::Table t{fmt::format("Each seed's run against the front of all of them ({} designs); the hypervolume {}", front_size,
+                                hypervolume_spread(s.runs)),
+                    {"seed", "designs", "last generation", "hypervolume", "IGD+ to the front of all", "front designs it found"}, {}};
+  for (const auto& r : s.runs) {
+    t.rows.push_back({std::to_string(r.seed), std::to_string(r.designs), std::to_string(r.last_generation),
+                      fmt::format("{:.6g}", r.hypervolume), fmt::format("{:.3g}", r.igd_plus), std::to_string(r.on_front)});
+  }
+  return t;
+}
+
+// The normalised box: each objective's axis and what fixed it.
+postproc::Table box_table(const Normalisation& box) {
+  postproc::Table t{"The hypervolume's box, fixed before the search (reference point 1.1 on every axis)",
+                    {"objective", "axis", "ideal (0)", "nadir (1)", "from"}, {}};
+  for (const auto& a : box.axes) {
+    t.rows.push_back({a.objective, a.log ? "log10" : "linear", fmt::format("{:.4g}", a.ideal), fmt::format("{:.4g}", a.nadir), a.basis});
   }
   return t;
 }
@@ -376,13 +465,21 @@ postproc::Table energy_table(const std::vector<Rerun>& shown, bool wall) {
 }
 
 postproc::Figure hypervolume_figure(const Snapshot& s, const fs::path& dir) {
-  std::string data = "# generation hypervolume\n";
-  for (const auto& g : s.generations) data += fmt::format("{} {:.10g}\n", g.index, g.hypervolume);
+  std::string data = "# generation hypervolume (a block per seed's run)\n";
+  std::string plots;
+  for (const auto& r : s.runs) {
+    data += fmt::format("# seed {}\n", r.seed);
+    for (const auto& g : s.generations) {
+      if (g.run == r.run) data += fmt::format("{} {:.10g}\n", g.index, g.hypervolume);
+    }
+    data += "\n\n";
+    plots += fmt::format("{}'hypervolume.dat' index {} using 1:2 with linespoints pt 7 title 'seed {}'", plots.empty() ? "" : ", ", r.run, r.seed);
+  }
   postproc::PlotOptions o;
   o.format = "svg";
   const auto script = fmt::format("{}\nset output 'hypervolume.svg'\nset xlabel 'generation'\nset ylabel 'hypervolume'\n"
-                                  "plot 'hypervolume.dat' using 1:2 with linespoints pt 7 notitle\n",
-                                  postproc::gnuplot_terminal(o));
+                                  "set key bottom right\nplot {}\n",
+                                  postproc::gnuplot_terminal(o), plots);
   postproc::render_gnuplot(dir.string(), "hypervolume", data, script, o);
   return {"hypervolume.svg", "The hypervolume of each generation's front: it grows while the search still finds better designs"};
 }
@@ -409,7 +506,21 @@ json report_json(const Space& space, const Snapshot& s, const std::vector<Evalua
     study["name"] = name;
     j["study_designs"].push_back(study);
   }
-  for (const auto& g : s.generations) j["generations"].push_back({{"generation", g.index}, {"hypervolume", g.hypervolume}, {"new_designs", g.evaluations}});
+  for (const auto& g : s.generations) {
+    j["generations"].push_back({{"seed", s.runs.at(static_cast<std::size_t>(g.run)).seed}, {"generation", g.index},
+                                {"hypervolume", g.hypervolume}, {"new_designs", g.evaluations}});
+  }
+  j["schedule"] = std::string(to_string(space.search.schedule));
+  j["runs"] = json::array();
+  for (const auto& r : s.runs) {
+    j["runs"].push_back({{"seed", r.seed}, {"designs", r.designs}, {"last_generation", r.last_generation},
+                         {"hypervolume", r.hypervolume}, {"igd_plus", r.igd_plus}, {"front_designs_found", r.on_front}});
+  }
+  if (s.box) {
+    for (const auto& a : s.box->axes) {
+      j["normalisation"].push_back({{"objective", a.objective}, {"log", a.log}, {"ideal", a.ideal}, {"nadir", a.nadir}, {"basis", a.basis}});
+    }
+  }
   for (const auto& c : s.confirmations) {
     j["confirmations"].push_back({{"digest", c.digest}, {"case", c.case_dir}, {"liggghts_output_fraction", c.liggghts_output_fraction},
                                   {"liggghts_peak_wall_force", c.liggghts_peak_wall_force ? json(*c.liggghts_peak_wall_force) : json(nullptr)},
@@ -421,21 +532,23 @@ json report_json(const Space& space, const Snapshot& s, const std::vector<Evalua
   return j;
 }
 
-void write_front_specs(const std::vector<Evaluation>& front, const fs::path& dir) {
+// front/gGGG_NN_DIGEST.toml: the front after generation GGG (the last any run has finished).
+void write_front_specs(const std::vector<Evaluation>& front, int generation, const fs::path& dir) {
   fs::create_directories(dir / "front");
   // The front of an earlier report goes first (after a resume the front changes: old and new
   // files numbered 01 stood side by side); only files named as this writes them, never others.
-  static const std::regex ours(R"(\d{2,}_[0-9a-f]{8}\.toml)");
+  static const std::regex ours(R"((g\d+_)?\d{2,}_[0-9a-f]{8}\.toml)");
   std::vector<fs::path> earlier;
   for (const auto& e : fs::directory_iterator(dir / "front")) {
     if (e.is_regular_file() && std::regex_match(e.path().filename().string(), ours)) earlier.push_back(e.path());
   }
   for (const auto& f : earlier) fs::remove(f);
   for (std::size_t i = 0; i < front.size(); ++i) {
-    const auto path = dir / "front" / fmt::format("{:02}_{}.toml", i + 1, front[i].digest.substr(0, 8));
-    formats::write_file_atomically(path, fmt::format("# granstack design: front design {} ({}); run it with\n#   granstack "
-                                                     "generate --config {} -o CASE && granstack run CASE\n{}",
-                                                     i + 1, front[i].description, path.filename().string(), spec_toml(front[i].spec)));
+    const auto path = dir / "front" / front_file_name(generation, i + 1, front[i].digest);
+    formats::write_file_atomically(path, fmt::format("# granstack design: front design {} after generation {} ({}); run it with\n#   "
+                                                     "granstack generate --config {} -o CASE && granstack run CASE\n{}",
+                                                     i + 1, generation, front[i].description, path.filename().string(),
+                                                     spec_toml(front[i].spec)));
   }
 }
 
@@ -518,13 +631,25 @@ std::string status_text(const Space& space, const Store& store) {
   const auto gens = store.generations();
   const auto front = pareto_front(space, all);
   const auto feasible = std::count_if(all.begin(), all.end(), [](const auto& e) { return e.feasible; });
-  const auto done = gens.empty() ? std::string("no generation finished yet (the initial population was stopped)")
-                                 : fmt::format("generations 0 to {} done", gens.back().index);
+  const auto first_run = store.generations(0);
+  const auto done = first_run.empty() ? std::string("no generation finished yet (the initial population was stopped)")
+                                      : fmt::format("generations 0 to {} done", first_run.back().index);
   std::string out;
   for (const auto& w : space.warnings) out += fmt::format("warning: this search's measures cannot be trusted: {}\n", w);
-  out += fmt::format("{} (the space asks for {}); {} designs evaluated ({} within the constraints); the front holds {}\n",
-                     done, space.search.generations, all.size(), feasible, front.size());
-  if (!gens.empty()) out += fmt::format("hypervolume: {:.6g} at generation 0, {:.6g} at generation {}\n", gens.front().hypervolume, gens.back().hypervolume, gens.back().index);
+  out += fmt::format("{} (the space asks for {}; {}); {} distinct designs evaluated ({} within the constraints); the front "
+                     "holds {}\n", done, space.search.generations, to_string(space.search.schedule), all.size(), feasible, front.size());
+  if (!first_run.empty()) {
+    out += fmt::format("hypervolume: {:.6g} at generation 0, {:.6g} at generation {}\n", first_run.front().hypervolume,
+                       first_run.back().hypervolume, first_run.back().index);
+  }
+  if (space.search.seeds.size() > 1) {
+    const auto runs = summarise_runs(space, store, all, gens);
+    for (const auto& r : runs) {
+      out += fmt::format("seed {}: {} designs, generation {}, hypervolume {:.6g}, IGD+ to the front of all {:.3g}\n", r.seed,
+                         r.designs, r.last_generation, r.hypervolume, r.igd_plus);
+    }
+    out += fmt::format("hypervolume {}\n", hypervolume_spread(runs));
+  }
   const auto headers = objective_headers(space);
   for (std::size_t i = 0; i < std::min<std::size_t>(front.size(), 10); ++i) {
     std::vector<std::string> values;
@@ -537,7 +662,7 @@ std::string status_text(const Space& space, const Store& store) {
 
 fs::path write_report(const Space& space, const Store& store, const fs::path& dir) {
   fs::create_directories(dir);
-  const Snapshot s(store);
+  const Snapshot s(space, store);
   const auto front = pareto_front(space, s.all);
   std::vector<postproc::Block> d;
   d.push_back(postproc::Heading{1, "granstack design: the search's front", "top"});
@@ -572,6 +697,8 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
     d.push_back(postproc::Paragraph{"No generation has finished yet (the search was stopped in its initial population); "
                                     "`granstack design run` resumes it."});
   } else {
+    if (s.box) d.push_back(box_table(*s.box));
+    if (s.runs.size() > 1) d.push_back(runs_table(s, front.size()));
     d.push_back(generations_table(s));
     d.push_back(hypervolume_figure(s, dir));
   }
@@ -579,7 +706,9 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
     d.push_back(postproc::Heading{2, "Confirmed on LIGGGHTS", "confirmed"});
     d.push_back(confirmations_table(s));
   }
-  write_front_specs(front, dir);
+  int generation = 0;
+  for (const auto& g : s.generations) generation = std::max(generation, g.index);
+  write_front_specs(front, generation, dir);
   formats::write_file_atomically(dir / "design.md", postproc::markdown(d));
   formats::write_file_atomically(dir / "design.html", postproc::html(d, dir, "granstack design"));
   formats::write_file_atomically(dir / "design.json", report_json(space, s, front).dump(2) + "\n");

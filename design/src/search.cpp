@@ -14,6 +14,7 @@
 #include <pagmo/utils/multi_objective.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <atomic>
 #include <memory>
 #include <mutex>
@@ -30,6 +31,19 @@ struct Context {
   Evaluator* evaluator = nullptr;
   int generation = 0;
   const SearchOptions* options = nullptr;
+  Store* store = nullptr;
+  int run = 0;
+  std::optional<Normalisation> box;           // the fitness's (none: a store from before it, raw)
+  std::vector<Evaluation> archive;            // the designs the run has evaluated, each once, in order
+  std::set<std::string> joined;
+
+  void join(const std::vector<Evaluation>& evaluations) {
+    for (const auto& e : evaluations) {
+      if (!joined.insert(e.digest).second) continue;
+      store->put_join(run, static_cast<long>(archive.size()), e.digest);
+      archive.push_back(e);
+    }
+  }
 
   std::vector<model::StackSpec> decode(const pagmo::vector_double& dvs) const {
     const std::size_t n = space->genes();
@@ -39,13 +53,14 @@ struct Context {
     }
     return specs;
   }
-  pagmo::vector_double fitnesses(const pagmo::vector_double& dvs) const {
+  pagmo::vector_double fitnesses(const pagmo::vector_double& dvs) {
     const auto evaluations = evaluator->evaluate(decode(dvs), [&](int done, int total) {
       if (options->on_progress) options->on_progress(generation, done, total);
     });
+    join(evaluations);
     pagmo::vector_double out;
     for (const auto& e : evaluations) {
-      const auto f = evaluator->fitness(e);
+      const auto f = design::fitness(*space, e, box ? &*box : nullptr);
       out.insert(out.end(), f.begin(), f.end());
     }
     return out;
@@ -89,8 +104,9 @@ std::vector<double> reference_point(const Space& space, Store& store, const std:
 // A generation of the generational search, stored: its population, and the hypervolume of every
 // design run so far (in the normalised box; a store from before it keeps its raw one of the
 // generation's own designs).
-Generation record(const Space& space, Store& store, const pagmo::population& pop, int index, int runs) {
+Generation record(const Space& space, Store& store, const Context& c, const pagmo::population& pop, int index, int runs) {
   Generation g;
+  g.run = c.run;
   g.index = index;
   g.evaluations = runs;
   std::vector<Evaluation> members;
@@ -100,31 +116,34 @@ Generation record(const Space& space, Store& store, const pagmo::population& pop
     g.digests.push_back(spec_digest(spec));
     if (auto e = store.find(g.digests.back())) members.push_back(std::move(*e));
   }
-  const auto n = stored_normalisation(store);
-  g.hypervolume = n ? normalised_hypervolume(space, *n, store.evaluations())
-                    : hypervolume(space, members, reference_point(space, store, members));
+  g.hypervolume = c.box ? normalised_hypervolume(space, *c.box, c.archive)
+                        : hypervolume(space, members, reference_point(space, store, members));
   store.put_generation(g);
   return g;
 }
 
-SearchResult run_generational(const Space& space, Store& store, const SearchOptions& options) {
+SearchResult run_generational(const Space& space, Store& store, const SearchOptions& options, int run) {
   const auto local = options.runner ? nullptr : local_runner(options.jobs);
   Evaluator evaluator(space, store, options.runner ? *options.runner : *local);
-  auto context = std::make_shared<Context>(Context{&space, &evaluator, 0, &options});
+  auto context = std::make_shared<Context>(Context{&space, &evaluator, 0, &options, &store, run, stored_normalisation(store), {}, {}});
+  for (const auto& digest : store.joins(run)) {  // the designs evaluated before a resume
+    if (auto e = store.find(digest); e && context->joined.insert(digest).second) context->archive.push_back(std::move(*e));
+  }
+  const auto seed = space.search.seeds.at(static_cast<std::size_t>(run));
   pagmo::problem problem{DesignProblem{context}};
   const pagmo::bfe batch{pagmo::member_bfe{}};
   SearchResult result;
   pagmo::population pop;
-  const auto last = store.last_generation();
+  const auto last = store.last_generation(run);
   if (last) {
     // Resume: the last finished generation's population, its fitness from the store.
-    pop = pagmo::population(problem, 0u, generation_seed(space.search.seed, last->index));
+    pop = pagmo::population(problem, 0u, generation_seed(seed, last->index));
     for (const auto& x : last->population) pop.push_back(x, problem.fitness(x));
     result.first_generation = last->index + 1;
   } else {
     const auto size = static_cast<pagmo::population::size_type>(space.search.population);
-    pop = pagmo::population(problem, batch, size, generation_seed(space.search.seed, 0));
-    const auto g = record(space, store, pop, 0, evaluator.runs());
+    pop = pagmo::population(problem, batch, size, generation_seed(seed, 0));
+    const auto g = record(space, store, *context, pop, 0, evaluator.runs());
     if (options.on_generation) options.on_generation(g);
     result.first_generation = 1;
   }
@@ -132,10 +151,10 @@ SearchResult run_generational(const Space& space, Store& store, const SearchOpti
     if (os::interrupt_signal() != 0) throw refsim::InSituStopped("stopped by a signal between generations");
     context->generation = gen;
     const int before = evaluator.runs();
-    pagmo::nsga2 algorithm(1u, 0.95, 10., 1.0 / static_cast<double>(space.genes()), 50., generation_seed(space.search.seed, gen));
+    pagmo::nsga2 algorithm(1u, 0.95, 10., 1.0 / static_cast<double>(space.genes()), 50., generation_seed(seed, gen));
     algorithm.set_bfe(batch);
     pop = algorithm.evolve(pop);
-    const auto g = record(space, store, pop, gen, evaluator.runs() - before);
+    const auto g = record(space, store, *context, pop, gen, evaluator.runs() - before);
     if (options.on_generation) options.on_generation(g);
     result.last_generation = gen;
   }
@@ -144,20 +163,13 @@ SearchResult run_generational(const Space& space, Store& store, const SearchOpti
   return result;
 }
 
-// Before the first design: the probes run (the study's designs and the space's extreme ones) and
-// the normalised box fixed from them and the space (a store from before the box keeps its raw
-// hypervolume). An asynchronous search then starts from the probes that are designs of the space
-// (warm start). Returns the designs run.
+// Before the first design of a generational search: the probes run `jobs` at a time and the
+// normalised box fixed (a store from before the box keeps its raw hypervolume). Returns the
+// designs run. (The asynchronous search runs its probes in its own pool.)
 int prepare(const Space& space, Store& store, int jobs) {
-  if (stored_normalisation(store) || (space.search.schedule == Schedule::generational && store.last_generation())) return 0;
-  auto [probes, ran] = evaluate_probes(space, store, jobs);
-  store_normalisation(store, fix_normalisation(space, probes));
-  if (space.search.schedule != Schedule::asynchronous || !store.evaluations().empty()) return ran;
-  for (auto& e : probes) {
-    if (!e.feasible || !space.encode(e.spec) || e.searched) continue;
-    e.searched = true;
-    store.put(e);
-  }
+  if (stored_normalisation(store) || store.last_generation()) return 0;
+  const int ran = evaluate_probes(space, store, jobs);
+  fix_box(space, store);
   return ran;
 }
 
@@ -251,17 +263,60 @@ std::pair<std::vector<Evaluation>, int> evaluate_at_once(const Space& space, Sto
 }
 }  // namespace
 
-std::pair<std::vector<Evaluation>, int> evaluate_probes(const Space& space, Store& store, int jobs) {
-  const auto study = study_designs(space);
-  std::vector<model::StackSpec> designs;
-  for (const auto& d : study) designs.push_back(d.second);
+std::vector<Probe> probe_designs(const Space& space) {
+  std::vector<Probe> out;
+  for (auto& [name, spec] : study_designs(space)) out.push_back({name, std::move(spec)});
   const auto [light, heavy] = space.extreme_designs();
   for (const auto& d : {light, heavy}) {
-    if (measure(space, d).violations.empty()) designs.push_back(d);
+    if (measure(space, d).violations.empty() && spec_digest(d) != spec_digest(out.back().spec)) out.push_back({"", d});
   }
-  auto done = evaluate_at_once(space, store, designs, jobs);
-  for (std::size_t k = 0; k < study.size(); ++k) store.put_study_design(study[k].first, spec_digest(study[k].second));
-  return done;
+  return out;
+}
+
+void store_probe(Store& store, const Probe& probe, Evaluation e) {
+  e.searched = false;
+  store.put(e);
+  if (!probe.study_name.empty()) store.put_study_design(probe.study_name, spec_digest(probe.spec));
+}
+
+int evaluate_probes(const Space& space, Store& store, int jobs) {
+  const auto probes = probe_designs(space);
+  std::vector<model::StackSpec> designs;
+  for (const auto& p : probes) designs.push_back(p.spec);
+  const int ran = evaluate_at_once(space, store, designs, jobs).second;
+  for (std::size_t k = 0; k < probes.size(); ++k) {
+    if (!probes[k].study_name.empty()) store.put_study_design(probes[k].study_name, spec_digest(probes[k].spec));
+  }
+  return ran;
+}
+
+namespace {
+// The probes' evaluations, each design once, in probe order.
+std::vector<Evaluation> stored_probes(const Space& space, const Store& store) {
+  std::vector<Evaluation> out;
+  std::set<std::string> seen;
+  for (const auto& p : probe_designs(space)) {
+    auto e = store.find(spec_digest(p.spec));
+    if (!e) throw std::logic_error(fmt::format("probe {} has not run", describe(p.spec)));
+    if (seen.insert(e->digest).second) out.push_back(std::move(*e));
+  }
+  return out;
+}
+}  // namespace
+
+void fix_box(const Space& space, Store& store) { store_normalisation(store, fix_normalisation(space, stored_probes(space, store))); }
+
+std::vector<Evaluation> warm_designs(const Space& space, Store& store) {
+  std::vector<Evaluation> warm;
+  for (auto& e : stored_probes(space, store)) {
+    if (!e.feasible || !space.encode(e.spec)) continue;
+    if (!e.searched) {
+      e.searched = true;
+      store.put(e);
+    }
+    warm.push_back(std::move(e));
+  }
+  return warm;
 }
 
 void evaluate_study_designs(const Space& space, Store& store, int jobs) {
@@ -286,19 +341,31 @@ Space stored_space(const Store& store, const std::string& source) {
 
 SearchResult run_search(const Space& space, Store& store, const SearchOptions& options) {
   if (!store.meta("schedule")) store.set_meta("schedule", std::string(to_string(space.search.schedule)));
-  const int probes = prepare(space, store, options.jobs);
-  if (space.search.schedule == Schedule::asynchronous) {
-    if (options.runner != nullptr) {
-      throw std::invalid_argument("an asynchronous search runs on this machine's threads; SLURM batches need [search] "
-                                  "evaluation = \"generational\"");
-    }
-    auto r = run_asynchronous(space, store, options);
-    r.runs += probes;
-    return r;
+  const bool asynchronous = space.search.schedule == Schedule::asynchronous;
+  if (asynchronous && options.runner != nullptr) {
+    throw std::invalid_argument("an asynchronous search runs on this machine's threads; SLURM batches need [search] "
+                                "evaluation = \"generational\"");
   }
-  auto r = run_generational(space, store, options);
-  r.runs += probes;
-  return r;
+  const auto start = std::chrono::steady_clock::now();
+  SearchResult total;
+  total.runs = asynchronous ? 0 : prepare(space, store, options.jobs);  // asynchronous: probes in its pool
+  for (int run = 0; run < static_cast<int>(space.search.seeds.size()); ++run) {
+    auto o = options;  // one time limit for every seed's run
+    if (options.time_limit > 0.0) {
+      o.time_limit = options.time_limit - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (o.time_limit <= 0.0) {
+        total.ended = "time limit";
+        break;
+      }
+    }
+    const auto r = asynchronous ? run_asynchronous(space, store, o, run) : run_generational(space, store, o, run);
+    if (run == 0) total.first_generation = r.first_generation;
+    total.last_generation = r.last_generation;
+    total.runs += r.runs;
+    total.ended = r.ended;
+    if (r.ended == "time limit") break;
+  }
+  return total;
 }
 
 }  // namespace granstack::design

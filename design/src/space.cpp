@@ -348,6 +348,8 @@ void read_constraints(const toml::table* c, Space& s, std::vector<std::string>& 
   }
 }
 
+void read_seeds(const toml::array& a, Space& s, std::vector<std::string>& problems);
+
 // [search]'s whole-number keys: population, generations, seed, max_designs, stagnation.
 void read_search_count(const std::string& key, const toml::node& v, Space& s, std::vector<std::string>& problems) {
   const auto n = v.value_exact<std::int64_t>();
@@ -361,7 +363,33 @@ void read_search_count(const std::string& key, const toml::node& v, Space& s, st
   else if (key == "generations") s.search.generations = static_cast<int>(*n);
   else if (key == "stagnation") s.search.stagnation = static_cast<int>(*n);
   else if (key == "max_designs") s.search.max_designs = static_cast<long>(*n);
-  else s.search.seed = static_cast<std::uint64_t>(*n);
+  else {
+    s.search.seed = static_cast<std::uint64_t>(*n);
+    s.search.seeds = {s.search.seed};
+  }
+}
+
+// [search] seed = [N, M, ...]: one run of the search per seed, into one store.
+void read_seeds(const toml::array& a, Space& s, std::vector<std::string>& problems) {
+  std::vector<std::uint64_t> seeds;
+  for (const auto& e : a) {
+    const auto n = e.value_exact<std::int64_t>();
+    if (!n || *n < 0) {
+      problems.push_back("[search] seed: a whole number >= 0, or a list of them (a run per seed)");
+      return;
+    }
+    if (std::find(seeds.begin(), seeds.end(), static_cast<std::uint64_t>(*n)) != seeds.end()) {
+      problems.push_back(fmt::format("[search] seed: {} is listed twice; list each seed once", *n));
+      return;
+    }
+    seeds.push_back(static_cast<std::uint64_t>(*n));
+  }
+  if (seeds.empty() || seeds.size() > kMaxSeeds) {
+    problems.push_back(fmt::format("[search] seed: a list of 1 to {} seeds", kMaxSeeds));
+    return;
+  }
+  s.search.seeds = seeds;
+  s.search.seed = seeds.front();
 }
 
 void read_search(const toml::table* t, Space& s, std::vector<std::string>& problems) {
@@ -381,6 +409,8 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
       const auto x = v.value<double>();
       if (!x || !(*x >= 0.0 && *x < 1.0)) problems.push_back("[search] stagnation_tolerance: a fraction from 0 to below 1");
       else s.search.stagnation_tolerance = *x;
+    } else if (key == "seed" && v.is_array()) {
+      read_seeds(*v.as_array(), s, problems);
     } else if (key == "population" || key == "generations" || key == "seed" || key == "max_designs" || key == "stagnation") {
       read_search_count(key, v, s, problems);
     } else {
@@ -589,7 +619,8 @@ std::string Space::digest() const {
   }
   for (const auto& [name, a] : aggregate) j["aggregate"][name] = std::string(to_string(a));
   j["population"] = search.population;
-  j["seed"] = search.seed;
+  if (search.seeds.size() == 1) j["seed"] = search.seed;
+  else j["seed"] = search.seeds;
   // A generational search keeps the digest it had before the asynchronous one existed.
   if (search.schedule != Schedule::generational) j["evaluation"] = std::string(to_string(search.schedule));
   return formats::sha256_hex(j.dump());

@@ -21,12 +21,30 @@ CREATE TABLE IF NOT EXISTS evaluations (
   seconds REAL NOT NULL, searched INTEGER NOT NULL, output_separated INTEGER NOT NULL, created TEXT NOT NULL DEFAULT (datetime('now')));
 CREATE TABLE IF NOT EXISTS study_designs (name TEXT PRIMARY KEY, digest TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS generations (
-  generation INTEGER PRIMARY KEY, population TEXT NOT NULL, digests TEXT NOT NULL, hypervolume REAL NOT NULL,
-  evaluations INTEGER NOT NULL, finished TEXT NOT NULL DEFAULT (datetime('now')));
+  run INTEGER NOT NULL DEFAULT 0, generation INTEGER NOT NULL, population TEXT NOT NULL, digests TEXT NOT NULL,
+  hypervolume REAL NOT NULL, evaluations INTEGER NOT NULL, finished TEXT NOT NULL DEFAULT (datetime('now')),
+  PRIMARY KEY (run, generation));
+CREATE TABLE IF NOT EXISTS joins (
+  run INTEGER NOT NULL, position INTEGER NOT NULL, digest TEXT NOT NULL, PRIMARY KEY (run, position));
 CREATE TABLE IF NOT EXISTS confirmations (
   digest TEXT PRIMARY KEY, case_dir TEXT NOT NULL, liggghts_output_fraction REAL NOT NULL,
   liggghts_peak_wall_force REAL, largest_difference REAL NOT NULL, objective_difference REAL NOT NULL,
   verdict TEXT NOT NULL);
+)sql";
+
+// A store from before several seeds: its generations table keyed by generation alone, made the
+// first run's (run 0).
+constexpr const char* kRunsMigration = R"sql(
+BEGIN;
+CREATE TABLE generations_by_run (
+  run INTEGER NOT NULL DEFAULT 0, generation INTEGER NOT NULL, population TEXT NOT NULL, digests TEXT NOT NULL,
+  hypervolume REAL NOT NULL, evaluations INTEGER NOT NULL, finished TEXT NOT NULL DEFAULT (datetime('now')),
+  PRIMARY KEY (run, generation));
+INSERT INTO generations_by_run (run, generation, population, digests, hypervolume, evaluations, finished)
+  SELECT 0, generation, population, digests, hypervolume, evaluations, finished FROM generations;
+DROP TABLE generations;
+ALTER TABLE generations_by_run RENAME TO generations;
+COMMIT;
 )sql";
 
 // A prepared statement, finalised when it goes.
@@ -198,6 +216,7 @@ Store Store::open(const std::string& path, const std::string& space_digest, cons
   if (const auto c = s.columns("confirmations"); std::find(c.begin(), c.end(), "variant") == c.end()) {
     s.exec("ALTER TABLE confirmations ADD COLUMN variant TEXT NOT NULL DEFAULT '{}'");
   }
+  if (const auto c = s.columns("generations"); std::find(c.begin(), c.end(), "run") == c.end()) s.exec(kRunsMigration);
   s.find_measures();
   if (const auto d = s.meta("space_digest")) {
     if (*d != space_digest) {
@@ -275,6 +294,9 @@ std::vector<std::string> Store::columns(const std::string& table) const {
 void Store::find_measures() {
   const auto present = columns("evaluations");
   has_scenarios_ = std::find(present.begin(), present.end(), "scenarios") != present.end();
+  const auto gens = columns("generations");
+  has_runs_ = std::find(gens.begin(), gens.end(), "run") != gens.end();
+  has_joins_ = !columns("joins").empty();
   measures_.clear();
   for (const auto& m : run_measure_names()) {
     if (std::find(present.begin(), present.end(), m) != present.end()) measures_.push_back(m);
@@ -306,37 +328,65 @@ void Store::put_study_design(const std::string& name, const std::string& digest)
 
 void Store::put_generation(const Generation& g) {
   const std::lock_guard<std::mutex> lock(*mutex_);
-  Statement q(db_, "INSERT OR REPLACE INTO generations (generation, population, digests, hypervolume, evaluations) "
-                   "VALUES (?, ?, ?, ?, ?)");
-  q.bind(1, static_cast<long>(g.index)).bind(2, nlohmann::json(g.population).dump()).bind(3, nlohmann::json(g.digests).dump());
-  q.bind(4, g.hypervolume).bind(5, static_cast<long>(g.evaluations)).step();
+  Statement q(db_, "INSERT OR REPLACE INTO generations (run, generation, population, digests, hypervolume, evaluations) "
+                   "VALUES (?, ?, ?, ?, ?, ?)");
+  q.bind(1, static_cast<long>(g.run)).bind(2, static_cast<long>(g.index)).bind(3, nlohmann::json(g.population).dump());
+  q.bind(4, nlohmann::json(g.digests).dump()).bind(5, g.hypervolume).bind(6, static_cast<long>(g.evaluations)).step();
 }
 
 namespace {
 Generation generation_from(const Statement& q) {
   Generation g;
-  g.index = static_cast<int>(q.integer(0));
-  g.population = nlohmann::json::parse(q.text(1)).get<std::vector<std::vector<double>>>();
-  g.digests = nlohmann::json::parse(q.text(2)).get<std::vector<std::string>>();
-  g.hypervolume = q.real(3);
-  g.evaluations = static_cast<int>(q.integer(4));
+  g.run = static_cast<int>(q.integer(0));
+  g.index = static_cast<int>(q.integer(1));
+  g.population = nlohmann::json::parse(q.text(2)).get<std::vector<std::vector<double>>>();
+  g.digests = nlohmann::json::parse(q.text(3)).get<std::vector<std::string>>();
+  g.hypervolume = q.real(4);
+  g.evaluations = static_cast<int>(q.integer(5));
   return g;
 }
 }  // namespace
 
-std::optional<Generation> Store::last_generation() const {
+std::string Store::generation_columns() const {
+  return fmt::format("{}, generation, population, digests, hypervolume, evaluations", has_runs_ ? "run" : "0 AS run");
+}
+
+std::optional<Generation> Store::last_generation(int run) const {
   const std::lock_guard<std::mutex> lock(*mutex_);
-  Statement q(db_, "SELECT generation, population, digests, hypervolume, evaluations FROM generations "
-                   "ORDER BY generation DESC LIMIT 1");
+  Statement q(db_, fmt::format("SELECT {} FROM generations WHERE {} = ? ORDER BY generation DESC LIMIT 1", generation_columns(),
+                               has_runs_ ? "run" : "0"));
+  q.bind(1, static_cast<long>(run));
   if (q.step()) return generation_from(q);
   return std::nullopt;
 }
 
 std::vector<Generation> Store::generations() const {
   const std::lock_guard<std::mutex> lock(*mutex_);
-  Statement q(db_, "SELECT generation, population, digests, hypervolume, evaluations FROM generations ORDER BY generation");
+  Statement q(db_, fmt::format("SELECT {} FROM generations ORDER BY {}generation", generation_columns(), has_runs_ ? "run, " : ""));
   std::vector<Generation> out;
   while (q.step()) out.push_back(generation_from(q));
+  return out;
+}
+
+std::vector<Generation> Store::generations(int run) const {
+  auto all = generations();
+  std::erase_if(all, [&](const Generation& g) { return g.run != run; });
+  return all;
+}
+
+void Store::put_join(int run, long position, const std::string& digest) {
+  const std::lock_guard<std::mutex> lock(*mutex_);
+  Statement q(db_, "INSERT OR REPLACE INTO joins (run, position, digest) VALUES (?, ?, ?)");
+  q.bind(1, static_cast<long>(run)).bind(2, position).bind(3, digest).step();
+}
+
+std::vector<std::string> Store::joins(int run) const {
+  const std::lock_guard<std::mutex> lock(*mutex_);
+  std::vector<std::string> out;
+  if (!has_joins_) return out;
+  Statement q(db_, "SELECT digest FROM joins WHERE run = ? ORDER BY position");
+  q.bind(1, static_cast<long>(run));
+  while (q.step()) out.push_back(q.text(0));
   return out;
 }
 

@@ -4,6 +4,8 @@
 // the same axes, and the front's best confirmed on LIGGGHTS.
 #include <granstack/design/search.hpp>
 
+#include <fmt/format.h>
+
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
@@ -30,6 +32,12 @@ class ConfirmRunFailed : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// The report's file of the front's `rank`th design (1: best first objective) after `generation`:
+// front/gGGG_NN_DIGEST8.toml.
+inline std::string front_file_name(int generation, std::size_t rank, const std::string& digest) {
+  return fmt::format("g{:03}_{:02}_{}.toml", generation, rank, digest.substr(0, 8));
+}
 
 // A design as a spec file `granstack generate --config` takes.
 std::string spec_toml(const model::StackSpec& spec);

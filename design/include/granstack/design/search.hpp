@@ -114,7 +114,7 @@ SearchResult run_search(const Space& space, Store& store, const SearchOptions& o
 // (spheres, height, areal mass, validity) is rejected before it runs. When a design ends it joins
 // the population, which drops its worst (rank, then crowding). Every `population` designs make a
 // generation. With one job the search is the same wherever it is stopped and resumed.
-SearchResult run_asynchronous(const Space& space, Store& store, const SearchOptions& options);
+SearchResult run_asynchronous(const Space& space, Store& store, const SearchOptions& options, int run = 0);
 // Draws before the space is called exhausted (no new design within its constraints).
 inline constexpr int kDrawsPerDesign = 2000;
 inline constexpr int kBredDraws = 200;  // of them bred; the rest drawn uniformly from the space
@@ -137,11 +137,23 @@ Space stored_space(const Store& store, const std::string& source);
 // The study's designs (study_designs) evaluated at the space's footprint and stored by name,
 // `jobs` at a time; run even where they break the space's constraints (they are marked so).
 void evaluate_study_designs(const Space& space, Store& store, int jobs = 1);
-// The probes that fix the normalised box before a search: the study's designs (as above) and the
-// space's lightest and heaviest designs (Space::extreme_designs) that lie within its known
-// constraints, run `jobs` at a time where the store lacks them (stored as not searched); their
-// evaluations, and how many ran.
-std::pair<std::vector<Evaluation>, int> evaluate_probes(const Space& space, Store& store, int jobs);
+// The probes that fix the normalised box before a search: the study's designs (by name) and the
+// space's lightest and heaviest designs (Space::extreme_designs; no name) that lie within its
+// known constraints.
+struct Probe {
+  std::string study_name;
+  model::StackSpec spec;
+};
+std::vector<Probe> probe_designs(const Space& space);
+// A probe's evaluation stored (not searched), and a study design's name with it.
+void store_probe(Store& store, const Probe& probe, Evaluation e);
+// The probes the store lacks run `jobs` at a time and stored; returns how many ran.
+int evaluate_probes(const Space& space, Store& store, int jobs);
+// Once every probe is stored: the normalised box fixed from them and stored.
+void fix_box(const Space& space, Store& store);
+// The probes that are feasible designs of the space, marked searched, in order: each run of an
+// asynchronous search begins with them (warm start).
+std::vector<Evaluation> warm_designs(const Space& space, Store& store);
 
 // The feasible evaluations no other dominates in the space's objectives, best first objective first.
 std::vector<Evaluation> pareto_front(const Space& space, const std::vector<Evaluation>& all);

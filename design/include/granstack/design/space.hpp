@@ -77,7 +77,8 @@ std::string_view to_string(Schedule s);
 struct Search {
   int population = 24;  // a multiple of 4, at least 8, at most kMaxPopulation
   int generations = 10;  // at most kMaxGenerations; asynchronous: population designs make one
-  std::uint64_t seed = 1;
+  std::uint64_t seed = 1;                    // the first run's
+  std::vector<std::uint64_t> seeds{1};       // [search] seed = N or [N, M, ...]: a run per seed, one store
   Schedule schedule = Schedule::asynchronous;  // [search] evaluation
   bool schedule_given = false;                 // the file named it (a resumed store keeps its own otherwise)
   // When the search also ends (none of them part of the space's digest, as generations):
@@ -89,6 +90,7 @@ struct Search {
 // 1e8 ran out of memory before its first design).
 inline constexpr int kMaxPopulation = 100'000;
 inline constexpr int kMaxGenerations = 100'000;  // as the --generations flag
+inline constexpr std::size_t kMaxSeeds = 64;
 
 struct Space {
   model::StackSpec fixed;        // everything a design does not vary

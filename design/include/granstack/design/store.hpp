@@ -45,6 +45,7 @@ struct Evaluation {
 };
 
 struct Generation {
+  int run = 0;                              // which of the space's seeds (0: the first)
   int index = 0;                            // 0 = the initial population
   std::vector<std::vector<double>> population;  // decision vectors
   std::vector<std::string> digests;         // their designs, in the same order
@@ -107,8 +108,13 @@ class Store {
   void put_study_design(const std::string& name, const std::string& digest);
 
   void put_generation(const Generation& g);
-  std::optional<Generation> last_generation() const;
-  std::vector<Generation> generations() const;
+  std::optional<Generation> last_generation(int run = 0) const;
+  std::vector<Generation> generations() const;  // every run's, by run then generation
+  std::vector<Generation> generations(int run) const;
+  // The designs a run joined, in order (an asynchronous search rebuilds its population from them;
+  // a generational one's are its batches'): one design may be in several runs, run once.
+  void put_join(int run, long position, const std::string& digest);
+  std::vector<std::string> joins(int run) const;
 
   void put_confirmation(const Confirmation& c);
   std::vector<Confirmation> confirmations() const;
@@ -121,10 +127,12 @@ class Store {
   explicit Store(sqlite3* db);
   void exec(const std::string& sql) const;
   std::vector<std::string> columns(const std::string& table) const;
-  void find_measures();  // measures_: the table's run measures the store has columns for
+  void find_measures();  // measures_: the table's run measures the store has columns for; has_runs_, has_joins_
+  std::string generation_columns() const;
   sqlite3* db_ = nullptr;
   std::vector<std::string> measures_;
   bool has_scenarios_ = false;
+  bool has_runs_ = true, has_joins_ = true;  // a store from before several seeds has neither
   std::unique_ptr<std::mutex> mutex_;
 };
 
