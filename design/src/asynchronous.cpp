@@ -1,5 +1,7 @@
 // The asynchronous search (search.hpp, run_asynchronous): a steady-state NSGA-II whose designs
 // run on a pool of threads, a new one started whenever one ends.
+#include "survival.hpp"
+
 #include <granstack/design/convergence.hpp>
 #include <granstack/design/search.hpp>
 #include <granstack/os/interrupt.hpp>
@@ -23,9 +25,6 @@ namespace granstack::design {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// NSGA-II's operator settings, as the generational search passes them to pagmo2.
-constexpr double kCrossoverProbability = 0.95, kCrossoverEta = 10.0, kMutationEta = 50.0;
 
 struct Member {
   std::vector<double> x;  // canonical genes
@@ -56,13 +55,14 @@ class Pool {
   }
   Pool(const Pool&) = delete;
   Pool& operator=(const Pool&) = delete;
-  // Joins the threads; a design still running ends when it sees a stop signal, or runs out.
+  // Joins the threads; a design still running is abandoned (its run stops at its next look).
   ~Pool() {
     {
       const std::lock_guard<std::mutex> lock(m_);
       closing_ = true;
       queue_.clear();
     }
+    abandon_ = true;
     work_cv_.notify_all();
     for (auto& t : threads_) t.join();
   }
@@ -101,7 +101,7 @@ class Pool {
       }
       Finished f{std::move(job), std::nullopt, nullptr};
       try {
-        f.evaluation = evaluate_design(space_, f.job.spec, f.job.probe.has_value());
+        f.evaluation = evaluate_design(space_, f.job.spec, f.job.probe.has_value(), &abandon_);
       } catch (...) {
         f.error = std::current_exception();
       }
@@ -119,6 +119,7 @@ class Pool {
   std::vector<Finished> done_;
   int running_ = 0;
   bool closing_ = false;
+  std::atomic<bool> abandon_{false};
   std::vector<std::thread> threads_;
 };
 
@@ -145,7 +146,9 @@ class Asynchronous {
   std::optional<Job> draw();
   std::vector<double> bred(std::mt19937& rng) const;
   std::vector<double> uniform(std::mt19937& rng) const;
-  bool may_start(int running);
+  bool may_start();
+  long limit() const;
+  long finished() const { return static_cast<long>(archive_.size() + held_.size()) + (norm_ ? 0 : warm_expected_); }
   void take(std::vector<Finished> done, std::exception_ptr& error);
   void joined(const Evaluation& e, bool stored);
   void start_probes(Pool& pool);
@@ -164,6 +167,7 @@ class Asynchronous {
   std::size_t population_;
   std::vector<Member> members_;
   std::vector<Evaluation> archive_;  // the designs the search has joined, in order
+  std::vector<Evaluation> front_;    // the archive's feasible designs no other dominates
   std::set<std::string> known_;      // stored, running or rejected: never drawn again
   long drawn_ = 0;                   // designs started, over every call (the random streams' numbers)
   int last_generation_ = -1;
@@ -200,19 +204,30 @@ void Asynchronous::join(const Evaluation& e, bool replaying) {
   if (!replaying) store_.put_join(run_, static_cast<long>(archive_.size()), e.digest);
   archive_.push_back(e);
   known_.insert(e.digest);
+  if (e.feasible) {  // the front, kept as designs join (a front of the whole archive grew as its square)
+    const auto v = objective_values(space_, e);
+    const auto dominates = [](const std::vector<double>& a, const std::vector<double>& b) {
+      bool better = false;
+      for (std::size_t k = 0; k < a.size(); ++k) {
+        if (a[k] > b[k]) return false;
+        better = better || a[k] < b[k];
+      }
+      return better;
+    };
+    if (std::none_of(front_.begin(), front_.end(), [&](const Evaluation& f) { return dominates(objective_values(space_, f), v); })) {
+      std::erase_if(front_, [&](const Evaluation& f) { return dominates(v, objective_values(space_, f)); });
+      front_.push_back(e);
+    }
+  }
   members_.push_back({*x, e.digest, fitness(space_, e, &*norm_)});
   if (members_.size() > population_) {
-    std::vector<pagmo::vector_double> f;
+    std::vector<std::vector<double>> f;
     for (const auto& m : members_) f.push_back(m.f);
-    auto keep = pagmo::select_best_N_mo(f, population_);
-    std::sort(keep.begin(), keep.end());
-    std::vector<Member> kept;
-    for (const auto i : keep) kept.push_back(std::move(members_[i]));
-    members_ = std::move(kept);
+    members_.erase(members_.begin() + static_cast<long>(leaving(f, space_.search.algorithm)));
   }
   if (archive_.size() % population_ == 0) {
     const int index = static_cast<int>(archive_.size() / population_) - 1;
-    hypervolumes_.push_back(normalised_hypervolume(space_, *norm_, archive_));
+    hypervolumes_.push_back(normalised_hypervolume(space_, *norm_, front_));
     if (!replaying || index > last_generation_) record_generation(index);
   }
 }
@@ -265,10 +280,14 @@ std::vector<double> Asynchronous::bred(std::mt19937& rng) const {
     if (rank[a] != rank[b]) return rank[a] < rank[b] ? a : b;
     return crowding[a] >= crowding[b] ? a : b;
   };
-  const auto p1 = tournament(), p2 = tournament();
-  auto child = pagmo::sbx_crossover(members_[p1].x, members_[p2].x, bounds_, space_.genes(), kCrossoverProbability,
-                                    kCrossoverEta, rng).first;
-  pagmo::polynomial_mutation(child, bounds_, space_.genes(), 1.0 / static_cast<double>(space_.genes()), kMutationEta, rng);
+  // NSGA-III and SMS-EMOA pick their parents at random.
+  const bool random_parents = space_.search.algorithm != Algorithm::nsga2;
+  const auto p1 = random_parents ? any(rng) : tournament(), p2 = random_parents ? any(rng) : tournament();
+  const auto& o = space_.search;
+  auto child = pagmo::sbx_crossover(members_[p1].x, members_[p2].x, bounds_, space_.genes(), o.crossover_probability,
+                                    o.crossover_eta, rng).first;
+  pagmo::polynomial_mutation(child, bounds_, space_.genes(), o.mutation_probability.value_or(1.0 / static_cast<double>(space_.genes())),
+                             o.mutation_eta, rng);
   return child;
 }
 
@@ -290,12 +309,18 @@ std::optional<Job> Asynchronous::draw() {
   return std::nullopt;
 }
 
-bool Asynchronous::may_start(int running) {
+// The designs the run joins before it ends: its generations', or its budget.
+long Asynchronous::limit() const {
   const long target = static_cast<long>(population_) * (space_.search.generations + 1);
-  const long limit = std::min(target, space_.search.max_designs.value_or(target));
-  // Before the box, the probes that may begin the search count as joined.
-  const long done = static_cast<long>(archive_.size() + held_.size()) + running - probes_running_ + (norm_ ? 0 : warm_expected_);
-  if (ended_.empty() && done >= limit) ended_ = done >= target ? "generations" : "max_designs";
+  return std::min(target, space_.search.max_designs.value_or(target));
+}
+
+// A design starts while fewer than the limit have finished (the probes that may begin the search
+// counting as joined before the box): every thread stays busy to the end, and those still running
+// when the limit is reached are abandoned, rather than the cores waiting for the slowest.
+bool Asynchronous::may_start() {
+  const long target = static_cast<long>(population_) * (space_.search.generations + 1);
+  if (ended_.empty() && finished() >= limit()) ended_ = finished() >= target ? "generations" : "max_designs";
   if (ended_.empty() && Clock::now() >= deadline_) ended_ = "time limit";
   return ended_.empty();
 }
@@ -354,6 +379,7 @@ void Asynchronous::take(std::vector<Finished> done, std::exception_ptr& error) {
       probe_done(f);
       continue;
     }
+    if (finished() >= limit()) continue;  // ended beside the last one the run needed: not joined, not stored
     f.evaluation->searched = true;
     ++result_.runs;
     joined(*f.evaluation, false);
@@ -376,7 +402,7 @@ SearchResult Asynchronous::run() {
         throw refsim::InSituStopped("stopped by a signal");  // the pool abandons what runs
       }
       int running = pool.running();
-      while (!error && running < jobs && may_start(running)) {
+      while (!error && running < jobs && may_start()) {
         auto job = draw();
         if (!job) {
           ended_ = "exhausted";
@@ -389,7 +415,9 @@ SearchResult Asynchronous::run() {
         pool.start(std::move(*job));
         ++running;
       }
-      if (running == 0) break;
+      // Ended but for a space with nothing new (its running designs are new ones, and finish):
+      // what still runs is abandoned, once the probes have fixed the box.
+      if (running == 0 || error || (!ended_.empty() && ended_ != "exhausted" && probes_running_ == 0)) break;
       take(pool.finished(std::chrono::milliseconds(100)), error);
     }
   }

@@ -20,11 +20,12 @@ namespace granstack::design {
 
 namespace {
 // One in-situ run of `spec`, to the blow's end when `to_blow_end`.
-Outcome run(const model::StackSpec& spec, bool to_blow_end, double cap_durations) {
+Outcome run(const model::StackSpec& spec, bool to_blow_end, double cap_durations, const std::atomic<bool>* abandon) {
   const auto stack = model::Stack::build(spec);
   // The particles exactly as a generated case's data file gives them to refsim.
   refsim::InSituOptions options;
-  options.stop = [] { return os::interrupt_signal() != 0; };  // a signal abandons the design at once
+  // A signal (or the search's end) abandons the design at once.
+  options.stop = [abandon] { return os::interrupt_signal() != 0 || (abandon != nullptr && abandon->load()); };
   options.stop_at_blow_end = to_blow_end;
   options.cap_durations = cap_durations;
   auto r = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "design")), options);
@@ -155,22 +156,22 @@ void record(const Space& space, Evaluation& e, const std::vector<std::pair<model
   else e.scenarios = std::move(done);
 }
 
-Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway) {
+Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway, const std::atomic<bool>* abandon) {
   auto e = measured(space, spec);
   if (!e.feasible && !run_anyway) return e;
   std::vector<std::pair<model::StackSpec, Outcome>> runs;
   for (const auto& one : scenario_specs(space, spec)) {
     if (stops_at_blow_end(one)) {
-      auto o = run(one, true, space.cap_durations);
+      auto o = run(one, true, space.cap_durations, abandon);
       runs.emplace_back(stopping_at_blow_end(one, space.cap_durations), std::move(o));
       continue;
     }
     auto ran = one;
-    auto o = run(ran, false, space.cap_durations);
+    auto o = run(ran, false, space.cap_durations, abandon);
     if (const auto longer = extended(one, ran, o)) {
       e.seconds += o.seconds;
       ran = *longer;
-      o = run(ran, false, space.cap_durations);
+      o = run(ran, false, space.cap_durations, abandon);
     }
     runs.emplace_back(ran, std::move(o));
   }

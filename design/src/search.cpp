@@ -33,7 +33,7 @@ struct Context {
   const SearchOptions* options = nullptr;
   Store* store = nullptr;
   int run = 0;
-  std::optional<Normalisation> box;           // the fitness's (none: a store from before it, raw)
+  std::optional<Normalisation> box;           // the hypervolume's (none: a store from before it, raw)
   std::vector<Evaluation> archive;            // the designs the run has evaluated, each once, in order
   std::set<std::string> joined;
 
@@ -60,7 +60,9 @@ struct Context {
     join(evaluations);
     pagmo::vector_double out;
     for (const auto& e : evaluations) {
-      const auto f = design::fitness(*space, e, box ? &*box : nullptr);
+      // Ranked by the raw objectives, as before the box (the same search, design for design, as
+      // the stores and figures made before it; NSGA-II's crowding takes each objective's range).
+      const auto f = design::fitness(*space, e);
       out.insert(out.end(), f.begin(), f.end());
     }
     return out;
@@ -151,7 +153,10 @@ SearchResult run_generational(const Space& space, Store& store, const SearchOpti
     if (os::interrupt_signal() != 0) throw refsim::InSituStopped("stopped by a signal between generations");
     context->generation = gen;
     const int before = evaluator.runs();
-    pagmo::nsga2 algorithm(1u, 0.95, 10., 1.0 / static_cast<double>(space.genes()), 50., generation_seed(seed, gen));
+    const auto& o = space.search;
+    pagmo::nsga2 algorithm(1u, o.crossover_probability, o.crossover_eta,
+                           o.mutation_probability.value_or(1.0 / static_cast<double>(space.genes())), o.mutation_eta,
+                           generation_seed(seed, gen));
     algorithm.set_bfe(batch);
     pop = algorithm.evolve(pop);
     const auto g = record(space, store, *context, pop, gen, evaluator.runs() - before);

@@ -350,6 +350,23 @@ void read_constraints(const toml::table* c, Space& s, std::vector<std::string>& 
 
 void read_seeds(const toml::array& a, Space& s, std::vector<std::string>& problems);
 
+// [search]'s operator settings, each within what pagmo2's operators take.
+void read_operator(const std::string& key, const toml::node& v, Space& s, std::vector<std::string>& problems) {
+  const auto x = v.value<double>();
+  const bool eta = key == "crossover_eta" || key == "mutation_eta";
+  const bool ok = x && (eta ? *x >= 1.0 && *x < 100.0 : key == "crossover_probability" ? *x >= 0.0 && *x < 1.0 : *x >= 0.0 && *x <= 1.0);
+  if (!ok) {
+    problems.push_back(fmt::format("[search] {}: {}", key, eta ? "a distribution index from 1 to below 100"
+                                                          : key == "crossover_probability" ? "a probability from 0 to below 1"
+                                                                                           : "a probability from 0 to 1"));
+    return;
+  }
+  if (key == "crossover_probability") s.search.crossover_probability = *x;
+  else if (key == "crossover_eta") s.search.crossover_eta = *x;
+  else if (key == "mutation_eta") s.search.mutation_eta = *x;
+  else s.search.mutation_probability = *x;
+}
+
 // [search]'s whole-number keys: population, generations, seed, max_designs, stagnation.
 void read_search_count(const std::string& key, const toml::node& v, Space& s, std::vector<std::string>& problems) {
   const auto n = v.value_exact<std::int64_t>();
@@ -405,6 +422,16 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
         problems.push_back("[search] evaluation: \"asynchronous\" (a design starts whenever one ends: every core busy) or "
                            "\"generational\" (a generation at a time: the same search on any number of cores)");
       }
+    } else if (key == "algorithm") {
+      const auto name = v.value_exact<std::string>().value_or("");
+      if (name == "nsga2" || name == "nsga3" || name == "sms-emoa") {
+        s.search.algorithm = name == "nsga2" ? Algorithm::nsga2 : name == "nsga3" ? Algorithm::nsga3 : Algorithm::sms_emoa;
+      } else {
+        problems.push_back(fmt::format("[search] algorithm = \"{}\": \"nsga2\", \"nsga3\" or \"sms-emoa\" (how the population "
+                                       "drops a design; MOEA/D is not offered)", name));
+      }
+    } else if (key == "crossover_probability" || key == "crossover_eta" || key == "mutation_eta" || key == "mutation_probability") {
+      read_operator(key, v, s, problems);
     } else if (key == "stagnation_tolerance") {
       const auto x = v.value<double>();
       if (!x || !(*x >= 0.0 && *x < 1.0)) problems.push_back("[search] stagnation_tolerance: a fraction from 0 to below 1");
@@ -414,12 +441,17 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
     } else if (key == "population" || key == "generations" || key == "seed" || key == "max_designs" || key == "stagnation") {
       read_search_count(key, v, s, problems);
     } else {
-      problems.push_back(fmt::format("[search] {}: unknown; evaluation, population, generations, seed, max_designs, "
-                                     "stagnation or stagnation_tolerance", key));
+      problems.push_back(fmt::format("[search] {}: unknown; evaluation, algorithm, population, generations, seed, "
+                                     "max_designs, stagnation, stagnation_tolerance, crossover_probability, "
+                                     "crossover_eta, mutation_eta or mutation_probability", key));
     }
   }
   if (s.search.population < 8 || s.search.population % 4 != 0) {
     problems.push_back(fmt::format("[search] population = {}: a multiple of 4, at least 8 (NSGA-II's pairs)", s.search.population));
+  }
+  if (s.search.algorithm != Algorithm::nsga2 && s.search.schedule == Schedule::generational) {
+    problems.push_back(fmt::format("[search] algorithm = \"{}\": the generational search is pagmo2's NSGA-II; leave out "
+                                   "algorithm, or make the search asynchronous", to_string(s.search.algorithm)));
   }
 }
 
@@ -595,6 +627,15 @@ std::pair<model::StackSpec, model::StackSpec> Space::extreme_designs() const {
 
 std::string_view to_string(Schedule s) { return s == Schedule::asynchronous ? "asynchronous" : "generational"; }
 
+std::string_view to_string(Algorithm a) {
+  switch (a) {
+    case Algorithm::nsga2: return "nsga2";
+    case Algorithm::nsga3: return "nsga3";
+    case Algorithm::sms_emoa: return "sms-emoa";
+  }
+  return "?";
+}
+
 std::string Space::digest() const {
   nlohmann::json j;
   j["fixed"] = model::spec_json(fixed);
@@ -623,6 +664,12 @@ std::string Space::digest() const {
   else j["seed"] = search.seeds;
   // A generational search keeps the digest it had before the asynchronous one existed.
   if (search.schedule != Schedule::generational) j["evaluation"] = std::string(to_string(search.schedule));
+  if (search.algorithm != Algorithm::nsga2) j["algorithm"] = std::string(to_string(search.algorithm));
+  // Operator settings at their defaults leave the digest as it was before they could be set.
+  if (search.crossover_probability != 0.95) j["crossover_probability"] = search.crossover_probability;
+  if (search.crossover_eta != 10.0) j["crossover_eta"] = search.crossover_eta;
+  if (search.mutation_eta != 50.0) j["mutation_eta"] = search.mutation_eta;
+  if (search.mutation_probability) j["mutation_probability"] = *search.mutation_probability;
   return formats::sha256_hex(j.dump());
 }
 

@@ -1,5 +1,7 @@
 // granstack design: the space file and its refusals, the in-situ evaluation against reduce on
 // the same case, the store, and the search's reproducibility and resumption.
+#include "../../design/src/survival.hpp"
+
 #include <granstack/design/convergence.hpp>
 #include <granstack/design/report.hpp>
 #include <granstack/formats/case.hpp>
@@ -263,7 +265,17 @@ TEST(Space, BadSpacesAreRefusedNamingTheKeyAndTheFix) {
   // listed twice, a fraction of a sphere (#34): each refused by name, before anything runs.
   EXPECT_NE(problems_of(with("population = 8", "population = 100000000")).find("population: a whole number from 0 to 100000"),
             std::string::npos);
-  EXPECT_NE(problems_of(with("seed = 7", "seed = 7\nalgorithm = \"moead\"")).find("algorithm: unknown"), std::string::npos);
+  EXPECT_NE(problems_of(with("seed = 7", "seed = 7\nalgorithm = \"moead\"")).find("MOEA/D is not offered"), std::string::npos);
+  EXPECT_NE(problems_of(with("seed = 7", "seed = 7\nalgorithm = \"nsga3\"\nevaluation = \"generational\""))
+                .find("the generational search is pagmo2's NSGA-II"),
+            std::string::npos);
+  EXPECT_NE(problems_of(with("seed = 7", "seed = [7, 7]")).find("7 is listed twice"), std::string::npos);
+  EXPECT_NE(problems_of(with("seed = 7", "seed = 7\nmax_designs = 0")).find("max_designs: a whole number >= 1"), std::string::npos);
+  EXPECT_NE(problems_of(with("seed = 7", "seed = 7\nevaluation = \"eager\"")).find("\"asynchronous\""), std::string::npos);
+  EXPECT_NE(problems_of(with("seed = 7", "seed = 7\ncrossover_eta = 0.5")).find("crossover_eta: a distribution index from 1"),
+            std::string::npos);
+  EXPECT_NE(problems_of(with("seed = 7", "seed = 7\ncrossover_probability = 1.0")).find("a probability from 0 to below 1"),
+            std::string::npos);
   EXPECT_NE(problems_of(with("\"teflon\"]", "\"teflon\", \"steel\"]")).find("steel is listed twice"), std::string::npos);
   EXPECT_NE(problems_of(base + "[constraints]\nmax_spheres = 200.5\n").find("a whole number of spheres"), std::string::npos);
 }
@@ -376,10 +388,11 @@ TEST(Store, KeepsEvaluationsAndRefusesAnotherSpacesStore) {
 // A search stopped after generation 1 and resumed gives the generations of one run straight
 // through, design for design and bit for bit (the asynchronous one on one job: on several, the
 // order designs end in shapes it); its hypervolume, of every design run so far, never falls.
-void expect_resumes_where_it_stopped(design::Schedule schedule) {
+void expect_resumes_where_it_stopped(design::Schedule schedule, design::Algorithm algorithm = design::Algorithm::nsga2) {
   const auto dir = work_dir();
   auto space = small_space();
   space.search.schedule = schedule;
+  space.search.algorithm = algorithm;
   auto whole = design::Store::open((dir / "whole.sqlite").string(), space.digest(), kSmallSpace);
   const auto a = design::run_search(space, whole, {});
   const int first = schedule == design::Schedule::asynchronous ? 0 : 1;  // generational: 0 is the initial population
@@ -406,6 +419,29 @@ void expect_resumes_where_it_stopped(design::Schedule schedule) {
 
 TEST(Search, IsReproducibleAndResumesWhereItStopped) { expect_resumes_where_it_stopped(design::Schedule::asynchronous); }
 TEST(Search, AGenerationalSearchResumesWhereItStopped) { expect_resumes_where_it_stopped(design::Schedule::generational); }
+TEST(Search, NsgaThreeAndSmsEmoaResumeWhereTheyStopped) {
+  expect_resumes_where_it_stopped(design::Schedule::asynchronous, design::Algorithm::nsga3);
+  expect_resumes_where_it_stopped(design::Schedule::asynchronous, design::Algorithm::sms_emoa);
+}
+
+// Each algorithm's survival rule against a hand count (design/src/survival.hpp). A dominated
+// design leaves under every one. On one front (0,1), (0.45,0.55), (0.5,0.5), (1,0) against the
+// reference point 1.1, SMS-EMOA drops (0.45,0.55): its exclusive hypervolume, 0.05 x 0.45 =
+// 0.0225, is the least (the others 0.045, 0.025, 0.05). NSGA-III with five members has four
+// directions (0,1), (1/3,2/3), (2/3,1/3), (1,0); (0.3,0.7) and (0.32,0.68) share the second, and
+// the first, 0.1/sqrt(5) from it against 0.04/sqrt(5), leaves.
+TEST(Search, EachAlgorithmDropsTheDesignItsRuleNames) {
+  using design::Algorithm;
+  const std::vector<std::vector<double>> dominated{{0.2, 0.2}, {0.5, 0.6}, {0.6, 0.1}, {0.1, 0.6}};
+  for (const auto a : {Algorithm::nsga2, Algorithm::nsga3, Algorithm::sms_emoa}) {
+    EXPECT_EQ(design::leaving(dominated, a), 1u) << design::to_string(a);
+  }
+  EXPECT_EQ(design::leaving({{0, 1}, {0.45, 0.55}, {0.5, 0.5}, {1, 0}}, Algorithm::sms_emoa), 1u);
+  EXPECT_EQ(design::leaving({{0, 1}, {0.32, 0.68}, {0.7, 0.3}, {0.3, 0.7}, {1, 0}}, Algorithm::nsga3), 3u);
+  const auto directions = design::reference_directions(3, 4);
+  EXPECT_EQ(directions.size(), 15u);  // C(4 + 2, 2)
+  for (const auto& w : directions) EXPECT_NEAR(w[0] + w[1] + w[2], 1.0, 1e-15);
+}
 
 namespace {
 // The small space with `search` as its [search] table and `constraints` as its [constraints].
@@ -692,6 +728,17 @@ rows = 4
   for (const char* said : {"'mass' is not one of", "the minimum is above the maximum", "'unobtainium' is unknown"}) {
     EXPECT_NE(r.output.find(said), std::string::npos) << said << "\n" << r.output;
   }
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+// --slurm runs a search a generation at a time: an asynchronous space with it is refused with exit
+// 2, naming the key, before anything is written.
+TEST(DesignCli, SlurmBatchesOfAnAsynchronousSearchAreRefusedNamingTheKey) {
+  const auto dir = work_dir();
+  std::ofstream(dir / "small.toml") << kSmallSpace;
+  const auto r = program({"design", "run", (dir / "small.toml").string(), "-o", (dir / "out").string(), "--slurm"}, dir / "run.log");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("evaluation = \"generational\""), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 

@@ -6,6 +6,7 @@
 #include <granstack/design/space.hpp>
 #include <granstack/design/store.hpp>
 
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -83,7 +84,9 @@ std::string not_final(const Space& space, const model::StackSpec& ran, const Out
 void record(const Space& space, Evaluation& e, const std::vector<std::pair<model::StackSpec, Outcome>>& runs);
 // One design's evaluation, run now without a store (what `evaluate` runs for a missing one); a
 // design outside the constraints is not run unless `run_anyway`.
-Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway = false);
+// `abandon`: set, the run stops (refsim::InSituStopped), as at a signal.
+Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway = false,
+                           const std::atomic<bool>* abandon = nullptr);
 
 struct SearchOptions {
   int jobs = 1;                  // with no runner: designs at once on this machine

@@ -74,12 +74,26 @@ std::string_view to_string(Aggregate a);
 enum class Schedule { asynchronous, generational };
 std::string_view to_string(Schedule s);
 
+// Which design leaves the asynchronous search's population when one joins, and how parents are
+// picked: nsga2 (Deb et al. 2002: rank, then crowding; binary tournaments), nsga3 (Deb and Jain
+// 2014: rank, then the most crowded of Das and Dennis's reference directions in the normalised
+// box, the farthest from it; parents at random), sms_emoa (Beume et al. 2007: rank, then the least
+// exclusive hypervolume in the box; parents at random). The generational schedule is NSGA-II.
+enum class Algorithm { nsga2, nsga3, sms_emoa };
+std::string_view to_string(Algorithm a);
+
 struct Search {
   int population = 24;  // a multiple of 4, at least 8, at most kMaxPopulation
   int generations = 10;  // at most kMaxGenerations; asynchronous: population designs make one
   std::uint64_t seed = 1;                    // the first run's
   std::vector<std::uint64_t> seeds{1};       // [search] seed = N or [N, M, ...]: a run per seed, one store
   Schedule schedule = Schedule::asynchronous;  // [search] evaluation
+  Algorithm algorithm = Algorithm::nsga2;       // [search] algorithm
+  // The operators (pagmo2's simulated binary crossover and polynomial mutation, both schedules):
+  double crossover_probability = 0.95;          // in [0, 1)
+  double crossover_eta = 10.0;                  // distribution index, in [1, 100)
+  double mutation_eta = 50.0;                   // in [1, 100)
+  std::optional<double> mutation_probability;   // per gene, in [0, 1]; none: one over the genes
   bool schedule_given = false;                 // the file named it (a resumed store keeps its own otherwise)
   // When the search also ends (none of them part of the space's digest, as generations):
   std::optional<long> max_designs;  // distinct designs run by the search, in all
