@@ -295,6 +295,15 @@ std::vector<double> Asynchronous::bred(std::mt19937& rng) const {
 // initial population) and after kBredDraws clones; nullopt when kDrawsPerDesign draws found no new
 // design within the constraints.
 std::optional<Job> Asynchronous::draw() {
+  // The designs [search] start names come first, those not known yet.
+  for (const auto& genes : space_.search.start) {
+    const auto x = space_.canonical_genes(genes);
+    auto spec = space_.decode(x);
+    auto digest = spec_digest(spec);
+    if (!known_.insert(digest).second || !measure(space_, spec).violations.empty()) continue;
+    ++drawn_;
+    return Job{x, std::move(spec), std::nullopt, store_.find(digest)};
+  }
   auto rng = stream(seed_, drawn_);
   const bool initial = static_cast<std::size_t>(drawn_) < population_ || members_.size() < 2;
   for (int attempt = 0; attempt < kDrawsPerDesign; ++attempt) {

@@ -143,8 +143,20 @@ SearchResult run_generational(const Space& space, Store& store, const SearchOpti
     for (const auto& x : last->population) pop.push_back(x, problem.fitness(x));
     result.first_generation = last->index + 1;
   } else {
-    const auto size = static_cast<pagmo::population::size_type>(space.search.population);
+    // The designs [search] start names take the first places; the rest are drawn.
+    const auto& start = space.search.start;
+    const auto named = std::min(start.size(), static_cast<std::size_t>(space.search.population));
+    const auto size = static_cast<pagmo::population::size_type>(space.search.population) - named;
     pop = pagmo::population(problem, batch, size, generation_seed(seed, 0));
+    if (named > 0) {
+      pagmo::vector_double all;  // evaluated as one batch
+      for (std::size_t k = 0; k < named; ++k) all.insert(all.end(), start[k].begin(), start[k].end());
+      const auto f = context->fitnesses(all);
+      const auto m = space.objectives.size();
+      for (std::size_t k = 0; k < named; ++k) {
+        pop.push_back(start[k], pagmo::vector_double(f.begin() + static_cast<long>(k * m), f.begin() + static_cast<long>((k + 1) * m)));
+      }
+    }
     const auto g = record(space, store, *context, pop, 0, evaluator.runs());
     if (options.on_generation) options.on_generation(g);
     result.first_generation = 1;

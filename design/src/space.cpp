@@ -1,5 +1,6 @@
 #include <granstack/design/space.hpp>
 #include <granstack/formats/digest.hpp>
+#include <granstack/formats/files.hpp>
 #include <granstack/generator/spec_input.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/spec_fields.hpp>
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 namespace granstack::design {
@@ -430,6 +432,14 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
         problems.push_back(fmt::format("[search] algorithm = \"{}\": \"nsga2\", \"nsga3\" or \"sms-emoa\" (how the population "
                                        "drops a design; MOEA/D is not offered)", name));
       }
+    } else if (key == "start") {
+      const auto* a = v.as_array();
+      for (std::size_t i = 0; a != nullptr && i < a->size(); ++i) {
+        if (const auto name = a->get(i)->value_exact<std::string>()) s.search.start_files.push_back(*name);
+      }
+      if (a == nullptr || s.search.start_files.size() != a->size()) {
+        problems.push_back("[search] start: a list of spec files (granstack generate --config's), relative to the space file");
+      }
     } else if (key == "crossover_probability" || key == "crossover_eta" || key == "mutation_eta" || key == "mutation_probability") {
       read_operator(key, v, s, problems);
     } else if (key == "stagnation_tolerance") {
@@ -442,7 +452,7 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
       read_search_count(key, v, s, problems);
     } else {
       problems.push_back(fmt::format("[search] {}: unknown; evaluation, algorithm, population, generations, seed, "
-                                     "max_designs, stagnation, stagnation_tolerance, crossover_probability, "
+                                     "max_designs, stagnation, stagnation_tolerance, start, crossover_probability, "
                                      "crossover_eta, mutation_eta or mutation_probability", key));
     }
   }
@@ -452,6 +462,29 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
   if (s.search.algorithm != Algorithm::nsga2 && s.search.schedule == Schedule::generational) {
     problems.push_back(fmt::format("[search] algorithm = \"{}\": the generational search is pagmo2's NSGA-II; leave out "
                                    "algorithm, or make the search asynchronous", to_string(s.search.algorithm)));
+  }
+}
+
+// [search] start's spec files, each a design of the space, as genes.
+void read_start(Space& s, const std::string& source, std::vector<std::string>& problems) {
+  for (const auto& name : s.search.start_files) {
+    const auto path = std::filesystem::path(source).parent_path() / name;
+    try {
+      const auto sweep = generator::build_sweep(generator::parse_spec_toml(formats::read_file(path), path.string()));
+      if (!sweep.axes.empty()) {
+        problems.push_back(fmt::format("[search] start: {}: a design, not a sweep ({} has a list)", path.string(), sweep.axes.front().field));
+      } else if (const auto x = s.encode(sweep.base)) {
+        s.search.start.push_back(*x);
+      } else {
+        problems.push_back(fmt::format("[search] start: {}: {} is not one of the space's designs ({} to {} blocks of {}, ratios {}, "
+                                       "rows {} to {})", path.string(), describe(sweep.base), s.min_blocks, s.max_blocks,
+                                       joined(s.materials), fmt::join(s.radius_ratios, ", "), s.min_rows, s.max_rows));
+      }
+    } catch (const model::SpecError& e) {
+      problems.push_back(fmt::format("[search] start: {}: {}: {}", path.string(), e.issues().front().field, e.issues().front().message));
+    } catch (const std::exception& e) {
+      problems.push_back(fmt::format("[search] start: {}: {}", path.string(), e.what()));
+    }
   }
 }
 
@@ -670,6 +703,7 @@ std::string Space::digest() const {
   if (search.crossover_eta != 10.0) j["crossover_eta"] = search.crossover_eta;
   if (search.mutation_eta != 50.0) j["mutation_eta"] = search.mutation_eta;
   if (search.mutation_probability) j["mutation_probability"] = *search.mutation_probability;
+  if (!search.start_files.empty()) j["start"] = search.start_files;
   return formats::sha256_hex(j.dump());
 }
 
@@ -706,6 +740,7 @@ Space parse_space(std::string_view text, const std::string& source, bool stored)
     to.insert(to.end(), unsound.begin(), unsound.end());
   }
   if (problems.empty()) check_not_empty(s, problems);
+  if (problems.empty() && !stored) read_start(s, source, problems);
   if (!problems.empty()) throw SpaceError(std::move(problems));
   return s;
 }

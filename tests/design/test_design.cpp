@@ -551,6 +551,41 @@ TEST(Search, EachSeedsRunInOneStoreIsTheSearchThatSeedGivesAlone) {
   }
 }
 
+// [search] start (#34): the designs of spec files begin the search, the asynchronous one's first
+// drawn design and a member of the generational one's first population; a file whose design is
+// outside the space, or missing, is refused by name.
+TEST(Search, TheDesignsASpaceStartsFromBeginTheSearch) {
+  const auto dir = work_dir();
+  std::ofstream(dir / "mine.toml") << "blocks = 2\nmaterials = [\"teflon\", \"steel\"]\nblock_rows = [3, 1]\nradius_ratio = 2\n";
+  std::ofstream(dir / "big.toml") << "blocks = 3\nmaterials = [\"steel\"]\nrows = 2\n";
+  const auto text = [&](const std::string& extra) {
+    auto t = kSmallSpace.substr(0, kSmallSpace.find("[search]")) + "[search]\npopulation = 8\ngenerations = 0\nseed = 7\n" + extra;
+    return t;
+  };
+  auto mine = design::parse_space(text("start = [\"mine.toml\"]\n"), (dir / "space.toml").string());
+  ASSERT_EQ(mine.search.start.size(), 1u);
+  const auto digest = design::spec_digest(mine.decode(mine.search.start.front()));
+  EXPECT_EQ(design::describe(mine.decode(mine.search.start.front())), "teflon/steel, ratios 2, rows 3/1");
+  for (const auto schedule : {design::Schedule::asynchronous, design::Schedule::generational}) {
+    mine.search.schedule = schedule;
+    auto store = design::Store::open((dir / fmt::format("{}.sqlite", design::to_string(schedule))).string(), mine.digest(), kSmallSpace);
+    design::run_search(mine, store, {});
+    const auto g0 = store.generations().front().digests;
+    EXPECT_NE(std::find(g0.begin(), g0.end(), digest), g0.end()) << design::to_string(schedule);
+  }
+  const auto refused = [&](const std::string& extra) {
+    try {
+      design::parse_space(text(extra), (dir / "space.toml").string());
+    } catch (const design::SpaceError& e) {
+      return fmt::format("{}", fmt::join(e.problems(), "\n"));
+    }
+    return std::string();
+  };
+  EXPECT_NE(refused("start = [\"big.toml\"]\n").find("big.toml: steel, ratios 2/2, rows 2/2/2 is not one of the space's designs"),
+            std::string::npos) << refused("start = [\"big.toml\"]\n");
+  EXPECT_NE(refused("start = [\"none.toml\"]\n").find("none.toml"), std::string::npos);
+}
+
 // The normalised hypervolume against its definition for one point: the product over the axes of
 // 1.1 minus the point's place on each, a log axis counting decades. An output fraction of 1e-6
 // against 1e-4 on an axis from 1e-9 to 1e-2 is two sevenths of it (the raw hypervolume moved by

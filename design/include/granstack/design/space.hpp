@@ -94,6 +94,11 @@ struct Search {
   double crossover_eta = 10.0;                  // distribution index, in [1, 100)
   double mutation_eta = 50.0;                   // in [1, 100)
   std::optional<double> mutation_probability;   // per gene, in [0, 1]; none: one over the genes
+  // [search] start: spec files (generate --config's, relative to the space file) whose designs
+  // begin the search (their blocks, materials, ratios and rows; the rest is the space's), and
+  // their genes (read when a search is parsed to run, not from a stored space).
+  std::vector<std::string> start_files;
+  std::vector<std::vector<double>> start;
   bool schedule_given = false;                 // the file named it (a resumed store keeps its own otherwise)
   // When the search also ends (none of them part of the space's digest, as generations):
   std::optional<long> max_designs;  // distinct designs run by the search, in all
