@@ -16,6 +16,7 @@
 #include <deque>
 #include <limits>
 #include <mutex>
+#include <numeric>
 #include <random>
 #include <set>
 #include <thread>
@@ -25,6 +26,11 @@ namespace granstack::design {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// MOEA/D's settings (Zhang and Li 2007; Li and Zhang 2009's replacement bound).
+constexpr std::size_t kMoeadNeighbours = 20;
+constexpr int kMoeadReplacements = 2;
+constexpr double kMoeadLocalMating = 0.9;
 
 struct Member {
   std::vector<double> x;  // canonical genes
@@ -38,6 +44,7 @@ struct Job {
   model::StackSpec spec;
   std::optional<Probe> probe;  // a probe: run even outside the constraints, stored apart
   std::optional<Evaluation> ready;  // run before (by another seed's run): joins without running
+  std::size_t subproblem = 0;        // MOEA/D: the weight it was bred for
 };
 struct Finished {
   Job job;
@@ -141,16 +148,19 @@ class Asynchronous {
 
  private:
   void replay();
-  void join(const Evaluation& e, bool replaying);
+  // `subproblem`: MOEA/D's weight the design was bred for (its draw's number modulo the population).
+  void join(const Evaluation& e, bool replaying, std::size_t subproblem = 0);
+  void survive(Member m, std::size_t subproblem);
+  void decompose();
   void record_generation(int index);
   std::optional<Job> draw();
-  std::vector<double> bred(std::mt19937& rng) const;
+  std::vector<double> bred(std::mt19937& rng, std::size_t subproblem) const;
   std::vector<double> uniform(std::mt19937& rng) const;
   bool may_start();
   long limit() const;
   long finished() const { return static_cast<long>(archive_.size() + held_.size()) + (norm_ ? 0 : warm_expected_); }
   void take(std::vector<Finished> done, std::exception_ptr& error);
-  void joined(const Evaluation& e, bool stored);
+  void joined(const Evaluation& e, bool stored, std::size_t subproblem);
   void start_probes(Pool& pool);
   void probe_done(const Finished& f);
 
@@ -162,7 +172,9 @@ class Asynchronous {
   std::optional<Normalisation> norm_;  // none until the probes have run
   int probes_running_ = 0;
   long warm_expected_ = 0;             // probes that are designs of the space, before they ran
-  std::vector<Evaluation> held_;       // designs that ended before the box was fixed, in order
+  std::vector<std::vector<double>> weights_;            // MOEA/D: a weight per member
+  std::vector<std::vector<std::size_t>> neighbours_;    // MOEA/D: each weight's nearest, itself first
+  std::vector<std::pair<Evaluation, std::size_t>> held_;  // ended before the box was fixed, in order
   std::pair<std::vector<double>, std::vector<double>> bounds_;
   std::size_t population_;
   std::vector<Member> members_;
@@ -186,7 +198,7 @@ void Asynchronous::replay() {
   for (const auto& digest : joins) {
     const auto e = store_.find(digest);
     if (!e) throw StoreError(fmt::format("the store's run {} joined design {}, which it does not hold", run_, digest.substr(0, 12)));
-    join(*e, true);
+    join(*e, true, static_cast<std::size_t>(drawn_) % population_);
     drawn_ += probes.count(digest) == 0;  // the probes that began the search were not drawn
   }
   if (joins.empty()) {  // a later seed's run: it begins with the probes that are designs of the space, as the first did
@@ -196,9 +208,51 @@ void Asynchronous::replay() {
   result_.first_generation = last_generation_ + 1;
 }
 
-// A finished design joins the archive and the population, which then drops its worst; every
-// `population` designs close a generation.
-void Asynchronous::join(const Evaluation& e, bool replaying) {
+// A member joins the population: it drops its worst (NSGA-II, NSGA-III, SMS-EMOA), or (MOEA/D,
+// once each weight has its member) the design replaces up to two of its subproblem's neighbours
+// it beats in their Tchebycheff distance from the box's ideal (the origin), weighted by theirs.
+void Asynchronous::survive(Member m, std::size_t subproblem) {
+  if (space_.search.algorithm != Algorithm::moead || members_.size() < population_) {
+    members_.push_back(std::move(m));
+    if (members_.size() <= population_) return;
+    std::vector<std::vector<double>> f;
+    for (const auto& member : members_) f.push_back(member.f);
+    members_.erase(members_.begin() + static_cast<long>(leaving(f, space_.search.algorithm)));
+    return;
+  }
+  const pagmo::vector_double ideal(m.f.size(), 0.0);
+  int replaced = 0;
+  for (const auto j : neighbours_.at(subproblem)) {
+    const auto g = [&](const std::vector<double>& f) { return pagmo::decompose_objectives(f, weights_[j], ideal, "tchebycheff")[0]; };
+    if (replaced < kMoeadReplacements && g(m.f) <= g(members_[j].f)) {
+      members_[j] = m;
+      ++replaced;
+    }
+  }
+}
+
+// MOEA/D's weights (pagmo2's low-discrepancy ones, a member each) and their neighbourhoods.
+void Asynchronous::decompose() {
+  if (space_.search.algorithm != Algorithm::moead) return;
+  pagmo::detail::random_engine_type engine(static_cast<unsigned>(seed_));
+  weights_ = pagmo::decomposition_weights(space_.objectives.size(), population_, "low discrepancy", engine);
+  for (std::size_t i = 0; i < weights_.size(); ++i) {
+    std::vector<std::size_t> order(weights_.size());
+    std::iota(order.begin(), order.end(), 0);
+    const auto distance = [&](std::size_t j) {
+      double d = 0.0;
+      for (std::size_t k = 0; k < weights_[i].size(); ++k) d += std::pow(weights_[i][k] - weights_[j][k], 2);
+      return d;
+    };
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return distance(a) < distance(b); });
+    order.resize(std::min(kMoeadNeighbours, order.size()));
+    neighbours_.push_back(std::move(order));
+  }
+}
+
+// A finished design joins the archive and the population; every `population` designs close a
+// generation.
+void Asynchronous::join(const Evaluation& e, bool replaying, std::size_t subproblem) {
   const auto x = space_.encode(e.spec);
   if (!x) throw std::logic_error(fmt::format("design {} is not one of the space's", e.description));
   if (!replaying) store_.put_join(run_, static_cast<long>(archive_.size()), e.digest);
@@ -219,12 +273,7 @@ void Asynchronous::join(const Evaluation& e, bool replaying) {
       front_.push_back(e);
     }
   }
-  members_.push_back({*x, e.digest, fitness(space_, e, &*norm_)});
-  if (members_.size() > population_) {
-    std::vector<std::vector<double>> f;
-    for (const auto& m : members_) f.push_back(m.f);
-    members_.erase(members_.begin() + static_cast<long>(leaving(f, space_.search.algorithm)));
-  }
+  survive({*x, e.digest, fitness(space_, e, &*norm_)}, subproblem);
   if (archive_.size() % population_ == 0) {
     const int index = static_cast<int>(archive_.size() / population_) - 1;
     hypervolumes_.push_back(normalised_hypervolume(space_, *norm_, front_));
@@ -262,7 +311,7 @@ std::vector<double> Asynchronous::uniform(std::mt19937& rng) const {
 }
 
 // Two binary tournaments on (rank, crowding), SBX of the winners, polynomial mutation.
-std::vector<double> Asynchronous::bred(std::mt19937& rng) const {
+std::vector<double> Asynchronous::bred(std::mt19937& rng, std::size_t subproblem) const {
   std::vector<pagmo::vector_double> f;
   for (const auto& m : members_) f.push_back(m.f);
   const auto [fronts, dom_list, dom_count, rank] = pagmo::fast_non_dominated_sorting(f);
@@ -280,9 +329,18 @@ std::vector<double> Asynchronous::bred(std::mt19937& rng) const {
     if (rank[a] != rank[b]) return rank[a] < rank[b] ? a : b;
     return crowding[a] >= crowding[b] ? a : b;
   };
-  // NSGA-III and SMS-EMOA pick their parents at random.
-  const bool random_parents = space_.search.algorithm != Algorithm::nsga2;
-  const auto p1 = random_parents ? any(rng) : tournament(), p2 = random_parents ? any(rng) : tournament();
+  // NSGA-III and SMS-EMOA pick their parents at random; MOEA/D from the subproblem's
+  // neighbourhood (with probability 0.9, else from the whole population).
+  const auto algorithm = space_.search.algorithm;
+  const bool moead = algorithm == Algorithm::moead && members_.size() == population_;
+  const auto& near = neighbours_.empty() ? std::vector<std::size_t>{} : neighbours_.at(subproblem);
+  const bool local = moead && std::uniform_real_distribution<double>(0.0, 1.0)(rng) < kMoeadLocalMating;
+  std::uniform_int_distribution<std::size_t> in_near(0, near.empty() ? 0 : near.size() - 1);
+  const auto pick = [&] {
+    if (local) return near[in_near(rng)];
+    return algorithm == Algorithm::nsga2 ? tournament() : any(rng);
+  };
+  const auto p1 = pick(), p2 = pick();
   const auto& o = space_.search;
   auto child = pagmo::sbx_crossover(members_[p1].x, members_[p2].x, bounds_, space_.genes(), o.crossover_probability,
                                     o.crossover_eta, rng).first;
@@ -302,18 +360,19 @@ std::optional<Job> Asynchronous::draw() {
     auto digest = spec_digest(spec);
     if (!known_.insert(digest).second || !measure(space_, spec).violations.empty()) continue;
     ++drawn_;
-    return Job{x, std::move(spec), std::nullopt, store_.find(digest)};
+    return Job{x, std::move(spec), std::nullopt, store_.find(digest), static_cast<std::size_t>(drawn_ - 1) % population_};
   }
   auto rng = stream(seed_, drawn_);
+  const auto subproblem = static_cast<std::size_t>(drawn_) % population_;
   const bool initial = static_cast<std::size_t>(drawn_) < population_ || members_.size() < 2;
   for (int attempt = 0; attempt < kDrawsPerDesign; ++attempt) {
-    const auto x = space_.canonical_genes(!initial && attempt < kBredDraws ? bred(rng) : uniform(rng));
+    const auto x = space_.canonical_genes(!initial && attempt < kBredDraws ? bred(rng, subproblem) : uniform(rng));
     auto spec = space_.decode(x);
     auto digest = spec_digest(spec);
     if (!known_.insert(digest).second) continue;
     if (!measure(space_, spec).violations.empty()) continue;  // rejected before it runs; known from now on
     ++drawn_;
-    return Job{x, std::move(spec), std::nullopt, store_.find(digest)};
+    return Job{x, std::move(spec), std::nullopt, store_.find(digest), subproblem};
   }
   return std::nullopt;
 }
@@ -341,7 +400,7 @@ void Asynchronous::start_probes(Pool& pool) {
   for (const auto& p : probe_designs(space_)) {
     if (space_.encode(p.spec)) warm.insert(spec_digest(p.spec));
     if (store_.find(spec_digest(p.spec))) continue;
-    pool.start(Job{{}, p.spec, p, std::nullopt});
+    pool.start(Job{{}, p.spec, p, std::nullopt, 0});
     ++probes_running_;
   }
   warm_expected_ = static_cast<long>(warm.size());
@@ -360,17 +419,17 @@ void Asynchronous::probe_done(const Finished& f) {
   fix_box(space_, store_);
   norm_ = stored_normalisation(store_);
   for (const auto& e : warm_designs(space_, store_)) join(e, false);
-  for (const auto& e : std::exchange(held_, {})) joined(e, false);
+  for (const auto& [e, subproblem] : std::exchange(held_, {})) joined(e, false, subproblem);
 }
 
 // A design that ended (stored: run before, by another seed's run) joins, or waits for the box.
-void Asynchronous::joined(const Evaluation& e, bool stored) {
+void Asynchronous::joined(const Evaluation& e, bool stored, std::size_t subproblem) {
   if (!norm_) {
-    held_.push_back(e);
+    held_.push_back({e, subproblem});
     return;
   }
   if (!stored) store_.put(e);
-  join(e, false);
+  join(e, false, subproblem);
   if (options_.on_progress) {
     const auto in = archive_.size() % population_;
     options_.on_progress(last_generation_ + 1, static_cast<int>(in == 0 ? population_ : in), static_cast<int>(population_));
@@ -391,11 +450,12 @@ void Asynchronous::take(std::vector<Finished> done, std::exception_ptr& error) {
     if (finished() >= limit()) continue;  // ended beside the last one the run needed: not joined, not stored
     f.evaluation->searched = true;
     ++result_.runs;
-    joined(*f.evaluation, false);
+    joined(*f.evaluation, false, f.job.subproblem);
   }
 }
 
 SearchResult Asynchronous::run() {
+  decompose();
   replay();
   if (options_.time_limit > 0.0) {
     deadline_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.time_limit));
@@ -418,7 +478,7 @@ SearchResult Asynchronous::run() {
           break;
         }
         if (job->ready) {
-          joined(*job->ready, true);
+          joined(*job->ready, true, job->subproblem);
           continue;
         }
         pool.start(std::move(*job));

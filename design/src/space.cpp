@@ -426,12 +426,11 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
       }
     } else if (key == "algorithm") {
       const auto name = v.value_exact<std::string>().value_or("");
-      if (name == "nsga2" || name == "nsga3" || name == "sms-emoa") {
-        s.search.algorithm = name == "nsga2" ? Algorithm::nsga2 : name == "nsga3" ? Algorithm::nsga3 : Algorithm::sms_emoa;
-      } else {
-        problems.push_back(fmt::format("[search] algorithm = \"{}\": \"nsga2\", \"nsga3\" or \"sms-emoa\" (how the population "
-                                       "drops a design; MOEA/D is not offered)", name));
-      }
+      const std::vector<std::pair<std::string, Algorithm>> known{
+          {"nsga2", Algorithm::nsga2}, {"nsga3", Algorithm::nsga3}, {"sms-emoa", Algorithm::sms_emoa}, {"moead", Algorithm::moead}};
+      const auto it = std::find_if(known.begin(), known.end(), [&](const auto& entry) { return entry.first == name; });
+      if (it != known.end()) s.search.algorithm = it->second;
+      else problems.push_back(fmt::format("[search] algorithm = \"{}\": \"nsga2\", \"nsga3\", \"sms-emoa\" or \"moead\"", name));
     } else if (key == "start") {
       const auto* a = v.as_array();
       for (std::size_t i = 0; a != nullptr && i < a->size(); ++i) {
@@ -665,6 +664,7 @@ std::string_view to_string(Algorithm a) {
     case Algorithm::nsga2: return "nsga2";
     case Algorithm::nsga3: return "nsga3";
     case Algorithm::sms_emoa: return "sms-emoa";
+    case Algorithm::moead: return "moead";
   }
   return "?";
 }

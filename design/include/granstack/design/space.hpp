@@ -78,8 +78,11 @@ std::string_view to_string(Schedule s);
 // picked: nsga2 (Deb et al. 2002: rank, then crowding; binary tournaments), nsga3 (Deb and Jain
 // 2014: rank, then the most crowded of Das and Dennis's reference directions in the normalised
 // box, the farthest from it; parents at random), sms_emoa (Beume et al. 2007: rank, then the least
-// exclusive hypervolume in the box; parents at random). The generational schedule is NSGA-II.
-enum class Algorithm { nsga2, nsga3, sms_emoa };
+// exclusive hypervolume in the box; parents at random), moead (Zhang and Li 2007: a weight per
+// member, pagmo2's low-discrepancy ones; parents from the weight's 20 nearest, with probability
+// 0.9; a new design replaces up to two of them it beats in Tchebycheff distance from the box's
+// ideal). The generational schedule is NSGA-II.
+enum class Algorithm { nsga2, nsga3, sms_emoa, moead };
 std::string_view to_string(Algorithm a);
 
 struct Search {
