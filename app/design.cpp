@@ -211,7 +211,7 @@ Command add_design(CLI::App& app) {
       ->check(CLI::Range(0, design::kMaxGenerations));
   run->add_option("--max-designs", f->max_designs, "End once the search has run this many distinct designs (overrides [search] max_designs)")
       ->check(CLI::Range(1L, 100'000'000L));
-  run->add_option("--time-limit", f->time_limit, "Start no design after this many seconds; those running finish (resume goes on)")
+  run->add_option("--time-limit", f->time_limit, "Start no design after this many seconds, abandoning those running (run again to go on)")
       ->check(CLI::Range(1.0, 1e9));
   run->add_flag("--no-report", f->no_report, "Do not write the report");
   run->add_flag("--slurm", f->slurm, "Run each generation's designs as SLURM job arrays (granstack submit's) and wait for them");

@@ -124,6 +124,21 @@ Generation record(const Space& space, Store& store, const Context& c, const pagm
   return g;
 }
 
+// Why a generational search ends before its next generation ("" when it goes on).
+std::string generational_end(const Space& space, const Store& store, const Context& c, const SearchOptions& options,
+                             std::chrono::steady_clock::time_point start) {
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (options.time_limit > 0.0 && elapsed >= options.time_limit) return "time limit";
+  if (space.search.max_designs && static_cast<long>(c.archive.size()) >= *space.search.max_designs) return "max_designs";
+  const int k = space.search.stagnation;
+  const auto gens = store.generations(c.run);
+  if (k > 0 && static_cast<int>(gens.size()) > k) {
+    const double now = gens.back().hypervolume, then = gens[gens.size() - 1 - static_cast<std::size_t>(k)].hypervolume;
+    if (now - then <= space.search.stagnation_tolerance * now) return "stagnation";
+  }
+  return "";
+}
+
 SearchResult run_generational(const Space& space, Store& store, const SearchOptions& options, int run) {
   const auto local = options.runner ? nullptr : local_runner(options.jobs);
   Evaluator evaluator(space, store, options.runner ? *options.runner : *local);
@@ -161,8 +176,12 @@ SearchResult run_generational(const Space& space, Store& store, const SearchOpti
     if (options.on_generation) options.on_generation(g);
     result.first_generation = 1;
   }
+  const auto start = std::chrono::steady_clock::now();
   for (int gen = result.first_generation; gen <= space.search.generations; ++gen) {
     if (os::interrupt_signal() != 0) throw refsim::InSituStopped("stopped by a signal between generations");
+    // Its other ends, between generations: the time limit, the budget, a still hypervolume.
+    result.ended = generational_end(space, store, *context, options, start);
+    if (!result.ended.empty()) break;
     context->generation = gen;
     const int before = evaluator.runs();
     const auto& o = space.search;
@@ -176,7 +195,7 @@ SearchResult run_generational(const Space& space, Store& store, const SearchOpti
     result.last_generation = gen;
   }
   result.runs = evaluator.runs();
-  result.ended = "generations";
+  if (result.ended.empty()) result.ended = "generations";
   return result;
 }
 

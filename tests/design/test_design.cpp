@@ -520,6 +520,14 @@ TEST(Search, EndsWhenTheSpaceIsExhaustedTheBudgetSpentTheTimeUpOrTheFrontStill) 
   const auto r = design::run_search(still, s4, {});
   EXPECT_EQ(r.ended, "stagnation");
   EXPECT_EQ(r.last_generation, 1);
+  // The generational search checks its budget between generations: once it has evaluated 11
+  // distinct designs (its generations ask for clones too), it stops.
+  const auto generational = small_space_with("population = 8\ngenerations = 50\nmax_designs = 11\nevaluation = \"generational\"");
+  auto s5 = design::Store::open((dir / "generational.sqlite").string(), generational.digest(), kSmallSpace);
+  const auto g = design::run_search(generational, s5, {});
+  EXPECT_EQ(g.ended, "max_designs");
+  EXPECT_LT(g.last_generation, 50);
+  EXPECT_GE(s5.joins(0).size(), 11u);
 }
 
 // Several seeds into one store (#34): each seed's run is the search that seed gives alone (its
