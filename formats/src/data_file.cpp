@@ -195,6 +195,8 @@ DataFile parse(const std::string& path, bool with_atoms, int threads) {
     const auto it = index.find(id);
     return it == index.end() ? std::nullopt : std::optional<std::size_t>(it->second);
   };
+  // LIGGGHTS (read_data) refuses velocities of atoms it has not read: "Must read Atoms before Velocities".
+  if (section == "Velocities") throw fail("a Velocities section before the Atoms section: the atoms come first");
   while (!section.empty()) {
     if (!reader->next(line)) throw fail(fmt::format("file ends after the '{}' keyword", section));  // the skipped line
     const long first_line = line_base + reader->line_number() + 1;

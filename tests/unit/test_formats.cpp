@@ -260,6 +260,19 @@ TEST(DumpRegressions, HugeAtomCountsInHeadersAreRefusedWithoutAllocatingThem) {
   EXPECT_THROW(while (binary.next(f)) {}, formats::FormatError);
 }
 
+// A data file whose Velocities come before its Atoms (found by the fuzz target) is refused by
+// name, as LIGGGHTS's read_data refuses it, on one thread and on several.
+TEST(DataFileRegressions, VelocitiesBeforeAtomsAreRefused) {
+  for (const int threads : {1, 3}) {
+    try {
+      formats::parse_data_file(GRANSTACK_FUZZ_REGRESSIONS "/velocities_before_atoms.stack", threads);
+      FAIL();
+    } catch (const formats::FormatError& e) {
+      EXPECT_NE(std::string(e.what()).find("a Velocities section before the Atoms section"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // A dump of `frames` frames of `atoms` atoms as DumpWriter (and LIGGGHTS) writes it.
 std::string dump_text(int frames, int atoms) {
   formats::DumpFrame f;
