@@ -28,8 +28,13 @@ RECORDS = {
     "mpi_scaling": "bench/results/mpi-scaling-2026-11-26.json",         # bench/mpi_scaling.sh 3, 16 cores
     "refsim_scaling": "bench/results/mpi-scaling-refsim-2026-11-26.json",  # ONLY=refsim bench/mpi_scaling.sh 5
     "decomposition": "bench/results/decomposition-2026-11-26.json",     # OUT=... bench/decomposition.sh
+    # OUT=... bench/design_cores.sh 3 16 360 | 3 16 96 (MODES=asynchronous, 16 cores) | 3 2 96 (GEN_DESIGNS=48, here)
+    "design_cores_16": "bench/results/design-cores-16-2026-11-27.json",
+    "design_cores_16_96": "bench/results/design-cores-16-96-2026-11-27.json",
+    "design_cores_2": "bench/results/design-cores-2-2026-11-27.json",
 }
-RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"]}
+RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
+                 "design_cores": ["docs/explanation/performance.md"], "design_cores_summary": ["README.md"]}
 # Made only with --reproduce.
 REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"]}
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
@@ -96,6 +101,27 @@ def nest_speed():
     return "\n".join(rows) + "\n"
 
 
+def design_cores():
+    """Busy cores of design run, asynchronous against generational (bench/design_cores.sh)."""
+    rows = ["| cores | search | -j | designs | busy cores | wall | distinct designs/s |", "|---|---|---|---|---|---|---|"]
+    for name in ("design_cores_16", "design_cores_16_96", "design_cores_2"):
+        r = record(name)
+        for mode, m in r["modes"].items():
+            runs, med = m["runs"], m["median"]
+            span = lambda k, f: f"{min(x[k] for x in runs):{f}}..{max(x[k] for x in runs):{f}}"
+            designs = r["designs"] if mode == "asynchronous" else r["generational_designs"]
+            rows.append(f"| {r['cores']} | {mode} | {r['jobs']} | {designs} | {med['busy']:.2f} ({span('busy', '.2f')}) | "
+                        f"{med['wall']:.1f} s ({span('wall', '.1f')}) | {med['per_second']:.2f} |")
+    return "\n".join(rows) + "\n"
+
+
+def design_cores_summary():
+    """The README's line: the 16-core record's busy cores and designs."""
+    m = record("design_cores_16")["modes"]["asynchronous"]["median"]
+    return (f"The design search keeps {m['busy']:.1f} of 16 cores busy: {m['searched']} distinct designs of the example "
+            f"in {m['wall']:.0f} s ([performance](docs/explanation/performance.md)).\n")
+
+
 def number(v):
     return "-" if v is None else f"{v:.4g}"
 
@@ -137,7 +163,8 @@ def main():
     mode, exe, work = args[0], args[1], pathlib.Path(args[2])
     work.mkdir(parents=True, exist_ok=True)
     made = tables(exe, work)
-    made.update(nest_counts=nest_counts(), nest_speed=nest_speed())
+    made.update(nest_counts=nest_counts(), nest_speed=nest_speed(), design_cores=design_cores(),
+                design_cores_summary=design_cores_summary())
     places = {**PLACES, **RECORD_PLACES}
     if "--reproduce" in sys.argv[1:]:
         made["reproduce"] = reproduce_table(exe, work)

@@ -283,6 +283,4 @@ std::vector<double> fitness(const Space& space, const Evaluation& e, const Norma
   return normalisation != nullptr ? normalisation->point(f) : f;
 }
 
-std::vector<double> Evaluator::fitness(const Evaluation& e) const { return design::fitness(space_, e); }
-
 }  // namespace granstack::design

@@ -35,9 +35,6 @@ class Evaluator {
   // constraints: stored, not run) or run by the batch runner.
   std::vector<Evaluation> evaluate(const std::vector<model::StackSpec>& specs,
                                    const std::function<void(int, int)>& on_done = {});
-  // The objectives of an evaluation, in the space's order; an infeasible design gets
-  // kInfeasible * (1 + its relative violation) in each, behind every feasible one.
-  std::vector<double> fitness(const Evaluation& e) const;
   int runs() const { return runs_; }  // refsim runs so far
 
  private:
