@@ -32,6 +32,8 @@ struct RunFlags {
   std::string kernel = "auto";
   bool force = false;
   std::string liggghts = "liggghts";
+  std::string lammps = "lmp";
+  std::string lammps_template;
 };
 
 // The status line (on a terminal) and a line per case as it ends, flushed, so a log followed
@@ -135,15 +137,22 @@ int run(const RunFlags& f) {
   o.kernel = f.kernel;
   o.force = f.force;
   o.liggghts = f.liggghts;
+  o.lammps = f.lammps;
+  o.lammps_template = f.lammps_template;
   o.engine = runner::parse_engine(f.engine);
+  if (o.engine != runner::Engine::lammps && !f.lammps_template.empty()) {
+    fmt::print(stderr, "error: --lammps-template is the LAMMPS deck's template: add --engine lammps, or leave it out\n");
+    return kBadInput;
+  }
   if (o.engine == runner::Engine::refsim && !f.grid.empty()) {
     fmt::print(stderr, "note: --grid is LIGGGHTS's MPI processor grid; refsim runs in this process and ignores it\n");
   }
   if (o.engine == runner::Engine::refsim && f.ranks > 1) {
     fmt::print(stderr, "note: refsim runs in this process and does not use MPI ranks (--np); use --threads {}\n", f.ranks);
   }
-  if (o.engine == runner::Engine::liggghts && f.threads > 1) {
-    fmt::print(stderr, "note: --threads is for --engine refsim; LIGGGHTS runs in parallel with --np\n");
+  if (o.engine != runner::Engine::refsim && f.threads > 1) {
+    fmt::print(stderr, "note: --threads is for --engine refsim; {} runs in parallel with --np\n",
+               o.engine == runner::Engine::lammps ? "LAMMPS" : "LIGGGHTS");
   }
   warn_if_oversubscribed(o, static_cast<int>(dirs.size()));
   StatusLine status;
@@ -159,7 +168,7 @@ int run(const RunFlags& f) {
 
 Command add_run(CLI::App& app) {
   auto f = std::make_shared<RunFlags>();
-  auto* cmd = app.add_subcommand("run", "Run LIGGGHTS on case directories (or sweep directories)");
+  auto* cmd = app.add_subcommand("run", "Run LIGGGHTS (or refsim, or LAMMPS) on case directories (or sweep directories)");
   cmd->add_option("cases", f->cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
   cmd->add_option("--np", f->ranks, "MPI ranks per case (mpirun when > 1) [1]")->check(CLI::Range(1, 4096));
@@ -176,7 +185,13 @@ Command add_run(CLI::App& app) {
                               fmt::join(refsim::vector_kernels(), ", ")))
       ->check(CLI::IsMember(kernel_choices()));
   cmd->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
-  cmd->add_option("--engine", f->engine, "liggghts (the real DEM code) or refsim (the in-house reference integrator) [liggghts]")
+  cmd->add_option("--lammps", f->lammps, "The LAMMPS executable, for --engine lammps [lmp, on PATH]");
+  cmd->add_option("--lammps-template", f->lammps_template,
+                  "For --engine lammps: a template of yours for the LAMMPS deck instead of templates/in.lammps.tmpl")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--engine", f->engine,
+                  "liggghts (the real DEM code), refsim (the in-house reference integrator) or lammps (LAMMPS's "
+                  "GRANULAR package, the case's contacts mapped onto its models) [liggghts]")
       ->check(CLI::IsMember(runner::engine_names()));
   cmd->add_flag("--force", f->force, "Run cases again even if they finished");
   return {cmd, [f] { return run(*f); }};

@@ -1,4 +1,5 @@
-// granstack validate: LIGGGHTS and refsim on copies of each case, compared.
+// granstack validate: two engines (LIGGGHTS and refsim unless --engines says otherwise) on copies
+// of each case, compared.
 #include "commands.hpp"
 #include "progress.hpp"
 
@@ -14,6 +15,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -27,11 +29,19 @@ struct ValidateFlags {
   double tolerance = postproc::kDefaultTolerance;
   int jobs = 1;
   std::string liggghts = "liggghts";
+  std::string lammps = "lmp";
+  std::vector<std::string> engines{"liggghts", "refsim"};
 };
 
-// Runs LIGGGHTS and refsim on copies of each case (CASE/validate/liggghts, CASE/validate/refsim),
-// each case locked for the whole comparison, and compares them.
+// Runs the two engines on copies of each case (CASE/validate/ENGINE), each case locked for the
+// whole comparison, and compares them.
 int validate(const ValidateFlags& f) {
+  if (f.engines.size() != 2 || f.engines[0] == f.engines[1]) {
+    fmt::print(stderr, "error: --engines takes two different engines of liggghts, refsim and lammps, e.g. --engines "
+                       "liggghts,lammps\n");
+    return kBadInput;
+  }
+  const std::array engines{runner::parse_engine(f.engines[0]), runner::parse_engine(f.engines[1])};
   const auto dirs = formats::expand_case_dirs(f.cases);
   std::vector<os::CaseLock> locks;
   for (const auto& d : dirs) {
@@ -42,18 +52,18 @@ int validate(const ValidateFlags& f) {
       fmt::print(stderr, "error: {}\n", e.what());
       return kCaseFailed;
     }
-    // refsim runs only what granstack's own template renders (see runner): say so before
-    // LIGGGHTS spends its time.
+    // refsim and LAMMPS run the manifest's physics, LIGGGHTS the deck: only granstack's own deck
+    // is sure to be the same (see runner); say so before an engine spends its time.
     const auto& m = c.manifest();
     formats::check_rendered_files(d, m);  // an edited case would be validated as the manifest's
     if (!generator::has_default_deck(d, m)) {
       fmt::print(stderr, "error: {}/{} is not the deck granstack's own template gives for this case (a --template of "
-                         "yours, or edited): refsim cannot be sure to run the same physics, so it cannot be validated; "
+                         "yours, or edited): the engines cannot be sure to run the same physics, so it cannot be validated; "
                          "generate the case without --template\n", d, m.files.deck);
       return kCaseFailed;
     }
     // Both copies' places are checked before either engine spends its time.
-    for (const auto engine : {runner::Engine::liggghts, runner::Engine::refsim}) {
+    for (const auto engine : engines) {
       const auto copy = runner::copy_dir(d, engine);
       if (const auto why = formats::why_not_replaceable(copy, formats::kGenerate); !why.empty()) {
         throw formats::RefusedError(fmt::format("cannot make the copy {}: {}; move it away first", copy, why));
@@ -63,9 +73,10 @@ int validate(const ValidateFlags& f) {
   runner::RunOptions o;
   o.jobs = f.jobs;
   o.liggghts = f.liggghts;
+  o.lammps = f.lammps;
   StatusLine status;
   int rc = kOk;
-  for (const auto engine : {runner::Engine::liggghts, runner::Engine::refsim}) {
+  for (const auto engine : engines) {
     const auto what = "validate: " + runner::to_string(engine) + " runs";
     o.on_progress = [&status, what](const runner::ProgressSnapshot& s) { status.count(what, s.finished, s.total); };
     for (const auto& r : runner::run_copies(dirs, engine, o)) {
@@ -78,8 +89,8 @@ int validate(const ValidateFlags& f) {
   status.clear();
   if (rc != kOk || os::interrupt_signal() != 0) return rc;
   for (const auto& d : dirs) {
-    const auto c = postproc::compare_runs(runner::copy_dir(d, runner::Engine::liggghts), runner::copy_dir(d, runner::Engine::refsim));
-    fmt::print("{}", postproc::format_comparison(c, "liggghts", "refsim", f.tolerance));
+    const auto c = postproc::compare_runs(runner::copy_dir(d, engines[0]), runner::copy_dir(d, engines[1]));
+    fmt::print("{}", postproc::format_comparison(c, f.engines[0], f.engines[1], f.tolerance));
     if (!(c.worst() <= f.tolerance)) rc = kDisagree;
   }
   return rc;
@@ -89,11 +100,12 @@ int validate(const ValidateFlags& f) {
 
 Command add_validate(CLI::App& app) {
   auto f = std::make_shared<ValidateFlags>();
-  auto* cmd = app.add_subcommand("validate", "Run LIGGGHTS and refsim on the same cases and compare them");
+  auto* cmd = app.add_subcommand("validate", "Run two engines (LIGGGHTS and refsim by default) on the same cases and "
+                                             "compare them");
   cmd->add_option("cases", f->cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("--tolerance", f->tolerance,
                   "Largest accepted difference of any dumped column, series column or the output fraction, "
-                  "relative to max(|liggghts|, |refsim|, a physical floor) [1e-7: round-off, see docs/reference/commands.md]")
+                  "relative to max(|first|, |second|, a physical floor) [1e-7: round-off, see docs/reference/commands.md]")
       ->check(CLI::Validator(
           [](const std::string& text) {
             double t = 0.0;
@@ -107,6 +119,11 @@ Command add_validate(CLI::App& app) {
           "TOLERANCE"));
   cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
   cmd->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
+  cmd->add_option("--lammps", f->lammps, "The LAMMPS executable [lmp, on PATH]");
+  cmd->add_option("--engines", f->engines, "The two engines compared, of liggghts, refsim and lammps [liggghts,refsim]")
+      ->delimiter(',')
+      ->expected(2)
+      ->check(CLI::IsMember(runner::engine_names()));
   return {cmd, [f] { return validate(*f); }};
 }
 

@@ -5,6 +5,7 @@
 set -euo pipefail
 packages=(
   liggghts            # the DEM code (LIGGGHTS-PUBLIC 3.8.0, with Open MPI's mpirun)
+  lammps              # the second engine, run --engine lammps (LAMMPS 29 Sep 2021, GRANULAR; binary lmp)
   g++ cmake ninja-build pkg-config git
   libfmt-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libeigen3-dev libhwy-dev libgtest-dev
   libpagmo-dev libsqlite3-dev   # granstack design: NSGA-II (pagmo2) and its store (SQLite)

@@ -31,8 +31,9 @@ void LogScanner::add_line(std::string_view line) {
       tail_next_ = (tail_next_ + 1) % kQuoteLines;
     }
   }
-  static const std::string_view banner = "LIGGGHTS (Version ";
-  if (line.substr(0, banner.size()) == banner) {
+  // LIGGGHTS's banner, "LIGGGHTS (Version ...)", or LAMMPS's, "LAMMPS (29 Sep 2021 - Update 2)".
+  for (const std::string_view banner : {std::string_view("LIGGGHTS (Version "), std::string_view("LAMMPS (")}) {
+    if (line.substr(0, banner.size()) != banner) continue;
     auto rest = line.substr(banner.size());
     if (auto close = rest.rfind(')'); close != std::string_view::npos) rest = rest.substr(0, close);
     version_ = std::string(rest);

@@ -3,6 +3,7 @@
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/ownership.hpp>
 #include <granstack/generator/case_writer.hpp>
+#include "deck_parts.hpp"
 #include <granstack/model/contact.hpp>
 #include <granstack/model/protection.hpp>
 #include <granstack/model/version.hpp>
@@ -24,6 +25,8 @@ namespace {
 const std::vector<std::string> kDumpColumns{"id", "type", "radius", "mass", "x", "y", "z", "vx", "vy", "vz",
                                             "omegax", "omegay", "omegaz", "fx", "fy", "fz", "tqx", "tqy", "tqz"};
 
+}  // namespace
+
 // The deck's selection of a series group: by atom type, or by id (a range where consecutive).
 std::string group_command(const model::SeriesGroup& g) {
   if (g.atom_type != 0) return fmt::format("group           {} type {}\n", g.name, g.atom_type);
@@ -32,6 +35,8 @@ std::string group_command(const model::SeriesGroup& g) {
   if (consecutive) return fmt::format("group           {} id <> {} {}\n", g.name, g.ids.front(), g.ids.back());
   return fmt::format("group           {} id {}\n", g.name, fmt::join(g.ids, " "));
 }
+
+namespace {
 
 // The properties the contact model needs beyond hertz/history's (each on a line of its own,
 // after the four material fixes): hooke's characteristic velocity (normal_model_hooke.h) and
@@ -53,22 +58,24 @@ std::string contact_model_fixes(const model::StackSpec& spec, const std::vector<
   return out;
 }
 
+}  // namespace
+
 // The run of a case that stops at the blow's end (model::BlowEnd, docs/physics.md section 7):
 // one dump interval at a time (`pre no`: one run's trajectory, bit for bit), the frame judged after
 // each by what refsim judges, in the same arithmetic (over the footprint, momentum summed in atom
 // order; the output sphere's neighbours and their straight-line courses), and the run ended at the
 // frame where the condition has held for the hold, at most res.steps (the cap).
-std::string blow_end_run(const model::Stack& stack, const model::Resolution& res) {
+std::string blow_end_run(const model::Stack& stack, const model::Resolution& res, const DeckDialect& dialect) {
   std::string judge;
   if (stack.spec().bottom == model::Boundary::wall) {
     const auto over = fmt::format("(abs(x)<={})*(abs(y)<={})", stack.half_width(), stack.half_depth());
     judge = fmt::format(
         "variable        gs_pz atom mass*vz*{0}\n"
-        "variable        gs_press atom {0}*(z-r<0)\n"
-        "compute         gs_pz all reduce update_on_run_end yes sum v_gs_pz\n"
-        "compute         gs_press all reduce update_on_run_end yes max v_gs_press\n"
+        "variable        gs_press atom {0}*(z-{2}<0)\n"
+        "compute         gs_pz all reduce{1} sum v_gs_pz\n"
+        "compute         gs_press all reduce{1} max v_gs_press\n"
         "variable        gs_holds equal (c_gs_pz>=0)&&(c_gs_press==0)\n",
-        over);
+        over, dialect.reduce_options, dialect.radius);
   } else {
     const int o = stack.output_sphere_id();
     const double ro = stack.spheres()[static_cast<std::size_t>(o - 1)].radius;
@@ -78,13 +85,13 @@ std::string blow_end_run(const model::Stack& stack, const model::Resolution& res
         "variable        gs_dd atom v_gs_dx*v_gs_dx+v_gs_dy*v_gs_dy+v_gs_dz*v_gs_dz\n"
         "variable        gs_du atom v_gs_dx*v_gs_ux+v_gs_dy*v_gs_uy+v_gs_dz*v_gs_uz\n"
         "variable        gs_uu atom v_gs_ux*v_gs_ux+v_gs_uy*v_gs_uy+v_gs_uz*v_gs_uz\n"
-        "variable        gs_touch atom (id!={0})*(v_gs_dd<(r+{1})*(r+{1}))\n"
+        "variable        gs_touch atom (id!={0})*(v_gs_dd<({3}+{1})*({3}+{1}))\n"
         "# (uu==0) keeps LIGGGHTS from dividing by 0 where du = 0 already rules the sphere out.\n"
-        "variable        gs_aim atom (id!={0})*(v_gs_du<0)*(v_gs_dd-v_gs_du*v_gs_du/(v_gs_uu+(v_gs_uu==0))<(r+{1})*(r+{1}))\n"
-        "compute         gs_touch all reduce update_on_run_end yes max v_gs_touch\n"
-        "compute         gs_aim all reduce update_on_run_end yes max v_gs_aim\n"
+        "variable        gs_aim atom (id!={0})*(v_gs_du<0)*(v_gs_dd-v_gs_du*v_gs_du/(v_gs_uu+(v_gs_uu==0))<({3}+{1})*({3}+{1}))\n"
+        "compute         gs_touch all reduce{2} max v_gs_touch\n"
+        "compute         gs_aim all reduce{2} max v_gs_aim\n"
         "variable        gs_holds equal (c_gs_touch==0)&&(c_gs_aim==0)\n",
-        o, ro);
+        o, ro, dialect.reduce_options, dialect.radius);
   }
   model::BlowEnd start(stack, res);
   model::judge_start(start, stack);
@@ -130,7 +137,6 @@ std::string processors_lines(const model::Stack& stack) {
       strip ? "1" : "*", strip ? "*" : "1");
 }
 
-}  // namespace
 
 formats::CaseFiles case_files(const model::Stack& stack) {
   formats::CaseFiles f;
@@ -212,7 +218,7 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
   v["contact_distance_factor"] = fmt::format("{}", model::kContactDistanceFactor);
   v["dt"] = fmt::format("{}", res.dt);
   v["steps"] = std::to_string(res.steps);
-  v["run"] = res.stops_at_blow_end ? blow_end_run(stack, res) : fmt::format("run             {}", res.steps);
+  v["run"] = res.stops_at_blow_end ? blow_end_run(stack, res, kLiggghtsDialect) : fmt::format("run             {}", res.steps);
   v["thermo_every"] = std::to_string(res.thermo_every);
   v["dump_every"] = std::to_string(res.dump_every);
   v["dump_file"] = files.dump;

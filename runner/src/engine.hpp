@@ -1,8 +1,8 @@
 #pragma once
 // The engines granstack runs a case on, behind one interface: run_one (runner.cpp) does the
-// rest (the lock, the earlier outputs, run.json) the same for both. LIGGGHTS's is
-// liggghts_engine.cpp, refsim's refsim_engine.cpp; another engine is one more such file and its
-// line in make_engine.
+// rest (the lock, the earlier outputs, run.json) the same for all. LIGGGHTS's is
+// liggghts_engine.cpp, refsim's refsim_engine.cpp, LAMMPS's lammps_engine.cpp; another engine is
+// one more such file, its name in Engine (runner.hpp) and its line in make_engine.
 #include <granstack/formats/case.hpp>
 #include <granstack/runner/runner.hpp>
 
@@ -36,6 +36,9 @@ class CaseEngine {
   // Runs the case; on_step with each step it reaches, on_started once when it has begun.
   virtual EngineResult run(const formats::Case& c, const RunOptions& o, const std::function<void(long)>& on_step,
                            const std::function<void()>& on_started) const = 0;
+  // The files a run reads and writes: the case's, but for the deck, log and screen output of an
+  // engine that is not the one the case's deck is for.
+  virtual formats::CaseFiles files(const formats::Case& c) const { return c.files(); }
   // Removes what a stopped run leaves that is no result (made since `since`).
   virtual void tidy(const std::filesystem::path& dir, std::filesystem::file_time_type since) const {
     (void)dir;
@@ -45,8 +48,9 @@ class CaseEngine {
 
 std::unique_ptr<CaseEngine> make_liggghts_engine();
 std::unique_ptr<CaseEngine> make_refsim_engine();
+std::unique_ptr<CaseEngine> make_lammps_engine();
 inline std::unique_ptr<CaseEngine> make_engine(Engine e) {
-  return e == Engine::refsim ? make_refsim_engine() : make_liggghts_engine();
+  return e == Engine::refsim ? make_refsim_engine() : e == Engine::lammps ? make_lammps_engine() : make_liggghts_engine();
 }
 
 }  // namespace granstack::runner

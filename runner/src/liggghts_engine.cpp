@@ -1,6 +1,7 @@
 // LIGGGHTS behind the engine interface: the program (or mpirun with it) on the case's deck, its
 // log followed for progress and errors.
 #include "engine.hpp"
+#include "program.hpp"
 
 #include <granstack/runner/decomposition.hpp>
 
@@ -93,20 +94,23 @@ class Tail {
   std::string partial_;
 };
 
-// Why LIGGGHTS cannot be started at all (its program, mpirun, a temporary directory for Open
-// MPI), or "": checked before anything of an earlier run is touched.
-std::string liggghts_unavailable(const RunOptions& o) {
-  if (!os::find_program(o.liggghts)) {
-    return o.liggghts.find('/') == std::string::npos
-               ? fmt::format("LIGGGHTS ('{}') is not on PATH: install it with scripts/setup.sh (Debian package "
-                             "'liggghts') or pass --liggghts PATH",
-                             o.liggghts)
-               : fmt::format("--liggghts {}: not an executable file; pass the LIGGGHTS executable (the Debian "
-                             "package 'liggghts' installs /usr/bin/liggghts)",
-                             o.liggghts);
+}  // namespace
+
+std::string program_unavailable(const std::string& name, const std::string& executable, const std::string& flag,
+                                const std::string& package, const RunOptions& o) {
+  if (!os::find_program(executable)) {
+    return executable.find('/') == std::string::npos
+               ? fmt::format("{} ('{}') is not on PATH: install it with scripts/setup.sh (Debian package '{}') or "
+                             "pass {} PATH",
+                             name, executable, package, flag)
+               : fmt::format("{} {}: not an executable file; pass the {} executable (the Debian package '{}' "
+                             "installs it in /usr/bin)",
+                             flag, executable, name, package);
   }
   if (o.ranks > 1 && !os::find_program(o.mpirun)) {
-    return fmt::format("'{}' is not on PATH: it comes with the Debian package 'liggghts' (Open MPI)", o.mpirun);
+    return fmt::format("'{}' is not on PATH: it comes with Open MPI (Debian package 'openmpi-bin', which '{}' "
+                       "installs)",
+                       o.mpirun, package);
   }
   std::error_code ec;
   const auto tmp = fs::temp_directory_path(ec);
@@ -119,6 +123,8 @@ std::string liggghts_unavailable(const RunOptions& o) {
   }
   return "";
 }
+
+namespace {
 
 // Whether `ranks` need mpirun's --oversubscribe: more than this machine's CPUs, unless a SLURM
 // allocation holds them (its ranks may span several nodes, each with its own CPUs).
@@ -148,15 +154,18 @@ json decomposition_record(const Decomposition& d, const formats::LogScanner& log
   return r;
 }
 
-EngineResult run_liggghts(const formats::Case& c, const RunOptions& o, const std::function<void(long)>& on_step,
-                          const std::function<void()>& on_started) {
+}  // namespace
+
+EngineResult run_program(const formats::Case& c, const RunOptions& o, const Program& program,
+                         const std::function<void(long)>& on_step, const std::function<void()>& on_started) {
   EngineResult result;
   const fs::path dir(c.dir());
-  const auto& files = c.files();
+  const auto& files = program.files;
+  const auto& name = program.name;
   std::vector<std::string> argv;
-  const auto liggghts = os::find_program(o.liggghts);  // run_one checked liggghts_unavailable() first
+  const auto liggghts = os::find_program(program.executable);  // run_one checked the engine's unavailable() first
   if (!liggghts) {
-    result.error = liggghts_unavailable(o);
+    result.error = fmt::format("{} ('{}') is not an executable file", name, program.executable);
     return result;
   }
   if (o.ranks > 1) {
@@ -182,6 +191,7 @@ EngineResult run_liggghts(const formats::Case& c, const RunOptions& o, const std
     result.record["slurm_nodes"] = nodes;  // the allocation mpirun spread the ranks over
   }
 
+  argv.insert(argv.end(), program.extra_arguments.begin(), program.extra_arguments.end());
   const long total_steps = c.derived().steps;
   formats::LogScanner scanner;
   int exit_code = -1;
@@ -253,27 +263,27 @@ EngineResult run_liggghts(const formats::Case& c, const RunOptions& o, const std
     if (!scanner.errors().empty()) {
       result.error = scanner.errors().front();
     } else if (scanner.stopped_by_signal()) {
-      result.error = "LIGGGHTS was sent SIGINT or SIGTERM directly and quit before the end of the run (its forced "
-                     "restart file is removed); to stop granstack, signal granstack itself; run the case again";
+      result.error = name + " was sent SIGINT or SIGTERM directly and quit before the end of the run (its forced "
+                            "restart file is removed); to stop granstack, signal granstack itself; run the case again";
     } else if (scanner.lost_atoms()) {
-      result.error = "LIGGGHTS lost atoms (see " + files.screen + ")";
+      result.error = name + " lost atoms (see " + files.screen + ")";
     } else if (!signal_text.empty()) {
-      result.error = "LIGGGHTS was " + signal_text;
+      result.error = name + " was " + signal_text;
     } else if (exit_code != 0) {
       const bool started = !scanner.version().empty();
       const auto quote = started ? scanner.tail() : scanner.head();
-      result.error = fmt::format("LIGGGHTS exited with code {}{}; {} ({}){}", exit_code,
+      result.error = fmt::format("{} exited with code {}{}; {} ({}){}", name, exit_code,
                                  started ? "" : " before it started (could MPI not start?)",
                                  quote.empty() ? "it printed nothing" : started ? "its last lines" : "its first lines",
                                  files.screen, quote.empty() ? "" : ":");
       for (const auto& line : quote) result.error += "\n    " + line;
     } else if (!loop || !(c.spec().stop == model::StopRule::blow_end ? loop->steps <= total_steps : loop->steps == total_steps)) {
-      result.error = fmt::format("LIGGGHTS ended without finishing the run of {} steps (see {})", total_steps,
+      result.error = fmt::format("{} ended without finishing the run of {} steps (see {})", name, total_steps,
                                  files.screen);
     }
   }
   result.record["exit_code"] = exit_code;
-  result.record["liggghts_version"] = scanner.version();
+  result.record[program.version_key] = scanner.version();
   if (!scanner.warnings().empty()) result.record["warnings"] = scanner.warnings();
   if (loop) {
     result.loop_seconds = loop->seconds;
@@ -286,6 +296,8 @@ EngineResult run_liggghts(const formats::Case& c, const RunOptions& o, const std
   if (decomposition) result.record["decomposition"] = decomposition_record(*decomposition, scanner);
   return result;
 }
+
+namespace {
 
 // LIGGGHTS writes restart_forced_liggghts_STEP.data when a signal reaches it directly; such a
 // file made during this run is debris of the stop, never a result.
@@ -303,10 +315,10 @@ void remove_forced_restarts(const fs::path& dir, fs::file_time_type since) {
 class Liggghts final : public CaseEngine {
  public:
   std::string lock_holder() const override { return "granstack run"; }
-  std::string unavailable(const formats::Case&, const RunOptions& o) const override { return liggghts_unavailable(o); }
+  std::string unavailable(const formats::Case&, const RunOptions& o) const override { return program_unavailable("LIGGGHTS", o.liggghts, "--liggghts", "liggghts", o); }
   EngineResult run(const formats::Case& c, const RunOptions& o, const std::function<void(long)>& on_step,
                    const std::function<void()>& on_started) const override {
-    return run_liggghts(c, o, on_step, on_started);
+    return run_program(c, o, {"LIGGGHTS", o.liggghts, c.files(), "liggghts_version", {}}, on_step, on_started);
   }
   void tidy(const fs::path& dir, fs::file_time_type since) const override { remove_forced_restarts(dir, since); }
 };

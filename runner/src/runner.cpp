@@ -300,7 +300,7 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
     return outcome;
   }
   const auto& c = *opened;
-  const auto& files = c.files();
+  const auto files = engine->files(c);
   const auto earlier_record = c.run_record();
   if (earlier_record.done() && !o.force) {
     outcome.status = RunStatus::skipped;
@@ -338,7 +338,16 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
     return outcome;
   }
   earlier.discard();
-  if (const auto made = files_made(dir, files, before); !made.empty()) record["outputs"] = made;
+  auto made = files_made(dir, files, before);
+  // Another engine's deck, log and screen files are the run's too (the manifest names LIGGGHTS's).
+  for (const auto& [mine, case_own] : {std::pair{files.deck, c.files().deck}, std::pair{files.log, c.files().log},
+                                       std::pair{files.screen, c.files().screen}}) {
+    std::error_code ec;
+    if (mine != case_own && fs::exists(dir / mine, ec) && std::find(made.begin(), made.end(), mine) == made.end()) {
+      made.push_back(mine);
+    }
+  }
+  if (!made.empty()) record["outputs"] = made;
   if (const auto full = disk_full(dir, files); !full.empty() && !result.interrupted) {
     result.error = result.error.empty() ? full : full + "; " + result.error;
   }

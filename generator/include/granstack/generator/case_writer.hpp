@@ -45,6 +45,12 @@ formats::DataFile data_file(const model::Stack& stack, const std::string& case_n
 std::string default_deck(const formats::Manifest& manifest);
 // Whether the deck in `case_dir` is exactly default_deck(manifest).
 bool has_default_deck(const std::string& case_dir, const formats::Manifest& manifest);
+// The LAMMPS deck of a case (`granstack run --engine lammps` writes it as in.lammps): `tmpl`
+// (default_lammps_template(), templates/in.lammps.tmpl, or a user's; `source` names it in
+// errors) rendered for the manifest's spec, its contacts mapped as model/lammps.hpp says. The
+// caller checks model::lammps_unmappable first.
+std::string_view default_lammps_template();
+std::string lammps_deck(const formats::Manifest& manifest, std::string_view tmpl, std::string_view source);
 nlohmann::json derived_json(const model::Stack& stack, const model::Resolution& res);
 nlohmann::json layout_json(const model::Stack& stack);
 

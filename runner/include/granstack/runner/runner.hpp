@@ -24,17 +24,23 @@ struct ProgressSnapshot {
 
 enum class Engine {
   liggghts,  // the real DEM code, as a separate process
-  refsim     // the in-house reference integrator, in this process
+  refsim,    // the in-house reference integrator, in this process
+  lammps     // LAMMPS's GRANULAR package, as a separate process (docs/explanation/lammps.md)
 };
 
 // The engines' names, as flags, run.json and folder names spell them.
 inline const std::vector<std::string>& engine_names() {
-  static const std::vector<std::string> names{"liggghts", "refsim"};
+  static const std::vector<std::string> names{"liggghts", "refsim", "lammps"};
   return names;
 }
-inline std::string to_string(Engine e) { return e == Engine::refsim ? "refsim" : "liggghts"; }
+inline std::string to_string(Engine e) {
+  return e == Engine::refsim ? "refsim" : e == Engine::lammps ? "lammps" : "liggghts";
+}
 // The engine a name (one of engine_names()) stands for.
-inline Engine parse_engine(const std::string& name) { return name == "refsim" ? Engine::refsim : Engine::liggghts; }
+inline Engine parse_engine(const std::string& name) {
+  return name == "refsim" ? Engine::refsim : name == "lammps" ? Engine::lammps : Engine::liggghts;
+}
+// The engine a cross-check sets beside `e`: refsim beside a DEM code, LIGGGHTS beside refsim.
 inline Engine other_engine(Engine e) { return e == Engine::refsim ? Engine::liggghts : Engine::refsim; }
 
 // interrupted: stopped by SIGINT/SIGTERM/SIGHUP to granstack (run.json says so); not_started:
@@ -53,7 +59,7 @@ struct RunOutcome {
 struct RunOptions {
   Engine engine = Engine::liggghts;
   int jobs = 1;           // cases run at the same time
-  int ranks = 1;          // MPI ranks per case (mpirun when > 1; LIGGGHTS only)
+  int ranks = 1;          // MPI ranks per case (mpirun when > 1; LIGGGHTS and LAMMPS)
   // The MPI processor grid (ranks along x, y, z); all zero: chosen for each case's stack
   // (choose_decomposition in decomposition.hpp).
   std::array<int, 3> grid{0, 0, 0};
@@ -61,6 +67,8 @@ struct RunOptions {
   std::string kernel = "auto";  // refsim's kernels: auto, reference or a vector instruction set (refsim::vector_kernels())
   bool force = false;     // rerun cases that finished
   std::string liggghts = "liggghts";
+  std::string lammps = "lmp";
+  std::string lammps_template;  // a template of the user's for the LAMMPS deck; "": templates/in.lammps.tmpl
   std::string mpirun = "mpirun";
   // Called about twice a second while cases run, and once at the end.
   std::function<void(const ProgressSnapshot&)> on_progress;

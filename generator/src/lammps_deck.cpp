@@ -1,0 +1,148 @@
+// The LAMMPS input deck of a case: the same stack, data file, groups, series and dumps as the
+// LIGGGHTS deck, with the contacts mapped onto LAMMPS's granular models (model/lammps.hpp).
+#include "deck_parts.hpp"
+
+#include <granstack/generator/case_writer.hpp>
+#include <granstack/model/lammps.hpp>
+#include <granstack/model/version.hpp>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+
+namespace granstack::embedded {
+std::string_view lammps_template();
+}
+
+namespace granstack::generator {
+
+namespace {
+
+// Every type pair's pair_coeff (LAMMPS mixes an unset pair otherwise, and not as LIGGGHTS does).
+std::string pair_coeff_lines(const model::StackSpec& spec, const std::vector<std::string>& types) {
+  const auto lib = spec.material_library();
+  std::string out;
+  for (std::size_t i = 0; i < types.size(); ++i) {
+    for (std::size_t j = i; j < types.size(); ++j) {
+      const auto& a = types[i];
+      const auto& b = types[j];
+      const auto c = model::lammps_contact(lib.at(a), lib.at(b), spec.restitution.get(a, b), spec.friction.get(a, b), false);
+      out += fmt::format("pair_coeff      {} {} {}\n", i + 1, j + 1, model::lammps_contact_words(c));
+    }
+  }
+  out.pop_back();
+  return out;
+}
+
+// Whether the spheres lie above a wall along its axis (it bounds them from below: LAMMPS's
+// `plane LO NULL`) or below it (`plane NULL HI`).
+bool wall_below_spheres(const model::Stack& stack, const model::Wall& w) {
+  return std::all_of(stack.spheres().begin(), stack.spheres().end(), [&](const model::Sphere& s) {
+    const double c[3] = {s.x, s.y, s.z};
+    return c[w.axis] > w.position;
+  });
+}
+
+// LAMMPS's fix wall/gran takes one set of coefficients for every sphere it acts on, so each wall
+// is one fix per atom type that has spheres: the wall's material against that type's.
+std::string wall_lines(const model::Stack& stack, const std::vector<std::string>& types) {
+  const auto& spec = stack.spec();
+  const auto lib = spec.material_library();
+  std::string out;
+  const auto& wall_material = types[static_cast<std::size_t>(stack.wall_type() - 1)];
+  for (const auto& w : stack.walls()) {
+    const auto plane = wall_below_spheres(stack, w) ? fmt::format("{} NULL", w.position) : fmt::format("NULL {}", w.position);
+    for (std::size_t t = 0; t < types.size(); ++t) {
+      const int type = static_cast<int>(t) + 1;
+      if (type == stack.wall_type()) continue;
+      const auto c = model::lammps_contact(lib.at(types[t]), lib.at(wall_material), spec.restitution.get(types[t], wall_material),
+                                           spec.friction.get(types[t], wall_material), true);
+      out += fmt::format("fix             {}_{} gs_type{} wall/gran granular {} {}plane {}{}\n", w.name, type, type,
+                         model::lammps_contact_words(c), "xyz"[w.axis], plane,
+                         w.name == model::kBottomWallName ? " contacts" : "");
+    }
+  }
+  return out;
+}
+
+// One group per atom type with spheres, for the walls' fixes.
+std::string type_groups(const model::Stack& stack, std::size_t types) {
+  std::string out;
+  for (std::size_t t = 1; t <= types; ++t) {
+    if (static_cast<int>(t) != stack.wall_type()) out += fmt::format("group           gs_type{} type {}\n", t, t);
+  }
+  return out;
+}
+
+// The in-situ energies, as the LIGGGHTS deck's (same columns), each at 17 digits; the bottom
+// wall's force is the sum over its fixes (one per atom type) of column 4 (f_z) of `contacts`.
+std::string energy_series(const model::Stack& stack, const model::Resolution& res, const formats::CaseFiles& files,
+                          std::size_t types) {
+  std::string computes, values;
+  for (const auto& g : model::series_groups(stack)) {
+    computes += fmt::format("compute         kt{} {} ke\ncompute         kr{} {} erotate/sphere\n", g.tag, g.name, g.tag,
+                            g.name);
+    values += fmt::format(" $(c_kt{}:%.17g) $(c_kr{}:%.17g)", g.tag, g.tag);
+  }
+  if (stack.spec().bottom == model::Boundary::wall) {
+    std::vector<std::string> parts;
+    for (std::size_t t = 1; t <= types; ++t) {
+      if (static_cast<int>(t) == stack.wall_type()) continue;
+      computes += fmt::format("compute         fwb{} all reduce sum f_{}_{}[4]\n", t, model::kBottomWallName, t);
+      parts.push_back(fmt::format("c_fwb{}", t));
+    }
+    computes += fmt::format("variable        fwb equal {}\n", fmt::join(parts, "+"));
+    values += " $(v_fwb:%.17g)";
+  }
+  return fmt::format("{}fix             energy all print {} \"$(step){}\" file {} screen no title \"# {}\"", computes,
+                     res.series_every, values, files.series, fmt::join(files.series_columns, " "));
+}
+
+TemplateVars lammps_variables(const model::Stack& stack, const model::Resolution& res, const formats::CaseFiles& files,
+                              const std::string& case_name) {
+  const auto& spec = stack.spec();
+  const auto types = stack.type_materials();
+  TemplateVars v;
+  v["case_name"] = case_name;
+  v["granstack_version"] = std::string(version());
+  v["git_commit"] = std::string(git_commit());
+  v["data_file"] = files.data;
+  v["processors"] = processors_lines(stack);
+  v["skin"] = fmt::format("{}", res.skin);
+  v["pair_coeffs"] = pair_coeff_lines(spec, types);
+  const auto walls = wall_lines(stack, types);
+  v["walls"] = walls.empty() ? "# free bottom and free sides: no walls"
+                             : type_groups(stack, types.size()) + walls.substr(0, walls.size() - 1);
+  v["gravity"] = spec.gravity > 0.0 ? fmt::format("fix             gravity all gravity {} vector 0 0 -1", spec.gravity)
+                                    : std::string("# no gravity");
+  v["dt"] = fmt::format("{}", res.dt);
+  std::string groups;
+  for (const auto& g : model::series_groups(stack)) groups += group_command(g);
+  groups.pop_back();
+  v["groups"] = groups;
+  v["energy_series"] = energy_series(stack, res, files, types.size());
+  v["dump_every"] = std::to_string(res.dump_every);
+  v["dump_file"] = files.dump;
+  v["dump_columns"] = fmt::format("{}", fmt::join(files.dump_columns, " "));
+  v["dump_modify"] = "dump_modify     stack sort id format int %d format float %.17g";
+  v["thermo_every"] = std::to_string(res.thermo_every);
+  // A blow-end run prints its judge's computes, so that they are current between its runs.
+  const bool wall = spec.bottom == model::Boundary::wall;
+  v["thermo_style"] = std::string("thermo_style    custom step atoms ke cpu") +
+                      (res.stops_at_blow_end ? (wall ? " c_gs_pz c_gs_press" : " c_gs_touch c_gs_aim") : "");
+  v["run"] = res.stops_at_blow_end ? blow_end_run(stack, res, kLammpsDialect) : fmt::format("run             {}", res.steps);
+  return v;
+}
+
+}  // namespace
+
+std::string_view default_lammps_template() { return embedded::lammps_template(); }
+
+std::string lammps_deck(const formats::Manifest& m, std::string_view tmpl, std::string_view source) {
+  const auto stack = model::Stack::build(m.spec);
+  auto vars = lammps_variables(stack, model::resolve(stack), m.files, m.case_name);
+  return render_template(tmpl, vars, source);
+}
+
+}  // namespace granstack::generator
