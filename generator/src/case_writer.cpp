@@ -93,6 +93,12 @@ std::string blow_end_run(const model::Stack& stack, const model::Resolution& res
         "variable        gs_holds equal (c_gs_touch==0)&&(c_gs_aim==0)\n",
         o, ro, dialect.reduce_options, dialect.radius);
   }
+  judge = dialect.radius_setup + judge;
+  if (dialect.judge_in_thermo) {
+    judge += fmt::format("thermo_style    custom step atoms ke cpu {}\n"
+                         "thermo_modify   lost error norm no format float %.15g\n",
+                         stack.spec().bottom == model::Boundary::wall ? "c_gs_pz c_gs_press" : "c_gs_touch c_gs_aim");
+  }
   model::BlowEnd start(stack, res);
   model::judge_start(start, stack);
   // After each interval (the judge's computes are brought up to date at the end of every run, so

@@ -10,13 +10,16 @@ namespace granstack::generator {
 
 // Where the two programs' input languages differ in what the shared pieces use.
 struct DeckDialect {
-  const char* radius;          // an atom-style variable's radius: LIGGGHTS `r`, LAMMPS `radius`
+  const char* radius;          // an atom-style variable's radius: LIGGGHTS `r`, LAMMPS a compute's
+  const char* radius_setup;    // the lines that define it
   const char* reduce_options;  // after `compute ID all reduce`: LIGGGHTS brings it up to date at a run's end
+  bool judge_in_thermo;        // the judge's computes printed in thermo (so that they are current)
 };
-inline constexpr DeckDialect kLiggghtsDialect{"r", " update_on_run_end yes"};
+inline constexpr DeckDialect kLiggghtsDialect{"r", "", " update_on_run_end yes", false};
 // LAMMPS has no update_on_run_end: its deck prints the judge's computes in thermo, which every
 // run's last step invokes, so the variables read them current between runs.
-inline constexpr DeckDialect kLammpsDialect{"radius", ""};
+// Its atom-style variables have no radius: a property/atom compute gives it.
+inline constexpr DeckDialect kLammpsDialect{"c_gs_r", "compute         gs_r all property/atom radius\n", "", true};
 
 // The deck's `group` line of a series group.
 std::string group_command(const model::SeriesGroup& g);

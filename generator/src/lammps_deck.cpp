@@ -127,10 +127,6 @@ TemplateVars lammps_variables(const model::Stack& stack, const model::Resolution
   v["dump_columns"] = fmt::format("{}", fmt::join(files.dump_columns, " "));
   v["dump_modify"] = "dump_modify     stack sort id format int %d format float %.17g";
   v["thermo_every"] = std::to_string(res.thermo_every);
-  // A blow-end run prints its judge's computes, so that they are current between its runs.
-  const bool wall = spec.bottom == model::Boundary::wall;
-  v["thermo_style"] = std::string("thermo_style    custom step atoms ke cpu") +
-                      (res.stops_at_blow_end ? (wall ? " c_gs_pz c_gs_press" : " c_gs_touch c_gs_aim") : "");
   v["run"] = res.stops_at_blow_end ? blow_end_run(stack, res, kLammpsDialect) : fmt::format("run             {}", res.steps);
   return v;
 }
