@@ -34,6 +34,7 @@ struct RunFlags {
   std::string liggghts = "liggghts";
   std::string lammps = "lmp";
   std::string lammps_template;
+  std::string contact_rules;
 };
 
 // The status line (on a terminal) and a line per case as it ends, flushed, so a log followed
@@ -139,6 +140,11 @@ int run(const RunFlags& f) {
   o.liggghts = f.liggghts;
   o.lammps = f.lammps;
   o.lammps_template = f.lammps_template;
+  if (!f.contact_rules.empty() && o.engine != runner::Engine::refsim) {
+    fmt::print(stderr, "error: --contact-rules chooses refsim's rules: add --engine refsim, or leave it out\n");
+    return kBadInput;
+  }
+  o.lammps_rules = f.contact_rules == "lammps";
   o.engine = runner::parse_engine(f.engine);
   if (o.engine != runner::Engine::lammps && !f.lammps_template.empty()) {
     fmt::print(stderr, "error: --lammps-template is the LAMMPS deck's template: add --engine lammps, or leave it out\n");
@@ -185,6 +191,10 @@ Command add_run(CLI::App& app) {
                               fmt::join(refsim::vector_kernels(), ", ")))
       ->check(CLI::IsMember(kernel_choices()));
   cmd->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
+  cmd->add_option("--contact-rules", f->contact_rules,
+                  "For --engine refsim: liggghts (the case's deck, LIGGGHTS's contact law to the bit) or lammps (the "
+                  "same spec as LAMMPS runs it: docs/explanation/lammps.md) [liggghts]")
+      ->check(CLI::IsMember({"liggghts", "lammps"}));
   cmd->add_option("--lammps", f->lammps, "The LAMMPS executable, for --engine lammps [lmp, on PATH]");
   cmd->add_option("--lammps-template", f->lammps_template,
                   "For --engine lammps: a template of yours for the LAMMPS deck instead of templates/in.lammps.tmpl")

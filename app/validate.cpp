@@ -15,6 +15,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <memory>
@@ -76,6 +77,8 @@ int validate(const ValidateFlags& f) {
   o.lammps = f.lammps;
   StatusLine status;
   int rc = kOk;
+  // refsim beside LAMMPS runs LAMMPS's rules; beside LIGGGHTS, LIGGGHTS's.
+  o.lammps_rules = std::find(engines.begin(), engines.end(), runner::Engine::lammps) != engines.end();
   for (const auto engine : engines) {
     const auto what = "validate: " + runner::to_string(engine) + " runs";
     o.on_progress = [&status, what](const runner::ProgressSnapshot& s) { status.count(what, s.finished, s.total); };

@@ -110,4 +110,42 @@ double contact_time(const ContactModel& m, const ContactPair& c, double v) {
   return hertz_contact_time(c, v);
 }
 
+namespace {
+
+// LAMMPS's MathSpecial::powint: x^n by repeated squaring.
+double powint(double x, int n) {
+  if (n == 0) return 1.0;
+  if (x == 0.0) return 0.0;
+  double result = 1.0;
+  double w = x;
+  for (int k = n; k != 0; k >>= 1, w *= w) {
+    if ((k & 1) != 0) result *= w;
+  }
+  return result;
+}
+
+}  // namespace
+
+double tsuji_alpha(double e) {
+  return 1.2728 - 4.2783 * e + 11.087 * (e * e) - 22.348 * (e * e * e) + 27.467 * powint(e, 4) - 18.022 * powint(e, 5) +
+         4.8218 * powint(e, 6);
+}
+
+double tsuji_restitution_for(double alpha) {
+  // Bisection on [0, 1] down to neighbouring doubles, then the nearer of the two.
+  double lo = 0.0, hi = 1.0;  // tsuji_alpha(lo) >= alpha >= tsuji_alpha(hi)
+  while (std::nextafter(lo, 1.0) < hi) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    (tsuji_alpha(mid) >= alpha ? lo : hi) = mid;
+  }
+  return std::abs(tsuji_alpha(lo) - alpha) <= std::abs(tsuji_alpha(hi) - alpha) ? lo : hi;
+}
+
+double lammps_tsuji_restitution(double e) {
+  const double alpha = std::sqrt(5.0) * std::abs(restitution_beta(e));
+  if (alpha > tsuji_alpha(0.0) || alpha < tsuji_alpha(1.0)) return -1.0;
+  return tsuji_restitution_for(alpha);
+}
+
 }  // namespace granstack::model

@@ -315,6 +315,7 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   auto params = case_parameters(stack);
   params.threads = options.threads;
   params.kernel = options.kernel;
+  params.lammps_rules = options.lammps_rules;
   std::array<double, 6> box{};
   // The data file's atoms only while the system is built (a million spheres' take 110 MB).
   System system = [&] {

@@ -10,6 +10,8 @@ namespace granstack::refsim::detail {
 ModelRecord model_record(const model::ContactModel& m, const ModelConstants& k, double reff, double meff) {
   ModelRecord r;
   r.rolling_friction = m.rolling == model::RollingModel::off ? 0.0 : k.rolling_friction;
+  r.lammps_alpha = k.lammps_alpha;
+  r.lammps_tangential_ratio = k.lammps_tangential_ratio;
   if (m.normal == model::NormalModel::hooke) {
     r.hooke_kn = model::hooke_stiffness({k.y_star, 0.0, reff, meff}, k.characteristic_velocity);
     const double log_sq = k.restitution_log * k.restitution_log;
@@ -343,6 +345,10 @@ void zero_contribution(PairTable& t, std::size_t p) {
 }
 
 void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
+  if (s.lammps_rules) {
+    pair_force_lammps(t, s, p);
+    return;
+  }
   const std::size_t i = static_cast<std::size_t>(t.i[p]), j = static_cast<std::size_t>(t.j[p]);
   const std::size_t y = s.stride, z = 2 * s.stride;
   const double delx = s.x[i] - s.x[j];

@@ -54,11 +54,15 @@ struct PairRecord {
 // characteristic velocity.
 struct ModelConstants {
   double y_star = 0.0, restitution_log = 0.0, rolling_friction = 0.0, characteristic_velocity = 0.0;
+  // LAMMPS's rules (Parameters::lammps_rules): tsuji's alpha (0: undamped) and mindlin's
+  // eta_t / eta_n.
+  double lammps_alpha = 0.0, lammps_tangential_ratio = 0.0;
 };
 // ... and of one pair, evaluated once per distinct pair as LIGGGHTS evaluates them in every
 // contact: hooke's k_n and gamma_n (functions of R* and m*), and mu_r.
 struct ModelRecord {
   double hooke_kn = 0.0, hooke_gamman = 0.0, rolling_friction = 0.0;
+  double lammps_alpha = 0.0, lammps_tangential_ratio = 0.0;
   bool operator==(const ModelRecord&) const = default;
 };
 ModelRecord model_record(const model::ContactModel& m, const ModelConstants& k, double reff, double meff);
@@ -166,6 +170,7 @@ struct ContactStep {
   double contact_distance_factor = 1.0;
   bool update_history = true;
   bool tangential_damping = true;
+  bool lammps_rules = false;  // Parameters::lammps_rules
   // Motion::position_changed of the last drift, with room for a 4-byte read past its last byte.
   const std::uint8_t* position_changed = nullptr;
   // If not null, per group of kLanes particles: set to 1 for the groups of both spheres of every
@@ -173,6 +178,18 @@ struct ContactStep {
   // last step, so its sums need not be taken again).
   std::uint8_t* sums_due = nullptr;
 };
+
+// One contact by LAMMPS's rules (lammps_contacts.cpp): pair_granular's force on i from j
+// (hertz/material, tsuji damping, linear_nohistory 0 0 or mindlin) into entry p of the table.
+void pair_force_lammps(PairTable& t, const ContactStep& s, std::size_t p);
+
+// A wall's force and torque on one sphere by this LAMMPS's fix wall/gran granular: `gap_axis`
+// the signed distance from the wall to the centre along the axis, radius, mass, velocity and
+// angular velocity; its history (3 values); `k` and `mr` the sphere-wall pair's. Returns
+// whether they touch (else the history is reset and the force is zero).
+bool wall_force_lammps(int axis, double gap_axis, double radius, double mass, const double v[3], const double w[3],
+                       const PairConstants& k, const ModelRecord& mr, double history[3], bool update_history, double dt,
+                       double force[3], double torque[3]);
 
 // Evaluates pairs [begin, end) of the table (both multiples of kPairBlock for the vector kernels).
 void contacts_reference(PairTable& pairs, const ContactStep& s, std::size_t begin, std::size_t end);

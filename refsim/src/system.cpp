@@ -4,6 +4,8 @@
 
 #include "contacts.hpp"
 
+#include <granstack/model/contact.hpp>
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -76,6 +78,11 @@ System::System(std::vector<Particle> particles, Parameters params)
     } else {
       model_constants_.push_back({});
     }
+    if (p_.lammps_rules) {  // the coefficients granstack's LAMMPS deck gives (model/lammps.hpp)
+      const double e = p_.restitution.empty() ? 1.0 : p_.restitution[k];
+      model_constants_.back().lammps_alpha = e < 1.0 ? model::tsuji_alpha(model::lammps_tsuji_restitution(e)) : 0.0;
+      model_constants_.back().lammps_tangential_ratio = std::sqrt(4.0 * p_.g_star[k] / p_.y_star[k]);
+    }
   }
   choose_kernels();
   // The threads first: the first neighbour build runs on them.
@@ -89,7 +96,7 @@ std::vector<std::string> vector_kernels() { return detail::vector_targets(); }
 void System::choose_kernels() {
   const auto targets = detail::vector_targets();
   // The vector kernels are written for the study's model: any other runs on the reference.
-  if (p_.kernel == "reference" || (p_.kernel == "auto" && !p_.contact.is_study_model())) {
+  if (p_.kernel == "reference" || (p_.kernel == "auto" && (!p_.contact.is_study_model() || p_.lammps_rules))) {
     kernel_ = "reference";
     return;
   }
@@ -385,6 +392,10 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
   const double gap = pos > wall.position ? pos - wall.position - radi : wall.position - pos - radi;
   const bool stored = static_cast<int>(wi) == p_.stored_wall;
   if (stored) wall_store_[3 * i] = wall_store_[3 * i + 1] = wall_store_[3 * i + 2] = 0.0;
+  if (p_.lammps_rules) {
+    wall_force_lammps_rules(i, wi, update_history);
+    return;
+  }
   if (!(gap <= 0.0)) {  // not touching: a wall's history never survives a separation
     shear[0] = shear[1] = shear[2] = 0.0;
     roll[0] = roll[1] = roll[2] = 0.0;
@@ -441,6 +452,27 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
     double dt = 0.0 + -cr * tor[d] * 1.;
     if (p_.contact.rolling != model::RollingModel::off) dt -= rt[d];
     t_[d * stride_ + i] += dt;
+  }
+}
+
+void System::wall_force_lammps_rules(std::size_t i, std::size_t wi, bool update_history) {
+  const Wall& wall = p_.walls[wi];
+  const std::size_t type_pair = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
+                                static_cast<std::size_t>(wall.type - 1);
+  const double pos = x_[static_cast<std::size_t>(wall.axis) * stride_ + i];
+  const Vec3 v = this->v(i), w = omega(i);
+  const auto record = detail::model_record(p_.contact, model_constants_[type_pair], radius_[i], mass_[i]);
+  double force[3], torque[3];
+  if (!detail::wall_force_lammps(wall.axis, pos - wall.position, radius_[i], mass_[i], v.data(), w.data(),
+                                 type_constants_[type_pair], record, &wall_history_[3 * (wi * n_ + i)], update_history,
+                                 p_.dt, force, torque)) {
+    return;
+  }
+  const bool stored = static_cast<int>(wi) == p_.stored_wall;
+  for (std::size_t d = 0; d < 3; ++d) {
+    f_[d * stride_ + i] += force[d];
+    if (stored) wall_store_[3 * i + d] = force[d];
+    t_[d * stride_ + i] += torque[d];
   }
 }
 
@@ -528,7 +560,7 @@ void System::sum_forces(std::size_t begin, std::size_t end, bool update_history,
 void System::compute_forces(bool update_history, bool kick, bool drift) {
   detail::ContactStep s{x_.data(),      v_.data(),           w_.data(),
                         stride_,        p_.dt,               p_.contact_distance_factor,
-                        update_history, p_.tangential_damping, position_changed_.data()};
+                        update_history, p_.tangential_damping, p_.lammps_rules, position_changed_.data()};
   // Elastic frictionless pairs and nothing else acting: a group of particles none of whose pairs
   // was evaluated again keeps its force sums (the same contributions in the same order give the
   // same bits), so they are not taken again (sum_forces). On one thread its pairs all lie in

@@ -41,6 +41,7 @@ EngineResult run_refsim(const fs::path& dir, const RunOptions& o,
     refsim::RunOptions ro;
     ro.threads = o.threads;
     ro.kernel = o.kernel;
+    ro.lammps_rules = o.lammps_rules;
     // The outputs on a thread of their own where a CPU is left over by every case's threads.
     ro.write_behind = os::usable_cpus() >= (o.threads + 1) * std::max(1, o.jobs);
     ro.on_progress = [&](long step, long) {
@@ -59,6 +60,7 @@ EngineResult run_refsim(const fs::path& dir, const RunOptions& o,
     result.record["atoms"] = stats.atoms;
     result.record["threads"] = o.threads;
     result.record["kernel"] = stats.kernel;
+    result.record["contact_rules"] = o.lammps_rules ? "lammps" : "liggghts";
     result.record["write_behind"] = stats.write_behind;
     result.record["neighbor_builds"] = stats.neighbor_builds;
   } catch (const Interrupted&) {

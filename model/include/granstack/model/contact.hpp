@@ -103,4 +103,15 @@ double contact_time(const ContactModel& m, const ContactPair& c, double relative
 // Restitution damping coefficient beta = ln(e) / sqrt(ln(e)^2 + pi^2) (docs/liggghts.md section 1).
 double restitution_beta(double e);
 
+// LAMMPS's tsuji damping (model/lammps.hpp maps LIGGGHTS's restitution onto it): its
+// coefficient alpha(e), 1.2728 - 4.2783 e + ... + 4.8218 e^6, in
+// pair_granular.cpp's operation order (so the double is LAMMPS's own).
+double tsuji_alpha(double e);
+// The restitution e' in [0, 1] whose tsuji_alpha is nearest `alpha`; alpha must lie within
+// [tsuji_alpha(1), tsuji_alpha(0)] (tsuji_alpha falls monotonically there).
+double tsuji_restitution_for(double alpha);
+// The LAMMPS tsuji restitution that gives LIGGGHTS's damping for restitution e (e < 1), or a
+// negative number where no e' in [0, 1] does.
+double lammps_tsuji_restitution(double e);
+
 }  // namespace granstack::model

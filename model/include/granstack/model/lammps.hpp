@@ -17,6 +17,7 @@
 //   walls: this LAMMPS's fix wall/gran forms hertz/material's E* as E / (2 (1 - nu)), not
 //     pair_granular's E / (2 (1 - nu^2)) (measured: a bottom-wall case agrees with LIGGGHTS to
 //     1e-14 only with E' = 2 (1 - nu') E*), so a wall's E' is chosen for that form.
+#include <granstack/model/contact.hpp>
 #include <granstack/model/material.hpp>
 
 #include <string>
@@ -25,16 +26,6 @@ namespace granstack::model {
 
 class Stack;
 struct StackSpec;
-
-// LAMMPS's tsuji coefficient alpha(e), 1.2728 - 4.2783 e + ... + 4.8218 e^6, in
-// pair_granular.cpp's operation order (so the double is LAMMPS's own).
-double tsuji_alpha(double e);
-// The restitution e' in [0, 1] whose tsuji_alpha is nearest `alpha`; alpha must lie within
-// [tsuji_alpha(1), tsuji_alpha(0)] (tsuji_alpha falls monotonically there).
-double tsuji_restitution_for(double alpha);
-// The LAMMPS tsuji restitution that gives LIGGGHTS's damping for restitution e (e < 1), or a
-// negative number where no e' in [0, 1] does.
-double lammps_tsuji_restitution(double e);
 
 // One type pair's (or a wall's) coefficients for LAMMPS.
 struct LammpsContact {

@@ -24,6 +24,7 @@ struct RunOptions {
   // Format and write the dumps and the series on a thread of their own, beside the steps (the
   // same files): for a core the steps leave free.
   bool write_behind = false;
+  bool lammps_rules = false;  // Parameters::lammps_rules: LAMMPS's contact rules, for a cross-check with LAMMPS
 };
 
 struct RunStats {

@@ -52,6 +52,11 @@ struct Parameters {
   // store_force yes keeps it (System::stored_wall_force); -1: none.
   int stored_wall = -1;
   bool tangential_damping = true;
+  // LAMMPS's rules instead of LIGGGHTS's for the same spec (model/lammps.hpp, refsim/src/
+  // lammps_contacts.cpp): tsuji damping with the mapped coefficient, no tangential force without
+  // friction, pair_granular's mindlin spring with friction, fix wall/gran's walls. The reference
+  // kernels run them.
+  bool lammps_rules = false;
   // Threads for the force and integration loops. Every per-particle sum keeps the pair order
   // of one thread, so the result does not depend on the thread count, to the bit.
   int threads = 1;
@@ -123,6 +128,7 @@ class System {
   void compute_forces(bool update_history, bool kick, bool drift);
   void sum_forces(std::size_t begin, std::size_t end, bool update_history, bool kick, bool drift);
   void wall_force(std::size_t i, std::size_t w, bool update_history);
+  void wall_force_lammps_rules(std::size_t i, std::size_t w, bool update_history);  // Parameters::lammps_rules
   void external_forces(std::size_t i, bool update_history);  // walls then gravity, in the deck's order
   detail::Motion motion();
 

@@ -64,6 +64,9 @@ struct RunOptions {
   // (choose_decomposition in decomposition.hpp).
   std::array<int, 3> grid{0, 0, 0};
   int threads = 1;        // threads per case (refsim only)
+  // refsim by LAMMPS's contact rules instead of LIGGGHTS's (refsim::Parameters::lammps_rules): the
+  // model a case has on LAMMPS, for a cross-check with it.
+  bool lammps_rules = false;
   std::string kernel = "auto";  // refsim's kernels: auto, reference or a vector instruction set (refsim::vector_kernels())
   bool force = false;     // rerun cases that finished
   std::string liggghts = "liggghts";

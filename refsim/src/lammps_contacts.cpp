@@ -1,0 +1,163 @@
+// refsim's contacts by LAMMPS's rules (Parameters::lammps_rules): LAMMPS 29 Sep 2021's
+// pair_style granular (hertz/material, tsuji or no damping, linear_nohistory 0 0 without
+// friction, mindlin with it) and fix wall/gran granular, in their operation order, so that
+// refsim agrees with LAMMPS on LAMMPS's model as it agrees with LIGGGHTS on LIGGGHTS's
+// (docs/explanation/lammps.md). What differs from LIGGGHTS's rules (contacts.cpp):
+//   - no tangential force at all without friction (LIGGGHTS applies gamma_t v_t on a step whose
+//     spring is still zero, e.g. the first step of a contact);
+//   - the damping coefficient alpha(e') sqrt(m* 4/3 Y* a), a = sqrt(R* d) (the same function);
+//   - mindlin: the spring is turned into the tangent plane keeping its length before the step's
+//     displacement is added, the contact's sliding speed takes the full radii, and the Coulomb
+//     cap resets the spring to what the capped force needs.
+#include "contacts.hpp"
+
+#include <cmath>
+
+namespace granstack::refsim::detail {
+
+namespace {
+
+// LAMMPS's EPSILON in pair_granular.cpp: the spring is turned only when its normal part matters.
+constexpr double kFrameEpsilon = 1e-10;
+
+struct LammpsNormal {
+  double fntot;       // elastic plus damping
+  double prefactor;   // the damping coefficient eta_n (0 undamped)
+  double a;           // sqrt(R* d)
+};
+
+LammpsNormal lammps_normal(const PairConstants& k, const ModelRecord& mr, double reff, double meff, double delta,
+                           double vnnr) {
+  const double dr = delta * reff;
+  double knfac = k.kn_factor;
+  double fne = knfac * delta;
+  const double a = std::sqrt(dr);
+  fne *= a;
+  knfac *= a;
+  // tsuji: alpha sqrt(m* knfac); undamped is viscoelastic with coefficient 0.
+  const double damp_normal = mr.lammps_alpha != 0.0 ? std::sqrt(meff * knfac) : a * meff;
+  const double prefactor = mr.lammps_alpha * damp_normal;
+  const double fdamp = -prefactor * vnnr;
+  return {fne + fdamp, prefactor, a};
+}
+
+// pair_granular's mindlin (friction > 0) or linear_nohistory 0 0 (friction 0: zero force).
+void lammps_tangential(const PairConstants& k, const ModelRecord& mr, const LammpsNormal& n, const double nv[3],
+                       const double vtr[3], double history[3], bool update_history, double dt, double fs[3]) {
+  fs[0] = fs[1] = fs[2] = 0.0;
+  if (k.friction == 0.0) return;
+  const double fscrit = k.friction * std::fabs(n.fntot);
+  const double k_t = k.st_factor * n.a;
+  const double damp_t = mr.lammps_tangential_ratio * n.prefactor;
+  if (update_history) {
+    const double rsht = history[0] * nv[0] + history[1] * nv[1] + history[2] * nv[2];
+    if (std::fabs(rsht) * k_t > kFrameEpsilon * fscrit) {
+      const double shrmag = std::sqrt(history[0] * history[0] + history[1] * history[1] + history[2] * history[2]);
+      for (int d = 0; d < 3; ++d) history[d] -= rsht * nv[d];
+      const double prjmag = std::sqrt(history[0] * history[0] + history[1] * history[1] + history[2] * history[2]);
+      const double scalefac = prjmag > 0 ? shrmag / prjmag : 0;
+      for (int d = 0; d < 3; ++d) history[d] *= scalefac;
+    }
+    for (int d = 0; d < 3; ++d) history[d] += vtr[d] * dt;
+  }
+  for (int d = 0; d < 3; ++d) fs[d] = -k_t * history[d] - damp_t * vtr[d];
+  const double f = std::sqrt(fs[0] * fs[0] + fs[1] * fs[1] + fs[2] * fs[2]);
+  if (f > fscrit) {
+    const double shrmag = std::sqrt(history[0] * history[0] + history[1] * history[1] + history[2] * history[2]);
+    if (shrmag != 0.0) {
+      for (int d = 0; d < 3; ++d) history[d] = -1.0 / k_t * (fscrit * fs[d] / f + damp_t * vtr[d]);
+      for (int d = 0; d < 3; ++d) fs[d] *= fscrit / f;
+    } else {
+      fs[0] = fs[1] = fs[2] = 0.0;
+    }
+  }
+}
+
+}  // namespace
+
+void pair_force_lammps(PairTable& t, const ContactStep& s, std::size_t p) {
+  const std::size_t i = static_cast<std::size_t>(t.i[p]), j = static_cast<std::size_t>(t.j[p]);
+  const std::size_t y = s.stride, z = 2 * s.stride;
+  const double delx = s.x[i] - s.x[j];
+  const double dely = s.x[y + i] - s.x[y + j];
+  const double delz = s.x[z + i] - s.x[z + j];
+  const double rsq = delx * delx + dely * dely + delz * delz;
+  const PairRecord& rec = t.records[static_cast<std::size_t>(t.record[p])];
+  const double radi = rec.radi, radj = rec.radj;
+  const double radsum = radi + radj;
+  const std::size_t q = t.padded() + p;
+  if (!(rsq < radsum * radsum)) {  // LAMMPS forgets a pair's history as soon as it does not touch
+    t.touching[p] = 0;
+    t.shear_x[p] = t.shear_y[p] = t.shear_z[p] = 0.0;
+    t.fx[p] = t.fy[p] = t.fz[p] = 0.0;
+    for (std::size_t e : {p, q}) t.tx[e] = t.ty[e] = t.tz[e] = 0.0;
+    return;
+  }
+  t.touching[p] = 1;
+  const double r = std::sqrt(rsq);
+  const double rinv = 1.0 / r;
+  const double nv[3] = {delx * rinv, dely * rinv, delz * rinv};
+  const double vr1 = s.v[i] - s.v[j], vr2 = s.v[y + i] - s.v[y + j], vr3 = s.v[z + i] - s.v[z + j];
+  const double vnnr = vr1 * nv[0] + vr2 * nv[1] + vr3 * nv[2];
+  const double delta = radsum - r;
+  const ModelRecord& mr = t.model_records[static_cast<std::size_t>(t.record[p])];
+  const LammpsNormal n = lammps_normal(rec.constants(), mr, rec.reff, rec.meff, delta, vnnr);
+
+  const double vt1 = vr1 - nv[0] * vnnr, vt2 = vr2 - nv[1] * vnnr, vt3 = vr3 - nv[2] * vnnr;
+  const double wr1 = radi * s.w[i] + radj * s.w[j];
+  const double wr2 = radi * s.w[y + i] + radj * s.w[y + j];
+  const double wr3 = radi * s.w[z + i] + radj * s.w[z + j];
+  const double vtr[3] = {vt1 - (nv[2] * wr2 - nv[1] * wr3), vt2 - (nv[0] * wr3 - nv[2] * wr1),
+                         vt3 - (nv[1] * wr1 - nv[0] * wr2)};
+  double history[3] = {t.shear_x[p], t.shear_y[p], t.shear_z[p]};
+  double fs[3];
+  lammps_tangential(rec.constants(), mr, n, nv, vtr, history, s.update_history, s.dt, fs);
+  t.shear_x[p] = history[0];
+  t.shear_y[p] = history[1];
+  t.shear_z[p] = history[2];
+
+  t.fx[p] = nv[0] * n.fntot + fs[0];
+  t.fy[p] = nv[1] * n.fntot + fs[1];
+  t.fz[p] = nv[2] * n.fntot + fs[2];
+  const double tor1 = nv[1] * fs[2] - nv[2] * fs[1];
+  const double tor2 = nv[2] * fs[0] - nv[0] * fs[2];
+  const double tor3 = nv[0] * fs[1] - nv[1] * fs[0];
+  const double arm_i = radi - 0.5 * delta, arm_j = radj - 0.5 * delta;
+  t.tx[p] = -arm_i * tor1;
+  t.ty[p] = -arm_i * tor2;
+  t.tz[p] = -arm_i * tor3;
+  t.tx[q] = -arm_j * tor1;
+  t.ty[q] = -arm_j * tor2;
+  t.tz[q] = -arm_j * tor3;
+}
+
+bool wall_force_lammps(int axis, double gap_axis, double radius, double mass, const double v[3], const double w[3],
+                       const PairConstants& k, const ModelRecord& mr, double history[3], bool update_history, double dt,
+                       double force[3], double torque[3]) {
+  force[0] = force[1] = force[2] = torque[0] = torque[1] = torque[2] = 0.0;
+  const double rsq = gap_axis * gap_axis;
+  if (rsq > radius * radius) {
+    history[0] = history[1] = history[2] = 0.0;
+    return false;
+  }
+  const double r = std::sqrt(rsq);
+  const double rinv = 1.0 / r;
+  double nv[3] = {0.0, 0.0, 0.0};
+  nv[axis] = gap_axis * rinv;
+  const double vnnr = v[0] * nv[0] + v[1] * nv[1] + v[2] * nv[2];
+  const double delta = radius - r;
+  const LammpsNormal n = lammps_normal(k, mr, radius, mass, delta, vnnr);
+  const double vt1 = v[0] - nv[0] * vnnr, vt2 = v[1] - nv[1] * vnnr, vt3 = v[2] - nv[2] * vnnr;
+  const double wr1 = radius * w[0], wr2 = radius * w[1], wr3 = radius * w[2];
+  const double vtr[3] = {vt1 - (nv[2] * wr2 - nv[1] * wr3), vt2 - (nv[0] * wr3 - nv[2] * wr1),
+                         vt3 - (nv[1] * wr1 - nv[0] * wr2)};
+  double fs[3];
+  lammps_tangential(k, mr, n, nv, vtr, history, update_history, dt, fs);
+  for (int d = 0; d < 3; ++d) force[d] = nv[d] * n.fntot + fs[d];
+  const double tor[3] = {nv[1] * fs[2] - nv[2] * fs[1], nv[2] * fs[0] - nv[0] * fs[2], nv[0] * fs[1] - nv[1] * fs[0]};
+  const double arm = radius - 0.5 * delta;
+  for (int d = 0; d < 3; ++d) torque[d] = -arm * tor[d];
+  return true;
+}
+
+}  // namespace granstack::refsim::detail
