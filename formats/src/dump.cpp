@@ -313,7 +313,8 @@ BinaryDumpReader::BinaryDumpReader(const std::string& path, std::vector<std::str
     : path_(path), columns_(std::move(columns)), source_(open_bytes(path)) {}
 
 namespace {
-// The header of one binary frame, as LIGGGHTS writes it (dump_custom.cpp header_binary).
+// The header of one binary frame, as LIGGGHTS writes it (dump_custom.cpp header_binary); LAMMPS
+// (since 2021) writes the same after a format tag (binary_tag), and more after the box.
 #pragma pack(push, 1)
 struct BinaryHeader {
   std::int64_t step;
@@ -323,6 +324,10 @@ struct BinaryHeader {
 };
 #pragma pack(pop)
 static_assert(sizeof(BinaryHeader) == 44);
+
+// LAMMPS's binary dump tag: -(length of the magic string), "DUMPCUSTOM", endianness 1, revision 2.
+constexpr std::string_view kLammpsMagic = "DUMPCUSTOM";
+constexpr std::int32_t kLammpsRevision = 2;
 }  // namespace
 
 bool BinaryDumpReader::next(DumpFrame& f) {
@@ -346,8 +351,45 @@ bool BinaryDumpReader::next(DumpFrame& f) {
       throw TruncatedError(path_, 0, fmt::format("file ends inside {} ({}): the run was cut short", where(), what));
     }
   };
+  // LAMMPS's tag before the header: the magic string, its endianness and format revision.
+  const auto read_lammps_tag = [&] {
+    char magic[kLammpsMagic.size()];
+    std::int32_t endian = 0, revision = 0;
+    read(magic, sizeof magic, "the format tag");
+    read(&endian, sizeof endian, "the format tag");
+    read(&revision, sizeof revision, "the format tag");
+    if (std::string_view(magic, sizeof magic) != kLammpsMagic || endian != 1 || revision != kLammpsRevision) {
+      throw FormatError(path_, 0, fmt::format("{} is tagged as a LAMMPS binary dump but not of revision {} with this "
+                                              "machine's byte order (magic '{}', endianness {}, revision {}): written "
+                                              "by another LAMMPS, or corrupted",
+                                              where(), kLammpsRevision, std::string(magic, sizeof magic), endian, revision));
+    }
+  };
+  // What LAMMPS writes after the column count: the unit style, the time, the column names (checked
+  // against the deck's).
+  const auto read_lammps_columns = [&] {
+    std::int32_t length = 0;
+    read(&length, sizeof length, "the unit style");
+    if (length < 0 || length > 64) throw FormatError(path_, 0, fmt::format("{}: a unit style of {} bytes: corrupted", where(), length));
+    std::string text(static_cast<std::size_t>(length), '\0');
+    read(text.data(), text.size(), "the unit style");
+    char time_flag = 0;
+    read(&time_flag, 1, "the time flag");
+    if (time_flag != 0) {
+      double time = 0.0;
+      read(&time, sizeof time, "the time");
+    }
+    read(&length, sizeof length, "the column names");
+    if (length < 0 || length > 65536) throw FormatError(path_, 0, fmt::format("{}: column names of {} bytes: corrupted", where(), length));
+    text.assign(static_cast<std::size_t>(length), '\0');
+    read(text.data(), text.size(), "the column names");
+    if (text != fmt::format("{}", fmt::join(columns_, " "))) {
+      throw FormatError(path_, 0, fmt::format("{} has the columns '{}', the deck's dump line names '{}'", where(), text,
+                                              fmt::join(columns_, " ")));
+    }
+  };
   BinaryHeader h{};
-  const std::size_t got = fill(&h, sizeof h);
+  std::size_t got = fill(&h, sizeof h.step);
   offset_ += static_cast<long>(got);
   if (got == 0) {
     if (frames_ == 0) throw FormatError(path_, 0, "empty file: no frame");
@@ -356,13 +398,20 @@ bool BinaryDumpReader::next(DumpFrame& f) {
   if (got >= 8 && std::string_view(reinterpret_cast<const char*>(&h), 8) == "ITEM: TI") {
     throw FormatError(path_, 0, "this is a text dump, not a binary one: generate the case with --dump-format text");
   }
-  if (got != sizeof h) throw TruncatedError(path_, 0, fmt::format("file ends inside the header of {}", where()));
+  const bool lammps = got == sizeof h.step && h.step == -static_cast<std::int64_t>(kLammpsMagic.size());
+  if (lammps) {
+    read_lammps_tag();
+    read(&h.step, sizeof h.step, "the header");
+  }
+  got = fill(reinterpret_cast<char*>(&h) + sizeof h.step, sizeof h - sizeof h.step);
+  offset_ += static_cast<long>(got);
+  if (got != sizeof h - sizeof h.step) throw TruncatedError(path_, 0, fmt::format("file ends inside the header of {}", where()));
   bool boundary_ok = true;
   for (const auto b : h.boundary) boundary_ok = boundary_ok && b >= 0 && b <= 3;
   if (h.step < 0 || h.atoms < 0 || h.atoms > (std::int64_t{1} << 40) || (h.triclinic != 0 && h.triclinic != 1) ||
       !boundary_ok) {
-    throw FormatError(path_, 0, fmt::format("{} has an impossible header (step {}, {} atoms): not a LIGGGHTS binary "
-                                            "dump, or corrupted",
+    throw FormatError(path_, 0, fmt::format("{} has an impossible header (step {}, {} atoms): not a LIGGGHTS or "
+                                            "LAMMPS binary dump, or corrupted",
                                             where(), h.step, h.atoms));
   }
   if (h.step < last_step_) {
@@ -373,6 +422,7 @@ bool BinaryDumpReader::next(DumpFrame& f) {
   read(box, sizeof(double) * (h.triclinic ? 9 : 6), "the box");
   std::int32_t size_one = 0, chunks = 0;
   read(&size_one, sizeof size_one, "the column count");
+  if (lammps) read_lammps_columns();
   read(&chunks, sizeof chunks, "the chunk count");
   if (size_one != static_cast<std::int32_t>(columns_.size())) {
     throw FormatError(path_, 0, fmt::format("{} has {} columns per atom, the deck's dump line names {} ({})", where(),

@@ -125,7 +125,9 @@ TemplateVars lammps_variables(const model::Stack& stack, const model::Resolution
   v["dump_every"] = std::to_string(res.dump_every);
   v["dump_file"] = files.dump;
   v["dump_columns"] = fmt::format("{}", fmt::join(files.dump_columns, " "));
-  v["dump_modify"] = "dump_modify     stack sort id format int %d format float %.17g";
+  v["dump_modify"] = stack.spec().dump_format == model::DumpFormat::binary
+                        ? "dump_modify     stack sort id"
+                        : "dump_modify     stack sort id format int %d format float %.17g";
   v["thermo_every"] = std::to_string(res.thermo_every);
   v["run"] = res.stops_at_blow_end ? blow_end_run(stack, res, kLammpsDialect) : fmt::format("run             {}", res.steps);
   return v;

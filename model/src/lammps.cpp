@@ -76,10 +76,6 @@ std::string lammps_unmappable(const StackSpec& spec) {
     return "rolling_model = 'epsd2' has no counterpart in this LAMMPS (its rolling sds is a spring without "
            "LIGGGHTS's plastic cap on R* |F_n|); use rolling_model = 'off'";
   }
-  if (spec.dump_format == DumpFormat::binary) {
-    return "dump_format = 'binary': LAMMPS's binary dump is not LIGGGHTS's, the one granstack reads; generate the "
-           "case with --dump-format text";
-  }
   if (spec.dump_files == DumpFiles::per_rank) {
     return "dump_files = 'per_rank' is not supported on LAMMPS; generate the case with --dump-files single";
   }

@@ -47,8 +47,8 @@ LammpsContact lammps_contact(const Material& a, const Material& b, double restit
 std::string lammps_contact_words(const LammpsContact& c);
 
 // Why this spec cannot run on LAMMPS with granstack's mapping ("" when it can): the normal model
-// hooke, rolling friction, restitution whose damping LAMMPS's tsuji cannot give, binary or
-// per-rank dumps.
+// hooke, rolling friction, restitution whose damping LAMMPS's tsuji cannot give, per-rank
+// dumps.
 std::string lammps_unmappable(const StackSpec& spec);
 
 }  // namespace granstack::model
