@@ -84,7 +84,7 @@ Command add_reproduce(CLI::App& app) {
   cmd->add_option("-o,--output", o.output, "The reproduction's directory (its cases are reused on a rerun)")
       ->check(output_directory())->required();
   cmd->add_option("-j,--jobs", o.jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
-  cmd->add_option("--engine", o.engine, "liggghts or refsim [liggghts]")->check(CLI::IsMember(runner::engine_names()));
+  cmd->add_option("--engine", o.engine, "liggghts, refsim or lammps (the spec mapped onto LAMMPS's granular models) [liggghts]")->check(CLI::IsMember(runner::engine_names()));
   cmd->add_flag("--validate", o.validate, "Also run every case with the other engine and report the agreement");
   auto* quick = cmd->add_flag("--quick", o.quick, "The small subset CI runs (the experiments marked quick)");
   cmd->add_flag("--full", o.full,
@@ -92,6 +92,11 @@ Command add_reproduce(CLI::App& app) {
       ->excludes(quick);
   cmd->add_flag("--force", o.force, "Generate and run every case again");
   cmd->add_option("--liggghts", o.liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
+  cmd->add_option("--lammps", o.lammps, "The LAMMPS executable, for --engine lammps [lmp, on PATH]");
+  cmd->add_option("--against", o.against,
+                  "Another engine's reproduction (its directory) to set this one beside: the report says which "
+                  "statements change between the engines, by how much, and why")
+      ->check(CLI::ExistingDirectory);
   return {cmd, [f] { return reproduce(*f); }};
 }
 

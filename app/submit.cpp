@@ -31,8 +31,9 @@ int submit(SubmitFlags& f) {
                o.nodes, o.ranks);
     return kBadInput;
   }
-  if (o.nodes > 1 && o.engine != "liggghts") {
-    fmt::print(stderr, "error: --nodes {}: refsim runs in one process on one node; use --nodes with --engine liggghts\n",
+  if (o.nodes > 1 && o.engine == "refsim") {
+    fmt::print(stderr, "error: --nodes {}: refsim runs in one process on one node; use --nodes with --engine liggghts "
+                       "or lammps\n",
                o.nodes);
     return kBadInput;
   }
@@ -78,7 +79,7 @@ Command add_submit(CLI::App& app) {
   auto& o = f->options;
   auto* cmd = app.add_subcommand("submit", "Submit the cases not yet done as SLURM job arrays");
   cmd->add_option("cases", f->targets, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
-  cmd->add_option("--engine", o.engine, "liggghts or refsim [liggghts]")->check(CLI::IsMember(runner::engine_names()));
+  cmd->add_option("--engine", o.engine, "liggghts, refsim or lammps (lmp on the nodes' PATH) [liggghts]")->check(CLI::IsMember(runner::engine_names()));
   cmd->add_option("--np", o.ranks, "MPI ranks per case (the task's --ntasks) [1]")->check(CLI::Range(1, 4096));
   cmd->add_option("--nodes", o.nodes,
                   "Nodes per task (sbatch --nodes) for a case bigger than one node: its --np ranks spread over them, "

@@ -211,6 +211,37 @@ std::string parameter_note(const StudyResult& r) {
       value("scale", "output.r1mm_over_dt1e-9"), value("scale", "output.v5_over_v1"), value("scale", "output.r100nm_over_r1mm"));
 }
 
+// reproduce --against: each claim beside the other engine's reproduction.
+std::string against_note(const EngineComparison& c) {
+  double largest = 0.0;
+  std::string where = "-";
+  for (const auto& d : c.claims) {
+    if (d.relative && *d.relative > largest) {
+      largest = *d.relative;
+      where = d.claim;
+    }
+  }
+  return fmt::format("This reproduction ran on {}; the one in {} on {}. {} of {} statements change their verdict between "
+                     "the engines; the largest relative difference of a claim's value is {:.3g} ({}). Each row names why "
+                     "the engines differ on the experiment's cases: the mapping of the spec onto LAMMPS's models "
+                     "(docs/explanation/lammps.md) is exact for the Hertz force and the normal damping, and differs "
+                     "only where named.",
+                     c.engine_here, c.dir, c.engine_there, c.changed(), c.claims.size(), largest, where);
+}
+
+Table against_table(const EngineComparison& c) {
+  Table t{fmt::format("Each claim on {} and on {}", c.engine_here, c.engine_there),
+          {"claim", c.engine_here, c.engine_there, "relative difference", "verdict, " + c.engine_here,
+           "verdict, " + c.engine_there, "why they differ"},
+          {},
+          {4, 5}};
+  for (const auto& d : c.claims) {
+    t.rows.push_back({d.claim, value_text(d.here), value_text(d.there), d.relative ? fmt::format("{:.2g}", *d.relative) : "-",
+                      d.verdict_here, d.verdict_there, d.cause});
+  }
+  return t;
+}
+
 std::vector<Block> document(const StudyResult& r) {
   std::vector<Block> d;
   d.push_back(Heading{1, "Reproducing the study with granstack", "top"});
@@ -230,6 +261,11 @@ std::vector<Block> document(const StudyResult& r) {
                         "model check (a property of the model the paper's claim rests on) or the paper's arithmetic."});
   if (r.validated) d.push_back(Paragraph{validation_summary(r)});
   d.push_back(summary_table(r));
+  if (r.against) {
+    d.push_back(Heading{2, "Against " + r.against->engine_there, "against"});
+    d.push_back(Paragraph{against_note(*r.against)});
+    d.push_back(against_table(*r.against));
+  }
   for (const auto& e : r.experiments) {
     for (const auto& c : e.experiment->claims) {
       if (c.scope != "paper") d.push_back(Paragraph{fmt::format("{} is {}: {}.", c.id, c.scope == "granstack" ? "granstack's" : "a " + c.scope, c.scope_reason)});
@@ -309,7 +345,18 @@ nlohmann::json report_json(const StudyResult& r) {
                            {"record", record_json(e.experiment->record)},
                            {"claims", claims}, {"values", values}, {"cases", cases}, {"figures", figures}, {"notes", e.notes}});
   }
-  return {{"granstack_version", std::string(version())}, {"validation", r.validated ? json(validation_summary(r)) : json(nullptr)}, {"git_commit", std::string(git_commit())}, {"engine", r.engine},
+  json against = nullptr;
+  if (r.against) {
+    json rows = json::array();
+    for (const auto& d : r.against->claims) {
+      rows.push_back({{"experiment", d.experiment}, {"claim", d.claim}, {"here", optional_json(d.here)},
+                      {"there", optional_json(d.there)}, {"relative", optional_json(d.relative)},
+                      {"verdict_here", d.verdict_here}, {"verdict_there", d.verdict_there}, {"cause", d.cause}});
+    }
+    against = {{"dir", r.against->dir}, {"engine", r.against->engine_there}, {"changed", r.against->changed()},
+               {"claims", rows}};
+  }
+  return {{"granstack_version", std::string(version())}, {"against", against}, {"validation", r.validated ? json(validation_summary(r)) : json(nullptr)}, {"git_commit", std::string(git_commit())}, {"engine", r.engine},
           {"validated", r.validated}, {"quick", r.quick}, {"wall_seconds", r.wall_seconds},
           {"failed_cases", r.failed_cases}, {"interrupted_cases", r.interrupted_cases}, {"interrupted", r.interrupted}, {"experiments", experiments}};
 }
@@ -357,6 +404,11 @@ std::string summary_text(const StudyResult& r) {
                          shorten(v.claim->scope == "paper" ? v.claim->statement : fmt::format("[{}] {}", whose(*v.claim), v.claim->statement)),
                          v.verdict == v.claim->expect || v.verdict == "not measured" ? "" : "   (expected " + v.claim->expect + ")");
     }
+  }
+  if (r.against) {
+    out += fmt::format("\nagainst {} ({}): {} of {} statements change their verdict (report.md, 'Against {}')\n",
+                       r.against->engine_there, r.against->dir, r.against->changed(), r.against->claims.size(),
+                       r.against->engine_there);
   }
   out += "\nfrom the paper: (granstack - paper) / paper, in standard errors (s.e.) where a fit gives one; outside, by X %:\n"
          "X % beyond the nearer band edge. Each verdict is on the claim's one primary reading (report.md lists the others).\n";

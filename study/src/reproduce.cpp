@@ -8,6 +8,7 @@
 #include <granstack/postproc/compare.hpp>
 #include <granstack/runner/runner.hpp>
 #include <granstack/study/report.hpp>
+#include <granstack/study/engines.hpp>
 #include <granstack/study/reproduce.hpp>
 
 #include <fmt/format.h>
@@ -100,6 +101,9 @@ runner::RunOptions run_options(const ReproduceOptions& o, runner::Engine engine,
   r.engine = engine;
   r.jobs = o.jobs;
   r.liggghts = o.liggghts;
+  r.lammps = o.lammps;
+  // refsim checking LAMMPS runs LAMMPS's contact rules (the same spec as LAMMPS runs it).
+  r.lammps_rules = engine == runner::Engine::refsim && runner::parse_engine(o.engine) == runner::Engine::lammps;
   if (o.on_progress) {
     r.on_progress = [&o, stage](const runner::ProgressSnapshot& s) {
       std::string line = fmt::format("{}: {}/{} cases finished", stage, s.finished, s.total);
@@ -175,7 +179,8 @@ void reduce_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, St
   }
 }
 
-// refsim (or LIGGGHTS, when refsim ran the cases) on a copy of each case, compared.
+// refsim (or LIGGGHTS, when refsim ran the cases) on a copy of each case, compared; beside
+// LAMMPS, refsim by LAMMPS's contact rules.
 void validate_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o) {
   const auto other = runner::other_engine(runner::parse_engine(o.engine));
   std::vector<std::string> dirs;
@@ -226,6 +231,8 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& o) {
   result.engine = o.engine;
   result.out_of_scope = catalogue.out_of_scope;
   const auto selected = select(catalogue, o.experiments, o.quick, o.full);
+  std::optional<nlohmann::json> other;  // read first: a bad --against runs nothing
+  if (!o.against.empty()) other = read_other_report(o.against, o.engine);
   const fs::path root(o.output);
   prepare_directory(root);
 
@@ -265,6 +272,7 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& o) {
   }
   if (o.on_progress) o.on_progress("analyse and write the report");
   for (auto& e : result.experiments) analyse(e, all, o, result.experiments);
+  if (other) result.against = compare_engines(result, *other, o.against);
   result.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   write_report(result, o.output);
   return result;

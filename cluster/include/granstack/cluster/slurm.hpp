@@ -10,7 +10,7 @@
 namespace granstack::cluster {
 
 struct SubmitOptions {
-  std::string engine = "liggghts";       // or refsim
+  std::string engine = "liggghts";       // or refsim, lammps
   int ranks = 1;                         // MPI ranks per case (--np)
   // Nodes per task (sbatch --nodes), for a case bigger than one node: its --np ranks are spread
   // over them and mpirun starts them inside the allocation. 0: SLURM places the ranks.

@@ -62,14 +62,32 @@ struct ReproduceOptions {
   bool full = false;                       // also the cases and experiments marked full
   bool validate = false;                   // also run refsim on every case and compare
   bool force = false;                      // regenerate and rerun every case
-  std::string engine = "liggghts";         // or "refsim"
+  std::string engine = "liggghts";         // or "refsim", "lammps"
   int jobs = 1;
   std::string liggghts = "liggghts";
+  std::string lammps = "lmp";
+  std::string against;                     // another engine's reproduction to set this one beside ("": none)
   std::string gnuplot = "gnuplot";
   // Progress: a stage name and a line of detail, about twice a second while cases run.
   std::function<void(const std::string& line)> on_progress;
   // A line per event worth a log line (a case done, reused, failed), flushed at once by the caller.
   std::function<void(const std::string& line)> on_event;
+};
+
+// reproduce --against DIR: this reproduction beside another engine's (engines.hpp).
+struct EngineDifference {
+  std::string experiment, claim;
+  std::optional<double> here, there;  // the claim's primary reading on this engine and the other
+  std::optional<double> relative;     // |here - there| / max(|here|, |there|); none where either is missing
+  std::string verdict_here, verdict_there;
+  std::string cause;                  // why the engines differ on the experiment's cases
+};
+
+struct EngineComparison {
+  std::string dir;                     // the other reproduction
+  std::string engine_here, engine_there;
+  std::vector<EngineDifference> claims;
+  int changed() const;                 // claims whose verdict differs
 };
 
 struct StudyResult {
@@ -82,6 +100,7 @@ struct StudyResult {
   bool interrupted = false;
   bool report_kept = false;   // interrupted: the report of an earlier run was left as it was
   std::vector<OutOfScope> out_of_scope;  // the catalogue's statements not tested, for the report
+  std::optional<EngineComparison> against;  // with ReproduceOptions::against
 };
 
 // Thrown when DIR or one of its cases is not granstack's, or holds a case of another spec and
