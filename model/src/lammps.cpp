@@ -84,7 +84,7 @@ std::string lammps_unmappable(const StackSpec& spec) {
   for (const double e : restitutions) {
     if (e < 1.0 && lammps_tsuji_restitution(e) < 0.0) {
       return fmt::format("restitution {}: LAMMPS's tsuji damping spans LIGGGHTS's restitution damping only from e = "
-                         "0.114 to e = 0.9995 (its coefficient alpha(e') stays within [{:.4g}, {:.4g}]); use a "
+                         "0.1137 to e = 0.99957 (its coefficient alpha(e') stays within [{:.4g}, {:.4g}]); use a "
                          "restitution in that range, or 1",
                          e, tsuji_alpha(1.0), tsuji_alpha(0.0));
     }
