@@ -3,6 +3,7 @@
 #include "progress.hpp"
 
 #include <granstack/runner/runner.hpp>
+#include <granstack/study/engines.hpp>
 #include <granstack/study/report.hpp>
 #include <granstack/study/reproduce.hpp>
 
@@ -27,6 +28,14 @@ int reproduce(ReproduceFlags& f) {
   } catch (const study::UnknownExperiment& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kBadInput;
+  }
+  if (!o.against.empty()) {
+    try {
+      (void)study::read_other_report(o.against, o.engine);
+    } catch (const study::ReproduceError& e) {
+      fmt::print(stderr, "error: {}\n", e.what());
+      return kBadInput;
+    }
   }
   StatusLine status;
   std::mutex mutex;

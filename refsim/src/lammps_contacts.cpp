@@ -26,14 +26,16 @@ struct LammpsNormal {
   double a;           // sqrt(R* d)
 };
 
+// pair_granular forms the elastic force as (E delta) a, fix wall/gran as (E a) delta (`wall`).
 LammpsNormal lammps_normal(const PairConstants& k, const ModelRecord& mr, double reff, double meff, double delta,
-                           double vnnr) {
+                           double vnnr, bool wall) {
   const double dr = delta * reff;
   double knfac = k.kn_factor;
   double fne = knfac * delta;
   const double a = std::sqrt(dr);
   fne *= a;
   knfac *= a;
+  if (wall) fne = knfac * delta;
   // tsuji: alpha sqrt(m* knfac); undamped is viscoelastic with coefficient 0.
   const double damp_normal = mr.lammps_alpha != 0.0 ? std::sqrt(meff * knfac) : a * meff;
   const double prefactor = mr.lammps_alpha * damp_normal;
@@ -101,7 +103,7 @@ void pair_force_lammps(PairTable& t, const ContactStep& s, std::size_t p) {
   const double vnnr = vr1 * nv[0] + vr2 * nv[1] + vr3 * nv[2];
   const double delta = radsum - r;
   const ModelRecord& mr = t.model_records[static_cast<std::size_t>(t.record[p])];
-  const LammpsNormal n = lammps_normal(rec.constants(), mr, rec.reff, rec.meff, delta, vnnr);
+  const LammpsNormal n = lammps_normal(rec.constants(), mr, rec.reff, rec.meff, delta, vnnr, false);
 
   const double vt1 = vr1 - nv[0] * vnnr, vt2 = vr2 - nv[1] * vnnr, vt3 = vr3 - nv[2] * vnnr;
   const double wr1 = radi * s.w[i] + radj * s.w[j];
@@ -146,7 +148,7 @@ bool wall_force_lammps(int axis, double gap_axis, double radius, double mass, co
   nv[axis] = gap_axis * rinv;
   const double vnnr = v[0] * nv[0] + v[1] * nv[1] + v[2] * nv[2];
   const double delta = radius - r;
-  const LammpsNormal n = lammps_normal(k, mr, radius, mass, delta, vnnr);
+  const LammpsNormal n = lammps_normal(k, mr, radius, mass, delta, vnnr, true);
   const double vt1 = v[0] - nv[0] * vnnr, vt2 = v[1] - nv[1] * vnnr, vt3 = v[2] - nv[2] * vnnr;
   const double wr1 = radius * w[0], wr2 = radius * w[1], wr3 = radius * w[2];
   const double vtr[3] = {vt1 - (nv[2] * wr2 - nv[1] * wr3), vt2 - (nv[0] * wr3 - nv[2] * wr1),

@@ -240,6 +240,44 @@ TEST(Reproduce, AnUnknownExperimentAndADirectoryOfTheUsersAreRefused) {
   EXPECT_EQ(std::distance(fs::directory_iterator(mine), fs::directory_iterator()), 1);
 }
 
+// The quick study on LAMMPS set beside the LIGGGHTS one (reproduce --engine lammps --against):
+// every verdict stays, each claim's difference is named (round-off, or the damping or friction
+// model where the spec has them), and a reproduction of the same engine is refused before
+// anything is made.
+TEST(Reproduce, TheQuickStudyOnLammpsKeepsEveryVerdictAndNamesEachDifference) {
+  const auto dir = work() / "lammps";
+  fs::remove_all(dir);
+  auto r = granstack({"reproduce", "--quick", "-j", "2", "--engine", "lammps", "--against", quick_dir().string(), "-o",
+                      dir.string()});
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("against liggghts (" + quick_dir().string() + "): 0 of "), std::string::npos) << r.output;
+  const auto j = nlohmann::json::parse(read_bytes(dir / "report.json"));
+  EXPECT_EQ(j.at("engine"), "lammps");
+  const auto& against = j.at("against");
+  EXPECT_EQ(against.at("engine"), "liggghts");
+  EXPECT_EQ(against.at("changed"), 0);
+  std::size_t claims = 0;
+  for (const auto& e : report().at("experiments")) claims += e.at("claims").size();
+  ASSERT_EQ(against.at("claims").size(), claims);
+  for (const auto& c : against.at("claims")) {
+    EXPECT_EQ(c.at("verdict_here"), c.at("verdict_there")) << c.at("claim");
+    const auto cause = c.at("cause").get<std::string>();
+    if (c.at("relative").is_number() && c.at("relative").get<double>() <= 1e-12) {
+      EXPECT_EQ(cause.rfind("none beyond round-off", 0), 0u) << c.at("claim") << ": " << cause;
+    } else {
+      EXPECT_TRUE(cause.find("damping:") != std::string::npos || cause.find("friction:") != std::string::npos)
+          << c.at("claim") << ": " << cause;
+    }
+  }
+  EXPECT_NE(read_bytes(dir / "report.md").find("## Against liggghts"), std::string::npos);
+  const auto never = work() / "lammps_again";
+  fs::remove_all(never);
+  r = granstack({"reproduce", "--quick", "--engine", "lammps", "--against", dir.string(), "-o", never.string()});
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("that reproduction ran on lammps too"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(never));
+}
+
 // The HTML report in a real browser (Debian's Chromium, headless, no network): it loads, every
 // figure is an inline SVG the browser parsed into drawn paths, and nothing is fetched from elsewhere.
 TEST(Reproduce, TheHtmlReportIsSelfContainedAndItsFiguresRenderInChromium) {
