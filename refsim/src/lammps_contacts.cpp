@@ -8,7 +8,9 @@
 //   - the damping coefficient alpha(e') sqrt(m* 4/3 Y* a), a = sqrt(R* d) (the same function);
 //   - mindlin: the spring is turned into the tangent plane keeping its length before the step's
 //     displacement is added, the contact's sliding speed takes the full radii, and the Coulomb
-//     cap resets the spring to what the capped force needs.
+//     cap resets the spring to what the capped force needs;
+//   - walls: E* as fix wall/gran forms it (model/lammps.hpp gives the E' for it), the elastic force
+//     as (E a) delta, and the torque's lever arm the full radius.
 #include "contacts.hpp"
 
 #include <cmath>
@@ -157,8 +159,9 @@ bool wall_force_lammps(int axis, double gap_axis, double radius, double mass, co
   lammps_tangential(k, mr, n, nv, vtr, history, update_history, dt, fs);
   for (int d = 0; d < 3; ++d) force[d] = nv[d] * n.fntot + fs[d];
   const double tor[3] = {nv[1] * fs[2] - nv[2] * fs[1], nv[2] * fs[0] - nv[0] * fs[2], nv[0] * fs[1] - nv[1] * fs[0]};
-  const double arm = radius - 0.5 * delta;
-  for (int d = 0; d < 3; ++d) torque[d] = -arm * tor[d];
+  // fix wall/gran's lever arm is the radius itself (pair_granular's is shortened by half the
+  // overlap): measured, a frictional wall case agrees with LAMMPS to round-off only so.
+  for (int d = 0; d < 3; ++d) torque[d] = -radius * tor[d];
   return true;
 }
 

@@ -138,7 +138,13 @@ TEST(Lammps, DampedAndFrictionalCasesAgreeWithRefsimByLammpsRules) {
   for (const auto& [name, spec] : std::map<std::string, model::StackSpec>{
            {"damped", stack(0.9, 0.0, model::Boundary::free_surface)},
            {"damped_wall", stack(0.9, 0.0, model::Boundary::wall)},
-           {"friction", stack(0.9, 0.3, model::Boundary::free_surface)}}) {
+           {"friction", stack(0.9, 0.3, model::Boundary::free_surface)},
+           {"friction_walls_gravity", [] {
+              auto s = stack(0.9, 0.3, model::Boundary::wall);
+              s.sides = model::Boundary::wall;
+              s.gravity = 9.80665;
+              return s;
+            }()}}) {
     const auto r = run_all(name, spec);
     const auto c = compare(r, "lammps", "refsim_lammps");
     EXPECT_LE(c.worst(), round_off(spec)) << name << ": " << c.largest().quantity;
