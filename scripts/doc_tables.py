@@ -32,11 +32,13 @@ RECORDS = {
     "design_cores_16": "bench/results/design-cores-16-2026-11-27.json",
     "design_cores_16_96": "bench/results/design-cores-16-96-2026-11-27.json",
     "design_cores_2": "bench/results/design-cores-2-2026-11-27.json",
+    "engines": "bench/results/engines-2026-11-27.json",                 # OUT=... bench/engines.sh 3
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
-                 "design_cores": ["docs/explanation/performance.md"], "design_cores_summary": ["README.md"]}
+                 "design_cores": ["docs/explanation/performance.md"], "design_cores_summary": ["README.md"],
+                 "engines_agreement": ["docs/explanation/lammps.md"], "engines_speed": ["docs/explanation/lammps.md"]}
 # Made only with --reproduce.
-REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"]}
+REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"], "engines_study": ["docs/explanation/lammps.md"]}
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
 QUOTED_NOTES = ("One reading for Fig. 2 and Fig. 4", "Hypotheses, from the restitution scan", "Each mechanism's share")
 MARK = re.compile(r"(<!-- doc-table: (\w+) -->\n)(.*?)(<!-- /doc-table -->)", re.S)
@@ -122,6 +124,53 @@ def design_cores_summary():
             f"in {m['wall']:.0f} s ([performance](docs/explanation/performance.md)).\n")
 
 
+def engines_agreement():
+    """validate --engines on every pair of engines and case (bench/engines.sh)."""
+    names = {"two_body": "two-body, e = 1", "elastic": "stack, e = 1", "elastic_wall": "stack on a wall, e = 1",
+             "damped": "stack, e = 0.9", "damped_wall": "stack on a wall, e = 0.9", "friction": "stack, e = 0.9, mu = 0.3",
+             "friction_walls_gravity": "stack, e = 0.9, mu = 0.3, walls, gravity"}
+    cells = {}
+    for a in record("engines")["agreement"]:
+        cells.setdefault(a["case"], {})[tuple(a["engines"])] = f"{a['largest']:.2g} ({a['where']})"
+    pairs = [("liggghts", "lammps"), ("lammps", "refsim"), ("liggghts", "refsim")]
+    rows = ["| case | LIGGGHTS - LAMMPS | LAMMPS - refsim (LAMMPS's rules) | LIGGGHTS - refsim |", "|---|---|---|---|"]
+    for case, label in names.items():
+        rows.append(f"| {label} | " + " | ".join(cells[case][p] for p in pairs) + " |")
+    return "\n".join(rows) + "\n"
+
+
+def engines_speed():
+    """Loop seconds of the three engines on two cases (bench/engines.sh)."""
+    r = record("engines")
+    speed, names = r["speed"], r["cases"]
+    rows = ["| case | outputs | LIGGGHTS | LAMMPS | refsim | LAMMPS / LIGGGHTS |", "|---|---|---|---|---|---|"]
+    for case in ("quick", "damped"):
+        for o, label in (("", "default"), ("_off", "off")):
+            t = {e: speed[f"{case}{o}.{e}"] for e in ("liggghts", "lammps", "refsim")}
+            span = lambda e: f"{t[e]['median']:.3f} s ({min(t[e]['runs']):.3f}..{max(t[e]['runs']):.3f})"
+            rows.append(f"| {names[case]} | {label} | {span('liggghts')} | {span('lammps')} | {span('refsim')} | "
+                        f"{t['lammps']['median'] / t['liggghts']['median']:.2f} |")
+    return "\n".join(rows) + "\n"
+
+
+def engines_study(exe, work):
+    """The study on LAMMPS against the LIGGGHTS reproduction reproduce_table made (reproduce --against)."""
+    out = work / "reproduce_lammps"
+    granstack(exe, "reproduce", "-j", "2", "--force", "--engine", "lammps", "--against", str(work / "reproduce"), "-o", str(out))
+    a = json.loads((out / "report.json").read_text())["against"]
+    beyond = [c for c in a["claims"] if c["relative"] is None or c["relative"] > 1e-12]
+    largest = max(a["claims"], key=lambda c: c["relative"] or 0.0)
+    rows = [f"{a['changed']} of {len(a['claims'])} statements change their verdict between LIGGGHTS and LAMMPS; "
+            f"{len(a['claims']) - len(beyond)} agree to round-off (at most 1e-12), and {len(beyond)} differ by more, "
+            f"the largest by {largest['relative']:.2g} ({largest['claim']}):", "",
+            "| claim | LAMMPS | LIGGGHTS | relative difference | verdicts | why |", "|---|---|---|---|---|---|"]
+    for c in beyond:
+        verdicts = c["verdict_here"] if c["verdict_here"] == c["verdict_there"] else f"{c['verdict_there']} -> {c['verdict_here']}"
+        rows.append(f"| {c['claim']} | {number(c['here'])} | {number(c['there'])} | {c['relative']:.2g} | {verdicts} | "
+                    f"{c['cause'].split(':')[0]} |")
+    return "\n".join(rows) + "\n"
+
+
 def number(v):
     return "-" if v is None else f"{v:.4g}"
 
@@ -164,10 +213,12 @@ def main():
     work.mkdir(parents=True, exist_ok=True)
     made = tables(exe, work)
     made.update(nest_counts=nest_counts(), nest_speed=nest_speed(), design_cores=design_cores(),
-                design_cores_summary=design_cores_summary())
+                design_cores_summary=design_cores_summary(), engines_agreement=engines_agreement(),
+                engines_speed=engines_speed())
     places = {**PLACES, **RECORD_PLACES}
     if "--reproduce" in sys.argv[1:]:
         made["reproduce"] = reproduce_table(exe, work)
+        made["engines_study"] = engines_study(exe, work)
         places.update(REPRODUCE_PLACES)
     stale = []
     for name, files in places.items():
