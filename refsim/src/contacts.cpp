@@ -337,25 +337,35 @@ void tangential_force(double shear[3], const double en[3], const double vtr[3], 
   tor[2] = en[0] * ft[1] - en[1] * ft[0];
 }
 
-namespace {
-
 void zero_contribution(PairTable& t, std::size_t p) {
   t.fx[p] = t.fy[p] = t.fz[p] = 0.0;
   for (std::size_t q : {p, t.padded() + p}) t.tx[q] = t.ty[q] = t.tz[q] = 0.0;
 }
+
+namespace {
+
+}  // namespace
+
+PairGeometry pair_geometry(const PairTable& t, const ContactStep& s, std::size_t p) {
+  const std::size_t i = static_cast<std::size_t>(t.i[p]), j = static_cast<std::size_t>(t.j[p]);
+  const std::size_t y = s.stride, z = 2 * s.stride;
+  const double delx = s.x[i] - s.x[j];
+  const double dely = s.x[y + i] - s.x[y + j];
+  const double delz = s.x[z + i] - s.x[z + j];
+  return {i, j, delx, dely, delz, delx * delx + dely * dely + delz * delz,
+          &t.records[static_cast<std::size_t>(t.record[p])]};
+}
+
+namespace {
 
 void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
   if (s.lammps_rules) {
     pair_force_lammps(t, s, p);
     return;
   }
-  const std::size_t i = static_cast<std::size_t>(t.i[p]), j = static_cast<std::size_t>(t.j[p]);
+  const auto [i, j, delx, dely, delz, rsq, record] = pair_geometry(t, s, p);
+  const PairRecord& rec = *record;
   const std::size_t y = s.stride, z = 2 * s.stride;
-  const double delx = s.x[i] - s.x[j];
-  const double dely = s.x[y + i] - s.x[y + j];
-  const double delz = s.x[z + i] - s.x[z + j];
-  const double rsq = delx * delx + dely * dely + delz * delz;
-  const PairRecord& rec = t.records[static_cast<std::size_t>(t.record[p])];
   const double radi = rec.radi, radj = rec.radj;
   const double radsum = radi + radj;
   if (!(rsq < radsum * radsum)) {

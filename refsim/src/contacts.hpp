@@ -179,6 +179,17 @@ struct ContactStep {
   std::uint8_t* sums_due = nullptr;
 };
 
+// Pair p's two spheres as both contact rules begin: i, j, their separation (i minus j), its
+// square and the pair's record.
+struct PairGeometry {
+  std::size_t i, j;
+  double delx, dely, delz, rsq;
+  const PairRecord* rec;
+};
+PairGeometry pair_geometry(const PairTable& t, const ContactStep& s, std::size_t p);
+// Pair p gives its spheres nothing (not touching).
+void zero_contribution(PairTable& t, std::size_t p);
+
 // One contact by LAMMPS's rules (lammps_contacts.cpp): pair_granular's force on i from j
 // (hertz/material, tsuji damping, linear_nohistory 0 0 or mindlin) into entry p of the table.
 void pair_force_lammps(PairTable& t, const ContactStep& s, std::size_t p);

@@ -80,21 +80,15 @@ void lammps_tangential(const PairConstants& k, const ModelRecord& mr, const Lamm
 }  // namespace
 
 void pair_force_lammps(PairTable& t, const ContactStep& s, std::size_t p) {
-  const std::size_t i = static_cast<std::size_t>(t.i[p]), j = static_cast<std::size_t>(t.j[p]);
+  const auto [i, j, delx, dely, delz, rsq, record] = pair_geometry(t, s, p);
+  const PairRecord& rec = *record;
   const std::size_t y = s.stride, z = 2 * s.stride;
-  const double delx = s.x[i] - s.x[j];
-  const double dely = s.x[y + i] - s.x[y + j];
-  const double delz = s.x[z + i] - s.x[z + j];
-  const double rsq = delx * delx + dely * dely + delz * delz;
-  const PairRecord& rec = t.records[static_cast<std::size_t>(t.record[p])];
   const double radi = rec.radi, radj = rec.radj;
   const double radsum = radi + radj;
-  const std::size_t q = t.padded() + p;
   if (!(rsq < radsum * radsum)) {  // LAMMPS forgets a pair's history as soon as it does not touch
     t.touching[p] = 0;
     t.shear_x[p] = t.shear_y[p] = t.shear_z[p] = 0.0;
-    t.fx[p] = t.fy[p] = t.fz[p] = 0.0;
-    for (std::size_t e : {p, q}) t.tx[e] = t.ty[e] = t.tz[e] = 0.0;
+    zero_contribution(t, p);
     return;
   }
   t.touching[p] = 1;
@@ -127,6 +121,7 @@ void pair_force_lammps(PairTable& t, const ContactStep& s, std::size_t p) {
   const double tor2 = nv[2] * fs[0] - nv[0] * fs[2];
   const double tor3 = nv[0] * fs[1] - nv[1] * fs[0];
   const double arm_i = radi - 0.5 * delta, arm_j = radj - 0.5 * delta;
+  const std::size_t q = t.padded() + p;
   t.tx[p] = -arm_i * tor1;
   t.ty[p] = -arm_i * tor2;
   t.tz[p] = -arm_i * tor3;
