@@ -83,7 +83,9 @@ speed = {k: {"runs": v, "median": statistics.median(v)} for k, v in sorted(t.ite
 names = {"quick": "quickstart, 241 spheres, e = 1", "damped": "961 spheres, e = 0.9, mu = 0.25"}
 print("agreement: largest relative difference (validate), and where")
 for a in agreement:
-    print(f"  {a[\"case\"]:24s} {a[\"engines\"][0]:9s} {a[\"engines\"][1]:8s} {a[\"largest\"]:.3g}  {\"agree\" if a[\"agree\"] else \"DIFFER\"}  ({a[\"where\"]})")
+    case, (first, second), largest, where = a["case"], a["engines"], a["largest"], a["where"]
+    verdict = "agree" if a["agree"] else "DIFFER"
+    print(f"  {case:24s} {first:9s} {second:8s} {largest:.3g}  {verdict}  ({where})")
 print(f"loop seconds, medians of {repeats} alternating runs (min..max), one rank or thread")
 for o, title in (("", "default outputs"), ("_off", "outputs off")):
     print(" ", title)

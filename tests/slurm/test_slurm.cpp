@@ -196,6 +196,31 @@ TEST(Slurm, TwoMpiRanksInsideAnAllocationGiveWhatOneRankGives) {
   EXPECT_NEAR(fraction("two"), fraction("one"), 1e-9 * fraction("one"));
 }
 
+// The LAMMPS engine as an array task on two ranks: the task runs lmp through mpirun inside the
+// allocation, and the case agrees with refsim by LAMMPS's rules as a local LAMMPS run does.
+TEST(Slurm, ALammpsCaseRunsAsAnArrayTaskOnTwoRanks) {
+  const auto d = work("lammps");
+  const auto c = d / "damped";
+  ASSERT_EQ(granstack({"generate", "-o", c.string(), "--blocks", "2", "--rows", "4", "--restitution", "0.9"}).code, 0);
+  const auto s = granstack({"submit", c.string(), "--engine", "lammps", "--np", "2", "--nodes", "1"});
+  ASSERT_EQ(s.code, 0) << s.output;
+  ASSERT_TRUE(wait_for(job_ids(s.output)));
+  expect_done_with_output(c);
+  const auto record = run_record(c);
+  EXPECT_EQ(record.value("engine", ""), "lammps");
+  EXPECT_EQ(record.value("ranks", 0), 2);
+  EXPECT_NE(record.value("lammps_version", "").find("2021"), std::string::npos) << record.dump();
+  const auto twin = d / "refsim";
+  ASSERT_EQ(granstack({"generate", "-o", twin.string(), "--blocks", "2", "--rows", "4", "--restitution", "0.9"}).code, 0);
+  ASSERT_EQ(granstack({"run", "--engine", "refsim", "--contact-rules", "lammps", twin.string()}).code, 0);
+  auto fraction = [&](const fs::path& dir) {
+    const auto r = granstack({"reduce", "--json", dir.string()});
+    return nlohmann::json::parse(r.output.substr(r.output.find('{'))).at("output_fraction").get<double>();
+  };
+  // Two ranks sum forces in another order: round-off (1e-9, as for LIGGGHTS above).
+  EXPECT_NEAR(fraction(c), fraction(twin), 1e-9 * fraction(twin));
+}
+
 // A case bigger than one node: this cluster has one, so SLURM refuses two, in its own words,
 // and nothing is left submitted; more nodes than ranks is refused before SLURM is asked.
 TEST(Slurm, MoreNodesThanTheClusterHasAreRefusedBySlurmAndMoreThanRanksByGranstack) {
