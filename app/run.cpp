@@ -140,12 +140,12 @@ int run(const RunFlags& f) {
   o.liggghts = f.liggghts;
   o.lammps = f.lammps;
   o.lammps_template = f.lammps_template;
+  o.engine = runner::parse_engine(f.engine);
   if (!f.contact_rules.empty() && o.engine != runner::Engine::refsim) {
     fmt::print(stderr, "error: --contact-rules chooses refsim's rules: add --engine refsim, or leave it out\n");
     return kBadInput;
   }
   o.lammps_rules = f.contact_rules == "lammps";
-  o.engine = runner::parse_engine(f.engine);
   if (o.engine != runner::Engine::lammps && !f.lammps_template.empty()) {
     fmt::print(stderr, "error: --lammps-template is the LAMMPS deck's template: add --engine lammps, or leave it out\n");
     return kBadInput;

@@ -116,8 +116,11 @@ EngineComparison compare_engines(const StudyResult& r, const nlohmann::json& oth
         d.relative = scale > 0.0 ? std::abs(*d.here - *d.there) / scale : 0.0;
       }
       // A difference at round-off has no cause but the arithmetic.
-      d.cause = d.relative && *d.relative <= kRoundOff ? fmt::format("none beyond round-off (at most {:g})", kRoundOff)
-                                                        : cause;
+      if (!d.here || !d.there) {
+        d.cause = !d.here && !d.there ? "not measured on either engine" : "measured on one engine only";
+      } else {
+        d.cause = *d.relative <= kRoundOff ? fmt::format("none beyond round-off (at most {:g})", kRoundOff) : cause;
+      }
       c.claims.push_back(std::move(d));
     }
   }

@@ -76,6 +76,22 @@ TEST_F(Engines, WhatLammpsCannotRunIsRefusedBeforeTheCaseIsTouched) {
   EXPECT_FALSE(fs::exists(h / "in.lammps"));
 }
 
+// LAMMPS's own error ends the run as failed, with its ERROR line; the case's earlier run is kept
+// only until LAMMPS has started (as for LIGGGHTS).
+TEST_F(Engines, LammpsErrorsAreTheRunsFailure) {
+  const auto c = make_case("case");
+  const auto tmpl = path("broken.tmpl");
+  auto text = read_bytes(fs::path(GRANSTACK_SOURCE_DIR) / "templates" / "in.lammps.tmpl");
+  text.replace(text.find("fix             integr all nve/sphere"), 37, "fix             integr all no_such_style");
+  std::ofstream(tmpl) << text;
+  const auto r = granstack({"run", "--engine", "lammps", "--lammps-template", tmpl.string(), c.string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "ERROR: Unrecognized fix style 'no_such_style'");
+  const auto j = record(c);
+  EXPECT_EQ(j.at("status"), "failed");
+  EXPECT_EQ(j.at("lammps_template"), tmpl.string());
+}
+
 TEST_F(Engines, ValidateAndRefsimRulesTakeTheirEnginesByName) {
   const auto c = make_case("case", {"--restitution", "0.9", "--friction", "0.3"});
   auto r = granstack({"validate", "--engines", "lammps,lammps", c.string()});
@@ -91,6 +107,9 @@ TEST_F(Engines, ValidateAndRefsimRulesTakeTheirEnginesByName) {
   r = granstack({"run", "--contact-rules", "lammps", c.string()});
   EXPECT_EQ(r.code, 2) << r.output;
   expect_contains(r, "--contact-rules chooses refsim's rules");
+  r = granstack({"run", "--engine", "refsim", "--contact-rules", "lammps", c.string()});
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(record(c).at("contact_rules"), "lammps");
   r = granstack({"run", "--lammps-template", path("case/in.stack").string(), c.string()});
   EXPECT_EQ(r.code, 2) << r.output;
   expect_contains(r, "--lammps-template is the LAMMPS deck's template");

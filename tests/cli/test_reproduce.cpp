@@ -190,10 +190,15 @@ TEST(Reproduce, AStoppedReproductionContinuesWhereItStopped) {
   ASSERT_GT(child.pid, 0) << child.error;
   auto done_cases = [&] {
     std::map<fs::path, fs::file_time_type> done;
-    if (!fs::exists(dir)) return done;
-    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    // granstack renames folders into place meanwhile: an entry that vanishes is skipped.
+    std::error_code ec;
+    for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec)) {
+      const auto& e = *it;
       if (e.path().filename() == "run.json" && read_bytes(e.path()).find("\"status\": \"done\"") != std::string::npos) {
-        done[e.path()] = fs::last_write_time(e.path());
+        std::error_code time_ec;
+        const auto time = fs::last_write_time(e.path(), time_ec);
+        if (!time_ec) done[e.path()] = time;
       }
     }
     return done;
@@ -257,12 +262,16 @@ TEST(Reproduce, TheQuickStudyOnLammpsKeepsEveryVerdictAndNamesEachDifference) {
   EXPECT_EQ(against.at("engine"), "liggghts");
   EXPECT_EQ(against.at("changed"), 0);
   std::size_t claims = 0;
-  for (const auto& e : report().at("experiments")) claims += e.at("claims").size();
+  const auto liggghts = report();
+  for (const auto& e : liggghts.at("experiments")) claims += e.at("claims").size();
   ASSERT_EQ(against.at("claims").size(), claims);
   for (const auto& c : against.at("claims")) {
     EXPECT_EQ(c.at("verdict_here"), c.at("verdict_there")) << c.at("claim");
     const auto cause = c.at("cause").get<std::string>();
-    if (c.at("relative").is_number() && c.at("relative").get<double>() <= 1e-12) {
+    if (!c.at("relative").is_number()) {
+      EXPECT_EQ(cause, "not measured on either engine") << c.at("claim");
+      EXPECT_EQ(c.at("verdict_here"), "not measured") << c.at("claim");
+    } else if (c.at("relative").get<double>() <= 1e-12) {
       EXPECT_EQ(cause.rfind("none beyond round-off", 0), 0u) << c.at("claim") << ": " << cause;
     } else {
       EXPECT_TRUE(cause.find("damping:") != std::string::npos || cause.find("friction:") != std::string::npos)
