@@ -79,11 +79,6 @@ int run_design(const DesignFlags& f) {
   const fs::path dir(f.dir);
   require_design_dir(dir);
   if (fs::exists(dir / kStoreName)) design::adopt_schedule(space, design::Store::open_existing((dir / kStoreName).string()));
-  if (f.slurm && space.search.schedule == design::Schedule::asynchronous) {
-    fmt::print(stderr, "error: --slurm runs a search a generation at a time, as job arrays; {} asks for an asynchronous "
-                       "one: set [search] evaluation = \"generational\" (a new search), or leave out --slurm\n", f.space_file);
-    return kBadInput;
-  }
   fs::create_directories(dir);
   const os::CaseLock lock(dir, "granstack design run");
   auto store = design::Store::open((dir / kStoreName).string(), space.digest(), text);
@@ -214,7 +209,9 @@ Command add_design(CLI::App& app) {
   run->add_option("--time-limit", f->time_limit, "Start no design after this many seconds, abandoning those running (run again to go on)")
       ->check(CLI::Range(1.0, 1e9));
   run->add_flag("--no-report", f->no_report, "Do not write the report");
-  run->add_flag("--slurm", f->slurm, "Run each generation's designs as SLURM job arrays (granstack submit's) and wait for them");
+  run->add_flag("--slurm", f->slurm,
+                "Run the designs as SLURM job arrays (granstack submit's): asynchronous, -j designs in flight, each "
+                "an array of its scenarios; generational, each generation's designs, waited for");
   auto& b = f->batch;
   run->add_option("--partition", b.submit.partition, "--slurm: the partition [the site's default]");
   run->add_option("--account", b.submit.account, "--slurm: the account [the site's default]");

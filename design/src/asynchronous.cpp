@@ -52,12 +52,12 @@ struct Finished {
   std::exception_ptr error;
 };
 
-// `jobs` threads, each running one design at a time (in situ on refsim, one core). The search
-// starts a design only when a thread is free, and takes the finished ones back in the order
-// they finished.
+// `jobs` threads, each running one design at a time (in situ on refsim, one core; or through
+// the search's runner, e.g. as a SLURM job array). The search starts a design only when a thread
+// is free, and takes the finished ones back in the order they finished.
 class Pool {
  public:
-  Pool(const Space& space, int jobs) : space_(space) {
+  Pool(const Space& space, int jobs, BatchRunner* runner) : space_(space), runner_(runner) {
     for (int t = 0; t < jobs; ++t) threads_.emplace_back([this] { work(); });
   }
   Pool(const Pool&) = delete;
@@ -108,7 +108,9 @@ class Pool {
       }
       Finished f{std::move(job), std::nullopt, nullptr};
       try {
-        f.evaluation = evaluate_design(space_, f.job.spec, f.job.probe.has_value(), &abandon_);
+        const bool run_anyway = f.job.probe.has_value();
+        f.evaluation = runner_ != nullptr ? runner_->evaluate_one(space_, f.job.spec, run_anyway, &abandon_)
+                                          : evaluate_design(space_, f.job.spec, run_anyway, &abandon_);
       } catch (...) {
         f.error = std::current_exception();
       }
@@ -120,6 +122,7 @@ class Pool {
     }
   }
   const Space& space_;
+  BatchRunner* runner_;
   std::mutex m_;
   std::condition_variable work_cv_, done_cv_;
   std::deque<Job> queue_;
@@ -463,7 +466,7 @@ SearchResult Asynchronous::run() {
   const int jobs = std::max(1, options_.jobs);
   std::exception_ptr error;
   {
-    Pool pool(space_, jobs);
+    Pool pool(space_, jobs, options_.runner);
     start_probes(pool);
     for (;;) {
       if (os::interrupt_signal() != 0) {

@@ -2,7 +2,9 @@
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/os/interrupt.hpp>
+#include <granstack/os/process.hpp>
 #include <granstack/postproc/reduce.hpp>
+#include <granstack/refsim/in_situ.hpp>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -11,6 +13,9 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <mutex>
+#include <numeric>
+#include <optional>
 #include <thread>
 
 namespace granstack::design {
@@ -22,6 +27,40 @@ namespace {
 class SlurmRunner : public BatchRunner {
  public:
   SlurmRunner(fs::path dir, SlurmBatchOptions o) : dir_(std::move(dir)), o_(std::move(o)) {}
+
+  // One design of the asynchronous search: its scenarios as one batch (a job array), run again
+  // longer where first_run's length did not reach a final output, as run() does for many.
+  Evaluation evaluate_one(const Space& space, const model::StackSpec& spec, bool run_anyway,
+                          const std::atomic<bool>* abandon) override {
+    auto e = measured(space, spec);
+    if (!e.feasible && !run_anyway) return e;
+    const auto scenarios = scenario_specs(space, spec);
+    std::vector<model::StackSpec> ran;
+    for (const auto& one : scenarios) ran.push_back(first_run(space, one));
+    std::vector<std::optional<std::pair<model::StackSpec, Outcome>>> done(scenarios.size());
+    std::vector<std::size_t> todo(scenarios.size());
+    std::iota(todo.begin(), todo.end(), std::size_t{0});
+    while (!todo.empty()) {
+      std::vector<model::StackSpec> batch;
+      for (const auto k : todo) batch.push_back(ran[k]);
+      const auto outcomes = run_cases(batch, abandon);
+      std::vector<std::size_t> again;
+      for (std::size_t i = 0; i < todo.size(); ++i) {
+        const auto k = todo[i];
+        if (auto longer = extended(scenarios[k], ran[k], outcomes[i])) {
+          ran[k] = std::move(*longer);
+          again.push_back(k);
+        } else {
+          done[k].emplace(ran[k], outcomes[i]);
+        }
+      }
+      todo = std::move(again);
+    }
+    std::vector<std::pair<model::StackSpec, Outcome>> runs;
+    for (auto& r : done) runs.push_back(std::move(*r));
+    record(space, e, runs);
+    return e;
+  }
 
   void run(const Space& space, const std::vector<model::StackSpec>& specs, Store& store,
            const std::function<void(int, int)>& on_done) override {
@@ -44,7 +83,7 @@ class SlurmRunner : public BatchRunner {
     while (!jobs.empty()) {
       std::vector<model::StackSpec> ran;
       for (const auto& j : jobs) ran.push_back(j.spec);
-      const auto outcomes = run_cases(ran);
+      const auto outcomes = run_cases(ran, nullptr);
       std::vector<Job> again;
       for (std::size_t i = 0; i < jobs.size(); ++i) {
         const auto& j = jobs[i];
@@ -68,7 +107,8 @@ class SlurmRunner : public BatchRunner {
  private:
   // Each spec run as a case of a new batch through SLURM, its outcome by reduce; throws when a
   // case still has none after `attempts` submissions (the batch directory is kept to look at).
-  std::vector<Outcome> run_cases(const std::vector<model::StackSpec>& specs) {
+  // Stops (its jobs cancelled) and throws once *abandon is set.
+  std::vector<Outcome> run_cases(const std::vector<model::StackSpec>& specs, const std::atomic<bool>* abandon) {
     const auto batch = new_batch_dir();
     std::vector<generator::CaseSpec> to_write;
     for (const auto& spec : specs) {
@@ -82,7 +122,7 @@ class SlurmRunner : public BatchRunner {
     std::vector<std::optional<Outcome>> outcomes(specs.size());
     std::size_t left = specs.size();
     for (int attempt = 1; attempt <= o_.attempts && left > 0; ++attempt) {
-      submit_and_wait(batch, attempt, static_cast<int>(left));
+      submit_and_wait(batch, attempt, static_cast<int>(left), abandon);
       for (std::size_t i = 0; i < specs.size(); ++i) {
         if (outcomes[i]) continue;
         outcomes[i] = result(made.case_dirs.at(i).string(), specs[i]);
@@ -104,28 +144,46 @@ class SlurmRunner : public BatchRunner {
     return out;
   }
 
-  fs::path new_batch_dir() const {
+  // A batch directory no other batch of this search has taken (the asynchronous search makes
+  // several at once, from its threads).
+  fs::path new_batch_dir() {
+    const std::lock_guard<std::mutex> lock(mutex_);
     fs::create_directories(dir_);
-    for (int n = 1;; ++n) {
-      const auto d = dir_ / fmt::format("b{}", n);
-      if (!fs::exists(d)) return d;
+    for (;; ++next_batch_) {
+      const auto d = dir_ / fmt::format("b{}", next_batch_);
+      if (!fs::exists(d)) return dir_ / fmt::format("b{}", next_batch_++);
     }
   }
+  void note(const std::string& text) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (o_.on_note) o_.on_note(text);
+  }
 
-  // Submits the batch's cases that are not done, and waits until none is queued or running.
-  void submit_and_wait(const fs::path& batch, int attempt, int left) {
+  // Submits the batch's cases that are not done, and waits until none is queued or running; once
+  // *abandon is set, cancels its jobs (scancel) and throws.
+  void submit_and_wait(const fs::path& batch, int attempt, int left, const std::atomic<bool>* abandon) {
     const auto s = cluster::submit({batch.string()}, o_.submit);
     std::vector<std::string> ids;
     for (const auto& a : s.arrays) ids.push_back(a.job_id);
-    if (o_.on_note) {
-      o_.on_note(fmt::format("{} {} design(s) as SLURM job{} {}", attempt == 1 ? "submitted" : "submitted again", left,
-                             ids.size() == 1 ? "" : "s", fmt::join(ids, ", ")));
-    }
+    note(fmt::format("{} {} case(s) as SLURM job{} {}", attempt == 1 ? "submitted" : "submitted again", left,
+                     ids.size() == 1 ? "" : "s", fmt::join(ids, ", ")));
     for (;;) {
       const auto st = cluster::status({batch.string()}, o_.submit.squeue);
       if (st.pending == 0 && st.running == 0) return;
       if (os::interrupt_signal() != 0) throw std::runtime_error("stopped by a signal while the batch was queued");
-      std::this_thread::sleep_for(std::chrono::duration<double>(o_.poll_seconds));
+      if (abandon != nullptr && abandon->load()) {
+        std::vector<std::string> argv{"scancel"};
+        argv.insert(argv.end(), ids.begin(), ids.end());
+        (void)os::run(argv, {});
+        throw refsim::InSituStopped(fmt::format("abandoned: the search ended while {} ran (SLURM jobs {} cancelled)",
+                                                batch.string(), fmt::join(ids, ", ")));
+      }
+      // An asynchronous search looks at least twice a second for its end.
+      const double wait = abandon != nullptr ? std::min(o_.poll_seconds, 0.5) : o_.poll_seconds;
+      for (double slept = 0.0; slept < o_.poll_seconds; slept += wait) {
+        std::this_thread::sleep_for(std::chrono::duration<double>(wait));
+        if ((abandon != nullptr && abandon->load()) || os::interrupt_signal() != 0) break;
+      }
     }
   }
 
@@ -145,6 +203,8 @@ class SlurmRunner : public BatchRunner {
 
   fs::path dir_;
   SlurmBatchOptions o_;
+  std::mutex mutex_;  // new_batch_dir and note, from the asynchronous search's threads
+  int next_batch_ = 1;
 };
 
 }  // namespace

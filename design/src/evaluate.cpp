@@ -179,6 +179,11 @@ Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, boo
   return e;
 }
 
+Evaluation BatchRunner::evaluate_one(const Space& space, const model::StackSpec& spec, bool run_anyway,
+                                     const std::atomic<bool>* abandon) {
+  return evaluate_design(space, spec, run_anyway, abandon);
+}
+
 Evaluation measured(const Space& space, const model::StackSpec& spec) {
   Evaluation e;
   e.spec = spec;

@@ -378,10 +378,6 @@ Space stored_space(const Store& store, const std::string& source) {
 SearchResult run_search(const Space& space, Store& store, const SearchOptions& options) {
   if (!store.meta("schedule")) store.set_meta("schedule", std::string(to_string(space.search.schedule)));
   const bool asynchronous = space.search.schedule == Schedule::asynchronous;
-  if (asynchronous && options.runner != nullptr) {
-    throw std::invalid_argument("an asynchronous search runs on this machine's threads; SLURM batches need [search] "
-                                "evaluation = \"generational\"");
-  }
   const auto start = std::chrono::steady_clock::now();
   SearchResult total;
   total.runs = asynchronous ? 0 : prepare(space, store, options.jobs);  // asynchronous: probes in its pool

@@ -776,17 +776,6 @@ rows = 4
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
-// --slurm runs a search a generation at a time: an asynchronous space with it is refused with exit
-// 2, naming the key, before anything is written.
-TEST(DesignCli, SlurmBatchesOfAnAsynchronousSearchAreRefusedNamingTheKey) {
-  const auto dir = work_dir();
-  std::ofstream(dir / "small.toml") << kSmallSpace;
-  const auto r = program({"design", "run", (dir / "small.toml").string(), "-o", (dir / "out").string(), "--slurm"}, dir / "run.log");
-  EXPECT_EQ(r.code, 2) << r.output;
-  EXPECT_NE(r.output.find("evaluation = \"generational\""), std::string::npos) << r.output;
-  EXPECT_FALSE(fs::exists(dir / "out"));
-}
-
 TEST(DesignCli, AnotherSpacesStoreAndAForeignDirectoryAreRefusedAndKept) {
   const auto dir = work_dir();
   const auto searched = searched_dir(dir);

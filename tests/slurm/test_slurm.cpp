@@ -480,7 +480,7 @@ std::string evaluations_of(const fs::path& store) {
 TEST(Slurm, ADesignSearchRunsItsBatchesAsArraysAndSurvivesACancelledTask) {
   if (!os::find_program("python3")) GTEST_SKIP() << "python3 is not installed (the store is read with its sqlite3)";
   const auto d = work("design");
-  // SLURM batches run a search a generation at a time.
+  // The generational search: a generation's designs at once.
   const auto space = d / "generational.toml";
   std::ofstream(space) << read_bytes(fs::path(GRANSTACK_TEST_DATA) / "design" / "small_space.toml")
                        << "evaluation = \"generational\"\n";
@@ -496,7 +496,7 @@ TEST(Slurm, ADesignSearchRunsItsBatchesAsArraysAndSurvivesACancelledTask) {
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   while (cancelled.empty() && std::chrono::steady_clock::now() < until) {
     const auto log = read_bytes(d / "search.log");
-    const std::regex id("submitted ([0-9]+) design\\(s\\) as SLURM jobs? ([0-9]+)");
+    const std::regex id("submitted ([0-9]+) case\\(s\\) as SLURM jobs? ([0-9]+)");
     std::smatch m;
     if (std::regex_search(log, m, id)) {
       cancelled = m[2].str() + "_" + std::to_string(std::min(std::stoi(m[1].str()), 4) - 1);
@@ -508,10 +508,32 @@ TEST(Slurm, ADesignSearchRunsItsBatchesAsArraysAndSurvivesACancelledTask) {
   const auto end = os::wait(child);
   const auto log = read_bytes(d / "search.log");
   ASSERT_TRUE(end.ok()) << log;
-  EXPECT_NE(log.find("submitted again 1 design(s)"), std::string::npos) << log;
+  EXPECT_NE(log.find("submitted again 1 case(s)"), std::string::npos) << log;
   EXPECT_FALSE(fs::exists(d / "slurm" / "batches" / "b1")) << "a finished batch's cases are removed";
   // The same search on this machine.
   const auto local = granstack({"design", "run", space.string(), "-o", (d / "local").string(), "--generations", "1", "-j", "2"});
+  ASSERT_EQ(local.code, 0) << local.output;
+  const auto a = evaluations_of(d / "slurm" / "design.sqlite"), b = evaluations_of(d / "local" / "design.sqlite");
+  EXPECT_EQ(a, b);
+  EXPECT_GE(std::count(a.begin(), a.end(), '\n'), 8);
+}
+
+// granstack design run --slurm on an asynchronous search: each design in flight is a job array
+// of its scenarios, the next starts as soon as one finishes, and the store ends exactly as the
+// same search's on this machine (one design in flight on both, so the same designs in the same
+// order; reduce of a refsim case is the in-situ value); nothing of the search is left queued.
+TEST(Slurm, AnAsynchronousDesignSearchRunsEachDesignAsAnArrayAndEqualsALocalOne) {
+  if (!os::find_program("python3")) GTEST_SKIP() << "python3 is not installed (the store is read with its sqlite3)";
+  const auto d = work("design_async");
+  const auto space = d / "space.toml";
+  std::ofstream(space) << read_bytes(fs::path(GRANSTACK_TEST_DATA) / "design" / "small_space.toml");
+  const auto r = granstack({"design", "run", space.string(), "-o", (d / "slurm").string(), "--max-designs", "10", "-j", "1",
+                            "--slurm", "--poll", "0.2"});
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto ids = job_ids(r.output);
+  EXPECT_GE(ids.size(), 10u) << r.output;  // a job per design, probes included
+  EXPECT_TRUE(wait_for(ids, 5)) << "jobs of the search are still queued";
+  const auto local = granstack({"design", "run", space.string(), "-o", (d / "local").string(), "--max-designs", "10", "-j", "1"});
   ASSERT_EQ(local.code, 0) << local.output;
   const auto a = evaluations_of(d / "slurm" / "design.sqlite"), b = evaluations_of(d / "local" / "design.sqlite");
   EXPECT_EQ(a, b);

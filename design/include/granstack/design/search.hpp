@@ -24,6 +24,11 @@ class BatchRunner {
   virtual ~BatchRunner() = default;
   virtual void run(const Space& space, const std::vector<model::StackSpec>& specs, Store& store,
                    const std::function<void(int, int)>& on_done) = 0;
+  // One design for the asynchronous search, as evaluate_design gives it (measured; run unless
+  // infeasible or run_anyway): here in situ, or where the runner runs its cases. Called from
+  // several threads at once; once *abandon is set, its runs stop and it throws.
+  virtual Evaluation evaluate_one(const Space& space, const model::StackSpec& spec, bool run_anyway,
+                                  const std::atomic<bool>* abandon);
 };
 // `jobs` designs at a time on this machine, each in situ on one core.
 std::unique_ptr<BatchRunner> local_runner(int jobs);
@@ -87,7 +92,9 @@ Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, boo
 
 struct SearchOptions {
   int jobs = 1;                  // with no runner: designs at once on this machine
-  BatchRunner* runner = nullptr;  // where batches run (none: local_runner(jobs)); generational only
+  // Where designs run (none: this machine, local_runner(jobs)). The asynchronous search keeps
+  // `jobs` designs in flight on it; the generational one hands it each generation.
+  BatchRunner* runner = nullptr;
   double time_limit = 0.0;       // s of wall time after which no design starts (0: none)
   // Called after each design run (generation, finished, to run) and after each generation.
   std::function<void(int, int, int)> on_progress;
