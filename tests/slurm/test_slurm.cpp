@@ -538,6 +538,12 @@ TEST(Slurm, AnAsynchronousDesignSearchRunsEachDesignAsAnArrayAndEqualsALocalOne)
   const auto a = evaluations_of(d / "slurm" / "design.sqlite"), b = evaluations_of(d / "local" / "design.sqlite");
   EXPECT_EQ(a, b);
   EXPECT_GE(std::count(a.begin(), a.end(), '\n'), 8);
+  // Two in flight and a time limit: the search ends with designs running; their arrays are
+  // cancelled, and the search ends as any does (exit 0).
+  const auto limited = granstack({"design", "run", space.string(), "-o", (d / "limited").string(), "-j", "2",
+                                  "--time-limit", "3", "--slurm", "--poll", "0.2"});
+  ASSERT_EQ(limited.code, 0) << limited.output;
+  EXPECT_TRUE(wait_for(job_ids(limited.output), 5)) << "jobs of the search are still queued:\n" << limited.output;
 }
 
 }  // namespace
