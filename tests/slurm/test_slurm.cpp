@@ -527,21 +527,21 @@ TEST(Slurm, AnAsynchronousDesignSearchRunsEachDesignAsAnArrayAndEqualsALocalOne)
   const auto d = work("design_async");
   const auto space = d / "space.toml";
   std::ofstream(space) << read_bytes(fs::path(GRANSTACK_TEST_DATA) / "design" / "small_space.toml");
-  const auto r = granstack({"design", "run", space.string(), "-o", (d / "slurm").string(), "--max-designs", "10", "-j", "1",
-                            "--slurm", "--poll", "0.2"});
+  const auto r = granstack({"design", "run", space.string(), "-o", (d / "slurm").string(), "--max-designs", "6", "-j", "1",
+                            "--slurm", "--poll", "0.1"});
   ASSERT_EQ(r.code, 0) << r.output;
   const auto ids = job_ids(r.output);
-  EXPECT_GE(ids.size(), 10u) << r.output;  // a job per design, probes included
+  EXPECT_GE(ids.size(), 6u) << r.output;  // a job per design, probes included
   EXPECT_TRUE(wait_for(ids, 5)) << "jobs of the search are still queued";
-  const auto local = granstack({"design", "run", space.string(), "-o", (d / "local").string(), "--max-designs", "10", "-j", "1"});
+  const auto local = granstack({"design", "run", space.string(), "-o", (d / "local").string(), "--max-designs", "6", "-j", "1"});
   ASSERT_EQ(local.code, 0) << local.output;
   const auto a = evaluations_of(d / "slurm" / "design.sqlite"), b = evaluations_of(d / "local" / "design.sqlite");
   EXPECT_EQ(a, b);
-  EXPECT_GE(std::count(a.begin(), a.end(), '\n'), 8);
+  EXPECT_GE(std::count(a.begin(), a.end(), '\n'), 5);
   // Two in flight and a time limit: the search ends with designs running; their arrays are
   // cancelled, and the search ends as any does (exit 0).
   const auto limited = granstack({"design", "run", space.string(), "-o", (d / "limited").string(), "-j", "2",
-                                  "--time-limit", "3", "--slurm", "--poll", "0.2"});
+                                  "--time-limit", "2", "--slurm", "--poll", "0.1"});
   ASSERT_EQ(limited.code, 0) << limited.output;
   EXPECT_TRUE(wait_for(job_ids(limited.output), 5)) << "jobs of the search are still queued:\n" << limited.output;
 }
