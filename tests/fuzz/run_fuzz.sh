@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the readers' libFuzzer target with clang (address and undefined-behaviour sanitizers)
-# and runs it for a bounded number of inputs, seeded with real LIGGGHTS output made here and
-# the kept regression inputs (tests/fuzz/regressions: every input that ever crashed a reader).
+# and runs it for a bounded number of inputs, seeded with real LIGGGHTS (and LAMMPS) output made
+# here and the kept regression inputs (tests/fuzz/regressions: every input that ever crashed a reader).
 # A crash leaves its input in WORK/crash-*: copy it into tests/fuzz/regressions.
 # Usage: tests/fuzz/run_fuzz.sh GRANSTACK WORK [RUNS]
 set -euo pipefail
@@ -21,6 +21,11 @@ for format in text binary; do
 done
 cp "$work/case_text/dumps/dump.txt" "$work/case_binary/dumps/dump.bin" "$work/case_text/ke_series.txt" \
   "$work/case_text/data.stack" "$work/corpus/"
+# LAMMPS's own binary form (its DUMPCUSTOM tag and column names), where LAMMPS is installed.
+if command -v lmp >/dev/null; then
+  "$gs" run --engine lammps --force "$work/case_binary" >/dev/null
+  cp "$work/case_binary/dumps/dump.bin" "$work/corpus/dump_lammps.bin"
+fi
 gzip -c "$work/case_text/dumps/dump.txt" > "$work/corpus/dump.txt.gz"
 cp "$src"/tests/fuzz/regressions/* "$work/corpus/" 2>/dev/null || true
 # The regressions first, each on its own, then the bounded search.
