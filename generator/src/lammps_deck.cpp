@@ -137,10 +137,9 @@ TemplateVars lammps_variables(const model::Stack& stack, const model::Resolution
 
 std::string_view default_lammps_template() { return embedded::lammps_template(); }
 
-std::string lammps_deck(const formats::Manifest& m, std::string_view tmpl, std::string_view source) {
-  const auto stack = model::Stack::build(m.spec);
-  auto vars = lammps_variables(stack, model::resolve(stack), m.files, m.case_name);
-  return render_template(tmpl, vars, source);
+std::string lammps_deck(const model::Stack& stack, const model::Resolution& res, const formats::CaseFiles& files,
+                        const std::string& case_name, std::string_view tmpl, std::string_view source) {
+  return render_template(tmpl, lammps_variables(stack, res, files, case_name), source);
 }
 
 }  // namespace granstack::generator

@@ -183,17 +183,14 @@ long sphere_count(const StackSpec& spec) {
   return count > static_cast<double>(kMaxSpheres) ? kMaxSpheres + 1 : static_cast<long>(count);
 }
 
+bool PairTable::everywhere(double v) const {
+  return value == v && std::all_of(pairs.begin(), pairs.end(), [v](const auto& p) { return p.second == v; });
+}
+
 bool is_conservative(const StackSpec& s) {
-  auto all = [](const PairTable& t, double v) {
-    if (t.value != v) return false;
-    for (const auto& [key, value] : t.pairs) {
-      if (value != v) return false;
-    }
-    return true;
-  };
   // epsd2's torque spring stores energy that no dump shows, and dissipates when it slips.
-  const bool rolling = s.rolling_model != RollingModel::off && !all(s.rolling_friction, 0.0);
-  return all(s.restitution, 1.0) && all(s.friction, 0.0) && s.gravity == 0.0 && !rolling;
+  const bool rolling = s.rolling_model != RollingModel::off && !s.rolling_friction.everywhere(0.0);
+  return s.restitution.everywhere(1.0) && s.friction.everywhere(0.0) && s.gravity == 0.0 && !rolling;
 }
 
 namespace {

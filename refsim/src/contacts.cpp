@@ -346,16 +346,6 @@ namespace {
 
 }  // namespace
 
-PairGeometry pair_geometry(const PairTable& t, const ContactStep& s, std::size_t p) {
-  const std::size_t i = static_cast<std::size_t>(t.i[p]), j = static_cast<std::size_t>(t.j[p]);
-  const std::size_t y = s.stride, z = 2 * s.stride;
-  const double delx = s.x[i] - s.x[j];
-  const double dely = s.x[y + i] - s.x[y + j];
-  const double delz = s.x[z + i] - s.x[z + j];
-  return {i, j, delx, dely, delz, delx * delx + dely * dely + delz * delz,
-          &t.records[static_cast<std::size_t>(t.record[p])]};
-}
-
 namespace {
 
 void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
@@ -363,9 +353,10 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
     pair_force_lammps(t, s, p);
     return;
   }
-  const auto [i, j, delx, dely, delz, rsq, record] = pair_geometry(t, s, p);
-  const PairRecord& rec = *record;
-  const std::size_t y = s.stride, z = 2 * s.stride;
+  const auto g = pair_geometry(t, s, p);
+  const PairRecord& rec = *g.rec;
+  const std::size_t i = g.i, j = g.j, y = s.stride, z = 2 * s.stride;
+  const double delx = g.delx, dely = g.dely, delz = g.delz, rsq = g.rsq;
   const double radi = rec.radi, radj = rec.radj;
   const double radsum = radi + radj;
   if (!(rsq < radsum * radsum)) {
@@ -380,14 +371,12 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
     return;
   }
   t.touching[p] = 1;
-  const double r = std::sqrt(rsq);
-  const double rinv = 1.0 / r;
-  const double en[3] = {delx * rinv, dely * rinv, delz * rinv};
+  const auto f = contact_frame(g, s);
+  const double r = f.r, rinv = f.rinv, vn = f.vn;
+  const double* en = f.en;
 
   // Relative velocity at the contact point; lever arms shortened by half the overlap.
-  const double vr1 = s.v[i] - s.v[j], vr2 = s.v[y + i] - s.v[y + j], vr3 = s.v[z + i] - s.v[z + j];
-  const double vn = vr1 * en[0] + vr2 * en[1] + vr3 * en[2];
-  const double vt1 = vr1 - vn * en[0], vt2 = vr2 - vn * en[1], vt3 = vr3 - vn * en[2];
+  const double vt1 = f.vt[0], vt2 = f.vt[1], vt3 = f.vt[2];
   const double deltan = radsum - r;
   const double cri = radi - 0.5 * deltan;
   const double crj = radj - 0.5 * deltan;

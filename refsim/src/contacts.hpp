@@ -6,6 +6,7 @@
 // set, up to eight pairs or particles per instruction). All perform every floating-point
 // operation of LIGGGHTS's hertz/history model and nve/sphere in its order, so they give the same
 // bits; a test holds every target this CPU runs to that.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -186,7 +187,36 @@ struct PairGeometry {
   double delx, dely, delz, rsq;
   const PairRecord* rec;
 };
-PairGeometry pair_geometry(const PairTable& t, const ContactStep& s, std::size_t p);
+inline PairGeometry pair_geometry(const PairTable& t, const ContactStep& s, std::size_t p) {
+  const std::size_t i = static_cast<std::size_t>(t.i[p]), j = static_cast<std::size_t>(t.j[p]);
+  const std::size_t y = s.stride, z = 2 * s.stride;
+  const double delx = s.x[i] - s.x[j];
+  const double dely = s.x[y + i] - s.x[y + j];
+  const double delz = s.x[z + i] - s.x[z + j];
+  return {i, j, delx, dely, delz, delx * delx + dely * dely + delz * delz,
+          &t.records[static_cast<std::size_t>(t.record[p])]};
+}
+
+// A touching pair's frame, as both contact rules take it: the distance, the unit normal from j
+// to i, the relative velocity, its normal speed and its tangential part.
+struct ContactFrame {
+  double r, rinv, en[3], vr[3], vn, vt[3];
+};
+inline ContactFrame contact_frame(const PairGeometry& g, const ContactStep& s) {
+  const std::size_t i = g.i, j = g.j, y = s.stride, z = 2 * s.stride;
+  ContactFrame f;
+  f.r = std::sqrt(g.rsq);
+  f.rinv = 1.0 / f.r;
+  f.en[0] = g.delx * f.rinv;
+  f.en[1] = g.dely * f.rinv;
+  f.en[2] = g.delz * f.rinv;
+  f.vr[0] = s.v[i] - s.v[j];
+  f.vr[1] = s.v[y + i] - s.v[y + j];
+  f.vr[2] = s.v[z + i] - s.v[z + j];
+  f.vn = f.vr[0] * f.en[0] + f.vr[1] * f.en[1] + f.vr[2] * f.en[2];
+  for (int d = 0; d < 3; ++d) f.vt[d] = f.vr[d] - f.vn * f.en[d];
+  return f;
+}
 // Pair p gives its spheres nothing (not touching).
 void zero_contribution(PairTable& t, std::size_t p);
 

@@ -80,28 +80,25 @@ void lammps_tangential(const PairConstants& k, const ModelRecord& mr, const Lamm
 }  // namespace
 
 void pair_force_lammps(PairTable& t, const ContactStep& s, std::size_t p) {
-  const auto [i, j, delx, dely, delz, rsq, record] = pair_geometry(t, s, p);
-  const PairRecord& rec = *record;
-  const std::size_t y = s.stride, z = 2 * s.stride;
+  const auto g = pair_geometry(t, s, p);
+  const PairRecord& rec = *g.rec;
+  const std::size_t i = g.i, j = g.j, y = s.stride, z = 2 * s.stride;
   const double radi = rec.radi, radj = rec.radj;
   const double radsum = radi + radj;
-  if (!(rsq < radsum * radsum)) {  // LAMMPS forgets a pair's history as soon as it does not touch
+  if (!(g.rsq < radsum * radsum)) {  // LAMMPS forgets a pair's history as soon as it does not touch
     t.touching[p] = 0;
     t.shear_x[p] = t.shear_y[p] = t.shear_z[p] = 0.0;
     zero_contribution(t, p);
     return;
   }
   t.touching[p] = 1;
-  const double r = std::sqrt(rsq);
-  const double rinv = 1.0 / r;
-  const double nv[3] = {delx * rinv, dely * rinv, delz * rinv};
-  const double vr1 = s.v[i] - s.v[j], vr2 = s.v[y + i] - s.v[y + j], vr3 = s.v[z + i] - s.v[z + j];
-  const double vnnr = vr1 * nv[0] + vr2 * nv[1] + vr3 * nv[2];
-  const double delta = radsum - r;
+  const auto f = contact_frame(g, s);
+  const double* nv = f.en;
+  const double delta = radsum - f.r;
   const ModelRecord& mr = t.model_records[static_cast<std::size_t>(t.record[p])];
-  const LammpsNormal n = lammps_normal(rec.constants(), mr, rec.reff, rec.meff, delta, vnnr, false);
+  const LammpsNormal n = lammps_normal(rec.constants(), mr, rec.reff, rec.meff, delta, f.vn, false);
 
-  const double vt1 = vr1 - nv[0] * vnnr, vt2 = vr2 - nv[1] * vnnr, vt3 = vr3 - nv[2] * vnnr;
+  const double vt1 = f.vt[0], vt2 = f.vt[1], vt3 = f.vt[2];
   const double wr1 = radi * s.w[i] + radj * s.w[j];
   const double wr2 = radi * s.w[y + i] + radj * s.w[y + j];
   const double wr3 = radi * s.w[z + i] + radj * s.w[z + j];

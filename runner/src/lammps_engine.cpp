@@ -56,10 +56,12 @@ bool has_granular(const std::string& program) {
   return known[program] = found;
 }
 
-// The template the deck is rendered from, and its name in errors.
-std::pair<std::string, std::string> deck_template(const RunOptions& o) {
-  if (o.lammps_template.empty()) return {std::string(generator::default_lammps_template()), "templates/in.lammps.tmpl"};
-  return {formats::read_file(o.lammps_template), o.lammps_template};
+// The case's deck, from the template the options name (a user's, or templates/in.lammps.tmpl).
+std::string render_deck(const formats::Case& c, const RunOptions& o) {
+  const bool own = o.lammps_template.empty();
+  const auto text = own ? std::string(generator::default_lammps_template()) : formats::read_file(o.lammps_template);
+  return generator::lammps_deck(c.stack(), c.resolution(), c.files(), c.name(), text,
+                                own ? "templates/in.lammps.tmpl" : o.lammps_template);
 }
 
 // LAMMPS's fix print also prints when each run sets up (fix_print.cpp's setup()): at step 0, and
@@ -113,8 +115,7 @@ class Lammps final : public CaseEngine {
     }
     if (const auto why = model::lammps_unmappable(c.spec()); !why.empty()) return "LAMMPS: " + why;
     try {
-      const auto [text, source] = deck_template(o);
-      (void)generator::lammps_deck(c.manifest(), text, source);
+      (void)render_deck(c, o);
     } catch (const std::exception& e) {
       return fmt::format("LAMMPS: the deck cannot be rendered: {}", e.what());
     }
@@ -126,8 +127,7 @@ class Lammps final : public CaseEngine {
     const auto files = lammps_files(c.files());
     EngineResult result;
     try {
-      const auto [text, source] = deck_template(o);
-      formats::write_file_atomically(fs::path(c.dir()) / files.deck, generator::lammps_deck(c.manifest(), text, source));
+      formats::write_file_atomically(fs::path(c.dir()) / files.deck, render_deck(c, o));
     } catch (const std::exception& e) {
       result.error = fmt::format("LAMMPS: {} could not be written: {}", files.deck, e.what());
       return result;

@@ -52,11 +52,8 @@ bool lammps_rules(const std::string& engine) { return engine == "lammps"; }
 void dissipation(const Experiment& e, bool& damped, bool& frictional) {
   damped = frictional = false;
   for (const auto& c : e.cases) {
-    const auto& s = c.spec;
-    damped = damped || s.restitution.value < 1.0 ||
-             std::any_of(s.restitution.pairs.begin(), s.restitution.pairs.end(), [](const auto& p) { return p.second < 1.0; });
-    frictional = frictional || s.friction.value > 0.0 ||
-                 std::any_of(s.friction.pairs.begin(), s.friction.pairs.end(), [](const auto& p) { return p.second > 0.0; });
+    damped = damped || !c.spec.restitution.everywhere(1.0);
+    frictional = frictional || !c.spec.friction.everywhere(0.0);
   }
 }
 

@@ -4,7 +4,9 @@
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/contact.hpp>
 #include <granstack/model/lammps.hpp>
+#include <granstack/model/resolution.hpp>
 #include <granstack/model/spec.hpp>
+#include <granstack/model/stack.hpp>
 
 #include <gtest/gtest.h>
 
@@ -52,9 +54,17 @@ TEST(Lammps, TsujiRestitutionGivesLiggghtsDamping) {
     EXPECT_LT(a, previous) << k;
     previous = a;
   }
-  // Outside the range tsuji's alpha spans: no e' (alpha(1) = 3e-4 > 0, alpha(0) = 1.2728).
+  // Outside the range tsuji's alpha spans: no e' (alpha(1) = 3e-4 > 0, alpha(0) = 1.2728). The
+  // range the refusal and docs state, 0.1137 to 0.99957, lies within the mappable one and reaches
+  // its ends to their last stated digit.
+  EXPECT_NEAR(model::tsuji_alpha(1.0), 3e-4, std::nextafter(27.467, 28.0) - 27.467);  // the coefficients sum to 3e-4
+  EXPECT_EQ(model::tsuji_alpha(0.0), 1.2728);
   EXPECT_LT(model::lammps_tsuji_restitution(0.9999), 0.0);
   EXPECT_LT(model::lammps_tsuji_restitution(0.06), 0.0);
+  EXPECT_GE(model::lammps_tsuji_restitution(0.1137), 0.0);
+  EXPECT_LT(model::lammps_tsuji_restitution(0.1136), 0.0);
+  EXPECT_GE(model::lammps_tsuji_restitution(0.99957), 0.0);
+  EXPECT_LT(model::lammps_tsuji_restitution(0.99958), 0.0);
 }
 
 // A pair of two materials: the (E', nu') passed give LAMMPS's E* and G* equal to LIGGGHTS's; a
@@ -124,12 +134,15 @@ TEST(Lammps, DeckSetsEveryTypePairAndAWallFixPerType) {
   m.spec.bottom = model::Boundary::wall;
   m.spec.sides = model::Boundary::wall;
   m.spec.restitution.value = 0.8;
-  m.files = generator::case_files(model::Stack::build(m.spec));
-  const auto deck = generator::lammps_deck(m, generator::default_lammps_template(), "templates/in.lammps.tmpl");
+  const auto stack = model::Stack::build(m.spec);
+  m.files = generator::case_files(stack);
+  const auto res = model::resolve(stack);
+  const auto deck = generator::lammps_deck(stack, res, m.files, m.case_name, generator::default_lammps_template(),
+                                           "templates/in.lammps.tmpl");
   // Types: 3 blocks, the striker, the wall: 5 types, 15 pairs.
   EXPECT_EQ(count(deck, "\npair_coeff "), 15u) << deck;
   EXPECT_EQ(count(deck, " damping tsuji"), 15u + 3u * 4u);  // the pairs and 3 walls x 4 sphere types
   EXPECT_EQ(count(deck, "wall/gran granular"), 12u);
   EXPECT_NE(deck.find("variable        fwb equal c_fwb1+c_fwb2+c_fwb3+c_fwb4"), std::string::npos) << deck;
-  EXPECT_THROW(generator::lammps_deck(m, "{{no_such_thing}}", "mine.tmpl"), std::runtime_error);
+  EXPECT_THROW(generator::lammps_deck(stack, res, m.files, m.case_name, "{{no_such_thing}}", "mine.tmpl"), std::runtime_error);
 }

@@ -47,10 +47,11 @@ std::string default_deck(const formats::Manifest& manifest);
 bool has_default_deck(const std::string& case_dir, const formats::Manifest& manifest);
 // The LAMMPS deck of a case (`granstack run --engine lammps` writes it as in.lammps): `tmpl`
 // (default_lammps_template(), templates/in.lammps.tmpl, or a user's; `source` names it in
-// errors) rendered for the manifest's spec, its contacts mapped as model/lammps.hpp says. The
-// caller checks model::lammps_unmappable first.
+// errors) rendered for the case's stack, resolution and files, its contacts mapped as
+// model/lammps.hpp says. The caller checks model::lammps_unmappable first.
 std::string_view default_lammps_template();
-std::string lammps_deck(const formats::Manifest& manifest, std::string_view tmpl, std::string_view source);
+std::string lammps_deck(const model::Stack& stack, const model::Resolution& res, const formats::CaseFiles& files,
+                        const std::string& case_name, std::string_view tmpl, std::string_view source);
 nlohmann::json derived_json(const model::Stack& stack, const model::Resolution& res);
 nlohmann::json layout_json(const model::Stack& stack);
 

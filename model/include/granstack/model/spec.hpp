@@ -66,6 +66,8 @@ struct PairTable {
 
   double get(const std::string& a, const std::string& b) const;
   void set(const std::string& a, const std::string& b, double v);
+  // Whether every pair has v (the default and every pair given).
+  bool everywhere(double v) const;
   bool operator==(const PairTable&) const = default;
 };
 
