@@ -1,5 +1,7 @@
 // The granstack program as a user meets it: exit codes, messages that name the problem and
 // the fix, nothing written or lost on bad input, and bad dump files on real LIGGGHTS output.
+#include "../support/scratch.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -38,7 +40,7 @@ Result granstack(const std::string& args) { return shell(std::string(GRANSTACK_E
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::path(GRANSTACK_TEST_WORKDIR) / ("cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    dir_ = granstack::test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / ("cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }

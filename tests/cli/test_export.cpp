@@ -3,6 +3,7 @@
 // dump's to the bit, each sphere's kinetic energy its 1/2 m v^2 + 1/5 m r^2 w^2, their sum
 // LIGGGHTS's own in-situ energy, times step x dt; and the refusals.
 #include "../support/program.hpp"
+#include "../support/scratch.hpp"
 
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/manifest.hpp>
@@ -26,7 +27,7 @@ using namespace granstack;
 namespace {
 
 const fs::path& work() {
-  static const fs::path dir = fs::path(GRANSTACK_TEST_WORKDIR) / "export";
+  static const fs::path dir = test::scratch_for_process(fs::path(GRANSTACK_TEST_WORKDIR) / "export");
   return dir;
 }
 

@@ -2,6 +2,7 @@
 // catalogue's bands and against physics computed here, reuse of finished cases, refusals, and the
 // HTML report opened in a real headless browser.
 #include "../support/program.hpp"
+#include "../support/scratch.hpp"
 
 #include <granstack/os/process.hpp>
 
@@ -181,7 +182,7 @@ TEST(Reproduce, ARerunReusesEveryFinishedCaseAndRunsOnlyWhatIsMissing) {
 // Ctrl-C in the middle: granstack stops (130), its finished cases stay done; the same command
 // again runs exactly the cases that were not done and writes the whole report.
 TEST(Reproduce, AStoppedReproductionContinuesWhereItStopped) {
-  const auto dir = work() / "stopped";
+  const auto dir = test::scratch(work() / "stopped");
   fs::remove_all(dir);
   const auto log = work() / "stopped_first_run.txt";
   os::StartOptions o;
@@ -234,7 +235,7 @@ TEST(Reproduce, AnUnknownExperimentAndADirectoryOfTheUsersAreRefused) {
   EXPECT_NE(r.output.find("unknown experiment 'fig9'; known: fig2, fig3, scale, friction, fig4, sandwich, container, eq3, eq45, mechanisms, rows"), std::string::npos)
       << r.output;
   EXPECT_FALSE(fs::exists(work() / "never"));
-  const auto mine = work() / "mine";
+  const auto mine = test::scratch(work() / "mine");
   fs::remove_all(mine);
   fs::create_directories(mine);
   std::ofstream(mine / "thesis.tex") << "precious";
@@ -250,7 +251,7 @@ TEST(Reproduce, AnUnknownExperimentAndADirectoryOfTheUsersAreRefused) {
 // model where the spec has them), and a reproduction of the same engine is refused before
 // anything is made.
 TEST(Reproduce, TheStudyOnLammpsKeepsEveryVerdictAndNamesEachDifference) {
-  const auto dir = work() / "lammps";
+  const auto dir = test::scratch(work() / "lammps");
   fs::remove_all(dir);
   // The quick cases of Fig. 3 (its damped restitution scan) and the scale experiment (and what
   // they need), against the quick study.

@@ -54,7 +54,7 @@ TEST_F(Trust, WildcardsInACasePathAreCharacters) {
   EXPECT_NEAR(output_fraction("glob*"), 0.33884, 1e-5);
   EXPECT_NEAR(output_fraction("glob0"), 0.10963, 1e-5);
   // A reproduction and a validation in such paths.
-  r = granstack({"reproduce", "fig3", "--engine", "refsim", "-j", "2", "-o", "rp%d*"});
+  r = granstack({"reproduce", "fig3", "--quick", "--engine", "refsim", "-j", "2", "-o", "rp%d*"});
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_TRUE(fs::is_regular_file(path("rp%d*") / "fig3" / "nb1_e1" / "dumps" / "dump.bin"));
   r = granstack({"validate", "./glob*"});
@@ -65,7 +65,7 @@ TEST_F(Trust, WildcardsInACasePathAreCharacters) {
 // generate --force replaces only a case or a sweep: a reproduction (with a user's notes and
 // folder in it) is another command's, and is refused whole.
 TEST_F(Trust, GenerateNeverReplacesAnotherCommandsDirectory) {
-  auto r = granstack({"reproduce", "fig3", "--engine", "refsim", "-j", "2", "-o", "paper"});
+  auto r = granstack({"reproduce", "fig3", "--quick", "--engine", "refsim", "-j", "2", "-o", "paper"});
   ASSERT_EQ(r.code, 0) << r.output;
   std::ofstream(path("paper") / "NOTES.md") << "my notes";
   fs::create_directories(path("paper") / "mine");

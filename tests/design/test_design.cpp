@@ -18,6 +18,8 @@
 #include <granstack/runner/runner.hpp>
 
 #include <fmt/format.h>
+#include "../support/scratch.hpp"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -38,7 +40,7 @@ namespace {
 
 fs::path work_dir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const auto dir = fs::path(GRANSTACK_TEST_WORKDIR) / (std::string(info->test_suite_name()) + "." + info->name());
+  const auto dir = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / (std::string(info->test_suite_name()) + "." + info->name()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

@@ -10,6 +10,8 @@
 #include <granstack/model/stack.hpp>
 #include <granstack/runner/runner.hpp>
 
+#include "../support/scratch.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -43,7 +45,7 @@ struct Runs {
 // Generates `spec` as ROOT/NAME and runs it on LIGGGHTS, LAMMPS, refsim by LIGGGHTS's rules and
 // refsim by LAMMPS's rules.
 Runs run_all(const std::string& name, const model::StackSpec& spec) {
-  const auto dir = fs::path(GRANSTACK_TEST_WORKDIR) / ("lammps_" + name);
+  const auto dir = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / ("lammps_" + name));
   fs::remove_all(dir);
   generator::GenerateOptions g;
   g.output = dir;

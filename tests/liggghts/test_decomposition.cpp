@@ -7,6 +7,8 @@
 #include <granstack/runner/decomposition.hpp>
 #include <granstack/runner/runner.hpp>
 
+#include "../support/scratch.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -19,7 +21,7 @@ namespace {
 
 fs::path work_dir(const std::string& name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  return fs::path(GRANSTACK_TEST_WORKDIR) / (std::string(info->test_suite_name()) + "." + info->name()) / name;
+  return test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / (std::string(info->test_suite_name()) + "." + info->name())) / name;
 }
 
 std::string generate(const std::string& name, const model::StackSpec& spec) {

@@ -15,6 +15,8 @@
 #include <granstack/runner/runner.hpp>
 
 #include <fmt/format.h>
+#include "../support/scratch.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -43,7 +45,7 @@ fs::path work_dir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   auto name = std::string(info->test_suite_name()) + "." + info->name();
   std::replace(name.begin(), name.end(), '/', '_');
-  return fs::path(GRANSTACK_TEST_WORKDIR) / name;
+  return test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / name);
 }
 
 // Generates and runs one case with the real LIGGGHTS; fails the test if the run fails.

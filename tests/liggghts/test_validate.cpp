@@ -11,6 +11,8 @@
 #include <granstack/model/stack.hpp>
 #include <granstack/runner/runner.hpp>
 
+#include "../support/scratch.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -45,8 +47,8 @@ class Validate : public ::testing::Test {
   // Each test in a directory of its own (ctest runs them as parallel processes): a LIGGGHTS
   // run and a refsim run of one damped, frictional case, and b_, the refsim run to spoil.
   void SetUp() override {
-    root_ = fs::path(GRANSTACK_TEST_WORKDIR) /
-            ("validate_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    root_ = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) /
+                          ("validate_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())));
     fs::remove_all(root_);
     model::StackSpec spec;
     spec.blocks = 2;
@@ -145,7 +147,7 @@ class ValidateModel : public ::testing::TestWithParam<ModelCase> {};
 
 TEST_P(ValidateModel, LiggghtsAndRefsimAgreeToRoundOff) {
   const auto& mc = GetParam();
-  const auto root = fs::path(GRANSTACK_TEST_WORKDIR) / (std::string("validate_model_") + mc.name);
+  const auto root = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / (std::string("validate_model_") + mc.name));
   fs::remove_all(root);
   model::StackSpec spec;
   spec.blocks = 2;
@@ -172,7 +174,7 @@ TEST_P(ValidateModel, LiggghtsAndRefsimAgreeToRoundOff) {
 // engines: they agree to round-off, and reduce finds kinetic plus elastic energy kept (e = 1)
 // within 3e-4 of E_in (velocity Verlet at the automatic dt, tests/liggghts/test_pipeline.cpp).
 TEST(ValidateDesign, PerInterfaceRatiosAndPerBlockRowsRunAlikeOnBothEngines) {
-  const auto root = fs::path(GRANSTACK_TEST_WORKDIR) / "validate_design";
+  const auto root = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / "validate_design");
   fs::remove_all(root);
   model::StackSpec spec;
   spec.blocks = 3;
@@ -211,7 +213,7 @@ INSTANTIATE_TEST_SUITE_P(
 // table) at the interface's first contact. The pair changes the physics (the output fraction
 // moves), and the two engines still agree to round-off on it.
 TEST(ValidatePairs, PerPairRestitutionAndFrictionReachLiggghts) {
-  const auto root = fs::path(GRANSTACK_TEST_WORKDIR) / "validate_pairs";
+  const auto root = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / "validate_pairs");
   fs::remove_all(root);
   model::StackSpec spec;
   spec.blocks = 2;
@@ -270,7 +272,7 @@ class StopAtBlowEnd : public ::testing::TestWithParam<BlowEndCase> {};
 
 TEST_P(StopAtBlowEnd, BothEnginesStopAtTheFrameWhereTheBlowEndedAndTheDeckChangesNoBit) {
   const auto& param = GetParam();
-  const auto root = fs::path(GRANSTACK_TEST_WORKDIR) / (std::string("blow_end_") + param.name);
+  const auto root = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / (std::string("blow_end_") + param.name));
   fs::remove_all(root);
   run_both_engines(root, param.spec);
   if (HasFatalFailure()) return;
@@ -324,7 +326,7 @@ TEST_P(StopAtBlowEnd, BothEnginesStopAtTheFrameWhereTheBlowEndedAndTheDeckChange
 // interval and jumps over the judging loop, which the checks on its run lines still find): reduce
 // says so, and does not take the blow as ended; the measures are read as reduce judges them.
 TEST(StopAtBlowEndCheck, ARunThatStopsElsewhereIsSaidAndItsBlowIsNotTakenAsEnded) {
-  const auto root = fs::path(GRANSTACK_TEST_WORKDIR) / "blow_end_elsewhere";
+  const auto root = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / "blow_end_elsewhere");
   fs::remove_all(root);
   fs::create_directories(root);
   std::string text(generator::default_deck_template());

@@ -10,6 +10,8 @@
 #include <granstack/refsim/case_run.hpp>
 
 #include <fmt/format.h>
+#include "../support/scratch.hpp"
+
 #include <gtest/gtest.h>
 #include <toml++/toml.h>
 
@@ -149,7 +151,7 @@ class TwoBody : public ::testing::TestWithParam<TwoBodyCase> {};
 TEST_P(TwoBody, RefsimReproducesLiggghtsDumps) {
   const auto& c = GetParam();
   const double skin = 2e-4;
-  const auto dump = run_liggghts(c, fs::path(GRANSTACK_TEST_WORKDIR) / ("twobody_" + c.name), skin);
+  const auto dump = run_liggghts(c, test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / ("twobody_" + c.name)), skin);
 
   auto params = refsim::uniform_parameters(c.materials, c.restitution, c.friction, c.dt, skin);
   params.walls = c.walls;

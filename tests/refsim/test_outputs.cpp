@@ -9,6 +9,8 @@
 #include <granstack/refsim/case_run.hpp>
 
 #include <fmt/format.h>
+#include "../support/scratch.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -32,7 +34,7 @@ namespace {
 
 fs::path work_dir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  return fs::path(GRANSTACK_TEST_WORKDIR) / (std::string(info->test_suite_name()) + "." + info->name());
+  return test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / (std::string(info->test_suite_name()) + "." + info->name()));
 }
 
 std::string generate(const std::string& name, const model::StackSpec& spec) {

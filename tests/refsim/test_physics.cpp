@@ -8,6 +8,9 @@
 #include <granstack/refsim/case_run.hpp>
 
 #include <fmt/format.h>
+
+#include "../support/scratch.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -362,7 +365,7 @@ TEST(Kernels, TheReferenceKernelGivesTheSameBitsOnAnyThreadsAndStepping) {
 // A kernel case written to a file (for the emulated check of the ARM kernels) reads back to the
 // same run, to the bit: every double in hexadecimal.
 TEST(Kernels, AKernelCaseFileReadsBackToTheSameRun) {
-  const auto dir = std::filesystem::path(GRANSTACK_TEST_WORKDIR) / "Kernels.AKernelCaseFileReadsBackToTheSameRun";
+  const auto dir = granstack::test::scratch(std::filesystem::path(GRANSTACK_TEST_WORKDIR) / "Kernels.AKernelCaseFileReadsBackToTheSameRun");
   std::filesystem::create_directories(dir);
   for (const auto& c : kernel_cases()) {
     const auto path = (dir / (c.name + ".case")).string();

@@ -2,6 +2,7 @@
 // ctest fixture slurm.start; SLURM_CONF points at it). Every check reads the cases' output
 // files, never only the jobs' states: a misconfigured node reports COMPLETED with no output.
 #include "../support/program.hpp"
+#include "../support/scratch.hpp"
 
 #include <granstack/os/process.hpp>
 
@@ -26,7 +27,7 @@ using Result = test::ProgramResult;
 using test::read_bytes;
 
 fs::path work(const std::string& name) {
-  const auto d = fs::path(GRANSTACK_TEST_WORKDIR) / "slurm_tests" / name;
+  const auto d = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / "slurm_tests" / name);
   fs::remove_all(d);
   fs::create_directories(d);
   return d;

@@ -2,6 +2,8 @@
 // A test that starts the granstack program as a user would (from argument vectors, never a
 // shell, so odd paths reach it untouched), each test in a fresh directory of its own, with the
 // helpers the safety and reliability tests share.
+#include "scratch.hpp"
+
 #include <granstack/os/process.hpp>
 
 #include <gtest/gtest.h>
@@ -37,7 +39,7 @@ class GranstackTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(GRANSTACK_TEST_WORKDIR) / (std::string(info->test_suite_name()) + "_" + info->name());
+    dir_ = scratch(fs::path(GRANSTACK_TEST_WORKDIR) / (std::string(info->test_suite_name()) + "_" + info->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
