@@ -67,13 +67,13 @@ class SlurmRunner : public BatchRunner {
     // A job: one scenario of one design (design index, scenario index, the spec it runs). Round 1
     // runs each as first_run says (to its blow's end); round 2, with gravity only, those whose
     // output was not final, longer. A design is stored once every scenario of it is done.
-    struct Job {
+    struct ScenarioJob {
       std::size_t design, scenario;
       model::StackSpec spec;
     };
     std::vector<std::vector<model::StackSpec>> scenario_of(specs.size());
     std::vector<std::vector<std::optional<std::pair<model::StackSpec, Outcome>>>> done(specs.size());
-    std::vector<Job> jobs;
+    std::vector<ScenarioJob> jobs;
     for (std::size_t d = 0; d < specs.size(); ++d) {
       scenario_of[d] = scenario_specs(space, specs[d]);
       done[d].resize(scenario_of[d].size());
@@ -84,7 +84,7 @@ class SlurmRunner : public BatchRunner {
       std::vector<model::StackSpec> ran;
       for (const auto& j : jobs) ran.push_back(j.spec);
       const auto outcomes = run_cases(ran, nullptr);
-      std::vector<Job> again;
+      std::vector<ScenarioJob> again;
       for (std::size_t i = 0; i < jobs.size(); ++i) {
         const auto& j = jobs[i];
         if (auto longer = extended(scenario_of[j.design][j.scenario], j.spec, outcomes[i])) {

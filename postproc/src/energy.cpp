@@ -185,8 +185,13 @@ void for_each_close_pair(const model::Stack& stack, const std::array<const std::
   }
 }
 
+}  // namespace
+
 // The elastic energy of the normal contacts under the case's contact model (model/contact.hpp),
-// with Y* of every atom-type pair and of every type against the walls computed once.
+// with Y* of every atom-type pair and of every type against the walls computed once. Named, not
+// anonymous: FrameAnalyser::Constants holds one.
+namespace detail {
+
 class ContactEnergy {
  public:
   explicit ContactEnergy(const model::Stack& stack) : stack_(stack), model_(stack.spec().contact_model()) {
@@ -239,7 +244,7 @@ class ContactEnergy {
   std::vector<model::Wall> walls_ = stack_.walls();
 };
 
-}  // namespace
+}  // namespace detail
 
 ContactCandidates::ContactCandidates(const model::Stack& stack)
     : stack_(stack), skin_(0.5 * stack.blocks().back().radius) {}
@@ -271,7 +276,7 @@ const std::vector<std::pair<std::size_t, std::size_t>>& ContactCandidates::pairs
 
 struct FrameAnalyser::Constants {
   explicit Constants(const model::Stack& stack) : contacts(stack) {}
-  ContactEnergy contacts;
+  detail::ContactEnergy contacts;
   // Per sphere, in the stack's order: its block (index 0 = block 1; kStriker, kMatrix), its
   // row and column (index 0 = 1), and whether it is in the top row of block 1 and in the bottom
   // row of Stack::bottom_row_ids.

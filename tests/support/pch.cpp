@@ -1,0 +1,1 @@
+// The source of the tests' precompiled headers (tests/CMakeLists.txt): it compiles them once.
