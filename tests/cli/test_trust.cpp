@@ -220,30 +220,22 @@ TEST_F(Trust, AFullDiskLeavesNothingHalfWritten) {
 }
 
 // The suite's own work (tests/support/scratch.hpp): a test that fails keeps its directory for
-// its diagnosis, one that passes leaves none. Two tests that run only when named (DISABLED_),
-// run in a process of their own: this same program.
-TEST_F(Trust, DISABLED_WritesAndFails) {
-  std::ofstream(path("evidence")) << "what the failure left";
-  FAIL() << "failing on purpose";
-}
-TEST_F(Trust, DISABLED_WritesAndPasses) { std::ofstream(path("evidence")) << "what the pass left"; }
-
+// its diagnosis, one that passes leaves none; seen on the two tests of a program of their own
+// (tests/support/scratch_probe.cpp), one failing on purpose.
 TEST(Scratch, AFailedTestKeepsItsDirectoryAndAPassedOneLeavesNone) {
   const auto work = fs::path(GRANSTACK_TEST_WORKDIR);
-  const auto self = fs::read_symlink("/proc/self/exe").string();
   const auto one = [&](const std::string& name) {
-    fs::remove_all(work / ("Trust_" + name));
+    fs::remove_all(work / ("Probe_" + name));
     os::StartOptions o;
     o.output = scratch(work / ("Scratch_" + name + ".out"));
-    const auto end = os::run({"/usr/bin/env", "-u", "GRANSTACK_KEEP_TEST_WORK", self, "--gtest_also_run_disabled_tests",
-                              "--gtest_filter=Trust." + name}, o);
-    return end.code;
+    return os::run({"/usr/bin/env", "-u", "GRANSTACK_KEEP_TEST_WORK", GRANSTACK_SCRATCH_PROBE, "--gtest_filter=Probe." + name}, o)
+        .code;
   };
-  EXPECT_EQ(one("DISABLED_WritesAndFails"), 1);
-  EXPECT_EQ(read_bytes(work / "Trust_DISABLED_WritesAndFails" / "evidence"), "what the failure left");
-  fs::remove_all(work / "Trust_DISABLED_WritesAndFails");
-  EXPECT_EQ(one("DISABLED_WritesAndPasses"), 0);
-  EXPECT_FALSE(fs::exists(work / "Trust_DISABLED_WritesAndPasses"));
+  EXPECT_EQ(one("WritesAndFails"), 1);
+  EXPECT_EQ(read_bytes(work / "Probe_WritesAndFails" / "evidence"), "what the failure left");
+  fs::remove_all(work / "Probe_WritesAndFails");
+  EXPECT_EQ(one("WritesAndPasses"), 0);
+  EXPECT_FALSE(fs::exists(work / "Probe_WritesAndPasses"));
 }
 
 }  // namespace
