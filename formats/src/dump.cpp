@@ -571,84 +571,102 @@ void DumpWriter::write(const DumpFrame& f, const ForShares& shares) {
     write_atoms(f, integer, shares);
   }
   // The header, then (text) the atoms' lines as write_atoms left them.
-  const bool text = !binary_;
-  if (std::fwrite(buffer_.data(), 1, buffer_.size(), file_.get()) != buffer_.size() ||
-      (text && std::fwrite(previous_text_.data(), 1, previous_text_.size(), file_.get()) != previous_text_.size())) {
-    throw std::runtime_error(fmt::format("{}: cannot write: {}", current_, std::strerror(errno)));
+  bool written = std::fwrite(buffer_.data(), 1, buffer_.size(), file_.get()) == buffer_.size();
+  if (!binary_) {
+    for (const auto& p : previous_pieces_) {
+      written = written && std::fwrite(p.text.data(), 1, p.text.size(), file_.get()) == p.text.size();
+    }
   }
+  if (!written) throw std::runtime_error(fmt::format("{}: cannot write: {}", current_, std::strerror(errno)));
 }
 
 // Each value in the shortest text that reads back to the same double (LIGGGHTS writes %.17g).
 // A value equal to the bit to the same atom's and column's in the frame before (radius, mass,
 // zeros, spheres at rest) is copied from that frame's text instead of being formatted again;
 // the frame before's values are read in order, so their lengths say where each one starts.
+// Each share formats its atoms into a piece of its own, reserved once from the frame before's
+// size and never zero-filled, and keeps its values for the next frame itself: nothing of a
+// frame's size is copied or first touched on one thread.
 void DumpWriter::write_atoms(const DumpFrame& f, const std::vector<bool>& integer, const ForShares& shares) {
   const std::size_t ncol = f.columns.size();
   const std::size_t atoms = static_cast<std::size_t>(f.atoms);
   const std::size_t n = atoms * ncol;
-  const bool reuse = previous_values_.size() == n && f.values.size() == n;
+  const bool reuse = n > 0 && previous_count_ == n && f.values.size() == n && !previous_pieces_.empty();
   lengths_.resize(n);
-  // Where each atom's line of the frame before starts, for the values that did not change.
-  std::vector<std::size_t> previous_line;
-  if (reuse && shares) {
-    previous_line.resize(atoms + 1, 0);
-    for (std::size_t a = 0, k = 0; a < atoms; ++a) {
-      std::size_t length = 1;  // its newline
-      for (std::size_t c = 0; c < ncol; ++c, ++k) length += previous_lengths_[k];
-      previous_line[a + 1] = previous_line[a] + length;
-    }
+  if (!reuse) {
+    previous_values_ = std::make_unique_for_overwrite<double[]>(n);
+    previous_count_ = n;
   }
-  // Formatted straight into a buffer (a third faster than through an iterator), grown as the
+  std::size_t previous_size = 0;
+  for (const auto& p : previous_pieces_) previous_size += p.text.size();
+  // Formatted straight into the piece (a third faster than through an iterator), grown as the
   // lines need it: a value takes at most 24 characters and its space, a line its newline.
   constexpr std::size_t kLongestValue = 25;
   const std::size_t longest_line = ncol * kLongestValue + 1;
-  const auto format = [&](std::size_t begin, std::size_t end, std::string& text) {
-    std::size_t used = text.size(), previous_at = reuse && shares ? previous_line[begin] : 0;
-    std::size_t k = begin * ncol;
+  const double bytes_per_atom = reuse && atoms > 0 ? static_cast<double>(previous_size) / static_cast<double>(atoms)
+                                                   : static_cast<double>(ncol * 20 + 1);
+  const auto format = [&](std::size_t begin, std::size_t end, fmt::memory_buffer& text) {
+    text.reserve(static_cast<std::size_t>(1.1 * bytes_per_atom * static_cast<double>(end - begin)) + longest_line);
+    // The frame before's text of atom `begin` on: its piece, and where in it.
+    std::size_t piece = 0;
+    const char* previous = nullptr;
+    std::size_t next_first = atoms;  // the next piece's first atom
+    if (reuse) {
+      while (piece + 1 < previous_pieces_.size() && previous_pieces_[piece + 1].first_atom <= begin) ++piece;
+      previous = previous_pieces_[piece].text.data();
+      for (std::size_t a = previous_pieces_[piece].first_atom; a < begin; ++a) {  // each line and its newline
+        for (std::size_t c = 0; c < ncol; ++c) previous += previous_lengths_[a * ncol + c];
+        ++previous;
+      }
+      next_first = piece + 1 < previous_pieces_.size() ? previous_pieces_[piece + 1].first_atom : atoms;
+    }
+    std::size_t used = 0, k = begin * ncol;
     for (std::size_t a = begin; a < end; ++a) {
-      if (text.size() < used + longest_line) text.resize(std::max(2 * text.size(), used + longest_line));
+      if (reuse && a == next_first) {
+        previous = previous_pieces_[++piece].text.data();
+        next_first = piece + 1 < previous_pieces_.size() ? previous_pieces_[piece + 1].first_atom : atoms;
+      }
+      if (text.size() < used + longest_line) text.resize(std::max(text.capacity(), used + longest_line));
       char* const first = text.data();
       char* out = first + used;
       for (std::size_t c = 0; c < ncol; ++c, ++k) {
         const double v = f.values[k];
         char* const start = out;
         if (reuse && std::memcmp(&v, &previous_values_[k], sizeof v) == 0) {
-          out = std::copy_n(previous_text_.data() + previous_at, previous_lengths_[k], out);
+          out = std::copy_n(previous, previous_lengths_[k], out);
         } else if (integer[c]) {
           out = fmt::format_to(out, FMT_COMPILE("{} "), static_cast<long>(v));
         } else {
           out = fmt::format_to(out, FMT_COMPILE("{} "), v);
         }
-        if (reuse) previous_at += previous_lengths_[k];
+        if (reuse) previous += previous_lengths_[k];
+        previous_values_[k] = v;  // read above: each share keeps its own for the next frame
         lengths_[k] = static_cast<std::uint8_t>(out - start);
       }
       *out++ = '\n';
-      if (reuse) ++previous_at;  // the frame before's newline
+      if (reuse) ++previous;  // the frame before's newline
       used = static_cast<std::size_t>(out - first);
     }
     text.resize(used);
   };
-  text_.clear();
+  pieces_.clear();
   if (!shares) {
-    format(0, atoms, text_);
+    pieces_.emplace_back();
+    format(0, atoms, pieces_.back().text);
   } else {
     std::mutex m;
-    std::vector<std::pair<std::size_t, std::string>> pieces;
     shares(atoms, [&](std::size_t begin, std::size_t end) {
-      std::string piece;
-      format(begin, end, piece);
+      if (begin == end) return;  // no piece: the pieces' first atoms rise strictly
+      TextPiece piece;
+      piece.first_atom = begin;
+      format(begin, end, piece.text);
       const std::lock_guard<std::mutex> lock(m);
-      pieces.emplace_back(begin, std::move(piece));
+      pieces_.push_back(std::move(piece));
     });
-    std::sort(pieces.begin(), pieces.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    std::size_t total = 0;
-    for (const auto& p : pieces) total += p.second.size();
-    text_.reserve(total);
-    for (const auto& p : pieces) text_ += p.second;
+    std::sort(pieces_.begin(), pieces_.end(), [](const auto& a, const auto& b) { return a.first_atom < b.first_atom; });
   }
-  // The text is written from previous_text_; its values and lengths are kept for the next frame.
-  std::swap(previous_text_, text_);
-  previous_values_.assign(f.values.begin(), f.values.end());
+  // The text is written from previous_pieces_; its lengths are kept for the next frame.
+  std::swap(previous_pieces_, pieces_);
   std::swap(previous_lengths_, lengths_);
 }
 

@@ -14,11 +14,14 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <thread>
 
 #include "../support/read_both_ways.hpp"
 
@@ -321,6 +324,55 @@ TEST(DumpWriter, AWriteThatFailsAtTheCloseIsAnError) {
       EXPECT_STREQ(e.what(), "/dev/full: cannot write: No space left on device");
     }
   }
+}
+
+// The frames of a dump written in shares (on threads, each share's atoms into a piece of their
+// own) are the bytes written in one, however the shares fall from frame to frame: text copied
+// from the frame before crosses the pieces that frame was written in.
+TEST(DumpWriter, FramesWrittenInSharesAreTheBytesWrittenInOne) {
+  const auto in_shares = [](std::vector<std::size_t> cuts) -> formats::ForShares {
+    return [cuts](std::size_t count, const std::function<void(std::size_t, std::size_t)>& job) {
+      std::vector<std::thread> threads;
+      std::size_t begin = 0;
+      for (const std::size_t cut : cuts) {
+        const std::size_t end = std::min(count, cut);
+        threads.emplace_back(job, begin, end);
+        begin = end;
+      }
+      job(begin, count);
+      for (auto& t : threads) t.join();
+    };
+  };
+  // Cuts of 40 atoms: three shares, one (none), two uneven, an empty share, and back again.
+  const std::vector<formats::ForShares> schedule{in_shares({13, 27}), {}, in_shares({5}), in_shares({0, 20, 20, 39}),
+                                                 in_shares({13, 27}), in_shares({13, 27})};
+  const auto write = [&](bool split) {
+    const auto path = fs::temp_directory_path() / ("granstack_dump_shares_" + std::to_string(::getpid()));
+    {
+      formats::DumpWriter w(path.string(), false);
+      formats::DumpFrame f;
+      f.atoms = 40;
+      f.box_flags = "mm mm mm";
+      f.box = {-1, 1, -1, 1, -1, 1};
+      f.columns = {"id", "type", "x", "vx", "fx"};
+      for (std::size_t k = 0; k < schedule.size(); ++k) {
+        f.step = static_cast<long>(k);
+        f.values.clear();
+        for (int a = 0; a < f.atoms; ++a) {  // x changes for every third atom, vx every other frame
+          const double x = 0.1 * a + (a % 3 == 0 ? 1e-3 * static_cast<double>(k) : 0.0);
+          for (double v : {a + 1.0, 1.0, x, std::sin(a + static_cast<double>(k / 2)), 1.0 / (a + static_cast<double>(k) + 3.0)}) f.values.push_back(v);
+        }
+        w.write(f, split ? schedule[k] : formats::ForShares());
+      }
+    }
+    const std::string text = formats::read_file(path);
+    fs::remove(path);
+    return text;
+  };
+  const std::string whole = write(false);
+  EXPECT_EQ(std::count(whole.begin(), whole.end(), '\n'), 6 * (9 + 40));
+  const std::string split = write(true);
+  EXPECT_TRUE(split == whole);
 }
 
 // The writer copies a value's text from the frame before when the value is the same to the bit;

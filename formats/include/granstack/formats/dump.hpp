@@ -4,6 +4,8 @@
 #include <granstack/formats/byte_source.hpp>
 #include <granstack/formats/line_reader.hpp>
 
+#include <fmt/format.h>
+
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -172,11 +174,18 @@ class DumpWriter {
   bool per_step_ = false;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
   std::string buffer_;
-  // The text of the atoms of this frame and the frame before, each value's length (at most 25
-  // characters), and the frame before's values.
-  std::string text_, previous_text_;
+  // The text of the atoms' lines of a frame, in pieces (one per share that formatted it), the
+  // first atom of each; written one after the other.
+  struct TextPiece {
+    std::size_t first_atom = 0;
+    fmt::memory_buffer text;
+  };
+  // This frame's and the frame before's text, each value's length (at most 25 characters), and
+  // the frame before's values (allocated unwritten, so that the shares first touch their parts).
+  std::vector<TextPiece> pieces_, previous_pieces_;
   std::vector<std::uint8_t> lengths_, previous_lengths_;
-  std::vector<double> previous_values_;
+  std::unique_ptr<double[]> previous_values_;
+  std::size_t previous_count_ = 0;
 };
 
 // A text or binary reader for `path`; `columns` names the binary dump's columns.
