@@ -87,6 +87,8 @@ Parameters case_parameters(const model::Stack& stack) {
 std::vector<Particle> particles_from(const formats::DataFile& data) {
   std::vector<Particle> out;
   std::vector<long> ids;
+  out.reserve(data.atoms.size());
+  ids.reserve(data.atoms.size());
   for (const auto& a : data.atoms) {
     Particle p;
     p.type = a.type;
@@ -307,6 +309,10 @@ class FramePool {
 }  // namespace
 
 RunStats run_case(const std::string& case_dir, const RunOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  const auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
+  const auto started = Clock::now();
+  auto read = started;
   const fs::path dir(case_dir);
   const auto c = formats::Case::open(case_dir);
   const auto& manifest = c.manifest();
@@ -321,8 +327,11 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   System system = [&] {
     const auto data = formats::parse_data_file((dir / manifest.files.data).string(), options.threads);
     box = data.box;
-    return System(particles_from(data), params);
+    auto particles = particles_from(data);
+    read = Clock::now();
+    return System(std::move(particles), params);
   }();
+  const auto built = Clock::now();
 
   fs::create_directories((dir / manifest.files.dump).parent_path());
   formats::DumpWriter dump((dir / manifest.files.dump).string(), manifest.spec.dump_format == model::DumpFormat::binary);
@@ -365,7 +374,7 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   bool ended = frame();
   // As LIGGGHTS's "Loop time" (run.cpp): the setup force call and the step-0 output are not in
   // it; the writing of the outputs of its steps is.
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   long last = 0;
   for (long step = 1; step <= res.steps && !ended; ++step) {
     // Up to the next step with output, a progress report or the end, in one go.
@@ -381,11 +390,15 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
     }
   }
   out.finish();
-  const double loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto looped = Clock::now();
   dump.close();
   series.close();
   RunStats stats;
-  stats.loop_seconds = loop_seconds;
+  stats.loop_seconds = seconds(t0, looped);
+  stats.read_seconds = seconds(started, read);
+  stats.build_seconds = seconds(read, built);
+  stats.first_output_seconds = seconds(built, t0);
+  stats.close_seconds = seconds(looped, Clock::now());
   stats.steps = last;
   stats.atoms = static_cast<long>(system.size());
   stats.particle_steps_per_second =

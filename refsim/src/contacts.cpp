@@ -29,10 +29,10 @@ void PairTable::clear() {
   model_records.assign(1, ModelRecord{});
 }
 
-void PairTable::resize(std::size_t entries) {
+void PairTable::resize(std::size_t entries, const ForShares& shares) {
   count = entries;
-  for (auto* a : {&i, &j, &record}) a->assign(entries, 0);
-  for (auto* a : {&shear_x, &shear_y, &shear_z, &roll_x, &roll_y, &roll_z}) a->assign(entries, 0.0);
+  for (auto* a : {&i, &j, &record}) fill_in_shares(*a, entries, 0, shares);
+  for (auto* a : {&shear_x, &shear_y, &shear_z, &roll_x, &roll_y, &roll_z}) fill_in_shares(*a, entries, 0.0, shares);
   touching.assign(entries, 0);
 }
 
@@ -73,8 +73,8 @@ void PairTable::finish(const ForShares& shares) {
   for (auto* a : {&shear_x, &shear_y, &shear_z, &roll_x, &roll_y, &roll_z}) a->resize(n, 0.0);
   touching.resize(n, 0);
   // Forces of one side, torques of two, and room for a 16-wide read past the last entry.
-  for (auto* a : {&fx, &fy, &fz}) a->assign(n + static_cast<std::size_t>(kWindow), 0.0);
-  for (auto* a : {&tx, &ty, &tz}) a->assign(2 * n + static_cast<std::size_t>(kWindow), 0.0);
+  for (auto* a : {&fx, &fy, &fz}) fill_in_shares(*a, n + static_cast<std::size_t>(kWindow), 0.0, shares);
+  for (auto* a : {&tx, &ty, &tz}) fill_in_shares(*a, 2 * n + static_cast<std::size_t>(kWindow), 0.0, shares);
   forces_stored.assign(n / kPairBlock, 0);
   evaluated.assign(n / kPairBlock, 0);
   particles_i.assign(n / kLanes, 0);

@@ -122,8 +122,9 @@ struct PairTable {
 
   std::size_t padded() const { return (count + kPairBlock - 1) / kPairBlock * kPairBlock; }
   void clear();
-  // `entries` entries, all padding (record 0, no history) until filled in.
-  void resize(std::size_t entries);
+  // `entries` entries, all padding (record 0, no history) until filled in; the large arrays
+  // written in `shares`' shares where there are any.
+  void resize(std::size_t entries, const ForShares& shares = {});
   // What a pair of spheres of radii ra, rb and masses ma, mb with their type pair's constants
   // gives the table.
   static std::pair<PairRecord, ModelRecord> describe(const model::ContactModel& model, double ra, double rb, double ma,

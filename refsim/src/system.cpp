@@ -198,7 +198,7 @@ std::vector<std::size_t> fill_table(detail::PairTable& pairs, const std::vector<
   for (std::size_t g = 0; g < groups; ++g) {
     entry_start[g + 1] = entry_start[g] + (tile_start[g + 1] - tile_start[g] + detail::kPairBlock - 1) / detail::kPairBlock * detail::kPairBlock;
   }
-  pairs.resize(entry_start[groups]);
+  pairs.resize(entry_start[groups], shares);
   struct Local {
     std::size_t first_group = 0, end_group = 0;
     detail::RecordSet records;  // its padding record first, as the table's

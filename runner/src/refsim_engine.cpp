@@ -63,6 +63,10 @@ EngineResult run_refsim(const fs::path& dir, const RunOptions& o,
     result.record["contact_rules"] = o.lammps_rules ? "lammps" : "liggghts";
     result.record["write_behind"] = stats.write_behind;
     result.record["neighbor_builds"] = stats.neighbor_builds;
+    result.record["outside_loop_seconds"] = {{"read", stats.read_seconds},
+                                             {"build", stats.build_seconds},
+                                             {"first_output", stats.first_output_seconds},
+                                             {"close", stats.close_seconds}};
   } catch (const Interrupted&) {
     result.interrupted = true;
   } catch (const std::exception& e) {

@@ -35,6 +35,10 @@ struct RunStats {
   long neighbor_builds = 0;
   std::string kernel;                      // the kernels that ran: "reference" or a vector instruction set
   bool write_behind = false;               // the outputs were written on a thread of their own
+  // Where the time outside the loop went: reading the case and its data file; building the
+  // system (its first neighbour list, pair table and sum plan); the setup force call and the
+  // step-0 output; closing the files after the loop.
+  double read_seconds = 0.0, build_seconds = 0.0, first_output_seconds = 0.0, close_seconds = 0.0;
 };
 
 // The parameters a case's deck gives LIGGGHTS: time step, skin, property tables per atom
