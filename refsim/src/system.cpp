@@ -10,6 +10,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <array>
 #include <mutex>
 #include <cmath>
 #include <cstdint>
@@ -60,6 +61,7 @@ System::System(std::vector<Particle> particles, Parameters params)
   wall_history_.assign(3 * n_ * p_.walls.size(), 0.0);
   wall_roll_.assign(3 * n_ * p_.walls.size(), 0.0);
   wall_store_.assign(p_.stored_wall >= 0 ? 3 * n_ : 0, 0.0);
+  wall_touched_.assign(n_ * p_.walls.size(), 0);
   external_ = !p_.walls.empty() || p_.gravity[0] != 0.0 || p_.gravity[1] != 0.0 || p_.gravity[2] != 0.0;
   const double dtf = 0.5 * p_.dt * 1.0;
   const double dtfrotate = dtf / kInertia;
@@ -379,6 +381,13 @@ void System::build_pairs() {
   ++builds_;
 }
 
+namespace {
+// A sphere's gap to a plane wall, negative where they overlap (primitive_wall_definitions.h).
+double wall_gap(const Wall& wall, double pos, double radius) {
+  return pos > wall.position ? pos - wall.position - radius : wall.position - pos - radius;
+}
+}  // namespace
+
 void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
   const Wall& wall = p_.walls[wi];
   const int a = wall.axis;
@@ -389,7 +398,8 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
   // Vector from the centre to the plane, and the gap (primitive_wall_definitions.h).
   double delta[3] = {0., 0., 0.};
   delta[a] = wall.position - pos;
-  const double gap = pos > wall.position ? pos - wall.position - radi : wall.position - pos - radi;
+  const double gap = wall_gap(wall, pos, radi);
+  wall_touched_[wi * n_ + i] = gap <= 0.0;
   const bool stored = static_cast<int>(wi) == p_.stored_wall;
   if (stored) wall_store_[3 * i] = wall_store_[3 * i + 1] = wall_store_[3 * i + 2] = 0.0;
   if (p_.lammps_rules) {
@@ -476,11 +486,33 @@ void System::wall_force_lammps_rules(std::size_t i, std::size_t wi, bool update_
   }
 }
 
-void System::external_forces(std::size_t i, bool update_history) {
-  for (std::size_t w = 0; w < p_.walls.size(); ++w) wall_force(i, w, update_history);
+// Each particle of [begin, end) in turn meets the walls, then gravity (each particle's sums in the
+// deck's order: walls by number, then gravity). A particle that neither touches a wall now nor
+// touched it at its last call has nothing to compute or clear there (wall_touched_), and is
+// passed over after a test of its gap as wall_force makes it.
+void System::external_forces(std::size_t begin, std::size_t end, bool update_history) {
+  const bool test_first = !p_.lammps_rules;
+  for (std::size_t w = 0; w < p_.walls.size(); ++w) {
+    const Wall wall = p_.walls[w];
+    const double* pos = x_.data() + static_cast<std::size_t>(wall.axis) * stride_;
+    const std::uint8_t* touched = wall_touched_.data() + w * n_;
+    // In runs of at most 64: first which particles need the wall (reads only), then those.
+    std::array<std::uint32_t, 64> due{};
+    for (std::size_t b = begin; b < end; b += due.size()) {
+      const std::size_t e = std::min(end, b + due.size());
+      std::size_t count = 0;
+      for (std::size_t i = b; i < e; ++i) {
+        due[count] = static_cast<std::uint32_t>(i);
+        count += !test_first || touched[i] != 0 || wall_gap(wall, pos[i], radius_[i]) <= 0.0;
+      }
+      for (std::size_t k = 0; k < count; ++k) wall_force(due[k], w, update_history);
+    }
+  }
   if (p_.gravity[0] != 0.0 || p_.gravity[1] != 0.0 || p_.gravity[2] != 0.0) {
-    const double m = mass_[i] * 1.;
-    for (std::size_t d = 0; d < 3; ++d) f_[d * stride_ + i] += m * p_.gravity[d];
+    for (std::size_t i = begin; i < end; ++i) {
+      const double m = mass_[i] * 1.;
+      for (std::size_t d = 0; d < 3; ++d) f_[d * stride_ + i] += m * p_.gravity[d];
+    }
   }
 }
 
@@ -510,9 +542,7 @@ void System::sum_forces(std::size_t begin, std::size_t end, bool update_history,
         vector_->sum_contributions(c, *sum_plan_, f_.data(), t_.data(), stride_, g, h, m.spin);
         g = h;
       }
-      if (external_) {
-        for (std::size_t k = b; k < e; ++k) external_forces(k, update_history);
-      }
+      if (external_) external_forces(b, e, update_history);
       if (kick && drift) {
         moved |= vector_->second_and_first_half(m, b, e);
       } else if (kick) {
@@ -547,7 +577,7 @@ void System::sum_forces(std::size_t begin, std::size_t end, bool update_history,
     t_[k] = tx;
     t_[y + k] = ty;
     t_[z + k] = tz;
-    if (external_) external_forces(k, update_history);
+    if (external_) external_forces(k, k + 1, update_history);
     if (kick) detail::second_half_reference(m, k, k + 1);
     if (drift) moved |= detail::first_half_reference(m, k, k + 1);
   }

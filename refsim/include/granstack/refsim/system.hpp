@@ -129,7 +129,7 @@ class System {
   void sum_forces(std::size_t begin, std::size_t end, bool update_history, bool kick, bool drift);
   void wall_force(std::size_t i, std::size_t w, bool update_history);
   void wall_force_lammps_rules(std::size_t i, std::size_t w, bool update_history);  // Parameters::lammps_rules
-  void external_forces(std::size_t i, bool update_history);  // walls then gravity, in the deck's order
+  void external_forces(std::size_t begin, std::size_t end, bool update_history);  // walls then gravity
   detail::Motion motion();
 
   // Threads: workers wait for a job and run it on their share; the caller runs share 0.
@@ -174,6 +174,10 @@ class System {
   std::vector<double> wall_history_;  // 3 per particle and wall
   std::vector<double> wall_roll_;     // epsd2's torque history, 3 per particle and wall
   std::vector<double> wall_store_;    // stored_wall_force, 3 per particle
+  // Per particle and wall: it touched the wall at its last force call, so its history or stored
+  // force may be nonzero. One that did not, and does not touch it now, has nothing to compute or
+  // clear: external_forces skips it (most of a stack's spheres, most steps).
+  std::vector<std::uint8_t> wall_touched_;
   bool external_ = false;             // walls or gravity
   bool negative_zero_spin_ = false;   // an angular velocity component starts at -0
   std::string kernel_;
