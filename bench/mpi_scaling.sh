@@ -32,14 +32,16 @@ figures() {
 import json, sys
 r = json.load(open(sys.argv[1]))
 d = r.get("decomposition", {}).get("liggghts", {})
-print(r["loop_seconds"], r["wall_seconds"], sys.argv[2], d.get("busiest_over_mean", 1), d.get("ghosts_per_owned", 0))
+o = r.get("outside_loop_seconds", {})
+print(r["loop_seconds"], r["wall_seconds"], sys.argv[2], d.get("busiest_over_mean", 1), d.get("ghosts_per_owned", 0),
+      *(o.get(k, 0) for k in ("read", "build", "first_output", "close")))
 PY
 }
 for ((k = 1; k <= repeats; k++)); do
   for r in "${order[@]}"; do
     if [ "$r" = l16before ]; then
       read -r loop wall busiest ghosts < <(liggghts_directly "$work/$r" 16 4 4 1)
-      echo "$r $loop $wall $wall $busiest $ghosts" >>"$work/times"
+      echo "$r $loop $wall $wall $busiest $ghosts 0 0 0 0" >>"$work/times"
     else
       # shellcheck disable=SC2086
       t0=$(date +%s.%N) && "$gs" run --force ${runs[$r]} "$work/$r" >/dev/null 2>&1 && t1=$(date +%s.%N)
@@ -53,8 +55,8 @@ import json, statistics, sys
 work, repeats, chosen, other, out = sys.argv[1:6]
 rows = {}
 for line in open(work + "/times"):
-    name, loop, wall, proc, busiest, ghosts = line.split()
-    rows.setdefault(name, []).append((float(loop), float(wall), float(proc), float(busiest), float(ghosts)))
+    name, *values = line.split()
+    rows.setdefault(name, []).append(tuple(float(v) for v in values))
 m = lambda name, i: statistics.median(v[i] for v in rows[name])
 
 def last_frame(case):
@@ -85,6 +87,10 @@ for name in (n for n in ("l1", "l4", "l16", "l16other", "l16before", "r1", "r4",
                     "busiest_over_mean": m(name, 3), "ghosts_per_owned": m(name, 4), "last_frame_vs_liggghts_1": diff,
                     "runs": rows[name]}
     print(f"{label[name]:46s} {loop:8.3f} {s_loop:8.2f} {wall:8.3f} {s_wall:8.2f} {proc:9.3f} {m(name, 3):7.3f} {m(name, 4):6.3f} {diff:20.2e}")
+    if name[0] == "r":  # refsim's time outside the loop (run.json's outside_loop_seconds)
+        parts = {k: m(name, 5 + i) for i, k in enumerate(("read", "build", "first_output", "close"))}
+        record[name]["outside_loop_seconds"] = parts
+        print(f"{'':46s} outside the loop: " + ", ".join(f"{k} {v:.3f} s" for k, v in parts.items()))
 if out:
     json.dump(record, open(out + "/mpi_scaling.json", "w"), indent=1)
 PY

@@ -26,7 +26,12 @@ PLACES = {
 # Made from the benchmarks' records (bench/results/): the runs behind them are named there.
 RECORDS = {
     "mpi_scaling": "bench/results/mpi-scaling-2026-11-26.json",         # bench/mpi_scaling.sh 3, 16 cores
-    "refsim_scaling": "bench/results/mpi-scaling-refsim-2026-11-26.json",  # ONLY=refsim bench/mpi_scaling.sh 5
+    "refsim_scaling": "bench/results/mpi-scaling-refsim-2026-11-27.json",  # ONLY=refsim bench/mpi_scaling.sh 5
+    "large_nest": "bench/results/mpi-large-nest-2026-11-27.json",       # bench/mpi_large_nest.sh 3, 16 cores
+    "copies": "bench/results/concurrent-copies-2026-11-27.json",        # bench/concurrent_copies.sh 3 16
+    # OUT=... MODES=asynchronous bench/design_cores.sh 3 16 96, then 3 2 96, on the same 16 cores
+    "design_speedup_16": "bench/results/design-speedup-16-jobs-2026-11-27.json",
+    "design_speedup_2": "bench/results/design-speedup-2-jobs-2026-11-27.json",
     "decomposition": "bench/results/decomposition-2026-11-26.json",     # OUT=... bench/decomposition.sh
     # OUT=... bench/design_cores.sh 3 16 360 | 3 16 96 (MODES=asynchronous, 16 cores) | 3 2 96 (GEN_DESIGNS=48, here)
     "design_cores_16": "bench/results/design-cores-16-2026-11-27.json",
@@ -35,6 +40,8 @@ RECORDS = {
     "engines": "bench/results/engines-2026-11-27.json",                 # OUT=... bench/engines.sh 3
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
+                 "refsim_outside_loop": ["docs/how-to/big-nests.md"], "large_nest": ["docs/how-to/big-nests.md"],
+                 "copies": ["docs/how-to/big-nests.md"], "design_speedup": ["docs/explanation/performance.md"],
                  "design_cores": ["docs/explanation/performance.md"], "design_cores_summary": ["README.md"],
                  "engines_agreement": ["docs/explanation/lammps.md"], "engines_speed": ["docs/explanation/lammps.md"]}
 # Made only with --reproduce.
@@ -100,6 +107,60 @@ def nest_speed():
         efficiency = "" if r["units"] == 1 else f"{100 * r['efficiency']:.0f} %"
         rows.append(f"| {r['label']} | {r['loop_seconds']:.3g} s | {r['loop_speedup']:.2f} | {efficiency} | "
                     f"{r['wall_seconds']:.3g} s | {r['wall_speedup']:.2f} | {r['last_frame_vs_liggghts_1']:.1e} |")
+    return "\n".join(rows) + "\n"
+
+
+def refsim_outside_loop():
+    """Where refsim's time beyond the loop goes, medians (run.json's outside_loop_seconds)."""
+    rows = ["| threads | read | build | first output | close | wall - loop |", "|---|---|---|---|---|---|"]
+    for r in record("refsim_scaling").values():
+        o = r["outside_loop_seconds"]
+        rows.append(f"| {r['units']} | {o['read']:.3f} s | {o['build']:.3f} s | {o['first_output']:.3f} s | "
+                    f"{o['close']:.4f} s | {r['wall_seconds'] - r['loop_seconds']:.3f} s |")
+    return "\n".join(rows) + "\n"
+
+
+def large_nest():
+    """LIGGGHTS on 1 and 16 ranks on the million-sphere nest (bench/mpi_large_nest.sh)."""
+    r = record("large_nest")
+    rows = ["| ranks | loop | output | loop without output | pair | comm | other | busiest / mean | ghosts / owned |",
+            "|---|---|---|---|---|---|---|---|---|"]
+    for ranks, x in r["ranks"].items():
+        rows.append(f"| {ranks} | {x['loop_seconds']:.2f} s | {x['output_seconds']:.2f} s | {x['loop_without_output']:.2f} s | "
+                    f"{x['pair_seconds']:.2f} s | {x['comm_seconds']:.2f} s | {x['other_seconds']:.2f} s | "
+                    f"{x['busiest_over_mean']:.3f} | {x['ghosts_per_owned']:.3f} |")
+    s, c = r["speedup_loop_seconds"], r["speedup_loop_without_output"]
+    rows += ["", f"16 ranks over 1: {s:.2f} on the loop ({100 * s / 16:.0f} % efficiency), {c:.2f} without the output "
+             f"({100 * c / 16:.0f} %); the last frames agree to {r['last_frame_16_vs_1']:.1e}."]
+    return "\n".join(rows) + "\n"
+
+
+def copies():
+    """One core's run alone and as 16 copies at once (bench/concurrent_copies.sh)."""
+    r = record("copies")
+    rows = ["| engine | alone | a copy among 16 (median) | slowest copy | slowdown | efficiency at most |",
+            "|---|---|---|---|---|---|"]
+    for engine, label in (("liggghts", "LIGGGHTS, 1 rank"), ("refsim", "refsim, 1 thread")):
+        x = r[engine]
+        rows.append(f"| {label} | {x['alone_seconds']:.3g} s | {x['copy_seconds']:.3g} s | {x['slowest_copy_seconds']:.3g} s | "
+                    f"{x['slowdown']:.2f} | {100 * x['efficiency_bound']:.0f} % |")
+    return "\n".join(rows) + "\n"
+
+
+def design_speedup():
+    """The same asynchronous search on 16 jobs and on 2, on one 16-core machine (bench/design_cores.sh)."""
+    rows = ["| -j | busy cores | wall for 96 designs | distinct designs/s | CPU per design |", "|---|---|---|---|---|"]
+    rates = {}
+    for name in ("design_speedup_16", "design_speedup_2"):
+        r = record(name)
+        m = r["modes"]["asynchronous"]
+        runs, med = m["runs"], m["median"]
+        rates[r["jobs"]] = med["per_second"]
+        span = lambda k, f: f"{min(x[k] for x in runs):{f}}..{max(x[k] for x in runs):{f}}"
+        cpu = sorted(x["cpu"] / x["distinct"] for x in runs)
+        rows.append(f"| {r['jobs']} | {med['busy']:.2f} ({span('busy', '.2f')}) | {med['wall']:.1f} s ({span('wall', '.1f')}) | "
+                    f"{med['per_second']:.2f} ({span('per_second', '.2f')}) | {cpu[len(cpu) // 2]:.2f} s ({cpu[0]:.2f}..{cpu[-1]:.2f}) |")
+    rows += ["", f"16 jobs over 2: {rates[16] / rates[2]:.1f} times the distinct designs per second (medians)."]
     return "\n".join(rows) + "\n"
 
 
@@ -212,7 +273,8 @@ def main():
     mode, exe, work = args[0], args[1], pathlib.Path(args[2])
     work.mkdir(parents=True, exist_ok=True)
     made = tables(exe, work)
-    made.update(nest_counts=nest_counts(), nest_speed=nest_speed(), design_cores=design_cores(),
+    made.update(nest_counts=nest_counts(), nest_speed=nest_speed(), refsim_outside_loop=refsim_outside_loop(),
+                large_nest=large_nest(), copies=copies(), design_speedup=design_speedup(), design_cores=design_cores(),
                 design_cores_summary=design_cores_summary(), engines_agreement=engines_agreement(),
                 engines_speed=engines_speed())
     places = {**PLACES, **RECORD_PLACES}
