@@ -378,6 +378,7 @@ void System::build_pairs() {
     sum_plan_->build(contribution_offsets_, contributions_, side_j, shares);
   }
   x_at_build_ = x_;
+  find_wall_candidates();
   ++builds_;
 }
 
@@ -486,26 +487,36 @@ void System::wall_force_lammps_rules(std::size_t i, std::size_t wi, bool update_
   }
 }
 
-// Each particle of [begin, end) in turn meets the walls, then gravity (each particle's sums in the
-// deck's order: walls by number, then gravity). A particle that neither touches a wall now nor
-// touched it at its last call has nothing to compute or clear there (wall_touched_), and is
-// passed over after a test of its gap as wall_force makes it.
-void System::external_forces(std::size_t begin, std::size_t end, bool update_history) {
-  const bool test_first = !p_.lammps_rules;
+// The particles that may touch each wall before the next build (wall_near_): those touching it
+// at their last force call, and those within a skin of it now.
+void System::find_wall_candidates() {
+  wall_near_.assign(p_.walls.size(), {});
   for (std::size_t w = 0; w < p_.walls.size(); ++w) {
+    const double* pos = x_.data() + static_cast<std::size_t>(p_.walls[w].axis) * stride_;
+    for (std::size_t i = 0; i < n_; ++i) {
+      // Within a skin: twice the half skin a particle may move, for a margin far above rounding.
+      if (wall_touched_[w * n_ + i] != 0 || wall_gap(p_.walls[w], pos[i], radius_[i]) <= p_.skin) {
+        wall_near_[w].push_back(static_cast<std::uint32_t>(i));
+      }
+    }
+  }
+}
+
+// Each particle of [begin, end) in turn meets the walls, then gravity (each particle's sums in the
+// deck's order: walls by number, then gravity). Of the particles that may touch a wall, those
+// neither touching it now nor at their last call have nothing to compute or clear there.
+void System::external_forces(std::size_t begin, std::size_t end, bool update_history) {
+  for (std::size_t w = 0; w < p_.walls.size(); ++w) {
+    if (p_.lammps_rules) {  // LAMMPS's rules: every particle, as wall_force_lammps_rules decides
+      for (std::size_t i = begin; i < end; ++i) wall_force(i, w, update_history);
+      continue;
+    }
     const Wall wall = p_.walls[w];
     const double* pos = x_.data() + static_cast<std::size_t>(wall.axis) * stride_;
-    const std::uint8_t* touched = wall_touched_.data() + w * n_;
-    // In runs of at most 64: first which particles need the wall (reads only), then those.
-    std::array<std::uint32_t, 64> due{};
-    for (std::size_t b = begin; b < end; b += due.size()) {
-      const std::size_t e = std::min(end, b + due.size());
-      std::size_t count = 0;
-      for (std::size_t i = b; i < e; ++i) {
-        due[count] = static_cast<std::uint32_t>(i);
-        count += !test_first || touched[i] != 0 || wall_gap(wall, pos[i], radius_[i]) <= 0.0;
-      }
-      for (std::size_t k = 0; k < count; ++k) wall_force(due[k], w, update_history);
+    const auto& near = wall_near_[w];
+    auto k = std::lower_bound(near.begin(), near.end(), static_cast<std::uint32_t>(begin));
+    for (; k != near.end() && *k < end; ++k) {
+      if (wall_touched_[w * n_ + *k] != 0 || wall_gap(wall, pos[*k], radius_[*k]) <= 0.0) wall_force(*k, w, update_history);
     }
   }
   if (p_.gravity[0] != 0.0 || p_.gravity[1] != 0.0 || p_.gravity[2] != 0.0) {

@@ -155,6 +155,36 @@ TEST(Wall, BounceReproducesRestitutionAndTheHertzTimeOfAWall) {
   }
 }
 
+// A sphere that starts many skins from two walls meets them only after many neighbour builds,
+// leaves each and comes back: the walls a particle may touch before the next build are found
+// anew at each one (System::wall_near_), so it bounces every time, elastically, and never
+// passes through a wall.
+TEST(Wall, ASphereFarFromTheWallsBouncesBetweenThemEachTime) {
+  const auto steel = material("steel");
+  const double r = 1e-3, skin = 2e-4, gap = 20 * skin, v = 1.0, dt = 1e-8;
+  auto p = refsim::uniform_parameters({steel, steel}, 1.0, 0.0, dt, skin);
+  p.walls = {{2, 0.0, 2}, {2, 2 * r + gap, 2}};
+  System s({sphere(1, steel, r, {0, 0, r + gap / 2}, {0, 0, -v})}, p);
+  s.setup();
+  int bottom = 0, top = 0;
+  bool on_bottom = false, on_top = false;
+  const long steps = std::lround(3 * gap / v / dt);  // down, up, down, and half way up again
+  for (long k = 0; k < steps; ++k) {
+    s.step();
+    const double z = s.x(0)[2];
+    bottom += z < r && !on_bottom;
+    top += z > r + gap && !on_top;
+    on_bottom = z < r;
+    on_top = z > r + gap;
+    ASSERT_GT(z, 0.0) << "through the bottom wall at step " << k;
+    ASSERT_LT(z, 2 * r + gap) << "through the top wall at step " << k;
+  }
+  EXPECT_EQ(bottom, 2);
+  EXPECT_EQ(top, 1);
+  EXPECT_NEAR(s.v(0)[2] / v, 1.0, 1e-4);
+  EXPECT_GT(s.neighbor_builds(), 10);
+}
+
 // physics.md section 5: a large sphere on two free small ones at theta (cos theta = 2 sqrt(2)/3)
 // leaves with v_f / v_i = (1 - 2 kappa cos^2 theta) / (1 + 2 kappa cos^2 theta).
 class Interface : public ::testing::TestWithParam<std::string> {};

@@ -178,6 +178,11 @@ class System {
   // force may be nonzero. One that did not, and does not touch it now, has nothing to compute or
   // clear: external_forces skips it (most of a stack's spheres, most steps).
   std::vector<std::uint8_t> wall_touched_;
+  // Per wall, the particles that may touch it before the next neighbour build (in order): those
+  // within a skin of it at the build, or touching it. A particle moves less than half a skin
+  // between builds (the rebuild test), so no other can reach the wall until the next one.
+  std::vector<std::vector<std::uint32_t>> wall_near_;
+  void find_wall_candidates();
   bool external_ = false;             // walls or gravity
   bool negative_zero_spin_ = false;   // an angular velocity component starts at -0
   std::string kernel_;
