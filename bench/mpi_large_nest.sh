@@ -31,6 +31,7 @@ for ((k = 1; k <= repeats; k++)); do
 done
 python3 - "$work" "$repeats" "$steps" "${OUT:-}" <<'PY'
 import json, statistics, sys
+from frames import largest_difference, last_frame
 work, repeats, steps, out = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
 rows = {}
 for line in open(work + "/times"):
@@ -38,14 +39,8 @@ for line in open(work + "/times"):
     rows.setdefault(int(ranks), []).append([float(x) for x in v])
 m = lambda r, i: statistics.median(v[i] for v in rows[r])
 
-def last_frame(case):
-    lines = open(f"{work}/{case}/dumps/dump.txt").read().split("ITEM: TIMESTEP")[-1].splitlines()
-    cols = lines[8].split()[2:]
-    return cols, {int(v.split()[0]): [float(x) for x in v.split()] for v in lines[9:]}
-cols, ref = last_frame("r1")
-_, other = last_frame("r16")
-ix = [cols.index(c) for c in ("x", "y", "z", "vx", "vy", "vz")]
-diff = max(abs(ref[i][k] - other[i][k]) / max(abs(ref[i][k]), 1e-3 if k < ix[3] else 1e-6) for i in ref for k in ix)
+cols, ref = last_frame(f"{work}/r1")
+diff = largest_difference(cols, ref, last_frame(f"{work}/r16")[1])
 spheres = len(ref)
 print(f"{spheres:,}-sphere nest, {steps} steps, LIGGGHTS, medians of {repeats} alternating runs")
 print(f"{'ranks':>5s} {'loop s':>8s} {'output s':>8s} {'loop-out':>8s} {'pair':>7s} {'comm':>7s} {'other':>7s} {'busiest':>7s} {'ghosts':>6s}")

@@ -52,6 +52,7 @@ for ((k = 1; k <= repeats; k++)); do
 done
 python3 - "$work" "$repeats" "$chosen" "$other" "${OUT:-}" <<'PY'
 import json, statistics, sys
+from frames import largest_difference, last_frame
 work, repeats, chosen, other, out = sys.argv[1:6]
 rows = {}
 for line in open(work + "/times"):
@@ -59,16 +60,9 @@ for line in open(work + "/times"):
     rows.setdefault(name, []).append(tuple(float(v) for v in values))
 m = lambda name, i: statistics.median(v[i] for v in rows[name])
 
-def last_frame(case):
-    lines = open(f"{work}/{case}/dumps/dump.txt").read().split("ITEM: TIMESTEP")[-1].splitlines()
-    cols = lines[8].split()[2:]
-    return cols, {int(v.split()[0]): [float(x) for x in v.split()] for v in lines[9:]}
 first = "l1" if "l1" in rows else "r1"
-cols, ref = last_frame(first)
-ix = [cols.index(c) for c in ("x", "y", "z", "vx", "vy", "vz")]
-def worst(case):
-    _, b = last_frame(case)
-    return max(abs(ref[i][k] - b[i][k]) / max(abs(ref[i][k]), 1e-3 if k < ix[3] else 1e-6) for i in ref for k in ix)
+cols, ref = last_frame(f"{work}/{first}")
+worst = lambda case: largest_difference(cols, ref, last_frame(f"{work}/{case}")[1])
 
 label = {"l1": "LIGGGHTS 1 rank", "l4": "LIGGGHTS 4 ranks", "l16": f"LIGGGHTS 16 ranks ({chosen}, chosen)",
          "l16other": f"LIGGGHTS 16 ranks ({other})", "l16before": "LIGGGHTS 16 ranks (before: wider box, 4,4,1)",

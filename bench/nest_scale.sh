@@ -34,14 +34,7 @@ PY
 "$gs" validate "$work/case" | tail -1
 python3 - "$work/l1" "$work/l2" <<'PY'
 import sys
-def last_frame(path):
-    lines = open(path + "/dumps/dump.txt").read().split("ITEM: TIMESTEP")[-1].splitlines()
-    cols = lines[8].split()[2:]
-    rows = {}
-    for l in lines[9:]:
-        v = l.split()
-        rows[int(v[0])] = [float(x) for x in v]
-    return cols, rows
+from frames import last_frame
 cols, a = last_frame(sys.argv[1])
 _, b = last_frame(sys.argv[2])
 ix = [cols.index(c) for c in ("x", "y", "z")]

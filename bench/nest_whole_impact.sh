@@ -31,10 +31,7 @@ for name, v in (("LIGGGHTS, 1 rank", l1), ("LIGGGHTS, 2 ranks", l2), ("refsim, 1
     print(f"  {name:18s} {m(v):9.2f} ({min(v):.2f}..{max(v):.2f})")
 print(f"  LIGGGHTS 2 ranks / 1 rank: {m(l1) / m(l2):.2f}; refsim 2 threads / 1 thread: {m(r1) / m(r2):.2f}; "
       f"refsim / LIGGGHTS, one core each: {m(l1) / m(r1):.1f}; two cores each: {m(l2) / m(r2):.1f}")
-def last_frame(path):
-    lines = open(path + "/dumps/dump.txt").read().split("ITEM: TIMESTEP")[-1].splitlines()
-    cols = lines[8].split()[2:]
-    return cols, {int(float(l.split()[0])): [float(x) for x in l.split()] for l in lines[9:]}
+from frames import last_frame
 cols, frames = None, {}
 for run in ("l1", "l2", "r1", "r2"):
     cols, frames[run] = last_frame(f"{work}/{run}")

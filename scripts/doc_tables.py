@@ -40,6 +40,7 @@ RECORDS = {
     "engines": "bench/results/engines-2026-11-27.json",                 # OUT=... bench/engines.sh 3
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
+                 "refsim_against_liggghts": ["docs/how-to/big-nests.md"],
                  "refsim_outside_loop": ["docs/how-to/big-nests.md"], "large_nest": ["docs/how-to/big-nests.md"],
                  "copies": ["docs/how-to/big-nests.md"], "design_speedup": ["docs/explanation/performance.md"],
                  "design_cores": ["docs/explanation/performance.md"], "design_cores_summary": ["README.md"],
@@ -108,6 +109,15 @@ def nest_speed():
         rows.append(f"| {r['label']} | {r['loop_seconds']:.3g} s | {r['loop_speedup']:.2f} | {efficiency} | "
                     f"{r['wall_seconds']:.3g} s | {r['wall_speedup']:.2f} | {r['last_frame_vs_liggghts_1']:.1e} |")
     return "\n".join(rows) + "\n"
+
+
+def refsim_against_liggghts():
+    """refsim against LIGGGHTS on one core each, in one run of bench/mpi_scaling.sh."""
+    r = record("mpi_scaling")
+    l1, r1 = r["l1"], r["r1"]
+    return (f"refsim ran the 97,921-sphere nest's first 2e-4 s (3190 steps) in {r1['loop_seconds']:.3g} s, LIGGGHTS in "
+            f"{l1['loop_seconds']:.3g} s: {l1['loop_seconds'] / r1['loop_seconds']:.1f} times as fast "
+            f"(`{RECORDS['mpi_scaling']}`).\n")
 
 
 def refsim_outside_loop():
@@ -273,7 +283,8 @@ def main():
     mode, exe, work = args[0], args[1], pathlib.Path(args[2])
     work.mkdir(parents=True, exist_ok=True)
     made = tables(exe, work)
-    made.update(nest_counts=nest_counts(), nest_speed=nest_speed(), refsim_outside_loop=refsim_outside_loop(),
+    made.update(nest_counts=nest_counts(), nest_speed=nest_speed(), refsim_against_liggghts=refsim_against_liggghts(),
+                refsim_outside_loop=refsim_outside_loop(),
                 large_nest=large_nest(), copies=copies(), design_speedup=design_speedup(), design_cores=design_cores(),
                 design_cores_summary=design_cores_summary(), engines_agreement=engines_agreement(),
                 engines_speed=engines_speed())
