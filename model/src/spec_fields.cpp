@@ -460,7 +460,8 @@ std::vector<SpecField> striker_and_boundary_rows() {
                            "|k| <= top_columns/2 - 1",
                            "io");
   offset.doc = "the striker rests on top spheres `top_columns/2 + k` and `top_columns/2 + k + 1` (along x only in a 3D "
-               "nest); the impact path, the output sphere and the middle spheres follow it down";
+               "nest); the impact path, the output sphere and the middle spheres follow it down, from the outer of the two "
+               "struck spheres, so that a blow at `-k` is the mirror image of one at `k`";
   offset.in_every_manifest = false;  // written where it is not 0, so older manifests stay as they were
   offset.save = [](const StackSpec& s, json& j) {
     if (s.impact_offset != 0) j["impact_offset"] = s.impact_offset;

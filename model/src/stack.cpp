@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 namespace granstack::model {
 
@@ -181,27 +182,34 @@ namespace {
 // The path's centre in block k is x_k = u_k R_k, at v = n u_k in units of R_(k+1); the block below
 // has a sphere there when v + 1 + C_(k+1) is even (x_j = (2j - 1 - C) R), and the path goes
 // straight down to it (aligned); else the sphere rests on two at v -+ 1, of which the path takes
-// the inner (toward the axis; on the axis, the right one). j = (u_k + 1 + C_k) / 2.
-int path_column(const Stack& s, const Block& b, long u) {
+// the inner (toward the axis; on the axis, the one on `side`, +1 right, -1 left).
+// j = (u_k + 1 + C_k) / 2. The path from -u_1 on side -1 is the mirror image of the one from u_1 on
+// side +1, block by block.
+int path_column(const Stack& s, const Block& b, long u, int side) {
   for (int k = 1; k < b.index; ++k) {
     const long v = s.spec().ratio_below(k) * u;
     const bool on_site = (v + 1 + s.block(k + 1).columns) % 2 == 0;
-    u = on_site ? v : v == 0 ? 1 : v - (v > 0 ? 1 : -1);
+    u = on_site ? v : v == 0 ? side : v - (v > 0 ? 1 : -1);
   }
   return static_cast<int>((u + 1 + b.columns) / 2);
 }
+
+// The side of the axis a blow at impact_offset k is on: right for k >= 0 (the central blow's path
+// takes the right-hand sphere), left for k < 0.
+int blow_side(const StackSpec& spec) { return spec.impact_offset < 0 ? -1 : 1; }
 }  // namespace
 
 int Stack::impact_column(int block_index) const {
-  // The top block's struck sphere on the right (x = R_1 + 2 k R_1 for impact_offset k); with k < 0
-  // the one on the right is nearer the axis still.
-  return path_column(*this, block(block_index), 1 + 2L * spec_.impact_offset);
+  // The top block's struck sphere on the blow's side, the outer of the two (x = (1 + 2k) R_1 for
+  // k >= 0, (2k - 1) R_1 for k < 0): a blow at -k is the mirror image of one at k, and so is its path.
+  const int side = blow_side(spec_);
+  return path_column(*this, block(block_index), side * (1 + 2L * std::abs(spec_.impact_offset)), side);
 }
 
 int Stack::impact_path_id(int block_index, int row) const {
   const int c = impact_column(block_index);
   // In 3D the y-column follows the same rule from y = R_1 (the offset is along x only).
-  return id_of(block_index, row, c, three_d() ? path_column(*this, block(block_index), 1) : impact_panel());
+  return id_of(block_index, row, c, three_d() ? path_column(*this, block(block_index), 1, 1) : impact_panel());
 }
 
 int Stack::output_sphere_id() const { return impact_path_id(spec_.blocks, blocks_.back().rows); }

@@ -293,4 +293,51 @@ TEST(Geometry, InterfaceAndStrikerAnglesAreThoseOfPhysicsMd) {
   EXPECT_NEAR((striker.z - right.z) / (2.0 * right.radius), std::cos(M_PI / 6.0), 1e-14);  // 30 degrees
 }
 
+// An off-centre blow at -k is the mirror image of the one at k (#46, M1): the striker at -x, every
+// sphere's twin at -x, and the impact path (so the output and middle spheres) the mirror image of
+// k's, block by block and row by row. The path's bottom sphere lies one bottom radius beside the
+// striker's axis, on the far side from the stack's axis, at every offset the top row allows. (The
+// path for k < 0 once started from the inner struck sphere: 3 bottom radii off for k = -1 on 2
+// blocks of 6 top columns, and a 13 % lower output fraction than its mirror image.)
+TEST(Geometry, ABlowAtMinusKIsTheMirrorImageOfTheBlowAtK) {
+  for (const auto& layout : {Layout{2, 6, 3, 2}, Layout{3, 6, 3, 2}, Layout{3, 8, 2, 2, {3, 2}}, Layout{2, 8, 2, 2, {1}},
+                             Layout{4, 4, 3, 2}}) {
+    const int most = layout.top_columns / 2 - 1;
+    for (int k = 1; k <= most; ++k) {
+      auto spec = layout.spec();
+      spec.impact_offset = k;
+      const auto right = Stack::build(spec);
+      spec.impact_offset = -k;
+      const auto left = Stack::build(spec);
+      const auto name = fmt::format("{} blocks, {} top columns, offset {}", layout.blocks, layout.top_columns, k);
+      const auto& sr = right.sphere(Stack::striker_id());
+      const auto& sl = left.sphere(Stack::striker_id());
+      EXPECT_EQ(sr.x, 2.0 * k * right.block(1).radius) << name;
+      EXPECT_EQ(sl.x, -sr.x) << name;
+      EXPECT_EQ(sl.z, sr.z) << name;
+      for (const auto& sp : right.spheres()) {
+        if (sp.block == 0) continue;
+        const auto& twin = left.sphere(left.id_of(sp.block, sp.row, left.block(sp.block).columns + 1 - sp.column));
+        EXPECT_EQ(twin.x, -sp.x) << name;
+        EXPECT_EQ(twin.z, sp.z) << name;
+      }
+      for (const auto& b : right.blocks()) {
+        EXPECT_EQ(left.impact_column(b.index), b.columns + 1 - right.impact_column(b.index)) << name << ", block " << b.index;
+        for (int i = 1; i <= b.rows; ++i) {
+          EXPECT_EQ(left.sphere(left.impact_path_id(b.index, i)).x, -right.sphere(right.impact_path_id(b.index, i)).x)
+              << name << ", block " << b.index << " row " << i;
+        }
+      }
+      const auto& bottom = right.block(layout.blocks);
+      const auto& out_r = right.sphere(right.output_sphere_id());
+      const auto& out_l = left.sphere(left.output_sphere_id());
+      if (layout.ratios.empty() || layout.ratios[0] % 2 == 0) {  // even ratios: the path steps toward the axis
+        EXPECT_NEAR(out_r.x - sr.x, bottom.radius, 1e-12 * bottom.radius) << name;
+        EXPECT_NEAR(out_l.x - sl.x, -bottom.radius, 1e-12 * bottom.radius) << name;
+      }
+      EXPECT_EQ(out_l.x, -out_r.x) << name;
+    }
+  }
+}
+
 }  // namespace

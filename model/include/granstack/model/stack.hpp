@@ -131,10 +131,11 @@ class Stack {
   }
   static constexpr int striker_id() { return 1; }  // the first striker
   // The column of block k on the impact path, the chain of contacts down from the top block's
-  // right central sphere (x = R_1; with impact_offset k, the right one of the two struck, at
-  // x = (1 + 2k) R_1): with an even radius ratio each sphere rests on two and the path takes the
-  // inner one, toward the axis (for the study's ratio 2, the central column just right of the
-  // axis in every block); with an odd ratio each rests on the one straight below (x = R_1 in
+  // right central sphere (x = R_1; with impact_offset k, the outer one of the two struck, at
+  // x = (1 + 2k) R_1 for k > 0 and (2k - 1) R_1 for k < 0, so that the blow at -k and its path are
+  // the mirror images of those at k): with an even radius ratio each sphere rests on two and the
+  // path takes the inner one, toward the axis (on the axis, the one on the blow's side; for the
+  // study's ratio 2, the central column just right of the axis in every block); with an odd ratio each rests on the one straight below (x = R_1 in
   // every block), and its side neighbours receive no downward push. In a 3D nest the path starts
   // at the central top sphere at (R_1, R_1) and follows the same rule along x and along y, so
   // without an offset its y-column is this column too.
