@@ -31,7 +31,7 @@ int reproduce(ReproduceFlags& f) {
   }
   if (!o.against.empty()) {
     try {
-      (void)study::read_other_report(o.against, o.engine);
+      (void)study::read_other_report(o.against);
     } catch (const study::ReproduceError& e) {
       fmt::print(stderr, "error: {}\n", e.what());
       return kBadInput;
@@ -93,7 +93,8 @@ Command add_reproduce(CLI::App& app) {
   cmd->add_option("-o,--output", o.output, "The reproduction's directory (its cases are reused on a rerun)")
       ->check(output_directory())->required();
   cmd->add_option("-j,--jobs", o.jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
-  cmd->add_option("--engine", o.engine, "liggghts, refsim or lammps (the spec mapped onto LAMMPS's granular models) [liggghts]")->check(CLI::IsMember(runner::engine_names()));
+  cmd->add_option("--engine", o.engine, "liggghts, refsim or lammps (the spec mapped onto LAMMPS's granular models) [the engine the directory's "
+                  "cases ran on; liggghts for a new reproduction]")->check(CLI::IsMember(runner::engine_names()));
   cmd->add_flag("--validate", o.validate, "Also run every case with the other engine and report the agreement");
   auto* quick = cmd->add_flag("--quick", o.quick, "The small subset CI runs (the experiments marked quick)");
   cmd->add_flag("--full", o.full,

@@ -19,9 +19,10 @@ int status(const StatusFlags& f) {
   const auto r = cluster::status(f.targets);
   fmt::print("{} cases: {} done, {} failed, {} running, {} interrupted, {} pending", r.cases.size(), r.done, r.failed,
              r.running, r.interrupted, r.pending);
-  fmt::print("{}\n", r.changed > 0 ? fmt::format(", {} changed since their run", r.changed) : "");
+  fmt::print("{}{}\n", r.changed > 0 ? fmt::format(", {} changed since their run", r.changed) : "",
+             r.damaged > 0 ? fmt::format(", {} damaged", r.damaged) : "");
   for (const auto& c : r.cases) {
-    if (c.status == "failed" || c.status == "interrupted" || c.status == "changed") {
+    if (c.status == "failed" || c.status == "interrupted" || c.status == "changed" || c.status == "damaged") {
       fmt::print("{:<12} {}  {}\n", c.status, c.dir, c.error);
     }
   }
@@ -32,7 +33,7 @@ int status(const StatusFlags& f) {
     else fmt::print("; in the queue:\n  {}\n", fmt::join(r.queue, "\n  "));
   }
   for (const auto& note : r.notes) fmt::print(stderr, "note: {}\n", note);
-  return r.failed + r.interrupted + r.changed > 0 ? kCaseFailed : kOk;
+  return r.failed + r.interrupted + r.changed + r.damaged > 0 ? kCaseFailed : kOk;
 }
 
 }  // namespace

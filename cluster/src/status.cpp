@@ -32,9 +32,17 @@ CaseState read_state(const std::string& dir) {
   // manifest is read only for a finished run whose files are not as it left them.
   const formats::CaseFiles files;
   const auto record = formats::read_run_record(dir, files);
-  if (!record.exists()) return {dir, "pending", ""};
+  if (!record.exists()) {
+    try {  // a case whose manifest cannot be read would never run: not pending
+      (void)formats::read_manifest(dir);
+    } catch (const std::exception& e) {
+      const std::string why = e.what();
+      return {dir, "damaged", why.substr(0, why.find('\n')) + "; generate the case again (granstack generate --force)"};
+    }
+    return {dir, "pending", ""};
+  }
   if (!record.done()) return {dir, record.status == "damaged" ? "failed" : record.status, record.error_line()};
-  if (!record.record.contains("digests") || formats::files_untouched_since_run(dir, record)) return {dir, "done", ""};
+  if (formats::files_untouched_since_run(dir, record)) return {dir, "done", ""};
   std::string why;
   try {
     why = formats::files_not_as_run(formats::Case::open(dir), record, formats::DigestCheck::quick);
@@ -124,6 +132,7 @@ StatusReport status(const std::vector<std::string>& targets, const std::string& 
     else if (c.status == "running") ++r.running;
     else if (c.status == "interrupted") ++r.interrupted;
     else if (c.status == "changed") ++r.changed;
+    else if (c.status == "damaged") ++r.damaged;
     else ++r.pending;
   }
   return r;

@@ -11,6 +11,13 @@ namespace granstack::formats {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+std::string run_engine(const RunRecord& record) {
+  const auto engine = record.record.value("engine", json());
+  if (!engine.is_string()) return "";
+  const auto name = engine.get<std::string>();
+  return name == "refsim" && record.record.value("contact_rules", std::string()) == "lammps" ? "refsim (LAMMPS's rules)" : name;
+}
+
 RunRecord read_run_record(const fs::path& case_dir, const CaseFiles& files) {
   RunRecord r;
   r.record = json::object();
@@ -27,7 +34,7 @@ RunRecord read_run_record(const fs::path& case_dir, const CaseFiles& files) {
   } catch (const std::exception& e) {
     r.record = json::object();
     r.status = "damaged";
-    r.error = fmt::format("{} cannot be read ({}): run the case again with --force", path.string(), e.what());
+    r.error = fmt::format("{} cannot be read ({}): run the case again with --force", path.string(), short_reason(e));
   }
   return r;
 }

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <sys/stat.h>
 #include <map>
+#include <set>
 
 namespace granstack::formats {
 
@@ -136,7 +137,11 @@ json run_digests(const Case& c) {
 }
 
 std::string files_not_as_run(const Case& c, const RunRecord& record, DigestCheck how) {
-  if (!record.record.contains("digests")) return "";
+  if (!record.record.contains("digests")) {
+    return "its run.json holds no digests of what its run wrote (a record from a granstack before they were kept, or "
+           "edited), so nothing vouches that the outputs in the case are this case's run's and not another's" +
+           record_problem(c.path(c.files().run_record));
+  }
   const auto& d = record.record.at("digests");
   if (!d.is_object()) return "its run.json's digests are damaged" + record_problem(c.path(c.files().run_record));
   auto why = check_case(c, d);
@@ -144,6 +149,29 @@ std::string files_not_as_run(const Case& c, const RunRecord& record, DigestCheck
   if (why.empty()) why = check_outputs(c, d.value("outputs", json::object()), how);
   return why.empty() ? why : why + record_problem(c.path(c.files().run_record));
 }
+
+namespace {
+// Whether the folders that hold the run's outputs (the dump's, not the case's own) hold a file the
+// run did not write: an extra dump piece, copied in, would be read as part of the dump.
+bool output_folders_hold_more(const fs::path& case_dir, const json& outputs) {
+  std::set<std::string> folders;
+  for (const auto& [name, stat] : outputs.items()) {
+    if (const auto parent = fs::path(name).parent_path(); !parent.empty()) folders.insert(parent.string());
+  }
+  for (const auto& folder : folders) {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(case_dir / folder, ec)) {
+      if (!entry.is_regular_file(ec)) continue;
+      auto name = (fs::path(folder) / entry.path().filename()).string();
+      for (const std::string ext : kCompressed) {
+        if (name.size() > ext.size() && name.compare(name.size() - ext.size(), ext.size(), ext) == 0) name.resize(name.size() - ext.size());
+      }
+      if (!outputs.contains(name)) return true;
+    }
+  }
+  return false;
+}
+}  // namespace
 
 bool files_untouched_since_run(const fs::path& case_dir, const RunRecord& record) {
   const auto& d = record.record.value("digests", json());
@@ -155,7 +183,7 @@ bool files_untouched_since_run(const fs::path& case_dir, const RunRecord& record
       if (!same_stat(case_dir / name, stat)) return false;
     }
   }
-  return true;
+  return !output_folders_hold_more(case_dir, d.at("outputs"));
 }
 
 void require_files_as_run(const Case& c) {

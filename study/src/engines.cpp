@@ -1,4 +1,8 @@
+#include <granstack/formats/case.hpp>
+#include <granstack/formats/digest.hpp>
+#include <granstack/formats/error.hpp>
 #include <granstack/formats/files.hpp>
+#include <granstack/formats/run_digests.hpp>
 #include <granstack/study/engines.hpp>
 
 #include <fmt/format.h>
@@ -17,30 +21,78 @@ constexpr double kRoundOff = 1e-12;
 
 int EngineComparison::changed() const {
   return static_cast<int>(std::count_if(claims.begin(), claims.end(), [](const EngineDifference& d) {
-    return d.verdict_here != d.verdict_there;
+    return d.verdict_here != "not run" && d.verdict_there != "not run" && d.verdict_here != d.verdict_there;
   }));
 }
 
-nlohmann::json read_other_report(const std::string& dir, const std::string& engine_here) {
-  const auto path = fs::path(dir) / "report.json";
-  nlohmann::json j;
+namespace {
+
+// Why a case the other report counts as done cannot vouch for its claims ("" when it can).
+std::string other_case_problem(const fs::path& dir, const nlohmann::json& entry, const std::string& engine) {
+  std::error_code ec;
+  if (!fs::is_regular_file(dir / "run.json", ec)) return fmt::format("{} has no run.json", dir.string());
+  const auto run = formats::read_run_record(dir, formats::CaseFiles{});
+  if (!run.done()) return fmt::format("{}: its run is {} now", dir.string(), run.status.empty() ? "gone" : run.status);
+  if (formats::run_engine(run) != engine) {
+    return fmt::format("{} ran on {}, the report says {}", dir.string(), formats::run_engine(run), engine);
+  }
+  const auto recorded = entry.value("run_sha256", std::string());
+  if (recorded.empty()) {
+    return "the report predates granstack's record of each case's run (report.json has no run_sha256)";
+  }
+  if (formats::sha256_file(dir / "run.json") != recorded) {
+    return fmt::format("{} was run again after the report was written", dir.string());
+  }
   try {
-    j = nlohmann::json::parse(formats::read_file(path));
+    const auto why = formats::files_not_as_run(formats::Case::open(dir.string()), run, formats::DigestCheck::quick);
+    if (!why.empty()) return fmt::format("{}: {}", dir.string(), why.substr(0, why.find(';')));
+  } catch (const std::exception& e) {
+    return fmt::format("{}: {}", dir.string(), e.what());
+  }
+  return "";
+}
+
+}  // namespace
+
+OtherReproduction read_other_report(const std::string& dir) {
+  const auto path = fs::path(dir) / "report.json";
+  OtherReproduction o;
+  o.dir = dir;
+  try {
+    o.report = nlohmann::json::parse(formats::read_file(path));
   } catch (const std::exception& e) {
     throw ReproduceError(fmt::format("--against {}: {} cannot be read as a reproduction's report ({}); give the "
                                      "directory of a finished `granstack reproduce`",
-                                     dir, path.string(), e.what()));
+                                     dir, path.string(), formats::short_reason(e)));
   }
-  if (!j.contains("engine") || !j["engine"].is_string() || !j.contains("experiments")) {
+  auto& j = o.report;
+  if (!j.is_object() || !j.contains("engine") || !j["engine"].is_string() || !j.contains("experiments") ||
+      !j["experiments"].is_array()) {
     throw ReproduceError(fmt::format("--against {}: {} is not a reproduction's report (no engine or experiments)", dir,
                                      path.string()));
   }
-  if (j["engine"].get<std::string>() == engine_here) {
-    throw ReproduceError(fmt::format("--against {}: that reproduction ran on {} too; give one made with another "
-                                     "--engine",
-                                     dir, engine_here));
+  o.engine = j["engine"].get<std::string>();
+  std::vector<std::string> problems;
+  for (const auto& x : j["experiments"]) {
+    for (const auto& c : x.value("cases", nlohmann::json::array())) {
+      if (c.value("status", "") != "done") continue;
+      const auto case_dir = fs::path(dir) / x.value("name", "") / c.value("name", "");
+      if (auto why = other_case_problem(case_dir, c, o.engine); !why.empty()) problems.push_back(std::move(why));
+    }
   }
-  return j;
+  if (!problems.empty()) {
+    std::string again = fmt::format("granstack reproduce -o {}", dir);  // the command that made it, from its report
+    for (const auto& x : j["experiments"]) again += " " + x.value("name", "");
+    if (j.value("quick", false)) again += " --quick";
+    if (j.value("full", false)) again += " --full";
+    throw ReproduceError(fmt::format(
+        "--against {}: its report does not describe its cases now ({} case{}: {}{}); bring that reproduction up to date "
+        "first (`granstack status {}` names each changed case; run those again with `granstack run --force`, then "
+        "`{}` writes its report anew)",
+        dir, problems.size(), problems.size() == 1 ? "" : "s", problems.front(),
+        problems.size() > 1 ? fmt::format("; and {} more", problems.size() - 1) : "", dir, again));
+  }
+  return o;
 }
 
 namespace {
@@ -83,14 +135,14 @@ std::string difference_cause(const Experiment& e, const std::string& a, const st
   return text;
 }
 
-EngineComparison compare_engines(const StudyResult& r, const nlohmann::json& other, const std::string& dir) {
+EngineComparison compare_engines(const StudyResult& r, const OtherReproduction& other) {
   EngineComparison c;
-  c.dir = dir;
+  c.dir = other.dir;
   c.engine_here = r.engine;
-  c.engine_there = other["engine"].get<std::string>();
+  c.engine_there = other.engine;
   for (const auto& e : r.experiments) {
     const nlohmann::json* theirs = nullptr;
-    for (const auto& x : other["experiments"]) {
+    for (const auto& x : other.report["experiments"]) {
       if (x.value("name", "") == e.experiment->name) theirs = &x;
     }
     const auto cause = difference_cause(*e.experiment, c.engine_here, c.engine_there);

@@ -146,10 +146,11 @@ Table claim_table(const ExperimentResult& e) {
 }
 
 Table case_table(const ExperimentResult& e, bool validated) {
-  Table t{"The cases", {"case", "status", "output", "warnings"}, {}};
+  Table t{"The cases", {"case", "status", "engine", "output", "warnings"}, {}};
   if (validated) t.header.push_back(fmt::format("validate: worst relative difference (where), against {:g}", postproc::kDefaultTolerance));
   for (const auto& c : e.cases) {
-    std::vector<std::string> row{c.name, c.status, c.reduction ? fmt::format("{:.4g}", c.reduction->output_fraction) : "-",
+    std::vector<std::string> row{c.name, c.status, c.engine.empty() ? "-" : c.engine,
+                                 c.reduction ? fmt::format("{:.4g}", c.reduction->output_fraction) : "-",
                                  c.reduction ? std::to_string(c.reduction->warnings.size()) : c.problem.substr(0, 120)};
     if (validated) {
       row.push_back(!c.validate_worst ? "-"
@@ -333,7 +334,8 @@ nlohmann::json report_json(const StudyResult& r) {
     }
     for (const auto& [k, x] : e.values) values[k] = std::isfinite(x) ? json(x) : json(nullptr);
     for (const auto& c : e.cases) {
-      cases.push_back({{"name", c.name}, {"dir", c.dir}, {"status", c.status}, {"problem", c.problem},
+      cases.push_back({{"name", c.name}, {"dir", c.dir}, {"status", c.status}, {"engine", c.engine},
+                       {"run_sha256", c.run_sha256}, {"problem", c.problem},
                        {"output_fraction", c.reduction ? json(c.reduction->output_fraction) : json(nullptr)},
                        {"warnings", c.reduction ? json(c.reduction->warnings) : json::array()},
                        {"validate_worst", optional_json(c.validate_worst)}, {"validate_quantity", c.validate_quantity},
@@ -357,7 +359,7 @@ nlohmann::json report_json(const StudyResult& r) {
                {"claims", rows}};
   }
   return {{"granstack_version", std::string(version())}, {"against", against}, {"validation", r.validated ? json(validation_summary(r)) : json(nullptr)}, {"git_commit", std::string(git_commit())}, {"engine", r.engine},
-          {"validated", r.validated}, {"quick", r.quick}, {"wall_seconds", r.wall_seconds},
+          {"validated", r.validated}, {"quick", r.quick}, {"full", r.full}, {"wall_seconds", r.wall_seconds},
           {"failed_cases", r.failed_cases}, {"interrupted_cases", r.interrupted_cases}, {"interrupted", r.interrupted}, {"experiments", experiments}};
 }
 

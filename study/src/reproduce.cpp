@@ -1,5 +1,7 @@
 #include "analyses.hpp"
 
+#include <granstack/formats/case.hpp>
+#include <granstack/formats/digest.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/ownership.hpp>
 #include <granstack/generator/case_writer.hpp>
@@ -138,6 +140,49 @@ double expected_cost(const model::StackSpec& spec) {
   return res.stops_at_blow_end ? seconds / spec.cap_durations : seconds;
 }
 
+// The engine each finished case ran on, by its run.json (formats::run_engine), with its cases.
+std::map<std::string, std::vector<std::string>> engines_of(const std::vector<CaseRecord*>& records) {
+  std::map<std::string, std::vector<std::string>> found;
+  for (const auto* rec : records) {
+    const auto run = formats::read_run_record(rec->dir, formats::CaseFiles{});
+    if (run.done()) found[formats::run_engine(run)].push_back(rec->dir);
+  }
+  return found;
+}
+
+std::string some_cases(const std::vector<std::string>& dirs) {
+  return dirs.size() == 1 ? dirs.front() : fmt::format("{} and {} more", dirs.front(), dirs.size() - 1);
+}
+
+// The engine this call runs the study on: the one asked for, else the one its finished cases ran
+// on (a reproduction goes on as it began), else LIGGGHTS. Cases run on another engine than the one
+// asked for are never reused under its name: refused, unless `force` runs them all again.
+std::string choose_engine(const ReproduceOptions& o, const std::vector<CaseRecord*>& records) {
+  const auto found = engines_of(records);
+  const auto& names = runner::engine_names();
+  if (o.engine.empty()) {
+    if (found.empty()) return "liggghts";
+    if (found.size() == 1 && std::find(names.begin(), names.end(), found.begin()->first) != names.end()) {
+      return found.begin()->first;
+    }
+    std::vector<std::string> parts;
+    for (const auto& [engine, dirs] : found) parts.push_back(fmt::format("{} ran {}", engine.empty() ? "no engine named" : engine, some_cases(dirs)));
+    throw ReproduceError(fmt::format("{} holds cases run on several engines ({}): pass --engine E --force to run every "
+                                     "case again on one, or choose a new directory with -o",
+                                     o.output, fmt::join(parts, "; ")));
+  }
+  if (o.force) return o.engine;
+  for (const auto& [engine, dirs] : found) {
+    if (engine == o.engine) continue;
+    throw ReproduceError(fmt::format("{}'s cases ran on {} ({}); this call asks for --engine {}: leave --engine out (or "
+                                     "give --engine {}) to go on with that reproduction, add --force to run every case "
+                                     "again on {}, or choose a new directory with -o",
+                                     o.output, engine.empty() ? "an engine their run.json does not name" : engine,
+                                     some_cases(dirs), o.engine, engine, o.engine));
+  }
+  return o.engine;
+}
+
 // Runs every case with the chosen engine; the records get their status.
 void run_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, StudyResult& result) {
   std::vector<std::string> dirs;
@@ -152,6 +197,9 @@ void run_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, Study
   for (std::size_t i = 0; i < outcomes.size(); ++i) {
     auto& rec = *records[i];
     rec.status = status_name(outcomes[i].status);
+    const auto run = formats::read_run_record(rec.dir, formats::CaseFiles{});
+    rec.engine = formats::run_engine(run);
+    if (run.done()) rec.run_sha256 = formats::sha256_file(fs::path(rec.dir) / formats::CaseFiles{}.run_record);
     if (outcomes[i].status == runner::RunStatus::done) rec.wall_seconds = outcomes[i].wall_seconds;
     if (rec.status == "done") continue;
     rec.problem = outcomes[i].message;
@@ -222,21 +270,22 @@ void analyse(ExperimentResult& e, const std::map<std::string, const CaseRecord*>
 
 }  // namespace
 
-StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& o) {
+StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& options) {
   const auto start = Clock::now();
+  auto o = options;
   StudyResult result;
   result.quick = o.quick;
   result.full = o.full;
   result.validated = o.validate;
-  result.engine = o.engine;
   result.out_of_scope = catalogue.out_of_scope;
   const auto selected = select(catalogue, o.experiments, o.quick, o.full);
-  std::optional<nlohmann::json> other;  // read first: a bad --against runs nothing
-  if (!o.against.empty()) other = read_other_report(o.against, o.engine);
+  std::optional<OtherReproduction> other;  // read first: a bad --against runs nothing
+  if (!o.against.empty()) other = read_other_report(o.against);
   const fs::path root(o.output);
   prepare_directory(root);
 
   std::vector<std::pair<double, CaseRecord*>> by_cost;
+  std::vector<const CaseEntry*> entries;  // each case's catalogue entry, in the experiments' order
   result.experiments.reserve(selected.size());
   for (const auto* e : selected) {
     auto& er = result.experiments.emplace_back();
@@ -248,11 +297,22 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& o) {
       record.dir = (root / e->name / c.name).string();
       record.status = "not run";
       er.cases.push_back(std::move(record));
-      ensure_case(er.cases.back().dir, c, o.force, o);
       by_cost.emplace_back(expected_cost(c.spec), nullptr);
+      entries.push_back(&c);
     }
     for (std::size_t i = 0; i < er.cases.size(); ++i) by_cost[by_cost.size() - er.cases.size() + i].second = &er.cases[i];
   }
+  // The engine is chosen before any case is made or changed: a refusal leaves the directory as it was.
+  std::vector<CaseRecord*> in_order;
+  for (auto& er : result.experiments) {
+    for (auto& rec : er.cases) in_order.push_back(&rec);
+  }
+  o.engine = result.engine = choose_engine(o, in_order);
+  if (other && other->engine == o.engine) {
+    throw ReproduceError(fmt::format("--against {}: that reproduction ran on {} too; give one made with another --engine",
+                                     o.against, o.engine));
+  }
+  for (std::size_t i = 0; i < in_order.size(); ++i) ensure_case(in_order[i]->dir, *entries[i], o.force, o);
   std::stable_sort(by_cost.begin(), by_cost.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   std::vector<CaseRecord*> records;
   for (const auto& [cost, rec] : by_cost) records.push_back(rec);
@@ -272,7 +332,7 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& o) {
   }
   if (o.on_progress) o.on_progress("analyse and write the report");
   for (auto& e : result.experiments) analyse(e, all, o, result.experiments);
-  if (other) result.against = compare_engines(result, *other, o.against);
+  if (other) result.against = compare_engines(result, *other);
   result.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   write_report(result, o.output);
   return result;

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,94 @@ TEST_F(Answers, ABlowLeftOfCentreReadsTheMirrorImageOfTheRightBlowsOutputSphere)
     EXPECT_NEAR(a, b, 1e-12 * b) << blocks << " blocks: " << a << " against " << b;
     EXPECT_NEAR(b, blocks == "2" ? 0.0884953 : 0.0204424, 1e-7) << blocks << " blocks";
   }
+}
+
+// M5: a run.json without its digests (an older granstack's, or edited) cannot vouch that the
+// outputs in the case are its run's: with another case's outputs copied in, an e = 0.9 case read as
+// 0.109629, the e = 1 value. Every command that reads the outputs refuses them, naming the record
+// and the fix, and status counts the case changed, not done.
+TEST_F(Answers, ARecordWithoutDigestsCannotVouchForItsOutputs) {
+  generate_and_run("e1", {"--blocks", "2"});
+  generate_and_run("e09", {"--blocks", "2", "--restitution", "0.9"});
+  fs::copy_file(path("e1") / "dumps" / "dump.txt", path("e09") / "dumps" / "dump.txt", fs::copy_options::overwrite_existing);
+  fs::copy_file(path("e1") / "ke_series.txt", path("e09") / "ke_series.txt", fs::copy_options::overwrite_existing);
+  auto record = nlohmann::json::parse(read_bytes(path("e09") / "run.json"));
+  record.erase("digests");
+  std::ofstream(path("e09") / "run.json") << record.dump(2);
+  for (const auto& command : {"reduce", "export"}) {
+    const auto r = granstack({command, "e09"});
+    EXPECT_EQ(r.code, 4) << command << ": " << r.output;
+    expect_contains(r, "holds no digests of what its run wrote");
+    expect_contains(r, "granstack run --force");
+    EXPECT_EQ(r.output.find("0.1096"), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(path("e09") / "reduce" / "summary.json"));
+  const auto s = granstack({"status", "e09"});
+  EXPECT_EQ(s.code, 1) << s.output;
+  expect_contains(s, "0 done");
+  expect_contains(s, "1 changed since their run");
+}
+
+// status: a case whose manifest cannot be read is damaged, not pending (it would never run), and a
+// case with a dump piece its run did not write is changed, not done (reduce would read the piece).
+TEST_F(Answers, StatusCallsAGarbageManifestDamagedAndAnExtraDumpPieceChanged) {
+  auto g = granstack({"generate", "-o", "garbage", "--blocks", "1"});
+  ASSERT_EQ(g.code, 0) << g.output;
+  std::ofstream(path("garbage") / "manifest.json") << "not a manifest";
+  generate_and_run("pieces", {"--blocks", "1", "--dump-files", "per_step"});
+  auto s = granstack({"status", "pieces"});
+  EXPECT_EQ(s.code, 0) << s.output;
+  fs::copy_file(path("pieces") / "dumps" / "dump.0.txt", path("pieces") / "dumps" / "dump.99999999.txt");
+  s = granstack({"status", "garbage", "pieces"});
+  EXPECT_EQ(s.code, 1) << s.output;
+  expect_contains(s, "0 done");
+  expect_contains(s, "0 pending, 1 changed since their run, 1 damaged");
+  expect_contains(s, "dump.99999999.txt was not written by its run");
+  expect_contains(s, "generate the case again");
+}
+
+// M2: the engine of a reproduction is what its cases' run records name, not this call's --engine.
+// A refsim reproduction rerun without --engine goes on as refsim and says so (it said "Engine:
+// liggghts" over refsim's numbers); a call that asks for another engine is refused before anything
+// is touched, naming the engine the cases ran on and the ways on.
+TEST_F(Answers, AReproductionIsLabelledWithTheEngineItsCasesRanOn) {
+  auto r = granstack({"reproduce", "eq3", "--quick", "-o", "paper", "--engine", "refsim"});
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = granstack({"reproduce", "eq3", "--quick", "-o", "paper"});
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto report = nlohmann::json::parse(read_bytes(path("paper") / "report.json"));
+  EXPECT_EQ(report.at("engine"), "refsim");
+  for (const auto& c : report.at("experiments").at(0).at("cases")) EXPECT_EQ(c.at("engine"), "refsim") << c.dump();
+  EXPECT_NE(read_bytes(path("paper") / "report.md").find("Engine: refsim"), std::string::npos);
+  const auto before = read_bytes(path("paper") / "report.json");
+  r = granstack({"reproduce", "eq3", "--quick", "-o", "paper", "--engine", "liggghts"});
+  EXPECT_EQ(r.code, 3) << r.output;
+  expect_contains(r, "cases ran on refsim");
+  expect_contains(r, "--force to run every case again on liggghts");
+  EXPECT_EQ(read_bytes(path("paper") / "report.json"), before);
+}
+
+// M6 and a bad message: --against compares only with a reproduction whose cases still are what
+// its report read (a case run again since is refused, naming it and the command that brings the
+// report up to date), and counts as changed only claims both reproductions judged.
+TEST_F(Answers, AgainstChecksTheOtherReproductionsCases) {
+  auto r = granstack({"reproduce", "eq3", "--quick", "-o", "on_liggghts", "-j", "2"});
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = granstack({"reproduce", "eq3", "fig3", "--quick", "-o", "on_refsim", "--engine", "refsim", "--against", "on_liggghts",
+                 "-j", "2"});
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto report = nlohmann::json::parse(read_bytes(path("on_refsim") / "report.json"));
+  int both = 0;
+  for (const auto& c : report.at("against").at("claims")) both += c.at("verdict_there") != "not run" ? 1 : 0;
+  EXPECT_GT(both, 0);
+  EXPECT_LT(both, static_cast<int>(report.at("against").at("claims").size()));  // fig3's claims ran on one only
+  EXPECT_EQ(report.at("against").at("changed"), 0) << report.at("against").dump();
+  const auto again = granstack({"run", "--force", (path("on_liggghts") / "eq3" / "steel_on_teflon_rho2").string()});
+  ASSERT_EQ(again.code, 0) << again.output;
+  r = granstack({"reproduce", "eq3", "--quick", "-o", "on_refsim", "--against", "on_liggghts"});
+  EXPECT_EQ(r.code, 2) << r.output;
+  expect_contains(r, "steel_on_teflon_rho2 was run again after the report was written");
+  expect_contains(r, "granstack reproduce -o on_liggghts eq3 --quick");
 }
 
 }  // namespace

@@ -90,6 +90,7 @@ struct CaseState {
 struct StatusReport {
   std::vector<CaseState> cases;
   int done = 0, changed = 0, failed = 0, running = 0, interrupted = 0, pending = 0;
+  int damaged = 0;                        // not run, and its manifest cannot be read (generate it again)
   std::vector<std::string> job_ids;       // of the last submission, when there is one
   std::vector<std::string> queue;         // squeue's lines for those jobs (when squeue answered)
   bool squeue_available = false;          // squeue answered

@@ -41,6 +41,10 @@ struct RunRecord {
   std::string error_line() const { return error.substr(0, error.find('\n')); }
 };
 
+// The engine a run's record names, with refsim's contact rules where they are LAMMPS's: "liggghts",
+// "lammps", "refsim" or "refsim (LAMMPS's rules)"; "" when the record names none.
+std::string run_engine(const RunRecord& record);
+
 // Reads DIR/run.json (files.run_record).
 RunRecord read_run_record(const std::filesystem::path& case_dir, const CaseFiles& files);
 // Writes it atomically (a temporary file renamed into place).

@@ -32,6 +32,12 @@ class TruncatedError : public FormatError {
   using FormatError::FormatError;
 };
 
+// Why a file could not be read, in a user's words: the JSON library's "[json.exception.parse_error.101]
+// parse error at line 1, column 1: syntax error while parsing value - invalid literal; last read:
+// 'g'" becomes "not valid JSON (line 1, column 1)", its type errors "a value of the wrong type
+// (...)"; any other message is what() unchanged.
+std::string short_reason(const std::exception& e);
+
 // The same error (FormatError or TruncatedError) with `delta` added to its line number, when it
 // has one; any other exception unchanged.
 std::exception_ptr shift_line(std::exception_ptr error, long delta);

@@ -25,7 +25,8 @@ enum class DigestCheck {
 
 // Why the case's files are not those its finished run (`record`) read and wrote, or "" when they
 // are: run.json from another case, an input edited since, an output missing, changed, or not
-// written by the run. A record without digests (an older granstack) has nothing to check: "".
+// written by the run. A record without digests (an older granstack's, or edited) cannot vouch for
+// the outputs, and says so: its outputs are never read as the case's.
 std::string files_not_as_run(const Case& c, const RunRecord& record, DigestCheck how);
 // The quick look of status over thousands of cases, without the manifest: true when `record`
 // holds digests and every input and output it lists has the size and time it recorded (the run's

@@ -34,6 +34,8 @@ struct Verdict {
 struct CaseRecord {
   std::string name, dir;
   std::string status;                     // done, failed, interrupted, not run
+  std::string engine;                     // what its run.json names (formats::run_engine); "" when not run
+  std::string run_sha256;                 // of its run.json when done: what a later --against checks
   double wall_seconds = 0.0;              // of this invocation's run (0 when reused)
   std::optional<double> validate_worst;   // with --validate: refsim against LIGGGHTS, worst relative difference
   std::string validate_quantity;          // and where
@@ -62,7 +64,9 @@ struct ReproduceOptions {
   bool full = false;                       // also the cases and experiments marked full
   bool validate = false;                   // also run refsim on every case and compare
   bool force = false;                      // regenerate and rerun every case
-  std::string engine = "liggghts";         // or "refsim", "lammps"
+  // "liggghts", "refsim" or "lammps"; "" : the engine the directory's finished cases ran on (their
+  // run.json), LIGGGHTS for a new reproduction. Cases run on another engine are refused without force.
+  std::string engine;
   int jobs = 1;
   std::string liggghts = "liggghts";
   std::string lammps = "lmp";
@@ -94,7 +98,7 @@ struct StudyResult {
   std::vector<ExperimentResult> experiments;
   double wall_seconds = 0.0;
   bool quick = false, full = false, validated = false;
-  std::string engine;
+  std::string engine;         // the engine every run case ran on, by their run records
   int failed_cases = 0;       // failed to run or to reduce
   int interrupted_cases = 0;  // stopped by a signal, or not begun because one came first
   bool interrupted = false;
