@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <set>
 #include <vector>
 
 namespace granstack::formats {
@@ -42,55 +43,167 @@ void check_contact_model(const std::vector<std::string_view>& words, std::size_t
                                             "model you want (--normal-model, --tangential-model, --rolling-model)",
                                             found, expected));
 }
+
+// The time step and the runs of a deck against the manifest's dt and steps (`fix` says how to
+// mend a difference): the same for LIGGGHTS's deck and LAMMPS's.
+class RunCheck {
+ public:
+  RunCheck(const Case& c, std::string path, std::string fix)
+      : c_(c), path_(std::move(path)), fix_(std::move(fix)), cap_(fmt::format("$(step<{})", c.derived().steps)) {}
+  // One line's words; true when the line was a timestep or a run.
+  bool line(const std::vector<std::string_view>& words, std::string_view text, long number) {
+    capped_ = capped_ || text.find(cap_) != std::string_view::npos;
+    if (words[0] == "timestep") {
+      double value = 0.0;
+      if (!parse_double(words[1], value) || value != c_.derived().dt) {
+        throw FormatError(path_, number, fmt::format("the time step is {}, the manifest's dt is {}{}", words[1], c_.derived().dt, fix_));
+      }
+      timestep_line_ = number;
+      return true;
+    }
+    if (words[0] == "run") {
+      if (!parse_long(words[1], run_steps_)) run_steps_ = -1;
+      run_line_ = number;
+      return true;
+    }
+    return false;
+  }
+  void finish() const {
+    const double dt = c_.derived().dt;
+    const long steps = c_.derived().steps;
+    if (timestep_line_ == 0) throw FormatError(path_, 0, fmt::format("no 'timestep' line (the manifest's dt is {})", dt));
+    if (run_line_ == 0) throw FormatError(path_, 0, fmt::format("no 'run' line (the manifest has {} steps)", steps));
+    // A case that stops at the blow's end runs one dump interval at a time, up to its cap.
+    if (c_.spec().stop == model::StopRule::blow_end) {
+      if (run_steps_ != c_.derived().dump_every || !capped_) {
+        throw FormatError(path_, run_line_, fmt::format("the deck does not run one dump interval ({} steps) at a time up "
+                                                        "to the manifest's cap of {} steps, as a case that stops at the "
+                                                        "blow's end does{}",
+                                                        c_.derived().dump_every, steps, fix_));
+      }
+    } else if (run_steps_ != steps) {
+      throw FormatError(path_, run_line_, fmt::format("the deck runs {} steps, the manifest has {}{}",
+                                                      run_steps_ < 0 ? "an unknown number of" : std::to_string(run_steps_),
+                                                      steps, fix_));
+    }
+  }
+
+ private:
+  const Case& c_;
+  std::string path_, fix_, cap_;
+  long timestep_line_ = 0, run_line_ = 0, run_steps_ = -1;
+  bool capped_ = false;
+};
+
+// A LAMMPS command's words: split at blanks outside quotes ("...", '...'), the quotes kept; a
+// '#' outside quotes ends the line.
+void lammps_words(std::string_view line, std::vector<std::string>& words) {
+  words.clear();
+  std::string word;
+  char quote = 0;
+  bool in_word = false;
+  for (const char ch : line) {
+    if (quote == 0 && ch == '#') break;
+    if (quote == 0 && (ch == ' ' || ch == '\t' || ch == '\r')) {
+      if (in_word) words.push_back(std::move(word));
+      word.clear();
+      in_word = false;
+      continue;
+    }
+    if (ch == '"' || ch == '\'') quote = quote == 0 ? ch : quote == ch ? 0 : quote;
+    word += ch;
+    in_word = true;
+  }
+  if (in_word) words.push_back(std::move(word));
+}
+
+std::string normalised(const std::vector<std::string>& words) {
+  std::string out;
+  for (const auto& w : words) out += (out.empty() ? "" : " ") + w;
+  return out;
+}
+
+// Whether a file a deck names stays inside the case: relative, no "..", no variable that could
+// take it elsewhere.
+bool inside_case(std::string_view name) {
+  if (name.empty() || name.front() == '/' || name.find('$') != std::string_view::npos) return false;
+  for (const auto& part : std::filesystem::path(name)) {
+    if (part == "..") return false;
+  }
+  return true;
+}
 }  // namespace
 
 void check_deck_matches_manifest(const Case& c) {
   const auto& manifest = c.manifest();
   check_rendered_files(c.dir(), manifest);
   const auto path = c.path(manifest.files.deck).string();
-  const double dt = c.derived().dt;
-  const long steps = c.derived().steps;
-  const std::string fix = "; the deck was edited after 'granstack generate': generate the case again with the "
-                          "values you want (--dt, --duration) instead";
   const auto model_words = model::liggghts_model_words(manifest.spec.contact_model());
+  RunCheck runs(c, path, "; the deck was edited after 'granstack generate': generate the case again with the values you "
+                         "want (--dt, --duration) instead");
   LineReader reader(path);
   std::string_view line;
   std::vector<std::string_view> words;
-  long timestep_line = 0, run_line = 0, run_steps = -1;
-  const bool blow_end = manifest.spec.stop == model::StopRule::blow_end;
-  const auto cap = fmt::format("$(step<{})", steps);
-  bool capped = false;
   while (reader.next(line)) {
     split_words(line, words);
     if (words.size() < 2 || words[0].front() == '#') continue;
-    if (words[0] == "timestep") {
-      double value = 0.0;
-      if (!parse_double(words[1], value) || value != dt) {
-        throw FormatError(path, reader.line_number(),
-                          fmt::format("the time step is {}, the manifest's dt is {}{}", words[1], dt, fix));
-      }
-      timestep_line = reader.line_number();
-    } else if (words[0] == "pair_style" || (words[0] == "fix" && words.size() > 3 && words[3] == "wall/gran")) {
+    if (runs.line(words, line, reader.line_number())) continue;
+    if (words[0] == "pair_style" || (words[0] == "fix" && words.size() > 3 && words[3] == "wall/gran")) {
       check_contact_model(words, words[0] == "pair_style" ? 2 : 4, model_words, path, reader.line_number());
-    } else if (words[0] == "run") {
-      if (!parse_long(words[1], run_steps)) run_steps = -1;
-      run_line = reader.line_number();
     }
-    capped = capped || line.find(cap) != std::string_view::npos;
   }
-  if (timestep_line == 0) throw FormatError(path, 0, fmt::format("no 'timestep' line (the manifest's dt is {})", dt));
-  if (run_line == 0) throw FormatError(path, 0, fmt::format("no 'run' line (the manifest has {} steps)", steps));
-  // A case that stops at the blow's end runs one dump interval at a time, up to its cap.
-  if (blow_end && (run_steps != c.derived().dump_every || !capped)) {
-    throw FormatError(path, run_line, fmt::format("the deck does not run one dump interval ({} steps) at a time up to "
-                                                  "the manifest's cap of {} steps, as a case that stops at the blow's "
-                                                  "end does{}",
-                                                  c.derived().dump_every, steps, fix));
+  runs.finish();
+}
+
+void check_lammps_deck(const Case& c, std::string_view deck, const std::string& path, const std::string& source,
+                       const std::set<std::string>& contact_lines) {
+  const auto fix = fmt::format("; granstack writes the spec's values into the deck: take them out of {} (use its "
+                               "placeholders, as templates/in.lammps.tmpl does)",
+                               source);
+  RunCheck runs(c, path, fix);
+  std::set<std::string> contacts;
+  std::vector<std::string_view> split;
+  std::vector<std::string> words;
+  long number = 0;
+  const auto refuse = [&](const std::string& why) { throw FormatError(path, number, why + fix); };
+  for (std::size_t at = 0; at < deck.size();) {
+    auto end = deck.find('\n', at);
+    if (end == std::string_view::npos) end = deck.size();
+    const auto line = deck.substr(at, end - at);
+    at = end + 1;
+    ++number;
+    lammps_words(line, words);
+    if (words.empty()) continue;
+    split_words(line, split);
+    if (words.size() >= 2 && runs.line(split, line, number)) continue;
+    const auto& command = words[0];
+    if (command == "shell") refuse("the deck runs a shell command, which could write anywhere");
+    if (command == "pair_style" && normalised(words) != "pair_style granular") {
+      refuse(fmt::format("'{}' is not the pair style the spec maps onto ('pair_style granular')", normalised(words)));
+    }
+    if (command == "pair_coeff" || (command == "fix" && words.size() > 3 && words[3] == "wall/gran")) {
+      const auto text = normalised(words);
+      if (contact_lines.count(text) == 0) refuse(fmt::format("'{}' is not a contact the spec maps onto", text));
+      contacts.insert(text);
+    }
+    if (command == "dump" && words.size() > 5 && words[5] != c.files().dump) {
+      refuse(fmt::format("the dump '{}' goes to {}, not to the case's {}", words[1], words[5], c.files().dump));
+    }
+    if ((command == "log" || command == "write_data" || command == "write_restart" || command == "write_dump" ||
+         command == "restart" || command == "write_coeff") && words.size() > 1 && !inside_case(words[command == "restart" && words.size() > 2 ? 2 : 1])) {
+      refuse(fmt::format("'{}' writes outside the case", normalised(words)));
+    }
+    for (std::size_t k = 1; k + 1 < words.size(); ++k) {
+      if ((words[k] == "file" || words[k] == "append" || words[k] == "screen") && command == "fix" && !inside_case(words[k + 1])) {
+        refuse(fmt::format("'{}' writes {} outside the case", command + " " + words[1], words[k + 1]));
+      }
+    }
   }
-  if (!blow_end && run_steps != steps) {
-    throw FormatError(path, run_line, fmt::format("the deck runs {} steps, the manifest has {}{}",
-                                                  run_steps < 0 ? "an unknown number of" : std::to_string(run_steps),
-                                                  steps, fix));
+  runs.finish();
+  for (const auto& expected : contact_lines) {
+    if (contacts.count(expected) == 0) {
+      throw FormatError(path, 0, fmt::format("the deck lacks '{}', a contact the spec maps onto{}", expected, fix));
+    }
   }
 }
 

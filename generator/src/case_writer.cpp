@@ -95,7 +95,7 @@ std::string blow_end_run(const model::Stack& stack, const model::Resolution& res
   }
   judge = dialect.radius_setup + judge;
   if (dialect.judge_in_thermo) {
-    judge += fmt::format("thermo_style    custom step atoms ke cpu {}\n"
+    judge += fmt::format("thermo_style    custom step atoms ke c_gs_erot cpu {}\n"
                          "thermo_modify   lost error norm no format float %.15g\n",
                          stack.spec().bottom == model::Boundary::wall ? "c_gs_pz c_gs_press" : "c_gs_touch c_gs_aim");
   }
@@ -129,17 +129,17 @@ std::string blow_end_run(const model::Stack& stack, const model::Resolution& res
 // The processor grid: `granstack run --np N` chooses one for the stack and passes it with -var
 // (runner/decomposition.hpp); the defaults are for a run by hand, where LIGGGHTS factors the
 // ranks over the free directions.
-std::string processors_lines(const model::Stack& stack) {
+std::string processors_lines(const model::Stack& stack, std::string_view program) {
   const bool strip = !stack.three_d() && !stack.container();
   return fmt::format(
       "# MPI ranks: `granstack run --np N` passes the processor grid it chose for this stack\n"
       "# (-var gs_ranks_x X -var gs_ranks_y Y -var gs_ranks_z Z; run.json's \"decomposition\" gives its loads). Run by\n"
-      "# hand, LIGGGHTS chooses: {}.\n"
+      "# hand, {} chooses: {}.\n"
       "variable        gs_ranks_x index *\n"
       "variable        gs_ranks_y index {}\n"
       "variable        gs_ranks_z index {}\n"
       "processors      ${{gs_ranks_x}} ${{gs_ranks_y}} ${{gs_ranks_z}}",
-      strip ? "the strip is one sphere thick in y, so x and z are split" : "x and y are split, never z",
+      program, strip ? "the strip is one sphere thick in y, so x and z are split" : "x and y are split, never z",
       strip ? "1" : "*", strip ? "*" : "1");
 }
 
@@ -220,7 +220,7 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
   v["walls"] = walls.empty() ? "# free bottom and free sides: no walls" : walls.substr(0, walls.size() - 1);
   v["gravity"] = spec.gravity > 0.0 ? fmt::format("fix             gravity all gravity {} vector 0 0 -1", spec.gravity)
                                     : std::string("# no gravity");
-  v["processors"] = processors_lines(stack);
+  v["processors"] = processors_lines(stack, "LIGGGHTS");
   v["contact_distance_factor"] = fmt::format("{}", model::kContactDistanceFactor);
   v["dt"] = fmt::format("{}", res.dt);
   v["steps"] = std::to_string(res.steps);

@@ -5,6 +5,7 @@
 #include <granstack/model/stack.hpp>
 
 #include <string>
+#include <string_view>
 
 namespace granstack::generator {
 
@@ -28,6 +29,7 @@ std::string group_command(const model::SeriesGroup& g);
 std::string blow_end_run(const model::Stack& stack, const model::Resolution& res, const DeckDialect& dialect);
 
 // The deck's processor grid: -var gs_ranks_x/y/z from `granstack run --np N`, or the program's own.
-std::string processors_lines(const model::Stack& stack);
+// `program` names the engine that chooses when the deck is run by hand ("LIGGGHTS", "LAMMPS").
+std::string processors_lines(const model::Stack& stack, std::string_view program);
 
 }  // namespace granstack::generator

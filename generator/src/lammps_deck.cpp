@@ -10,6 +10,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <set>
 
 namespace granstack::embedded {
 std::string_view lammps_template();
@@ -20,15 +21,16 @@ namespace granstack::generator {
 namespace {
 
 // Every type pair's pair_coeff (LAMMPS mixes an unset pair otherwise, and not as LIGGGHTS does).
-std::string pair_coeff_lines(const model::StackSpec& spec, const std::vector<std::string>& types) {
+std::string pair_coeff_lines(const model::StackSpec& spec, const std::vector<std::string>& types,
+                             const model::LammpsRules& rules) {
   const auto lib = spec.material_library();
   std::string out;
   for (std::size_t i = 0; i < types.size(); ++i) {
     for (std::size_t j = i; j < types.size(); ++j) {
       const auto& a = types[i];
       const auto& b = types[j];
-      const auto c = model::lammps_contact(lib.at(a), lib.at(b), spec.restitution.get(a, b), spec.friction.get(a, b), false);
-      out += fmt::format("pair_coeff      {} {} {}\n", i + 1, j + 1, model::lammps_contact_words(c));
+      const auto c = model::lammps_contact(lib.at(a), lib.at(b), spec.restitution.get(a, b), spec.friction.get(a, b), false, rules);
+      out += fmt::format("pair_coeff      {} {} {}\n", i + 1, j + 1, model::lammps_contact_words(c, rules));
     }
   }
   out.pop_back();
@@ -46,7 +48,7 @@ bool wall_below_spheres(const model::Stack& stack, const model::Wall& w) {
 
 // LAMMPS's fix wall/gran takes one set of coefficients for every sphere it acts on, so each wall
 // is one fix per atom type that has spheres: the wall's material against that type's.
-std::string wall_lines(const model::Stack& stack, const std::vector<std::string>& types) {
+std::string wall_lines(const model::Stack& stack, const std::vector<std::string>& types, const model::LammpsRules& rules) {
   const auto& spec = stack.spec();
   const auto lib = spec.material_library();
   std::string out;
@@ -57,9 +59,9 @@ std::string wall_lines(const model::Stack& stack, const std::vector<std::string>
       const int type = static_cast<int>(t) + 1;
       if (type == stack.wall_type()) continue;
       const auto c = model::lammps_contact(lib.at(types[t]), lib.at(wall_material), spec.restitution.get(types[t], wall_material),
-                                           spec.friction.get(types[t], wall_material), true);
+                                           spec.friction.get(types[t], wall_material), true, rules);
       out += fmt::format("fix             {}_{} gs_type{} wall/gran granular {} {}plane {}{}\n", w.name, type, type,
-                         model::lammps_contact_words(c), "xyz"[w.axis], plane,
+                         model::lammps_contact_words(c, rules), "xyz"[w.axis], plane,
                          w.name == model::kBottomWallName ? " contacts" : "");
     }
   }
@@ -99,8 +101,37 @@ std::string energy_series(const model::Stack& stack, const model::Resolution& re
                      res.series_every, values, files.series, fmt::join(files.series_columns, " "));
 }
 
+// What the deck's contacts were mapped for, and which damping coefficient stands for which of the
+// spec's restitutions.
+std::string rules_note(const model::StackSpec& spec, const model::LammpsRules& rules) {
+  std::string out = fmt::format("# Mapped for {} ({}).\n# {}.", rules.name,
+                                rules.run_here ? "checked against a real binary" : "written from its source, not run",
+                                rules.source);
+  std::set<double> restitutions{spec.restitution.value};
+  for (const auto& [pair, e] : spec.restitution.pairs) restitutions.insert(e);
+  for (const double e : restitutions) {
+    if (!(e < 1.0)) continue;
+    if (rules.damping == model::LammpsDamping::coeff_restitution) {
+      out += fmt::format("\n# Restitution {}: damping coeff_restitution with e = {} itself (LIGGGHTS's damping law).", e, e);
+    } else {
+      out += fmt::format("\n# Restitution {}: damping tsuji with e' = {:.17g}, whose alpha(e') is LIGGGHTS's "
+                         "sqrt(5) |beta({})| (e' is not the restitution: it stands for it).",
+                         e, model::lammps_tsuji_restitution(e), e);
+    }
+  }
+  return out;
+}
+
+// Said beside the run: where 29 Sep 2021's fix wall/gran changes its own damping.
+std::string run_note(const model::Stack& stack, const model::LammpsRules& rules) {
+  if (rules.damping != model::LammpsDamping::tsuji_match || stack.walls().empty()) return "";
+  return "# This LAMMPS's fix wall/gran converts its tsuji coefficient in place each time a run does its setup:\n"
+         "# keep one `run`, or give every later one `pre no`, or the walls' damping changes from the second\n"
+         "# run on.\n";
+}
+
 TemplateVars lammps_variables(const model::Stack& stack, const model::Resolution& res, const formats::CaseFiles& files,
-                              const std::string& case_name) {
+                              const std::string& case_name, const model::LammpsRules& rules) {
   const auto& spec = stack.spec();
   const auto types = stack.type_materials();
   TemplateVars v;
@@ -108,10 +139,11 @@ TemplateVars lammps_variables(const model::Stack& stack, const model::Resolution
   v["granstack_version"] = std::string(version());
   v["git_commit"] = std::string(git_commit());
   v["data_file"] = files.data;
-  v["processors"] = processors_lines(stack);
+  v["processors"] = processors_lines(stack, "LAMMPS");
   v["skin"] = fmt::format("{}", res.skin);
-  v["pair_coeffs"] = pair_coeff_lines(spec, types);
-  const auto walls = wall_lines(stack, types);
+  v["lammps_rules"] = rules_note(spec, rules);
+  v["pair_coeffs"] = pair_coeff_lines(spec, types, rules);
+  const auto walls = wall_lines(stack, types, rules);
   v["walls"] = walls.empty() ? "# free bottom and free sides: no walls"
                              : type_groups(stack, types.size()) + walls.substr(0, walls.size() - 1);
   v["gravity"] = spec.gravity > 0.0 ? fmt::format("fix             gravity all gravity {} vector 0 0 -1", spec.gravity)
@@ -129,7 +161,8 @@ TemplateVars lammps_variables(const model::Stack& stack, const model::Resolution
                         ? "dump_modify     stack sort id"
                         : "dump_modify     stack sort id format int %d format float %.17g";
   v["thermo_every"] = std::to_string(res.thermo_every);
-  v["run"] = res.stops_at_blow_end ? blow_end_run(stack, res, kLammpsDialect) : fmt::format("run             {}", res.steps);
+  v["run"] = run_note(stack, rules) +
+             (res.stops_at_blow_end ? blow_end_run(stack, res, kLammpsDialect) : fmt::format("run             {}", res.steps));
   return v;
 }
 
@@ -137,9 +170,26 @@ TemplateVars lammps_variables(const model::Stack& stack, const model::Resolution
 
 std::string_view default_lammps_template() { return embedded::lammps_template(); }
 
+std::set<std::string> lammps_contact_lines(const model::Stack& stack, const model::LammpsRules& rules) {
+  const auto types = stack.type_materials();
+  std::set<std::string> lines;
+  std::string line;
+  const auto text = pair_coeff_lines(stack.spec(), types, rules) + "\n" + wall_lines(stack, types, rules);
+  for (const char ch : text + "\n") {  // each line, its blanks collapsed to one
+    if (ch == '\n') {
+      if (!line.empty()) lines.insert(line);
+      line.clear();
+    } else if (ch != ' ' || (!line.empty() && line.back() != ' ')) {
+      line += ch;
+    }
+  }
+  return lines;
+}
+
 std::string lammps_deck(const model::Stack& stack, const model::Resolution& res, const formats::CaseFiles& files,
-                        const std::string& case_name, std::string_view tmpl, std::string_view source) {
-  return render_template(tmpl, lammps_variables(stack, res, files, case_name), source);
+                        const std::string& case_name, std::string_view tmpl, std::string_view source,
+                        const model::LammpsRules& rules) {
+  return render_template(tmpl, lammps_variables(stack, res, files, case_name, rules), source);
 }
 
 }  // namespace granstack::generator

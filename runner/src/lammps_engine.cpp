@@ -4,6 +4,8 @@
 #include "engine.hpp"
 #include "program.hpp"
 
+#include <granstack/formats/deck.hpp>
+#include <granstack/formats/error.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/lammps.hpp>
@@ -15,6 +17,8 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <optional>
+#include <sstream>
 
 namespace granstack::runner {
 
@@ -30,38 +34,94 @@ formats::CaseFiles lammps_files(formats::CaseFiles files) {
   return files;
 }
 
-// Whether `lmp -h` lists pair style granular (the GRANULAR package), asked once per program.
-bool has_granular(const std::string& program) {
+// What `lmp -h` says of a LAMMPS: whether it lists pair style granular (the GRANULAR package), and
+// its version. Asked once per program.
+struct LammpsProgram {
+  int exit_code = 0;      // of `lmp -h`
+  bool banner = false;    // it printed LAMMPS's name
+  bool granular = false;
+  std::optional<model::LammpsVersion> version;
+};
+
+LammpsProgram probe(const std::string& program) {
   static std::mutex mutex;
-  static std::map<std::string, bool> known;
+  static std::map<std::string, LammpsProgram> known;
   const std::lock_guard lock(mutex);
   if (const auto it = known.find(program); it != known.end()) return it->second;
   const auto help = fs::temp_directory_path() / fmt::format("granstack-lmp-help-{}", ::getpid());
   os::StartOptions start;
   start.output = help;
   const auto exit = os::run({program, "-h"}, start);
-  bool found = false;
+  LammpsProgram p;
+  p.exit_code = exit.ok() ? 0 : exit.signal != 0 ? 128 + exit.signal : exit.code;
   if (exit.ok()) {
-    std::ifstream in(help);
+    std::string text;
+    try {
+      text = formats::read_file(help);
+    } catch (const std::exception&) {
+    }
+    p.banner = text.find("Large-scale Atomic/Molecular Massively Parallel Simulator") != std::string::npos;
+    p.version = model::parse_lammps_version(text);
+    std::istringstream in(text);
     std::string line;
     bool pair_styles = false;
     while (std::getline(in, line)) {
       if (line.find("* Pair styles:") != std::string::npos) pair_styles = true;
       else if (pair_styles && line.rfind("* ", 0) == 0) break;  // the next section
-      if (pair_styles && (" " + line + " ").find(" granular ") != std::string::npos) found = true;
+      if (pair_styles && (" " + line + " ").find(" granular ") != std::string::npos) p.granular = true;
     }
   }
   std::error_code ec;
   fs::remove(help, ec);
-  return known[program] = found;
+  return known[program] = p;
 }
 
-// The case's deck, from the template the options name (a user's, or templates/in.lammps.tmpl).
-std::string render_deck(const formats::Case& c, const RunOptions& o) {
+// The rules of the LAMMPS `program` (its version's), or why granstack cannot map onto it.
+const model::LammpsRules* rules_of(const std::string& program, const std::string& flag_value, std::string& why) {
+  const auto p = probe(program);
+  if (p.exit_code != 0 || !p.banner) {
+    why = fmt::format("{} is not a LAMMPS: '{} -h' {}; install Debian's 'lammps', or pass --lammps with the LAMMPS "
+                      "executable",
+                      program, flag_value,
+                      p.exit_code != 0 ? fmt::format("ended with exit status {}", p.exit_code)
+                                       : "does not print LAMMPS's banner (Large-scale Atomic/Molecular Massively "
+                                         "Parallel Simulator)");
+    return nullptr;
+  }
+  if (!p.granular) {
+    why = fmt::format("LAMMPS ({}) has no pair style 'granular' ('{} -h' does not list it): it was built without "
+                      "the GRANULAR package; install Debian's 'lammps', or pass --lammps with a "
+                      "LAMMPS that has it",
+                      program, flag_value);
+    return nullptr;
+  }
+  if (!p.version) {
+    why = fmt::format("LAMMPS ({}) does not say its version ('{} -h' has no line 'Large-scale Atomic/Molecular "
+                      "Massively Parallel Simulator - DATE'); granstack maps the spec onto LAMMPS's models only for "
+                      "versions whose rules it knows: {}",
+                      program, flag_value, model::known_lammps_versions());
+    return nullptr;
+  }
+  const auto* rules = model::lammps_rules_for(*p.version);
+  if (rules == nullptr) {
+    why = fmt::format("LAMMPS ({}) is version '{}', whose granular rules granstack does not know (how its walls form "
+                      "E* and which damping it has changed between versions: docs/explanation/lammps.md); the versions "
+                      "it maps onto: {}. Pass --lammps with one of those",
+                      program, p.version->text, model::known_lammps_versions());
+  }
+  return rules;
+}
+
+// The case's deck, from the template the options name (a user's, or templates/in.lammps.tmpl), for
+// the LAMMPS of the family `rules`, checked against the manifest (formats::check_lammps_deck).
+std::string render_deck(const formats::Case& c, const RunOptions& o, const model::LammpsRules& rules) {
   const bool own = o.lammps_template.empty();
   const auto text = own ? std::string(generator::default_lammps_template()) : formats::read_file(o.lammps_template);
-  return generator::lammps_deck(c.stack(), c.resolution(), c.files(), c.name(), text,
-                                own ? "templates/in.lammps.tmpl" : o.lammps_template);
+  const auto source = own ? std::string("templates/in.lammps.tmpl") : o.lammps_template;
+  auto deck = generator::lammps_deck(c.stack(), c.resolution(), c.files(), c.name(), text, source, rules);
+  formats::check_lammps_deck(c, deck, c.path(lammps_files(c.files()).deck).string(), source,
+                             generator::lammps_contact_lines(c.stack(), rules));
+  return deck;
 }
 
 // LAMMPS's fix print also prints when each run sets up (fix_print.cpp's setup()): at step 0, and
@@ -108,14 +168,15 @@ class Lammps final : public CaseEngine {
   std::string unavailable(const formats::Case& c, const RunOptions& o) const override {
     if (auto why = program_unavailable("LAMMPS", o.lammps, "--lammps", "lammps", o); !why.empty()) return why;
     const auto program = *os::find_program(o.lammps);
-    if (!has_granular(program)) {
-      return fmt::format("LAMMPS ({}) has no pair style 'granular' ('{} -h' does not list it): it was built without "
-                         "the GRANULAR package; install Debian's 'lammps', or pass --lammps with a LAMMPS that has it",
-                         program, o.lammps);
-    }
-    if (const auto why = model::lammps_unmappable(c.spec()); !why.empty()) return "LAMMPS: " + why;
+    std::string why;
+    const auto* rules = rules_of(program, o.lammps, why);
+    if (rules == nullptr) return why;
+    if (why = model::lammps_unmappable(c.spec(), *rules); !why.empty()) return "LAMMPS: " + why;
     try {
-      (void)render_deck(c, o);
+      (void)render_deck(c, o, *rules);
+    } catch (const formats::FormatError& e) {
+      return fmt::format("LAMMPS: the deck from {} does not run the case's spec: {}",
+                         o.lammps_template.empty() ? "templates/in.lammps.tmpl" : o.lammps_template, e.what());
     } catch (const std::exception& e) {
       return fmt::format("LAMMPS: the deck cannot be rendered: {}", e.what());
     }
@@ -126,8 +187,14 @@ class Lammps final : public CaseEngine {
                    const std::function<void()>& on_started) const override {
     const auto files = lammps_files(c.files());
     EngineResult result;
+    std::string why;
+    const auto* rules = rules_of(*os::find_program(o.lammps), o.lammps, why);  // unavailable() found them
+    if (rules == nullptr) {
+      result.error = why;
+      return result;
+    }
     try {
-      formats::write_file_atomically(fs::path(c.dir()) / files.deck, render_deck(c, o));
+      formats::write_file_atomically(fs::path(c.dir()) / files.deck, render_deck(c, o, *rules));
     } catch (const std::exception& e) {
       result.error = fmt::format("LAMMPS: {} could not be written: {}", files.deck, e.what());
       return result;
@@ -141,6 +208,7 @@ class Lammps final : public CaseEngine {
       }
     }
     result.record["lammps_deck"] = files.deck;
+    result.record["lammps_rules"] = rules->name;
     result.record["lammps_template"] = o.lammps_template.empty() ? "templates/in.lammps.tmpl" : o.lammps_template;
     return result;
   }

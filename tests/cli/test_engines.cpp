@@ -4,8 +4,12 @@
 // case is touched; validate and refsim's rules take their engines by name.
 #include "../support/granstack_test.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <functional>
 
 using namespace granstack;
 using namespace granstack::test;
@@ -56,10 +60,13 @@ TEST_F(Engines, WhatLammpsCannotRunIsRefusedBeforeTheCaseIsTouched) {
   auto r = granstack({"run", "--engine", "lammps", "--force", "--lammps", path("no_lmp").string(), c.string()});
   EXPECT_EQ(r.code, 1) << r.output;
   expect_contains(r, "--lammps " + path("no_lmp").string() + ": not an executable file");
-  // A program that is no LAMMPS with GRANULAR: its -h lists no pair style granular.
+  // A program that is no LAMMPS: its -h prints no LAMMPS banner, or fails.
   r = granstack({"run", "--engine", "lammps", "--force", "--lammps", "/bin/true", c.string()});
   EXPECT_EQ(r.code, 1) << r.output;
-  expect_contains(r, "has no pair style 'granular'");
+  expect_contains(r, "/bin/true is not a LAMMPS: '/bin/true -h' does not print LAMMPS's banner");
+  r = granstack({"run", "--engine", "lammps", "--force", "--lammps", "/bin/false", c.string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "/bin/false is not a LAMMPS: '/bin/false -h' ended with exit status 1");
   const auto tmpl = path("mine.tmpl");
   std::ofstream(tmpl) << "units si\n{{no_such_setting}}\n";
   r = granstack({"run", "--engine", "lammps", "--force", "--lammps-template", tmpl.string(), c.string()});
@@ -113,4 +120,83 @@ TEST_F(Engines, ValidateAndRefsimRulesTakeTheirEnginesByName) {
   r = granstack({"run", "--lammps-template", path("case/in.stack").string(), c.string()});
   EXPECT_EQ(r.code, 2) << r.output;
   expect_contains(r, "--lammps-template is the LAMMPS deck's template");
+}
+
+namespace {
+// A LAMMPS that says another version to -h and otherwise is Debian's: what the version's rules
+// choose can be seen in the deck it is given.
+fs::path fake_lammps(const fs::path& dir, const std::string& version) {
+  const auto program = dir / ("lmp-" + std::to_string(std::hash<std::string>{}(version)));
+  std::ofstream(program) << "#!/bin/sh\nif [ \"$1\" = -h ]; then lmp -h | sed 's/29 Sep 2021 - Update 2/" << version
+                         << "/'; exit 0; fi\nexec lmp \"$@\"\n";
+  fs::permissions(program, fs::perms::owner_all);
+  return program;
+}
+}  // namespace
+
+// LAMMPS's version chooses the mapping (#46): a version whose rules granstack does not know is
+// refused by name with the known ones listed, before the case is touched; a release of the 2023
+// rewrite gets its walls' E' (E* = E / (2 (1 - nu^2)): steel on steel passes steel's own E, where
+// the 2021 wall's E' is E / (1 + nu)) and coeff_restitution, and its run.json names the rules.
+TEST_F(Engines, LammpsVersionChoosesTheMapping) {
+  const auto c = make_case("case", {"--bottom", "wall", "--restitution", "0.9"});
+  auto r = granstack({"run", "--engine", "lammps", "--lammps", fake_lammps(dir_, "2 Aug 2023").string(), c.string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "is version '2 Aug 2023', whose granular rules granstack does not know");
+  expect_contains(r, "29 Sep 2021 (every update), run against a real binary; 27 Jun 2024 to 22 Jul 2025, written from its "
+                     "source, not run");
+  EXPECT_FALSE(fs::exists(c / "run.json"));
+  EXPECT_FALSE(fs::exists(c / "in.lammps"));
+  // Debian's own: the 2021 wall.
+  r = granstack({"run", "--engine", "lammps", c.string()});
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(record(c).at("lammps_rules"), "LAMMPS 29 Sep 2021");
+  auto deck = read_bytes(c / "in.lammps");
+  EXPECT_NE(deck.find(fmt::format("wall/gran granular hertz/material {:.17g} ", 2.0 * (1.0 - 0.3) * 193e9 / (2.0 * (1 - 0.09)))),
+            std::string::npos)
+      << deck;
+  // A 2024 release: the rewrite's wall and coeff_restitution. Debian's binary refuses the damping it lacks.
+  r = granstack({"run", "--engine", "lammps", "--force", "--lammps", fake_lammps(dir_, "29 Aug 2024 - Update 1").string(),
+                 c.string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "damping");
+  deck = read_bytes(c / "in.lammps");
+  EXPECT_NE(deck.find("wall/gran granular hertz/material 193000000000 0.90000000000000002 0.29999999999999999 damping "
+                      "coeff_restitution"),
+            std::string::npos)
+      << deck;
+  EXPECT_EQ(record(c).at("lammps_rules"), "LAMMPS 27 Jun 2024 to 22 Jul 2025");
+  EXPECT_EQ(deck.find("damping tsuji"), std::string::npos);
+}
+
+// A user's LAMMPS template is held to the spec as the LIGGGHTS deck is (#46 M3, M4): a hard-coded
+// time step, another contact, a dump sent outside the case or a shell command are refused before
+// the case is touched, naming the line; nothing is written outside the case.
+TEST_F(Engines, ALammpsTemplateIsHeldToTheSpec) {
+  const auto c = make_case("case");
+  const auto own = read_bytes(fs::path(GRANSTACK_SOURCE_DIR) / "templates" / "in.lammps.tmpl");
+  const auto outside = path("elsewhere");
+  fs::create_directories(outside);
+  const auto refused = [&](const std::string& from, const std::string& to, const std::string& words) {
+    auto text = own;
+    const auto at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    const auto tmpl = path("mine.tmpl");
+    std::ofstream(tmpl) << text;
+    const auto r = granstack({"run", "--engine", "lammps", "--lammps-template", tmpl.string(), c.string()});
+    EXPECT_EQ(r.code, 1) << r.output;
+    expect_contains(r, words);
+    expect_contains(r, "take them out of " + tmpl.string());
+    EXPECT_FALSE(fs::exists(c / "run.json")) << words;
+    EXPECT_FALSE(fs::exists(c / "in.lammps")) << words;
+  };
+  refused("timestep        {{dt}}", "timestep        1e-9", "the time step is 1e-9, the manifest's dt is");
+  refused("{{pair_coeffs}}", "{{pair_coeffs}}\npair_coeff 1 1 hertz/material 1e9 0 0.3 damping viscoelastic tangential "
+                             "linear_nohistory 0 0",
+          "is not a contact the spec maps onto");
+  refused("{{dump_file}}", (outside / "dump.txt").string(), "goes to " + (outside / "dump.txt").string());
+  refused("read_data       {{data_file}}", "read_data       {{data_file}}\nshell touch gotcha", "runs a shell command");
+  refused("read_data       {{data_file}}", "read_data       {{data_file}}\nlog ../../log.lammps", "writes outside the case");
+  EXPECT_TRUE(fs::is_empty(outside));
 }

@@ -5,10 +5,12 @@
 #include <granstack/formats/ownership.hpp>
 #include <granstack/generator/spec_input.hpp>
 #include <granstack/generator/template.hpp>
+#include <granstack/model/lammps.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
 
 #include <filesystem>
+#include <set>
 #include <functional>
 #include <optional>
 #include <string>
@@ -48,10 +50,15 @@ bool has_default_deck(const std::string& case_dir, const formats::Manifest& mani
 // The LAMMPS deck of a case (`granstack run --engine lammps` writes it as in.lammps): `tmpl`
 // (default_lammps_template(), templates/in.lammps.tmpl, or a user's; `source` names it in
 // errors) rendered for the case's stack, resolution and files, its contacts mapped as
-// model/lammps.hpp says. The caller checks model::lammps_unmappable first.
+// model/lammps.hpp says for a LAMMPS of the family `rules`. The caller checks
+// model::lammps_unmappable first.
 std::string_view default_lammps_template();
 std::string lammps_deck(const model::Stack& stack, const model::Resolution& res, const formats::CaseFiles& files,
-                        const std::string& case_name, std::string_view tmpl, std::string_view source);
+                        const std::string& case_name, std::string_view tmpl, std::string_view source,
+                        const model::LammpsRules& rules);
+// The deck's pair_coeff and wall/gran lines for the stack (words separated by one blank): what
+// formats::check_lammps_deck holds a deck from another template to.
+std::set<std::string> lammps_contact_lines(const model::Stack& stack, const model::LammpsRules& rules);
 nlohmann::json derived_json(const model::Stack& stack, const model::Resolution& res);
 nlohmann::json layout_json(const model::Stack& stack);
 
