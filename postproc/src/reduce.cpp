@@ -377,6 +377,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   CaseReduction r;
   r.case_dir = case_dir;
   r.case_name = manifest.case_name;
+  r.engine = formats::run_engine(c.run_record());
   r.spec = spec;
   r.e_in = stack.incident_energy();
   // The in-situ series gives the peaks. It must be the run's own and whole (checked here), and
@@ -511,6 +512,7 @@ json to_json(const CaseReduction& r) {
   }
   json j = {{"case", r.case_name},
           {"case_dir", r.case_dir},
+          {"engine", r.engine},
           {"blocks", r.spec.blocks},
           {"restitution", r.spec.restitution.value},
           {"friction", r.spec.friction.value},
@@ -596,19 +598,24 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
   for (const auto& r : rs) w = std::max(w, r.case_name.size());
   // Containers add what leaked out of the impacted panel (into the matrix and the other panels).
   const bool containers = std::any_of(rs.begin(), rs.end(), [](const auto& r) { return !r.panel_frames.empty(); });
-  fmt::format_to(out, "{:<{}}  {:>3}  {:>6}  {:>6}  {:>7}  {:>11}  {:>12}  {:>12}  {:>12}{}\n", "case", w, "N_B", "e", "mu",
-                 "v(m/s)", "E_in (J)", "output", "bottom row", "per sphere", containers ? "        leaked" : "");
+  // Cases run on different engines (or refsim by different rules) say which ran each.
+  const bool engines = std::any_of(rs.begin(), rs.end(), [&](const auto& r) { return r.engine != rs.front().engine; });
+  std::size_t we = 6;
+  for (const auto& r : rs) we = std::max(we, r.engine.size());
+  const auto engine_cell = [&](const std::string& text) { return engines ? fmt::format("  {:<{}}", text, we) : std::string(); };
+  fmt::format_to(out, "{:<{}}{}  {:>3}  {:>6}  {:>6}  {:>7}  {:>11}  {:>12}  {:>12}  {:>12}{}\n", "case", w, engine_cell("engine"),
+                 "N_B", "e", "mu", "v(m/s)", "E_in (J)", "output", "bottom row", "per sphere", containers ? "        leaked" : "");
   for (const auto& r : rs) {
-    fmt::format_to(out, "{:<{}}  {:>3}  {:>6}  {:>6}  {:>7}  {:>11.5g}  {:>12.6g}  {:>12.6g}  {:>12.6g}{}{}\n", r.case_name, w,
-                   r.spec.blocks, r.spec.restitution.value, r.spec.friction.value, r.spec.striker_speed, r.e_in,
-                   r.output_fraction, r.output_fraction_bottom_row, r.output_fraction_bottom_row_per_sphere,
+    fmt::format_to(out, "{:<{}}{}  {:>3}  {:>6}  {:>6}  {:>7}  {:>11.5g}  {:>12.6g}  {:>12.6g}  {:>12.6g}{}{}\n", r.case_name, w,
+                   engine_cell(r.engine), r.spec.blocks, r.spec.restitution.value, r.spec.friction.value, r.spec.striker_speed,
+                   r.e_in, r.output_fraction, r.output_fraction_bottom_row, r.output_fraction_bottom_row_per_sphere,
                    !containers ? "" : r.panel_frames.empty() ? fmt::format("  {:>12}", "-")
                                                              : fmt::format("  {:>12.6g}", r.leaked_final_fraction),
                    r.output_separated || r.spec.bottom == model::Boundary::wall ? "" : "  (not separated)");
   }
   if (rs.size() == 1) {
     const auto& r = rs.front();
-    fmt::format_to(out, "\nper block ({}; peaks from the {}):\n", r.case_name,
+    fmt::format_to(out, "\nper block ({}, run on {}; peaks from the {}):\n", r.case_name, r.engine,
                    r.peak_source == "series" ? "in-situ series" : "dump frames");
     fmt::format_to(out, "{:>5}  {:>8}  {:>14}  {:>10}  {:>13}  {:>5}  {:>6}  {:>12}  {:>10}\n", "block", "material",
                    "peak KE (J)", "peak/top", "t_peak (us)", "peaks", "pulses", "wave (m/s)", "/Nesterenko");

@@ -43,6 +43,7 @@ OutputTable build_table(const std::vector<CaseReduction>& reductions) {
   for (const auto& r : reductions) {
     auto key = formats::spec_to_json(r.spec);
     key.erase("blocks");
+    key["engine"] = r.engine;  // the same spec on two engines is two groups, each named by its engine
     const auto text = key.dump();
     by_key[text].push_back(&r);
     keys[text] = key;

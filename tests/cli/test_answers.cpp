@@ -142,4 +142,28 @@ TEST_F(Answers, AgainstChecksTheOtherReproductionsCases) {
   expect_contains(r, "granstack reproduce -o on_liggghts eq3 --quick");
 }
 
+// The engine of a result is shown with it: one spec run by refsim on LIGGGHTS's contact rules and
+// on LAMMPS's (friction makes them part at 1e-3) is two groups of table, each named by its engine
+// (they were "two cases that differ in nothing but their directory", refused), and reduce's table
+// gains an engine column when its cases ran on different ones.
+TEST_F(Answers, TheEngineOfAResultIsShownWithIt) {
+  for (const std::string rules : {"liggghts", "lammps"}) {
+    auto r = granstack({"generate", "-o", rules, "--blocks", "2", "--restitution", "0.9", "--friction", "0.3"});
+    ASSERT_EQ(r.code, 0) << r.output;
+    r = granstack({"run", "--engine", "refsim", "--contact-rules", rules, rules});
+    ASSERT_EQ(r.code, 0) << r.output;
+  }
+  auto r = granstack({"table", "liggghts", "lammps"});
+  EXPECT_EQ(r.code, 0) << r.output;
+  expect_contains(r, "| N_B | engine=refsim | engine=refsim (LAMMPS's rules) |");
+  r = granstack({"reduce", "liggghts", "lammps"});
+  EXPECT_EQ(r.code, 0) << r.output;
+  expect_contains(r, "case      engine                   N_B");
+  expect_contains(r, "lammps    refsim (LAMMPS's rules)    2");
+  r = granstack({"reduce", "lammps"});
+  expect_contains(r, "per block (lammps, run on refsim (LAMMPS's rules); peaks from");
+  EXPECT_EQ(nlohmann::json::parse(read_bytes(path("lammps") / "reduce" / "summary.json")).at("engine"),
+            "refsim (LAMMPS's rules)");
+}
+
 }  // namespace

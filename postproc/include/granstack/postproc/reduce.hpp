@@ -22,6 +22,7 @@ struct BlockPeak {
 struct CaseReduction {
   std::string case_dir;
   std::string case_name;
+  std::string engine;                  // the engine that ran it, by its run.json (formats::run_engine)
   model::StackSpec spec;
   double e_in = 0.0;                   // J
   double output_fraction = 0.0;        // output sphere's KE after separation / E_in
