@@ -3,6 +3,12 @@
 #include <granstack/postproc/reduce.hpp>
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+
+#include <cmath>
 
 #include <functional>
 #include <string>
@@ -28,6 +34,32 @@ inline CLI::Validator output_directory() {
                             : std::string();
       },
       "DIR");
+}
+
+// A number in [lo, hi] (CLI11's Range lets NaN through: every comparison with it is false).
+inline CLI::Validator finite_range(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](const std::string& text) {
+        double v = 0.0;
+        if (!CLI::detail::lexical_cast(text, v) || !std::isfinite(v) || v < lo || v > hi) {
+          return fmt::format("'{}' is not a number from {:g} to {:g}", text, lo, hi);
+        }
+        return std::string();
+      },
+      fmt::format("FLOAT in [{:g} - {:g}]", lo, hi));
+}
+
+// A flag that belongs to some engines given where none of them runs: "" when it is not given or one
+// of `engines` runs; else why it is refused (the flag is never silently ignored).
+inline std::string flag_for_engines(const CLI::App& cmd, const std::string& flag, const std::vector<std::string>& engines,
+                                    const std::vector<std::string>& running) {
+  const auto* option = cmd.get_option_no_throw(flag);
+  if (option == nullptr || option->count() == 0) return "";
+  for (const auto& e : running) {
+    if (std::find(engines.begin(), engines.end(), e) != engines.end()) return "";
+  }
+  return fmt::format("{} is for {} and none runs here ({}): leave it out, or choose the engine it is for", flag,
+                     fmt::join(engines, " or "), fmt::join(running, ", "));
 }
 
 // A subcommand: its parser and what runs it once the command line is parsed.

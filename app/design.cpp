@@ -58,7 +58,7 @@ int print_status(const fs::path& dir) {
 }
 
 // Why a search ended, in words.
-std::string ended_because(const std::string& why, const design::Space& space) {
+std::string ended_because(const std::string& why, const design::Space& space, const std::string& exhausted_because) {
   if (why == "max_designs") return fmt::format("its budget of {} designs is spent", *space.search.max_designs);
   if (why == "time limit") return "its time limit has passed";
   if (why == "stagnation") {
@@ -66,7 +66,8 @@ std::string ended_because(const std::string& why, const design::Space& space) {
                        space.search.stagnation_tolerance, space.search.stagnation);
   }
   if (why == "exhausted") {
-    return fmt::format("the space is exhausted (no new design within its constraints in {} draws)", design::kDrawsPerDesign);
+    return fmt::format("the space is exhausted (no new design within its constraints in {} draws{})", design::kDrawsPerDesign,
+                       exhausted_because.empty() ? "" : "; " + exhausted_because);
   }
   return fmt::format("generation {} reached", space.search.generations);
 }
@@ -116,9 +117,20 @@ int run_design(const DesignFlags& f) {
   }
   design::evaluate_study_designs(space, store, f.jobs);
   const auto gens = store.generations();
-  fmt::print("{}: {}; generation {} done ({} designs run this time; the search has run {} distinct designs)\n", dir.string(),
-             ended_because(r.ended, space), gens.empty() ? -1 : gens.back().index, r.runs, store.evaluations().size());
+  fmt::print("{}: {}; {} ({} designs run this time{}; the store holds {} distinct designs)\n", dir.string(),
+             ended_because(r.ended, space, r.exhausted_because),
+             gens.empty() ? std::string("no generation finished") : fmt::format("generation {} done", gens.back().index),
+             r.runs,
+             r.probes > 0 ? fmt::format(", {} of them the study's designs and the probes that fix the objectives' box", r.probes)
+                          : std::string(),
+             store.evaluations().size());
   if (!f.no_report) fmt::print("report: {}\n", design::write_report(space, store, dir / "report").string());
+  if (r.ended == "exhausted" && store.evaluations().empty()) {
+    fmt::print(stderr, "error: no design of {} can run: change the space so that its designs keep within their "
+                       "constraints\n",
+               f.space_file);
+    return kBadInput;
+  }
   return kOk;
 }
 
@@ -154,6 +166,12 @@ int confirm(const DesignFlags& f) {
     return kCaseFailed;
   }
   line.clear();
+  if (results.empty()) {
+    fmt::print(stderr, "error: {} has no design on its front (no feasible design in the store): nothing to confirm; run "
+                       "the search further, or loosen the space's constraints\n",
+               dir.string());
+    return kCaseFailed;
+  }
   int disagreements = 0;
   for (const auto& c : results) {
     const double longer = c.longer_difference.value_or(0.0);
@@ -207,7 +225,7 @@ Command add_design(CLI::App& app) {
   run->add_option("--max-designs", f->max_designs, "End once the search has run this many distinct designs (overrides [search] max_designs)")
       ->check(CLI::Range(1L, 100'000'000L));
   run->add_option("--time-limit", f->time_limit, "Start no design after this many seconds, abandoning those running (run again to go on)")
-      ->check(CLI::Range(1.0, 1e9));
+      ->check(finite_range(1.0, 1e9));
   run->add_flag("--no-report", f->no_report, "Do not write the report");
   run->add_flag("--slurm", f->slurm,
                 "Run the designs as SLURM job arrays (granstack submit's): asynchronous, -j designs in flight, each "
@@ -218,7 +236,7 @@ Command add_design(CLI::App& app) {
   run->add_option("--time", b.submit.time, "--slurm: wall time per task, HH:MM:SS [estimated]");
   run->add_option("--cases-per-task", b.submit.cases_per_task, "--slurm: designs each task runs [1]")->check(CLI::Range(1, 1000000));
   run->add_option("--max-parallel", b.submit.max_parallel, "--slurm: tasks at once [no limit]")->check(CLI::Range(1, 1000000));
-  run->add_option("--poll", b.poll_seconds, "--slurm: seconds between looks at the queue [5]")->check(CLI::Range(0.05, 3600.0));
+  run->add_option("--poll", b.poll_seconds, "--slurm: seconds between looks at the queue [5]")->check(finite_range(0.05, 3600.0));
   run->add_option("--attempts", b.attempts, "--slurm: submissions of a design before the search stops [3]")->check(CLI::Range(1, 100));
   auto* status = cmd->add_subcommand("status", "What a design store holds: generations, hypervolume, the front");
   status->add_option("dir", f->dir, "Design directory")->required()->check(CLI::ExistingDirectory);

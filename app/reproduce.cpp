@@ -107,7 +107,22 @@ Command add_reproduce(CLI::App& app) {
                   "Another engine's reproduction (its directory) to set this one beside: the report says which "
                   "statements change between the engines, by how much, and why")
       ->check(CLI::ExistingDirectory);
-  return {cmd, [f] { return reproduce(*f); }};
+  return {cmd, [f, cmd] {
+    // With --engine given, the engines that run are known now (refsim checks a DEM code with --validate,
+    // LIGGGHTS checks refsim); without it, the directory's cases say, later.
+    const auto& given = f->options;
+    if (!given.engine.empty()) {
+      std::vector<std::string> running{given.engine};
+      if (given.validate) running.push_back(given.engine == "refsim" ? "liggghts" : "refsim");
+      for (const auto& [flag, engine] : {std::pair{"--lammps", "lammps"}, std::pair{"--liggghts", "liggghts"}}) {
+        if (const auto why = flag_for_engines(*cmd, flag, {engine}, running); !why.empty()) {
+          fmt::print(stderr, "error: {}\n", why);
+          return kBadInput;
+        }
+      }
+    }
+    return reproduce(*f);
+  }};
 }
 
 }  // namespace granstack::app

@@ -120,7 +120,7 @@ std::optional<std::array<int, 3>> parse_grid(const std::string& text) {
   return g;
 }
 
-int run(const RunFlags& f) {
+int run(const RunFlags& f, const CLI::App& cmd) {
   const auto dirs = formats::expand_case_dirs(f.cases);
   runner::RunOptions o;
   o.jobs = f.jobs;
@@ -141,6 +141,13 @@ int run(const RunFlags& f) {
   o.lammps = f.lammps;
   o.lammps_template = f.lammps_template;
   o.engine = runner::parse_engine(f.engine);
+  for (const auto& [flag, engine] : {std::pair{"--lammps", "lammps"}, std::pair{"--liggghts", "liggghts"},
+                                     std::pair{"--kernel", "refsim"}}) {
+    if (const auto why = flag_for_engines(cmd, flag, {engine}, {f.engine}); !why.empty()) {
+      fmt::print(stderr, "error: {}\n", why);
+      return kBadInput;
+    }
+  }
   if (!f.contact_rules.empty() && o.engine != runner::Engine::refsim) {
     fmt::print(stderr, "error: --contact-rules chooses refsim's rules: add --engine refsim, or leave it out\n");
     return kBadInput;
@@ -204,7 +211,7 @@ Command add_run(CLI::App& app) {
                   "GRANULAR package, the case's contacts mapped onto its models) [liggghts]")
       ->check(CLI::IsMember(runner::engine_names()));
   cmd->add_flag("--force", f->force, "Run cases again even if they finished");
-  return {cmd, [f] { return run(*f); }};
+  return {cmd, [f, cmd] { return run(*f, *cmd); }};
 }
 
 int unless_interrupted(int rc) {

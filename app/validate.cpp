@@ -127,7 +127,15 @@ Command add_validate(CLI::App& app) {
       ->delimiter(',')
       ->expected(2)
       ->check(CLI::IsMember(runner::engine_names()));
-  return {cmd, [f] { return validate(*f); }};
+  return {cmd, [f, cmd] {
+    for (const auto& [flag, engine] : {std::pair{"--lammps", "lammps"}, std::pair{"--liggghts", "liggghts"}}) {
+      if (const auto why = flag_for_engines(*cmd, flag, {engine}, f->engines); !why.empty()) {
+        fmt::print(stderr, "error: {}\n", why);
+        return kBadInput;
+      }
+    }
+    return validate(*f);
+  }};
 }
 
 }  // namespace granstack::app

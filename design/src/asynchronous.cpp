@@ -159,7 +159,9 @@ class Asynchronous {
   std::optional<Job> draw();
   std::vector<double> bred(std::mt19937& rng, std::size_t subproblem) const;
   std::vector<double> uniform(std::mt19937& rng) const;
-  bool may_start();
+  bool may_start(int searching);
+  bool rejected(const model::StackSpec& spec);
+  std::map<std::string, long> rejections_;  // constraint broken -> draws it refused
   long limit() const;
   long finished() const { return static_cast<long>(archive_.size() + held_.size()) + (norm_ ? 0 : warm_expected_); }
   void take(std::vector<Finished> done, std::exception_ptr& error);
@@ -352,6 +354,14 @@ std::vector<double> Asynchronous::bred(std::mt19937& rng, std::size_t subproblem
   return child;
 }
 
+// Whether a design breaks a constraint known before it runs; the reasons are counted, so that an
+// exhausted space says why its draws were refused.
+bool Asynchronous::rejected(const model::StackSpec& spec) {
+  const auto violations = measure(space_, spec).violations;
+  for (const auto& v : violations) ++rejections_[v.substr(0, std::min<std::size_t>(v.find('\n'), 300))];
+  return !violations.empty();
+}
+
 // The next design to run: bred once the population holds two, drawn uniformly before (the
 // initial population) and after kBredDraws clones; nullopt when kDrawsPerDesign draws found no new
 // design within the constraints.
@@ -361,7 +371,7 @@ std::optional<Job> Asynchronous::draw() {
     const auto x = space_.canonical_genes(genes);
     auto spec = space_.decode(x);
     auto digest = spec_digest(spec);
-    if (!known_.insert(digest).second || !measure(space_, spec).violations.empty()) continue;
+    if (!known_.insert(digest).second || rejected(spec)) continue;
     ++drawn_;
     return Job{x, std::move(spec), std::nullopt, store_.find(digest), static_cast<std::size_t>(drawn_ - 1) % population_};
   }
@@ -373,7 +383,7 @@ std::optional<Job> Asynchronous::draw() {
     auto spec = space_.decode(x);
     auto digest = spec_digest(spec);
     if (!known_.insert(digest).second) continue;
-    if (!measure(space_, spec).violations.empty()) continue;  // rejected before it runs; known from now on
+    if (rejected(spec)) continue;  // rejected before it runs; known from now on
     ++drawn_;
     return Job{x, std::move(spec), std::nullopt, store_.find(digest), subproblem};
   }
@@ -387,13 +397,13 @@ long Asynchronous::limit() const {
 }
 
 // A design starts while fewer than the limit have finished (the probes that may begin the search
-// counting as joined before the box): every thread stays busy to the end, and those still running
-// when the limit is reached are abandoned, rather than the cores waiting for the slowest.
-bool Asynchronous::may_start() {
+// counting as joined before the box) and the designs in flight would not take the search past it
+// (`searching`: those running, probes aside): a budget of N designs runs N, never more.
+bool Asynchronous::may_start(int searching) {
   const long target = static_cast<long>(population_) * (space_.search.generations + 1);
   if (ended_.empty() && finished() >= limit()) ended_ = finished() >= target ? "generations" : "max_designs";
   if (ended_.empty() && Clock::now() >= deadline_) ended_ = "time limit";
-  return ended_.empty();
+  return ended_.empty() && finished() + searching < limit();
 }
 
 // The probes the store lacks start first (the search's first designs fill the other threads).
@@ -416,6 +426,7 @@ void Asynchronous::probe_done(const Finished& f) {
   if (f.evaluation) {
     store_probe(store_, *f.job.probe, *f.evaluation);
     ++result_.runs;
+    ++result_.probes;
     --probes_running_;
   }
   if (probes_running_ > 0) return;
@@ -474,7 +485,7 @@ SearchResult Asynchronous::run() {
         throw refsim::InSituStopped("stopped by a signal");  // the pool abandons what runs
       }
       int running = pool.running();
-      while (!error && running < jobs && may_start()) {
+      while (!error && running < jobs && may_start(running - probes_running_)) {
         auto job = draw();
         if (!job) {
           ended_ = "exhausted";
@@ -495,6 +506,13 @@ SearchResult Asynchronous::run() {
   }
   if (error) std::rethrow_exception(error);
   result_.ended = ended_.empty() ? "generations" : ended_;
+  if (ended_ == "exhausted" && !rejections_.empty()) {
+    const auto most = std::max_element(rejections_.begin(), rejections_.end(),
+                                       [](const auto& a, const auto& b) { return a.second < b.second; });
+    long all = 0;
+    for (const auto& [why, n] : rejections_) all += n;
+    result_.exhausted_because = fmt::format("{} of the {} refusals: {}", most->second, all, most->first);
+  }
   return result_;
 }
 

@@ -380,7 +380,7 @@ SearchResult run_search(const Space& space, Store& store, const SearchOptions& o
   const bool asynchronous = space.search.schedule == Schedule::asynchronous;
   const auto start = std::chrono::steady_clock::now();
   SearchResult total;
-  total.runs = asynchronous ? 0 : prepare(space, store, options.jobs);  // asynchronous: probes in its pool
+  total.runs = total.probes = asynchronous ? 0 : prepare(space, store, options.jobs);  // asynchronous: probes in its pool
   for (int run = 0; run < static_cast<int>(space.search.seeds.size()); ++run) {
     auto o = options;  // one time limit for every seed's run
     if (options.time_limit > 0.0) {
@@ -394,7 +394,9 @@ SearchResult run_search(const Space& space, Store& store, const SearchOptions& o
     if (run == 0) total.first_generation = r.first_generation;
     total.last_generation = r.last_generation;
     total.runs += r.runs;
+    total.probes += r.probes;
     total.ended = r.ended;
+    total.exhausted_because = r.exhausted_because;
     if (r.ended == "time limit") break;
   }
   return total;

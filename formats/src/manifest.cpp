@@ -14,6 +14,14 @@
 
 namespace granstack::formats {
 
+CaseFiles lammps_files(CaseFiles files) {
+  files.deck = "in.lammps";
+  files.log = "log.lammps";
+  files.screen = "lammps.out";
+  return files;
+}
+
+
 using nlohmann::json;
 
 namespace {

@@ -71,8 +71,10 @@ class ForeignFinder {
       return add(prefix + "manifest.json");
     }
     // Every file granstack writes in a case, relative to it.
+    const auto lammps = lammps_files(m.files);  // an earlier run on LAMMPS leaves its own deck, log and screen
     std::set<std::string> files{"manifest.json", m.files.data, m.files.deck, m.files.series, m.files.log,
-                                m.files.screen, m.files.run_record, ".granstack.lock"};
+                                m.files.screen, m.files.run_record, ".granstack.lock", lammps.deck, lammps.log,
+                                lammps.screen};
     for (const auto& piece : dump_files_matching((dir / m.files.dump).string())) {
       for (const char* suffix : {"", ".gz", ".zst"}) files.insert(fs::path(piece + suffix).lexically_relative(dir).string());
     }
@@ -105,7 +107,8 @@ class ForeignFinder {
       }
       if (name == ".granstack-earlier-run") return true;  // run's stash of an earlier run's outputs
       if (rel == "paraview") return json_object_with(e.path() / kOutputMarker, "written_by");
-      if ((rel == "validate/liggghts" || rel == "validate/refsim") && fs::exists(e.path() / "manifest.json")) {
+      if ((rel == "validate/liggghts" || rel == "validate/refsim" || rel == "validate/lammps") &&
+          fs::exists(e.path() / "manifest.json")) {
         one_case(e.path(), prefix + rel + "/");
         return true;
       }
@@ -154,10 +157,20 @@ std::string output_written_by(const fs::path& dir) {
   }
 }
 
+namespace {
+// A design directory (granstack design run): its SQLite store, by name and by SQLite's header.
+bool design_directory(const fs::path& dir) {
+  std::ifstream in(dir / "design.sqlite", std::ios::binary);
+  char header[16] = {};
+  return in.read(header, sizeof header) && std::string_view(header, sizeof header) == std::string_view("SQLite format 3\0", 16);
+}
+}  // namespace
+
 std::string made_by(const fs::path& dir) {
   if (!made_by_granstack(dir)) return "";
   std::error_code ec;
   if (fs::is_regular_file(dir / "manifest.json", ec) || json_object_with(dir / "sweep.json", "cases")) return kGenerate;
+  if (design_directory(dir)) return "granstack design run";
   return output_written_by(dir);
 }
 
@@ -172,7 +185,8 @@ bool made_by_granstack(const fs::path& dir) {
       return false;
     }
   }
-  return json_object_with(dir / "sweep.json", "cases") || json_object_with(dir / kOutputMarker, "written_by");
+  return json_object_with(dir / "sweep.json", "cases") || json_object_with(dir / kOutputMarker, "written_by") ||
+         design_directory(dir);
 }
 
 std::string why_not_replaceable(const fs::path& path, const std::string& by) {

@@ -139,15 +139,36 @@ std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& r)
                                         r.dt, kMinStepsPerContact, law_name(spec), r.min_contact_time, r.min_contact_pair,
                                         r.min_contact_time / kMinStepsPerContact, r.min_contact_time / kStepsPerContact)});
   }
-  if (!(r.steps <= kMaxSteps) || !std::isfinite(r.duration)) {
-    issues.push_back({spec.duration ? "duration" : "dt",
-                      fmt::format("the run would take {:.3g} steps (duration / dt), more than the {:.0e} granstack "
-                                  "allows; shorten --duration or use the automatic dt",
-                                  r.steps_asked, static_cast<double>(kMaxSteps))});
-  }
   const auto& top = stack.block(1);
+  // A Hooke spring calibrated beyond Hertz's range makes every overlap meaningless, the striker's too:
+  // that is said alone.
+  bool calibration_bad = false;
+  if (spec.characteristic_velocity) {
+    const double calibrated = hertz_max_overlap(striker_contact(stack), *spec.characteristic_velocity);
+    if (!(calibrated <= kMaxOverlapPerRadius * top.radius)) {
+      calibration_bad = true;
+      issues.push_back({"characteristic_velocity",
+                        fmt::format("{} m/s calibrates the Hooke spring on a Hertz overlap of {:.3g} of a radius, beyond "
+                                    "the {:g} where Hertz's law holds: use a lower speed, or 'auto' (the striker speed)",
+                                    *spec.characteristic_velocity, calibrated / top.radius, kMaxOverlapPerRadius)});
+    }
+  }
   const double overlap = max_overlap(spec.contact_model(), striker_contact(stack), spec.striker_speed);
-  if (!(overlap <= kMaxOverlapPerRadius * top.radius)) {
+  const bool striker_bad = !calibration_bad && !(overlap <= kMaxOverlapPerRadius * top.radius);
+  // A run's length that cannot be computed comes from a problem said above (a speed beyond any
+  // contact law's range): only a length that can be is refused on its own.
+  if ((!(r.steps <= kMaxSteps) || !std::isfinite(r.duration)) &&
+      (std::isfinite(r.steps_asked) || (!calibration_bad && !striker_bad))) {
+    issues.push_back({spec.duration ? "duration" : "dt",
+                      std::isfinite(r.steps_asked)
+                          ? fmt::format("the run would take {:.3g} steps (duration / dt), more than the {:.0e} granstack "
+                                        "allows; shorten --duration or use the automatic dt",
+                                        r.steps_asked, static_cast<double>(kMaxSteps))
+                          : std::string("the run's length (duration / dt) is not a number for this spec; give --duration "
+                                        "and --dt, or values within their ranges")});
+  }
+  if (calibration_bad) {
+  } else if (striker_bad) {
     issues.push_back({"striker_speed", fmt::format("{} m/s presses the striker {:.3g} of a radius into the top spheres; "
                                                    "{} contact holds for small overlaps only (at most {:g}): use a "
                                                    "lower speed",
@@ -159,15 +180,6 @@ std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& r)
                                                    "hold 16 digits of a radius): its forces would be round-off; use "
                                                    "a higher speed",
                                                    spec.striker_speed, overlap / top.radius, kMinOverlapPerRadius)});
-  }
-  if (spec.characteristic_velocity) {
-    const double calibrated = hertz_max_overlap(striker_contact(stack), *spec.characteristic_velocity);
-    if (!(calibrated <= kMaxOverlapPerRadius * top.radius)) {
-      issues.push_back({"characteristic_velocity",
-                        fmt::format("{} m/s calibrates the Hooke spring on a Hertz overlap of {:.3g} of a radius, beyond "
-                                    "the {:g} where Hertz's law holds: use a lower speed, or 'auto' (the striker speed)",
-                                    *spec.characteristic_velocity, calibrated / top.radius, kMaxOverlapPerRadius)});
-    }
   }
   if (spec.dump_every && *spec.dump_every > r.steps) {
     issues.push_back({"dump_every", fmt::format("{} steps is more than the run's {} steps: the dump would hold its first "

@@ -469,8 +469,11 @@ std::vector<SpecField> striker_and_boundary_rows() {
   offset.check = [](const StackSpec& s, Issues& i) {
     const int most = s.top_columns / 2 - 1;
     check_range(i, "impact_offset", std::abs(s.impact_offset) <= std::max(most, 0),
-                fmt::format("{} must be in [-{}, {}]: the striker must rest on two of the {} top spheres", s.impact_offset,
-                            std::max(most, 0), std::max(most, 0), s.top_columns));
+                most <= 0 ? fmt::format("{} must be 0: the striker must rest on two of the {} top spheres (a blow off "
+                                        "centre needs at least 4 top columns)",
+                                        s.impact_offset, s.top_columns)
+                          : fmt::format("{} must be in [-{}, {}]: the striker must rest on two of the {} top spheres",
+                                        s.impact_offset, most, most, s.top_columns));
   };
   rows.push_back(std::move(offset));
 

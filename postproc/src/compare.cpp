@@ -155,7 +155,7 @@ void compare_dumps(const std::string& dir_a, const formats::Manifest& ma, const 
 // Every column of the two series, step by step.
 void compare_series(const std::string& dir_a, const formats::Manifest& ma, const std::string& dir_b,
                     const formats::Manifest& mb, const model::Stack& stack, RunComparison& c) {
-  const auto path_a = (fs::path(dir_a) / ma.files.series).string(), path_b = (fs::path(dir_b) / mb.files.series).string();
+  const auto path_a = formats::find_dump(dir_a, ma.files.series), path_b = formats::find_dump(dir_b, mb.files.series);
   const auto sa = formats::read_series(path_a), sb = formats::read_series(path_b);
   if (sa.columns != sb.columns) {
     c.mismatches.push_back(fmt::format("the series have other columns: {} in {}, {} in {}", fmt::join(sa.columns, " "),

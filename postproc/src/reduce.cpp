@@ -35,7 +35,8 @@ using nlohmann::json;
 
 namespace {
 
-void require_successful_run(const formats::Case& c) {
+// `holding_lock`: this process holds the case's lock (reduce writing its reduce/), so no run can.
+void require_successful_run(const formats::Case& c, bool holding_lock) {
   const auto record = c.run_record();
   const auto& dir = c.dir();
   if (!record.exists()) {
@@ -47,9 +48,15 @@ void require_successful_run(const formats::Case& c) {
                                          dir, record.error.empty() ? "no message" : record.error));
   }
   if (!record.done()) {
-    if (const auto holder = os::CaseLock::holder(dir)) {  // running now: advice to rerun it would be refused
+    if (const auto holder = holding_lock ? std::nullopt : os::CaseLock::holder(dir)) {  // running now: advice to rerun it would be refused
       throw std::runtime_error(fmt::format("{}: the case is being run now ({}); reduce it when that run has ended", dir,
                                            *holder));
+    }
+    if (record.status == "running") {
+      throw std::runtime_error(fmt::format("{}: its run was killed before it finished (run.json says running, but no "
+                                           "granstack runs the case: SIGKILL, a time limit, a node failure?); run it again "
+                                           "with 'granstack run --force {}'",
+                                           dir, dir));
     }
     throw std::runtime_error(fmt::format("{}: the run did not finish (status '{}'); run 'granstack run --force {}'", dir,
                                          record.status, dir));
@@ -364,7 +371,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   // Writing into the case (its reduce/), reduce holds the case's lock, as every command that writes a case does.
   std::optional<os::CaseLock> lock;
   if (options.write_files && options.output_dir.empty()) lock.emplace(c.lock("granstack reduce"));
-  require_successful_run(c);
+  require_successful_run(c, lock.has_value());
   const auto& stack = c.stack();
   // The derived dt and steps must be those its spec gives, and the deck's those of the manifest:
   // every time in the results is a step times dt.
@@ -382,7 +389,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   r.e_in = stack.incident_energy();
   // The in-situ series gives the peaks. It must be the run's own and whole (checked here), and
   // agree with every dump frame where both have data (checked as the frames arrive).
-  const auto series_path = c.path(manifest.files.series).string();
+  const auto series_path = formats::find_dump(case_dir, manifest.files.series);  // or its compressed copy
   const long expected_frames = formats::frames_written(c);
   const auto series = read_checked_series(series_path, stack, res, (expected_frames - 1) * res.dump_every);
   const SeriesColumns cols = series_columns(series, series_path, nb);

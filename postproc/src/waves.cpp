@@ -131,7 +131,7 @@ std::vector<BlockWaves> analyse_waves(const std::string& case_dir) {
     view.bind(f);
     tracker.add(f, view);
   }
-  return tracker.finish(formats::read_series((fs::path(case_dir) / m.files.series).string()));
+  return tracker.finish(formats::read_series(formats::find_dump(case_dir, m.files.series)));
 }
 
 // The energy of block k's middle_path_id sphere from the in-situ series (every series_every

@@ -26,13 +26,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The names of a LAMMPS run's own files in the case.
-formats::CaseFiles lammps_files(formats::CaseFiles files) {
-  files.deck = "in.lammps";
-  files.log = "log.lammps";
-  files.screen = "lammps.out";
-  return files;
-}
+using formats::lammps_files;
 
 // What `lmp -h` says of a LAMMPS: whether it lists pair style granular (the GRANULAR package), and
 // its version. Asked once per program.

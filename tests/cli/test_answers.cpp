@@ -166,4 +166,84 @@ TEST_F(Answers, TheEngineOfAResultIsShownWithIt) {
             "refsim (LAMMPS's rules)");
 }
 
+// Messages that named the wrong cause (#46's retest): each says what is wrong and what to do.
+TEST_F(Answers, MessagesNameTheRealCause) {
+  // A run killed outright (run.json still says running): reduce says so, not "being run now" by itself.
+  auto g = granstack({"generate", "-o", "killed", "--blocks", "1"});
+  ASSERT_EQ(g.code, 0) << g.output;
+  std::ofstream(path("killed") / "run.json") << R"({"status": "running", "engine": "refsim"})";
+  auto r = granstack({"reduce", "killed"});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "its run was killed before it finished");
+  EXPECT_EQ(r.output.find("being run now"), std::string::npos) << r.output;
+  // A garbage run.json: the problem in words, not the JSON library's.
+  std::ofstream(path("killed") / "run.json") << "garbage";
+  r = granstack({"status", "killed"});
+  expect_contains(r, "cannot be read (not valid JSON (line 1, column 1))");
+  EXPECT_EQ(r.output.find("json.exception"), std::string::npos) << r.output;
+  // Speeds beyond any contact law's range name the speed at fault, and no NaN.
+  r = granstack({"generate", "-o", "fast", "--striker-speed", "1e308"});
+  EXPECT_EQ(r.code, 2) << r.output;
+  expect_contains(r, "striker_speed: 1e+308 m/s presses the striker");
+  EXPECT_EQ(r.output.find("nan"), std::string::npos) << r.output;
+  r = granstack({"generate", "-o", "stiff", "--normal-model", "hooke", "--characteristic-velocity", "1e308"});
+  EXPECT_EQ(r.code, 2) << r.output;
+  expect_contains(r, "characteristic_velocity: 1e+308 m/s calibrates the Hooke spring");
+  EXPECT_EQ(r.output.find("striker_speed"), std::string::npos) << r.output;
+  r = granstack({"generate", "-o", "narrow", "--top-columns", "2", "--impact-offset", "1"});
+  EXPECT_EQ(r.code, 2) << r.output;
+  expect_contains(r, "impact_offset: 1 must be 0: the striker must rest on two of the 2 top spheres");
+  EXPECT_EQ(r.output.find("[-0"), std::string::npos) << r.output;
+  // A flag of another engine is refused by name, never ignored.
+  ASSERT_EQ(granstack({"generate", "-o", "flags", "--blocks", "1"}).code, 0);
+  r = granstack({"run", "--engine", "refsim", "--lammps", "/usr/bin/lmp", "flags"});
+  EXPECT_EQ(r.code, 2) << r.output;
+  expect_contains(r, "--lammps is for lammps and none runs here (refsim)");
+  r = granstack({"run", "--kernel", "reference", "flags"});
+  EXPECT_EQ(r.code, 2) << r.output;
+  expect_contains(r, "--kernel is for refsim and none runs here (liggghts)");
+  r = granstack({"validate", "--liggghts", "liggghts", "--engines", "lammps,refsim", "flags"});
+  EXPECT_EQ(r.code, 2) << r.output;
+  expect_contains(r, "--liggghts is for liggghts and none runs here (lammps, refsim)");
+  // A series compressed after the run is the run's, as its dump is.
+  g = granstack({"generate", "-o", "gz", "--blocks", "1"});
+  ASSERT_EQ(g.code, 0) << g.output;
+  ASSERT_EQ(granstack({"run", "--engine", "refsim", "gz"}).code, 0);
+  const double plain = summary("gz").at("output_fraction").get<double>();
+  ASSERT_EQ(os::run({"gzip", (path("gz") / "ke_series.txt").string()}, {}).code, 0);
+  EXPECT_EQ(summary("gz").at("output_fraction").get<double>(), plain);
+}
+
+// The design search's messages: a time limit that is not a number is refused; a budget of one
+// design runs no more than one beside the probes, and a search that finished no generation says
+// so (it said "generation -1 done"); a space no design of which can run names the constraint
+// that refused them and exits 2; confirm of an empty front is an error; generate --force calls a
+// design directory what it is.
+TEST_F(Answers, DesignMessagesSayWhatHappened) {
+  const auto small = read_bytes(fs::path(GRANSTACK_SOURCE_DIR) / "tests" / "data" / "design" / "small_space.toml");
+  std::ofstream(path("small.toml")) << small;
+  auto r = granstack({"design", "run", "small.toml", "-o", "d", "--time-limit", "nan"});
+  EXPECT_EQ(r.code, 2) << r.output;
+  expect_contains(r, "'nan' is not a number from 1 to 1e+09");
+  EXPECT_FALSE(fs::exists(path("d")));
+  r = granstack({"design", "run", "small.toml", "-o", "d", "--max-designs", "1", "-j", "2"});
+  ASSERT_EQ(r.code, 0) << r.output;
+  expect_contains(r, "its budget of 1 designs is spent");
+  EXPECT_EQ(r.output.find("generation -1"), std::string::npos) << r.output;
+  r = granstack({"generate", "--force", "-o", "d"});
+  EXPECT_EQ(r.code, 3) << r.output;
+  expect_contains(r, "d was made by granstack design run, not by granstack generate");
+  auto hot = small;
+  hot.replace(hot.find("top_radius = 2e-3"), 17, "top_radius = 2e-3\nstriker_speed = 400.0");
+  std::ofstream(path("hot.toml")) << hot;
+  r = granstack({"design", "run", "hot.toml", "-o", "hot", "-j", "2"});
+  EXPECT_EQ(r.code, 2) << r.output;
+  expect_contains(r, "the space is exhausted");
+  expect_contains(r, "striker_speed: 400 m/s presses the striker");
+  expect_contains(r, "no generation finished");
+  r = granstack({"design", "confirm", "hot"});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "has no design on its front");
+}
+
 }  // namespace

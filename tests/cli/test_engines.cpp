@@ -200,3 +200,19 @@ TEST_F(Engines, ALammpsTemplateIsHeldToTheSpec) {
   refused("read_data       {{data_file}}", "read_data       {{data_file}}\nlog ../../log.lammps", "writes outside the case");
   EXPECT_TRUE(fs::is_empty(outside));
 }
+
+// A case run on LAMMPS, then on LIGGGHTS, then validated on LAMMPS against refsim keeps LAMMPS's
+// files and validate/lammps/: all granstack's, so generate --force replaces them (it called them
+// "not written by granstack").
+TEST_F(Engines, AnotherEnginesFilesAreGranstacksToReplace) {
+  const auto c = make_case("case");
+  ASSERT_EQ(granstack({"run", "--engine", "lammps", c.string()}).code, 0);
+  ASSERT_EQ(granstack({"run", "--force", c.string()}).code, 0);
+  auto r = granstack({"validate", "--engines", "lammps,refsim", c.string()});
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const auto* f : {"in.lammps", "log.lammps", "lammps.out", "validate/lammps/run.json"}) EXPECT_TRUE(fs::exists(c / f)) << f;
+  r = granstack({"generate", "--force", "-o", c.string(), "--blocks", "2", "--rows", "3"});
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(c / "in.lammps"));
+  EXPECT_FALSE(fs::exists(c / "validate"));
+}

@@ -105,7 +105,9 @@ struct SearchResult {
   int first_generation = 0;  // the first this call ran (above 0: resumed)
   int last_generation = 0;
   int runs = 0;              // refsim runs this call needed (distinct designs, the study's included)
+  int probes = 0;            // of them, the study's designs and the probes that fix the objectives' box
   std::string ended;         // why it ended: "generations", "max_designs", "time limit", "stagnation", "exhausted"
+  std::string exhausted_because;  // exhausted: the constraint that refused the most draws, and how many
 };
 
 // Runs the search up to space.search.generations (or its other ends), resuming where the store

@@ -27,6 +27,10 @@ struct CaseFiles {
   bool operator==(const CaseFiles&) const = default;
 };
 
+// A LAMMPS run's own deck, log and screen files in the case (`run --engine lammps`), beside the
+// manifest's (LIGGGHTS's) names; the dump and series are the same.
+CaseFiles lammps_files(CaseFiles files);
+
 // The SHA-256 of the deck and data file as generate wrote them; every reader of the results
 // checks them (check_case_inputs), so an edited case is never labelled with its manifest's spec.
 // The manifest's own digest (of everything but this record) is checked whenever it is read.
