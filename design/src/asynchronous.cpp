@@ -29,7 +29,6 @@ using Clock = std::chrono::steady_clock;
 
 // MOEA/D's settings (Zhang and Li 2007; Li and Zhang 2009's replacement bound).
 constexpr std::size_t kMoeadNeighbours = 20;
-constexpr int kMoeadReplacements = 2;
 constexpr double kMoeadLocalMating = 0.9;
 
 struct Member {
@@ -225,15 +224,9 @@ void Asynchronous::survive(Member m, std::size_t subproblem) {
     members_.erase(members_.begin() + static_cast<long>(leaving(f, space_.search.algorithm)));
     return;
   }
-  const pagmo::vector_double ideal(m.f.size(), 0.0);
-  int replaced = 0;
-  for (const auto j : neighbours_.at(subproblem)) {
-    const auto g = [&](const std::vector<double>& f) { return pagmo::decompose_objectives(f, weights_[j], ideal, "tchebycheff")[0]; };
-    if (replaced < kMoeadReplacements && g(m.f) <= g(members_[j].f)) {
-      members_[j] = m;
-      ++replaced;
-    }
-  }
+  std::vector<std::vector<double>> f;
+  for (const auto& member : members_) f.push_back(member.f);
+  for (const auto j : moead_replaced(f, neighbours_.at(subproblem), weights_, m.f)) members_[j] = m;
 }
 
 // MOEA/D's weights (pagmo2's low-discrepancy ones, a member each) and their neighbourhoods.
@@ -517,6 +510,18 @@ SearchResult Asynchronous::run() {
 }
 
 }  // namespace
+
+std::vector<std::size_t> moead_replaced(const std::vector<std::vector<double>>& members, const std::vector<std::size_t>& neighbours,
+                                        const std::vector<std::vector<double>>& weights, const std::vector<double>& f) {
+  const pagmo::vector_double ideal(f.size(), 0.0);
+  std::vector<std::size_t> replaced;
+  for (const auto j : neighbours) {
+    if (replaced.size() >= static_cast<std::size_t>(kMoeadReplacements)) break;
+    const auto g = [&](const std::vector<double>& x) { return pagmo::decompose_objectives(x, weights[j], ideal, "tchebycheff")[0]; };
+    if (g(f) <= g(members[j])) replaced.push_back(j);
+  }
+  return replaced;
+}
 
 SearchResult run_asynchronous(const Space& space, Store& store, const SearchOptions& options, int run) {
   return Asynchronous(space, store, options, run).run();

@@ -109,8 +109,9 @@ void check_record(const Record& r, const std::map<std::string, std::string>& now
   }
   for (const auto& [field, current] : now) {
     const auto it = r.fixed.find(field);
-    std::string v = it != r.fixed.end() ? it->second : field == "scope" ? "paper" : "";
-    if (it == r.fixed.end() && field != "scope") {
+    // Fields recorded since the record began start as "not recorded" (a change records their value).
+    std::string v = it != r.fixed.end() ? it->second : field == "scope" ? "paper" : field == "physics" ? "not recorded" : "";
+    if (it == r.fixed.end() && field != "scope" && field != "physics") {
       out.push_back(fmt::format("{}: its record's fixed values lack '{}'", who, field));
       continue;
     }
@@ -182,7 +183,7 @@ Experiment parse_experiment(const toml::table& t) {
     throw CatalogueError(fmt::format("{}: main = \"{}\" is not one of its cases", where, e.main));
   }
   if (e.main.empty() && !e.cases.empty()) e.main = e.cases.front().name;
-  e.record = parse_record(t, where, {"geometry"});
+  e.record = parse_record(t, where, {"geometry", "physics"});
   if (const auto* claims = t.get_as<toml::array>("claim")) {
     std::size_t n = 0;
     for (const auto& node : *claims) {
@@ -221,11 +222,37 @@ std::string geometry_text(const model::StackSpec& s) {
                      model::to_string(s.bottom), model::to_string(s.sides), model::to_string(s.stop));
 }
 
+namespace {
+std::string pair_values(const model::PairTable& v, const char* name) {
+  std::string out = fmt::format("{} = {:g}", name, v.value);
+  for (const auto& [pair, x] : v.pairs) out += fmt::format(", {} {}-{} = {:g}", name, pair.first, pair.second, x);
+  return out;
+}
+}  // namespace
+
+std::string physics_text(const model::StackSpec& s) {
+  auto out = fmt::format("{}, {}, striker {:g} m/s, radius {:g} R_1, {}, bottom radius {:g} m, {}", pair_values(s.restitution, "e"),
+                         pair_values(s.friction, "mu"), s.striker_speed, s.striker_radius_ratio, s.effective_striker_material(),
+                         s.bottom_radius, model::liggghts_model_words(s.contact_model()));
+  if (s.impact_offset != 0) out += fmt::format(", impact offset {}", s.impact_offset);
+  if (s.gravity > 0.0) out += fmt::format(", gravity {:g} m/s^2", s.gravity);
+  if (s.has_walls()) out += fmt::format(", walls of {}", s.effective_wall_material());
+  for (const auto& m : s.custom_materials) {
+    out += fmt::format(", {}: rho {:g}, E {:g}, nu {:g}", m.name, m.density, m.youngs_modulus, m.poisson_ratio);
+  }
+  if (s.dt) out += fmt::format(", dt {:g} s", *s.dt);
+  if (s.duration) out += fmt::format(", duration {:g} s", *s.duration);
+  return out;
+}
+
 std::vector<std::string> unrecorded_changes(const Experiment& e) {
   std::vector<std::string> out;
   for (const auto& c : e.claims) check_record(c.record, recorded_fields(c), "claim " + c.id, "experiment.claim", out);
   for (const auto& c : e.cases) {
-    if (c.name == e.main) check_record(e.record, {{"geometry", geometry_text(c.spec)}}, "experiment " + e.name, "experiment", out);
+    if (c.name == e.main) {
+      check_record(e.record, {{"geometry", geometry_text(c.spec)}, {"physics", physics_text(c.spec)}}, "experiment " + e.name,
+                   "experiment", out);
+    }
   }
   return out;
 }

@@ -89,9 +89,10 @@ Table summary_table(const StudyResult& r) {
   return t;
 }
 
-// Every change to a reading, band, paper value, scope or geometry of the experiments that ran.
+// Every change to a reading, band, paper value, scope, geometry or physics of the experiments that ran.
 Table record_table(const StudyResult& r) {
-  Table t{"The record: every change to a claim's reading, band, paper value or scope, or to an experiment's geometry, "
+  Table t{"The record: every change to a claim's reading, band, paper value or scope, or to an experiment's geometry or "
+          "physics, "
           "since the catalogue first fixed it (study/data/catalogue.toml)",
           {"date", "commit", "claim or experiment", "field", "before", "after", "with results known", "why"}, {}};
   auto add = [&](const std::string& who, const Record& rec) {
@@ -124,7 +125,7 @@ std::string record_note(const StudyResult& r) {
     }
   }
   return fmt::format(
-      "The record. Each claim's reading, band, paper value and scope, and each experiment's geometry, is fixed in the "
+      "The record. Each claim's reading, band, paper value and scope, and each experiment's geometry and physics, is fixed in the "
       "catalogue with the date it was first fixed; every change since is recorded with its date, the values before "
       "and after and why, and a test fails when a change has no record. Of the {} claims here, {} changed since they "
       "were first fixed, {} of them with the run's values for the old reading in view ({}): their verdicts are not "

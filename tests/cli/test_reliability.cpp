@@ -288,6 +288,20 @@ TEST_F(Reliability, StatusCallsARunKilledOutrightInterrupted) {
   EXPECT_EQ(granstack({"run", c.string()}).code, 0);
 }
 
+// 8a. A hang-up (the terminal closed, an ssh session dropped) stops a run as SIGINT and SIGTERM do:
+// LIGGGHTS is stopped, run.json says interrupted and the exit status says the signal (128 + 1).
+TEST_F(Reliability, AHangUpStopsARunAsInterrupted) {
+  const auto c = path("case");
+  ASSERT_EQ(granstack({"generate", "-o", c.string(), "--blocks", "4", "--rows", "24", "--top-columns", "4"}).code, 0);
+  const auto child = start({"run", c.string()});
+  ASSERT_TRUE(eventually([&] { return status_of(c) == "running"; }, 60));
+  ::kill(child.pid, SIGHUP);
+  const auto r = finish(child, 60);
+  EXPECT_EQ(r.code, 129) << r.output;
+  EXPECT_EQ(status_of(c), "interrupted");
+  EXPECT_TRUE(eventually([&] { return processes_in(c).empty(); }, 10));
+}
+
 // 8b. A full disk fails the run naming the file it cut short, and status says failed.
 TEST_F(Reliability, AFullDiskFailsTheRunNamingTheFileItCut) {
   const auto disk = path("disk");

@@ -596,6 +596,32 @@ TEST(Search, TheDesignsASpaceStartsFromBeginTheSearch) {
   EXPECT_NE(refused("start = [\"big.toml\"]\n").find("big.toml: steel, ratios 2/2, rows 2/2/2 is not one of the space's designs"),
             std::string::npos) << refused("start = [\"big.toml\"]\n");
   EXPECT_NE(refused("start = [\"none.toml\"]\n").find("none.toml"), std::string::npos);
+  std::ofstream(dir / "sweep.toml") << "blocks = [1, 2]\nmaterials = [\"steel\"]\nrows = 2\n";
+  EXPECT_NE(refused("start = [\"sweep.toml\"]\n").find("sweep.toml: a design, not a sweep (blocks has a list)"),
+            std::string::npos)
+      << refused("start = [\"sweep.toml\"]\n");
+}
+
+// One stack, one digest: a design whose blocks all have the same rows (or the same ratio) is stored
+// under the plain spelling (rows = 3, not block_rows = [3, 3]), the one a spec file of it has; a
+// start file's design and the same design drawn by the search are one design of the store, run once.
+TEST(Search, AStackHasOneDigestWhateverItsSpelling) {
+  const auto space = small_space();
+  model::StackSpec plain;
+  plain.blocks = 2;
+  plain.materials = {"steel", "teflon"};
+  plain.rows = 3;
+  plain.radius_ratio = 2;
+  const auto x = space.encode(plain);
+  ASSERT_TRUE(x);
+  const auto drawn = space.decode(*x);
+  EXPECT_TRUE(drawn.block_rows.empty()) << design::describe(drawn);
+  EXPECT_TRUE(drawn.radius_ratios.empty()) << design::describe(drawn);
+  auto spelled = plain;
+  spelled.block_rows = {3, 3};
+  spelled.radius_ratios = {2};
+  EXPECT_EQ(design::spec_digest(design::canonical(spelled)), design::spec_digest(plain));
+  EXPECT_EQ(design::spec_digest(space.decode(*space.encode(spelled))), design::spec_digest(drawn));
 }
 
 // The normalised hypervolume against its definition for one point: the product over the axes of
@@ -1248,4 +1274,19 @@ TEST(DesignCli, AStoredSearchWhoseMeasuresCanBeGamedIsReadWithAWarning) {
   EXPECT_EQ(again.code, 2) << again.output;
   EXPECT_NE(again.output.find("would win by making the measured spheres lighter"), std::string::npos) << again.output;
   EXPECT_FALSE(fs::exists(dir / "new"));
+}
+
+// MOEA/D's replacement limit (Li and Zhang 2009): a design better than every member of its
+// neighbourhood replaces only the first two (the nearest weights), so that one good design cannot
+// crowd out a neighbourhood; one better than none replaces none; equal counts as not worse.
+TEST(Moead, ADesignReplacesAtMostTwoNeighbours) {
+  const std::vector<std::vector<double>> weights{{0.5, 0.5}, {0.2, 0.8}, {0.8, 0.2}, {0.4, 0.6}, {0.6, 0.4}};
+  const std::vector<std::vector<double>> members(5, std::vector<double>{1.0, 1.0});
+  const std::vector<std::size_t> neighbours{3, 0, 4, 1, 2};
+  EXPECT_EQ(design::moead_replaced(members, neighbours, weights, {0.1, 0.1}), (std::vector<std::size_t>{3, 0}));
+  EXPECT_TRUE(design::moead_replaced(members, neighbours, weights, {2.0, 2.0}).empty());
+  EXPECT_EQ(design::moead_replaced(members, neighbours, weights, {1.0, 1.0}), (std::vector<std::size_t>{3, 0}));
+  // Better for the weights that favour the first objective only: those neighbours, in order.
+  EXPECT_EQ(design::moead_replaced(members, neighbours, weights, {0.5, 1.2}), (std::vector<std::size_t>{4, 2}));
+  EXPECT_EQ(design::kMoeadReplacements, 2);
 }

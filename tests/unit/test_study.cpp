@@ -190,7 +190,7 @@ name = "x"
 title = "t"
 source = "s"
 analysis = "fig3"
-fixed = { date = "2026-01-01", geometry = "1 block of 8 rows, 2 top columns, steel, bottom free, sides free, stop duration" }
+fixed = { date = "2026-01-01", geometry = "1 block of 8 rows, 2 top columns, steel, bottom free, sides free, stop duration", physics = "e = 1, mu = 0, striker 1 m/s, radius 1 R_1, steel, bottom radius 0.001 m, model hertz tangential history" }
   [experiment.cases.a]
   blocks = 1
   [[experiment.claim]]
@@ -229,6 +229,13 @@ fixed = { date = "2026-01-01", geometry = "1 block of 8 rows, 2 top columns, ste
   problems = unrecorded_changes(parse_catalogue(taller, "t").experiments.front());
   ASSERT_EQ(problems.size(), 1u) << fmt::format("{}", fmt::join(problems, "\n"));
   EXPECT_NE(problems[0].find("experiment x: its geometry is \"1 block of 24 rows"), std::string::npos) << problems[0];
+  // And its physics: a restitution of 0.95 where the record says 1.
+  auto damped = head + change;
+  damped.replace(damped.find("BEFORE"), 6, "[0, 1]");
+  damped.replace(damped.find("blocks = 1\n"), 11, "blocks = 1\n  restitution = 0.95\n");
+  problems = unrecorded_changes(parse_catalogue(damped, "t").experiments.front());
+  ASSERT_EQ(problems.size(), 1u) << fmt::format("{}", fmt::join(problems, "\n"));
+  EXPECT_NE(problems[0].find("experiment x: its physics is \"e = 0.95, mu = 0"), std::string::npos) << problems[0];
 }
 
 }  // namespace

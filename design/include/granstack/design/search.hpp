@@ -116,6 +116,15 @@ struct SearchResult {
 // `jobs` ends; a generational one (pagmo2's NSGA-II) runs each generation as a batch.
 SearchResult run_search(const Space& space, Store& store, const SearchOptions& options);
 
+// MOEA/D's update in the asynchronous search (Li and Zhang 2009's limit on replacements): the
+// members among `neighbours` (indices into `members`, nearest weight first) that a design of
+// objectives `f` replaces, those it beats or equals in their Tchebycheff distance from the box's
+// ideal (the origin) weighted by their own weights, at most kMoeadReplacements of them, so that one
+// good design cannot fill a whole neighbourhood with copies of itself.
+inline constexpr int kMoeadReplacements = 2;
+std::vector<std::size_t> moead_replaced(const std::vector<std::vector<double>>& members, const std::vector<std::size_t>& neighbours,
+                                        const std::vector<std::vector<double>>& weights, const std::vector<double>& f);
+
 // The asynchronous search (search.cpp calls it): a steady-state NSGA-II. Each new design is bred
 // from the population as it stands (binary tournaments on rank and crowding in the normalised
 // objectives, SBX and polynomial mutation, pagmo2's operators, its genes made canonical); one equal

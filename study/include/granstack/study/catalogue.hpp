@@ -72,6 +72,10 @@ struct Experiment {
 // materials, boundaries and when the run stops, e.g. "3 blocks of 24 rows, 2 top columns, ratio 2,
 // steel/teflon/steel, bottom free, sides free, stop blow_end".
 std::string geometry_text(const model::StackSpec& s);
+// An experiment's main case's physics as its record writes it: the restitution and friction (and
+// their pairs), the striker, the bottom radius, the contact model, and what else a spec may set
+// (an offset, gravity, walls' material, custom materials, a fixed dt or duration).
+std::string physics_text(const model::StackSpec& s);
 
 // Each recorded field whose value is not what its record gives (the first fixed value, then each
 // change's after in turn, each change's before being the value it replaced), and each record that
