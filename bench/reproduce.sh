@@ -5,7 +5,8 @@
 # alternately REPEATS times and reports the median (min..max) of each. The baseline in the same
 # run: `granstack run -j 2 --force` on the very same 54 cases, LIGGGHTS alone (no reduce, no
 # analysis, no report), so the ratio is what reproduce adds to the engine's own time.
-# Usage: bench/reproduce.sh [REPEATS]   (about five minutes with 3)
+# Usage: bench/reproduce.sh [REPEATS]   (about five minutes with 3; OUT=FILE.json keeps the record,
+# from which the docs' "N cases, about T s on 2 cores" is made: scripts/doc_tables.py)
 set -euo pipefail
 repeats=${1:-3}
 source "$(dirname "$0")/common.sh"
@@ -19,8 +20,8 @@ for ((k = 1; k <= repeats; k++)); do
   times[validate]+="$(seconds "$gs" reproduce -o "$work/validate" -j 2 --force --validate) "
   times[quick]+="$(seconds "$gs" reproduce -o "$work/quick" -j 2 --force --quick) "
 done
-python3 - "${#cases[@]}" "${times[all]}" "${times[run]}" "${times[validate]}" "${times[quick]}" <<'PY'
-import statistics, sys
+OUT="${OUT:-}" python3 - "${#cases[@]}" "${times[all]}" "${times[run]}" "${times[validate]}" "${times[quick]}" <<'PY'
+import json, os, statistics, sys
 n = sys.argv[1]
 all_, run, val, quick = ([float(x) for x in a.split()] for a in sys.argv[2:6])
 m = statistics.median
@@ -31,4 +32,7 @@ print(f"reproduce --validate                     {f(val)}   target < 90 s")
 print(f"reproduce --quick                        {f(quick)}   target < 30 s")
 print(f"baseline: granstack run -j 2 on the same {n} cases (LIGGGHTS alone)   {f(run)}")
 print(f"reproduce / baseline: {m(all_) / m(run):.2f}")
+if os.environ["OUT"]:
+    json.dump({"cases": int(n), "cores": os.cpu_count(), "jobs": 2, "repeats": len(all_), "seconds": {
+        "reproduce": all_, "baseline_run": run, "validate": val, "quick": quick}}, open(os.environ["OUT"], "w"), indent=1)
 PY

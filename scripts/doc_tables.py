@@ -3,16 +3,21 @@
 <!-- doc-table: NAME --> and <!-- /doc-table --> in the files below, and this script runs the
 cases that make it (LIGGGHTS, as the docs say) and writes it (--write) or checks that the docs
 hold exactly what the run gives (--check, the test docs.tables). With --reproduce it also runs
-`granstack reproduce` (every experiment, about a minute on 2 cores, which the test leaves out) for
-the reproduction tutorial's summary. The big-nest tables are made from the records their
-benchmarks wrote into bench/results/ (RECORDS): the 16-core timings cannot be run again here,
-and the decomposition counts take minutes (bench/decomposition.sh with OUT set makes them anew).
+`granstack reproduce` on LIGGGHTS (every experiment, about a minute on 2 cores) for the
+reproduction tutorial's summary, and the study on LAMMPS against it (several minutes), whose
+comparison it keeps as a record (bench/results/engines-study-DATE.json). Without it, the check runs
+the study on refsim instead (about 20 s on 2 cores: refsim reproduces LIGGGHTS to round-off, and
+the summary prints 4 digits, so its table is LIGGGHTS's to the digit) and makes the LAMMPS page's
+table from that record. The big-nest tables are made from the records their benchmarks wrote into
+bench/results/ (RECORDS): the 16-core timings cannot be run again here, and the decomposition
+counts take minutes (bench/decomposition.sh with OUT set makes them anew).
 
 usage: doc_tables.py --write|--check [--reproduce] GRANSTACK WORKDIR
 """
 import json
 import pathlib
 import re
+import statistics
 import subprocess
 import sys
 
@@ -22,6 +27,8 @@ PLACES = {
     "depth": ["README.md", "docs/index.md", "docs/explanation/results.md"],
     "decay": ["docs/tutorials/decay.md"],
     "objectives": ["docs/how-to/design.md"],
+    "spec_fields": ["docs/reference/spec.md"],
+    "materials": ["docs/reference/spec.md"],
 }
 # Made from the benchmarks' records (bench/results/): the runs behind them are named there.
 RECORDS = {
@@ -38,14 +45,20 @@ RECORDS = {
     "design_cores_16_96": "bench/results/design-cores-16-96-2026-11-27.json",
     "design_cores_2": "bench/results/design-cores-2-2026-11-27.json",
     "engines": "bench/results/engines-2026-11-27.json",                 # OUT=... bench/engines.sh 3
+    # doc_tables.py --write --reproduce: the study on LAMMPS against LIGGGHTS (report.json's "against")
+    "engines_study": "bench/results/engines-study-2026-11-28.json",
+    # GRANSTACK=build/ci/app/granstack OUT=... bash bench/reproduce.sh 3, on the 2-core machine
+    "reproduce": "bench/results/reproduce-2026-11-28.json",
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
                  "refsim_against_liggghts": ["docs/how-to/big-nests.md"],
                  "refsim_outside_loop": ["docs/how-to/big-nests.md"], "large_nest": ["docs/how-to/big-nests.md"],
                  "copies": ["docs/how-to/big-nests.md"], "design_speedup": ["docs/explanation/performance.md"],
                  "design_cores": ["docs/explanation/performance.md"], "design_cores_summary": ["README.md"],
-                 "engines_agreement": ["docs/explanation/lammps.md"], "engines_speed": ["docs/explanation/lammps.md"]}
-# Made only with --reproduce.
+                 "engines_agreement": ["docs/explanation/lammps.md"], "engines_speed": ["docs/explanation/lammps.md"],
+                 "reproduce_cost": ["README.md", "docs/index.md", "docs/tutorials/reproduce.md"],
+                 "reproduce_speed": ["docs/explanation/performance.md"]}
+# The study's tables: LIGGGHTS's reproduction (refsim's in the check) and the LAMMPS study's record.
 REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"], "engines_study": ["docs/explanation/lammps.md"]}
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
 QUOTED_NOTES = ("One reading for Fig. 2 and Fig. 4", "Hypotheses, from the restitution scan", "Each mechanism's share")
@@ -81,7 +94,9 @@ def tables(exe, work):
         rows.append(f"| {nb} | {spheres[nb]} | {fraction[(nb, 1)]:.5g} | {fraction[(nb, 0.9)]:.5g} |")
     # The design objectives: the program's own table (design/objectives.hpp), as it prints it.
     objectives = granstack(exe, "design", "objectives")
-    return {"depth": "\n".join(rows) + "\n", "decay": decay, "objectives": objectives}
+    return {"depth": "\n".join(rows) + "\n", "decay": decay, "objectives": objectives,
+            "spec_fields": granstack(exe, "fields", "--markdown"),
+            "materials": granstack(exe, "fields", "--materials", "--markdown")}
 
 
 def record(name):
@@ -224,11 +239,20 @@ def engines_speed():
     return "\n".join(rows) + "\n"
 
 
-def engines_study(exe, work):
-    """The study on LAMMPS against the LIGGGHTS reproduction reproduce_table made (reproduce --against)."""
+def run_engines_study(exe, work):
+    """The study on LAMMPS against the LIGGGHTS reproduction reproduce_table made (reproduce --against),
+    kept as the record RECORDS["engines_study"] names."""
     out = work / "reproduce_lammps"
     granstack(exe, "reproduce", "-j", "2", "--force", "--engine", "lammps", "--against", str(work / "reproduce"), "-o", str(out))
-    a = json.loads((out / "report.json").read_text())["against"]
+    record = {"made_by": "python3 scripts/doc_tables.py --write --reproduce GRANSTACK WORKDIR",
+              "granstack": json.loads((out / "report.json").read_text())["git_commit"],
+              "against": json.loads((out / "report.json").read_text())["against"]}
+    (ROOT / RECORDS["engines_study"]).write_text(json.dumps(record, indent=2) + "\n")
+
+
+def engines_study():
+    """The LAMMPS page's table from the study's record."""
+    a = json.loads((ROOT / RECORDS["engines_study"]).read_text())["against"]
     beyond = [c for c in a["claims"] if c["relative"] is None or c["relative"] > 1e-12]
     largest = max(a["claims"], key=lambda c: c["relative"] or 0.0)
     rows = [f"{a['changed']} of {len(a['claims'])} statements change their verdict between LIGGGHTS and LAMMPS; "
@@ -240,6 +264,32 @@ def engines_study(exe, work):
         rows.append(f"| {c['claim']} | {number(c['here'])} | {number(c['there'])} | {c['relative']:.2g} | {verdicts} | "
                     f"{c['cause'].split(':')[0]} |")
     return "\n".join(rows) + "\n"
+
+
+def reproduce_record():
+    return json.loads((ROOT / RECORDS["reproduce"]).read_text())
+
+
+def reproduce_cost():
+    """The study's size and time, said once and made from bench/reproduce.sh's record."""
+    r, m = reproduce_record(), statistics.median
+    return (f"The study's {r['cases']} cases reproduce in about {m(r['seconds']['reproduce']):.0f} s on 2 cores "
+            f"(`granstack reproduce -j 2`, every experiment from scratch; LIGGGHTS alone on the same cases takes "
+            f"{m(r['seconds']['baseline_run']):.0f} s of it; medians of {r['repeats']} runs by `bench/reproduce.sh`, "
+            f"`{RECORDS['reproduce']}`).\n")
+
+
+def reproduce_speed():
+    """Every reproduce the benchmark times, medians (min..max) of its alternating runs."""
+    r, m = reproduce_record(), statistics.median
+    runs = [("`reproduce`, every experiment", "reproduce"), ("`reproduce --validate`", "validate"),
+            ("`reproduce --quick`", "quick"), ("LIGGGHTS alone on the same cases (`run -j 2`)", "baseline_run")]
+    rows = [f"| run ({r['cases']} cases, -j 2, from scratch) | median | min..max |", "|---|---|---|"]
+    for label, key in runs:
+        xs = r["seconds"][key]
+        rows.append(f"| {label} | {m(xs):.1f} s | {min(xs):.1f}..{max(xs):.1f} s |")
+    ratio = m(r["seconds"]["reproduce"]) / m(r["seconds"]["baseline_run"])
+    return "\n".join(rows) + f"\n\nreduce, analysis and report add {100 * (ratio - 1):.0f} % to LIGGGHTS's own time.\n"
 
 
 def number(v):
@@ -258,12 +308,16 @@ def from_paper(c):
     return text
 
 
-def reproduce_table(exe, work):
+def reproduce_table(exe, work, engine):
     """The report's summary (every claim, whose it is, its primary reading and verdict) and the
-    notes it quotes, from `granstack reproduce` run again from scratch."""
-    out = work / "reproduce"
-    granstack(exe, "reproduce", "-j", "2", "--force", "-o", str(out))
+    notes it quotes, from `granstack reproduce` run again from scratch on `engine`."""
+    out = work / ("reproduce" if engine == "liggghts" else "reproduce_" + engine)
+    granstack(exe, "reproduce", "-j", "2", "--force", "--engine", engine, "-o", str(out))
     report = json.loads((out / "report.json").read_text())
+    cases = sum(len(e["cases"]) for e in report["experiments"])
+    if cases != reproduce_record()["cases"]:
+        sys.exit(f"the study has {cases} cases, {RECORDS['reproduce']} timed {reproduce_record()['cases']}: "
+                 "run bench/reproduce.sh again (OUT=...) and point RECORDS at its record")
     whose = {"paper": "the paper", "granstack": "granstack's"}
     rows = ["| claim | whose | the statement | paper | granstack | from the paper | verdict |", "|---|---|---|---|---|---|---|"]
     notes = []
@@ -287,12 +341,14 @@ def main():
                 refsim_outside_loop=refsim_outside_loop(),
                 large_nest=large_nest(), copies=copies(), design_speedup=design_speedup(), design_cores=design_cores(),
                 design_cores_summary=design_cores_summary(), engines_agreement=engines_agreement(),
-                engines_speed=engines_speed())
-    places = {**PLACES, **RECORD_PLACES}
+                engines_speed=engines_speed(), reproduce_cost=reproduce_cost(), reproduce_speed=reproduce_speed())
+    places = {**PLACES, **RECORD_PLACES, **REPRODUCE_PLACES}
     if "--reproduce" in sys.argv[1:]:
-        made["reproduce"] = reproduce_table(exe, work)
-        made["engines_study"] = engines_study(exe, work)
-        places.update(REPRODUCE_PLACES)
+        made["reproduce"] = reproduce_table(exe, work, "liggghts")
+        run_engines_study(exe, work)
+    else:
+        made["reproduce"] = reproduce_table(exe, work, "refsim")
+    made["engines_study"] = engines_study()
     stale = []
     for name, files in places.items():
         for f in files:
@@ -311,7 +367,7 @@ def main():
         sys.exit("\n".join(stale) + "\nrun: python3 scripts/doc_tables.py --write GRANSTACK WORKDIR")
     print(f"doc tables: {sum(len(v) for v in places.values())} places, "
           f"{'rewritten where stale' if mode == '--write' else 'all as the run gives'}"
-          f"{'' if '--reproduce' in sys.argv[1:] else ' (the reproduction summary left out: --reproduce makes it)'}")
+          f"{' (the study on LIGGGHTS and LAMMPS)' if '--reproduce' in sys.argv[1:] else ' (the study on refsim; LAMMPS from its record)'}")
 
 
 main()

@@ -38,13 +38,6 @@ help() { PATH="$(dirname "$gs"):$PATH" granstack "$@" --help; }
   done
 } > "$src/docs/reference/cli.md"
 
-# The spec's fields, generated from the field table (model/spec_fields.hpp) by granstack itself.
-fields=$(mktemp)
-PATH="$(dirname "$gs"):$PATH" granstack fields --markdown > "$fields"
-grep -q '^<!-- spec-fields' "$src/docs/reference/spec.md" || { echo "docs: reference/spec.md lost its spec-fields marker" >&2; exit 1; }
-sed -i -e "/^<!-- spec-fields/{r $fields" -e 'd}' "$src/docs/reference/spec.md"
-rm -f "$fields"
-
 (cd "$src" && mkdocs build --strict > "$src/mkdocs.log" 2>&1) || { grep -v '^INFO' "$src/mkdocs.log" >&2; exit 1; }
 
 # Every local href and src of the built pages points at a file of the site (and an anchor of it).

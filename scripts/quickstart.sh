@@ -19,6 +19,13 @@ elif [ -d "$case_dir" ]; then
 else
   "$gs" generate -o "$case_dir"
 fi
-"$gs" run "$case_dir"
+# A reused case whose run is not whole or not as recorded (status says changed, failed or
+# interrupted; a record from an older granstack cannot vouch for its outputs) runs again.
+if [ -f "$case_dir/run.json" ] && ! "$gs" status "$case_dir" >/dev/null 2>&1; then
+  echo "quickstart: $case_dir's run is not as its record says ('granstack status $case_dir' says why): running it again"
+  "$gs" run --force "$case_dir"
+else
+  "$gs" run "$case_dir"
+fi
 echo
 "$gs" reduce "$case_dir"

@@ -34,7 +34,7 @@ namespace {
 // The cost estimate of each case, by its absolute path: each manifest is read once.
 using Costs = std::map<std::string, model::Cost>;
 
-model::Cost case_cost(const formats::Case& c) { return model::estimate_cost(c.stack(), c.resolution()); }
+model::Cost case_cost(const formats::Case& c) { return c.cost(); }
 
 std::vector<std::string> pending_cases(const std::vector<std::string>& targets, bool force, Costs& costs) {
   std::vector<std::string> out;

@@ -21,7 +21,6 @@ namespace {
 // The spec fields a design varies: [fixed] may not set them.
 const std::vector<std::string> kVaried{"blocks", "rows", "block_rows", "materials", "radius_ratio", "bottom_radius"};
 // The study's top block (8 rows of 8 mm spheres over 4 blocks with a 1 mm bottom radius).
-constexpr double kDefaultTopRadius = 8e-3;
 constexpr const char* kStudyMaterial = "steel";
 
 std::string joined(const std::vector<std::string>& v) { return fmt::format("{}", fmt::join(v, ", ")); }

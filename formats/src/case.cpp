@@ -87,6 +87,12 @@ const model::Stack& Case::stack() const {
   return *stack_->stack;
 }
 
+model::Cost Case::cost() const {
+  const auto source = path("manifest.json").string();
+  const long spheres = derived_value<long>(manifest_.derived, "sphere_count", source);
+  return model::estimate_cost(manifest_.spec, spheres, derived_.steps, derived_.dump_every, derived_.series_every);
+}
+
 void Case::check_derived() const {
   const auto res = resolution();
   if (derived_.dt != res.dt || derived_.steps != res.steps || derived_.dump_every != res.dump_every ||

@@ -2,6 +2,7 @@
 #include <granstack/formats/digest.hpp>
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/files.hpp>
+#include <granstack/os/interrupt.hpp>
 
 #include <fmt/format.h>
 #include <openssl/evp.h>
@@ -65,6 +66,8 @@ std::string sha256_content(const std::filesystem::path& path) {
   auto ctx = new_context();
   std::string buffer(std::size_t{1} << 20, '\0');
   for (std::size_t got; (got = source->read(buffer.data(), buffer.size())) > 0;) {
+    // A digest of gigabytes is a long pass: a stop request ends it (reduce digests beside its reading).
+    if (os::interrupt_signal() != 0) throw std::runtime_error(fmt::format("{}: digest stopped by a signal", path.string()));
     EVP_DigestUpdate(ctx.get(), buffer.data(), got);
   }
   return finish(ctx.get());

@@ -186,10 +186,10 @@ bool files_untouched_since_run(const fs::path& case_dir, const RunRecord& record
   return !output_folders_hold_more(case_dir, d.at("outputs"));
 }
 
-void require_files_as_run(const Case& c) {
-  if (const auto why = files_not_as_run(c, c.run_record(), DigestCheck::full); !why.empty()) {
-    throw FormatError(c.path(c.files().run_record).string(), 0, fmt::format("case {}: {}", c.dir(), why));
-  }
+void refuse_unless_as_run(const Case& c, const std::string& why) {
+  if (!why.empty()) throw FormatError(c.path(c.files().run_record).string(), 0, fmt::format("case {}: {}", c.dir(), why));
 }
+
+void require_files_as_run(const Case& c) { refuse_unless_as_run(c, files_not_as_run(c, c.run_record(), DigestCheck::full)); }
 
 }  // namespace granstack::formats

@@ -189,18 +189,21 @@ std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& r)
   return issues;
 }
 
-Cost estimate_cost(const Stack& stack, const Resolution& r) {
+Cost estimate_cost(const StackSpec& spec, long spheres, long steps, long dump_every, long series_every) {
   Cost c;
-  c.spheres = static_cast<long>(stack.spheres().size());
-  c.steps = r.steps;
-  c.frames = r.steps / std::max(1, r.dump_every) + 1;
-  const double per_atom =
-      stack.spec().dump_format == DumpFormat::binary ? kBinaryDumpBytesPerAtom : kTextDumpBytesPerAtom;
+  c.spheres = spheres;
+  c.steps = steps;
+  c.frames = steps / std::max(1L, dump_every) + 1;
+  const double per_atom = spec.dump_format == DumpFormat::binary ? kBinaryDumpBytesPerAtom : kTextDumpBytesPerAtom;
   c.dump_bytes = static_cast<double>(c.frames) * static_cast<double>(c.spheres) * per_atom;
-  const double samples = static_cast<double>(r.steps / std::max(1, r.series_every) + 1);
-  c.series_bytes = samples * (2.0 * (stack.spec().blocks + 3) + 1) * kSeriesBytesPerValue;
+  const double samples = static_cast<double>(steps / std::max(1L, series_every) + 1);
+  c.series_bytes = samples * (2.0 * (spec.blocks + 3) + 1) * kSeriesBytesPerValue;
   c.liggghts_seconds = static_cast<double>(c.spheres) * static_cast<double>(c.steps) / kLiggghtsParticleStepsPerSecond;
   return c;
+}
+
+Cost estimate_cost(const Stack& stack, const Resolution& r) {
+  return estimate_cost(stack.spec(), static_cast<long>(stack.spheres().size()), r.steps, r.dump_every, r.series_every);
 }
 
 std::string why_large(const Cost& c) {

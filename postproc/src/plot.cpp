@@ -81,7 +81,7 @@ std::string plot_block_energy(const std::string& case_dir, const std::string& la
                               const PlotOptions& o) {
   const auto c = formats::Case::open(case_dir);
   const double dt = c.derived().dt;
-  const auto series = formats::read_series(c.path(c.files().series).string());
+  const auto series = formats::read_series(formats::find_dump(c.dir(), c.files().series));
   const int nb = c.spec().blocks;
   std::vector<int> trans, rot;
   for (int k = 1; k <= nb; ++k) {

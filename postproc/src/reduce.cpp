@@ -25,6 +25,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <optional>
 #include <thread>
 
@@ -380,6 +381,15 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   const auto res = c.resolution();
   const auto& spec = stack.spec();
   const int nb = spec.blocks;
+  // That the outputs are those this case's run wrote is checked beside the reading, on a thread of
+  // its own (digesting the dump is a pass over its bytes that the parsing threads need not wait
+  // for); its verdict is taken after the reading, so a damaged file gets the reader's own message.
+  std::future<std::string> outputs_check;
+  if (options.verify_run_outputs) {
+    outputs_check = std::async(std::launch::async, [&c] {
+      return formats::files_not_as_run(c, c.run_record(), formats::DigestCheck::full);
+    });
+  }
 
   CaseReduction r;
   r.case_dir = case_dir;
@@ -473,8 +483,8 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   r.waves = waves.finish(series);
   final_state(last_energy, stack, r);
   // Outputs that read cleanly must still be those this case's run wrote, never another case's
-  // under its labels (checked after reading, so a damaged file gets the reader's own message).
-  if (options.verify_run_outputs) formats::require_files_as_run(c);
+  // under its labels.
+  if (outputs_check.valid()) formats::refuse_unless_as_run(c, outputs_check.get());
 
   tables.finish();
   if (options.write_files) {
@@ -653,18 +663,19 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
       fmt::format_to(out, "peak bottom-wall force: {:.6g} N at t = {:.4g} s; stroke (the striker's largest travel): {:.6g} m\n",
                      *r.peak_wall_force, r.peak_wall_force_time, r.stroke);
     }
-    if (!r.panel_frames.empty()) {
-      // The blocks above are every panel's together; the panels one by one:
-      const int hit = r.spec.strikes_every_panel() ? 0 : r.spec.measured_panel();
-      fmt::format_to(out, "per panel, kinetic energy / E_in at the last frame (peak), the blocks above summing every panel:\n");
-      for (std::size_t p = 0; p < r.panel_final_fraction.size(); ++p) {
-        fmt::format_to(out, "  panel {:>2}{}  {:.6g} ({:.6g})\n", p + 1, static_cast<int>(p) + 1 == hit ? " (hit)" : "      ",
-                       r.panel_final_fraction[p], r.panel_peak_fraction[p]);
-      }
-      fmt::format_to(out, "  matrix    {:>6}  {:.6g} ({:.6g})\n", "", r.matrix_final_fraction, r.matrix_peak_fraction);
-      fmt::format_to(out, "leaked into the matrix and the other panels: {:.6g} of E_in at the last frame (peak {:.6g})\n",
-                     r.leaked_final_fraction, r.leaked_peak_fraction);
+  }
+  // A container's panels one by one (the blocks' figures sum every panel), for each container case.
+  for (const auto& r : rs) {
+    if (r.panel_frames.empty()) continue;
+    const int hit = r.spec.strikes_every_panel() ? 0 : r.spec.measured_panel();
+    fmt::format_to(out, "\nper panel ({}), kinetic energy / E_in at the last frame (peak):\n", r.case_name);
+    for (std::size_t p = 0; p < r.panel_final_fraction.size(); ++p) {
+      fmt::format_to(out, "  panel {:>2}{}  {:.6g} ({:.6g})\n", p + 1, static_cast<int>(p) + 1 == hit ? " (hit)" : "      ",
+                     r.panel_final_fraction[p], r.panel_peak_fraction[p]);
     }
+    fmt::format_to(out, "  matrix    {:>6}  {:.6g} ({:.6g})\n", "", r.matrix_final_fraction, r.matrix_peak_fraction);
+    fmt::format_to(out, "leaked into the matrix and the other panels: {:.6g} of E_in at the last frame (peak {:.6g})\n",
+                   r.leaked_final_fraction, r.leaked_peak_fraction);
   }
   for (const auto& r : rs) {
     for (const auto& warn : r.warnings) fmt::format_to(out, "warning: {}: {}\n", r.case_name, warn);

@@ -84,7 +84,7 @@ Curve reduce_column(const postproc::CaseReduction& r, const std::string& table, 
 std::vector<Curve> series_energies(const postproc::CaseReduction& r, const std::vector<std::string>& groups) {
   const auto c = formats::Case::open(r.case_dir);
   const double dt = c.derived().dt;
-  const auto s = formats::read_series(c.path(c.files().series).string());
+  const auto s = formats::read_series(formats::find_dump(c.dir(), c.files().series));
   const int step = s.column("step");
   std::vector<std::pair<int, int>> cols;  // translational, rotational
   for (const auto& g : groups) {

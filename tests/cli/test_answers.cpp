@@ -4,6 +4,7 @@
 // which record is trusted, the same code for every engine).
 #include "../support/granstack_test.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -244,6 +245,24 @@ TEST_F(Answers, DesignMessagesSayWhatHappened) {
   r = granstack({"design", "confirm", "hot"});
   EXPECT_EQ(r.code, 1) << r.output;
   expect_contains(r, "has no design on its front");
+}
+
+// The container example as the ParaView page runs it (a sweep of 2 and 3 blocks): reduce lists each
+// case's panels and the leak (it listed them for a single case only, so the page's command showed
+// none), and the two side panels of a blow on the middle one take the same energy (mirror images).
+TEST_F(Answers, AContainerSweepListsEachCasesPanels) {
+  auto r = granstack({"generate", "-o", "box", "--config", (fs::path(GRANSTACK_SOURCE_DIR) / "examples" / "container.toml").string()});
+  ASSERT_EQ(r.code, 0) << r.output;
+  ASSERT_EQ(granstack({"run", "--engine", "refsim", "box"}).code, 0);
+  r = granstack({"reduce", "box"});
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const auto* c : {"nb2", "nb3"}) expect_contains(r, fmt::format("per panel ({}), kinetic energy / E_in", c));
+  expect_contains(r, "  panel  2 (hit)");
+  expect_contains(r, "leaked into the matrix and the other panels");
+  const auto side = [&](const std::string& c, int p) {
+    return nlohmann::json::parse(read_bytes(path("box") / c / "reduce" / "summary.json")).at("panel_final_fraction").at(p).get<double>();
+  };
+  EXPECT_NEAR(side("nb2", 0), side("nb2", 2), 1e-12 * side("nb2", 0));
 }
 
 }  // namespace

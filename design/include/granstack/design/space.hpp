@@ -17,6 +17,9 @@
 
 namespace granstack::design {
 
+// A design space's top sphere radius when [fixed] gives no top_radius, m (the study's top block's).
+inline constexpr double kDefaultTopRadius = 8e-3;
+
 // A space that cannot be searched: every problem found, each naming its key and the fix.
 class SpaceError : public std::runtime_error {
  public:

@@ -74,6 +74,8 @@ class Case {
   // What the spec gives today: the same as derived() unless the rules changed since generate
   // (or the manifest was edited), which check_derived() refuses.
   model::Resolution resolution() const { return model::resolve(stack()); }
+  // What the case costs (model::estimate_cost), from the manifest's counts: no stack is built.
+  model::Cost cost() const;
   // Throws FormatError when the derived values are not what the spec gives.
   void check_derived() const;
 

@@ -37,5 +37,7 @@ bool files_untouched_since_run(const std::filesystem::path& case_dir, const RunR
 // For the commands that read a case's outputs: throws FormatError (naming run.json) when they are
 // not what its run wrote (a full check).
 void require_files_as_run(const Case& c);
+// The same with files_not_as_run's answer already in hand ("": nothing to refuse).
+void refuse_unless_as_run(const Case& c, const std::string& why);
 
 }  // namespace granstack::formats

@@ -99,7 +99,8 @@ std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& re
 // kLiggghtsParticleStepsPerSecond, the slowest loop rate measured on the project's 2-core machine
 // (`bash bench/engine_rates.sh 3`, text dumps, the default case, a 961-sphere frictional stack
 // and a 673-sphere nest: the slowest run of three runs of the script was 2.52e6, 3.3e6 and
-// 2.75e6, medians 3.3e6 to 3.8e6), so the estimate errs long (bench/results/trust-2026-11-26.md).
+// 2.75e6, medians 3.3e6 to 3.8e6; bench/results/trust-2026-11-26.md). Another machine may be
+// slower: the estimate gives the order of the time, not a bound.
 inline constexpr double kLiggghtsParticleStepsPerSecond = 2.5e6;
 // Bytes a dumped atom line takes: 147 in text (the default case's 28.8 MB over 811 frames of 241
 // atoms, measured) and 19 doubles in binary; bytes per value of the series (the default case's
@@ -116,6 +117,9 @@ struct Cost {
   double liggghts_seconds = 0.0;  // one core
 };
 Cost estimate_cost(const Stack& stack, const Resolution& res);
+// The same from the counts a case's manifest holds, with no stack to build (submit over thousands
+// of cases).
+Cost estimate_cost(const StackSpec& spec, long spheres, long steps, long dump_every, long series_every);
 // A case larger than this needs the user's confirmation (`generate --large`).
 inline constexpr double kLargeDumpBytes = 20e9;
 inline constexpr double kLargeLiggghtsSeconds = 24 * 3600.0;
