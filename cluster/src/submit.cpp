@@ -6,6 +6,7 @@
 #include <granstack/formats/case.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/os/case_lock.hpp>
+#include <granstack/os/shares.hpp>
 #include <granstack/os/process.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/model/resolution.hpp>
@@ -36,13 +37,24 @@ using Costs = std::map<std::string, model::Cost>;
 
 model::Cost case_cost(const formats::Case& c) { return c.cost(); }
 
+// Every case's manifest is read and checked (thousands in a sweep: on every usable CPU), its cost
+// estimated and its run record read; the first case that cannot be opened, in order, is the error.
 std::vector<std::string> pending_cases(const std::vector<std::string>& targets, bool force, Costs& costs) {
+  const auto dirs = formats::expand_case_dirs(targets);
+  std::vector<model::Cost> cost(dirs.size());
+  std::vector<char> pending(dirs.size(), 0);
+  os::for_shares(dirs.size(), os::usable_cpus(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const auto c = formats::Case::open(dirs[i]);  // a case, or FormatError naming what is wrong
+      cost[i] = case_cost(c);
+      pending[i] = force || !c.run_record().done();
+    }
+  });
   std::vector<std::string> out;
-  for (const auto& d : formats::expand_case_dirs(targets)) {
-    const auto dir = fs::absolute(d).lexically_normal().string();
-    const auto c = formats::Case::open(d);  // a case, or FormatError naming what is wrong
-    costs[dir] = case_cost(c);
-    if (force || !c.run_record().done()) out.push_back(dir);
+  for (std::size_t i = 0; i < dirs.size(); ++i) {
+    const auto dir = fs::absolute(dirs[i]).lexically_normal().string();
+    costs[dir] = cost[i];
+    if (pending[i] != 0) out.push_back(dir);
   }
   return out;
 }
