@@ -15,6 +15,7 @@ packages=(
   time                     # peak memory in bench/
   libfast-float-dev        # number parsing at the speed the dumps need
   libssl-dev               # SHA-256 (OpenSSL) of every case's rendered deck, data file and manifest
+  libxxhash-dev            # XXH3-128 of a run's outputs (run.json's digests), checked wherever they are read
   clang libclang-rt-dev    # the fuzz targets (libFuzzer)
 )
 if [ "${1:-}" = "--tests" ]; then
@@ -23,6 +24,7 @@ if [ "${1:-}" = "--tests" ]; then
     python3-vtk9             # granstack export read back with VTK's own reader
     mkdocs                   # the documentation site, built with --strict (scripts/docs.sh)
     python3                  # the examples' expected values and the docs' tables (tests/check_example.py, scripts/doc_tables.py)
+    xxhash                   # xxhsum, which prints the digest run.json records of an output
     slurmctld slurmd slurm-client munge   # a real one-node SLURM (scripts/slurm-local.sh) for submit and status
     # refsim's ARM (NEON) kernels, cross-compiled and run under emulation (refsim.neon_emulated)
     g++-aarch64-linux-gnu qemu-user libhwy-dev:arm64 libfmt-dev:arm64

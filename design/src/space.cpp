@@ -1,5 +1,6 @@
 #include <granstack/design/space.hpp>
 #include <granstack/formats/digest.hpp>
+#include <granstack/formats/error.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/generator/spec_input.hpp>
 #include <granstack/model/resolution.hpp>
@@ -468,9 +469,17 @@ void read_start(Space& s, const std::string& source, std::vector<std::string>& p
   for (const auto& name : s.search.start_files) {
     const auto path = std::filesystem::path(source).parent_path() / name;
     try {
-      const auto sweep = generator::build_sweep(generator::parse_spec_toml(formats::read_file(path), path.string()));
+      const auto text = formats::read_file(path);
+      const auto sweep = generator::build_sweep(generator::parse_spec_toml(text, path.string()));
+      const auto given = toml::parse(text);
+      const bool names_stack = given.contains("blocks") || given.contains("materials") || given.contains("rows") ||
+                               given.contains("block_rows") || given.contains("radius_ratio");
       if (!sweep.axes.empty()) {
         problems.push_back(fmt::format("[search] start: {}: a design, not a sweep ({} has a list)", path.string(), sweep.axes.front().field));
+      } else if (!names_stack) {
+        problems.push_back(fmt::format("[search] start: {}: it names no design (none of blocks, materials, rows, block_rows, "
+                                       "radius_ratio): give the design's stack",
+                                       path.string()));
       } else if (const auto x = s.encode(sweep.base)) {
         s.search.start.push_back(*x);
       } else {
@@ -480,6 +489,8 @@ void read_start(Space& s, const std::string& source, std::vector<std::string>& p
       }
     } catch (const model::SpecError& e) {
       problems.push_back(fmt::format("[search] start: {}: {}: {}", path.string(), e.issues().front().field, e.issues().front().message));
+    } catch (const formats::FormatError& e) {  // its message names the file already
+      problems.push_back(fmt::format("[search] start: {}", e.what()));
     } catch (const std::exception& e) {
       problems.push_back(fmt::format("[search] start: {}: {}", path.string(), e.what()));
     }

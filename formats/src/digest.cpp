@@ -6,15 +6,11 @@
 
 #include <fmt/format.h>
 #include <openssl/evp.h>
+#include <xxhash.h>
 
 #include <array>
 #include <algorithm>
-#include <optional>
 #include <string_view>
-#include <fcntl.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
-#include <unistd.h>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -69,48 +65,36 @@ std::string sha256_file(const std::filesystem::path& path) {
 }
 
 namespace {
-// A plain file's digest straight from the page cache (mapped: no copy into a buffer), in pieces so
-// that a stop request is seen; nullopt where it cannot be mapped (the caller reads it instead).
-std::optional<std::string> sha256_mapped(const std::filesystem::path& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return std::nullopt;
-  struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size == 0) {
-    ::close(fd);
-    return std::nullopt;
+constexpr std::size_t kDigestPiece = std::size_t{4} << 20;
+
+// Every byte of a file's content (decompressed), in order: mapped where it is plain, else read.
+// (Read, not mapped: a file cut short while mapped would end the process with SIGBUS.)
+template <typename Update>
+void for_content_pieces(const std::filesystem::path& path, Update update) {
+  const auto source = open_bytes(path.string());
+  std::unique_ptr<char[]> buffer(new char[kDigestPiece]);  // not zeroed: every byte is read before use
+  for (std::size_t got; (got = source->read(buffer.get(), kDigestPiece)) > 0;) {
+    if (os::interrupt_signal() != 0) throw std::runtime_error(fmt::format("{}: digest stopped by a signal", path.string()));
+    update(buffer.get(), got);
   }
-  const auto size = static_cast<std::size_t>(st.st_size);
-  void* map = ::mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd, 0);
-  ::close(fd);
-  if (map == MAP_FAILED) return std::nullopt;
-  ::madvise(map, size, MADV_SEQUENTIAL);
-  const auto* bytes = static_cast<const unsigned char*>(map);
-  auto ctx = new_context();
-  constexpr std::size_t kPiece = std::size_t{16} << 20;
-  for (std::size_t at = 0; at < size; at += kPiece) {
-    if (os::interrupt_signal() != 0) {
-      ::munmap(map, size);
-      throw std::runtime_error(fmt::format("{}: digest stopped by a signal", path.string()));
-    }
-    EVP_DigestUpdate(ctx.get(), bytes + at, std::min(kPiece, size - at));
-  }
-  ::munmap(map, size);
-  return finish(ctx.get());
 }
 }  // namespace
 
+std::string xxh128_content(const std::filesystem::path& path) {
+  std::unique_ptr<XXH3_state_t, decltype(&XXH3_freeState)> state(XXH3_createState(), &XXH3_freeState);
+  if (!state || XXH3_128bits_reset(state.get()) != XXH_OK) throw std::runtime_error("xxHash cannot start a digest");
+  for_content_pieces(path, [&](const char* bytes, std::size_t n) { XXH3_128bits_update(state.get(), bytes, n); });
+  XXH128_canonical_t canonical;
+  XXH128_canonicalFromHash(&canonical, XXH3_128bits_digest(state.get()));
+  std::string hex;
+  hex.reserve(2 * sizeof canonical.digest);
+  for (const unsigned char byte : canonical.digest) hex += fmt::format("{:02x}", byte);
+  return hex;
+}
+
 std::string sha256_content(const std::filesystem::path& path) {
-  const auto source = open_bytes(path.string());
-  if (std::string_view(source->kind()) == "plain") {
-    if (auto mapped = sha256_mapped(path)) return *mapped;
-  }
   auto ctx = new_context();
-  std::string buffer(std::size_t{1} << 20, '\0');
-  for (std::size_t got; (got = source->read(buffer.data(), buffer.size())) > 0;) {
-    // A digest of gigabytes is a long pass: a stop request ends it (reduce digests beside its reading).
-    if (os::interrupt_signal() != 0) throw std::runtime_error(fmt::format("{}: digest stopped by a signal", path.string()));
-    EVP_DigestUpdate(ctx.get(), buffer.data(), got);
-  }
+  for_content_pieces(path, [&](const char* bytes, std::size_t n) { EVP_DigestUpdate(ctx.get(), bytes, n); });
   return finish(ctx.get());
 }
 

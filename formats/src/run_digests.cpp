@@ -107,10 +107,12 @@ std::string check_outputs(const Case& c, const json& outputs, DigestCheck how) {
     const auto p = present(c, name);
     if (p.empty()) return fmt::format("{}, which its run wrote, is missing", c.path(name).string());
     if (how == DigestCheck::quick && same_stat(p, rec)) continue;
-    if (sha256_content(p) != rec.value("sha256", std::string())) {
-      return fmt::format("{} is not what its run wrote (its SHA-256 differs from run.json's: copied from another "
-                         "case, or changed since)",
-                         p.string());
+    // Runs record XXH3-128; records from before (2026-11-28) hold SHA-256, checked as they are.
+    const bool xxh = rec.contains("xxh3_128");
+    if ((xxh ? xxh128_content(p) : sha256_content(p)) != rec.value(xxh ? "xxh3_128" : "sha256", std::string())) {
+      return fmt::format("{} is not what its run wrote (its {} differs from run.json's: copied from another case, or "
+                         "changed since)",
+                         p.string(), xxh ? "XXH3-128 digest" : "SHA-256");
     }
   }
   return "";
@@ -124,7 +126,7 @@ json run_digests(const Case& c) {
     const auto p = present(c, name);
     if (p.empty()) continue;
     auto entry = stat_of(p);
-    entry["sha256"] = sha256_content(p);
+    entry["xxh3_128"] = xxh128_content(p);
     outputs[name] = entry;
   }
   json inputs = json::object();

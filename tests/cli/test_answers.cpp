@@ -265,4 +265,36 @@ TEST_F(Answers, AContainerSweepListsEachCasesPanels) {
   EXPECT_NEAR(side("nb2", 0), side("nb2", 2), 1e-12 * side("nb2", 0));
 }
 
+// run.json records each output's XXH3-128 digest, the one `xxhsum -H2` prints (a user can check it
+// by hand); a record from before, which holds SHA-256 (the one `sha256sum` prints), is checked with
+// SHA-256, and a wrong one is refused as an XXH3 digest is.
+TEST_F(Answers, OutputDigestsAreTheOnesTheCommonToolsPrint) {
+  generate_and_run("c", {"--blocks", "2"});
+  const auto dump = path("c") / "dumps" / "dump.txt";
+  auto record = nlohmann::json::parse(read_bytes(path("c") / "run.json"));
+  auto& entry = record.at("digests").at("outputs").at("dumps/dump.txt");
+  const auto printed = [&](const char* tool, const std::vector<std::string>& flags) {
+    std::vector<std::string> argv{tool};
+    argv.insert(argv.end(), flags.begin(), flags.end());
+    argv.push_back(dump.string());
+    os::StartOptions o;
+    o.output = path(std::string(tool) + ".out");
+    EXPECT_EQ(os::run(argv, o).code, 0) << tool;
+    auto text = read_bytes(o.output);  // its stderr too: xxhsum's progress, ended by '\r'
+    text = text.substr(text.find_last_of('\r') == std::string::npos ? 0 : text.find_last_of('\r') + 1);
+    return text.substr(0, text.find(' '));
+  };
+  EXPECT_EQ(entry.at("xxh3_128"), printed("xxhsum", {"-H2"}));
+  entry.erase("xxh3_128");
+  entry["sha256"] = printed("sha256sum", {});
+  std::ofstream(path("c") / "run.json") << record.dump(2);
+  auto r = granstack({"reduce", "c"});
+  EXPECT_EQ(r.code, 0) << r.output;
+  entry["sha256"] = std::string(64, '0');
+  std::ofstream(path("c") / "run.json") << record.dump(2);
+  r = granstack({"reduce", "c"});
+  EXPECT_EQ(r.code, 4) << r.output;
+  expect_contains(r, "dump.txt is not what its run wrote (its SHA-256 differs from run.json's");
+}
+
 }  // namespace

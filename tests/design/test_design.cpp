@@ -595,7 +595,13 @@ TEST(Search, TheDesignsASpaceStartsFromBeginTheSearch) {
   };
   EXPECT_NE(refused("start = [\"big.toml\"]\n").find("big.toml: steel, ratios 2/2, rows 2/2/2 is not one of the space's designs"),
             std::string::npos) << refused("start = [\"big.toml\"]\n");
-  EXPECT_NE(refused("start = [\"none.toml\"]\n").find("none.toml"), std::string::npos);
+  const auto missing = refused("start = [\"none.toml\"]\n");
+  EXPECT_NE(missing.find("none.toml"), std::string::npos) << missing;
+  EXPECT_EQ(missing.find("none.toml"), missing.rfind("none.toml")) << "the path printed twice: " << missing;
+  // A file that names no stack is not taken for the default one.
+  std::ofstream(dir / "empty.toml") << "# nothing yet\nbottom = \"wall\"\n";
+  EXPECT_NE(refused("start = [\"empty.toml\"]\n").find("empty.toml: it names no design"), std::string::npos)
+      << refused("start = [\"empty.toml\"]\n");
   std::ofstream(dir / "sweep.toml") << "blocks = [1, 2]\nmaterials = [\"steel\"]\nrows = 2\n";
   EXPECT_NE(refused("start = [\"sweep.toml\"]\n").find("sweep.toml: a design, not a sweep (blocks has a list)"),
             std::string::npos)

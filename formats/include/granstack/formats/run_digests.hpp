@@ -12,9 +12,10 @@ namespace granstack::formats {
 
 // For run.json: the case the run was of (its manifest's content digest and name), and for each
 // output the readers read (every piece of its dump, its series) the size, modification time and
-// SHA-256 of its content (decompressed: a dump gzipped or zstd-compressed afterwards is still the
+// digest of its content (decompressed: a dump gzipped or zstd-compressed afterwards is still the
 // run's), and the size and time of its inputs (manifest, deck, data file; their digests are the
-// manifest's own).
+// manifest's own). The outputs' digests are XXH3-128 (formats/digest.hpp says why); a record from
+// before holds SHA-256 and is checked with it.
 nlohmann::json run_digests(const Case& c);
 
 enum class DigestCheck {
