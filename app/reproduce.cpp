@@ -54,6 +54,10 @@ int reproduce(ReproduceFlags& f) {
   study::StudyResult result;
   try {
     result = study::reproduce(study::builtin_catalogue(), o);
+  } catch (const study::AgainstError& e) {
+    status.clear();
+    fmt::print(stderr, "error: {}\n", e.what());
+    return kBadInput;
   } catch (const study::ReproduceError& e) {
     status.clear();
     fmt::print(stderr, "error: {}\n", e.what());

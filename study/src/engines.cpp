@@ -61,14 +61,14 @@ OtherReproduction read_other_report(const std::string& dir) {
   try {
     o.report = nlohmann::json::parse(formats::read_file(path));
   } catch (const std::exception& e) {
-    throw ReproduceError(fmt::format("--against {}: {} cannot be read as a reproduction's report ({}); give the "
+    throw AgainstError(fmt::format("--against {}: {} cannot be read as a reproduction's report ({}); give the "
                                      "directory of a finished `granstack reproduce`",
                                      dir, path.string(), formats::short_reason(e)));
   }
   auto& j = o.report;
   if (!j.is_object() || !j.contains("engine") || !j["engine"].is_string() || !j.contains("experiments") ||
       !j["experiments"].is_array()) {
-    throw ReproduceError(fmt::format("--against {}: {} is not a reproduction's report (no engine or experiments)", dir,
+    throw AgainstError(fmt::format("--against {}: {} is not a reproduction's report (no engine or experiments)", dir,
                                      path.string()));
   }
   o.engine = j["engine"].get<std::string>();
@@ -85,7 +85,7 @@ OtherReproduction read_other_report(const std::string& dir) {
     for (const auto& x : j["experiments"]) again += " " + x.value("name", "");
     if (j.value("quick", false)) again += " --quick";
     if (j.value("full", false)) again += " --full";
-    throw ReproduceError(fmt::format(
+    throw AgainstError(fmt::format(
         "--against {}: its report does not describe its cases now ({} case{}: {}{}); bring that reproduction up to date "
         "first (`granstack status {}` names each changed case; run those again with `granstack run --force`, then "
         "`{}` writes its report anew)",

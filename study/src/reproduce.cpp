@@ -282,7 +282,6 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& option
   std::optional<OtherReproduction> other;  // read first: a bad --against runs nothing
   if (!o.against.empty()) other = read_other_report(o.against);
   const fs::path root(o.output);
-  prepare_directory(root);
 
   std::vector<std::pair<double, CaseRecord*>> by_cost;
   std::vector<const CaseEntry*> entries;  // each case's catalogue entry, in the experiments' order
@@ -309,9 +308,10 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& option
   }
   o.engine = result.engine = choose_engine(o, in_order);
   if (other && other->engine == o.engine) {
-    throw ReproduceError(fmt::format("--against {}: that reproduction ran on {} too; give one made with another --engine",
-                                     o.against, o.engine));
+    throw AgainstError(fmt::format("--against {}: that reproduction ran on {} too; give one made with another --engine",
+                                   o.against, o.engine));
   }
+  prepare_directory(root);
   for (std::size_t i = 0; i < in_order.size(); ++i) ensure_case(in_order[i]->dir, *entries[i], o.force, o);
   std::stable_sort(by_cost.begin(), by_cost.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   std::vector<CaseRecord*> records;

@@ -22,14 +22,6 @@ namespace {
 
 class Answers : public test::GranstackTest {
  protected:
-  void generate_and_run(const std::string& name, std::vector<std::string> flags) {
-    std::vector<std::string> args{"generate", "-o", name};
-    args.insert(args.end(), flags.begin(), flags.end());
-    auto r = granstack(args);
-    ASSERT_EQ(r.code, 0) << r.output;
-    r = granstack({"run", "--engine", "refsim", name});
-    ASSERT_EQ(r.code, 0) << r.output;
-  }
   nlohmann::json summary(const std::string& name) {
     const auto r = granstack({"reduce", name});
     EXPECT_EQ(r.code, 0) << r.output;

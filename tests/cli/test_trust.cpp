@@ -25,14 +25,6 @@ namespace {
 
 class Trust : public test::GranstackTest {
  protected:
-  void generate_and_run(const std::string& name, std::vector<std::string> flags) {
-    std::vector<std::string> args{"generate", "-o", name};
-    args.insert(args.end(), flags.begin(), flags.end());
-    auto r = granstack(args);
-    ASSERT_EQ(r.code, 0) << r.output;
-    r = granstack({"run", "--engine", "refsim", name});
-    ASSERT_EQ(r.code, 0) << r.output;
-  }
   double output_fraction(const std::string& name) {
     const auto r = granstack({"reduce", name});
     EXPECT_EQ(r.code, 0) << r.output;

@@ -83,6 +83,16 @@ class GranstackTest : public ::testing::Test {
     return finish(start(args, cwd), seconds);
   }
 
+  // `granstack generate -o NAME FLAGS...`, then the case run on refsim; both must succeed.
+  void generate_and_run(const std::string& name, const std::vector<std::string>& flags) {
+    std::vector<std::string> args{"generate", "-o", name};
+    args.insert(args.end(), flags.begin(), flags.end());
+    auto r = granstack(args);
+    ASSERT_EQ(r.code, 0) << r.output;
+    r = granstack({"run", "--engine", "refsim", name});
+    ASSERT_EQ(r.code, 0) << r.output;
+  }
+
   fs::path dir_;
   int runs_ = 0;
   std::map<pid_t, fs::path> logs_;  // each started granstack's output

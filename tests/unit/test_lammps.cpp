@@ -31,6 +31,21 @@ const model::LammpsRules& here() { return model::lammps_rules_run_here(); }
 model::Material steel() { return {"steel", 8000.0, 193e9, 0.3}; }
 model::Material teflon() { return {"teflon", 2200.0, 1.46e9, 0.46}; }
 
+// A case of three blocks of 2 rows, steel over Teflon over steel, e = 0.8, on a bottom wall (and
+// between side walls with `sides`), with its files named.
+formats::Manifest steel_teflon_steel(bool sides) {
+  formats::Manifest m;
+  m.case_name = "c";
+  m.spec.blocks = 3;
+  m.spec.rows = 2;
+  m.spec.materials = {"steel", "teflon", "steel"};
+  m.spec.bottom = model::Boundary::wall;
+  if (sides) m.spec.sides = model::Boundary::wall;
+  m.spec.restitution.value = 0.8;
+  m.files = generator::case_files(model::Stack::build(m.spec));
+  return m;
+}
+
 std::size_t count(const std::string& text, const std::string& word) {
   std::size_t n = 0;
   for (auto at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) ++n;
@@ -129,16 +144,8 @@ TEST(Lammps, UnmappableSpecsAreRefusedByName) {
 // atom type with spheres, the bottom wall's force summed over them; an unknown placeholder in a
 // user's template is refused by name.
 TEST(Lammps, DeckSetsEveryTypePairAndAWallFixPerType) {
-  formats::Manifest m;
-  m.case_name = "c";
-  m.spec.blocks = 3;
-  m.spec.rows = 2;
-  m.spec.materials = {"steel", "teflon", "steel"};
-  m.spec.bottom = model::Boundary::wall;
-  m.spec.sides = model::Boundary::wall;
-  m.spec.restitution.value = 0.8;
+  const auto m = steel_teflon_steel(true);
   const auto stack = model::Stack::build(m.spec);
-  m.files = generator::case_files(stack);
   const auto res = model::resolve(stack);
   const auto deck = generator::lammps_deck(stack, res, m.files, m.case_name, generator::default_lammps_template(),
                                            "templates/in.lammps.tmpl", here());
@@ -230,15 +237,8 @@ TEST(Lammps, TheRewritesWallsAndDampingMapAsItsSourceSays) {
 // would run teflon against steel as steel against steel), and the deck says what each damping
 // coefficient stands for and, with walls and tsuji, where this LAMMPS changes its own damping.
 TEST(Lammps, EachPairCoeffIsItsOwnPairsAndTheDeckSaysWhatItMapped) {
-  formats::Manifest m;
-  m.case_name = "c";
-  m.spec.blocks = 3;
-  m.spec.rows = 2;
-  m.spec.materials = {"steel", "teflon", "steel"};
-  m.spec.bottom = model::Boundary::wall;
-  m.spec.restitution.value = 0.8;
+  const auto m = steel_teflon_steel(false);
   const auto stack = model::Stack::build(m.spec);
-  m.files = generator::case_files(stack);
   const auto deck = generator::lammps_deck(stack, model::resolve(stack), m.files, m.case_name,
                                            generator::default_lammps_template(), "templates/in.lammps.tmpl", here());
   const auto types = stack.type_materials();

@@ -222,20 +222,20 @@ fixed = { date = "2026-01-01", geometry = "1 block of 8 rows, 2 top columns, ste
   problems = with("[0, 3]");
   ASSERT_EQ(problems.size(), 1u);
   EXPECT_NE(problems[0].find("says before = \"[0, 3]\", but the record had \"[0, 1]\""), std::string::npos) << problems[0];
-  // The main case's geometry is recorded too: 24 rows where the record says 8.
-  auto taller = head + change;
-  taller.replace(taller.find("BEFORE"), 6, "[0, 1]");
-  taller.replace(taller.find("blocks = 1\n"), 11, "blocks = 1\n  rows = 24\n");
-  problems = unrecorded_changes(parse_catalogue(taller, "t").experiments.front());
-  ASSERT_EQ(problems.size(), 1u) << fmt::format("{}", fmt::join(problems, "\n"));
-  EXPECT_NE(problems[0].find("experiment x: its geometry is \"1 block of 24 rows"), std::string::npos) << problems[0];
-  // And its physics: a restitution of 0.95 where the record says 1.
-  auto damped = head + change;
-  damped.replace(damped.find("BEFORE"), 6, "[0, 1]");
-  damped.replace(damped.find("blocks = 1\n"), 11, "blocks = 1\n  restitution = 0.95\n");
-  problems = unrecorded_changes(parse_catalogue(damped, "t").experiments.front());
-  ASSERT_EQ(problems.size(), 1u) << fmt::format("{}", fmt::join(problems, "\n"));
-  EXPECT_NE(problems[0].find("experiment x: its physics is \"e = 0.95, mu = 0"), std::string::npos) << problems[0];
+  // The main case's geometry and physics are recorded too: 24 rows where the record says 8, a
+  // restitution of 0.95 where it says 1.
+  const auto with_case_field = [&](const std::string& field) {
+    auto text = head + change;
+    text.replace(text.find("BEFORE"), 6, "[0, 1]");
+    text.replace(text.find("blocks = 1\n"), 11, "blocks = 1\n  " + field + "\n");
+    return unrecorded_changes(parse_catalogue(text, "t").experiments.front());
+  };
+  for (const auto& [field, said] : {std::pair{"rows = 24", "experiment x: its geometry is \"1 block of 24 rows"},
+                                    std::pair{"restitution = 0.95", "experiment x: its physics is \"e = 0.95, mu = 0"}}) {
+    problems = with_case_field(field);
+    ASSERT_EQ(problems.size(), 1u) << fmt::format("{}", fmt::join(problems, "\n"));
+    EXPECT_NE(problems[0].find(said), std::string::npos) << problems[0];
+  }
 }
 
 }  // namespace

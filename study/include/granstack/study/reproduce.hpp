@@ -113,6 +113,12 @@ class ReproduceError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+// An --against DIR2 that cannot be compared with (not a reproduction's, of the same engine, or
+// changed since its report): bad input, refused before anything is made or run.
+class AgainstError : public ReproduceError {
+ public:
+  using ReproduceError::ReproduceError;
+};
 
 // Generates the missing cases under DIR/<experiment>/<case>, runs those not done, reduces them,
 // measures and judges. Cases already done are reused, so an interrupted reproduction continues
