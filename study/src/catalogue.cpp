@@ -107,6 +107,14 @@ void check_record(const Record& r, const std::map<std::string, std::string>& now
     out.push_back(fmt::format("{}: no record: add fixed = {{ date = \"YYYY-MM-DD\", ... }} with its values", who));
     return;
   }
+  // A change dated after the record was first fixed came after the first run: its results were known.
+  for (const auto& c : r.changes) {
+    if (c.date > r.date && !c.results_known && c.before != "not recorded") {
+      out.push_back(fmt::format("{}: its change of {} on {} came after it was first fixed and run ({}): say "
+                                "results_known = true",
+                                who, c.field, c.date, r.date));
+    }
+  }
   for (const auto& [field, current] : now) {
     const auto it = r.fixed.find(field);
     // Fields recorded since the record began start as "not recorded" (a change records their value).

@@ -97,7 +97,8 @@ Table record_table(const StudyResult& r) {
           {"date", "commit", "claim or experiment", "field", "before", "after", "with results known", "why"}, {}};
   auto add = [&](const std::string& who, const Record& rec) {
     for (const auto& c : rec.changes) {
-      t.rows.push_back({c.date, c.commit.empty() ? "this version" : c.commit, who, c.field, c.before, c.after,
+      t.rows.push_back({c.date, c.commit.empty() ? fmt::format("{} (this build)", std::string(git_commit()).substr(0, 7)) : c.commit,
+                        who, c.field, c.before, c.after,
                         c.results_known ? "yes" : "no", c.why});
     }
   };
@@ -109,28 +110,42 @@ Table record_table(const StudyResult& r) {
   return t;
 }
 
-// What the record says in a sentence: how many readings were chosen with results in view.
+// A change of an experiment's geometry or physics made with its results in view (the record's
+// start of a field, "not recorded" before it, changes nothing).
+bool changed_with_results(const Record& r) {
+  return std::any_of(r.changes.begin(), r.changes.end(),
+                     [](const Change& x) { return x.results_known && x.before != "not recorded"; });
+}
+
+// What the record says in a sentence, computed from it: how many verdicts were settled with
+// results in view, by a change to the claim itself or to its experiment's geometry or physics.
 std::string record_note(const StudyResult& r) {
-  int claims = 0, changed = 0, known = 0;
-  std::vector<std::string> with_results;
+  int claims = 0, changed = 0;
+  std::vector<std::string> own, by_experiment;
   for (const auto& e : r.experiments) {
+    const bool experiment_known = changed_with_results(e.experiment->record);
     for (const auto& c : e.experiment->claims) {
       ++claims;
       if (!c.record.changes.empty()) ++changed;
-      const bool k = std::any_of(c.record.changes.begin(), c.record.changes.end(), [](const Change& x) { return x.results_known; });
-      if (k) {
-        ++known;
-        with_results.push_back(c.id);
+      if (std::any_of(c.record.changes.begin(), c.record.changes.end(), [](const Change& x) { return x.results_known; })) {
+        own.push_back(c.id);
+      } else if (experiment_known) {
+        by_experiment.push_back(c.id);
       }
     }
   }
+  const auto list = [](const std::vector<std::string>& ids) {
+    return ids.empty() ? std::string("none") : fmt::format("{}", fmt::join(ids, ", "));
+  };
   return fmt::format(
-      "The record. Each claim's reading, band, paper value and scope, and each experiment's geometry and physics, is fixed in the "
-      "catalogue with the date it was first fixed; every change since is recorded with its date, the values before "
-      "and after and why, and a test fails when a change has no record. Of the {} claims here, {} changed since they "
-      "were first fixed, {} of them with the run's values for the old reading in view ({}): their verdicts are not "
-      "predictions made before the run, and the table below says what each change was.",
-      claims, changed, known, with_results.empty() ? std::string("none") : fmt::format("{}", fmt::join(with_results, ", ")));
+      "The record. Each claim's reading, band, paper value and scope, and each experiment's geometry and physics, is "
+      "fixed in the catalogue with the date it was first fixed; every change since is recorded with its date, its "
+      "commit, the values before and after and why, and a test fails when a change has no record or, made after its "
+      "claim first ran, does not say its results were known. Of the {} claims here, {} verdicts were settled with "
+      "results in view: {} by a change to the claim itself ({}), and {} by a change to its experiment's geometry or "
+      "physics alone ({}); those are not predictions made before the run. {} claims changed in all since they were "
+      "first fixed; the table below says what each change was.",
+      claims, own.size() + by_experiment.size(), own.size(), list(own), by_experiment.size(), list(by_experiment), changed);
 }
 
 Table claim_table(const ExperimentResult& e) {

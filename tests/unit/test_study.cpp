@@ -212,6 +212,7 @@ fixed = { date = "2026-01-01", geometry = "1 block of 8 rows, 2 top columns, ste
   before = "BEFORE"
   after = "[0, 2]"
   why = "w"
+  results_known = true
 )";
   auto with = [&](const std::string& before) {
     auto text = head + change;
@@ -219,6 +220,17 @@ fixed = { date = "2026-01-01", geometry = "1 block of 8 rows, 2 top columns, ste
     return unrecorded_changes(parse_catalogue(text, "t").experiments.front());
   };
   EXPECT_TRUE(with("[0, 1]").empty());
+  // Made a day after the claim was first fixed (and run), a change that says its results were not
+  // known is wrong (three such flags were).
+  auto unknowing = head + change;
+  unknowing.replace(unknowing.find("BEFORE"), 6, "[0, 1]");
+  unknowing.replace(unknowing.find("  results_known = true\n"), 23, "");
+  problems = unrecorded_changes(parse_catalogue(unknowing, "t").experiments.front());
+  ASSERT_EQ(problems.size(), 1u) << fmt::format("{}", fmt::join(problems, "\n"));
+  EXPECT_NE(problems[0].find("claim x.1: its change of band on 2026-01-02 came after it was first fixed and run "
+                             "(2026-01-01): say results_known = true"),
+            std::string::npos)
+      << problems[0];
   problems = with("[0, 3]");
   ASSERT_EQ(problems.size(), 1u);
   EXPECT_NE(problems[0].find("says before = \"[0, 3]\", but the record had \"[0, 1]\""), std::string::npos) << problems[0];
