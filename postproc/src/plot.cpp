@@ -100,7 +100,7 @@ std::string plot_block_energy(const std::string& case_dir, const std::string& la
   const std::size_t stride = std::max<std::size_t>(1, series.rows.size() / 4000);
   fmt::memory_buffer data;
   auto out = std::back_inserter(data);
-  fmt::format_to(out, "# case {}: time (us), then each block's KE / peak KE of block 1 ({:.6g} J)\n", safe_name(label), peak1);
+  fmt::format_to(out, "# case {}: time (µs), then each block's KE / peak KE of block 1 ({:.6g} J)\n", safe_name(label), peak1);
   for (std::size_t r = 0; r < series.rows.size(); r += stride) {
     const auto& row = series.rows[r];
     fmt::format_to(out, "{:.6g}", row[0] * dt * 1e6);
@@ -114,7 +114,7 @@ std::string plot_block_energy(const std::string& case_dir, const std::string& la
   const auto name = energy_plot_name(label);
   const auto script = fmt::format(
       "# granstack: kinetic energy of each block of case {} (translational + rotational), normalised by the\n"
-      "# peak of block 1 (docs/physics.md section 4). Data: {}.dat (time in us, then block 1 = top, ...).\n"
+      "# peak of block 1 (docs/physics.md section 4). Data: {}.dat (time in µs, then block 1 = top, ...).\n"
       "# Restyle at will, then run: gnuplot {}.gp\n"
       "{}\nset output '{}.{}'\n"
       "set title \"Kinetic energy per block\\n{} block{}, e = {}, μ = {}, v = {} m/s\"\n"
@@ -135,7 +135,7 @@ std::string plot_panel_energy(const CaseReduction& r, const std::string& label, 
   const int panels = r.spec.panels;
   fmt::memory_buffer data;
   auto out = std::back_inserter(data);
-  fmt::format_to(out, "# case {}: time (us), then panel 1 .. {} and the matrix: KE / E_in ({:.6g} J)\n", safe_name(label),
+  fmt::format_to(out, "# case {}: time (µs), then panel 1 .. {} and the matrix: KE / E_in ({:.6g} J)\n", safe_name(label),
                  panels, r.e_in);
   for (const auto& frame : r.panel_frames) {
     fmt::format_to(out, "{:.6g}", frame[0] * 1e6);
@@ -152,7 +152,7 @@ std::string plot_panel_energy(const CaseReduction& r, const std::string& label, 
   }
   const auto script = fmt::format(
       "# granstack: kinetic energy of each panel of the container {} and of its matrix, over E_in.\n"
-      "# Data: {}.dat (time in us, then panel 1 (smallest y) .. {}, then the matrix). The striker hits {}.\n"
+      "# Data: {}.dat (time in µs, then panel 1 (smallest y) .. {}, then the matrix). The striker hits {}.\n"
       "# Restyle at will, then run: gnuplot {}.gp\n"
       "{}\nset output '{}.{}'\n"
       "set title \"Kinetic energy per panel\\n{} panels, {} block{}, separator {}, striker on {}\"\n"

@@ -635,7 +635,7 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
     fmt::format_to(out, "\nper block ({}, run on {}; peaks from the {}):\n", r.case_name, r.engine,
                    r.peak_source == "series" ? "in-situ series" : "dump frames");
     fmt::format_to(out, "{:>5}  {:>8}  {:>14}  {:>10}  {:>13}  {:>5}  {:>6}  {:>12}  {:>10}\n", "block", "material",
-                   "peak KE (J)", "peak/top", "t_peak (us)", "peaks", "pulses", "wave (m/s)", "/Nesterenko");
+                   "peak KE (J)", "peak/top", "t_peak (µs)", "peaks", "pulses", "wave (m/s)", "/Nesterenko");
     for (const auto& bp : r.blocks) {
       const BlockWaves* wave =
           static_cast<std::size_t>(bp.block) <= r.waves.size() ? &r.waves[static_cast<std::size_t>(bp.block - 1)] : nullptr;

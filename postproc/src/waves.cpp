@@ -239,7 +239,7 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
       const double crossing = diameter / *w.nesterenko_speed;
       if (frame_interval > 0.5 * crossing) {
         w.speed.reset();
-        w.note = fmt::format("dump frames every {:.3g} us, but the wave crosses a row of block {} in about {:.3g} us: "
+        w.note = fmt::format("dump frames every {:.3g} µs, but the wave crosses a row of block {} in about {:.3g} µs: "
                              "dump at least twice per crossing (--dump-every {} or less) to time it",
                              frame_interval * 1e6, b.index, crossing * 1e6,
                              std::max(1L, std::lround(std::floor(0.5 * crossing / dt))));

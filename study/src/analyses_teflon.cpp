@@ -87,7 +87,7 @@ std::optional<double> end_reading(const postproc::CaseReduction& r) {
 void restitution_scan(const ReadingsByCase& cases, ExperimentResult& out, const std::string& main_name) {
   Table t{"Restitution of the contacts involving Teflon against the read-out: the output at the blow's end (where each "
           "run stopped, and when) and at a fixed time, 2 estimated arrivals of the pulse at the bottom face",
-          {"e (Teflon contacts)", "at the blow's end", "the blow ended at (us)", "at 2 arrivals", "2 arrivals (us)"}, {}};
+          {"e (Teflon contacts)", "at the blow's end", "the blow ended at (µs)", "at 2 arrivals", "2 arrivals (µs)"}, {}};
   std::map<double, std::vector<std::string>> rows;
   for (const auto& [name, case_readings] : cases) {
     if (name != main_name && name.rfind("teflon_e", 0) != 0) continue;
@@ -113,7 +113,7 @@ void height_table(const ReadingsByCase& cases, ExperimentResult& out, const std:
   }
   if (by_rows.size() < 2) return;
   Table t{"The output against the block height (every block the same height; 16 and 32 rows with --full)",
-          {"rows", "at the blow's end", "at 2 arrivals", "the blow ended at (us)"}, {}};
+          {"rows", "at the blow's end", "at 2 arrivals", "the blow ended at (µs)"}, {}};
   for (const auto& [n, case_readings] : by_rows) {
     const auto& [r, o] = *case_readings;
     const auto end = end_reading(*r);
@@ -133,11 +133,11 @@ void main_readings(ExperimentResult& out, const postproc::CaseReduction& main, c
     d.rows.push_back({label, v ? pct(*v) : "-", v ? num(*v / paper) : "-"});
   };
   add("output_def.end",
-      main.blow_end_time ? fmt::format("output sphere at the blow's end, {:.0f} us (granstack's output_fraction; primary)",
+      main.blow_end_time ? fmt::format("output sphere at the blow's end, {:.0f} µs (granstack's output_fraction; primary)",
                                        *main.blow_end_time * 1e6)
                          : "output sphere at the run's end (granstack's output_fraction; primary)",
       end_reading(main));
-  add("output_def.at_arrivals2", fmt::format("output sphere at 2 estimated arrivals of the pulse, {:.0f} us", o.readout_time * 1e6),
+  add("output_def.at_arrivals2", fmt::format("output sphere at 2 estimated arrivals of the pulse, {:.0f} µs", o.readout_time * 1e6),
       o.at_readout);
   add("output_def.peak", "output sphere, peak kinetic energy", main.output_peak_fraction);
   add("output_def.bottom_row_per_sphere", "bottom row's final energy per sphere", main.output_fraction_bottom_row_per_sphere);

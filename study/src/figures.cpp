@@ -60,7 +60,7 @@ Figure energy_plot(const EnergyPlot& p, const std::string& dir, const std::strin
   double lower = 0.0;
   for (int k = 0; k < nb; ++k) {
     const auto& c = p.curves[static_cast<std::size_t>(k)];
-    fmt::format_to(out, "# block {}: time (us), E_k / {:.6g} J\n", k + 1, p.scale);
+    fmt::format_to(out, "# block {}: time (µs), E_k / {:.6g} J\n", k + 1, p.scale);
     const std::size_t stride = std::max<std::size_t>(1, c.t.size() / 4000);
     for (std::size_t i = 0; i < c.t.size(); i += stride) {
       const double v = c.y[i] / p.scale;
@@ -174,7 +174,7 @@ Figure output_figure(const postproc::CaseReduction& r, const Curve& output, cons
   fmt::memory_buffer data;
   auto out = std::back_inserter(data);
   auto write = [&](const std::string& title, const Curve& c) {
-    fmt::format_to(out, "# {}: time (us), output sphere E_k / E_in\n", title);
+    fmt::format_to(out, "# {}: time (µs), output sphere E_k / E_in\n", title);
     const std::size_t stride = std::max<std::size_t>(1, c.t.size() / 3000);
     for (std::size_t i = 0; i < c.t.size(); i += stride) fmt::format_to(out, "{:.6g} {:.6g}\n", c.t[i] * 1e6, c.y[i] / r.e_in);
     fmt::format_to(out, "\n\n");

@@ -76,14 +76,36 @@ std::string statement_text(const ExperimentResult& e, const Claim& c) {
   return it == e.claim_notes.end() ? c.statement : fmt::format("{} ({})", c.statement, it->second);
 }
 
+// Where a reduced case's blow stood when its run ended: "ended at T s", or why not.
+std::string blow_text(const CaseRecord& c) {
+  if (!c.reduction) return "-";
+  if (c.reduction->blow_end_time) return fmt::format("ended at {:.4g} s", *c.reduction->blow_end_time);
+  return "NOT ENDED: " + c.reduction->blow_not_ended.substr(0, 100);
+}
+
+// The cases of an experiment whose blow had not ended when their run did.
+std::vector<std::string> unended_cases(const ExperimentResult& e) {
+  std::vector<std::string> out;
+  for (const auto& c : e.cases) {
+    if (c.reduction && !c.reduction->blow_end_time) out.push_back(c.name);
+  }
+  return out;
+}
+
 Table summary_table(const StudyResult& r) {
   Table t{"Every statement, whose it is, granstack's primary reading of it (fixed in the catalogue; the record below "
-          "lists every change), its distance from the paper's value and the verdict against the band",
+          "lists every change), its distance from the paper's value (\"from the paper\": (granstack - paper) / paper, "
+          "in standard errors where a fit gives one) and the verdict against the band (\"outside, by X %\": X % "
+          "beyond the band's nearer edge, a different percentage)",
           {"claim", "whose", "the statement", "paper", "granstack", "from the paper", "band", "verdict", "expected"}, {}, {7}};
   for (const auto& e : r.experiments) {
+    const auto unended = unended_cases(e);
+    const auto caveat = unended.empty() ? std::string()
+                                        : fmt::format(" [its experiment holds {} case{} whose blow had not ended: {}]",
+                                                      unended.size(), unended.size() == 1 ? "" : "s", fmt::join(unended, ", "));
     for (const auto& v : e.verdicts) {
-      t.rows.push_back({v.claim->id, whose(*v.claim), statement_text(e, *v.claim), value_text(v.claim->paper), value_text(v.value),
-                        from_paper_text(v), band_text(*v.claim), verdict_text(v), v.claim->expect});
+      t.rows.push_back({v.claim->id, whose(*v.claim), statement_text(e, *v.claim) + caveat, value_text(v.claim->paper),
+                        value_text(v.value), from_paper_text(v), band_text(*v.claim), verdict_text(v), v.claim->expect});
     }
   }
   return t;
@@ -162,10 +184,11 @@ Table claim_table(const ExperimentResult& e) {
 }
 
 Table case_table(const ExperimentResult& e, bool validated) {
-  Table t{"The cases", {"case", "status", "engine", "output", "warnings"}, {}};
+  Table t{"The cases (the blow: where it stood when the run ended; a reading taken before it ended may still change)",
+          {"case", "status", "engine", "the blow", "output", "warnings"}, {}};
   if (validated) t.header.push_back(fmt::format("validate: worst relative difference (where), against {:g}", postproc::kDefaultTolerance));
   for (const auto& c : e.cases) {
-    std::vector<std::string> row{c.name, c.status, c.engine.empty() ? "-" : c.engine,
+    std::vector<std::string> row{c.name, c.status, c.engine.empty() ? "-" : c.engine, blow_text(c),
                                  c.reduction ? fmt::format("{:.4g}", c.reduction->output_fraction) : "-",
                                  c.reduction ? std::to_string(c.reduction->warnings.size()) : c.problem.substr(0, 120)};
     if (validated) {
@@ -285,7 +308,13 @@ std::vector<Block> document(const StudyResult& r) {
   }
   for (const auto& e : r.experiments) {
     for (const auto& c : e.experiment->claims) {
-      if (c.scope != "paper") d.push_back(Paragraph{fmt::format("{} is {}: {}.", c.id, c.scope == "granstack" ? "granstack's" : "a " + c.scope, c.scope_reason)});
+      if (c.scope != "paper") {
+        // "granstack's", "a model check", "the paper's arithmetic": whose the statement is.
+        const auto whose_text = c.scope == "granstack" ? std::string("granstack's")
+                                : c.scope == "arithmetic" ? std::string("the paper's arithmetic")
+                                                          : "a " + c.scope;
+        d.push_back(Paragraph{fmt::format("{} is {}: {}.", c.id, whose_text, c.scope_reason)});
+      }
     }
   }
   if (!r.out_of_scope.empty()) {

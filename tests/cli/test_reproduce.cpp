@@ -89,6 +89,26 @@ TEST(Reproduce, QuickRunsOnLiggghtsAndEveryVerdictIsTheOneTheCatalogueExpects) {
   EXPECT_GE(judged, 20);  // fig2 (needed by fig4), fig3, scale (but the dt case), fig4, eq3
 }
 
+// The referee's third round (#48): every case table says where each case's blow stood when its run
+// ended, and a claim of an experiment holding a case whose blow had not ended says so in the
+// summary (eq3's striker of 3 and 4 top radii rattles on to the cap); the record's headline counts
+// the verdicts settled with results in view from the record itself, geometry changes included; the
+// units are written as units (µs, not us).
+TEST(Reproduce, TheReportSaysWhichBlowsEndedAndCountsTheRecord) {
+  const auto md = read_bytes(quick_dir() / "report.md");
+  EXPECT_NE(md.find("| the blow |"), std::string::npos);
+  EXPECT_NE(md.find("| ended at "), std::string::npos);
+  EXPECT_NE(md.find("| NOT ENDED: "), std::string::npos);
+  EXPECT_NE(md.find("[its experiment holds 2 cases whose blow had not ended: steel_rho3, steel_rho4]"), std::string::npos);
+  const std::regex headline(R"(Of the (\d+) claims here, (\d+) verdicts were settled with results in view: (\d+) by a change to the claim itself \([^)]*\), and (\d+) by a change to its experiment's geometry or physics alone)");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(md, m, headline)) << "no computed headline";
+  EXPECT_EQ(std::stoi(m[2]), std::stoi(m[3]) + std::stoi(m[4]));
+  EXPECT_GT(std::stoi(m[4]), 0);  // fig4's geometry changed with results known: its claims count
+  EXPECT_EQ(md.find(" us)"), std::string::npos);
+  EXPECT_EQ(md.find("this version"), std::string::npos);
+}
+
 // The numbers in a note, each with how many digits follow its decimal point.
 // In a value's name, a number may follow a letter (scan.e0.85.final): `in_name`.
 std::vector<std::pair<double, int>> numbers_in(const std::string& text, bool in_name = false) {
