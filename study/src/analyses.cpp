@@ -257,11 +257,30 @@ void scale(const AnalysisInput& in, ExperimentResult& out) {
   out.tables.push_back(t);
 }
 
+// What friction's dissipation predicts for the energy transmitted down (the study's 4 top columns,
+// free sides): were the output to lose the share of E_in friction dissipates, it would fall by
+// that share; it falls by less.
+void friction_note(ExperimentResult& out) {
+  const auto value = [&](const std::string& k) {
+    const auto it = out.values.find(k);
+    return it == out.values.end() ? NAN : it->second;
+  };
+  const double d1 = value("dissipated.free.cols4.mu0.1"), d25 = value("dissipated.free.cols4.mu0.25");
+  const double s1 = value("transmitted_change.free.cols4.mu0.1"), s25 = value("transmitted_change.free.cols4.mu0.25");
+  if (!std::isfinite(d1) || !std::isfinite(d25) || !std::isfinite(s1) || !std::isfinite(s25)) return;
+  out.notes.push_back(fmt::format(
+      "Friction's dissipation (4 top columns, free sides, e = 1): by the run's end friction has dissipated {} of E_in "
+      "at mu = 0.1 and {} at mu = 0.25. Were the energy transmitted down to lose that share, the output would change "
+      "by -{} and -{}; it changes by {} and {} (friction.4): friction takes less from what goes down than from the "
+      "whole (it cuts the top row's sideways motion most: friction.1 and friction.2).",
+      pct(d1), pct(d25), pct(d1), pct(d25), fmt::format("{:+.3g} %", 100 * s1), fmt::format("{:+.3g} %", 100 * s25)));
+}
+
 void friction(const AnalysisInput& in, ExperimentResult& out) {
   Table t{"Top row of the top block: sideways energy cut, downward energy change, and the change of the energy "
           "transmitted down (the output sphere's), against mu = 0",
           {"sides", "top columns", "mu", "sideways cut, whole run", "sideways cut, first contact", "downward change",
-           "transmitted change"},
+           "transmitted change", "dissipated (of E_in)"},
           {}};
   std::vector<BarGroup> bars;
   for (const auto* sides : {"free", "walls"}) {
@@ -286,8 +305,10 @@ void friction(const AnalysisInput& in, ExperimentResult& out) {
         out.values["sideways_cut_run." + key] = run;
         out.values["downward_change." + key] = down;
         out.values["transmitted_change." + key] = sent;
+        if (r->dissipated_fraction) out.values["dissipated." + key] = *r->dissipated_fraction;
         t.rows.push_back({sides, std::to_string(cols), fmt::format("{}", mu), pct(run), pct(first),
-                          fmt::format("{:+.3g} %", 100 * down), fmt::format("{:+.3g} %", 100 * sent)});
+                          fmt::format("{:+.3g} %", 100 * down), fmt::format("{:+.3g} %", 100 * sent),
+                          r->dissipated_fraction ? pct(*r->dissipated_fraction) : "-"});
         g.values.push_back(run);
         firsts.push_back(first);
       }
@@ -296,6 +317,7 @@ void friction(const AnalysisInput& in, ExperimentResult& out) {
     }
   }
   out.tables.push_back(t);
+  friction_note(out);
   if (!bars.empty()) {
     BarStyle style{"friction_sideways", "Top row of the top block: sideways energy cut by friction",
                          "sideways energy cut",
