@@ -173,6 +173,13 @@ EngineResult run_program(const formats::Case& c, const RunOptions& o, const Prog
     if (::geteuid() == 0) argv.push_back("--allow-run-as-root");
     if (oversubscribed(o.ranks)) argv.push_back("--oversubscribe");
   }
+  // Each rank is killed when mpirun dies, however it dies: killed outright with granstack (SIGKILL
+  // reaches mpirun through its own death signal), mpirun cannot tell its ranks, and a rank waiting in
+  // MPI could be left behind on a loaded machine (seen once in the suite). util-linux's setpriv
+  // sets the death signal and execs the rank's program.
+  if (o.ranks > 1) {
+    if (const auto setpriv = os::find_program("setpriv")) argv.insert(argv.end(), {*setpriv, "--pdeathsig", "KILL", "--"});
+  }
   // Unbuffered, so an MPI_Abort cannot swallow LIGGGHTS's error message (docs/liggghts.md section 9).
   const auto stdbuf = os::find_program("stdbuf");
   if (stdbuf) argv.insert(argv.end(), {*stdbuf, "-o0", "-e0"});
