@@ -6,7 +6,7 @@ hold exactly what the run gives (--check, the test docs.tables). With --reproduc
 `granstack reproduce` on LIGGGHTS (every experiment, about a minute on 2 cores) for the
 reproduction tutorial's summary, and the study on LAMMPS against it (several minutes), whose
 comparison it keeps as a record (bench/results/engines-study-DATE.json). Without it, the check runs
-the study on refsim instead (about 20 s on 2 cores: refsim reproduces LIGGGHTS to round-off, and
+the study on refsim instead (a fraction of LIGGGHTS's time: refsim reproduces LIGGGHTS to round-off, and
 the summary prints 4 digits, so its table is LIGGGHTS's to the digit) and makes the LAMMPS page's
 table from that record. The big-nest tables are made from the records their benchmarks wrote into
 bench/results/ (RECORDS): the 16-core timings cannot be run again here, and the decomposition

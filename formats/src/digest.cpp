@@ -9,8 +9,6 @@
 #include <xxhash.h>
 
 #include <array>
-#include <algorithm>
-#include <string_view>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -31,14 +29,19 @@ Context new_context() {
   return ctx;
 }
 
+// Bytes as the lower-case hexadecimal sha256sum and xxhsum print.
+std::string lower_hex(const unsigned char* bytes, std::size_t n) {
+  std::string hex;
+  hex.reserve(2 * n);
+  for (std::size_t i = 0; i < n; ++i) hex += fmt::format("{:02x}", bytes[i]);
+  return hex;
+}
+
 std::string finish(EVP_MD_CTX* ctx) {
   std::array<unsigned char, EVP_MAX_MD_SIZE> md{};
   unsigned int n = 0;
   if (EVP_DigestFinal_ex(ctx, md.data(), &n) != 1) throw std::runtime_error("OpenSSL cannot finish a SHA-256 digest");
-  std::string hex;
-  hex.reserve(2 * n);
-  for (unsigned int i = 0; i < n; ++i) hex += fmt::format("{:02x}", md[i]);
-  return hex;
+  return lower_hex(md.data(), n);
 }
 
 }  // namespace
@@ -67,8 +70,8 @@ std::string sha256_file(const std::filesystem::path& path) {
 namespace {
 constexpr std::size_t kDigestPiece = std::size_t{4} << 20;
 
-// Every byte of a file's content (decompressed), in order: mapped where it is plain, else read.
-// (Read, not mapped: a file cut short while mapped would end the process with SIGBUS.)
+// Every byte of a file's content (decompressed), in order. (Read, never mapped: a file cut short
+// while mapped would end the process with SIGBUS.)
 template <typename Update>
 void for_content_pieces(const std::filesystem::path& path, Update update) {
   const auto source = open_bytes(path.string());
@@ -86,10 +89,7 @@ std::string xxh128_content(const std::filesystem::path& path) {
   for_content_pieces(path, [&](const char* bytes, std::size_t n) { XXH3_128bits_update(state.get(), bytes, n); });
   XXH128_canonical_t canonical;
   XXH128_canonicalFromHash(&canonical, XXH3_128bits_digest(state.get()));
-  std::string hex;
-  hex.reserve(2 * sizeof canonical.digest);
-  for (const unsigned char byte : canonical.digest) hex += fmt::format("{:02x}", byte);
-  return hex;
+  return lower_hex(canonical.digest, sizeof canonical.digest);
 }
 
 std::string sha256_content(const std::filesystem::path& path) {

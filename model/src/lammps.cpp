@@ -21,10 +21,10 @@ double lammps_g_star(double e, double nu) { return 1 / (2 * (2 - nu) * (1 + nu) 
 }  // namespace
 
 std::optional<LammpsVersion> parse_lammps_version(std::string_view help_text) {
-  constexpr std::string_view kBanner = "Large-scale Atomic/Molecular Massively Parallel Simulator - ";
-  const auto at = help_text.find(kBanner);
-  if (at == std::string_view::npos) return std::nullopt;
-  auto line = help_text.substr(at + kBanner.size());
+  constexpr std::string_view kDash = " - ";
+  const auto at = help_text.find(kLammpsBanner);
+  if (at == std::string_view::npos || help_text.substr(at + kLammpsBanner.size(), kDash.size()) != kDash) return std::nullopt;
+  auto line = help_text.substr(at + kLammpsBanner.size() + kDash.size());
   line = line.substr(0, line.find('\n'));
   static const char* const kMonths[] = {"Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec"};
   LammpsVersion v;

@@ -54,7 +54,7 @@ LammpsProgram probe(const std::string& program) {
       text = formats::read_file(help);
     } catch (const std::exception&) {
     }
-    p.banner = text.find("Large-scale Atomic/Molecular Massively Parallel Simulator") != std::string::npos;
+    p.banner = text.find(model::kLammpsBanner) != std::string::npos;
     p.version = model::parse_lammps_version(text);
     std::istringstream in(text);
     std::string line;
@@ -78,8 +78,7 @@ const model::LammpsRules* rules_of(const std::string& program, const std::string
                       "executable",
                       program, flag_value,
                       p.exit_code != 0 ? fmt::format("ended with exit status {}", p.exit_code)
-                                       : "does not print LAMMPS's banner (Large-scale Atomic/Molecular Massively "
-                                         "Parallel Simulator)");
+                                       : fmt::format("does not print LAMMPS's banner ({})", model::kLammpsBanner));
     return nullptr;
   }
   if (!p.granular) {

@@ -40,6 +40,8 @@ struct LammpsVersion {
   std::string text;  // as LAMMPS printed it
   long ordinal() const { return (year * 100L + month) * 100L + day; }
 };
+// What every LAMMPS prints of its name, `lmp -h` and its log alike.
+inline constexpr std::string_view kLammpsBanner = "Large-scale Atomic/Molecular Massively Parallel Simulator";
 // The version in `lmp -h`'s text (its line "Large-scale Atomic/Molecular Massively Parallel
 // Simulator - 29 Sep 2021 - Update 2"); none when no such line is there.
 std::optional<LammpsVersion> parse_lammps_version(std::string_view help_text);
