@@ -45,9 +45,13 @@ for _ in range(repeats):
 m = statistics.median
 print(f"{os.cpu_count()} cores; medians of {repeats} alternating rounds; a {size:.0f} MB LIGGGHTS text dump")
 print(f"wc -l {m(runs['wc']):.3f} s ({size / m(runs['wc']):.0f} MB/s)")
+# wc -l takes 45-70 ms on these machines as their load drifts: the ratio is also given per round
+# (reduce against the wc -l of its own round), whose median drift moves less.
+ratios = {name: [w / r for w, r in zip(runs["wc"], runs[f"reduce_{name}"])] for name in builds}
 for name in builds:
     r, s = m(runs[f"reduce_{name}"]), m(runs[f"submit_{name}"])
-    print(f"{name}: reduce {r:.3f} s ({size / r:.0f} MB/s, {m(runs['wc']) / r:.3f} of wc -l); "
+    print(f"{name}: reduce {r:.3f} s ({size / r:.0f} MB/s, {m(runs['wc']) / r:.3f} of wc -l; per round, median "
+          f"{m(ratios[name]):.3f}, {min(ratios[name]):.3f}..{max(ratios[name]):.3f}); "
           f"submit --dry-run of 10,000 cases {s:.2f} s")
 if os.environ["OUT"]:
     json.dump({"cores": os.cpu_count(), "repeats": repeats, "dump_mb": size, "builds": builds, "seconds": runs},

@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <algorithm>
 #include <filesystem>
@@ -140,6 +141,7 @@ bool FrameBatchSource::take(FrameBatch& batch) {
   batch.text_size = 0;
   batch.raw = false;
   batch.file_end = -1;
+  batch.plain_piece = false;
   batch.lines = 0;
   batch.relative_lines = false;
   if (plain_size_ >= 0) return take_plain_piece(batch);
@@ -316,6 +318,7 @@ void FrameBatchSource::parse(FrameBatch& batch) const {
       return;
     }
     batch.text_size = n;
+    batch.plain_piece = true;
   }
   if (!batch.raw) {
     for (std::size_t k = 0; k < batch.frames.size(); ++k) {
@@ -353,10 +356,30 @@ void FrameBatchSource::parse(FrameBatch& batch) const {
   }
   batch.frames.resize(n);
   batch.lines = reader.line_number();
-  batch.text_size = 0;
+  if (!batch.plain_piece) batch.text_size = 0;  // a plain piece's bytes stay for settle()'s digest
+}
+
+bool FrameBatchSource::digest_content() {
+  if (plain_size_ < 0 || next_index_ > 0) return false;
+  digest_ = std::make_unique<Xxh128>();
+  return true;
+}
+
+std::optional<std::string> FrameBatchSource::content_xxh128() const {
+  struct stat now {};
+  if (!digest_ || digest_broken_ || digested_ != plain_size_ || ::fstat(fd_, &now) != 0 || now.st_size != plain_size_) {
+    return std::nullopt;
+  }
+  return digest_->hex();
 }
 
 void FrameBatchSource::settle(FrameBatch& batch) {
+  if (digest_ && batch.plain_piece && batch.file_start == digested_) {
+    digest_->update(batch.text.get(), batch.text_size);
+    digested_ += static_cast<long>(batch.text_size);
+  } else if (digest_) {
+    digest_broken_ = true;
+  }
   if (batch.relative_lines) {
     for (auto& f : batch.frames) f.first_line += settled_lines_;
     batch.error = shift_line(batch.error, settled_lines_);

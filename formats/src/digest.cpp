@@ -83,13 +83,28 @@ void for_content_pieces(const std::filesystem::path& path, Update update) {
 }
 }  // namespace
 
-std::string xxh128_content(const std::filesystem::path& path) {
-  std::unique_ptr<XXH3_state_t, decltype(&XXH3_freeState)> state(XXH3_createState(), &XXH3_freeState);
-  if (!state || XXH3_128bits_reset(state.get()) != XXH_OK) throw std::runtime_error("xxHash cannot start a digest");
-  for_content_pieces(path, [&](const char* bytes, std::size_t n) { XXH3_128bits_update(state.get(), bytes, n); });
+struct Xxh128::State {
+  std::unique_ptr<XXH3_state_t, decltype(&XXH3_freeState)> xxh{XXH3_createState(), &XXH3_freeState};
+};
+
+Xxh128::Xxh128() : state_(std::make_unique<State>()) {
+  if (!state_->xxh || XXH3_128bits_reset(state_->xxh.get()) != XXH_OK) throw std::runtime_error("xxHash cannot start a digest");
+}
+
+Xxh128::~Xxh128() = default;
+
+void Xxh128::update(const char* bytes, std::size_t n) { XXH3_128bits_update(state_->xxh.get(), bytes, n); }
+
+std::string Xxh128::hex() const {
   XXH128_canonical_t canonical;
-  XXH128_canonicalFromHash(&canonical, XXH3_128bits_digest(state.get()));
+  XXH128_canonicalFromHash(&canonical, XXH3_128bits_digest(state_->xxh.get()));
   return lower_hex(canonical.digest, sizeof canonical.digest);
+}
+
+std::string xxh128_content(const std::filesystem::path& path) {
+  Xxh128 digest;
+  for_content_pieces(path, [&](const char* bytes, std::size_t n) { digest.update(bytes, n); });
+  return digest.hex();
 }
 
 std::string sha256_content(const std::filesystem::path& path) {

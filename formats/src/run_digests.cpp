@@ -97,7 +97,19 @@ std::string check_inputs(const Case& c, const json& inputs) {
   return "";
 }
 
-std::string check_outputs(const Case& c, const json& outputs, DigestCheck how) {
+// Why the output `p` (recorded as `rec`) is not what its run wrote; `xxh128`, when known, is its
+// content's XXH3-128, taken by the caller.
+std::string check_output_content(const fs::path& p, const json& rec, const std::optional<std::string>& xxh128) {
+  // Runs record XXH3-128; records from before (2026-11-28) hold SHA-256, checked as they are.
+  const bool xxh = rec.contains("xxh3_128");
+  const auto digest = !xxh ? sha256_content(p) : xxh128 ? *xxh128 : xxh128_content(p);
+  if (digest == rec.value(xxh ? "xxh3_128" : "sha256", std::string())) return "";
+  return fmt::format("{} is not what its run wrote (its {} differs from run.json's: copied from another case, or "
+                     "changed since)",
+                     p.string(), xxh ? "XXH3-128 digest" : "SHA-256");
+}
+
+std::string check_outputs(const Case& c, const json& outputs, DigestCheck how, const std::set<std::string>& later) {
   for (const auto& name : output_names(c)) {
     if (!outputs.contains(name) && !present(c, name).empty()) {
       return fmt::format("{} was not written by its run (copied in afterwards?)", c.path(name).string());
@@ -107,13 +119,8 @@ std::string check_outputs(const Case& c, const json& outputs, DigestCheck how) {
     const auto p = present(c, name);
     if (p.empty()) return fmt::format("{}, which its run wrote, is missing", c.path(name).string());
     if (how == DigestCheck::quick && same_stat(p, rec)) continue;
-    // Runs record XXH3-128; records from before (2026-11-28) hold SHA-256, checked as they are.
-    const bool xxh = rec.contains("xxh3_128");
-    if ((xxh ? xxh128_content(p) : sha256_content(p)) != rec.value(xxh ? "xxh3_128" : "sha256", std::string())) {
-      return fmt::format("{} is not what its run wrote (its {} differs from run.json's: copied from another case, or "
-                         "changed since)",
-                         p.string(), xxh ? "XXH3-128 digest" : "SHA-256");
-    }
+    if (later.count(name) > 0 && rec.contains("xxh3_128")) continue;  // output_not_as_run's
+    if (auto why = check_output_content(p, rec, std::nullopt); !why.empty()) return why;
   }
   return "";
 }
@@ -138,7 +145,8 @@ json run_digests(const Case& c) {
           {"outputs", outputs}};
 }
 
-std::string files_not_as_run(const Case& c, const RunRecord& record, DigestCheck how) {
+std::string files_not_as_run(const Case& c, const RunRecord& record, DigestCheck how,
+                             const std::set<std::string>& digested_by_caller) {
   if (!record.record.contains("digests")) {
     return "its run.json holds no digests of what its run wrote (a record from a granstack before they were kept, or "
            "edited), so nothing vouches that the outputs in the case are this case's run's and not another's" +
@@ -148,7 +156,18 @@ std::string files_not_as_run(const Case& c, const RunRecord& record, DigestCheck
   if (!d.is_object()) return "its run.json's digests are damaged" + record_problem(c.path(c.files().run_record));
   auto why = check_case(c, d);
   if (why.empty()) why = check_inputs(c, d.value("inputs", json::object()));
-  if (why.empty()) why = check_outputs(c, d.value("outputs", json::object()), how);
+  if (why.empty()) why = check_outputs(c, d.value("outputs", json::object()), how, digested_by_caller);
+  return why.empty() ? why : why + record_problem(c.path(c.files().run_record));
+}
+
+std::string output_not_as_run(const Case& c, const RunRecord& record, const std::string& name,
+                              const std::optional<std::string>& xxh128) {
+  const auto& outputs = record.record.value("digests", json::object()).value("outputs", json::object());
+  const auto it = outputs.find(name);
+  const auto p = present(c, name);
+  // Not recorded or missing: files_not_as_run said so; a SHA-256 record: it checked the content.
+  if (it == outputs.end() || p.empty() || !it->contains("xxh3_128")) return "";
+  const auto why = check_output_content(p, *it, xxh128);
   return why.empty() ? why : why + record_problem(c.path(c.files().run_record));
 }
 

@@ -27,6 +27,7 @@
 #include <fstream>
 #include <future>
 #include <optional>
+#include <set>
 #include <thread>
 
 namespace granstack::postproc {
@@ -381,13 +382,20 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   const auto res = c.resolution();
   const auto& spec = stack.spec();
   const int nb = spec.blocks;
+  const auto dump_path = formats::find_dump(case_dir, manifest.files.dump);
+  const bool binary = spec.dump_format == model::DumpFormat::binary;
+  formats::FrameBatchSource source(dump_path, binary, manifest.files.dump_columns, FrameView::needed_columns(),
+                                   binary ? kBinaryBatchBytes : kTextBatchBytes);
   // That the outputs are those this case's run wrote is checked beside the reading, on a thread of
-  // its own (digesting the dump is a pass over its bytes that the parsing threads need not wait
-  // for); its verdict is taken after the reading, so a damaged file gets the reader's own message.
+  // its own; a plain text dump is digested from the pieces the parsing threads read (not read a
+  // second time). The verdict is taken after the reading, so a damaged file gets the reader's own
+  // message.
   std::future<std::string> outputs_check;
+  std::set<std::string> digested_here;
   if (options.verify_run_outputs) {
-    outputs_check = std::async(std::launch::async, [&c] {
-      return formats::files_not_as_run(c, c.run_record(), formats::DigestCheck::full);
+    if (source.digest_content()) digested_here.insert(fs::path(dump_path).lexically_relative(c.dir()).string());
+    outputs_check = std::async(std::launch::async, [&c, &digested_here] {
+      return formats::files_not_as_run(c, c.run_record(), formats::DigestCheck::full, digested_here);
     });
   }
 
@@ -401,12 +409,18 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   // agree with every dump frame where both have data (checked as the frames arrive).
   const auto series_path = formats::find_dump(case_dir, manifest.files.series);  // or its compressed copy
   const long expected_frames = formats::frames_written(c);
-  const auto series = read_checked_series(series_path, stack, res, (expected_frames - 1) * res.dump_every);
-  const SeriesColumns cols = series_columns(series, series_path, nb);
-  const auto dump_path = formats::find_dump(case_dir, manifest.files.dump);
-  const bool binary = spec.dump_format == model::DumpFormat::binary;
-  formats::FrameBatchSource source(dump_path, binary, manifest.files.dump_columns, FrameView::needed_columns(),
-                                   binary ? kBinaryBatchBytes : kTextBatchBytes);
+  // Read beside the dump's first frames (the frames wait for it, not the parsing threads); its
+  // errors come before the dump's, as if it were read first.
+  auto series_read = std::async(std::launch::async, [&] {
+    return read_checked_series(series_path, stack, res, (expected_frames - 1) * res.dump_every);
+  });
+  formats::Series series;
+  std::optional<SeriesColumns> series_cols;
+  auto take_series = [&] {
+    if (series_cols || !series_read.valid()) return;  // taken, or its error already thrown
+    series = series_read.get();
+    series_cols = series_columns(series, series_path, nb);
+  };
   const WaveTracker wave_sampler(stack, res.dt);
   WaveTracker waves(stack, res.dt);
   const auto rdir = options.output_dir.empty() ? dir / "reduce" : fs::path(options.output_dir);
@@ -436,6 +450,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     if (const int signal = os::interrupt_signal(); signal != 0) {
       throw std::runtime_error(fmt::format("{}: reduce stopped by signal {} at frame {}", case_dir, signal, r.frames + 1));
     }
+    take_series();
     const auto& e = fr.e;
     if (e.step != r.frames * res.dump_every) {
       throw formats::FormatError(dump_path, 0, fmt::format("frame {} is at step {}, where the run dumped step {} (every {} "
@@ -443,7 +458,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
                                                            r.frames + 1, e.step, r.frames * res.dump_every, res.dump_every));
     }
     require_energy_balance(e, spec, r, dump_path);
-    require_frame_matches_series(e, series, cols, res.series_every, series_path, r.e_in);
+    require_frame_matches_series(e, series, *series_cols, res.series_every, series_path, r.e_in);
     track_peaks(e, stack, static_cast<double>(e.step) * res.dt, r);
     stroke.sample(e.striker_z);
     blow.frame(e.step, e.over_footprint, e.output_free, e.output_threatened);
@@ -458,8 +473,13 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   // By default one thread per CPU granstack may use (its affinity mask: taskset, a SLURM allocation), never more.
   const int threads = options.threads > 0 ? options.threads : os::usable_cpus();
   try {
-    for_each_frame_in_order<FrameResult>(
-        source, threads, [&] { return std::make_unique<FrameAnalyser>(stack, dump_path); }, analyse, take_result);
+    try {
+      for_each_frame_in_order<FrameResult>(
+          source, threads, [&] { return std::make_unique<FrameAnalyser>(stack, dump_path); }, analyse, take_result);
+    } catch (...) {
+      take_series();  // throws the series' error, which comes first
+      throw;
+    }
   } catch (const formats::TruncatedError& e) {
     throw formats::FormatError(e.file(), e.line(),
                                fmt::format("{}: the dump holds {} complete frames of the {} the run wrote; the file "
@@ -477,6 +497,8 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   r.stroke = stroke.stroke();
   if (const auto at = blow.ended_at()) r.blow_end_time = static_cast<double>(*at) * res.dt;
   r.blow_not_ended = blow.why_not_ended();
+  take_series();  // a dump of no frames
+  const SeriesColumns& cols = *series_cols;
   series_peaks(series, cols, res.dt, r);
   r.wall_force_interval = static_cast<double>(res.series_every) * res.dt;
   warn_if_energy_still_arriving(series, cols, res, r);
@@ -485,6 +507,9 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   // Outputs that read cleanly must still be those this case's run wrote, never another case's
   // under its labels.
   if (outputs_check.valid()) formats::refuse_unless_as_run(c, outputs_check.get());
+  for (const auto& name : digested_here) {
+    formats::refuse_unless_as_run(c, formats::output_not_as_run(c, c.run_record(), name, source.content_xxh128()));
+  }
 
   tables.finish();
   if (options.write_files) {

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -99,6 +100,32 @@ TEST_F(Trust, RunAgainThroughALinkedDumpFolderTouchesNothingElse) {
   std::sort(in_scratch.begin(), in_scratch.end());
   EXPECT_EQ(in_scratch, (std::vector<std::string>{"dump.txt", "notes.txt"}));
   EXPECT_NEAR(output_fraction("case"), 0.33884, 1e-5);
+}
+
+// reduce digests a plain text dump from the pieces its threads parse: one digit changed in the
+// middle of the dump (the file's size and its frames' shape unchanged, every number still a
+// number) is refused as the whole file's digest is, before any result is written.
+TEST_F(Trust, ADigitChangedInTheDumpIsCaughtWhileItIsRead) {
+  generate_and_run("c", {"--blocks", "2"});
+  const auto dump = path("c") / "dumps" / "dump.txt";
+  auto text = read_bytes(dump);
+  const auto at = text.find("ITEM: ATOMS", text.size() / 2);
+  ASSERT_NE(at, std::string::npos);
+  // The last digit of the first long number on the atom lines after it (a position's 17th digit:
+  // a change far below any check on the physics).
+  std::size_t start = text.find('\n', at) + 1, end = start;
+  for (;; start = end + 1) {
+    end = text.find_first_of(" \n", start);
+    if (end - start >= 15) break;
+  }
+  const std::size_t digit = end - 1;
+  ASSERT_TRUE(std::isdigit(static_cast<unsigned char>(text[digit])));
+  text[digit] = text[digit] == '9' ? '8' : static_cast<char>(text[digit] + 1);
+  std::ofstream(dump, std::ios::binary) << text;
+  const auto r = granstack({"reduce", "c"});
+  EXPECT_EQ(r.code, 4) << r.output;
+  expect_contains(r, "dump.txt is not what its run wrote (its XXH3-128 digest differs from run.json's");
+  EXPECT_FALSE(fs::exists(path("c") / "reduce" / "summary.json"));
 }
 
 // Outputs copied in from a case with other physics are refused, not reduced under this case's

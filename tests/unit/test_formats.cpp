@@ -2,6 +2,7 @@
 // readers accept what LIGGGHTS writes and name the problem in what it does not.
 #include <granstack/formats/batches.hpp>
 #include <granstack/formats/data_file.hpp>
+#include <granstack/formats/digest.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/files.hpp>
@@ -511,6 +512,36 @@ TEST_F(BatchTest, BinaryBatchesHoldAFewFramesAndTheSameValues) {
   }
   EXPECT_EQ(frames, 38u);
   EXPECT_NE(error.find("the run was cut short"), std::string::npos) << error;
+}
+
+// A plain text dump cut into pieces is digested from the pieces as they are settled, in order:
+// the XXH3-128 of the whole file (reduce checks run.json's digest with it instead of reading the
+// file twice). A file that grew after it was opened, or a dump not cut into plain pieces, gives
+// none, and the caller digests the file itself.
+TEST_F(BatchTest, ADumpReadInPiecesIsDigestedAsAWhole) {
+  const auto plain = write("dump.txt", dump_text(40, 17));
+  auto digest_by_pieces = [&](formats::FrameBatchSource& source, const std::function<void()>& after_first = {}) {
+    formats::FrameBatch batch;
+    long pieces = 0;
+    while (source.take(batch)) {
+      source.parse(batch);
+      source.settle(batch);
+      EXPECT_FALSE(batch.error);
+      if (++pieces == 1 && after_first) after_first();
+    }
+    EXPECT_GT(pieces, 5);  // the test is of many pieces
+    return source.content_xxh128();
+  };
+  formats::FrameBatchSource source(plain, false, {}, {}, 2000);
+  ASSERT_TRUE(source.digest_content());
+  EXPECT_EQ(digest_by_pieces(source), formats::xxh128_content(plain));
+  formats::FrameBatchSource grown(plain, false, {}, {}, 2000);
+  ASSERT_TRUE(grown.digest_content());
+  EXPECT_EQ(digest_by_pieces(grown, [&] { std::ofstream(plain, std::ios::app) << "\n"; }), std::nullopt);
+  const auto gz = plain + ".gz";
+  ASSERT_EQ(std::system(("gzip -k " + plain).c_str()), 0);
+  formats::FrameBatchSource compressed(gz, false, {}, {}, 2000);
+  EXPECT_FALSE(compressed.digest_content());
 }
 
 // Only the named columns are converted; the others are checked to be there and left 0.

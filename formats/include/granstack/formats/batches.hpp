@@ -4,12 +4,14 @@
 // compressed, is cut at frame boundaries under a lock and each piece is parsed by the thread that
 // took it; any other dump (binary, or split over files) is read a few frames at a time under
 // the lock. Memory is a few batches per thread, whatever the number of frames.
+#include <granstack/formats/digest.hpp>
 #include <granstack/formats/dump.hpp>
 
 #include <cstddef>
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +36,7 @@ struct FrameBatch {
   std::size_t text_size = 0, text_capacity = 0;
   bool raw = false;               // parse() has yet to turn `text` into frames
   long file_start = 0, file_end = -1;  // a plain file's piece, which parse() reads itself (pread)
+  bool plain_piece = false;       // parsed, `text` holds the plain file's bytes from file_start on
   std::string next_line;          // the line after the piece (the next frame's first), unless `last`
   long lines = 0;                 // text lines the batch spans
   bool relative_lines = false;    // line numbers count from the batch's start
@@ -59,6 +62,14 @@ class FrameBatchSource {
   // short with an error if they do).
   void settle(FrameBatch& batch);
   const std::string& path() const { return path_; }
+  // Digests the file's bytes as settle() takes its pieces, in order, so that the caller need not
+  // read the file a second time to check it (call before the first take()). Only a single plain
+  // text file is cut into such pieces: false otherwise, and the caller digests the file itself.
+  bool digest_content();
+  // The XXH3-128 of the file's content (formats/digest.hpp), when digest_content() was on, every
+  // byte went through settle() in order, and the file still has the size it had when opened;
+  // otherwise (a read that stopped early, frames too large to cut) nullopt.
+  std::optional<std::string> content_xxh128() const;
 
  private:
   bool take_piece(FrameBatch& batch);
@@ -86,6 +97,9 @@ class FrameBatchSource {
   // settle()'s state
   long settled_lines_ = 0;
   long last_step_ = -1;
+  std::unique_ptr<Xxh128> digest_;  // with digest_content()
+  long digested_ = 0;               // bytes of the file digested, from its start
+  bool digest_broken_ = false;      // a piece came that was not the file's next bytes
 };
 
 }  // namespace granstack::formats

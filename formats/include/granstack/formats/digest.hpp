@@ -1,7 +1,9 @@
 #pragma once
 // SHA-256 digests (OpenSSL's), in lower-case hexadecimal as `sha256sum` prints them, so a user
 // can check a recorded digest by hand.
+#include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -20,5 +22,21 @@ std::string sha256_content(const std::filesystem::path& path);
 // another case, an edit, a cut), at the speed of reading the file, where SHA-256 took a third of
 // reduce's time; it does not stand against forgery, which could edit run.json as well.
 std::string xxh128_content(const std::filesystem::path& path);
+
+// The same hash over bytes given in order, piece by piece (reduce digests a dump from the pieces
+// its threads read to parse it, instead of reading the file a second time).
+class Xxh128 {
+ public:
+  Xxh128();
+  ~Xxh128();
+  Xxh128(const Xxh128&) = delete;
+  Xxh128& operator=(const Xxh128&) = delete;
+  void update(const char* bytes, std::size_t n);
+  std::string hex() const;  // of every byte given so far
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 }  // namespace granstack::formats

@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
+#include <set>
 #include <string>
 
 namespace granstack::formats {
@@ -28,7 +30,15 @@ enum class DigestCheck {
 // are: run.json from another case, an input edited since, an output missing, changed, or not
 // written by the run. A record without digests (an older granstack's, or edited) cannot vouch for
 // the outputs, and says so: its outputs are never read as the case's.
-std::string files_not_as_run(const Case& c, const RunRecord& record, DigestCheck how);
+// An output named in `digested_by_caller` is checked to be present and recorded, but its content is
+// left to output_not_as_run, with the digest the caller takes while reading it (reduce's dump).
+std::string files_not_as_run(const Case& c, const RunRecord& record, DigestCheck how,
+                             const std::set<std::string>& digested_by_caller = {});
+// Why the output `name` (as run.json names it) is not what its run wrote, or "", given the
+// XXH3-128 of its content the caller took while reading it; with nullopt (the caller could not),
+// or a record that holds SHA-256, the file is digested here.
+std::string output_not_as_run(const Case& c, const RunRecord& record, const std::string& name,
+                              const std::optional<std::string>& xxh128);
 // The quick look of status over thousands of cases, without the manifest: true when `record`
 // holds digests and every input and output it lists has the size and time it recorded (the run's
 // files, untouched since); false when anything differs or is missing, and then
