@@ -65,39 +65,76 @@ std::string contact_model_fixes(const model::StackSpec& spec, const std::vector<
 // each by what refsim judges, in the same arithmetic (over the footprint, momentum summed in atom
 // order; the output sphere's neighbours and their straight-line courses), and the run ended at the
 // frame where the condition has held for the hold, at most res.steps (the cap).
+namespace {
+// Atom-style variables and a compute `gs_<name>_aim`: whether any other sphere is on course to hit
+// sphere `id` (model::threatened, in its arithmetic: d and u the other's position and velocity
+// less the sphere's), and, when `touch`, `gs_<name>_touch`: whether any touches it.
+std::string on_course_lines(std::string_view name, int id, double radius, const DeckDialect& dialect, bool touch) {
+  std::string out = fmt::format(
+      "variable        gs_{0}_dx atom x-x[{1}]\nvariable        gs_{0}_dy atom y-y[{1}]\nvariable        gs_{0}_dz atom z-z[{1}]\n"
+      "variable        gs_{0}_ux atom vx-vx[{1}]\nvariable        gs_{0}_uy atom vy-vy[{1}]\nvariable        gs_{0}_uz atom vz-vz[{1}]\n"
+      "variable        gs_{0}_dd atom v_gs_{0}_dx*v_gs_{0}_dx+v_gs_{0}_dy*v_gs_{0}_dy+v_gs_{0}_dz*v_gs_{0}_dz\n"
+      "variable        gs_{0}_du atom v_gs_{0}_dx*v_gs_{0}_ux+v_gs_{0}_dy*v_gs_{0}_uy+v_gs_{0}_dz*v_gs_{0}_uz\n"
+      "variable        gs_{0}_uu atom v_gs_{0}_ux*v_gs_{0}_ux+v_gs_{0}_uy*v_gs_{0}_uy+v_gs_{0}_uz*v_gs_{0}_uz\n"
+      "# (uu==0) keeps the program from dividing by 0 where du = 0 already rules the sphere out.\n"
+      "variable        gs_{0}_aim atom (id!={1})*(v_gs_{0}_du<0)*(v_gs_{0}_dd-v_gs_{0}_du*v_gs_{0}_du/(v_gs_{0}_uu+(v_gs_{0}_uu==0))<({4}+{2})*({4}+{2}))\n"
+      "compute         gs_{0}_aim all reduce{3} max v_gs_{0}_aim\n",
+      name, id, radius, dialect.reduce_options, dialect.radius);
+  if (touch) {
+    out += fmt::format(
+        "variable        gs_{0}_touch atom (id!={1})*(v_gs_{0}_dd<({4}+{2})*({4}+{2}))\n"
+        "compute         gs_{0}_touch all reduce{3} max v_gs_{0}_touch\n",
+        name, id, radius, dialect.reduce_options, dialect.radius);
+  }
+  return out;
+}
+
+// Each striker still coming (model::striker_coming): on course to hit a sphere, or, against a
+// wall, moving down over the footprint; `gs_coming` counts them. `computes` gains the computes read.
+std::string striker_lines(const model::Stack& stack, const DeckDialect& dialect, std::vector<std::string>& computes) {
+  std::string out;
+  std::string coming = "0";
+  const bool wall = stack.spec().bottom == model::Boundary::wall;
+  for (int k = 1; k <= stack.strikers(); ++k) {
+    const auto name = fmt::format("s{}", k);
+    out += on_course_lines(name, k, stack.spheres()[static_cast<std::size_t>(k - 1)].radius, dialect, false);
+    computes.push_back(fmt::format("c_gs_{}_aim", name));
+    coming += fmt::format("+c_gs_{}_aim", name);
+    if (wall) coming += fmt::format("+(vz[{0}]<0)*(abs(x[{0}])<={1})*(abs(y[{0}])<={2})", k, stack.half_width(), stack.half_depth());
+  }
+  return out + fmt::format("variable        gs_coming equal {}\n", coming);
+}
+}  // namespace
+
+// The run of a case that stops at the blow's end (model::BlowEnd, docs/physics.md section 7):
+// one dump interval at a time (`pre no`: one run's trajectory, bit for bit), the frame judged after
+// each by what refsim judges, in the same arithmetic (over the footprint, momentum summed in atom
+// order; the output sphere's neighbours and their straight-line courses; the strikers' courses),
+// and the run ended at the frame where the condition has held for the hold, at most res.steps (the cap).
 std::string blow_end_run(const model::Stack& stack, const model::Resolution& res, const DeckDialect& dialect) {
-  std::string judge;
+  std::vector<std::string> computes;
+  std::string judge = striker_lines(stack, dialect, computes);
   if (stack.spec().bottom == model::Boundary::wall) {
     const auto over = fmt::format("(abs(x)<={})*(abs(y)<={})", stack.half_width(), stack.half_depth());
-    judge = fmt::format(
+    judge += fmt::format(
         "variable        gs_pz atom mass*vz*{0}\n"
         "variable        gs_press atom {0}*(z-{2}<0)\n"
         "compute         gs_pz all reduce{1} sum v_gs_pz\n"
         "compute         gs_press all reduce{1} max v_gs_press\n"
-        "variable        gs_holds equal (c_gs_pz>=0)&&(c_gs_press==0)\n",
+        "variable        gs_holds equal (v_gs_coming==0)&&(c_gs_pz>=0)&&(c_gs_press==0)\n",
         over, dialect.reduce_options, dialect.radius);
+    computes.insert(computes.begin(), {"c_gs_pz", "c_gs_press"});
   } else {
     const int o = stack.output_sphere_id();
-    const double ro = stack.spheres()[static_cast<std::size_t>(o - 1)].radius;
-    judge = fmt::format(
-        "variable        gs_dx atom x-x[{0}]\nvariable        gs_dy atom y-y[{0}]\nvariable        gs_dz atom z-z[{0}]\n"
-        "variable        gs_ux atom vx-vx[{0}]\nvariable        gs_uy atom vy-vy[{0}]\nvariable        gs_uz atom vz-vz[{0}]\n"
-        "variable        gs_dd atom v_gs_dx*v_gs_dx+v_gs_dy*v_gs_dy+v_gs_dz*v_gs_dz\n"
-        "variable        gs_du atom v_gs_dx*v_gs_ux+v_gs_dy*v_gs_uy+v_gs_dz*v_gs_uz\n"
-        "variable        gs_uu atom v_gs_ux*v_gs_ux+v_gs_uy*v_gs_uy+v_gs_uz*v_gs_uz\n"
-        "variable        gs_touch atom (id!={0})*(v_gs_dd<({3}+{1})*({3}+{1}))\n"
-        "# (uu==0) keeps LIGGGHTS from dividing by 0 where du = 0 already rules the sphere out.\n"
-        "variable        gs_aim atom (id!={0})*(v_gs_du<0)*(v_gs_dd-v_gs_du*v_gs_du/(v_gs_uu+(v_gs_uu==0))<({3}+{1})*({3}+{1}))\n"
-        "compute         gs_touch all reduce{2} max v_gs_touch\n"
-        "compute         gs_aim all reduce{2} max v_gs_aim\n"
-        "variable        gs_holds equal (c_gs_touch==0)&&(c_gs_aim==0)\n",
-        o, ro, dialect.reduce_options, dialect.radius);
+    judge += on_course_lines("o", o, stack.spheres()[static_cast<std::size_t>(o - 1)].radius, dialect, true);
+    judge += "variable        gs_holds equal (v_gs_coming==0)&&(c_gs_o_touch==0)&&(c_gs_o_aim==0)\n";
+    computes.insert(computes.begin(), {"c_gs_o_touch", "c_gs_o_aim"});
   }
   judge = dialect.radius_setup + judge;
   if (dialect.judge_in_thermo) {
     judge += fmt::format("thermo_style    custom step atoms ke c_gs_erot cpu {}\n"
                          "thermo_modify   lost error norm no format float %.15g\n",
-                         stack.spec().bottom == model::Boundary::wall ? "c_gs_pz c_gs_press" : "c_gs_touch c_gs_aim");
+                         fmt::join(computes, " "));
   }
   model::BlowEnd start(stack, res);
   model::judge_start(start, stack);

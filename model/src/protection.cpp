@@ -51,19 +51,21 @@ BlowEnd::BlowEnd(const Stack& stack, const Resolution& res)
 void judge_start(BlowEnd& blow, const Stack& stack) {
   const auto& spheres = stack.spheres();
   const auto vz = [&](const Sphere& s) { return s.block == 0 ? -stack.spec().striker_speed : 0.0; };
-  if (stack.spec().bottom == Boundary::wall) {
-    blow.frame(0, over_footprint(stack, spheres.size(), [&](std::size_t i) {
-      const auto& s = spheres[i];
-      return std::array<double, 6>{s.x, s.y, s.z, s.radius, stack.mass(s), vz(s)};
-    }), false, false);
-    return;
-  }
   const auto state = [&](std::size_t i) {
     const auto& s = spheres[i];
     return std::array<double, 7>{s.x, s.y, s.z, 0.0, 0.0, vz(s), s.radius};
   };
+  const bool coming = striker_coming(stack, spheres.size(), state);
+  if (stack.spec().bottom == Boundary::wall) {
+    blow.frame(0, over_footprint(stack, spheres.size(), [&](std::size_t i) {
+      const auto& s = spheres[i];
+      return std::array<double, 6>{s.x, s.y, s.z, s.radius, stack.mass(s), vz(s)};
+    }), false, false, coming);
+    return;
+  }
   const auto out = static_cast<std::size_t>(stack.output_sphere_id() - 1);
-  blow.frame(0, OverFootprint{}, touches_nothing(spheres.size(), out, state), threatened(spheres.size(), out, state));
+  blow.frame(0, OverFootprint{}, touches_nothing(spheres.size(), out, state), threatened(spheres.size(), out, state),
+             coming);
 }
 
 long blow_end_hold_steps(const Resolution& res) {
@@ -71,14 +73,16 @@ long blow_end_hold_steps(const Resolution& res) {
   return std::max<long>(1, static_cast<long>(std::ceil(arrivals * res.arrival_estimate / res.dt)));
 }
 
-void BlowEnd::frame(long step, const OverFootprint& over, bool output_free, bool output_threatened) {
+void BlowEnd::frame(long step, const OverFootprint& over, bool output_free, bool output_threatened, bool striker_coming) {
   last_step_ = step;
   last_momentum_ = over.momentum_z;
   last_on_wall_ = over.pressing;
   last_free_ = output_free;
   last_threatened_ = output_threatened;
+  last_striker_coming_ = striker_coming;
   if (ended_at_ || gravity_) return;
-  const bool holds = wall_ ? over.momentum_z >= 0.0 && !over.pressing : output_free && !output_threatened;
+  const bool holds =
+      !striker_coming && (wall_ ? over.momentum_z >= 0.0 && !over.pressing : output_free && !output_threatened);
   if (!holds) {
     since_.reset();
     return;
@@ -89,15 +93,21 @@ void BlowEnd::frame(long step, const OverFootprint& over, bool output_free, bool
 
 std::string BlowEnd::rule() const {
   if (gravity_) return "none with gravity (the stack comes to rest on its support)";
-  return fmt::format("{}, held for {} steps", wall_ ? "the momentum over the footprint no longer downward and no sphere there pressing the wall"
-                                                    : "the output sphere touching no other sphere and none on course to "
-                                                      "hit it",
+  return fmt::format("{}, held for {} steps",
+                     wall_ ? "the momentum over the footprint no longer downward, no sphere there pressing the wall, and "
+                             "the striker neither moving down over the footprint nor on course to hit a sphere"
+                           : "the output sphere touching no other sphere and none on course to hit it, nor the striker "
+                             "on course to hit a sphere",
                      hold_steps_);
 }
 
 std::string BlowEnd::why_not_ended() const {
   if (ended_at_) return "";
   if (gravity_) return "gravity: the stack comes to rest on its support, so the blow has no end to stop at";
+  if (last_striker_coming_) {
+    return fmt::format("at step {} the striker was still coming ({}on course to hit a sphere)", last_step_,
+                       wall_ ? "moving down over the footprint, or " : "");
+  }
   if (wall_) {
     return fmt::format("at step {} the momentum over the footprint was {:.3g} kg m/s and {} the wall{}", last_step_,
                        last_momentum_, last_on_wall_ ? "spheres still pressed" : "no sphere pressed",

@@ -531,7 +531,8 @@ std::vector<SpecField> resolution_rows() {
       "duration", "How the run ends: duration | blow_end (at the blow's end, at most cap_durations)");
   stop.doc = "`blow_end`: both engines stop at the dump frame where the blow has ended (against a bottom wall the "
              "momentum over the footprint no longer downward and no sphere pressing the wall; with a free bottom "
-             "the output sphere free and none on course to hit it; held for one estimated arrival, two with a soft "
+             "the output sphere free and none on course to hit it; in both no striker on course to hit a sphere nor, "
+             "over a wall, moving down over the footprint; held for one estimated arrival, two with a soft "
              "cavity; docs/physics.md section 7). A blow not ended by the cap is censored: reduce says why";
   stop.in_every_manifest = false;
   const auto save_stop = stop.save;  // written where it is not the default, so older manifests stay as they were

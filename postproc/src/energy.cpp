@@ -400,9 +400,11 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
   }
   // Another sphere on course to hit the output sphere (model::BlowEnd), in id order as refsim.
   // Judged with a free bottom only (model::BlowEnd reads it there), as refsim's in-situ run does.
-  e.output_threatened = stack.spec().bottom != model::Boundary::wall && model::threatened(n, out_index, [&](std::size_t i) {
+  const auto state = [&](std::size_t i) {
     return std::array<double, 7>{x_[i], y_[i], z_[i], vx_[i], vy_[i], vz_[i], c.radius[i]};
-  });
+  };
+  e.output_threatened = stack.spec().bottom != model::Boundary::wall && model::threatened(n, out_index, state);
+  e.striker_coming = model::striker_coming(stack, n, state);
   e.over_footprint = {};
   if (stack.spec().bottom == model::Boundary::wall) {
     e.over_footprint = model::over_footprint(stack, n, [&](std::size_t i) {

@@ -461,7 +461,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     require_frame_matches_series(e, series, *series_cols, res.series_every, series_path, r.e_in);
     track_peaks(e, stack, static_cast<double>(e.step) * res.dt, r);
     stroke.sample(e.striker_z);
-    blow.frame(e.step, e.over_footprint, e.output_free, e.output_threatened);
+    blow.frame(e.step, e.over_footprint, e.output_free, e.output_threatened, e.striker_coming);
     waves.add(e.step, fr.wave_samples);
     tables.append(fr.rows);
     if (fr.separated) r.output_separated = *fr.separated;

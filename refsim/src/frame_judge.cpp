@@ -32,16 +32,17 @@ double lowest_striker_z(const System& s, int strikers) {
 }
 
 void judge_blow_end(model::BlowEnd& blow, const model::Stack& stack, const System& s) {
+  const bool coming = model::striker_coming(stack, s.size(), state(s));
   if (stack.spec().bottom == model::Boundary::wall) {
     const auto over = model::over_footprint(stack, s.size(), [&](std::size_t i) {
       const auto x = s.x(i);
       return std::array<double, 6>{x[0], x[1], x[2], s.radius(i), s.mass(i), s.v(i)[2]};
     });
-    blow.frame(s.step_count(), over, false, false);
+    blow.frame(s.step_count(), over, false, false, coming);
     return;
   }
   const auto out = static_cast<std::size_t>(stack.output_sphere_id() - 1);
-  blow.frame(s.step_count(), model::OverFootprint{}, touches_nothing(s, out), threatened(s, out));
+  blow.frame(s.step_count(), model::OverFootprint{}, touches_nothing(s, out), threatened(s, out), coming);
 }
 
 }  // namespace granstack::refsim::detail

@@ -11,9 +11,9 @@ runs=${3:-20000}
 src=$(cd "$(dirname "$0")/../.." && pwd)
 rm -rf "$work" && mkdir -p "$work/corpus"
 clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-  -I"$src/formats/include" -I"$src/model/include" \
-  "$src/tests/fuzz/fuzz_readers.cpp" "$src"/formats/src/{error,files,byte_source,line_reader,dump,batches,series,data_file}.cpp \
-  -lfmt -lz -lzstd -o "$work/fuzz_readers"
+  -I"$src/formats/include" -I"$src/model/include" -I"$src/os/include" \
+  "$src/tests/fuzz/fuzz_readers.cpp" "$src"/formats/src/{error,files,byte_source,line_reader,dump,batches,series,data_file,digest}.cpp \
+  "$src/os/src/interrupt.cpp" -lfmt -lz -lzstd -lxxhash -lcrypto -o "$work/fuzz_readers"
 # Seeds: a small real case, text and binary, plus its series and data file.
 for format in text binary; do
   "$gs" generate -o "$work/case_$format" --blocks 1 --rows 2 --duration 2e-6 --dump-every 8 --dump-format "$format" >/dev/null

@@ -365,6 +365,16 @@ INSTANTIATE_TEST_SUITE_P(
                     }(),
                     true},
         // A 3D nest over a wall: the footprint in y as well as x.
+        // One steel block at 2 m/s: its rebounding top spheres hit the striker again at 1.8 ms, after
+        // the momentum over the footprint had turned (the blow ends for the striker too, #47).
+        BlowEndCase{"striker_hit_again",
+                    [] {
+                      auto s = blow_end_spec(1, {8}, {"steel"}, model::Boundary::wall);
+                      s.bottom_radius = 8e-3;
+                      s.striker_speed = 2.0;
+                      return s;
+                    }(),
+                    true},
         BlowEndCase{"nest_wall", blow_end_spec(2, {3, 3}, {"steel"}, model::Boundary::wall, model::kBlowEndCapDurations,
                                                model::Geometry::nested3d),
                     true},

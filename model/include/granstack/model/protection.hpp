@@ -78,6 +78,24 @@ bool threatened(std::size_t n, std::size_t out, const Sphere& sphere) {
   });
 }
 
+// Whether a striker (ids 1..stack.strikers(), the first spheres of `sphere`) still has a blow to
+// give: on course to hit another sphere (threatened, from the striker's side), or, against a
+// bottom wall, over the footprint and moving down, toward the stack and the protected object under
+// it (a striker that turned back, or flew off beside the footprint, gives the protected object no
+// more). With a free bottom the stack drifts down after the blow and the striker with it: there
+// only a course to a sphere counts. `sphere(i)` as for touches_nothing.
+template <class Sphere>
+bool striker_coming(const Stack& stack, std::size_t n, const Sphere& sphere) {
+  const bool wall = stack.spec().bottom == Boundary::wall;
+  const double hw = stack.half_width(), hd = stack.half_depth();
+  for (std::size_t k = 0; k < static_cast<std::size_t>(stack.strikers()) && k < n; ++k) {
+    const auto s = sphere(k);
+    if (wall && s[5] < 0.0 && std::fabs(s[0]) <= hw && std::fabs(s[1]) <= hd) return true;
+    if (threatened(n, k, sphere)) return true;
+  }
+  return false;
+}
+
 // Whether a sphere at height z of radius r presses the bottom wall (the plane z = 0, Stack::walls):
 // it overlaps it, so the wall pushes on it (at zero overlap, resting, it does not).
 inline bool presses_bottom_wall(double z, double r) { return z - r < 0.0; }
@@ -112,6 +130,8 @@ OverFootprint over_footprint(const Stack& stack, std::size_t n, const Sphere& sp
 //   sphere is on course to hit it (on_collision_course, every other sphere taken in a straight
 //   line from where it is, however far: a horizon as short as the hold let a sphere of the stack
 //   that followed the output sphere hit it again, 45 % more energy, after the blow's end);
+// and, in both, no striker still coming (striker_coming: a striker the stack's spheres moving up
+// hid from the momentum's sum went on into the stack after its blow had been called over);
 // held at every frame for kBlowEndHoldArrivals estimated arrivals of the pulse (the time a pulse
 // still inside the stack needs to reach the bottom; twice that with a soft cavity, whose bursts
 // come up to 0.8 arrivals apart), so a pulse still on its way cannot be missed. With gravity the
@@ -124,9 +144,9 @@ class BlowEnd {
  public:
   BlowEnd(const Stack& stack, const Resolution& res);
   // One dump frame: its step, what is over the footprint (momentum along z, up positive; whether a
-  // sphere presses the wall), whether the output sphere touches no other sphere and whether another
-  // is on course to hit it.
-  void frame(long step, const OverFootprint& over, bool output_free, bool output_threatened);
+  // sphere presses the wall), whether the output sphere touches no other sphere, whether another
+  // is on course to hit it, and whether a striker is still coming (striker_coming).
+  void frame(long step, const OverFootprint& over, bool output_free, bool output_threatened, bool striker_coming);
   // The step at which the blow ended (the frame at which its condition had held for the hold), or
   // none yet.
   std::optional<long> ended_at() const { return ended_at_; }
@@ -146,6 +166,7 @@ class BlowEnd {
   double last_momentum_ = 0.0;
   bool last_on_wall_ = false, last_free_ = false;
   bool last_threatened_ = false;
+  bool last_striker_coming_ = false;
 };
 
 // Gives `blow` frame 0, read from the stack as generated (every sphere at rest but the strikers,

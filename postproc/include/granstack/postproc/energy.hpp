@@ -31,6 +31,7 @@ struct FrameEnergy {
   model::OverFootprint over_footprint;
   bool output_free = false;
   bool output_threatened = false;  // another sphere on course to hit it (model::on_collision_course)
+  bool striker_coming = false;      // model::striker_coming
   double output_sphere_ke = 0.0;
   double bottom_row_ke = 0.0;
   double kinetic = 0.0;          // everything
