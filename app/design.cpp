@@ -72,6 +72,19 @@ std::string ended_because(const std::string& why, const design::Space& space, co
   return fmt::format("generation {} reached", space.search.generations);
 }
 
+// A store whose designs ran with free sides because its file, read before side walls were the
+// default, named none: resuming it with this file would run the rest confined, in one store.
+void refuse_free_sides_search(const design::Store& existing, const design::Space& space, const std::string& text,
+                              const std::string& file, const fs::path& store_path) {
+  const auto digest = existing.meta("space_digest");
+  if (!digest || *digest == space.digest() || design::parse_space(text, file, false, true).digest() != *digest) return;
+  throw design::StoreError(fmt::format(
+      "{}: its designs were run with free sides (design spaces were not confined by default when it was written), "
+      "and {} names no sides, which now means side walls: add sides = \"free\" to its [fixed] to resume that search, "
+      "or give another directory for a confined one",
+      store_path.string(), file));
+}
+
 int run_design(const DesignFlags& f) {
   const auto text = formats::read_file(f.space_file);
   auto space = design::parse_space(text, f.space_file);
@@ -79,7 +92,11 @@ int run_design(const DesignFlags& f) {
   if (f.max_designs > 0) space.search.max_designs = f.max_designs;
   const fs::path dir(f.dir);
   require_design_dir(dir);
-  if (fs::exists(dir / kStoreName)) design::adopt_schedule(space, design::Store::open_existing((dir / kStoreName).string()));
+  if (fs::exists(dir / kStoreName)) {
+    const auto existing = design::Store::open_existing((dir / kStoreName).string());
+    design::adopt_schedule(space, existing);
+    refuse_free_sides_search(existing, space, text, f.space_file, dir / kStoreName);
+  }
   fs::create_directories(dir);
   const os::CaseLock lock(dir, "granstack design run");
   auto store = design::Store::open((dir / kStoreName).string(), space.digest(), text);

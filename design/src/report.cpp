@@ -161,6 +161,9 @@ postproc::Table space_table(const Space& space) {
   t.rows.push_back({"footprint", fmt::format("{} top columns of radius {:.4g} m", space.fixed.top_columns, space.top_radius)});
   t.rows.push_back({"striker", fmt::format("{} m/s", space.fixed.striker_speed)});
   t.rows.push_back({"bottom", std::string(model::to_string(space.fixed.bottom))});
+  t.rows.push_back({"sides", space.fixed.sides == model::Boundary::wall
+                                 ? "rigid side walls beside the stack (confined: a design space's default)"
+                                 : "free (sides = \"free\"): a strip that may splay sideways"});
   const auto& c = space.constraints;
   std::string measures;
   for (const auto& [name, bound] : c.max_measures) measures += fmt::format(", {} <= {:.4g} {}", name, bound, find_objective(name)->unit);
@@ -287,6 +290,42 @@ std::string variant_text(const Confirmation& c, const Evaluation* e) {
     if (const auto mine = e->measures.find(name); mine != e->measures.end()) out += fmt::format(" ({:.4g})", mine->second);
   }
   return out + (c.variant_not_final.empty() ? "" : "; " + c.variant_not_final);
+}
+
+// With free sides, what confining changes: each run measure of the front's confirmed designs run
+// between side walls (confirm's variant) against the free strip's, as a range of relative changes.
+std::string confining_text(const Space& space, const Snapshot& s) {
+  if (space.fixed.sides == model::Boundary::wall) return "";
+  ConfirmVariant walls;
+  walls.sides = model::Boundary::wall;
+  std::map<std::string, std::pair<double, double>> change;  // measure: the least and largest
+  int designs = 0, not_final = 0;
+  for (const auto& c : s.confirmations) {
+    const auto e = std::find_if(s.all.begin(), s.all.end(), [&](const auto& x) { return x.digest == c.digest; });
+    if (c.variant != walls.label() || e == s.all.end()) continue;
+    ++designs;
+    if (!c.variant_not_final.empty()) ++not_final;
+    for (const auto& [name, confined] : c.variant_measures) {
+      const auto free = e->measures.find(name);
+      if (free == e->measures.end() || !(free->second != 0.0)) continue;
+      const double r = confined / free->second - 1.0;
+      const auto it = change.try_emplace(name, r, r).first;
+      it->second = {std::min(it->second.first, r), std::max(it->second.second, r)};
+    }
+  }
+  const std::string lead = "**This space's designs have free sides** (`sides = \"free\"`): a strip that may splay sideways, "
+                           "not a protector's confined body.";
+  if (designs == 0) {
+    return lead + " Nothing here says yet what confining changes: `granstack design confirm` runs the front's best "
+                  "between side walls as well.";
+  }
+  std::vector<std::string> parts;
+  for (const auto& [name, range] : change) {
+    parts.push_back(fmt::format("{} {:+.1f} % to {:+.1f} %", name, 100.0 * range.first, 100.0 * range.second));
+  }
+  return fmt::format("{} Between side walls (confirm's runs of {} front design{}, on LIGGGHTS{}): {}.", lead, designs,
+                     designs == 1 ? "" : "s", not_final > 0 ? fmt::format("; {} not final", not_final) : "",
+                     parts.empty() ? "no run measure to compare" : fmt::format("{}", fmt::join(parts, "; ")));
 }
 
 postproc::Table confirmations_table(const Snapshot& s) {
@@ -499,6 +538,7 @@ json report_json(const Space& space, const Snapshot& s, const std::vector<Evalua
   json j = json::object();
   j["granstack_version"] = std::string(granstack::version());
   j["space_digest"] = space.digest();
+  j["sides"] = std::string(model::to_string(space.fixed.sides));  // "wall": confined
   for (const char* key : {"front", "study_designs", "generations", "confirmations"}) j[key] = json::array();
   for (const auto& e : front) j["front"].push_back(evaluation_json(space, e));
   for (const auto& [name, e] : s.studies) {
@@ -672,6 +712,7 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   }
   d.push_back(space_table(space));
   d.push_back(postproc::Heading{2, "The front", "front"});
+  if (const auto confining = confining_text(space, s); !confining.empty()) d.push_back(postproc::Paragraph{confining});
   d.push_back(front_table(space, front));
   if (!space.scenarios.empty()) d.push_back(scenario_table(space, front));
   d.push_back(postproc::Heading{2, "The study's designs", "study"});

@@ -370,7 +370,17 @@ void adopt_schedule(Space& space, const Store& store) {
 }
 
 Space stored_space(const Store& store, const std::string& source) {
-  auto space = parse_space(*store.meta("space"), source, true);
+  const auto text = *store.meta("space");
+  auto space = parse_space(text, source, true);
+  // A search stored before spaces were confined by default ran its designs with free sides where
+  // its file named none: it is read as it ran.
+  if (const auto digest = store.meta("space_digest"); digest && *digest != space.digest()) {
+    if (auto as_run = parse_space(text, source, true, true); as_run.digest() == *digest) {
+      space = std::move(as_run);
+      space.warnings.push_back("this search was stored before design spaces stood between side walls by default: its "
+                               "designs have free sides (a strip that splays sideways), as they were run");
+    }
+  }
   adopt_schedule(space, store);
   return space;
 }

@@ -70,8 +70,14 @@ std::vector<T> list_of(const toml::table& t, const char* key, std::vector<std::s
   return out;
 }
 
-void read_fixed(const toml::table* fixed, const std::string& source, Space& s, std::vector<std::string>& problems) {
+// A design is a protector: its stack stands between rigid side walls unless the space says
+// sides = "free" (a free strip splays sideways: 70-92 % of E_in went into the blocks' sideways
+// motion, and its front was a property of the splay). Spaces stored before 2026-11-28 were read
+// with free sides where they named none (`free_sides_by_default`), and are still read so.
+void read_fixed(const toml::table* fixed, const std::string& source, Space& s, std::vector<std::string>& problems,
+                bool free_sides_by_default) {
   toml::table spec = fixed != nullptr ? *fixed : toml::table{};
+  if (!spec.contains("sides") && !free_sides_by_default) spec.insert("sides", "wall");
   if (const auto* r = spec.get("top_radius")) {
     if (const auto v = r->value<double>(); v && *v > 0) s.top_radius = *v;
     else problems.push_back("[fixed] top_radius: a radius in m, > 0");
@@ -263,8 +269,7 @@ void read_scenarios(const toml::table* t, const toml::table* fixed, Space& s, st
 
 // [confirm]: geometry = "nested3d" and/or sides = "wall" | "free".
 void read_confirm(const toml::table* t, Space& s, std::vector<std::string>& problems) {
-  if (t == nullptr) return;
-  for (const auto& [k, v] : *t) {
+  for (const auto& [k, v] : t != nullptr ? *t : toml::table{}) {
     const std::string key(k.str());
     const auto text = v.value<std::string>();
     if (key == "geometry") {
@@ -279,6 +284,13 @@ void read_confirm(const toml::table* t, Space& s, std::vector<std::string>& prob
     }
   }
   if (const auto why = s.confirm_variant.problem(s.fixed); !why.empty()) problems.push_back("[confirm] " + why);
+  // Free sides: confirm also runs each design between side walls, so that the report can say what
+  // confining changes (where walls can stand: not beside a striker as wide as the footprint).
+  if (s.confirm_variant.empty() && s.fixed.sides == model::Boundary::free_surface) {
+    ConfirmVariant walls;
+    walls.sides = model::Boundary::wall;
+    if (walls.problem(s.fixed).empty()) s.confirm_variant = walls;
+  }
 }
 
 // Whether a space varies the bottom spheres' radius: the footprint is fixed, so any choice of
@@ -717,7 +729,7 @@ std::string Space::digest() const {
   return formats::sha256_hex(j.dump());
 }
 
-Space parse_space(std::string_view text, const std::string& source, bool stored) {
+Space parse_space(std::string_view text, const std::string& source, bool stored, bool free_sides_by_default) {
   toml::table root;
   try {
     root = toml::parse(text, source);
@@ -735,7 +747,7 @@ Space parse_space(std::string_view text, const std::string& source, bool stored)
   }
   Space s;
   s.top_radius = kDefaultTopRadius;
-  read_fixed(root.get_as<toml::table>("fixed"), source, s, problems);
+  read_fixed(root.get_as<toml::table>("fixed"), source, s, problems, free_sides_by_default);
   read_vary(root.get_as<toml::table>("vary"), s, problems);
   read_objectives(root, s, problems);
   read_measures(root.get_as<toml::table>("measures"), s, problems);

@@ -7,6 +7,7 @@
 #include <granstack/formats/case.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/design/search.hpp>
+#include <granstack/design/store.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/generator/spec_input.hpp>
 #include <granstack/model/protection.hpp>
@@ -933,15 +934,19 @@ TEST(DesignCli, TheFrontsBestIsConfirmedOnLiggghts) {
 
 // The physical variant (#32.5): confirm also runs each confirmed design as the body the strip
 // stands for, here its blocks as a 3D nest, on LIGGGHTS to the blow's end, and reports its
-// measures beside the strip's. A variant that is the designs themselves is refused.
+// measures beside the strip's. A variant that is the designs themselves is refused. (The space's
+// strips have free sides here, as the nest has: a confined lossless nest of this front's first
+// design still rattled its wall at the cap.)
 TEST(DesignCli, ConfirmAlsoRunsTheFrontAsA3DNestOnLiggghts) {
   const auto dir = work_dir();
-  std::ofstream(dir / "same.toml") << kSmallSpace << "[confirm]\nsides = \"free\"\n";
+  auto free_text = kSmallSpace;
+  free_text.replace(free_text.find("[fixed]\n"), 8, "[fixed]\nsides = \"free\"\n");
+  std::ofstream(dir / "same.toml") << free_text << "[confirm]\nsides = \"free\"\n";
   const auto same = program({"design", "run", (dir / "same.toml").string(), "-o", (dir / "same").string()}, dir / "same.log");
   EXPECT_EQ(same.code, 2) << same.output;
   EXPECT_NE(same.output.find("[confirm] sides: the designs have these sides already"), std::string::npos) << same.output;
   EXPECT_FALSE(fs::exists(dir / "same"));
-  std::ofstream(dir / "small.toml") << kSmallSpace << "[confirm]\ngeometry = \"nested3d\"\n";
+  std::ofstream(dir / "small.toml") << free_text << "[confirm]\ngeometry = \"nested3d\"\n";
   ASSERT_EQ(program({"design", "run", (dir / "small.toml").string(), "-o", (dir / "search").string(), "-j", "2"}, dir / "run.log").code, 0);
   const auto r = program({"design", "confirm", (dir / "search").string(), "--top", "1"}, dir / "confirm.log");
   ASSERT_EQ(r.code, 0) << r.output;
@@ -1332,4 +1337,72 @@ TEST(Moead, ADesignReplacesAtMostTwoNeighbours) {
   // Better for the weights that favour the first objective only: those neighbours, in order.
   EXPECT_EQ(design::moead_replaced(members, neighbours, weights, {0.5, 1.2}), (std::vector<std::size_t>{4, 2}));
   EXPECT_EQ(design::kMoeadReplacements, 2);
+}
+
+// A design is a protector, not a free strip (#47 item 1): a space whose [fixed] names no sides
+// stands its designs between rigid side walls (a free strip splayed sideways, 70-92 % of E_in,
+// and its front was a property of the splay). A space that says sides = "free" keeps them, and
+// its confirm also runs the front between side walls, so that its report can say what confining
+// changes. A search stored before the default reads as it ran (free), and a resumption of it with
+// a file that names no sides is refused with the way on.
+TEST(Space, ADesignStandsBetweenSideWallsUnlessTheSpaceSaysFree) {
+  const auto confined = small_space();
+  EXPECT_EQ(confined.fixed.sides, model::Boundary::wall);
+  EXPECT_TRUE(confined.confirm_variant.empty());
+  const auto stack = model::Stack::build(confined.decode(confined.bounds().second));
+  EXPECT_EQ(stack.spec().sides, model::Boundary::wall);
+  EXPECT_TRUE(stack.has_walls());
+
+  auto free_text = kSmallSpace;
+  free_text.replace(free_text.find("[fixed]\n"), 8, "[fixed]\nsides = \"free\"\n");
+  const auto free = design::parse_space(free_text, "free.toml");
+  EXPECT_EQ(free.fixed.sides, model::Boundary::free_surface);
+  ASSERT_TRUE(free.confirm_variant.sides);
+  EXPECT_EQ(*free.confirm_variant.sides, model::Boundary::wall);
+  EXPECT_NE(free.digest(), confined.digest());
+
+  // A store written before the default: its digest is that of the space read with free sides.
+  const auto dir = work_dir();
+  const auto legacy = design::parse_space(kSmallSpace, "small.toml", false, true);
+  EXPECT_EQ(legacy.digest(), free.digest());
+  {
+    auto store = design::Store::open((dir / "design.sqlite").string(), legacy.digest(), kSmallSpace);
+  }
+  const auto stored = design::stored_space(design::Store::open_existing((dir / "design.sqlite").string()), "small.toml");
+  EXPECT_EQ(stored.fixed.sides, model::Boundary::free_surface);
+  ASSERT_FALSE(stored.warnings.empty());
+  EXPECT_NE(stored.warnings.back().find("free sides"), std::string::npos);
+  std::ofstream(dir / "small.toml") << kSmallSpace;
+  const auto r = program({"design", "run", (dir / "small.toml").string(), "-o", dir.string()}, dir / "run.log");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.output.find("add sides = \"free\" to its [fixed] to resume that search"), std::string::npos) << r.output;
+}
+
+// A space with free sides (#47 item 1): confirm also runs the front's best between side walls
+// (the default variant), and the report says, with those runs' numbers, what confining changes:
+// each run measure's range of (confined / free - 1) over the confirmed designs.
+TEST(DesignCli, AFreeSpacesReportSaysWhatConfiningChanges) {
+  const auto dir = work_dir();
+  auto free_text = kSmallSpace;
+  free_text.replace(free_text.find("[fixed]\n"), 8, "[fixed]\nsides = \"free\"\n");
+  std::ofstream(dir / "free.toml") << free_text;
+  ASSERT_EQ(program({"design", "run", (dir / "free.toml").string(), "-o", (dir / "search").string(), "-j", "2"}, dir / "run.log").code, 0);
+  auto md = test::read_bytes(dir / "search" / "report" / "design.md");
+  EXPECT_NE(md.find("Nothing here says yet what confining changes"), std::string::npos);
+  const auto r = program({"design", "confirm", (dir / "search").string(), "--top", "1"}, dir / "confirm.log");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto store = design::Store::open_existing((dir / "search" / "design.sqlite").string());
+  const auto c = store.confirmations().front();
+  EXPECT_EQ(c.variant, "side walls");
+  const auto e = store.find(c.digest);
+  ASSERT_TRUE(e);
+  const double f_free = e->measures.at("peak_wall_force"), f_walls = c.variant_measures.at("peak_wall_force");
+  std::printf("%s: peak wall force %.6g N between side walls, %.6g N free (%+.1f %%)\n", e->description.c_str(), f_walls,
+              f_free, 100.0 * (f_walls / f_free - 1.0));
+  EXPECT_NE(f_walls, f_free);  // the walls take part in the blow
+  md = test::read_bytes(dir / "search" / "report" / "design.md");
+  const auto expected = fmt::format("Between side walls (confirm's runs of 1 front design, on LIGGGHTS");
+  EXPECT_NE(md.find(expected), std::string::npos) << md;
+  const double pct = 100.0 * (f_walls / f_free - 1.0);
+  EXPECT_NE(md.find(fmt::format("peak_wall_force {:+.1f} % to {:+.1f} %", pct, pct)), std::string::npos) << md;
 }

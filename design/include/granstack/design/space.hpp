@@ -161,7 +161,10 @@ struct Space {
 // `stored`: the space of an existing store (status, report, confirm): what a new search may no
 // longer do (a measure that can be gamed, a fixed duration) is said in Space::warnings instead,
 // so that a search run before it was refused can still be read.
-Space parse_space(std::string_view toml_text, const std::string& source, bool stored = false);
+// [fixed] without `sides` stands between side walls; `free_sides_by_default` reads a space stored
+// before that default (stored_space does, where the store's digest says so).
+Space parse_space(std::string_view toml_text, const std::string& source, bool stored = false,
+                  bool free_sides_by_default = false);
 
 // A design's measures known before it runs, and which constraints it breaks (empty: feasible).
 struct Geometry {
