@@ -561,7 +561,7 @@ std::vector<SpecField> resolution_rows() {
     if (s.dump_every) check_range(i, "dump_every", *s.dump_every >= 1, fmt::format("{} must be >= 1 step", *s.dump_every));
   };
   rows.push_back(std::move(dump_every));
-  auto series_every = auto_row("series_every", &StackSpec::series_every, "auto: every step up to 20000 steps",
+  auto series_every = auto_row("series_every", &StackSpec::series_every, "auto: every step up to 20000 steps, about 20000 samples beyond; over a bottom wall at least 20 per contact of a bottom sphere on the wall",
                                "Steps between in-situ energy samples, or auto");
   series_every.check = [](const StackSpec& s, Issues& i) {
     if (s.series_every) {

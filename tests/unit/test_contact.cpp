@@ -80,6 +80,31 @@ TEST(Resolution, AutomaticTimeStepIsAFixedFractionOfTheShortestContact) {
 
 // A soft block with stiffer ones above and below it holds the pulse and lets it out in bursts;
 // only such stacks get the longer automatic duration.
+// Over a bottom wall the series samples the wall's force at least 20 times per contact of a
+// bottom sphere on the wall (#47 item 8), whatever the run's length: three nylon blocks over a
+// steel one (ratios 3, 8 rows each; a 0.3 mm steel bottom on the steel wall, the shortest contact,
+// and a long run of soft blocks) had every 6th step sampled, 16.6 samples per wall contact.
+TEST(Resolution, TheSeriesResolvesTheWallsContact) {
+  StackSpec s;
+  s.blocks = 4;
+  s.radius_ratios = {3, 3, 3};
+  s.block_rows = {8, 8, 8, 8};
+  s.materials = {"nylon", "nylon", "nylon", "steel"};
+  s.bottom_radius = 8e-3 / 27;
+  s.bottom = Boundary::wall;
+  s.wall_material = "steel";
+  s.striker_speed = 2.0;
+  const auto r = resolve(Stack::build(s));
+  ASSERT_GT(r.wall_contact_time, 0.0);
+  const double per_contact = r.wall_contact_time / (r.series_every * r.dt);
+  EXPECT_GE(per_contact, kSeriesPerWallContact);
+  // The old cadence, by the run's length alone: ceil(steps / kAutoSeriesSamples).
+  const double by_length = std::ceil(std::ceil(r.steps_asked - 1e-9) / static_cast<double>(kAutoSeriesSamples));
+  EXPECT_LT(r.wall_contact_time / (by_length * r.dt), kSeriesPerWallContact);  // the rule bites here
+  s.bottom = Boundary::free_surface;
+  EXPECT_EQ(resolve(Stack::build(s)).wall_contact_time, 0.0);
+}
+
 TEST(Resolution, OnlyASoftBlockBetweenStifferOnesMakesACavityAndALongerRun) {
   const std::pair<std::vector<std::string>, bool> stacks[] = {
       {{"steel"}, false},

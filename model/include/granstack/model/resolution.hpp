@@ -34,6 +34,10 @@ inline constexpr double kCavityDurationPerArrival = 7.0;
 inline constexpr long kAutoDumpFrames = 250;
 inline constexpr double kDumpPerContact = 0.2;
 inline constexpr long kAutoSeriesSamples = 20000;
+// Over a bottom wall (the protected object) the series samples the wall's force at least this
+// often per contact time of a bottom sphere on the wall (at the striker speed: the shortest such
+// contact), whatever the run's length: its peak force and its filters need the pulse resolved.
+inline constexpr double kSeriesPerWallContact = 20.0;
 inline constexpr long kAutoThermoLines = 200;
 
 // Physics guards on what the spec and the rules give (refused by `generate`, listed in docs/reference/spec.md):
@@ -65,6 +69,7 @@ struct Resolution {
   double steps_asked = 0.0;  // duration / dt before rounding (or holding at kMaxSteps + 1)
   int dump_every = 0;     // steps
   int series_every = 0;   // steps
+  double wall_contact_time = 0.0;  // s, a bottom sphere's on the bottom wall (0: no bottom wall)
   int thermo_every = 0;   // steps
   bool dt_auto = true;
   bool duration_auto = true;
