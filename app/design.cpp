@@ -175,8 +175,13 @@ int confirm(const DesignFlags& f) {
   StatusLine line;
   std::vector<design::Confirmation> results;
   try {
-    results = design::confirm_front(space, store, dir / "confirm", f.top, [&](const std::string& what) { line.show(what); },
-                                    f.liggghts);
+    results = design::confirm_front(
+        space, store, dir / "confirm", f.top, [&](const std::string& what) { line.show(what); }, f.liggghts,
+        [&](const std::string& plan) {
+          line.clear();
+          fmt::print("{}\n", plan);
+          std::fflush(stdout);
+        });
   } catch (const design::ConfirmRunFailed& e) {  // a run that failed: exit 1, as run's
     line.clear();
     fmt::print(stderr, "error: {}\n", e.what());

@@ -94,7 +94,7 @@ int validate(const ValidateFlags& f) {
   for (const auto& d : dirs) {
     const auto c = postproc::compare_runs(runner::copy_dir(d, engines[0]), runner::copy_dir(d, engines[1]));
     fmt::print("{}", postproc::format_comparison(c, f.engines[0], f.engines[1], f.tolerance));
-    if (!(c.worst() <= f.tolerance)) rc = kDisagree;
+    if (!c.disagreement(f.tolerance).empty()) rc = kDisagree;
   }
   return rc;
 }

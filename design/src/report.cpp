@@ -648,6 +648,31 @@ std::vector<std::pair<model::StackSpec, std::map<std::string, double>>> confirm_
   return out;
 }
 
+// What confirm will run and the most it can write (each run to its cap, binary dumps): LIGGGHTS
+// and refsim of every scenario's case, LIGGGHTS again at up to twice that length, and the variant.
+std::string confirm_plan(const Space& space, const std::vector<Evaluation>& front, std::size_t cases) {
+  double bytes = 0.0;
+  long runs = 0;
+  const auto add = [&](const model::StackSpec& spec, double times) {
+    const auto stack = model::Stack::build(binary_dumps(spec));
+    const auto cost = model::estimate_cost(stack, model::resolve(stack));
+    bytes += times * (cost.dump_bytes + cost.series_bytes);
+  };
+  for (const auto& e : front) {
+    for (const auto& [spec, measures] : confirm_runs(e)) {
+      add(spec, 4.0);  // two engines, and LIGGGHTS twice as long
+      runs += 3;
+    }
+    if (!space.confirm_variant.empty()) {
+      add(variant_run(space, worst_run(e)), 1.0);
+      ++runs;
+    }
+  }
+  return fmt::format("confirm: {} front design{}, {} case{}, {} runs; at most {:.0f} MB of dumps and series (binary, each "
+                     "run to its cap at most)",
+                     front.size(), front.size() == 1 ? "" : "s", cases, cases == 1 ? "" : "s", runs, bytes / 1e6);
+}
+
 }  // namespace
 
 std::string spec_toml(const model::StackSpec& spec) {
@@ -758,7 +783,8 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
 
 std::vector<Confirmation> confirm_front(const Space& space, Store& store, const fs::path& dir, int top,
                                         const std::function<void(const std::string&)>& on_progress,
-                                        const std::string& liggghts_exe) {
+                                        const std::string& liggghts_exe,
+                                        const std::function<void(const std::string&)>& on_plan) {
   auto front = pareto_front(space, store.evaluations());
   if (front.size() > static_cast<std::size_t>(top)) front.resize(static_cast<std::size_t>(top));
   // A case per design and scenario (DIGEST12, or DIGEST12_sK), each the run the store measured.
@@ -782,6 +808,7 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
       dirs.push_back(o.output.string());
     }
   }
+  if (on_plan) on_plan(confirm_plan(space, front, entries.size()));
   runner::RunOptions ro;
   if (!liggghts_exe.empty()) ro.liggghts = liggghts_exe;
   const auto check = [](const std::vector<runner::RunOutcome>& outcomes) {
@@ -835,11 +862,15 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
   std::vector<Confirmation> out;
   for (std::size_t i = 0; i < front.size(); ++i) {
     Confirmation c{front[i].digest, "", 0.0, std::nullopt, 0.0, 0.0, "", std::nullopt, "", {}, ""};
+    std::vector<std::string> disagreements;
     for (std::size_t n = 0; n < entries.size(); ++n) {
       const auto& en = entries[n];
       if (en.design != i) continue;
       const auto liggghts = runner::copy_dir(en.dir, runner::Engine::liggghts), refsim = runner::copy_dir(en.dir, runner::Engine::refsim);
       const auto compared = postproc::compare_runs(liggghts, refsim);
+      if (const auto why = compared.disagreement(postproc::kDefaultTolerance); !why.empty()) {
+        disagreements.push_back(fs::path(en.dir).filename().string() + ": " + why);
+      }
       postproc::ReduceOptions quiet;
       quiet.write_files = false;
       const auto r = postproc::reduce_case(liggghts, quiet);
@@ -852,7 +883,13 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
       c.longer_difference = std::max(c.longer_difference.value_or(0.0),
                                      objective_difference(space, longer_specs[n], en.measures, longer));
     }
-    c.verdict = c.objective_difference <= postproc::kDefaultTolerance ? "agree" : "DISAGREE";
+    // One tolerance, one verdict: the objectives and the whole runs, frame by frame, to the same
+    // stopping frame (validate's), whatever the objectives say.
+    if (c.objective_difference > postproc::kDefaultTolerance) {
+      disagreements.push_back(fmt::format("objectives differ by {:.3g} (tolerance {:g})", c.objective_difference,
+                                          postproc::kDefaultTolerance));
+    }
+    c.verdict = disagreements.empty() ? "agree" : fmt::format("DISAGREE: {}", fmt::join(disagreements, "; "));
     if (!variant.empty()) {
       postproc::ReduceOptions quiet;
       quiet.write_files = false;

@@ -28,6 +28,14 @@ double RunComparison::worst() const {
   return w;
 }
 
+std::string RunComparison::disagreement(double tolerance) const {
+  if (!mismatches.empty()) return mismatches.front();
+  if (worst() <= tolerance) return "";
+  const auto& w = largest();
+  return fmt::format("whole runs differ by {:.3g} ({}, step {}), above the tolerance {:g}", w.relative, w.quantity, w.step,
+                     tolerance);
+}
+
 const Difference& RunComparison::largest() const {
   const Difference* w = &output_fraction;
   for (const auto* list : {&dump, &series, &measures}) {

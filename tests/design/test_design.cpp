@@ -898,6 +898,9 @@ TEST(DesignCli, TheFrontsBestIsConfirmedOnLiggghts) {
   const auto searched = searched_dir(dir);
   const auto r = program({"design", "confirm", searched.string(), "--top", "2"}, dir / "confirm.log");
   ASSERT_EQ(r.code, 0) << r.output;
+  // What it will run and write, said before it starts (#47 item 7).
+  EXPECT_NE(r.output.find("confirm: 2 front designs, "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" MB of dumps and series (binary, each run to its cap at most)"), std::string::npos) << r.output;
   const auto store = design::Store::open_existing((searched / "design.sqlite").string());
   const auto confirmed = store.confirmations();
   ASSERT_EQ(confirmed.size(), 2u);

@@ -72,6 +72,7 @@ TEST_F(Validate, RealRunsAgreeToRoundOffInEveryColumnFrameAndRow) {
   const auto c = compare();
   EXPECT_TRUE(c.mismatches.empty()) << c.mismatches.front();
   EXPECT_LE(c.worst(), postproc::kDefaultTolerance) << c.largest().quantity;
+  EXPECT_EQ(c.disagreement(postproc::kDefaultTolerance), "");  // validate's verdict, and design confirm's
   // Every column the deck dumps, including those LIGGGHTS leaves at zero in this plane (y, vy,
   // omegax, omegaz, fy, tqx, tqz), is compared for every sphere of every frame.
   EXPECT_EQ(c.dump.size(), 18u);  // the 19 dump columns but the id, which keys the spheres
@@ -97,6 +98,10 @@ TEST_F(Validate, AColumnThatShouldBeZeroIsComparedToo) {
   EXPECT_GT(c.worst(), postproc::kDefaultTolerance);
   EXPECT_EQ(c.largest().quantity, "vy");
   EXPECT_EQ(c.largest().atom, 1);
+  // One verdict (#47 item 7): design confirm, whose objectives (peak force, stroke) this leaves
+  // alone, calls it a disagreement as validate does.
+  EXPECT_NE(c.disagreement(postproc::kDefaultTolerance).find("whole runs differ by"), std::string::npos);
+  EXPECT_NE(c.disagreement(postproc::kDefaultTolerance).find("(vy, step"), std::string::npos);
 }
 
 TEST_F(Validate, MissingFramesRowsAndColumnsAndNonFiniteValuesAreMismatches) {
@@ -107,6 +112,7 @@ TEST_F(Validate, MissingFramesRowsAndColumnsAndNonFiniteValuesAreMismatches) {
   auto c = compare();
   EXPECT_TRUE(mentions(c, "has more dump frames than")) << (c.mismatches.empty() ? "" : c.mismatches.front());
   EXPECT_FALSE(c.worst() <= 1.0);
+  EXPECT_EQ(c.disagreement(1.0), c.mismatches.front());  // a run that stopped at another frame disagrees
   write_bytes(b_ / "dumps/dump.txt", dump);
   // A series row gone from the middle.
   const auto middle = series.find('\n', series.size() / 2) + 1;

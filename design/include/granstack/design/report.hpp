@@ -24,9 +24,13 @@ std::filesystem::path write_report(const Space& space, const Store& store, const
 // The front's `top` best designs (first objective first) generated as cases under `dir`, run on
 // LIGGGHTS (`liggghts_exe`: its executable, "" for the one on PATH) and on refsim (validate's
 // copies), reduced and compared; stored and returned. A run that fails throws ConfirmRunFailed.
+// A design agrees when its objectives and its whole runs (the same stopping frame, every frame
+// within validate's tolerance) do; otherwise its verdict says what differs. `on_plan` is told,
+// before anything runs, how many runs confirm makes and the most they can write.
 std::vector<Confirmation> confirm_front(const Space& space, Store& store, const std::filesystem::path& dir, int top,
                                         const std::function<void(const std::string&)>& on_progress = {},
-                                        const std::string& liggghts_exe = "");
+                                        const std::string& liggghts_exe = "",
+                                        const std::function<void(const std::string&)>& on_plan = {});
 
 class ConfirmRunFailed : public std::runtime_error {
  public:

@@ -57,6 +57,10 @@ struct RunComparison {
   double worst() const;
   // The quantity with the largest relative difference.
   const Difference& largest() const;
+  // validate's verdict against `tolerance`: "" when the runs agree, else why not (the first
+  // mismatch: a different stopping frame, frames or columns on one side only; or the largest
+  // difference). design confirm gives the same verdict.
+  std::string disagreement(double tolerance) const;
 };
 
 // Compares two run directories of the same case. Throws formats::FormatError only when a run
