@@ -573,22 +573,55 @@ json report_json(const Space& space, const Snapshot& s, const std::vector<Evalua
 }
 
 // front/gGGG_NN_DIGEST.toml: the front after generation GGG (the last any run has finished).
-void write_front_specs(const std::vector<Evaluation>& front, int generation, const fs::path& dir) {
+// The scenarios (indices into e.scenarios) that decided each of the space's run objectives: the
+// worst's, or all of them for a mean. Without scenarios, none.
+std::map<std::size_t, std::vector<std::string>> deciding_scenarios(const Space& space, const Evaluation& e) {
+  std::map<std::size_t, std::vector<std::string>> out;
+  if (e.scenarios.empty()) return out;
+  for (const auto o : space.objectives) {
+    if (o->from_run == nullptr) continue;
+    const std::string name(o->name);
+    if (space.aggregate_of(name) == Aggregate::mean) {
+      for (std::size_t k = 0; k < e.scenarios.size(); ++k) out[k].push_back(name + " (mean)");
+      continue;
+    }
+    std::size_t worst = 0;
+    for (std::size_t k = 1; k < e.scenarios.size(); ++k) {
+      if (e.scenarios[k].measures.at(name) > e.scenarios[worst].measures.at(name)) worst = k;
+    }
+    out[worst].push_back(name + " (worst)");
+  }
+  return out;
+}
+
+void write_front_specs(const Space& space, const std::vector<Evaluation>& front, int generation, const fs::path& dir) {
   fs::create_directories(dir / "front");
   // The front of an earlier report goes first (after a resume the front changes: old and new
   // files numbered 01 stood side by side); only files named as this writes them, never others.
-  static const std::regex ours(R"((g\d+_)?\d{2,}_[0-9a-f]{8}\.toml)");
+  static const std::regex ours(R"((g\d+_)?\d{2,}_[0-9a-f]{8}(_s\d+)?\.toml)");
   std::vector<fs::path> earlier;
   for (const auto& e : fs::directory_iterator(dir / "front")) {
     if (e.is_regular_file() && std::regex_match(e.path().filename().string(), ours)) earlier.push_back(e.path());
   }
   for (const auto& f : earlier) fs::remove(f);
+  const auto write = [&](const fs::path& path, const std::string& what, const model::StackSpec& run) {
+    formats::write_file_atomically(path, fmt::format("# granstack design: {}; run it with\n#   granstack generate --config {} "
+                                                     "-o CASE && granstack run CASE && granstack reduce CASE\n{}",
+                                                     what, path.filename().string(), spec_toml(run)));
+  };
   for (std::size_t i = 0; i < front.size(); ++i) {
-    const auto path = dir / "front" / front_file_name(generation, i + 1, front[i].digest);
-    formats::write_file_atomically(path, fmt::format("# granstack design: front design {} after generation {} ({}); run it with\n#   "
-                                                     "granstack generate --config {} -o CASE && granstack run CASE\n{}",
-                                                     i + 1, generation, front[i].description, path.filename().string(),
-                                                     spec_toml(front[i].spec)));
+    const auto& e = front[i];
+    const auto head = fmt::format("front design {} after generation {} ({})", i + 1, generation, e.description);
+    if (e.scenarios.empty()) {
+      write(dir / "front" / front_file_name(generation, i + 1, e.digest), head + ", the run it was measured by", e.spec);
+      continue;
+    }
+    for (const auto& [k, decides] : deciding_scenarios(space, e)) {
+      const auto& sc = e.scenarios[k];
+      write(dir / "front" / front_file_name(generation, i + 1, e.digest, static_cast<int>(k) + 1),
+            fmt::format("{}, its scenario {} ({}), which decided {}", head, k + 1, sc.label, fmt::join(decides, ", ")),
+            sc.spec);
+    }
   }
 }
 
@@ -774,7 +807,7 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   }
   int generation = 0;
   for (const auto& g : s.generations) generation = std::max(generation, g.index);
-  write_front_specs(front, generation, dir);
+  write_front_specs(space, front, generation, dir);
   formats::write_file_atomically(dir / "design.md", postproc::markdown(d));
   formats::write_file_atomically(dir / "design.html", postproc::html(d, dir, "granstack design"));
   formats::write_file_atomically(dir / "design.json", report_json(space, s, front).dump(2) + "\n");

@@ -1409,3 +1409,41 @@ TEST(DesignCli, AFreeSpacesReportSaysWhatConfiningChanges) {
   const double pct = 100.0 * (f_walls / f_free - 1.0);
   EXPECT_NE(md.find(fmt::format("peak_wall_force {:+.1f} % to {:+.1f} %", pct, pct)), std::string::npos) << md;
 }
+
+// The front's spec files give the front's numbers (#47 item 6): on the shipped example (a short
+// search), each front design has a file per scenario that decided an objective (the 2 m/s blow,
+// the worst, for both run objectives here), carrying that scenario's striker and the stop at the
+// blow's end, and generate + run + reduce of it gives the stored peak force and stroke to
+// round-off. (Each file used to hold the design at the fixed 1 m/s, run for its automatic
+// duration.)
+TEST(DesignCli, TheFrontsFilesGiveTheFrontsNumbers) {
+  const auto dir = work_dir();
+  const auto example = fs::path(GRANSTACK_TEST_DATA) / ".." / ".." / "examples" / "design" / "least_wall_force.toml";
+  ASSERT_EQ(program({"design", "run", example.string(), "-o", (dir / "search").string(), "-j", "2", "--max-designs", "10"},
+                    dir / "run.log").code, 0);
+  const auto store = design::Store::open_existing((dir / "search" / "design.sqlite").string());
+  const auto space = design::stored_space(store, example.string());
+  const auto front = design::pareto_front(space, store.evaluations());
+  ASSERT_FALSE(front.empty());
+  int files = 0;
+  for (const auto& f : fs::directory_iterator(dir / "search" / "report" / "front")) {
+    const auto name = f.path().filename().string();
+    const auto e = std::find_if(front.begin(), front.end(), [&](const auto& d) { return name.find(d.digest.substr(0, 8)) != std::string::npos; });
+    ASSERT_NE(e, front.end()) << name;
+    const auto s = name.find("_s");
+    ASSERT_NE(s, std::string::npos) << name << ": a space with scenarios names the deciding one";
+    const auto& sc = e->scenarios.at(std::stoul(name.substr(s + 2)) - 1);
+    const auto text = test::read_bytes(f.path());
+    EXPECT_NE(text.find("which decided peak_wall_force (worst)"), std::string::npos) << text.substr(0, 300);
+    const auto c = dir / ("case" + std::to_string(files++));
+    ASSERT_EQ(program({"generate", "--config", f.path().string(), "-o", c.string()}, dir / "gen.log").code, 0);
+    ASSERT_EQ(program({"run", "--engine", "refsim", c.string()}, dir / "run1.log").code, 0);
+    ASSERT_EQ(program({"reduce", c.string()}, dir / "reduce.log").code, 0);
+    const auto summary = nlohmann::json::parse(test::read_bytes(c / "reduce" / "summary.json"));
+    EXPECT_EQ(formats::Case::open(c.string()).spec().striker_speed, sc.spec.striker_speed);
+    EXPECT_NEAR(summary.at("peak_wall_force").get<double>(), sc.measures.at("peak_wall_force"), 1e-12 * sc.measures.at("peak_wall_force"));
+    EXPECT_NEAR(summary.at("stroke_m").get<double>(), sc.measures.at("stroke"), 1e-12 * sc.measures.at("stroke"));
+    EXPECT_FALSE(summary.at("blow_end_time").is_null());
+  }
+  EXPECT_GE(files, static_cast<int>(front.size()));
+}

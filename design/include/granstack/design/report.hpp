@@ -38,9 +38,12 @@ class ConfirmRunFailed : public std::runtime_error {
 };
 
 // The report's file of the front's `rank`th design (1: best first objective) after `generation`:
-// front/gGGG_NN_DIGEST8.toml.
-inline std::string front_file_name(int generation, std::size_t rank, const std::string& digest) {
-  return fmt::format("g{:03}_{:02}_{}.toml", generation, rank, digest.substr(0, 8));
+// front/gGGG_NN_DIGEST8.toml, the run the store measured (to its blow's end); with scenarios, one
+// file per scenario that decided an objective, front/gGGG_NN_DIGEST8_sK.toml (K: the scenario's
+// place in the space, from 1).
+inline std::string front_file_name(int generation, std::size_t rank, const std::string& digest, int scenario = 0) {
+  return fmt::format("g{:03}_{:02}_{}{}.toml", generation, rank, digest.substr(0, 8),
+                     scenario > 0 ? fmt::format("_s{}", scenario) : "");
 }
 
 // A design as a spec file `granstack generate --config` takes.
