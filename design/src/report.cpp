@@ -195,6 +195,27 @@ postproc::Table front_table(const Space& space, const std::vector<Evaluation>& f
 }
 
 // Each front design's run objectives in each scenario: the spread its aggregate hides.
+// The scenarios (indices into e.scenarios) that decided each of the space's run objectives: the
+// worst's, or all of them for a mean. Without scenarios, none.
+std::map<std::size_t, std::vector<std::string>> deciding_scenarios(const Space& space, const Evaluation& e) {
+  std::map<std::size_t, std::vector<std::string>> out;
+  if (e.scenarios.empty()) return out;
+  for (const auto o : space.objectives) {
+    if (o->from_run == nullptr) continue;
+    const std::string name(o->name);
+    if (space.aggregate_of(name) == Aggregate::mean) {
+      for (std::size_t k = 0; k < e.scenarios.size(); ++k) out[k].push_back(name + " (mean)");
+      continue;
+    }
+    std::size_t worst = 0;
+    for (std::size_t k = 1; k < e.scenarios.size(); ++k) {
+      if (e.scenarios[k].measures.at(name) > e.scenarios[worst].measures.at(name)) worst = k;
+    }
+    out[worst].push_back(name + " (worst)");
+  }
+  return out;
+}
+
 postproc::Table scenario_table(const Space& space, const std::vector<Evaluation>& front) {
   postproc::Table t{"The front's designs in each scenario", {"#", "scenario"}, {}};
   std::vector<Objective> run;
@@ -202,13 +223,18 @@ postproc::Table scenario_table(const Space& space, const std::vector<Evaluation>
     if (o->from_run != nullptr) run.push_back(o);
   }
   for (const auto o : run) t.header.push_back(fmt::format("{} ({})", o->name, o->unit));
+  t.header.push_back("decides");
   for (std::size_t i = 0; i < front.size(); ++i) {
-    for (const auto& r : front[i].scenarios) {
+    const auto deciding = deciding_scenarios(space, front[i]);
+    for (std::size_t k = 0; k < front[i].scenarios.size(); ++k) {
+      const auto& r = front[i].scenarios[k];
       std::vector<std::string> row{std::to_string(i + 1), r.label};
       for (const auto o : run) {
         const auto v = r.measures.find(std::string(o->name));
         row.push_back(v == r.measures.end() ? "-" : fmt::format("{:.4g}", v->second));
       }
+      const auto d = deciding.find(k);
+      row.push_back(d == deciding.end() ? "-" : fmt::format("{}", fmt::join(d->second, ", ")));
       t.rows.push_back(std::move(row));
     }
   }
@@ -573,27 +599,6 @@ json report_json(const Space& space, const Snapshot& s, const std::vector<Evalua
 }
 
 // front/gGGG_NN_DIGEST.toml: the front after generation GGG (the last any run has finished).
-// The scenarios (indices into e.scenarios) that decided each of the space's run objectives: the
-// worst's, or all of them for a mean. Without scenarios, none.
-std::map<std::size_t, std::vector<std::string>> deciding_scenarios(const Space& space, const Evaluation& e) {
-  std::map<std::size_t, std::vector<std::string>> out;
-  if (e.scenarios.empty()) return out;
-  for (const auto o : space.objectives) {
-    if (o->from_run == nullptr) continue;
-    const std::string name(o->name);
-    if (space.aggregate_of(name) == Aggregate::mean) {
-      for (std::size_t k = 0; k < e.scenarios.size(); ++k) out[k].push_back(name + " (mean)");
-      continue;
-    }
-    std::size_t worst = 0;
-    for (std::size_t k = 1; k < e.scenarios.size(); ++k) {
-      if (e.scenarios[k].measures.at(name) > e.scenarios[worst].measures.at(name)) worst = k;
-    }
-    out[worst].push_back(name + " (worst)");
-  }
-  return out;
-}
-
 void write_front_specs(const Space& space, const std::vector<Evaluation>& front, int generation, const fs::path& dir) {
   fs::create_directories(dir / "front");
   // The front of an earlier report goes first (after a resume the front changes: old and new

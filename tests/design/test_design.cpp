@@ -1446,4 +1446,8 @@ TEST(DesignCli, TheFrontsFilesGiveTheFrontsNumbers) {
     EXPECT_FALSE(summary.at("blow_end_time").is_null());
   }
   EXPECT_GE(files, static_cast<int>(front.size()));
+  // The report names the deciding scenario of each objective.
+  const auto md = test::read_bytes(dir / "search" / "report" / "design.md");
+  EXPECT_NE(md.find("| decides |"), std::string::npos);
+  EXPECT_NE(md.find("| peak_wall_force (worst), wall_impulse (worst) |"), std::string::npos);
 }
