@@ -19,6 +19,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <iterator>
 #include <ctime>
@@ -207,9 +208,13 @@ std::map<std::size_t, std::vector<std::string>> deciding_scenarios(const Space& 
       for (std::size_t k = 0; k < e.scenarios.size(); ++k) out[k].push_back(name + " (mean)");
       continue;
     }
+    const auto value = [&](std::size_t k) {
+      const auto it = e.scenarios[k].measures.find(name);
+      return it == e.scenarios[k].measures.end() ? -std::numeric_limits<double>::infinity() : it->second;
+    };
     std::size_t worst = 0;
     for (std::size_t k = 1; k < e.scenarios.size(); ++k) {
-      if (e.scenarios[k].measures.at(name) > e.scenarios[worst].measures.at(name)) worst = k;
+      if (value(k) > value(worst)) worst = k;
     }
     out[worst].push_back(name + " (worst)");
   }

@@ -269,7 +269,8 @@ void read_scenarios(const toml::table* t, const toml::table* fixed, Space& s, st
 
 // [confirm]: geometry = "nested3d" and/or sides = "wall" | "free".
 void read_confirm(const toml::table* t, Space& s, std::vector<std::string>& problems) {
-  for (const auto& [k, v] : t != nullptr ? *t : toml::table{}) {
+  static const toml::table none;
+  for (const auto& [k, v] : t != nullptr ? *t : none) {
     const std::string key(k.str());
     const auto text = v.value<std::string>();
     if (key == "geometry") {

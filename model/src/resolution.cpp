@@ -114,12 +114,12 @@ Resolution resolve(const Stack& stack) {
   r.steps = (r.steps + r.dump_every - 1) / r.dump_every * r.dump_every;
   r.duration = static_cast<double>(r.steps) * r.dt;
   r.series_every = spec.series_every.value_or(cadence(r.steps, kAutoSeriesSamples));
-  if (!spec.series_every && spec.bottom == Boundary::wall) {
+  if (spec.bottom == Boundary::wall) {
     const auto& bottom = blocks.back();
     r.wall_contact_time =
         spec_contact_time(spec, sphere_wall(lib.at(bottom.material), bottom.radius, lib.at(spec.effective_wall_material())));
     const double per_contact = std::floor(r.wall_contact_time / (kSeriesPerWallContact * r.dt));
-    r.series_every = std::min(r.series_every, static_cast<int>(std::clamp(per_contact, 1.0, 1e9)));
+    if (!spec.series_every) r.series_every = std::min(r.series_every, static_cast<int>(std::clamp(per_contact, 1.0, 1e9)));
   }
   r.thermo_every = cadence(r.steps, kAutoThermoLines);
   r.skin = 0.25 * blocks.back().radius;

@@ -967,6 +967,11 @@ TEST(DesignCli, ConfirmAlsoRunsTheFrontAsA3DNestOnLiggghts) {
     EXPECT_TRUE(std::isfinite(c.variant_measures.at(m))) << m;
     std::printf("%s: %s %.6g as a 3D nest, %.6g as the strip\n", e->description.c_str(), m, c.variant_measures.at(m), e->measures.at(m));
   }
+  // The design how-to quotes this run.
+  const auto howto = test::read_bytes(fs::path(GRANSTACK_TEST_DATA) / ".." / ".." / "docs" / "how-to" / "design.md");
+  EXPECT_NE(howto.find(fmt::format("takes a peak wall force of {:.3g} N as a 3D nest against {:.3g} N as the strip",
+                                   c.variant_measures.at("peak_wall_force"), e->measures.at("peak_wall_force"))),
+            std::string::npos);
   const auto nest = formats::Case::open((dir / "search" / "confirm" / (c.digest.substr(0, 12) + "_3d")).string());
   EXPECT_EQ(nest.spec().geometry, model::Geometry::nested3d);
   EXPECT_EQ(formats::read_run_record(nest.dir(), nest.files()).status, "done");
@@ -1408,6 +1413,10 @@ TEST(DesignCli, AFreeSpacesReportSaysWhatConfiningChanges) {
   EXPECT_NE(md.find(expected), std::string::npos) << md;
   const double pct = 100.0 * (f_walls / f_free - 1.0);
   EXPECT_NE(md.find(fmt::format("peak_wall_force {:+.1f} % to {:+.1f} %", pct, pct)), std::string::npos) << md;
+  // The design how-to quotes this run.
+  const auto howto = test::read_bytes(fs::path(GRANSTACK_TEST_DATA) / ".." / ".." / "docs" / "how-to" / "design.md");
+  EXPECT_NE(howto.find(fmt::format("takes {:.3g} N between side walls against {:.3g} N free, {:+.1f} %", f_walls, f_free, pct)),
+            std::string::npos);
 }
 
 // The front's spec files give the front's numbers (#47 item 6): on the shipped example (a short
