@@ -28,7 +28,7 @@ import json, sqlite3, sys
 def load(d):
     c = sqlite3.connect(f"{d}/design.sqlite")
     return {r[0]: r[1:] for r in c.execute(
-        "select digest, feasible, description, peak_wall_force, wall_impulse, stroke, areal_mass, violations, seconds "
+        "select digest, feasible, description, peak_wall_force, wall_impulse, crush, areal_mass, violations, seconds "
         "from evaluations where searched = 1")}
 a, b = load(sys.argv[1]), load(sys.argv[2])
 for name, runs in (("cap 20", a), ("cap 40", b)):
@@ -66,11 +66,11 @@ python3 -c "import sys,time; print(f'confirm --top 2 --geometry nested3d: {time.
 python3 - "$work/cap20" <<'PY'
 import json, sqlite3, sys
 c = sqlite3.connect(f"{sys.argv[1]}/design.sqlite")
-print("as the strip and as a 3D nest (its worst scenario): peak wall force (N), stroke (m), wall impulse (N s)")
+print("as the strip and as a 3D nest (its worst scenario): peak wall force (N), crush (m), wall impulse (N s)")
 for digest, variant in c.execute("select digest, variant from confirmations"):
-    desc, force, stroke, impulse = c.execute(
-        "select description, peak_wall_force, stroke, wall_impulse from evaluations where digest = ?", (digest,)).fetchone()
+    desc, force, crush, impulse = c.execute(
+        "select description, peak_wall_force, crush, wall_impulse from evaluations where digest = ?", (digest,)).fetchone()
     v = json.loads(variant)["measures"]
-    print(f"  {desc:<45} strip {force:9.4g} {stroke:9.4g} {impulse:9.4g}   nest {v['peak_wall_force']:9.4g} "
-          f"{v['stroke']:9.4g} {v['wall_impulse']:9.4g}")
+    print(f"  {desc:<45} strip {force:9.4g} {crush:9.4g} {impulse:9.4g}   nest {v['peak_wall_force']:9.4g} "
+          f"{v['crush']:9.4g} {v['wall_impulse']:9.4g}")
 PY

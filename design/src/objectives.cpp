@@ -16,7 +16,8 @@ std::optional<double> wall_impulse(const Outcome& o, const Space& s) {
   if (!o.peak_wall_force || s.impulse_window <= 0.0) return std::nullopt;
   return model::peak_window_impulse(o.wall_force, o.wall_force_interval, s.impulse_window);
 }
-std::optional<double> stroke(const Outcome& o, const Space&) { return o.stroke; }
+std::optional<double> crush(const Outcome& o, const Space&) { return o.crush; }
+std::optional<double> penetration(const Outcome& o, const Space&) { return o.penetration; }
 double areal_mass(const Evaluation& e) { return e.areal_mass; }
 double height(const Evaluation& e) { return e.height; }
 
@@ -35,10 +36,18 @@ const std::vector<ObjectiveDef> kTable{
      "max over the series' sample times t of the integral of F from t to t + tau, tau = [measures] impulse_window, F "
      "linear between the samples: the sustained load, where peak_wall_force is the instant one",
      Needs::wall, true, false, wall_impulse, nullptr},
-    {"stroke", "m",
-     "max over the dump's frames of z_s(0) - z_s(t), the striker's travel below its start: the stack's crush under the "
-     "blow, what a soft stack pays for a low force",
-     Needs::wall, false, false, stroke, nullptr},
+    {"crush", "m",
+     "max over the dump's frames and the stack's spheres over the footprint of z(0) - z(t): the stack's largest loss "
+     "of height (its stroke; the top surface's travel while the stack crushes as a whole, the layers' under a top row "
+     "that sprang back), what a soft stack pays for a low force; the striker's indentation into a top sphere is not "
+     "in it. Bound it with [constraints] max_crush",
+     Needs::wall, false, false, crush, nullptr},
+    {"penetration", "m",
+     "max over the dump's frames of H - (z_s(t) - R_s): the depth of the striker's lowest point below the stack's "
+     "initial top surface z = H; from the seat depth at first touch ((2 - sqrt 3) R_1 for the study's striker), grown "
+     "by the striker's indentation and its descent between spheres pushed aside. Bound it with [constraints] "
+     "max_penetration",
+     Needs::wall, false, false, penetration, nullptr},
     {"areal_mass", "kg/m^2", "the lattice's mass over its footprint (Stack::areal_mass: in the strip one top-sphere diameter deep)",
      Needs::any, false, false, nullptr, areal_mass},
     {"height", "m", "the lattice's height, from its bottom face (z = 0) to the top of block 1's top row", Needs::any,
@@ -53,6 +62,20 @@ Objective find_objective(std::string_view name) {
     if (o.name == name) return &o;
   }
   return nullptr;
+}
+
+std::string_view retired_measure(std::string_view name) {
+  if (name == "stroke") {
+    return "stroke (the striker's travel from first touch) is no longer measured: it counted the striker's indentation "
+           "into a top sphere as the stack's crush. Name crush (the stack's loss of height, max_crush to bound it) or "
+           "penetration (the striker's depth below the stack's initial top surface)";
+  }
+  return {};
+}
+
+std::string_view measure_rules_changes() {
+  return "stroke became crush (the stack's loss of height) and penetration; a blow ends only when no striker is still "
+         "coming";
 }
 
 std::vector<std::string> run_measure_names() {

@@ -118,6 +118,36 @@ std::vector<std::string> objective_headers(const Space& space) {
   return h;
 }
 
+// The measures a design table shows: the objectives, then every other run measure the space's
+// bottom allows (what each run also measured: the crush beside a force objective, say).
+std::vector<Objective> shown_measures(const Space& space) {
+  auto shown = space.objectives;
+  const bool wall = space.fixed.bottom == model::Boundary::wall;
+  for (const auto& def : objective_table()) {
+    const bool allowed = def.from_run != nullptr && !(def.needs == Needs::wall && !wall) && !(def.needs == Needs::free_bottom && wall);
+    if (allowed && std::find(shown.begin(), shown.end(), &def) == shown.end()) shown.push_back(&def);
+  }
+  return shown;
+}
+// Each shown measure's header says whether it is searched (an objective), bounded (a constraint,
+// with its bound) or only reported.
+std::vector<std::string> measure_headers(const Space& space) {
+  std::vector<std::string> h;
+  for (const auto o : shown_measures(space)) {
+    const bool objective = std::find(space.objectives.begin(), space.objectives.end(), o) != space.objectives.end();
+    const auto bound = space.constraints.max_measures.find(std::string(o->name));
+    std::string role = objective ? "" : ", reported";
+    if (bound != space.constraints.max_measures.end()) role = fmt::format(", <= {:.4g}", bound->second);
+    h.push_back(fmt::format("{} ({}{})", to_string(o), unit_of(o), role));
+  }
+  return h;
+}
+std::vector<std::string> measure_cells(const Space& space, const Evaluation& e) {
+  std::vector<std::string> cells;
+  for (const auto o : shown_measures(space)) cells.push_back(value_text(objective_value(e, o)));
+  return cells;
+}
+
 // For each objective but the areal mass, the front's design at most as heavy as `e` that does
 // best in it: how much better the search does at equal or lower mass.
 std::string versus_front(const Space& space, const Evaluation& e, const std::vector<Evaluation>& front) {
@@ -184,11 +214,11 @@ postproc::Table space_table(const Space& space) {
 
 postproc::Table front_table(const Space& space, const std::vector<Evaluation>& front) {
   postproc::Table t{"The Pareto front: no other evaluated design is better in every objective", {"#", "design", "spheres"}, {}};
-  for (const auto& h : objective_headers(space)) t.header.push_back(h);
+  for (const auto& h : measure_headers(space)) t.header.push_back(h);
   t.header.push_back("spec file");
   for (std::size_t i = 0; i < front.size(); ++i) {
     std::vector<std::string> row{std::to_string(i + 1), front[i].description, std::to_string(front[i].spheres)};
-    for (auto& c : objective_cells(space, front[i])) row.push_back(std::move(c));
+    for (auto& c : measure_cells(space, front[i])) row.push_back(std::move(c));
     row.push_back(fmt::format("front/{:02}_{}.toml", i + 1, front[i].digest.substr(0, 8)));
     t.rows.push_back(std::move(row));
   }
@@ -248,11 +278,11 @@ postproc::Table scenario_table(const Space& space, const std::vector<Evaluation>
 
 postproc::Table study_table(const Space& space, const Snapshot& s, const std::vector<Evaluation>& front) {
   postproc::Table t{"The study's designs at the same footprint and settings, against the front", {"design", "layers", "within the constraints"}, {}};
-  for (const auto& h : objective_headers(space)) t.header.push_back(h);
+  for (const auto& h : measure_headers(space)) t.header.push_back(h);
   t.header.push_back("the front's best at equal or lower areal mass");
   for (const auto& [name, e] : s.studies) {
     std::vector<std::string> row{name, e.description, e.feasible ? "yes" : "no: " + e.violations};
-    for (auto& c : objective_cells(space, e)) row.push_back(std::move(c));
+    for (auto& c : measure_cells(space, e)) row.push_back(std::move(c));
     row.push_back(versus_front(space, e, front));
     t.rows.push_back(std::move(row));
   }
@@ -311,11 +341,16 @@ model::StackSpec variant_run(const Space& space, const model::StackSpec& ran) {
   return stopping_at_blow_end(v, space.cap_durations);
 }
 
-// The physical variant's run measures beside the design's (the worst over its scenarios).
+// The physical variant's run measures beside the design's (the worst over its scenarios), in the
+// objective table's order.
 std::string variant_text(const Confirmation& c, const Evaluation* e) {
   if (c.variant.empty()) return "-";
   std::string out = c.variant + ":";
-  for (const auto& [name, value] : c.variant_measures) {
+  for (const auto& def : objective_table()) {
+    const std::string name(def.name);
+    const auto it = c.variant_measures.find(name);
+    if (it == c.variant_measures.end()) continue;
+    const double value = it->second;
     out += fmt::format(" {} {:.4g}", name, value);
     if (e == nullptr) continue;
     if (const auto mine = e->measures.find(name); mine != e->measures.end()) out += fmt::format(" ({:.4g})", mine->second);
@@ -777,6 +812,12 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   d.push_back(postproc::Paragraph{run_line(space, s)});
   for (const auto& w : space.warnings) {
     d.push_back(postproc::Paragraph{fmt::format("**Warning: this search's measures cannot be trusted.** {}", w)});
+  }
+  if (store.measure_rules() != kMeasureRules) {
+    d.push_back(postproc::Paragraph{fmt::format("**Warning: these designs were measured by granstack's measure rules {}, "
+                                                "not this granstack's {}** ({}): their numbers are not what a search "
+                                                "today would give. Search the space again into a new folder.",
+                                                store.measure_rules(), kMeasureRules, measure_rules_changes())});
   }
   d.push_back(space_table(space));
   d.push_back(postproc::Heading{2, "The front", "front"});

@@ -146,7 +146,8 @@ void read_objectives(const toml::table& root, Space& s, std::vector<std::string>
   }
   for (const auto& e : *a) {
     const auto o = e.value<std::string>() ? find_objective(*e.value<std::string>()) : nullptr;
-    if (o == nullptr) problems.push_back(fmt::format("objectives: '{}' is not one of {}", e.value_or<std::string>("?"), joined(objective_names())));
+    if (const auto retired = retired_measure(e.value_or<std::string>("")); !retired.empty()) problems.push_back(fmt::format("objectives: {}", retired));
+    else if (o == nullptr) problems.push_back(fmt::format("objectives: '{}' is not one of {}", e.value_or<std::string>("?"), joined(objective_names())));
     else if (std::find(s.objectives.begin(), s.objectives.end(), o) != s.objectives.end()) problems.push_back(fmt::format("objectives: {} twice", to_string(o)));
     else s.objectives.push_back(o);
   }
@@ -245,7 +246,9 @@ void read_scenarios(const toml::table* t, const toml::table* fixed, Space& s, st
     if (const auto* per = v.as_table()) {
       for (const auto& [name, how] : *per) {
         const auto o = find_objective(name.str());
-        if (o == nullptr || o->from_run == nullptr) {
+        if (const auto retired = retired_measure(name.str()); !retired.empty()) {
+          problems.push_back(fmt::format("[scenarios.aggregate] {}", retired));
+        } else if (o == nullptr || o->from_run == nullptr) {
           problems.push_back(fmt::format("[scenarios.aggregate] {}: not a run measure ({})", name.str(), joined(run_measure_names())));
         } else if (const auto a = parse(how, fmt::format(".{}", name.str()))) {
           s.aggregate[std::string(name.str())] = *a;
@@ -356,6 +359,8 @@ void read_constraints(const toml::table* c, Space& s, std::vector<std::string>& 
     else if (key == "max_areal_mass") s.constraints.max_areal_mass = *number;
     else if (const auto o = key.rfind("max_", 0) == 0 ? find_objective(key.substr(4)) : nullptr; o != nullptr && o->from_run != nullptr) {
       s.constraints.max_measures[std::string(o->name)] = *number;
+    } else if (const auto retired = key.rfind("max_", 0) == 0 ? retired_measure(key.substr(4)) : std::string_view{}; !retired.empty()) {
+      problems.push_back(fmt::format("[constraints] {}: {}", key, retired));
     } else {
       problems.push_back(fmt::format("[constraints] {}: unknown; max_spheres, max_height (m), max_areal_mass (kg/m^2), or "
                                      "max_ and a run measure ({})", key, joined(run_measure_names())));

@@ -201,6 +201,7 @@ void Store::exec(const std::string& sql) const {
 Store Store::open(const std::string& path, const std::string& space_digest, const std::string& space_text) {
   Store s(open_db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE));
   s.exec(kSchema);
+  s.require_measure_rules(path);
   // A measure added to the table since the store was written gets its column (NULL for the
   // designs evaluated before it).
   const auto present = s.columns("evaluations");
@@ -229,6 +230,23 @@ Store Store::open(const std::string& path, const std::string& space_digest, cons
     s.set_meta("space", space_text);
   }
   return s;
+}
+
+int Store::measure_rules() const {
+  const auto rules = meta("measure_rules");
+  return rules ? std::stoi(*rules) : 1;
+}
+
+void Store::require_measure_rules(const std::string& path) {
+  Statement q(db_, "SELECT COUNT(*) FROM evaluations");
+  const bool evaluated = q.step() && q.integer(0) > 0;
+  if (evaluated && measure_rules() != kMeasureRules) {
+    throw StoreError(fmt::format("{} holds designs measured by granstack's measure rules {}; this granstack measures by "
+                                 "rules {} ({}), so its numbers and the store's would be mixed: search into a new folder "
+                                 "(another --output; the old store stays as it is, and `design report` still reads it)",
+                                 path, measure_rules(), kMeasureRules, measure_rules_changes()));
+  }
+  if (!evaluated) set_meta("measure_rules", std::to_string(kMeasureRules));
 }
 
 Store Store::open_existing(const std::string& path) {

@@ -36,12 +36,19 @@ double peak_window_impulse(const std::vector<double>& force, double interval, do
   return best;
 }
 
-StrokeMeter::StrokeMeter(const Stack& stack) {
-  start_z_ = stack.spheres().front().z;
-  for (int id = 1; id <= stack.strikers(); ++id) start_z_ = std::min(start_z_, stack.spheres()[static_cast<std::size_t>(id - 1)].z);
+CrushMeter::CrushMeter(const Stack& stack)
+    : half_width_(stack.half_width()), half_depth_(stack.half_depth()), surface_z_(stack.lattice_height()) {
+  for (const auto& s : stack.spheres()) {
+    if (s.block > 0 && !stack.is_matrix(s)) {
+      stack_.push_back(static_cast<std::size_t>(s.id - 1));
+      z0_.push_back(s.z);
+    }
+  }
+  const auto& spheres = stack.spheres();
+  for (int id = 1; id <= stack.strikers(); ++id) striker_radius_.push_back(spheres[static_cast<std::size_t>(id - 1)].radius);
+  seat_depth_ = at([&](std::size_t i) { return std::array<double, 3>{spheres[i].x, spheres[i].y, spheres[i].z}; }).penetration;
+  largest_.penetration = seat_depth_;
 }
-
-void StrokeMeter::sample(double lowest_striker_z) { stroke_ = std::max(stroke_, start_z_ - lowest_striker_z); }
 
 BlowEnd::BlowEnd(const Stack& stack, const Resolution& res)
     : wall_(stack.spec().bottom == Boundary::wall), gravity_(stack.spec().gravity > 0.0) {

@@ -213,8 +213,10 @@ void recorded(RunComparison& c, F what) {
 
 // The protection measures of two reductions of one case, and where each judged the blow ended.
 void compare_measures(const CaseReduction& a, const CaseReduction& b, const Scales& scale, RunComparison& c) {
-  c.measures.push_back({"stroke", "m", scale.radius});
-  add(c.measures.back(), a.stroke, b.stroke, -1, -1);
+  c.measures.push_back({"crush", "m", scale.radius});
+  add(c.measures.back(), a.crush, b.crush, -1, -1);
+  c.measures.push_back({"penetration", "m", scale.radius});
+  add(c.measures.back(), a.penetration, b.penetration, -1, -1);
   if (a.peak_wall_force && b.peak_wall_force) {
     c.measures.push_back({"peak_wall_force", "N", scale.force});
     add(c.measures.back(), *a.peak_wall_force, *b.peak_wall_force, -1, -1);

@@ -286,8 +286,9 @@ const std::vector<std::pair<std::size_t, std::size_t>>& ContactCandidates::pairs
 }
 
 struct FrameAnalyser::Constants {
-  explicit Constants(const model::Stack& stack) : contacts(stack) {}
+  explicit Constants(const model::Stack& stack) : contacts(stack), crush(stack) {}
   detail::ContactEnergy contacts;
+  model::CrushMeter crush;  // its `at` alone: the frames' largest is taken in frame order
   // Per sphere, in the stack's order: its block (index 0 = block 1; kStriker, kMatrix), its
   // row and column (index 0 = 1), and whether it is in the top row of block 1 and in the bottom
   // row of Stack::bottom_row_ids.
@@ -335,7 +336,6 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
   e.top_row_sideways = e.top_row_downward = e.striker_ke = e.output_sphere_ke = e.bottom_row_ke = 0.0;
   e.momentum_z = 0.0;
   e.kinetic = e.elastic = e.striker_vz = e.matrix_ke = 0.0;
-  e.striker_z = std::numeric_limits<double>::infinity();
   const auto out_index = static_cast<std::size_t>(stack.output_sphere_id() - 1);
   const auto& spheres = stack.spheres();
   const std::size_t n = spheres.size();
@@ -369,7 +369,6 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     if (b == Constants::kStriker) {
       e.striker_ke += ke;
       e.striker_vz = vz;
-      e.striker_z = std::min(e.striker_z, z_[i]);
     } else if (b == Constants::kMatrix) {
       e.matrix_ke += ke;
     } else {
@@ -405,6 +404,7 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
   };
   e.output_threatened = stack.spec().bottom != model::Boundary::wall && model::threatened(n, out_index, state);
   e.striker_coming = model::striker_coming(stack, n, state);
+  e.crush = c.crush.at(state);
   e.over_footprint = {};
   if (stack.spec().bottom == model::Boundary::wall) {
     e.over_footprint = model::over_footprint(stack, n, [&](std::size_t i) {

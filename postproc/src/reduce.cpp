@@ -444,7 +444,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   };
   FrameEnergy last_energy;
   long last_step = 0;
-  model::StrokeMeter stroke(stack);
+  model::CrushMeter crush(stack);
   model::BlowEnd blow(stack, res);
   auto take_result = [&](FrameResult& fr) {
     if (const int signal = os::interrupt_signal(); signal != 0) {
@@ -460,7 +460,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     require_energy_balance(e, spec, r, dump_path);
     require_frame_matches_series(e, series, *series_cols, res.series_every, series_path, r.e_in);
     track_peaks(e, stack, static_cast<double>(e.step) * res.dt, r);
-    stroke.sample(e.striker_z);
+    crush.add(e.crush);
     blow.frame(e.step, e.over_footprint, e.output_free, e.output_threatened, e.striker_coming);
     waves.add(e.step, fr.wave_samples);
     tables.append(fr.rows);
@@ -494,7 +494,8 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   r.final_time = static_cast<double>(last_step) * res.dt;
   if (res.stops_at_blow_end) warn_unless_stopped_at_blow_end(blow, last_step, res, r);
 
-  r.stroke = stroke.stroke();
+  r.crush = crush.crush();
+  r.penetration = crush.penetration();
   if (const auto at = blow.ended_at()) r.blow_end_time = static_cast<double>(*at) * res.dt;
   r.blow_not_ended = blow.why_not_ended();
   take_series();  // a dump of no frames
@@ -567,7 +568,8 @@ json to_json(const CaseReduction& r) {
           {"peak_wall_force", r.peak_wall_force ? nlohmann::json(*r.peak_wall_force) : nlohmann::json(nullptr)},
           {"peak_wall_force_time", r.peak_wall_force ? nlohmann::json(r.peak_wall_force_time) : nlohmann::json(nullptr)},
           {"final_momentum_ratio", r.final_momentum_ratio},
-          {"stroke_m", r.stroke},
+          {"crush_m", r.crush},
+          {"penetration_m", r.penetration},
           {"blow_end_time", r.blow_end_time ? nlohmann::json(*r.blow_end_time) : nlohmann::json(nullptr)},
           {"blow_not_ended", r.blow_not_ended},
           {"output_definition", r.output_definition},
@@ -685,8 +687,11 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
                          : "; generate the case with --stop blow_end to run it until then");
     }
     if (r.peak_wall_force) {
-      fmt::format_to(out, "peak bottom-wall force: {:.6g} N at t = {:.4g} s; stroke (the striker's largest travel): {:.6g} m\n",
-                     *r.peak_wall_force, r.peak_wall_force_time, r.stroke);
+      fmt::format_to(out, "peak bottom-wall force: {:.6g} N at t = {:.4g} s\n", *r.peak_wall_force, r.peak_wall_force_time);
+    }
+    if (r.spec.bottom == model::Boundary::wall) {
+      fmt::format_to(out, "crush (the stack's loss of height): {:.6g} m; penetration (the striker below the initial top "
+                     "surface): {:.6g} m\n", r.crush, r.penetration);
     }
   }
   // A container's panels one by one (the blocks' figures sum every panel), for each container case.

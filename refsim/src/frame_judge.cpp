@@ -25,11 +25,7 @@ double momentum_z(const System& s) {
   return p;
 }
 
-double lowest_striker_z(const System& s, int strikers) {
-  double z = s.x(0)[2];
-  for (std::size_t i = 1; i < static_cast<std::size_t>(strikers); ++i) z = std::min(z, s.x(i)[2]);
-  return z;
-}
+model::Crush crush_at(const model::CrushMeter& meter, const System& s) { return meter.at(state(s)); }
 
 void judge_blow_end(model::BlowEnd& blow, const model::Stack& stack, const System& s) {
   const bool coming = model::striker_coming(stack, s.size(), state(s));

@@ -1,6 +1,6 @@
 #pragma once
 // What refsim reads from its own state at a dump frame for the blow's end (model::BlowEnd) and the
-// stroke, the same quantities, summed in the same order, as reduce reads from the dump and the
+// crush, the same quantities, summed in the same order, as reduce reads from the dump and the
 // generated deck computes in LIGGGHTS: the in-situ run and the case run share them.
 #include <granstack/model/protection.hpp>
 #include <granstack/model/stack.hpp>
@@ -16,8 +16,8 @@ bool touches_nothing(const System& s, std::size_t i);
 bool threatened(const System& s, std::size_t i);
 // The momentum along z of every sphere, in id order.
 double momentum_z(const System& s);
-// The lowest z of the stack's strikers.
-double lowest_striker_z(const System& s, int strikers);
+// The crush and penetration at the system's current step (model::CrushMeter::at).
+model::Crush crush_at(const model::CrushMeter& meter, const System& s);
 // Gives `blow` the frame at the system's current step: what is over the footprint with a bottom
 // wall, whether the output sphere is free and threatened with a free bottom.
 void judge_blow_end(model::BlowEnd& blow, const model::Stack& stack, const System& s);

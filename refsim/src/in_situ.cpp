@@ -17,7 +17,6 @@
 
 namespace granstack::refsim {
 
-using detail::lowest_striker_z;
 using detail::momentum_z;
 using detail::touches_nothing;
 
@@ -75,16 +74,16 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
       }
     }
   };
-  model::StrokeMeter stroke(stack);
+  model::CrushMeter crush(stack);
   model::BlowEnd blow(stack, res);
   // Every dump frame up to `step` (the frames are every dump_every steps, step 0 the first): the
-  // stroke and the blow's end are judged at the frames, as reduce judges them from the dump; the
+  // crush and the blow's end are judged at the frames, as reduce judges them from the dump; the
   // last frame's energies are read there. False when the run ended (at a frame) before `step`.
   long next_frame = 0;
   const auto advance_to = [&](long step) {
     for (; next_frame <= std::min(step, end); next_frame += res.dump_every) {
       if (next_frame > system.step_count()) system.advance(next_frame - system.step_count());
-      stroke.sample(lowest_striker_z(system, stack.strikers()));
+      crush.add(detail::crush_at(crush, system));
       const bool ended = blow.ended_at().has_value();
       detail::judge_blow_end(blow, stack, system);
       if (stops && !ended && blow.ended_at()) end = next_frame;
@@ -119,7 +118,8 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
     }
   }
   advance_to(end);
-  r.stroke = stroke.stroke();
+  r.crush = crush.crush();
+  r.penetration = crush.penetration();
   r.wall_force_interval = static_cast<double>(res.series_every) * res.dt;
   if (const auto at = blow.ended_at()) r.blow_end_time = static_cast<double>(*at) * res.dt;
   r.blow_not_ended = blow.why_not_ended();

@@ -98,7 +98,7 @@ TEST_F(Validate, AColumnThatShouldBeZeroIsComparedToo) {
   EXPECT_GT(c.worst(), postproc::kDefaultTolerance);
   EXPECT_EQ(c.largest().quantity, "vy");
   EXPECT_EQ(c.largest().atom, 1);
-  // One verdict (#47 item 7): design confirm, whose objectives (peak force, stroke) this leaves
+  // One verdict (#47 item 7): design confirm, whose objectives (peak force, crush) this leaves
   // alone, calls it a disagreement as validate does.
   EXPECT_NE(c.disagreement(postproc::kDefaultTolerance).find("whole runs differ by"), std::string::npos);
   EXPECT_NE(c.disagreement(postproc::kDefaultTolerance).find("(vy, step"), std::string::npos);

@@ -463,12 +463,12 @@ TEST(Slurm, ADamagedRecordIsSaidAndARequeueKeepsTheFirstLog) {
 }  // namespace
 
 namespace {
-// The evaluations table of a design store as (digest, peak wall force, stroke) text, sorted.
+// The evaluations table of a design store as (digest, peak wall force, crush) text, sorted.
 std::string evaluations_of(const fs::path& store) {
   const auto r = run({"python3", "-c",
                       "import sqlite3, sys; c = sqlite3.connect(sys.argv[1]); "
                       "print('\\n'.join(f'{d} {f!r} {s!r}' for d, f, s in c.execute('select digest, peak_wall_force, "
-                      "stroke from evaluations where searched = 1 order by digest')))",
+                      "crush from evaluations where searched = 1 order by digest')))",
                       store.string()});
   EXPECT_EQ(r.code, 0) << r.output;
   return r.output;
@@ -476,7 +476,7 @@ std::string evaluations_of(const fs::path& store) {
 
 // granstack design run --slurm: each generation's new designs go out as a job array (submit's),
 // the search waits for them, and a task cancelled before it ran is submitted again; the store
-// ends exactly as a local search's (the same designs, the same peak forces and strokes to the bit:
+// ends exactly as a local search's (the same designs, the same peak forces and crushes to the bit:
 // reduce of a refsim case is the in-situ value).
 TEST(Slurm, ADesignSearchRunsItsBatchesAsArraysAndSurvivesACancelledTask) {
   if (!os::find_program("python3")) GTEST_SKIP() << "python3 is not installed (the store is read with its sqlite3)";

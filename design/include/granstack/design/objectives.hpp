@@ -31,7 +31,8 @@ struct Outcome {
   double seconds = 0.0;
   std::vector<double> wall_force;        // N, at every series sample, wall_force_interval apart
   double wall_force_interval = 0.0;      // s
-  double stroke = 0.0;                   // m, model::StrokeMeter over the dump's frames
+  double crush = 0.0;                    // m, model::CrushMeter over the dump's frames
+  double penetration = 0.0;              // m, the same
   long steps = 0;                        // the run's
   std::optional<double> blow_end_time;   // s, model::BlowEnd; none: not ended within the run
   std::string blow_not_ended;            // why not
@@ -47,12 +48,21 @@ void take_shared(Outcome& o, const Run& r) {
   o.final_momentum_ratio = r.final_momentum_ratio;
   o.wall_force = r.wall_force;
   o.wall_force_interval = r.wall_force_interval;
-  o.stroke = r.stroke;
+  o.crush = r.crush;
+  o.penetration = r.penetration;
   o.blow_end_time = r.blow_end_time;
   o.blow_not_ended = r.blow_not_ended;
 }
 // A case's outcome from its reduction (`ran`: the spec it ran, for the finality rules).
 Outcome outcome_of(const postproc::CaseReduction& r, const model::StackSpec& ran);
+
+// The rules by which this granstack takes its run measures: raised whenever a measure's
+// definition or a run's end changes what a stored value means, so that a store's evaluations are
+// never mixed with ones taken by other rules (Store::open refuses to search on in such a store).
+// 2: stroke split into crush (the stack's loss of height) and penetration; a blow ends only when
+// no striker is still coming; designs confined by default. 1 (or none recorded): before.
+inline constexpr int kMeasureRules = 2;
+std::string_view measure_rules_changes();  // what rules 2 changed, in words
 
 // The bottom a measure needs.
 enum class Needs { any, free_bottom, wall };
@@ -75,6 +85,10 @@ using Objective = const ObjectiveDef*;
 
 const std::vector<ObjectiveDef>& objective_table();
 Objective find_objective(std::string_view name);  // nullptr when unknown
+// What replaced a measure granstack no longer takes (a space that names it is refused with this),
+// or empty: `stroke`, the striker's travel from first touch, counted its indentation into a top
+// sphere as the stack's crush.
+std::string_view retired_measure(std::string_view name);
 // The names of the table's run measures (each a column of the store's evaluations).
 std::vector<std::string> run_measure_names();
 inline std::string_view to_string(Objective o) { return o->name; }

@@ -121,12 +121,17 @@ class Store {
 
   // Small named values: the space's digest and text, the hypervolume's reference point.
   std::optional<std::string> meta(const std::string& key) const;
+  // The measure rules (kMeasureRules) its evaluations were taken by; 1 for a store that recorded none.
+  int measure_rules() const;
   void set_meta(const std::string& key, const std::string& value);
 
  private:
   explicit Store(sqlite3* db);
   void exec(const std::string& sql) const;
   std::vector<std::string> columns(const std::string& table) const;
+  // Refuses (StoreError) a store whose evaluations were taken by other measure rules; records
+  // this granstack's in a store with none.
+  void require_measure_rules(const std::string& path);
   void find_measures();  // measures_: the table's run measures the store has columns for; has_runs_, has_joins_
   std::string generation_columns() const;
   sqlite3* db_ = nullptr;

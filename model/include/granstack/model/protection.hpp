@@ -7,6 +7,7 @@
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <optional>
@@ -23,20 +24,55 @@ namespace granstack::model {
 // a body behind the wall feels as a sustained load, where the peak force is what breaks it.
 double peak_window_impulse(const std::vector<double>& force, double interval, double window);
 
-// The stroke: how far the striker travels below where it started, the largest over the samples
-// it is given (the dump's frames in both engines). Against a wall it is the stack's crush under
-// the blow (its compression plus the striker's own indentation): a soft stack lowers every force
-// measure by a longer stroke, so the stroke is what a force objective is traded against.
-class StrokeMeter {
+// The protector's crush and the striker's penetration at one frame (docs/physics.md section 7):
+// - crush: the stack's largest loss of height, the largest travel toward the wall of a sphere
+//   centre of the stack over the footprint (|x| <= half_width, |y| <= half_depth), z(0) - z(t),
+//   >= 0: how much closer to the protected object any layer came, by the compression of the
+//   contacts under it and by spheres pushed aside or down. While the stack crushes as a whole it
+//   is the top surface's travel; the top row, struck, can also spring back up (with no gravity it
+//   flies off) while the layers under it go on crushing, which the top's travel alone would miss
+//   (steel on Teflon: the top row 30 um, the Teflon under it 290 um). The striker's indentation
+//   into a top sphere moves no centre of the stack and is not crush.
+// - penetration: the depth of the strikers' lowest point below the stack's initial top surface
+//   (the plane z = Stack::lattice_height()), >= 0. The striker first touches in the groove between
+//   the top spheres, so it starts at the seat depth (seat_depth(): (2 - sqrt(3)) R_1 for the
+//   study's striker of radius R_1) and grows by the striker's indentation and by its descent into
+//   the stack between spheres pushed aside.
+struct Crush {
+  double crush = 0.0;        // m
+  double penetration = 0.0;  // m
+};
+class CrushMeter {
  public:
-  explicit StrokeMeter(const Stack& stack);
-  // The lowest z of any striker at one sample (m).
-  void sample(double lowest_striker_z);
-  double stroke() const { return stroke_; }  // m, >= 0
+  explicit CrushMeter(const Stack& stack);
+  // One frame's crush and penetration; `sphere(i)` for i in 0..n-1 (id order) gives at least
+  // {x, y, z} of sphere i + 1 (the positions are read alone).
+  template <class Sphere>
+  Crush at(const Sphere& sphere) const {
+    Crush c;
+    for (std::size_t k = 0; k < stack_.size(); ++k) {
+      const auto s = sphere(stack_[k]);
+      if (std::fabs(s[0]) <= half_width_ && std::fabs(s[1]) <= half_depth_) c.crush = std::max(c.crush, z0_[k] - s[2]);
+    }
+    for (std::size_t k = 0; k < striker_radius_.size(); ++k) {
+      c.penetration = std::max(c.penetration, surface_z_ - (sphere(k)[2] - striker_radius_[k]));
+    }
+    return c;
+  }
+  // The largest over the frames given.
+  void add(const Crush& frame) {
+    largest_.crush = std::max(largest_.crush, frame.crush);
+    largest_.penetration = std::max(largest_.penetration, frame.penetration);
+  }
+  double crush() const { return largest_.crush; }              // m, >= 0
+  double penetration() const { return largest_.penetration; }  // m, >= 0
+  double seat_depth() const { return seat_depth_; }            // m: the penetration at first touch
 
  private:
-  double start_z_ = 0.0;
-  double stroke_ = 0.0;
+  std::vector<std::size_t> stack_;  // the blocks' spheres (no striker, no container matrix), indices (id - 1)
+  std::vector<double> z0_, striker_radius_;
+  double half_width_ = 0.0, half_depth_ = 0.0, surface_z_ = 0.0, seat_depth_ = 0.0;
+  Crush largest_;
 };
 
 // Whether two spheres overlap: centres closer than the sum of their radii (LIGGGHTS's contact

@@ -25,7 +25,7 @@ struct FrameEnergy {
   double top_row_sideways = 0.0, top_row_downward = 0.0;
   double striker_ke = 0.0;
   double striker_vz = 0.0;       // m/s, the striker's velocity along z (negative: moving down)
-  double striker_z = 0.0;        // m, the lowest striker's centre (model::StrokeMeter reads it)
+  model::Crush crush;            // this frame's crush and penetration (model::CrushMeter::at)
   // What model::BlowEnd reads: what is over the footprint (with a bottom wall); the output sphere
   // touching no other, and another on course to hit it.
   model::OverFootprint over_footprint;

@@ -40,9 +40,11 @@ struct CaseReduction {
   // after the start: what model::peak_window_impulse reads (the design's wall_impulse).
   std::vector<double> wall_force;
   double wall_force_interval = 0.0;
-  // The striker's largest travel below its start over the dump frames (model::StrokeMeter), m:
-  // against a wall, the stack's crush under the blow.
-  double stroke = 0.0;
+  // The stack's crush (its top surface's largest travel toward the wall over the footprint) and
+  // the striker's penetration below the stack's initial top surface, the largest over the dump
+  // frames (model::CrushMeter), m.
+  double crush = 0.0;
+  double penetration = 0.0;
   // When the blow ended (model::BlowEnd over the dump's frames: against a wall the stack no
   // longer moving down and off the wall, with a free bottom the output sphere touching nothing,
   // held for an estimated arrival of the pulse), or none within the run, and why not.

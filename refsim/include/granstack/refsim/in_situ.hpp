@@ -62,8 +62,10 @@ struct InSituResult {
   // on, wall_force_interval apart): what model::peak_window_impulse reads, as reduce does.
   std::vector<double> wall_force;
   double wall_force_interval = 0.0;         // s
-  // model::StrokeMeter over the dump's frames (step 0 to the last, every dump_every), as reduce.
-  double stroke = 0.0;                      // m
+  // model::CrushMeter over the dump's frames (step 0 to the last, every dump_every), as reduce:
+  // the stack's crush and the striker's penetration below its initial top surface.
+  double crush = 0.0;                       // m
+  double penetration = 0.0;                 // m
   // When the blow ended (model::BlowEnd, judged at every dump frame), or none within the run; and
   // why not.
   std::optional<double> blow_end_time;      // s
