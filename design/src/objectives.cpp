@@ -2,8 +2,10 @@
 #include <granstack/design/space.hpp>
 #include <granstack/model/protection.hpp>
 #include <granstack/model/resolution.hpp>
+#include <granstack/model/shock.hpp>
 #include <granstack/postproc/reduce.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace granstack::design {
@@ -18,6 +20,33 @@ std::optional<double> wall_impulse(const Outcome& o, const Space& s) {
 }
 std::optional<double> crush(const Outcome& o, const Space&) { return o.crush; }
 std::optional<double> penetration(const Outcome& o, const Space&) { return o.penetration; }
+// The wall's force through the space's channel filter, or none without one.
+std::optional<std::vector<double>> filtered_force(const Outcome& o, const Space& s) {
+  if (!o.peak_wall_force || s.cfc == 0) return std::nullopt;
+  return model::channel_filter(o.wall_force, o.wall_force_interval, s.cfc).values;
+}
+std::optional<double> filtered_wall_force(const Outcome& o, const Space& s) {
+  const auto f = filtered_force(o, s);
+  if (!f) return std::nullopt;
+  return f->empty() ? 0.0 : *std::max_element(f->begin(), f->end());
+}
+// The peak acceleration of the protected mass, as an accelerometer on it reads it: the filtered
+// force over M (the wall holds still in the run: M much heavier than the stack).
+std::optional<double> protected_acceleration(const Outcome& o, const Space& s) {
+  const auto f = filtered_force(o, s);
+  if (!f || s.protected_mass <= 0.0) return std::nullopt;
+  double peak = 0.0;
+  for (const double v : *f) peak = std::max(peak, std::fabs(v));
+  return peak / s.protected_mass;
+}
+// The shock response spectrum of the protected mass's acceleration F / M as the run gives it (a
+// causal input: the phaseless filter's output starts before the blow).
+std::optional<double> srs_peak(const Outcome& o, const Space& s) {
+  if (!o.peak_wall_force || s.protected_mass <= 0.0 || s.srs_high <= 0.0) return std::nullopt;
+  auto a = o.wall_force;
+  for (double& v : a) v /= s.protected_mass;
+  return model::shock_response_peak(a, o.wall_force_interval, s.srs_low, s.srs_high, s.srs_damping).acceleration;
+}
 double areal_mass(const Evaluation& e) { return e.areal_mass; }
 double height(const Evaluation& e) { return e.height; }
 
@@ -48,6 +77,20 @@ const std::vector<ObjectiveDef> kTable{
      "by the striker's indentation and its descent between spheres pushed aside. Bound it with [constraints] "
      "max_penetration",
      Needs::wall, false, false, penetration, nullptr},
+    {"filtered_wall_force", "N",
+     "max over t of F(t) through the channel filter of SAE J211-1 / ISO 6487, class [measures] cfc (a phaseless 4-pole "
+     "Butterworth, 3 dB down at 5/3 cfc Hz): the peak a load cell under the stack would report",
+     Needs::wall, true, false, filtered_wall_force, nullptr},
+    {"protected_acceleration", "m/s^2",
+     "max over t of |F_cfc(t)| / M: the peak acceleration of a protected mass M = [measures] protected_mass (kg) rigidly "
+     "mounted on the wall, through the same filter (the wall holds still in the run: M much heavier than the stack)",
+     Needs::wall, true, false, protected_acceleration, nullptr},
+    {"srs_peak", "m/s^2",
+     "the largest value over [measures] srs_band (Hz, 12 natural frequencies an octave) of the maximax shock response "
+     "spectrum of F(t) / M (unfiltered: the oscillator is the filter, and a phaseless filter's output starts before the "
+     "blow), damping ratio [measures] srs_damping (0.05 unless set): the most a component of any "
+     "natural frequency in the band, mounted on the protected mass, would feel",
+     Needs::wall, true, false, srs_peak, nullptr},
     {"areal_mass", "kg/m^2", "the lattice's mass over its footprint (Stack::areal_mass: in the strip one top-sphere diameter deep)",
      Needs::any, false, false, nullptr, areal_mass},
     {"height", "m", "the lattice's height, from its bottom face (z = 0) to the top of block 1's top row", Needs::any,

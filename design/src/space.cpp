@@ -154,12 +154,67 @@ void read_objectives(const toml::table& root, Space& s, std::vector<std::string>
   if (a->size() < 2) problems.push_back("objectives: at least two (the search is multi-objective; one objective has one best design, no front)");
 }
 
+// [measures] keys of what the protected object feels: true when `key` is one (read, or its problem said).
+bool read_shock_measure(const std::string& key, const toml::node& v, Space& s, std::vector<std::string>& problems) {
+  const auto number = v.value<double>();
+  if (key == "cfc") {
+    if (!number || !model::is_channel_class(static_cast<int>(*number)) || *number != std::floor(*number)) {
+      problems.push_back("[measures] cfc: an SAE J211-1 channel frequency class, 60, 180, 600 or 1000 (the force's filter: "
+                         "3 dB down at 5/3 of it, in Hz)");
+    } else {
+      s.cfc = static_cast<int>(*number);
+    }
+  } else if (key == "protected_mass") {
+    if (!number || !(*number > 0.0) || !std::isfinite(*number)) problems.push_back("[measures] protected_mass: a mass in kg, > 0");
+    else s.protected_mass = *number;
+  } else if (key == "srs_damping") {
+    if (!number || !(*number >= 0.0) || !(*number < 1.0)) problems.push_back("[measures] srs_damping: a damping ratio, 0 <= zeta < 1 (0.05 is usual)");
+    else s.srs_damping = *number;
+  } else if (key == "srs_band") {
+    const auto* a = v.as_array();
+    const auto lo = a != nullptr && a->size() == 2 ? (*a)[0].value<double>() : std::nullopt;
+    const auto hi = a != nullptr && a->size() == 2 ? (*a)[1].value<double>() : std::nullopt;
+    if (!lo || !hi || !(*lo > 0.0) || !(*hi > *lo) || !std::isfinite(*hi)) {
+      problems.push_back("[measures] srs_band: [low, high], the natural frequencies (Hz) the shock response spectrum spans, "
+                         "0 < low < high");
+    } else {
+      s.srs_low = *lo;
+      s.srs_high = *hi;
+    }
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// The settings each measure of what the protected object feels needs, for the objectives and
+// constraints that name it.
+void require_shock_settings(Space& s, std::vector<std::string>& problems) {
+  const auto named = [&](std::string_view m) {
+    return std::find(s.objectives.begin(), s.objectives.end(), find_objective(m)) != s.objectives.end() ||
+           s.constraints.max_measures.count(std::string(m)) > 0;
+  };
+  for (const char* m : {"filtered_wall_force", "protected_acceleration"}) {
+    if (named(m) && s.cfc == 0) {
+      problems.push_back(fmt::format("{} needs its filter: set [measures] cfc (SAE J211-1's channel frequency class: 60, 180, "
+                                     "600 or 1000)", m));
+    }
+  }
+  for (const char* m : {"protected_acceleration", "srs_peak"}) {
+    if (named(m) && s.protected_mass <= 0.0) problems.push_back(fmt::format("{} needs [measures] protected_mass (kg)", m));
+  }
+  if (named("srs_peak") && s.srs_high <= 0.0) {
+    problems.push_back("srs_peak needs [measures] srs_band = [low, high] (Hz), e.g. [100, 10000]");
+  }
+}
+
 // [measures]: the settings of measures that take one (wall_impulse's window).
 void read_measures(const toml::table* t, Space& s, std::vector<std::string>& problems) {
   if (t != nullptr) {
     for (const auto& [k, v] : *t) {
       const std::string key(k.str());
       const auto number = v.value<double>();
+      if (read_shock_measure(key, v, s, problems)) continue;
       if (key == "cap_durations") {
         if (!number || !(*number >= model::kMinBlowEndCapDurations) || !(*number <= 1000.0)) {
           problems.push_back(fmt::format("[measures] cap_durations: from {:g} to 1000 automatic durations (a run stops when "
@@ -169,8 +224,9 @@ void read_measures(const toml::table* t, Space& s, std::vector<std::string>& pro
           s.cap_durations = *number;
         }
       } else if (key != "impulse_window") {
-        problems.push_back(fmt::format("[measures] {}: unknown; impulse_window (s, the window of wall_impulse) or "
-                                       "cap_durations (a run's cap, in automatic durations)", key));
+        problems.push_back(fmt::format("[measures] {}: unknown; impulse_window (s, the window of wall_impulse), "
+                                       "cap_durations (a run's cap, in automatic durations), cfc, protected_mass, srs_band "
+                                       "or srs_damping", key));
       } else if (!number || !(*number > 0) || !std::isfinite(*number)) {
         problems.push_back("[measures] impulse_window: a time in s, > 0 (the window wall_impulse integrates the wall's force over)");
       } else {
@@ -713,6 +769,9 @@ std::string Space::digest() const {
   j["objectives"] = objs;
   if (impulse_window > 0.0) j["impulse_window"] = impulse_window;
   if (cap_durations != model::kBlowEndCapDurations) j["cap_durations"] = cap_durations;
+  if (cfc != 0) j["cfc"] = cfc;
+  if (protected_mass > 0.0) j["protected_mass"] = protected_mass;
+  if (srs_high > 0.0) j["srs"] = {srs_low, srs_high, srs_damping};
   for (const auto& [name, bound] : constraints.max_measures) j["constraints"]["max_" + name] = bound;
   for (const auto& sc : scenarios) {
     auto one = nlohmann::json::array({sc.striker_speed, sc.striker_radius_ratio});
@@ -759,6 +818,7 @@ Space parse_space(std::string_view text, const std::string& source, bool stored,
   read_measures(root.get_as<toml::table>("measures"), s, problems);
   read_scenarios(root.get_as<toml::table>("scenarios"), root.get_as<toml::table>("fixed"), s, problems);
   read_constraints(root.get_as<toml::table>("constraints"), s, problems);
+  require_shock_settings(s, problems);
   read_confirm(root.get_as<toml::table>("confirm"), s, problems);
   read_search(root.get_as<toml::table>("search"), s, problems);
   if (problems.empty()) {

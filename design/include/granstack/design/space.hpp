@@ -131,6 +131,13 @@ struct Space {
   Aggregate aggregate_of(std::string_view measure) const;
   double impulse_window = 0.0;        // s: [measures] impulse_window, wall_impulse's tau
   double cap_durations = model::kBlowEndCapDurations;  // [measures] cap_durations: a run's cap
+  // What the protected object feels ([measures]): the channel frequency class of the force's
+  // filter (SAE J211-1; 0: none given), the protected mass (kg) mounted on the wall, and the shock
+  // response spectrum's band (Hz) and damping ratio.
+  int cfc = 0;
+  double protected_mass = 0.0;
+  double srs_low = 0.0, srs_high = 0.0;
+  double srs_damping = 0.05;
   ConfirmVariant confirm_variant;     // [confirm]
   Search search;
   std::vector<std::string> warnings;  // a stored space's problems a new search would be refused for
