@@ -377,7 +377,7 @@ void check_measurable(const Space& s, std::vector<std::string>& problems, std::v
           "objectives: {} is the energy of the outgoing layer's spheres, whose mass falls as the bottom radius R_1 / "
           "(product of the ratios) shrinks; this space varies it ({} to {} blocks, ratios {}), so the search would win "
           "by making the measured spheres lighter, not by protecting. Measure protection on the protected object "
-          "([fixed] bottom = \"wall\" with peak_wall_force, wall_impulse and stroke), or fix the bottom radius (one "
+          "([fixed] bottom = \"wall\" with peak_wall_force, wall_impulse and crush), or fix the bottom radius (one "
           "number of blocks and one radius_ratio)",
           to_string(o), s.min_blocks, s.max_blocks, fmt::join(s.radius_ratios, ", ")));
     }

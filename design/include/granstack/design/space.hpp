@@ -35,7 +35,7 @@ struct Constraints {
   std::optional<long> max_spheres;
   std::optional<double> max_height;      // m
   std::optional<double> max_areal_mass;  // kg/m^2
-  // Bounds on run measures (objective_table's, by name: max_stroke = ... bounds stroke), checked on
+  // Bounds on run measures (objective_table's, by name: max_crush = ... bounds crush), checked on
   // a design's measures after it ran (over its scenarios, as each measure aggregates).
   std::map<std::string, double> max_measures;
 };
