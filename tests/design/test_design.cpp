@@ -1003,7 +1003,12 @@ TEST(DesignCli, ConfirmAlsoRunsTheFrontAsA3DNestOnLiggghts) {
   const auto nest = formats::Case::open((dir / "search" / "confirm" / (c.digest.substr(0, 12) + "_3d")).string());
   EXPECT_EQ(nest.spec().geometry, model::Geometry::nested3d);
   EXPECT_EQ(formats::read_run_record(nest.dir(), nest.files()).status, "done");
-  EXPECT_NE(test::read_bytes(dir / "search" / "report" / "design.md").find("3D nest: peak_wall_force"), std::string::npos);
+  const auto report = test::read_bytes(dir / "search" / "report" / "design.md");
+  EXPECT_NE(report.find("3D nest: peak_wall_force"), std::string::npos);
+  // The front's table shows every run measure a wall allows, each header saying what it is to
+  // the search: the space's objectives bare, the others reported.
+  EXPECT_NE(report.find("| crush (m) |"), std::string::npos);
+  EXPECT_NE(report.find("| penetration (m, reported) |"), std::string::npos);
 }
 
 // The HTML report in a real browser (headless Chromium, no network): it loads, and each figure
