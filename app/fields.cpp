@@ -22,14 +22,19 @@ std::string top_radius_note() {
                      design::kDefaultTopRadius);
 }
 
+// A material's yield strength, or why it has none.
+std::string yield_text(const model::Material& m) {
+  return m.yield_strength ? fmt::format("{:g}", *m.yield_strength) : "none (brittle: not judged)";
+}
+
 std::string materials_markdown() {
   const auto lib = model::MaterialLibrary::builtin();
-  std::string out = "| material | density (kg/m^3) | Young's modulus (Pa) | Poisson's ratio | a spec may redefine it |\n"
-                    "|---|---|---|---|---|\n";
+  std::string out = "| material | density (kg/m^3) | Young's modulus (Pa) | Poisson's ratio | yield strength (Pa) | a spec "
+                    "may redefine it |\n|---|---|---|---|---|---|\n";
   for (const auto& name : lib.names()) {
     const auto& m = lib.at(name);
-    out += fmt::format("| `{}` | {:g} | {:g} | {:g} | {} |\n", name, m.density, m.youngs_modulus, m.poisson_ratio,
-                       model::is_study_material(name) ? "no (the study's)" : "yes, for that spec alone");
+    out += fmt::format("| `{}` | {:g} | {:g} | {:g} | {} | {} |\n", name, m.density, m.youngs_modulus, m.poisson_ratio,
+                       yield_text(m), model::is_study_material(name) ? "no (the study's)" : "yes, for that spec alone");
   }
   return out;
 }
@@ -48,10 +53,11 @@ int list_fields(bool markdown, bool materials) {
   }
   const auto lib = model::MaterialLibrary::builtin();
   fmt::print("Built-in materials (a spec defines more as [custom_materials.NAME] density, youngs_modulus, "
-             "poisson_ratio):\n");
+             "poisson_ratio, optionally yield_strength):\n");
   for (const auto& name : lib.names()) {
     const auto& m = lib.at(name);
-    fmt::print("  {:<18} {:>7g} kg/m^3  E {:>9.4g} Pa  nu {:.3g}\n", name, m.density, m.youngs_modulus, m.poisson_ratio);
+    fmt::print("  {:<18} {:>7g} kg/m^3  E {:>9.4g} Pa  nu {:.3g}  yield {}\n", name, m.density, m.youngs_modulus,
+               m.poisson_ratio, m.yield_strength ? fmt::format("{:.4g} Pa", *m.yield_strength) : "none (brittle)");
   }
   return kOk;
 }

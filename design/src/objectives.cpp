@@ -20,6 +20,7 @@ std::optional<double> wall_impulse(const Outcome& o, const Space& s) {
 }
 std::optional<double> crush(const Outcome& o, const Space&) { return o.crush; }
 std::optional<double> penetration(const Outcome& o, const Space&) { return o.penetration; }
+std::optional<double> yield_ratio(const Outcome& o, const Space&) { return o.yield_ratio; }
 // The wall's force through the space's channel filter, or none without one.
 std::optional<std::vector<double>> filtered_force(const Outcome& o, const Space& s) {
   if (!o.peak_wall_force || s.cfc == 0) return std::nullopt;
@@ -77,6 +78,13 @@ const std::vector<ObjectiveDef> kTable{
      "by the striker's indentation and its descent between spheres pushed aside. Bound it with [constraints] "
      "max_penetration",
      Needs::wall, false, false, penetration, nullptr},
+    {"yield_ratio", "of first yield",
+     "max over the dump's frames and every touching pair (and sphere on a wall) of p0 / (1.6 Y): Hertz's peak contact "
+     "pressure p0 = 3F / (2 pi a^2) = (2 Y* / pi) sqrt(d / R*) over the pressure at which the pair starts to yield, 1.6 "
+     "times the lower yield strength Y of its materials (model/data/materials.toml; Johnson, Contact Mechanics, 6.2); "
+     "above 1 a contact yields and the elastic result is a model there. Brittle materials (no Y) are not judged "
+     "against each other. Bound it with [constraints] max_yield_ratio",
+     Needs::any, true, false, yield_ratio, nullptr},
     {"filtered_wall_force", "N",
      "max over t of F(t) through the channel filter of SAE J211-1 / ISO 6487, class [measures] cfc (a phaseless 4-pole "
      "Butterworth, 3 dB down at 5/3 cfc Hz): the peak a load cell under the stack would report",

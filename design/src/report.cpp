@@ -225,6 +225,44 @@ postproc::Table front_table(const Space& space, const std::vector<Evaluation>& f
   return t;
 }
 
+// Where the front's designs leave the elastic model (docs/physics.md section 7): the designs whose
+// largest contact pressure passes first yield, and the share of all evaluated designs that do.
+std::string yield_text(const std::vector<Evaluation>& front, const std::vector<Evaluation>& all) {
+  const auto yield = find_objective("yield_ratio");
+  std::vector<std::string> beyond;
+  double largest = 0.0;
+  bool judged = false;
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    const auto r = objective_value(front[i], yield);
+    if (!r) continue;
+    judged = true;
+    largest = std::max(largest, *r);
+    if (*r > 1.0) beyond.push_back(fmt::format("{} ({:.3g})", i + 1, *r));
+  }
+  if (!judged) {
+    return "First yield: the front's designs were not judged (their contacts are not Hertz's, or they were measured "
+           "before granstack judged it).";
+  }
+  long measured = 0, yielding = 0;
+  for (const auto& e : all) {
+    if (const auto r = objective_value(e, yield)) {
+      ++measured;
+      yielding += *r > 1.0 ? 1 : 0;
+    }
+  }
+  const auto share = fmt::format("{} of the {} designs judged ({:.0f} %) press a contact beyond first yield.", yielding,
+                                 measured, 100.0 * static_cast<double>(yielding) / static_cast<double>(measured));
+  if (beyond.empty()) {
+    return fmt::format("First yield: every front design stays below it (largest yield_ratio {:.3g}): its contacts are "
+                       "elastic, as the model has them. {}", largest, share);
+  }
+  return fmt::format("First yield: front design{} {} press{} a contact beyond first yield (yield_ratio, the largest "
+                     "Hertz pressure over 1.6 times the softer yield strength, above 1): the contact yields there, and "
+                     "the elastic result is a model, not the material (a real stack dissipates there and deforms for "
+                     "good; docs/physics.md section 7). {}",
+                     beyond.size() > 1 ? "s" : "", fmt::join(beyond, ", "), beyond.size() > 1 ? "" : "es", share);
+}
+
 // Each front design's run objectives in each scenario: the spread its aggregate hides.
 // The scenarios (indices into e.scenarios) that decided each of the space's run objectives: the
 // worst's, or all of them for a mean. Without scenarios, none.
@@ -823,6 +861,7 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   d.push_back(postproc::Heading{2, "The front", "front"});
   if (const auto confining = confining_text(space, s); !confining.empty()) d.push_back(postproc::Paragraph{confining});
   d.push_back(front_table(space, front));
+  d.push_back(postproc::Paragraph{yield_text(front, s.all)});
   if (!space.scenarios.empty()) d.push_back(scenario_table(space, front));
   d.push_back(postproc::Heading{2, "The study's designs", "study"});
   d.push_back(study_table(space, s, front));

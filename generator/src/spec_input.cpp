@@ -100,9 +100,9 @@ RawSpec parse_spec_toml(std::string_view text, const std::string& source) {
         }
         for (const auto& [k, v] : *mt) {
           (void)v;
-          if (k != "density" && k != "youngs_modulus" && k != "poisson_ratio") {
+          if (k != "density" && k != "youngs_modulus" && k != "poisson_ratio" && k != "yield_strength") {
             issues.push_back({entry + "." + std::string(k.str()),
-                              "unknown entry (known: density, youngs_modulus, poisson_ratio)"});
+                              "unknown entry (known: density, youngs_modulus, poisson_ratio, yield_strength)"});
           }
         }
         auto num = [&](const char* k, std::string& out) {
@@ -114,7 +114,9 @@ RawSpec parse_spec_toml(std::string_view text, const std::string& source) {
         num("density", rho);
         num("youngs_modulus", y);
         num("poisson_ratio", nu);
-        tokens.push_back(fmt::format("{}:{}:{}:{}", name.str(), rho, y, nu));
+        std::string yield;
+        if (mt->contains("yield_strength")) num("yield_strength", yield);
+        tokens.push_back(fmt::format("{}:{}:{}:{}{}{}", name.str(), rho, y, nu, yield.empty() ? "" : ":", yield));
       }
     } else if (const auto* arr = node.as_array()) {
       for (const auto& item : *arr) {

@@ -42,12 +42,13 @@ std::vector<Material> parse_material_table(std::string_view toml_text, std::stri
     m.density = require_number(*table, m.name, "density", source_name);
     m.youngs_modulus = require_number(*table, m.name, "youngs_modulus", source_name);
     m.poisson_ratio = require_number(*table, m.name, "poisson_ratio", source_name);
+    if (table->contains("yield_strength")) m.yield_strength = require_number(*table, m.name, "yield_strength", source_name);
     for (const auto& [field, value] : *table) {
       (void)value;
-      if (field != "density" && field != "youngs_modulus" && field != "poisson_ratio") {
+      if (field != "density" && field != "youngs_modulus" && field != "poisson_ratio" && field != "yield_strength") {
         throw std::invalid_argument(fmt::format(
-            "{}: material '{}' has unknown field '{}' (known: density, youngs_modulus, poisson_ratio)", source_name,
-            m.name, field.str()));
+            "{}: material '{}' has unknown field '{}' (known: density, youngs_modulus, poisson_ratio, yield_strength)",
+            source_name, m.name, field.str()));
       }
     }
     out.push_back(std::move(m));

@@ -308,6 +308,10 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
     if (!(m.poisson_ratio >= 0.0 && m.poisson_ratio < 0.5)) {
       bad(field + ".poisson_ratio", fmt::format("{} must be in [0, 0.5)", m.poisson_ratio));
     }
+    if (m.yield_strength && !(*m.yield_strength > 0.0 && *m.yield_strength < m.youngs_modulus)) {
+      bad(field + ".yield_strength", fmt::format("{} Pa must be positive and below its Young's modulus ({:g} Pa)",
+                                                 *m.yield_strength, m.youngs_modulus));
+    }
   }
 
   // Each field's own range (spec_fields.cpp), then what holds across fields.

@@ -588,11 +588,12 @@ std::vector<SpecField> resolution_rows() {
 
 SpecField custom_materials_row() {
   auto f = row("custom_materials", "table of materials", "none",
-               "Define a material: NAME:DENSITY:YOUNGS_MODULUS:POISSON_RATIO (SI; not steel or teflon, the study's; a library name such as brass is redefined for this spec)");
+               "Define a material: NAME:DENSITY:YOUNGS_MODULUS:POISSON_RATIO[:YIELD_STRENGTH] (SI; not steel or teflon, the study's; a library name such as brass is redefined for this spec)");
   f.flag = "--custom-material";
   f.doc = "in a spec file `[custom_materials.NAME]` with `density` (1 to 1e5 kg/m^3), `youngs_modulus` (1e3 to 1e13 "
-          "Pa), `poisson_ratio` ([0, 0.5)); steel and teflon cannot be redefined, a library material (brass, glass, ...) "
-          "can, for this spec alone";
+          "Pa), `poisson_ratio` ([0, 0.5)) and, optionally, `yield_strength` (Pa, the tensile yield strength that judges its "
+          "contacts' first yield; without it they are not judged); steel and teflon cannot be redefined, a library "
+          "material (brass, glass, ...) can, for this spec alone";
   f.shape = FieldShape::material_entries;
   f.in_every_manifest = true;
   f.parse = [](StackSpec& s, const Tokens& tokens, Issues& issues) {
@@ -604,8 +605,9 @@ SpecField custom_materials_row() {
         if (colon == std::string::npos) break;
         at = colon + 1;
       }
-      if (parts.size() != 4) {
-        issues.push_back({"custom_materials", fmt::format("'{}' is not NAME:DENSITY:YOUNGS_MODULUS:POISSON_RATIO", t)});
+      if (parts.size() != 4 && parts.size() != 5) {
+        issues.push_back(
+            {"custom_materials", fmt::format("'{}' is not NAME:DENSITY:YOUNGS_MODULUS:POISSON_RATIO[:YIELD_STRENGTH]", t)});
         continue;
       }
       Material m;
@@ -614,6 +616,9 @@ SpecField custom_materials_row() {
       if (number(field + ".density", parts[1], m.density, issues) &&
           number(field + ".youngs_modulus", parts[2], m.youngs_modulus, issues) &&
           number(field + ".poisson_ratio", parts[3], m.poisson_ratio, issues)) {
+        double yield = 0.0;
+        if (parts.size() == 5 && !number(field + ".yield_strength", parts[4], yield, issues)) continue;
+        if (parts.size() == 5) m.yield_strength = yield;
         s.custom_materials.push_back(m);
       }
     }
@@ -622,13 +627,15 @@ SpecField custom_materials_row() {
     json mats = json::object();
     for (const auto& m : s.custom_materials) {
       mats[m.name] = {{"density", m.density}, {"youngs_modulus", m.youngs_modulus}, {"poisson_ratio", m.poisson_ratio}};
+      if (m.yield_strength) mats[m.name]["yield_strength"] = *m.yield_strength;  // absent: as before it existed
     }
     j["custom_materials"] = mats;
   };
   f.load = [](StackSpec& s, const json& j) {
     for (const auto& [name, m] : j.at("custom_materials").items()) {
       s.custom_materials.push_back({name, read<double>(m, "density"), read<double>(m, "youngs_modulus"),
-                                    read<double>(m, "poisson_ratio")});
+                                    read<double>(m, "poisson_ratio"), std::nullopt});
+      if (m.contains("yield_strength")) s.custom_materials.back().yield_strength = read<double>(m, "yield_strength");
     }
   };
   return f;

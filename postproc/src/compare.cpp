@@ -223,6 +223,13 @@ void compare_measures(const CaseReduction& a, const CaseReduction& b, const Scal
   } else if (a.peak_wall_force.has_value() != b.peak_wall_force.has_value()) {
     c.mismatches.push_back("only one run has a bottom wall's force");
   }
+  if (a.yield_ratio && b.yield_ratio) {
+    // Relative, with first yield (1) as the floor.
+    c.measures.push_back({"yield_ratio", "of first yield", 1.0});
+    add(c.measures.back(), *a.yield_ratio, *b.yield_ratio, -1, -1);
+  } else if (a.yield_ratio.has_value() != b.yield_ratio.has_value()) {
+    c.mismatches.push_back("only one run's contacts are judged for first yield");
+  }
   if (a.blow_end_time != b.blow_end_time) {
     const auto when = [](const std::optional<double>& t) { return t ? fmt::format("at t = {:.17g} s", *t) : std::string("not"); };
     c.mismatches.push_back(fmt::format("the blow ended {} in one run and {} in the other (judged from each dump)",

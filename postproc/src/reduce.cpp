@@ -445,6 +445,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   FrameEnergy last_energy;
   long last_step = 0;
   model::CrushMeter crush(stack);
+  model::YieldMeter yield(stack);
   model::BlowEnd blow(stack, res);
   auto take_result = [&](FrameResult& fr) {
     if (const int signal = os::interrupt_signal(); signal != 0) {
@@ -461,6 +462,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     require_frame_matches_series(e, series, *series_cols, res.series_every, series_path, r.e_in);
     track_peaks(e, stack, static_cast<double>(e.step) * res.dt, r);
     crush.add(e.crush);
+    yield.add(e.yield);
     blow.frame(e.step, e.over_footprint, e.output_free, e.output_threatened, e.striker_coming);
     waves.add(e.step, fr.wave_samples);
     tables.append(fr.rows);
@@ -496,6 +498,15 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
 
   r.crush = crush.crush();
   r.penetration = crush.penetration();
+  r.yield_unjudged_materials = yield.unjudged_materials();
+  if (yield.judged()) {
+    r.yield = yield.largest();
+    r.yield_ratio = r.yield.ratio;
+    r.yield_time = static_cast<double>(r.yield.step) * res.dt;
+    r.yield_contact = model::describe_contact(stack, r.yield);
+  } else {
+    r.yield_not_judged = yield.why_not_judged();
+  }
   if (const auto at = blow.ended_at()) r.blow_end_time = static_cast<double>(*at) * res.dt;
   r.blow_not_ended = blow.why_not_ended();
   take_series();  // a dump of no frames
@@ -546,6 +557,36 @@ json waves_json(const std::vector<BlockWaves>& waves) {
 }
 }  // namespace
 
+// The run's largest contact pressure over first yield in words, for the terminal.
+std::string yield_line(const CaseReduction& r) {
+  if (!r.yield_ratio) return fmt::format("contacts not judged for first yield: {}", r.yield_not_judged);
+  std::string line = fmt::format("largest contact pressure: {:.4g} Pa, {:.3g} times first yield (1.6 Y), {} at t = {:.4g} s",
+                                 r.yield.pressure, *r.yield_ratio, r.yield_contact, r.yield_time);
+  if (*r.yield_ratio > 1.0) line += ": the contact yields, and the elastic result is a model there";
+  if (!r.yield_unjudged_materials.empty()) {
+    line += fmt::format(" (no yield strength, not judged against each other: {})", fmt::join(r.yield_unjudged_materials, ", "));
+  }
+  return line;
+}
+
+// The run's largest contact pressure over first yield (model::YieldMeter): where and when, or why
+// its contacts are not judged.
+json yield_json(const CaseReduction& r) {
+  json j = {{"ratio", r.yield_ratio ? json(*r.yield_ratio) : json(nullptr)},
+            {"first_yield_pressure_per_yield_strength", model::kFirstYieldPressurePerYield},
+            {"unjudged_materials", r.yield_unjudged_materials}};
+  if (!r.yield_ratio) {
+    j["not_judged"] = r.yield_not_judged;
+    return j;
+  }
+  j["pressure_pa"] = r.yield.pressure;
+  j["time_s"] = r.yield_time;
+  j["sphere_ids"] = r.yield.id_b == 0 ? json::array({r.yield.id_a}) : json::array({r.yield.id_a, r.yield.id_b});
+  j["wall"] = r.yield.id_b == 0 ? json(r.yield.wall) : json(nullptr);
+  j["contact"] = r.yield_contact;
+  return j;
+}
+
 json to_json(const CaseReduction& r) {
   json peaks = json::array(), norm = json::array(), times = json::array();
   for (const auto& b : r.blocks) {
@@ -570,6 +611,7 @@ json to_json(const CaseReduction& r) {
           {"final_momentum_ratio", r.final_momentum_ratio},
           {"crush_m", r.crush},
           {"penetration_m", r.penetration},
+          {"yield", yield_json(r)},
           {"blow_end_time", r.blow_end_time ? nlohmann::json(*r.blow_end_time) : nlohmann::json(nullptr)},
           {"blow_not_ended", r.blow_not_ended},
           {"output_definition", r.output_definition},
@@ -693,6 +735,7 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
       fmt::format_to(out, "crush (the stack's loss of height): {:.6g} m; penetration (the striker below the initial top "
                      "surface): {:.6g} m\n", r.crush, r.penetration);
     }
+    fmt::format_to(out, "{}\n", yield_line(r));
   }
   // A container's panels one by one (the blocks' figures sum every panel), for each container case.
   for (const auto& r : rs) {

@@ -27,6 +27,21 @@ double momentum_z(const System& s) {
 
 model::Crush crush_at(const model::CrushMeter& meter, const System& s) { return meter.at(state(s)); }
 
+void FramePressures::add(const System& s) {
+  if (!meter_.judged()) return;
+  const std::size_t n = s.size();
+  x_.resize(n);
+  y_.resize(n);
+  z_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto x = s.x(i);
+    x_[i] = x[0];
+    y_[i] = x[1];
+    z_[i] = x[2];
+  }
+  meter_.add(meter_.at(s.step_count(), x_, y_, z_, candidates_.pairs(x_, y_, z_)));
+}
+
 void judge_blow_end(model::BlowEnd& blow, const model::Stack& stack, const System& s) {
   const bool coming = model::striker_coming(stack, s.size(), state(s));
   if (stack.spec().bottom == model::Boundary::wall) {

@@ -75,6 +75,7 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
     }
   };
   model::CrushMeter crush(stack);
+  detail::FramePressures pressures(stack);
   model::BlowEnd blow(stack, res);
   // Every dump frame up to `step` (the frames are every dump_every steps, step 0 the first): the
   // crush and the blow's end are judged at the frames, as reduce judges them from the dump; the
@@ -84,6 +85,7 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
     for (; next_frame <= std::min(step, end); next_frame += res.dump_every) {
       if (next_frame > system.step_count()) system.advance(next_frame - system.step_count());
       crush.add(detail::crush_at(crush, system));
+      pressures.add(system);
       const bool ended = blow.ended_at().has_value();
       detail::judge_blow_end(blow, stack, system);
       if (stops && !ended && blow.ended_at()) end = next_frame;
@@ -120,6 +122,10 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
   advance_to(end);
   r.crush = crush.crush();
   r.penetration = crush.penetration();
+  if (pressures.meter().judged()) {
+    r.yield = pressures.meter().largest();
+    r.yield_ratio = r.yield.ratio;
+  }
   r.wall_force_interval = static_cast<double>(res.series_every) * res.dt;
   if (const auto at = blow.ended_at()) r.blow_end_time = static_cast<double>(*at) * res.dt;
   r.blow_not_ended = blow.why_not_ended();

@@ -5,6 +5,7 @@
 #include <granstack/model/contact.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
+#include <granstack/model/yield.hpp>
 #include <granstack/refsim/case_run.hpp>
 
 #include <fmt/format.h>
@@ -15,6 +16,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -153,6 +156,48 @@ TEST(Wall, BounceReproducesRestitutionAndTheHertzTimeOfAWall) {
       EXPECT_NEAR(static_cast<double>(contact) * dt / model::hertz_contact_time(c, v), 1.0, 1e-3);
     }
   }
+}
+
+// First yield (docs/physics.md section 7): a steel sphere striking a steel wall starts to yield at
+// Johnson's V_Y, rho V_Y^2 / Y = 26 (Y / E*)^4 (Contact Mechanics, section 11.4, given to two
+// digits: 0.8^6 pi^4 = 25.5 for p0 = 1.6 Y), so granstack's yield ratio, the largest contact
+// pressure of the bounce over 1.6 Y, is 1 there to Johnson's rounding ((26 / 25.5)^(1/5): 0.36 %),
+// and grows as Hertz's p0, V^(2/5).
+TEST(Yield, ASphereOnAWallFirstYieldsAtJohnsonsSpeed) {
+  const auto steel = material("steel");
+  ASSERT_TRUE(steel.yield_strength.has_value());
+  const double y = *steel.yield_strength, r = 1e-3;
+  const double e_star = model::effective_youngs_modulus(steel, steel);
+  const double v_y = std::sqrt(26.0 * std::pow(y / e_star, 4) * y / steel.density);
+  const auto largest_ratio = [&](double v) {
+    const auto c = model::sphere_wall(steel, r, steel);
+    const double dt = model::hertz_contact_time(c, v) / 2000.0;
+    auto p = refsim::uniform_parameters({steel, steel}, 1.0, 0.0, dt, 2e-4);
+    p.walls = {{2, 0.0, 2}};
+    System s({sphere(1, steel, r, {0, 0, r}, {0, 0, -v})}, p);
+    s.setup();
+    model::YieldContacts contacts{{steel, steel}, {1}, {r}, {{"wall_bottom", 2, 0.0}}, steel, true};
+    model::YieldMeter meter(contacts);
+    for (long k = 1; k <= 3000; ++k) {
+      s.step();
+      const auto x = s.x(0);
+      meter.add(meter.at(k, {x[0]}, {x[1]}, {x[2]}, {}));
+    }
+    EXPECT_GT(s.v(0)[2], 0.0) << "the sphere bounced off";
+    EXPECT_EQ(meter.largest().id_a, 1);
+    EXPECT_EQ(meter.largest().wall, "wall_bottom");
+    return meter.largest().ratio;
+  };
+  const double at_v_y = largest_ratio(v_y);
+  EXPECT_NEAR(at_v_y, 1.0, 0.005);
+  // And exactly the closed form behind Johnson's 26 (2000 steps a contact: the peak is resolved).
+  EXPECT_NEAR(at_v_y, std::pow(26.0 / (std::pow(0.8, 6) * std::pow(model::kPi, 4)), 0.2), 1e-6);
+  EXPECT_NEAR(largest_ratio(4.0 * v_y) / at_v_y, std::pow(4.0, 0.4), 1e-5);
+  // docs/physics.md quotes this run and the steel's first-yield speed.
+  std::ifstream in(std::filesystem::path(GRANSTACK_TWOBODY_DIR) / ".." / ".." / ".." / "docs" / "physics.md");
+  const std::string physics((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(physics.find(fmt::format("reads a ratio of\n  {:.5g}, his rounding", at_v_y)), std::string::npos);
+  EXPECT_NE(physics.find(fmt::format("that speed is {:.0f} mm/s", 1e3 * v_y)), std::string::npos);
 }
 
 // A sphere that starts many skins from two walls meets them only after many neighbour builds,

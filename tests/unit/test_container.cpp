@@ -243,7 +243,7 @@ TEST(Container, MassesAreTheDataFilesForEverySphere) {
 // one far stiffer and lighter sets it.
 TEST(Container, TheTimeStepSeesTheMatrixContacts) {
   auto s = spec_of({2, 2, 2, 3, 2, 0});
-  s.custom_materials = {{"stiff", 1000.0, 1e12, 0.2}};
+  s.custom_materials = {{"stiff", 1000.0, 1e12, 0.2, {}}};
   s.matrix_material = "stiff";
   const auto stiff = granstack::model::resolve(Stack::build(s));
   EXPECT_NE(stiff.min_contact_pair.find("matrix"), std::string::npos) << stiff.min_contact_pair;

@@ -132,7 +132,7 @@ TEST(Manifest, SpecRoundTripsThroughJson) {
   model::StackSpec s;
   s.blocks = 3;
   s.materials = {"steel", "foam", "teflon"};
-  s.custom_materials = {{"foam", 30.0, 2e6, 0.1}};
+  s.custom_materials = {{"foam", 30.0, 2e6, 0.1, {}}};
   s.restitution = {0.9, {}};
   s.restitution.set("steel", "teflon", 0.8);
   s.friction.set("foam", "steel", 0.3);

@@ -182,7 +182,7 @@ TEST_F(CaseWriter, TheManifestAloneGivesTheDeckBackByteForByte) {
   specs[2].gravity = 9.80665;
   specs[2].friction.value = 0.3;
   specs[2].dump_format = model::DumpFormat::binary;
-  specs[3].custom_materials.push_back({"glass", 2500, 6.3e10, 0.22});
+  specs[3].custom_materials.push_back({"glass", 2500, 6.3e10, 0.22, {}});
   specs[3].materials = {"glass"};
   specs[3].dump_files = model::DumpFiles::per_step;
   specs[3].dt = 2e-8;

@@ -28,8 +28,8 @@ double lammps_wall_e_star(double e, double nu) { return e / (2 * (1 - nu)); }
 
 const model::LammpsRules& here() { return model::lammps_rules_run_here(); }
 
-model::Material steel() { return {"steel", 8000.0, 193e9, 0.3}; }
-model::Material teflon() { return {"teflon", 2200.0, 1.46e9, 0.46}; }
+model::Material steel() { return {"steel", 8000.0, 193e9, 0.3, {}}; }
+model::Material teflon() { return {"teflon", 2200.0, 1.46e9, 0.46, {}}; }
 
 // A case of three blocks of 2 rows, steel over Teflon over steel, e = 0.8, on a bottom wall (and
 // between side walls with `sides`), with its files named.

@@ -113,7 +113,7 @@ TEST(OutputTable, NamesTheCustomMaterialConstantThatTellsGroupsApart) {
   };
   for (const double y : {1e9, 1e7}) {
     container(0.03);
-    rs.back().spec.custom_materials = {{"matrix", 2170.0, y, 0.46}};
+    rs.back().spec.custom_materials = {{"matrix", 2170.0, y, 0.46, {}}};
     rs.back().spec.matrix_material = "matrix";
   }
   container(0.034);

@@ -33,6 +33,7 @@ struct Outcome {
   double wall_force_interval = 0.0;      // s
   double crush = 0.0;                    // m, model::CrushMeter over the dump's frames
   double penetration = 0.0;              // m, the same
+  std::optional<double> yield_ratio;     // model::YieldMeter over the same frames; none: not Hertz contacts
   long steps = 0;                        // the run's
   std::optional<double> blow_end_time;   // s, model::BlowEnd; none: not ended within the run
   std::string blow_not_ended;            // why not
@@ -50,6 +51,7 @@ void take_shared(Outcome& o, const Run& r) {
   o.wall_force_interval = r.wall_force_interval;
   o.crush = r.crush;
   o.penetration = r.penetration;
+  o.yield_ratio = r.yield_ratio;
   o.blow_end_time = r.blow_end_time;
   o.blow_not_ended = r.blow_not_ended;
 }

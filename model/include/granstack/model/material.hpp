@@ -1,6 +1,7 @@
 #pragma once
 // Elastic materials of the blocks (physics.md section 3).
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -12,6 +13,10 @@ struct Material {
   double density = 0.0;         // kg/m^3
   double youngs_modulus = 0.0;  // Pa
   double poisson_ratio = 0.0;   // dimensionless, 0 <= nu < 0.5
+  // Pa, the stress at which it starts to yield in tension (its 0.2 % proof stress): what a Hertz
+  // contact's first yield is judged by (model/yield.hpp). None for a brittle material (it cracks
+  // rather than yields) or one given without it.
+  std::optional<double> yield_strength;
   bool operator==(const Material&) const = default;
 };
 

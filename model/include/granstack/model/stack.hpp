@@ -26,6 +26,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,11 @@ struct Wall {
   std::string name;  // the deck's fix id: wall_bottom, wall_left, wall_right (3D: wall_front, wall_back)
   int axis = 2;
   double position = 0.0;
+  // How far a sphere of radius r centred at c reaches into the wall (LIGGGHTS's wall/gran test:
+  // the centre's distance to the plane below r); > 0 only when it touches.
+  double overlap(const std::array<double, 3>& c, double r) const {
+    return r - std::fabs(c[static_cast<std::size_t>(axis)] - position);
+  }
 };
 
 struct Block {

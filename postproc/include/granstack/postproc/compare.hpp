@@ -45,8 +45,8 @@ struct RunComparison {
   std::vector<Difference> dump;    // one per dump column both runs write (id and type must be equal)
   std::vector<Difference> series;  // one per series column (the step is the key)
   Difference output_fraction;
-  // The protection measures reduce gives each run (docs/physics.md section 7): the crush and
-  // the penetration, and with a bottom wall its peak force. The blow's end must be the same frame: a mismatch if not.
+  // The protection measures reduce gives each run (docs/physics.md section 7): the crush, the
+  // penetration and the yield ratio, and with a bottom wall its peak force. The blow's end must be the same frame: a mismatch if not.
   std::vector<Difference> measures;
   long frames = 0;        // dump frames compared
   long series_rows = 0;   // series rows compared

@@ -1,7 +1,9 @@
 #pragma once
 // Energies of one dump frame, grouped as the study measures them (physics.md section 4).
 #include <granstack/formats/dump.hpp>
+#include <granstack/model/contact_candidates.hpp>
 #include <granstack/model/protection.hpp>
+#include <granstack/model/yield.hpp>
 #include <granstack/model/stack.hpp>
 
 #include <memory>
@@ -26,6 +28,7 @@ struct FrameEnergy {
   double striker_ke = 0.0;
   double striker_vz = 0.0;       // m/s, the striker's velocity along z (negative: moving down)
   model::Crush crush;            // this frame's crush and penetration (model::CrushMeter::at)
+  model::YieldPeak yield;        // this frame's largest contact pressure over first yield (model::YieldMeter::at)
   // What model::BlowEnd reads: what is over the footprint (with a bottom wall); the output sphere
   // touching no other, and another on course to hit it.
   model::OverFootprint over_footprint;
@@ -66,26 +69,6 @@ class FrameView {
   friend class FrameAnalyser;
 };
 
-// The pairs of spheres close enough to touch, kept from frame to frame: rebuilt (from a cell
-// grid) only when some sphere has moved more than half the skin since the last build, as an
-// MD neighbour list. Frames of one run barely move the spheres, so most frames reuse it.
-class ContactCandidates {
- public:
-  explicit ContactCandidates(const model::Stack& stack);
-  // Pairs (i, j), i < j by index, that may overlap at positions x, y, z (and some farther
-  // ones: the caller checks distances).
-  const std::vector<std::pair<std::size_t, std::size_t>>& pairs(const std::vector<double>& x, const std::vector<double>& y,
-                                                                const std::vector<double>& z);
-  long builds() const { return builds_; }
-
- private:
-  const model::Stack& stack_;
-  double skin_;
-  std::vector<std::pair<std::size_t, std::size_t>> pairs_;
-  std::vector<double> x_at_build_, y_at_build_, z_at_build_;
-  long builds_ = 0;
-};
-
 // The energies of the frames of one case, frame after frame: what stays the same (Hertz
 // parameters, the group of every sphere) is worked out once, and the contact candidates are
 // kept between frames. Not thread-safe: one per thread.
@@ -108,7 +91,7 @@ class FrameAnalyser {
   struct Constants;
   const model::Stack& stack_;
   FrameView view_;
-  ContactCandidates candidates_;
+  model::ContactCandidates candidates_;
   std::unique_ptr<Constants> constants_;
   std::vector<double> x_, y_, z_, vx_, vy_, vz_, m_, r_;  // as the frame has them
 };

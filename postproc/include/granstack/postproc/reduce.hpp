@@ -1,6 +1,7 @@
 #pragma once
 // `granstack reduce`: a case's dumps and in-situ series -> per-block energy table, peaks and
 // the output fractions of physics.md section 4.
+#include <granstack/model/yield.hpp>
 #include <granstack/model/spec.hpp>
 #include <granstack/postproc/waves.hpp>
 
@@ -45,6 +46,16 @@ struct CaseReduction {
   // frames (model::CrushMeter), m.
   double crush = 0.0;
   double penetration = 0.0;
+  // The largest Hertz contact pressure over its first-yield pressure over the dump frames
+  // (model::YieldMeter), none when the contacts are not judged (yield_not_judged says why), and
+  // where (yield.id_a, id_b: spheres; id_b = 0: the wall yield.wall) and when (yield_time, s).
+  // The materials with no yield strength (brittle), whose contacts with each other are not judged.
+  std::optional<double> yield_ratio;
+  model::YieldPeak yield;
+  double yield_time = 0.0;
+  std::string yield_contact;  // model::describe_contact
+  std::string yield_not_judged;
+  std::vector<std::string> yield_unjudged_materials;
   // When the blow ended (model::BlowEnd over the dump's frames: against a wall the stack no
   // longer moving down and off the wall, with a free bottom the output sphere touching nothing,
   // held for an estimated arrival of the pulse), or none within the run, and why not.

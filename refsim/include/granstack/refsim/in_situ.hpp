@@ -4,6 +4,7 @@
 // bottom wall's peak force), equal to them to round-off (tests/refsim/test_in_situ.cpp). The
 // design search evaluates thousands of stacks this way.
 #include <granstack/model/protection.hpp>
+#include <granstack/model/yield.hpp>
 #include <granstack/refsim/system.hpp>
 
 #include <functional>
@@ -66,6 +67,10 @@ struct InSituResult {
   // the stack's crush and the striker's penetration below its initial top surface.
   double crush = 0.0;                       // m
   double penetration = 0.0;                 // m
+  // model::YieldMeter over the same frames, as reduce: the largest contact pressure over first
+  // yield (none: the contacts are not Hertz's), and where and when.
+  std::optional<double> yield_ratio;
+  model::YieldPeak yield;
   // When the blow ended (model::BlowEnd, judged at every dump frame), or none within the run; and
   // why not.
   std::optional<double> blow_end_time;      // s

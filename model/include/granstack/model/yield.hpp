@@ -1,0 +1,94 @@
+#pragma once
+// Where the elastic model stops being the material (docs/physics.md section 7): the largest Hertz
+// contact pressure of a run over the pair's first-yield pressure. Fed the same frames by refsim's
+// in-situ run and by reduce of a LIGGGHTS or refsim case, so both engines give the same number.
+#include <granstack/model/material.hpp>
+#include <granstack/model/stack.hpp>
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace granstack::model {
+
+// First yield of a Hertz contact (Johnson, Contact Mechanics, 1985, section 6.2): the von Mises
+// stress under the surface reaches the yield strength Y when the peak pressure p0 reaches 1.60 Y
+// (nu = 0.3; 1.5 to 1.7 Y across nu = 0.2 to 0.5), in the body with the lower Y.
+inline constexpr double kFirstYieldPressurePerYield = 1.6;
+
+// Hertz's peak contact pressure at overlap d: p0 = 3F / (2 pi a^2), F = 4/3 Y* sqrt(R*) d^(3/2),
+// a^2 = R* d, that is (2 Y* / pi) sqrt(d / R*).
+double hertz_peak_pressure(double y_star, double r_star, double overlap);
+// The pressure at which a contact of a and b starts to yield: kFirstYieldPressurePerYield times
+// the lower yield strength of the two that have one; none when neither has one (brittle pairs).
+std::optional<double> first_yield_pressure(const Material& a, const Material& b);
+
+// The largest contact pressure over first yield seen: its ratio p0 / p_y, p0, the frame's step and
+// the contact (sphere ids; id_b = 0 for a wall, named by `wall`).
+struct YieldPeak {
+  double ratio = 0.0;     // p0 / p_y; > 1: the contact yields, and the elastic result is a model there
+  double pressure = 0.0;  // Pa, p0 there
+  long step = 0;
+  int id_a = 0, id_b = 0;
+  std::string wall;
+};
+
+// The contact of a peak in words: "sphere 12 (block 1, row 2, steel) and sphere 1 (the striker,
+// steel)", "sphere 40 (block 3, row 4, nylon) on wall_bottom (steel)".
+std::string describe_contact(const Stack& stack, const YieldPeak& peak);
+
+// What a YieldMeter judges: the material of each atom type (index type - 1), each sphere's type and
+// radius (index id - 1), the walls and their material, and whether the normal contacts are Hertz's.
+struct YieldContacts {
+  std::vector<Material> type_materials;
+  std::vector<int> sphere_type;  // 1-based atom types
+  std::vector<double> radius;    // m
+  std::vector<Wall> walls;
+  std::optional<Material> wall_material;
+  bool hertz = true;
+};
+YieldContacts yield_contacts(const Stack& stack);
+
+class YieldMeter {
+ public:
+  explicit YieldMeter(const Stack& stack) : YieldMeter(yield_contacts(stack)) {}
+  explicit YieldMeter(const YieldContacts& contacts);
+  // Whether the run's contacts can be judged: Hertz normal contacts (a linear spring has no Hertz
+  // pressure); otherwise why not.
+  bool judged() const { return why_not_.empty(); }
+  const std::string& why_not_judged() const { return why_not_; }
+  // The materials of the stack, its striker and walls with no yield strength (brittle): their
+  // contacts with each other are not judged; with a material that has one they are, by its.
+  const std::vector<std::string>& unjudged_materials() const { return unjudged_; }
+
+  // One frame at `step`: every overlapping pair among `pairs` (indices id - 1, ContactCandidates's)
+  // and every sphere pressing a wall, positions x, y, z by index. The largest ratio; on a tie the
+  // first pair in (sphere, sphere) order, spheres before walls, so the answer does not depend on
+  // the pairs' order.
+  YieldPeak at(long step, const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z,
+               const std::vector<std::pair<std::size_t, std::size_t>>& pairs) const;
+  // The largest over the frames given (the earlier frame on a tie).
+  void add(const YieldPeak& frame);
+  const YieldPeak& largest() const { return largest_; }
+
+ private:
+  struct PairConstants {
+    double y_star = 0.0;
+    double yield = 0.0;  // Pa, the first-yield pressure; 0: not judged
+  };
+  const PairConstants& pair(std::size_t i, std::size_t j) const;
+  std::vector<int> type_;                 // per sphere index: its atom type - 1
+  std::vector<double> radius_;            // per sphere index
+  std::size_t ntypes_ = 0;
+  std::vector<PairConstants> pairs_;      // [type_a * ntypes + type_b]
+  std::vector<PairConstants> wall_;       // [type] against the walls' material
+  std::vector<Wall> walls_;
+  std::vector<std::string> unjudged_;
+  std::string why_not_;
+  YieldPeak largest_;
+  bool seen_ = false;
+};
+
+}  // namespace granstack::model
