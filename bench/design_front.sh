@@ -33,7 +33,7 @@ for digest, verdict, largest, objective, variant in db.execute(
         "select digest, verdict, largest_difference, objective_difference, variant from confirmations order by rowid"):
     v = json.loads(variant)
     description, = db.execute("select description from evaluations where digest = ?", (digest,)).fetchone()
-    confirmations.append({"digest": digest, "description": description, "verdict": verdict,
+    confirmations.append({"digest": digest, "description": description, "verdict": verdict.replace(work + "/", ""),
                           "largest_difference": largest, "objective_difference": objective,
                           "variant": v.get("label", ""), "strip_measures": v.get("measures", {}),
                           "strip_not_final": v.get("not_final", "")})

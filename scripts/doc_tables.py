@@ -49,6 +49,8 @@ RECORDS = {
     "engines_study": "bench/results/engines-study-2026-11-28.json",
     # GRANSTACK=build/ci/app/granstack OUT=... bash bench/reproduce.sh 3, on the 2-core machine
     "reproduce": "bench/results/reproduce-2026-11-28.json",
+    # OUT=... bench/design_front.sh, on the 2-core machine (the example's confined front, #47 item 9)
+    "design_front": "bench/results/design-front-2026-11-28.json",
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
                  "refsim_against_liggghts": ["docs/how-to/big-nests.md"],
@@ -57,7 +59,9 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "design_cores": ["docs/explanation/performance.md"], "design_cores_summary": ["README.md"],
                  "engines_agreement": ["docs/explanation/lammps.md"], "engines_speed": ["docs/explanation/lammps.md"],
                  "reproduce_cost": ["README.md", "docs/index.md", "docs/tutorials/reproduce.md"],
-                 "reproduce_speed": ["docs/explanation/performance.md"]}
+                 "reproduce_speed": ["docs/explanation/performance.md"],
+                 "design_front": ["docs/how-to/design.md"], "design_sides": ["docs/how-to/design.md"],
+                 "design_yield": ["docs/how-to/design.md"], "design_example_cost": ["docs/explanation/performance.md"]}
 # The study's tables: LIGGGHTS's reproduction (refsim's in the check) and the LAMMPS study's record.
 REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"], "engines_study": ["docs/explanation/lammps.md"]}
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
@@ -210,6 +214,74 @@ def design_cores_summary():
             f"in {m['wall']:.0f} s ([performance](docs/explanation/performance.md)).\n")
 
 
+def g4(v):
+    return "-" if v is None else f"{v:.4g}"
+
+
+def verdict(c):
+    """confirm's verdict in a few words: agree, or why not."""
+    if c["verdict"] == "agree":
+        return "agree"
+    if "more dump frames" in c["verdict"]:
+        return "DISAGREE: each engine ended the blow at another frame"
+    return "DISAGREE: " + c["verdict"].split(": ", 1)[-1][:80]
+
+
+def design_front():
+    """The example's confined front (bench/design_front.sh): every front design's worst blow, its
+    crush and yield ratio, and LIGGGHTS's verdict on the two confirm ran."""
+    r = record("design_front")
+    verdicts = {c["digest"]: c for c in r["confirmations"]}
+    rows = ["| # | design | peak wall force (N) | wall impulse (N s) | areal mass (kg/m^2) | crush (m) | yield ratio | "
+            "on LIGGGHTS |", "|---|---|---|---|---|---|---|---|"]
+    for i, e in enumerate(r["front"], 1):
+        o, m = e["objectives"], e["measures"]
+        c = verdicts.get(e["digest"])
+        lig = f"{verdict(c)}, objectives {c['objective_difference']:.1g} apart" if c else "not confirmed"
+        rows.append(f"| {i} | {e['description']} | {g4(o['peak_wall_force'])} | {g4(o['wall_impulse'])} | "
+                    f"{g4(o['areal_mass'])} | {g4(m.get('crush'))} | {m['yield_ratio']:.3g} | {lig} |")
+    return "\n".join(rows) + "\n"
+
+
+def design_sides():
+    """Confined against the free strip: the front's best two (the deciding blow, confirm's run on
+    LIGGGHTS) and the study's three designs (the worst of the three blows, refsim)."""
+    r = record("design_front")
+    rows = ["| design | peak wall force confined (N) | as a free strip (N) | change | crush confined (m) | as a free strip (m) |",
+            "|---|---|---|---|---|---|"]
+    def row(name, confined, strip, where, not_final=""):
+        f, g = confined["peak_wall_force"], strip["peak_wall_force"]
+        mark = " (censored: the strip's blow had not ended at the cap)" if not_final else ""
+        rows.append(f"| {name} ({where}) | {f:.4g} | {g:.4g}{mark} | {100 * (g / f - 1):+.0f} % | {confined['crush']:.3g} | "
+                    f"{strip['crush']:.3g} |")
+    by_digest = {e["digest"]: e for e in r["front"]}
+    for i, c in enumerate(r["confirmations"], 1):
+        e = by_digest.get(c["digest"])
+        if e and c["strip_measures"]:
+            row(f"front {i}: {c['description']}", e["measures"], c["strip_measures"], "its deciding blow, LIGGGHTS",
+                c["strip_not_final"])
+    strips = {s["name"]: s for s in r["study_strip"]}
+    for s in r["study_confined"]:
+        row(s["name"], s["measures"], strips[s["name"]]["measures"], "worst of the three blows, refsim")
+    return "\n".join(rows) + "\n"
+
+
+def design_yield():
+    """The share of the example's designs beyond first yield."""
+    y = record("design_front")["yield"]
+    return (f"{y['beyond_first_yield']} of the {y['judged']} designs the search ran press a contact beyond first yield "
+            f"(yield ratios {y['smallest_ratio']:.3g} to {y['largest_ratio']:.3g}).\n")
+
+
+def design_example_cost():
+    """What the example's search and its confirmation cost on 2 cores (bench/design_front.sh)."""
+    r = record("design_front")
+    return (f"| what | wall time, {r['cores']} cores |\n|---|---|\n"
+            f"| `design run` of the example, {r['evaluations']} distinct designs, 3 blows each (generational) | "
+            f"{r['search_seconds']:.0f} s |\n"
+            f"| `design confirm --top 2 --sides free` (LIGGGHTS, each also as the free strip) | {r['confirm_seconds']:.0f} s |\n")
+
+
 def engines_agreement():
     """validate --engines on every pair of engines and case (bench/engines.sh)."""
     names = {"two_body": "two-body, e = 1", "elastic": "stack, e = 1", "elastic_wall": "stack on a wall, e = 1",
@@ -341,7 +413,9 @@ def main():
                 refsim_outside_loop=refsim_outside_loop(),
                 large_nest=large_nest(), copies=copies(), design_speedup=design_speedup(), design_cores=design_cores(),
                 design_cores_summary=design_cores_summary(), engines_agreement=engines_agreement(),
-                engines_speed=engines_speed(), reproduce_cost=reproduce_cost(), reproduce_speed=reproduce_speed())
+                engines_speed=engines_speed(), reproduce_cost=reproduce_cost(), reproduce_speed=reproduce_speed(),
+                design_front=design_front(), design_sides=design_sides(), design_yield=design_yield(),
+                design_example_cost=design_example_cost())
     places = {**PLACES, **RECORD_PLACES, **REPRODUCE_PLACES}
     if "--reproduce" in sys.argv[1:]:
         made["reproduce"] = reproduce_table(exe, work, "liggghts")
