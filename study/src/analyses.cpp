@@ -192,6 +192,8 @@ void fig3(const AnalysisInput& in, ExperimentResult& out) {
     const double e = c.spec.restitution.value;
     by_e[e].emplace_back(c.spec.blocks, r->output_fraction);
     out.values[fmt::format("output.e{}.nb{}", e, c.spec.blocks)] = r->output_fraction;
+    // The bottom row's final energy per sphere: the Teflon note's elastic alternative, read here too.
+    out.values[fmt::format("output_per_sphere.e{}.nb{}", e, c.spec.blocks)] = r->output_fraction_bottom_row_per_sphere;
   }
   const auto eight = out.values.find("output.e1.nb3");
   for (const auto* rows : {"rows4", "rows16"}) {

@@ -31,6 +31,9 @@ struct OutputReadings {
   Curve curve;
   double readout_time = 0.0;  // s
   std::optional<double> at_readout;
+  // The run had stopped at its blow's end before the read-out time: at_readout is the output
+  // sphere's final energy (nothing reaches it after the blow's end), not a reading at that time.
+  bool after_stop = false;
 };
 
 OutputReadings output_readings(const postproc::CaseReduction& r) {
@@ -42,6 +45,7 @@ OutputReadings output_readings(const postproc::CaseReduction& r) {
     const auto it = std::upper_bound(o.curve.t.begin(), o.curve.t.end(), o.readout_time);
     const auto i = it == o.curve.t.begin() ? 0 : static_cast<std::size_t>(it - o.curve.t.begin()) - 1;
     o.at_readout = o.curve.y[i] / r.e_in;
+    o.after_stop = o.readout_time > o.curve.t.back();
   }
   return o;
 }
@@ -82,6 +86,12 @@ std::optional<double> end_reading(const postproc::CaseReduction& r) {
   return r.output_fraction;
 }
 
+// The fixed-time read-out in a table cell: said to be the final value where the run had stopped.
+std::string readout_cell(const OutputReadings& o) {
+  if (!o.at_readout) return "-";
+  return o.after_stop ? fmt::format("{} (the run had stopped: its final value)", pct(*o.at_readout)) : pct(*o.at_readout);
+}
+
 // Each scanned e's output at the blow's end and at the fixed time, as values scan.eE.end and
 // scan.eE.arrivals2 (scan_key), with a table.
 void restitution_scan(const ReadingsByCase& cases, ExperimentResult& out, const std::string& main_name) {
@@ -96,8 +106,9 @@ void restitution_scan(const ReadingsByCase& cases, ExperimentResult& out, const 
     const auto end = end_reading(*r);
     if (end) out.values[fmt::format("scan.e{:g}.end", e)] = *end;
     if (o.at_readout) out.values[fmt::format("scan.e{:g}.arrivals2", e)] = *o.at_readout;
+    if (o.after_stop) out.values[fmt::format("readout_after_stop.e{:g}", e)] = 1.0;
     rows[e] = {fmt::format("{:g}", e), end ? pct(*end) : "censored",
-               r->blow_end_time ? fmt::format("{:.0f}", *r->blow_end_time * 1e6) : "-", o.at_readout ? pct(*o.at_readout) : "-",
+               r->blow_end_time ? fmt::format("{:.0f}", *r->blow_end_time * 1e6) : "-", readout_cell(o),
                fmt::format("{:.0f}", o.readout_time * 1e6)};
   }
   for (auto& [e, row] : rows) t.rows.push_back(std::move(row));
@@ -118,7 +129,7 @@ void height_table(const ReadingsByCase& cases, ExperimentResult& out, const std:
     const auto& [r, o] = *case_readings;
     const auto end = end_reading(*r);
     if (end) out.values[fmt::format("output.rows{}", n)] = *end;
-    t.rows.push_back({std::to_string(n), end ? pct(*end) : "censored", o.at_readout ? pct(*o.at_readout) : "-",
+    t.rows.push_back({std::to_string(n), end ? pct(*end) : "censored", readout_cell(o),
                       r->blow_end_time ? fmt::format("{:.0f}", *r->blow_end_time * 1e6) : "-"});
   }
   out.tables.push_back(t);
@@ -137,7 +148,11 @@ void main_readings(ExperimentResult& out, const postproc::CaseReduction& main, c
                                        *main.blow_end_time * 1e6)
                          : "output sphere at the run's end (granstack's output_fraction; primary)",
       end_reading(main));
-  add("output_def.at_arrivals2", fmt::format("output sphere at 2 estimated arrivals of the pulse, {:.0f} µs", o.readout_time * 1e6),
+  add("output_def.at_arrivals2",
+      o.after_stop ? fmt::format("output sphere at 2 estimated arrivals of the pulse, {:.0f} µs: after the run had stopped "
+                                 "at its blow's end, so its final value, not a reading at that time",
+                                 o.readout_time * 1e6)
+                   : fmt::format("output sphere at 2 estimated arrivals of the pulse, {:.0f} µs", o.readout_time * 1e6),
       o.at_readout);
   add("output_def.peak", "output sphere, peak kinetic energy", main.output_peak_fraction);
   add("output_def.bottom_row_per_sphere", "bottom row's final energy per sphere", main.output_fraction_bottom_row_per_sphere);
@@ -207,6 +222,95 @@ Fits fits_of(const ExperimentResult& r, const Claim& claim) {
 
 std::string list(const std::set<std::string>& s) { return s.empty() ? "none" : fmt::format("{}", fmt::join(s, ", ")); }
 
+// The scan's values of one read-out ("final", "kick1", ...) as e -> output.
+std::map<double, double> scan_series(const std::map<std::string, double>& values, const std::string& readout) {
+  std::map<double, double> out;
+  for (const auto& [key, v] : values) {
+    if (const auto scanned = scan_key(key); scanned && scanned->second == readout) out[scanned->first] = v;
+  }
+  return out;
+}
+
+// How the two read-outs of one figure's scan compare: the scanned runs, those whose two read-outs
+// give the same output (the output sphere's energy already final at 2 arrivals), and those whose
+// run had stopped at its blow's end before 2 arrivals.
+struct ReadoutAgreement {
+  int runs = 0, same = 0, after_stop = 0;
+};
+ReadoutAgreement readout_agreement(const ExperimentResult& r) {
+  ReadoutAgreement a;
+  for (const auto& [e, end] : scan_series(r.values, "end")) {
+    const auto at = r.values.find(fmt::format("scan.e{:g}.arrivals2", e));
+    if (at == r.values.end()) continue;
+    ++a.runs;
+    a.same += std::fabs(at->second - end) <= 1e-12 * std::fabs(end) ? 1 : 0;
+    a.after_stop += r.values.count(fmt::format("readout_after_stop.e{:g}", e)) != 0 ? 1 : 0;
+  }
+  return a;
+}
+
+std::string agreement_text(const std::string& figure, const ReadoutAgreement& a) {
+  if (a.after_stop == a.runs) {
+    return fmt::format("{}'s runs all end their blow before 2 arrivals (its output there is the blow's-end value, "
+                       "final after it)", figure);
+  }
+  return fmt::format("{}'s two read-outs give the same output in {} of its {} scanned runs", figure, a.same, a.runs);
+}
+
+// The scanned e where both figures fall within their bands, as an interval between the scanned
+// values on either side where they do not.
+std::string joint_window(const std::map<double, std::set<std::string>>& fig4, const std::map<double, std::set<std::string>>& sandwich) {
+  std::vector<double> scanned, within;
+  for (const auto& [e, readouts] : fig4) {
+    const auto it = sandwich.find(e);
+    if (it == sandwich.end()) continue;
+    scanned.push_back(e);
+    if (!readouts.empty() && !it->second.empty()) within.push_back(e);
+  }
+  if (within.empty()) return "no scanned e puts both within";
+  const auto lo = std::find(scanned.begin(), scanned.end(), within.front());
+  const auto hi = std::find(scanned.begin(), scanned.end(), within.back());
+  if (hi - lo + 1 != static_cast<long>(within.size())) {
+    return fmt::format("both within for e = {}, not one interval of the scan", fmt::join(within, ", "));
+  }
+  const auto edge = [](std::vector<double>::const_iterator at, std::vector<double>::const_iterator end, double inside, bool above) {
+    if (at == end) return fmt::format("beyond the scan's {:g}", inside);
+    return above ? fmt::format("between {:g} and {:g}", inside, *at) : fmt::format("between {:g} and {:g}", *at, inside);
+  };
+  const auto below = lo == scanned.begin() ? scanned.end() : lo - 1;
+  return fmt::format("both within for e from {:g} to {:g} (every scanned value between), the window's lower edge {} and "
+                     "its upper edge {}",
+                     within.front(), within.back(), edge(below, scanned.end(), within.front(), false),
+                     edge(hi + 1, scanned.end(), within.back(), true));
+}
+
+// The elastic alternative: every figure read per bottom-row sphere (the bottom row's final energy
+// over its spheres) at e = 1, against each figure's band.
+std::string elastic_alternative(const AnalysisInput& in, const ExperimentResult& sandwich) {
+  const auto* fig3 = in.result("fig3");
+  const auto* fig4 = in.result("fig4");
+  const auto* fig3_claim = in.claim_on("fig3", "output.e1.nb3");
+  const auto* fig4_claim = in.claim_on("fig4", "output.steel_on_teflon");
+  const auto* own_claim = in.claim_on("sandwich", "output.sandwich");
+  if (fig3 == nullptr || fig4 == nullptr || fig3_claim == nullptr) return {};
+  const auto value = [](const ExperimentResult& r, const std::string& key) {
+    const auto it = r.values.find(key);
+    return it == r.values.end() ? std::optional<double>() : std::optional<double>(it->second);
+  };
+  const auto f4 = value(*fig4, "output_def.bottom_row_per_sphere"), sw = value(sandwich, "output_def.bottom_row_per_sphere");
+  const auto f3 = value(*fig3, "output_per_sphere.e1.nb3"), f3_sphere = value(*fig3, "output.e1.nb3");
+  if (!f4 || !sw || !f3 || !f3_sphere) return {};
+  const auto where = [](double v, const Claim& c) {
+    return fmt::format("{} [{:.3g}, {:.3g}]", v >= c.low && v <= c.high ? "within" : "outside", c.low, c.high);
+  };
+  return fmt::format(
+      " The elastic alternative: with no damping, read per bottom-row sphere (the bottom row's final energy over its "
+      "spheres), Fig. 4 gives {} ({}) and the sandwich {} ({}); but that reading of Fig. 3's three steel blocks gives {} "
+      "({}), where the output sphere gives {} ({}): one reading for every figure rules it out.",
+      pct(*f4), where(*f4, *fig4_claim), pct(*sw), where(*sw, *own_claim), pct(*f3), where(*f3, *fig3_claim), pct(*f3_sphere),
+      where(*f3_sphere, *fig3_claim));
+}
+
 // The hypotheses (a Teflon restitution and a read-out) that put both Fig. 4's and the sandwich's
 // output within their bands.
 std::string hypotheses(const AnalysisInput& in, const ExperimentResult& sandwich) {
@@ -234,25 +338,38 @@ std::string hypotheses(const AnalysisInput& in, const ExperimentResult& sandwich
   }
   auto join = [](const std::vector<std::string>& v) { return v.empty() ? std::string("no scanned e") : fmt::format("{}", fmt::join(v, ", ")); };
   auto for_e = [&](const std::vector<std::string>& v) { return v.empty() ? std::string("no scanned e") : "e = " + join(v); };
+  const auto fig4_readouts = readout_agreement(*fig4), sandwich_readouts = readout_agreement(sandwich);
+  // The read-out is no hypothesis where it changes no fit: every scanned e is within with both
+  // read-outs or with neither, in both figures.
+  bool one_readout = true;
+  for (const auto* fits : {&a, &b}) {
+    for (const auto& [e, readouts] : fits->by_e) one_readout = one_readout && (readouts.empty() || readouts.size() == std::size(kReadouts));
+  }
+  // Where the read-out changes no fit, the hypotheses are the restitutions alone.
+  std::vector<std::string> both_e;
+  for (const auto& [e, readouts] : a.by_e) {
+    if (const auto it = b.by_e.find(e); it != b.by_e.end() && !readouts.empty() && !it->second.empty()) both_e.push_back(fmt::format("{:g}", e));
+  }
+  const auto fits = one_readout
+                        ? fmt::format("A Teflon restitution puts both outputs within their bands at once for {}", for_e(both_e))
+                        : fmt::format("A Teflon restitution puts both outputs within their bands at once for {}; with one "
+                                      "read-out for both figures, for {}",
+                                      join(both), same_readout.empty() ? std::string("no scanned e")
+                                                                       : fmt::format("{}", fmt::join(same_readout, ", ")));
   return fmt::format(
-      "Hypotheses, from the restitution scan of both figures, both read at the blow's end and at 2 estimated arrivals "
-      "of the pulse: a Teflon restitution puts both outputs within their bands at once for {}; with one read-out for "
-      "both figures, for {}. Fig. 4's output alone falls within its band for {}; the sandwich's alone for {}; neither "
-      "for {}.{}",
-      join(both), same_readout.empty() ? std::string("no scanned e") : fmt::format("{}", fmt::join(same_readout, ", ")),
-      for_e(fig4_only), for_e(sandwich_only), for_e(neither),
+      "Hypotheses, from the restitution scan of both figures (the restitution of the contacts involving Teflon), both read "
+      "at the blow's end and at 2 estimated arrivals of the pulse. {}, and {}{}. {}: {}. The result is consistent with "
+      "mild damping of the Teflon contacts, one parameter fitted to two numbers; the damping model's restitution does not "
+      "depend on the impact speed, and the paper states none for Fig. 4.{} Fig. 4's output alone falls within its band "
+      "for {}; the sandwich's alone for {}; neither for {}.{}",
+      agreement_text("Fig. 4", fig4_readouts), agreement_text("the sandwich", sandwich_readouts),
+      one_readout ? ": the read-out changes no fit here (every scanned e is within its band with both or with neither), so "
+                    "at this height it is no hypothesis"
+                  : "",
+      fits, joint_window(a.by_e, b.by_e), elastic_alternative(in, sandwich), for_e(fig4_only), for_e(sandwich_only), for_e(neither),
       both.empty() ? " No single Teflon restitution with either read-out explains both figures: damping of the Teflon "
                      "contacts alone does not account for the paper's two values together."
                    : "");
-}
-
-// The scan's values of one read-out ("final", "kick1", ...) as e -> output.
-std::map<double, double> scan_series(const std::map<std::string, double>& values, const std::string& readout) {
-  std::map<double, double> out;
-  for (const auto& [key, v] : values) {
-    if (const auto scanned = scan_key(key); scanned && scanned->second == readout) out[scanned->first] = v;
-  }
-  return out;
 }
 
 void scan_plot(const AnalysisInput& in, ExperimentResult& out) {
