@@ -17,6 +17,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <set>
+#include <thread>
 #include <cmath>
 #include <filesystem>
 
@@ -184,16 +189,84 @@ std::string choose_engine(const ReproduceOptions& o, const std::vector<CaseRecor
 }
 
 // Runs every case with the chosen engine; the records get their status.
-void run_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, StudyResult& result) {
+// Reduces each case as its run ends, on a thread of its own beside the runs: reduce's time goes into
+// the cores the runs leave idle (LIGGGHTS's start-up and writing), not after the last run. One
+// frame thread per case, so that it takes one core from the runs at most. reduce_all reduces what
+// this did not (reused cases) and reports what it could not.
+class OverlappedReduce {
+ public:
+  OverlappedReduce() : thread_([this] { work(); }) {}
+  OverlappedReduce(const OverlappedReduce&) = delete;
+  OverlappedReduce& operator=(const OverlappedReduce&) = delete;
+  ~OverlappedReduce() { finish(); }
+  void add(CaseRecord* record) {
+    {
+      const std::lock_guard lock(mutex_);
+      queue_.push_back(record);
+    }
+    wake_.notify_one();
+  }
+  // Reduces what is queued and stops; after it every record it took is reduced or in errors().
+  void finish() {
+    {
+      const std::lock_guard lock(mutex_);
+      closed_ = true;
+    }
+    wake_.notify_one();
+    if (thread_.joinable()) thread_.join();
+  }
+  bool tried(const CaseRecord* r) const { return tried_.count(r) != 0; }
+  const std::map<const CaseRecord*, std::string>& errors() const { return errors_; }
+
+ private:
+  void work() {
+    for (;;) {
+      CaseRecord* r = nullptr;
+      {
+        std::unique_lock lock(mutex_);
+        wake_.wait(lock, [&] { return closed_ || !queue_.empty(); });
+        if (queue_.empty()) return;
+        r = queue_.front();
+        queue_.pop_front();
+      }
+      if (os::interrupt_signal() != 0) continue;
+      tried_.insert(r);
+      postproc::ReduceOptions ro;
+      ro.threads = 1;
+      try {
+        r->reduction = postproc::reduce_case(r->dir, ro);
+      } catch (const std::exception& e) {
+        errors_[r] = e.what();
+      }
+    }
+  }
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<CaseRecord*> queue_;
+  bool closed_ = false;
+  std::set<const CaseRecord*> tried_;
+  std::map<const CaseRecord*, std::string> errors_;
+  std::thread thread_;  // last: it starts once the members it uses are made
+};
+
+void run_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, StudyResult& result, OverlappedReduce& reducer) {
   std::vector<std::string> dirs;
-  for (const auto* r : records) dirs.push_back(r->dir);
+  std::map<std::string, CaseRecord*> by_dir;
+  for (auto* r : records) {
+    dirs.push_back(r->dir);
+    by_dir[r->dir] = r;
+  }
   auto ro = run_options(o, runner::parse_engine(o.engine), "run");
-  ro.on_case_done = [&o](const runner::RunOutcome& r) {
+  ro.on_case_done = [&o, &by_dir, &reducer](const runner::RunOutcome& r) {
+    if (r.status == runner::RunStatus::done) {
+      if (const auto it = by_dir.find(r.case_dir); it != by_dir.end()) reducer.add(it->second);
+    }
     if (!o.on_event) return;
     if (r.status == runner::RunStatus::done) o.on_event(fmt::format("done     {}  ({:.1f} s)", r.case_dir, r.wall_seconds));
     if (r.status == runner::RunStatus::failed) o.on_event(fmt::format("FAILED   {}  {}", r.case_dir, r.message));
   };
   const auto outcomes = runner::run_cases(dirs, ro);
+  reducer.finish();
   for (std::size_t i = 0; i < outcomes.size(); ++i) {
     auto& rec = *records[i];
     rec.status = status_name(outcomes[i].status);
@@ -202,6 +275,7 @@ void run_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, Study
     if (run.done()) rec.run_sha256 = formats::sha256_file(fs::path(rec.dir) / formats::CaseFiles{}.run_record);
     if (outcomes[i].status == runner::RunStatus::done) rec.wall_seconds = outcomes[i].wall_seconds;
     if (rec.status == "done") continue;
+    rec.reduction.reset();  // a case whose run did not end done has no reduction, whatever ran before
     rec.problem = outcomes[i].message;
     if (rec.status == "failed") {
       ++result.failed_cases;
@@ -211,19 +285,27 @@ void run_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, Study
   }
 }
 
-void reduce_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, StudyResult& result) {
+void reduce_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, StudyResult& result, const OverlappedReduce& done) {
   std::size_t n = 0;
   for (auto* rec : records) {
     ++n;
-    if (o.on_progress) o.on_progress(fmt::format("reduce: {}/{} {}", n, records.size(), rec->dir));
     if (rec->status != "done" || os::interrupt_signal() != 0) continue;
-    try {
-      rec->reduction = postproc::reduce_case(rec->dir);
-    } catch (const std::exception& e) {
-      rec->problem = e.what();
-      ++result.failed_cases;
-      if (o.on_event) o.on_event(fmt::format("FAILED   {}  reduce: {}", rec->dir, e.what()));
+    std::string error;
+    if (done.tried(rec)) {
+      if (const auto it = done.errors().find(rec); it != done.errors().end()) error = it->second;
+    } else {
+      if (o.on_progress) o.on_progress(fmt::format("reduce: {}/{} {}", n, records.size(), rec->dir));
+      try {
+        rec->reduction = postproc::reduce_case(rec->dir);
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
     }
+    if (error.empty()) continue;
+    rec->reduction.reset();
+    rec->problem = error;
+    ++result.failed_cases;
+    if (o.on_event) o.on_event(fmt::format("FAILED   {}  reduce: {}", rec->dir, error));
   }
 }
 
@@ -316,8 +398,9 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& option
   std::stable_sort(by_cost.begin(), by_cost.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   std::vector<CaseRecord*> records;
   for (const auto& [cost, rec] : by_cost) records.push_back(rec);
-  run_all(records, o, result);
-  reduce_all(records, o, result);
+  OverlappedReduce reducer;
+  run_all(records, o, result, reducer);
+  reduce_all(records, o, result, reducer);
   if (o.validate && os::interrupt_signal() == 0) validate_all(records, o);
   result.interrupted = os::interrupt_signal() != 0;
   if (result.interrupted && fs::exists(root / "report.json")) {
