@@ -9,10 +9,6 @@
 
 namespace granstack::model {
 
-double hertz_peak_pressure(double y_star, double r_star, double overlap) {
-  return 2.0 * y_star / kPi * std::sqrt(overlap / r_star);
-}
-
 std::optional<double> first_yield_pressure(const Material& a, const Material& b) {
   std::optional<double> lower;
   for (const auto* m : {&a, &b}) {
@@ -23,9 +19,15 @@ std::optional<double> first_yield_pressure(const Material& a, const Material& b)
 }
 
 namespace {
-// The constants of a contact of materials a and b: Y* and the first-yield pressure (0: none).
-auto contact_constants(const Material& a, const Material& b) {
-  return std::pair{effective_youngs_modulus(a, b), first_yield_pressure(a, b).value_or(0.0)};
+// The constants of a contact of materials a and b: Y*, the first-yield pressure (0: none) and
+// (2 Y* / (pi p_y))^2.
+struct Constants {
+  double y_star, yield, scale2;
+};
+Constants contact_constants(const Material& a, const Material& b) {
+  const double y_star = effective_youngs_modulus(a, b), yield = first_yield_pressure(a, b).value_or(0.0);
+  const double scale = yield > 0.0 ? 2.0 * y_star / (kPi * yield) : 0.0;
+  return {y_star, yield, scale * scale};
 }
 }  // namespace
 
@@ -53,16 +55,16 @@ YieldMeter::YieldMeter(const YieldContacts& contacts) : radius_(contacts.radius)
   pairs_.resize(ntypes_ * ntypes_);
   for (std::size_t a = 0; a < ntypes_; ++a) {
     for (std::size_t b = 0; b < ntypes_; ++b) {
-      const auto [y_star, yield] = contact_constants(types[a], types[b]);
-      pairs_[a * ntypes_ + b] = {y_star, yield};
+      const auto k = contact_constants(types[a], types[b]);
+      pairs_[a * ntypes_ + b] = {k.y_star, k.yield, k.scale2};
     }
   }
   std::vector<Material> used(types.begin(), types.end());
   if (contacts.wall_material) {
     used.push_back(*contacts.wall_material);
     for (std::size_t a = 0; a < ntypes_; ++a) {
-      const auto [y_star, yield] = contact_constants(types[a], *contacts.wall_material);
-      wall_.push_back({y_star, yield});
+      const auto k = contact_constants(types[a], *contacts.wall_material);
+      wall_.push_back({k.y_star, k.yield, k.scale2});
     }
   }
   for (const auto& m : used) {
@@ -71,52 +73,70 @@ YieldMeter::YieldMeter(const YieldContacts& contacts) : radius_(contacts.radius)
     }
   }
   for (const int t : contacts.sphere_type) type_.push_back(t - 1);
+  for (const double r : radius_) inverse_radius_.push_back(1.0 / r);
 }
 
 const YieldMeter::PairConstants& YieldMeter::pair(std::size_t i, std::size_t j) const {
   return pairs_[static_cast<std::size_t>(type_[i]) * ntypes_ + static_cast<std::size_t>(type_[j])];
 }
 
-YieldPeak YieldMeter::at(long step, const std::vector<double>& x, const std::vector<double>& y,
-                         const std::vector<double>& z, const std::vector<std::pair<std::size_t, std::size_t>>& pairs) const {
-  YieldPeak peak;
-  peak.step = step;
-  if (!judged()) return peak;
+void YieldMeter::offer(YieldFrame& f, double ratio2, const PairConstants& c, int a, int b, const Wall* wall) const {
   // A larger ratio wins; on a tie the contact first in (sphere, sphere) order, then the walls.
-  const auto offer = [&](double ratio, double p0, int a, int b, const std::string* wall) {
-    const bool better = ratio > peak.ratio ||
-                        (ratio == peak.ratio && ratio > 0.0 && wall == nullptr && peak.wall.empty() &&
-                         std::pair{a, b} < std::pair{peak.id_a, peak.id_b});
-    if (!better) return;
-    peak.ratio = ratio;
-    peak.pressure = p0;
-    peak.id_a = a;
-    peak.id_b = b;
-    peak.wall = wall != nullptr ? *wall : std::string();
-  };
-  for (const auto& [i, j] : pairs) {
-    const auto& c = pair(i, j);
-    if (c.yield == 0.0) continue;
-    const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
-    const double sum = radius_[i] + radius_[j];
-    const double d2 = dx * dx + dy * dy + dz * dz;
-    if (!(d2 < sum * sum)) continue;
-    const double p0 = hertz_peak_pressure(c.y_star, radius_[i] * radius_[j] / sum, sum - std::sqrt(d2));
-    offer(p0 / c.yield, p0, static_cast<int>(std::min(i, j)) + 1, static_cast<int>(std::max(i, j)) + 1, nullptr);
-  }
-  if (wall_.empty()) return peak;
+  const bool better = ratio2 > f.ratio2 || (ratio2 == f.ratio2 && ratio2 > 0.0 && wall == nullptr && f.wall == nullptr &&
+                                            std::pair{a, b} < std::pair{f.id_a, f.id_b});
+  if (!better) return;
+  f.ratio2 = ratio2;
+  f.yield = c.yield;
+  f.id_a = a;
+  f.id_b = b;
+  f.wall = wall;
+}
+
+void YieldMeter::pair(YieldFrame& f, std::size_t i, std::size_t j, double overlap) const {
+  const auto& c = pair(i, j);
+  if (c.yield == 0.0) return;
+  offer(f, c.scale2 * overlap * (inverse_radius_[i] + inverse_radius_[j]), c, static_cast<int>(i) + 1,
+        static_cast<int>(j) + 1, nullptr);
+}
+
+void YieldMeter::walls(YieldFrame& f, const std::vector<double>& x, const std::vector<double>& y,
+                       const std::vector<double>& z) const {
+  if (wall_.empty()) return;
   for (std::size_t i = 0; i < radius_.size(); ++i) {
     const auto& c = wall_[static_cast<std::size_t>(type_[i])];
     if (c.yield == 0.0) continue;
     const std::array<double, 3> centre{x[i], y[i], z[i]};
     for (const auto& w : walls_) {
       const double overlap = w.overlap(centre, radius_[i]);
-      if (!(overlap > 0.0)) continue;
-      const double p0 = hertz_peak_pressure(c.y_star, radius_[i], overlap);  // a wall: R* = R_i
-      offer(p0 / c.yield, p0, static_cast<int>(i) + 1, 0, &w.name);
+      if (overlap > 0.0) offer(f, c.scale2 * overlap * inverse_radius_[i], c, static_cast<int>(i) + 1, 0, &w);  // R* = R_i
     }
   }
-  return peak;
+}
+
+YieldPeak YieldMeter::peak(long step, const YieldFrame& f) const {
+  YieldPeak p;
+  p.step = step;
+  if (!judged() || f.ratio2 == 0.0) return p;
+  p.ratio = std::sqrt(f.ratio2);
+  p.pressure = p.ratio * f.yield;
+  p.id_a = f.id_a;
+  p.id_b = f.id_b;
+  if (f.wall != nullptr) p.wall = f.wall->name;
+  return p;
+}
+
+YieldPeak YieldMeter::at(long step, const std::vector<double>& x, const std::vector<double>& y,
+                         const std::vector<double>& z, const std::vector<std::pair<std::size_t, std::size_t>>& pairs) const {
+  YieldFrame f;
+  if (!judged()) return peak(step, f);
+  for (const auto& [i, j] : pairs) {
+    const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
+    const double sum = radius_[i] + radius_[j];
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    if (d2 < sum * sum) pair(f, i, j, sum - std::sqrt(d2));
+  }
+  walls(f, x, y, z);
+  return peak(step, f);
 }
 
 std::string describe_contact(const Stack& stack, const YieldPeak& peak) {

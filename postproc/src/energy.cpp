@@ -273,13 +273,18 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     if (c.bottom_row[i] != 0) e.bottom_row_ke += ke;
   }
   e.output_free = true;
-  const auto& pairs = candidates_.pairs(x_, y_, z_);
-  e.yield = c.yield.at(f.step, x_, y_, z_, pairs);
-  for (const auto& [i, j] : pairs) {
+  // The contact pressures over first yield from the same overlaps (model::YieldMeter::at's parts).
+  model::YieldFrame yield;
+  const bool judged = c.yield.judged();
+  for (const auto& [i, j] : candidates_.pairs(x_, y_, z_)) {
     const double dx = x_[i] - x_[j], dy = y_[i] - y_[j], dz = z_[i] - z_[j];
     const double sum = c.radius[i] + c.radius[j];
     const double d2 = dx * dx + dy * dy + dz * dz;
-    if (d2 < sum * sum) e.elastic += c.contacts.pair(spheres[i], spheres[j], sum - std::sqrt(d2));
+    if (d2 < sum * sum) {
+      const double overlap = sum - std::sqrt(d2);
+      e.elastic += c.contacts.pair(spheres[i], spheres[j], overlap);
+      if (judged) c.yield.pair(yield, i, j, overlap);
+    }
     if ((i == out_index || j == out_index) && model::spheres_touch(dx, dy, dz, c.radius[i], c.radius[j])) e.output_free = false;
   }
   // Another sphere on course to hit the output sphere (model::BlowEnd), in id order as refsim.
@@ -290,6 +295,8 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
   e.output_threatened = stack.spec().bottom != model::Boundary::wall && model::threatened(n, out_index, state);
   e.striker_coming = model::striker_coming(stack, n, state);
   e.crush = c.crush.at(state);
+  if (judged) c.yield.walls(yield, x_, y_, z_);
+  e.yield = c.yield.peak(f.step, yield);
   e.over_footprint = {};
   if (stack.spec().bottom == model::Boundary::wall) {
     e.over_footprint = model::over_footprint(stack, n, [&](std::size_t i) {

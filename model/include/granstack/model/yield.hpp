@@ -18,9 +18,8 @@ namespace granstack::model {
 // (nu = 0.3; 1.5 to 1.7 Y across nu = 0.2 to 0.5), in the body with the lower Y.
 inline constexpr double kFirstYieldPressurePerYield = 1.6;
 
-// Hertz's peak contact pressure at overlap d: p0 = 3F / (2 pi a^2), F = 4/3 Y* sqrt(R*) d^(3/2),
-// a^2 = R* d, that is (2 Y* / pi) sqrt(d / R*).
-double hertz_peak_pressure(double y_star, double r_star, double overlap);
+// Hertz's peak contact pressure at overlap d is p0 = 3F / (2 pi a^2), F = 4/3 Y* sqrt(R*) d^(3/2),
+// a^2 = R* d, that is (2 Y* / pi) sqrt(d / R*); the meter takes its square over p_y^2.
 // The pressure at which a contact of a and b starts to yield: kFirstYieldPressurePerYield times
 // the lower yield strength of the two that have one; none when neither has one (brittle pairs).
 std::optional<double> first_yield_pressure(const Material& a, const Material& b);
@@ -51,6 +50,15 @@ struct YieldContacts {
 };
 YieldContacts yield_contacts(const Stack& stack);
 
+// One frame's largest so far, as YieldMeter::pair and walls offer it the frame's contacts: the
+// squared ratio (one square root a frame, not one a contact) and its contact.
+struct YieldFrame {
+  double ratio2 = 0.0;
+  double yield = 0.0;  // Pa, that contact's first-yield pressure
+  int id_a = 0, id_b = 0;
+  const Wall* wall = nullptr;
+};
+
 class YieldMeter {
  public:
   explicit YieldMeter(const Stack& stack) : YieldMeter(yield_contacts(stack)) {}
@@ -69,6 +77,12 @@ class YieldMeter {
   // the pairs' order.
   YieldPeak at(long step, const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z,
                const std::vector<std::pair<std::size_t, std::size_t>>& pairs) const;
+  // at() in parts, for a caller that finds the overlaps itself (reduce, beside the elastic
+  // energy): the contact of spheres i < j (indices) at overlap d > 0, each sphere against the
+  // walls, and the frame's peak. Given the same contacts in the same order, the same answer.
+  void pair(YieldFrame& f, std::size_t i, std::size_t j, double overlap) const;
+  void walls(YieldFrame& f, const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z) const;
+  YieldPeak peak(long step, const YieldFrame& f) const;
   // The largest over the frames given (the earlier frame on a tie).
   void add(const YieldPeak& frame);
   const YieldPeak& largest() const { return largest_; }
@@ -76,11 +90,14 @@ class YieldMeter {
  private:
   struct PairConstants {
     double y_star = 0.0;
-    double yield = 0.0;  // Pa, the first-yield pressure; 0: not judged
+    double yield = 0.0;   // Pa, the first-yield pressure; 0: not judged
+    double scale2 = 0.0;  // (2 Y* / (pi p_y))^2: (p0 / p_y)^2 = scale2 d / R*
   };
+  void offer(YieldFrame& f, double ratio2, const PairConstants& c, int a, int b, const Wall* wall) const;
   const PairConstants& pair(std::size_t i, std::size_t j) const;
   std::vector<int> type_;                 // per sphere index: its atom type - 1
   std::vector<double> radius_;            // per sphere index
+  std::vector<double> inverse_radius_;    // 1 / radius: 1 / R* = 1 / R_i + 1 / R_j
   std::size_t ntypes_ = 0;
   std::vector<PairConstants> pairs_;      // [type_a * ntypes + type_b]
   std::vector<PairConstants> wall_;       // [type] against the walls' material
