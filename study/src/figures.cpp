@@ -116,6 +116,12 @@ Figure decay_figure(const std::map<double, std::vector<std::pair<int, double>>, 
     plots += fmt::format("{}'decay.dat' index {} using 1:2 with points pointtype 7 pointsize 1.6 linecolor {} title 'e = {}', \\\n"
                          "     exp(-({:.6g}/{})*x) with lines dashtype 2 linecolor {} notitle",
                          plots.empty() ? "" : ", \\\n     ", index, index + 1, e, alpha, e, index + 1);
+    // The paper's own law for this e, exp(-(alpha_paper / e) N_B), dotted in the same colour (e = 1's
+    // is drawn with the paper's points below).
+    if (e != 1.0) {
+      plots += fmt::format(", \\\n     exp(-({:.6g}/{})*x) with lines dashtype 3 linewidth 2 linecolor {} notitle", alpha_paper,
+                           e, index + 1);
+    }
   }
   if (!paper.empty()) {
     fmt::format_to(out, "# the paper: N_B, E_out/E_in\n");
@@ -127,14 +133,16 @@ Figure decay_figure(const std::map<double, std::vector<std::pair<int, double>>, 
                          index, alpha_paper, alpha_paper);
   }
   const auto body = fmt::format(
-      "set title 'Fig. 3 re-made: output against depth; dashed: exp(-(α/e) N_B), α = {:.3f} for all e'\n"
+      "set title 'Fig. 3 re-made: output against depth; dashed: exp(-(α/e) N_B), α = {:.3f} for all e; dotted: the "
+      "paper, α = {:g}'\n"
       "set xlabel 'number of blocks N_B'\nset ylabel 'E_{{out}} / E_{{in}}'\n"
       "set logscale y\nset format y '10^{{%L}}'\nset grid\nset key below maxcols 4\nset xrange [0.7:{}]\nset xtics 1\n"
       "set samples 200\nplot {}\n",
-      alpha, hi + 0.3, plots);
+      alpha, alpha_paper, hi + 0.3, plots);
   return render(dir, "decay", fmt::to_string(data), body, gnuplot,
-                "Fig. 3 re-made: output fraction against the number of blocks for each e, with the single-alpha law "
-                "exp(-(alpha/e) N_B) fitted to all of them through the origin");
+                fmt::format("Fig. 3 re-made: output fraction against the number of blocks for each e, with the "
+                            "single-alpha law exp(-(alpha/e) N_B) fitted to all of them through the origin (dashed) and "
+                            "the paper's law with its alpha = {:g} for each e (dotted)", alpha_paper));
 }
 
 Figure bar_figure(const std::vector<BarGroup>& groups, const std::vector<std::string>& series, const BarStyle& style,
