@@ -168,6 +168,12 @@ Figure bar_figure(const std::vector<BarGroup>& groups, const std::vector<std::st
                               "set label {} '{}' at graph 0.99, first {:.6g} right offset 0, 0.6 textcolor lt {} noenhanced\n",
                               i + 1, 100.0 * value, 100.0 * value, i + 1, i + 1, label, 100.0 * value, i + 1);
   }
+  for (std::size_t i = 0; i < style.bands.size(); ++i) {
+    const auto& [low, high] = style.bands[i];
+    references += fmt::format("set object {} rectangle from graph 0, first {:.6g} to graph 1, first {:.6g} behind "
+                              "fillstyle transparent solid 0.15 noborder fillcolor lt {}\n",
+                              i + 1, 100.0 * low, 100.0 * high, i + 1);
+  }
   const auto body = fmt::format(
       "set title '{}' noenhanced\nset ylabel '{} (%)' noenhanced\nset yrange [0:100]\nset grid ytics\n"
       "set style data histogram\nset style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"

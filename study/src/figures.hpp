@@ -49,6 +49,8 @@ struct BarGroup {
 struct BarStyle {
   std::string name, title, ylabel, caption;
   std::vector<std::pair<std::string, double>> references;  // dashed horizontal lines (the paper's values)
+  // Shaded horizontal bands (a claim's acceptance band), each in its reference's colour: [low, high].
+  std::vector<std::pair<double, double>> bands;
 };
 // Clustered bars of fractions, in %: a cluster per group, a bar per series.
 Figure bar_figure(const std::vector<BarGroup>& groups, const std::vector<std::string>& series, const BarStyle& style,
