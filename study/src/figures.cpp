@@ -69,6 +69,21 @@ Figure energy_plot(const EnergyPlot& p, const std::string& dir, const std::strin
     }
     fmt::format_to(out, "\n\n");
   }
+  std::string compared, compared_inset;
+  for (std::size_t i = 0; i < p.compare.size(); ++i) {
+    const auto& [title, c] = p.compare[i];
+    fmt::format_to(out, "# {}: time (µs), E_k / {:.6g} J\n", title, p.scale);
+    const std::size_t stride = std::max<std::size_t>(1, c.t.size() / 4000);
+    for (std::size_t j = 0; j < c.t.size(); j += stride) {
+      lower = std::max(lower, c.y[j] / p.scale);
+      fmt::format_to(out, "{:.6g} {:.6g}\n", c.t[j] * 1e6, c.y[j] / p.scale);
+    }
+    fmt::format_to(out, "\n\n");
+    const auto line = fmt::format(", '{}.dat' index {} using 1:2 with lines dashtype 2 linewidth 1.5 linecolor rgb 'gray40'",
+                                  p.name, static_cast<std::size_t>(nb) + i);
+    compared += line + " title " + gp_quote(title) + " noenhanced";
+    compared_inset += line + " notitle";
+  }
   // The paper's values as dashed lines with their labels in the inset's own key (top right, in
   // the room the inset's y range leaves above its curves): no label is written over a curve.
   std::string references;
@@ -85,16 +100,19 @@ Figure energy_plot(const EnergyPlot& p, const std::string& dir, const std::strin
       "set lmargin at screen 0.09\nset rmargin at screen 0.97\nset bmargin at screen 0.11\nset tmargin at screen 0.92\n"
       "set grid\nset key at graph 0.02, graph 0.97 left top box opaque\nset yrange [0:1.75]\nset ytics 0, 0.2, 1.0\n"
       "set xrange [{:.6g}:{:.6g}]\nset multiplot\n"
-      "plot for [k=1:{}] '{}.dat' index (k-1) using 1:2 with lines linewidth 2 linecolor k title sprintf('block %d', k)\n"
+      "plot for [k=1:{}] '{}.dat' index (k-1) using 1:2 with lines linewidth 2 linecolor k title sprintf('block %d', k){}\n"
       "# The inset: blocks {} to {}, magnified on their own scales, the paper's values dashed.\n"
       "set lmargin at screen 0.40\nset rmargin at screen 0.95\nset bmargin at screen 0.62\nset tmargin at screen 0.895\n"
-      "unset title\nunset xlabel\nunset ylabel\nset key default\nset key inside right top box opaque samplen 2\nset ytics autofreq\n"
+      "unset title\nunset xlabel\nunset ylabel\n{}set ytics autofreq\n"
       "set object 1 rectangle from graph 0, graph 0 to graph 1, graph 1 behind fillcolor rgb 'white' fillstyle solid noborder\n"
       "set xrange [{:.6g}:{:.6g}]\nset yrange [0:{:.3g}]\n"
-      "plot for [k={}:{}] '{}.dat' index (k-1) using 1:2 with lines linewidth 2 linecolor k notitle{}\n"
+      "plot for [k={}:{}] '{}.dat' index (k-1) using 1:2 with lines linewidth 2 linecolor k notitle{}{}\n"
       "unset multiplot\n",
-      gp_quote(p.title), gp_quote(p.ylabel), t0 * 1e6, t1 * 1e6, nb, p.name, p.inset_from, nb, i0 * 1e6, i1 * 1e6,
-      lower > 0.0 ? (1.3 + 0.2 * static_cast<double>(p.references.size())) * lower : 1.0, p.inset_from, nb, p.name, references);
+      gp_quote(p.title), gp_quote(p.ylabel), t0 * 1e6, t1 * 1e6, nb, p.name, compared, p.inset_from, nb,
+      // The inset's key holds the paper's values; none, no key.
+      p.references.empty() ? "unset key\n" : "set key default\nset key inside right top box opaque samplen 2\n", i0 * 1e6, i1 * 1e6,
+      lower > 0.0 ? (1.3 + 0.2 * static_cast<double>(p.references.size())) * lower : 1.0, p.inset_from, nb, p.name,
+      compared_inset, references);
   return render(dir, p.name, fmt::to_string(data), body, gnuplot, p.caption);
 }
 

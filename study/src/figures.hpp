@@ -26,6 +26,9 @@ struct EnergyPlot {
   // The time axis, s (the main panel's; the inset's starts where the lower blocks move): by
   // default action_window of the curves.
   std::optional<std::pair<double, double>> window;
+  // Another run's curves to compare with (title, curve), dashed grey in both panels, divided by
+  // `scale` as the blocks' are (the caller scales them to their own run's reference first).
+  std::vector<std::pair<std::string, Curve>> compare;
 };
 Figure energy_plot(const EnergyPlot& p, const std::string& dir, const std::string& gnuplot);
 
