@@ -216,7 +216,7 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     e.column_ke[k].assign(static_cast<std::size_t>(stack.blocks()[k].columns), 0.0);
     e.column_y_ke[k].assign(static_cast<std::size_t>(stack.blocks()[k].depth), 0.0);
   }
-  e.top_row_sideways = e.top_row_downward = e.striker_ke = e.output_sphere_ke = e.bottom_row_ke = 0.0;
+  e.top_row_sideways = e.top_row_downward = e.striker_ke = e.output_sphere_ke = e.bottom_row_ke = e.bottom_row_max_ke = 0.0;
   e.momentum_z = 0.0;
   e.kinetic = e.elastic = e.striker_vz = e.matrix_ke = 0.0;
   const auto out_index = static_cast<std::size_t>(stack.output_sphere_id() - 1);
@@ -270,7 +270,10 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
       }
     }
     if (i == out_index) e.output_sphere_ke = ke;
-    if (c.bottom_row[i] != 0) e.bottom_row_ke += ke;
+    if (c.bottom_row[i] != 0) {
+      e.bottom_row_ke += ke;
+      e.bottom_row_max_ke = std::max(e.bottom_row_max_ke, ke);
+    }
   }
   e.output_free = true;
   // The contact pressures over first yield from the same overlaps (model::YieldMeter::at's parts).

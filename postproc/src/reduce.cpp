@@ -338,6 +338,7 @@ void final_state(const FrameEnergy& last, const model::Stack& stack, CaseReducti
   r.output_fraction_bottom_row = last.bottom_row_ke / r.e_in;
   r.output_fraction_bottom_row_per_sphere =
       r.output_fraction_bottom_row / static_cast<double>(stack.bottom_row_ids().size());
+  r.output_fraction_bottom_row_max = last.bottom_row_max_ke / r.e_in;
   if (spec.bottom == model::Boundary::wall) {
     // Against a wall the output sphere never leaves: its peak is the only defined output.
     r.output_fraction = r.output_peak_fraction;
@@ -606,6 +607,7 @@ json to_json(const CaseReduction& r) {
           {"output_fraction", r.output_fraction},
           {"output_fraction_bottom_row", r.output_fraction_bottom_row},
           {"output_fraction_bottom_row_per_sphere", r.output_fraction_bottom_row_per_sphere},
+          {"output_fraction_bottom_row_max", r.output_fraction_bottom_row_max},
           {"peak_wall_force", r.peak_wall_force ? nlohmann::json(*r.peak_wall_force) : nlohmann::json(nullptr)},
           {"peak_wall_force_time", r.peak_wall_force ? nlohmann::json(r.peak_wall_force_time) : nlohmann::json(nullptr)},
           {"final_momentum_ratio", r.final_momentum_ratio},

@@ -367,11 +367,13 @@ void container(const AnalysisInput& in, ExperimentResult& out) {
   }
   out.tables.push_back(t);
   if (const auto* r = in.own("matrix")) {
-    out.figures.push_back(stack_drawing(model::Stack::build(r->spec), in.figures_dir, "fig1b_container", in.gnuplot,
+    const auto stack = model::Stack::build(r->spec);
+    out.figures.push_back(stack_drawing(stack, in.figures_dir, "fig1b_container", in.gnuplot,
                                         "Fig. 1b re-made: the simulated container to scale. Left, the panel hit (x-z plane); "
                                         "right, every sphere seen along x: three panels side by side, the matrix of Teflon "
                                         "spheres (orange) in the gaps that grow block by block, the striker (red) on the "
-                                        "centre panel"));
+                                        "centre panel, the output sphere (the panel hit's) in green",
+                                        {{stack.output_sphere_id(), 6}}));
   }
 }
 

@@ -128,11 +128,16 @@ void fig2(const AnalysisInput& in, ExperimentResult& out) {
                                      curves, r->waves.front().middle_peak_ke, 3, paper, std::nullopt, {}},
                                     in.figures_dir, in.gnuplot));
   if (const auto* r8 = in.own("rows8")) {
-    out.figures.push_back(stack_drawing(model::Stack::build(r8->spec), in.figures_dir, "fig1a_stack", in.gnuplot,
+    const auto stack = model::Stack::build(r8->spec);
+    std::vector<DrawingMark> marks{{stack.output_sphere_id(), 6}};
+    for (int k = 1; k <= stack.spec().blocks; ++k) marks.push_back({stack.middle_path_id(k), 5});
+    out.figures.push_back(stack_drawing(stack, in.figures_dir, "fig1a_stack", in.gnuplot,
                                         "Fig. 1a re-made: the study's stack to scale (x-z plane): four steel blocks of 8 rows "
                                         "(Fig. 2 and 4 run the same with 24), the radius halving block by block, every "
                                         "sphere resting on two below, the striker (red) between the two central spheres of "
-                                        "the top row"));
+                                        "the top row; in blue each block's middle-row sphere of the impact path (Fig. 2's "
+                                        "per-sphere reading), in green the output sphere",
+                                        marks));
   }
   const auto blocks = block_energies(*r);
   out.figures.push_back(energy_plot({"fig2_blocks", "Whole blocks: 4 steel blocks of 24 rows, free bottom, e = 1",
@@ -334,6 +339,65 @@ std::pair<double, double> loaded_columns(const postproc::CaseReduction& r, const
   return {participation(all.begin(), split), participation(split, all.end())};
 }
 
+// The four interfaces side by side, on one scale: block 1's lowest three rows over the whole of
+// block 2 (its spheres have one size in all four), its middle row's sphere of the impact path
+// (where the pulses are counted) in blue and the output sphere in green.
+Figure interfaces_figure(const AnalysisInput& in) {
+  const std::vector<std::pair<std::string, std::string>> cases{{"nested_r2", "both: ratio 2, on two"},
+                                                               {"aligned_r2", "mismatch: ratio 2, on one"},
+                                                               {"nested_r1", "prongs: ratio 1, on two"},
+                                                               {"aligned_r1", "neither: ratio 1, on one"}};
+  std::vector<DrawingPanel> panels;
+  for (const auto& [name, title] : cases) {
+    const auto* r = in.own(name);
+    if (r == nullptr) continue;
+    auto stack = model::Stack::build(r->spec);
+    const auto& top = stack.block(1);
+    const std::pair<double, double> window{0.0, top.bottom_row_z + 4.0 * top.radius};  // centres up to row 3 from the bottom
+    std::vector<DrawingMark> marks{{stack.middle_path_id(2), 5}, {stack.output_sphere_id(), 6}};
+    panels.push_back({title, std::move(stack), std::move(marks), window});
+  }
+  return panels_drawing(panels, in.figures_dir, "mechanisms_interfaces", in.gnuplot,
+                        "The four interfaces of the mechanisms experiment to scale (x-z plane): block 1's lowest three rows "
+                        "over the whole of block 2 (24 rows of the same spheres in all four). In blue block 2's middle-row "
+                        "sphere of the impact path, where the pulses are counted; in green the output sphere");
+}
+
+// Each mechanism's share of the uniform block's output on one reading.
+struct MechanismShares {
+  double mismatch = 0.0, prongs = 0.0, both = 0.0;
+  bool together_less() const { return both < std::min(mismatch, prongs); }
+  std::string words() const {
+    return fmt::format("the mismatch alone passes {:.3f} of the uniform block's, the prongs alone {:.3f}, both {:.3f} (the "
+                       "product of the two alone: {:.3f}); together they pass {} than either alone",
+                       mismatch, prongs, both, mismatch * prongs, together_less() ? "less" : "more");
+  }
+};
+
+// The note on the three readings: where the per-sphere readings and the whole row part, the prongs
+// lower the energy per sphere by spreading it, not the energy that leaves the stack.
+// `same_sphere`: the bottom row's most energetic sphere is the output sphere (or its mirror image)
+// in every case, so the two per-sphere readings are one.
+std::string mechanisms_note(const MechanismShares& sphere, const MechanismShares& busiest, const MechanismShares& row,
+                            bool same_sphere) {
+  const bool per_sphere = sphere.together_less() && busiest.together_less();
+  const bool spread_only = per_sphere && !row.together_less();
+  return fmt::format(
+      "Each mechanism's share, against the uniform block (neither). Per sphere, on the output sphere: {}. {} On the whole "
+      "bottom row, the energy that leaves the stack: {}.{} "
+      "The product is a reference, not a prediction of independent mechanisms: the four interfaces are different "
+      "geometries (the equal-sphere nest puts its prongs at 30 degrees over one column more, the study's at 19.47 degrees "
+      "over twice the columns; the table names each output sphere's column).",
+      sphere.words(),
+      same_sphere ? "In every case the bottom row's most energetic sphere is the output sphere or its mirror image, so the "
+                    "per-sphere maximum reads the same."
+                  : fmt::format("On the bottom row's most energetic sphere, wherever it is: {}.", busiest.words()),
+      row.words(),
+      spread_only ? " 'Together more decimation' holds per sphere only, on either per-sphere reading: the prongs lower "
+                    "the energy per sphere by spreading it over more columns, not the energy that leaves the stack."
+                  : "");
+}
+
 }  // namespace
 
 void mechanisms(const AnalysisInput& in, ExperimentResult& out) {
@@ -341,7 +405,7 @@ void mechanisms(const AnalysisInput& in, ExperimentResult& out) {
           "without prongs (each sphere on two below)",
           {"case", "ratio", "stacking", "block 2's columns", "the output sphere is", "pulses in block 2", "columns loaded, block 1",
            "columns loaded, block 2", "spread (2 over 1)", "sphere peak, block 2 over 1", "output sphere",
-           "whole bottom row"},
+           "bottom row's most energetic sphere", "whole bottom row"},
           {}};
   for (const auto& c : in.experiment.cases) {
     const auto* r = in.own(c.name);
@@ -352,6 +416,7 @@ void mechanisms(const AnalysisInput& in, ExperimentResult& out) {
     out.values["spread." + c.name] = two / one;
     out.values["sphere." + c.name] = sphere_ratio(*r, 2);
     out.values["output." + c.name] = r->output_fraction;
+    out.values["output_max." + c.name] = r->output_fraction_bottom_row_max;
     out.values["output_row." + c.name] = r->output_fraction_bottom_row;
     const bool aligned = model::aligned_interface(r->spec.ratio_below(1), stack.block(1).columns % 2 == 1, stack.block(2).columns % 2 == 1);
     // Which bottom sphere is the output: in a nest it rests under two spheres of the row above.
@@ -360,50 +425,35 @@ void mechanisms(const AnalysisInput& in, ExperimentResult& out) {
                       std::to_string(stack.block(2).columns),
                       fmt::format("column {} of {}{}", output.column, stack.block(2).columns, aligned ? "" : ", under two"),
                       std::to_string(r->waves.at(1).pulses), num(one), num(two), num(two / one), pct(sphere_ratio(*r, 2)),
-                      pct(r->output_fraction), pct(r->output_fraction_bottom_row)});
+                      pct(r->output_fraction), pct(r->output_fraction_bottom_row_max), pct(r->output_fraction_bottom_row)});
   }
   out.tables.push_back(t);
+  out.figures.push_back(interfaces_figure(in));
   const auto v = [&](const std::string& key) -> std::optional<double> {
     const auto it = out.values.find(key);
     return it == out.values.end() ? std::nullopt : std::optional<double>(it->second);
   };
-  // The shares against the uniform block, read on the output sphere (the primary reading) and on the
-  // whole bottom row (the energy that leaves the stack).
-  struct Shares {
-    double mismatch = 0.0, prongs = 0.0, both = 0.0;
-  };
-  const auto shares = [&](const std::string& reading) -> std::optional<Shares> {
+  // The shares against the uniform block, read per sphere (the output sphere, the primary reading,
+  // and the bottom row's most energetic sphere) and on the whole bottom row (the energy that leaves
+  // the stack).
+  const auto shares = [&](const std::string& reading) -> std::optional<MechanismShares> {
     const auto both = v(reading + ".nested_r2"), mismatch = v(reading + ".aligned_r2"), prongs = v(reading + ".nested_r1");
     const auto neither = v(reading + ".aligned_r1");
     if (both && mismatch && prongs) out.values[reading + ".both_over_either"] = *both / std::min(*mismatch, *prongs);
     if (!both || !mismatch || !prongs || !neither) return std::nullopt;
-    return Shares{*mismatch / *neither, *prongs / *neither, *both / *neither};
+    return MechanismShares{*mismatch / *neither, *prongs / *neither, *both / *neither};
   };
-  const auto sphere = shares("output"), row = shares("output_row");
-  if (!sphere || !row) return;
+  const auto sphere = shares("output"), busiest = shares("output_max"), row = shares("output_row");
+  if (!sphere || !busiest || !row) return;
   out.values["output.mismatch_over_neither"] = sphere->mismatch;
   out.values["output.prongs_over_neither"] = sphere->prongs;
   out.values["output.both_over_neither"] = sphere->both;
   out.values["output.product_over_neither"] = sphere->mismatch * sphere->prongs;
-  const auto words = [](const Shares& s) {
-    return fmt::format("the mismatch alone passes {:.3f} of the uniform block's, the prongs alone {:.3f}, both {:.3f} (the "
-                       "product of the two alone: {:.3f})",
-                       s.mismatch, s.prongs, s.both, s.mismatch * s.prongs);
-  };
-  const auto together = [](const Shares& s) { return s.both < std::min(s.mismatch, s.prongs) ? "less" : "more"; };
-  // Where the two readings part, the prongs lower the energy per sphere by spreading it, not the
-  // energy that leaves the stack.
-  const bool spread_only = std::string_view(together(*sphere)) == "less" && std::string_view(together(*row)) == "more";
-  out.notes.push_back(fmt::format(
-      "Each mechanism's share, against the uniform block (neither). Per sphere, on the output sphere: {}; together they "
-      "pass {} than either alone. On the whole bottom row, the energy that leaves the stack: {}; together they pass {} "
-      "than either alone.{} The product is a reference, not a prediction of independent mechanisms: the four interfaces "
-      "are different geometries (the equal-sphere nest puts its prongs at 30 degrees over one column more, the study's "
-      "at 19.47 degrees over twice the columns; the table names each output sphere's column).",
-      words(*sphere), together(*sphere), words(*row), together(*row),
-      spread_only ? " 'Together more decimation' holds per sphere only: the prongs lower the energy per sphere by "
-                    "spreading it over more columns, not the energy that leaves the stack."
-                  : ""));
+  bool same_sphere = true;
+  for (const auto& c : in.experiment.cases) {
+    if (const auto* r = in.own(c.name)) same_sphere = same_sphere && r->output_fraction_bottom_row_max == r->output_fraction;
+  }
+  out.notes.push_back(mechanisms_note(*sphere, *busiest, *row, same_sphere));
 }
 
 }  // namespace granstack::study::analyses

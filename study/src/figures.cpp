@@ -295,16 +295,33 @@ struct View {
   double lo = INFINITY, hi = -INFINITY, bottom = INFINITY, top = -INFINITY;
 };
 
-void add_view(const model::Stack& stack, bool along_x, bool one_panel, View& v, fmt::memory_buffer& data) {
+// The palette's colours: 1 striker, 2 steel, 3 Teflon, 4 other materials, then the marks.
+constexpr const char* kPalette = "set palette defined (1 'red', 2 'gray50', 3 'orange', 4 'skyblue', 5 'blue', 6 'web-green')\n"
+                                 "set cbrange [1:6]\nunset colorbox\n";
+
+// `materials`: the stack's type_materials().
+int sphere_colour(const model::Stack& stack, const std::vector<std::string>& materials, const model::Sphere& s,
+                  const std::vector<DrawingMark>& marks) {
+  for (const auto& m : marks) {
+    if (m.id == s.id) return m.colour;
+  }
+  if (s.id <= stack.strikers()) return 1;
+  const auto& material = materials.at(static_cast<std::size_t>(s.atom_type - 1));
+  return material == "steel" ? 2 : material == "teflon" ? 3 : 4;
+}
+
+// The spheres of one view; `z_window` (m) keeps those whose centres lie in it.
+void add_view(const model::Stack& stack, bool along_x, bool one_panel, const std::vector<DrawingMark>& marks,
+              const std::optional<std::pair<double, double>>& z_window, View& v, fmt::memory_buffer& data) {
   auto out = std::back_inserter(data);
   const auto materials = stack.type_materials();
   for (const auto& s : stack.spheres()) {
     const bool striker = s.id <= stack.strikers();
     if (one_panel && !striker && (stack.is_matrix(s) || s.column_y != stack.impact_panel())) continue;
     if (one_panel && striker && s.id != stack.impact_panel() && stack.strikers() > 1) continue;
+    if (z_window && (s.z < z_window->first || s.z > z_window->second)) continue;
     const double h = (along_x ? s.y : s.x) * 1e3, z = s.z * 1e3, rad = s.radius * 1e3;
-    const auto& m = materials.at(static_cast<std::size_t>(s.atom_type - 1));
-    fmt::format_to(out, "{:.6g} {:.6g} {:.6g} {}\n", h, z, rad, striker ? 1 : m == "steel" ? 2 : m == "teflon" ? 3 : 4);
+    fmt::format_to(out, "{:.6g} {:.6g} {:.6g} {}\n", h, z, rad, sphere_colour(stack, materials, s, marks));
     v.lo = std::min(v.lo, h - rad);
     v.hi = std::max(v.hi, h + rad);
     v.top = std::max(v.top, z + rad);
@@ -313,36 +330,56 @@ void add_view(const model::Stack& stack, bool along_x, bool one_panel, View& v, 
   fmt::format_to(out, "\n\n");
 }
 
-std::string view_script(const View& v, int index, const std::string& name) {
-  const double pad = 0.04 * std::max(v.hi - v.lo, v.top - v.bottom);
+// `z_span` (mm): the height every panel shows from its lowest sphere up, so that panels side by
+// side share one scale.
+std::string view_script(const View& v, int index, const std::string& name, double z_span = 0.0) {
+  const double height = std::max(v.top - v.bottom, z_span);
+  const double pad = 0.04 * std::max(v.hi - v.lo, height);
   return fmt::format("set title {} noenhanced\nset xlabel '{} (mm)'\nset xrange [{:.6g}:{:.6g}]\nset yrange [{:.6g}:{:.6g}]\n"
                      "set xtics {:g}\nset ytics {:g}\n"
                      "plot '{}.dat' index {} using 1:2:3:4 with circles linewidth 0.3 fillcolor palette\n",
-                     gp_quote(v.title), v.axis, v.lo - pad, v.hi + pad, v.bottom - pad, v.top + pad,
-                     nice_step(v.hi - v.lo + 2 * pad, 4), nice_step(v.top - v.bottom + 2 * pad, 6), name, index);
+                     gp_quote(v.title), v.axis, v.lo - pad, v.hi + pad, v.bottom - pad, v.bottom + height + pad,
+                     nice_step(v.hi - v.lo + 2 * pad, z_span > 0.0 ? 3 : 4), nice_step(height + 2 * pad, 6), name, index);
 }
+
+constexpr const char* kDrawingStyle =
+    "set size ratio -1\nunset key\nset style fill transparent solid 0.6 border lc rgb 'black'\n";
 
 }  // namespace
 
 Figure stack_drawing(const model::Stack& stack, const std::string& dir, const std::string& name, const std::string& gnuplot,
-                     const std::string& caption) {
+                     const std::string& caption, const std::vector<DrawingMark>& marks) {
   fmt::memory_buffer data;
-  fmt::format_to(std::back_inserter(data), "# per view: h (mm, x or y), z (mm), radius (mm), colour: 1 striker, 2 steel, 3 Teflon, 4 other\n");
+  fmt::format_to(std::back_inserter(data), "# per view: h (mm, x or y), z (mm), radius (mm), colour: 1 striker, 2 steel, 3 Teflon, 4 other, 5 and 6 marked\n");
   View side{stack.container() ? "the panel hit, x-z plane" : "the simulated stack, x-z plane", "x"};
-  add_view(stack, false, true, side, data);
+  add_view(stack, false, true, marks, std::nullopt, side, data);
   std::string plots = view_script(side, 0, name);
   std::string layout = "set multiplot\n";
   if (stack.container()) {
     View across{"the container seen along x (every sphere)", "y"};
-    add_view(stack, true, false, across, data);
+    add_view(stack, true, false, marks, std::nullopt, across, data);
     layout = "set multiplot layout 1, 2\n";
     plots += view_script(across, 1, name);
   }
-  const auto body = fmt::format(
-      "set ylabel 'z (mm)'\nset size ratio -1\nunset key\nset style fill transparent solid 0.6 border lc rgb 'black'\n"
-      "set palette defined (1 'red', 2 'gray50', 3 'orange', 4 'skyblue')\nset cbrange [1:4]\nunset colorbox\n{}{}"
-      "unset multiplot\n",
-      layout, plots);
+  const auto body = fmt::format("set ylabel 'z (mm)'\n{}{}{}{}unset multiplot\n", kDrawingStyle, kPalette, layout, plots);
+  return render(dir, name, fmt::to_string(data), body, gnuplot, caption);
+}
+
+Figure panels_drawing(const std::vector<DrawingPanel>& panels, const std::string& dir, const std::string& name,
+                      const std::string& gnuplot, const std::string& caption) {
+  fmt::memory_buffer data;
+  fmt::format_to(std::back_inserter(data), "# per panel: x (mm), z (mm), radius (mm), colour: 1 striker, 2 steel, 3 Teflon, 4 other, 5 and 6 marked\n");
+  std::vector<View> views;
+  double span = 0.0;
+  for (const auto& p : panels) {
+    views.push_back({p.title, "x"});
+    add_view(p.stack, false, true, p.marks, p.z_window, views.back(), data);
+    span = std::max(span, views.back().top - views.back().bottom);
+  }
+  std::string plots;
+  for (std::size_t i = 0; i < views.size(); ++i) plots += view_script(views[i], static_cast<int>(i), name, span);
+  const auto body = fmt::format("set ylabel 'z (mm)'\n{}{}set multiplot layout 1, {}\n{}unset multiplot\n", kDrawingStyle,
+                                kPalette, panels.size(), plots);
   return render(dir, name, fmt::to_string(data), body, gnuplot, caption);
 }
 

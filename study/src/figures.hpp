@@ -85,9 +85,27 @@ struct ScanBand {
 Figure scan_figure(const std::vector<ScanSeries>& series, const std::vector<ScanBand>& bands, const std::string& dir,
                    const std::string& gnuplot, const std::string& caption);
 
+// A sphere drawn in a colour of its own: 5 blue, 6 green (the caption says what each marks).
+struct DrawingMark {
+  int id = 0;
+  int colour = 5;
+};
+
 // A drawing of the simulated stack (Fig. 1a: the x-z plane) or container (Fig. 1b: every sphere
-// projected on the y-z plane), to scale: spheres by material, the striker red.
+// projected on the y-z plane), to scale: spheres by material, the striker red, the marked ones in
+// their colours.
 Figure stack_drawing(const model::Stack& stack, const std::string& dir, const std::string& name, const std::string& gnuplot,
-                     const std::string& caption);
+                     const std::string& caption, const std::vector<DrawingMark>& marks = {});
+
+// Stacks side by side (the x-z plane, one panel each, on one scale): each panel the spheres whose
+// centres lie in its z window (m; all without one).
+struct DrawingPanel {
+  std::string title;
+  model::Stack stack;
+  std::vector<DrawingMark> marks;
+  std::optional<std::pair<double, double>> z_window;
+};
+Figure panels_drawing(const std::vector<DrawingPanel>& panels, const std::string& dir, const std::string& name,
+                      const std::string& gnuplot, const std::string& caption);
 
 }  // namespace granstack::study

@@ -20,6 +20,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -150,6 +151,31 @@ double brute_force_drift(const std::string& dir) {
     drift = std::max(drift, std::fabs(brute_force_energy(stack, f) - stack.incident_energy()) / stack.incident_energy());
   }
   return drift;
+}
+
+// The bottom row's largest kinetic energy in the last dump frame, read apart from reduce:
+// 1/2 m v^2 + 1/2 I w^2 of each of the stack's bottom-row spheres.
+double last_frame_bottom_row_max(const std::string& dir) {
+  const auto m = formats::read_manifest(dir);
+  formats::TextDumpReader reader((fs::path(dir) / m.files.dump).string());
+  formats::DumpFrame f, last;
+  while (reader.next(f)) last = f;
+  const int mass = last.column("mass"), r = last.column("radius");
+  const int v[3] = {last.column("vx"), last.column("vy"), last.column("vz")};
+  const int w[3] = {last.column("omegax"), last.column("omegay"), last.column("omegaz")};
+  const auto ids = model::Stack::build(m.spec).bottom_row_ids();
+  const int id = last.column("id");
+  double best = 0.0;
+  for (long i = 0; i < last.atoms; ++i) {
+    if (std::find(ids.begin(), ids.end(), static_cast<int>(last.at(i, id))) == ids.end()) continue;
+    double ke = 0.0;
+    for (int d = 0; d < 3; ++d) {
+      ke += 0.5 * last.at(i, mass) * last.at(i, v[d]) * last.at(i, v[d]);
+      ke += 0.5 * 0.4 * last.at(i, mass) * last.at(i, r) * last.at(i, r) * last.at(i, w[d]) * last.at(i, w[d]);
+    }
+    best = std::max(best, ke);
+  }
+  return best;
 }
 
 // A CSV table reduce writes: its header and its rows of numbers.
@@ -297,6 +323,12 @@ TEST_P(SmallStacks, RunsReducesConservesEnergyAndAgreesWithInSituSeries) {
   EXPECT_GT(r.output_fraction, 0.0);
   EXPECT_LT(r.output_fraction_bottom_row, 1.0);
   EXPECT_GE(r.output_fraction_bottom_row, r.output_fraction);
+  // The bottom row's most energetic sphere: at least the output sphere and the row's mean, at most
+  // the row; and the last frame's, read apart from reduce (its own summation order: 1e-12).
+  EXPECT_GE(r.output_fraction_bottom_row_max, r.output_fraction);
+  EXPECT_GE(r.output_fraction_bottom_row_max, r.output_fraction_bottom_row_per_sphere);
+  EXPECT_LE(r.output_fraction_bottom_row_max, r.output_fraction_bottom_row);
+  EXPECT_NEAR(r.output_fraction_bottom_row_max / (last_frame_bottom_row_max(dir) / r.e_in), 1.0, 1e-12);
   // Each block's peak and its normalisation, read from the series apart from reduce; deeper
   // blocks peak lower than the top one (the pulse splits into more columns).
   const double top = series_peak(dir, "block1");

@@ -37,6 +37,7 @@ struct FrameEnergy {
   bool striker_coming = false;      // model::striker_coming
   double output_sphere_ke = 0.0;
   double bottom_row_ke = 0.0;
+  double bottom_row_max_ke = 0.0;  // the most energetic sphere of the bottom row
   double kinetic = 0.0;          // everything
   double momentum_z = 0.0;       // kg m/s: every sphere's m vz, summed in id order (up positive)
   double elastic = 0.0;          // elastic energy of every overlapping pair (and sphere-wall contact), the contact model's

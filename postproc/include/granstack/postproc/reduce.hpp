@@ -29,6 +29,7 @@ struct CaseReduction {
   double output_fraction = 0.0;        // output sphere's KE after separation / E_in
   double output_fraction_bottom_row = 0.0;             // whole bottom row's final KE / E_in
   double output_fraction_bottom_row_per_sphere = 0.0;  // the same per bottom-row sphere
+  double output_fraction_bottom_row_max = 0.0;         // the bottom row's most energetic sphere's final KE / E_in
   std::string output_definition;       // how output_fraction was taken
   bool output_separated = false;       // the output sphere touches nothing at the last frame
   double output_peak_fraction = 0.0;   // the output sphere's peak KE / E_in
