@@ -74,9 +74,14 @@ Record parse_record(const toml::table& t, const std::string& where, const std::v
   for (const auto& [key, node] : *fixed) {
     const std::string k(key.str());
     if (k == "date" || k == "commit") continue;
+    if (k == "results_known" && node.is_boolean()) {
+      r.fixed_with_results = node.as_boolean()->get();
+      continue;
+    }
     if (std::find(fields.begin(), fields.end(), k) == fields.end() || !node.is_string()) {
-      throw CatalogueError(fmt::format("{}.fixed: '{}' is not a recorded field (recorded: {}), or its value is not text", where,
-                                       k, fmt::join(fields, ", ")));
+      throw CatalogueError(fmt::format("{}.fixed: '{}' is not a recorded field (recorded: {}; and results_known, true or "
+                                       "false), or its value is not text",
+                                       where, k, fmt::join(fields, ", ")));
     }
     r.fixed[k] = node.as_string()->get();
   }

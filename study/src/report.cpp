@@ -118,6 +118,12 @@ Table record_table(const StudyResult& r) {
           "since the catalogue first fixed it (study/data/catalogue.toml)",
           {"date", "commit", "claim or experiment", "field", "before", "after", "with results known", "why"}, {}};
   auto add = [&](const std::string& who, const Record& rec) {
+    if (rec.fixed_with_results) {
+      std::vector<std::string> values;
+      for (const auto& [field, value] : rec.fixed) values.push_back(fmt::format("{} {}", field, value));
+      t.rows.push_back({rec.date, rec.commit, who, "first fixed", "-", fmt::format("{}", fmt::join(values, "; ")), "yes",
+                        "fixed in the commit that first reported its results"});
+    }
     for (const auto& c : rec.changes) {
       t.rows.push_back({c.date, c.commit.empty() ? fmt::format("{} (this build)", std::string(git_commit()).substr(0, 7)) : c.commit,
                         who, c.field, c.before, c.after,
@@ -143,7 +149,7 @@ bool changed_with_results(const Record& r) {
 // results in view, by a change to the claim itself or to its experiment's geometry or physics.
 std::string record_note(const StudyResult& r) {
   int claims = 0, changed = 0;
-  std::vector<std::string> own, by_experiment;
+  std::vector<std::string> own, by_experiment, at_first;
   for (const auto& e : r.experiments) {
     const bool experiment_known = changed_with_results(e.experiment->record);
     for (const auto& c : e.experiment->claims) {
@@ -153,6 +159,8 @@ std::string record_note(const StudyResult& r) {
         own.push_back(c.id);
       } else if (experiment_known) {
         by_experiment.push_back(c.id);
+      } else if (c.record.fixed_with_results || e.experiment->record.fixed_with_results) {
+        at_first.push_back(c.id);
       }
     }
   }
@@ -164,10 +172,12 @@ std::string record_note(const StudyResult& r) {
       "fixed in the catalogue with the date it was first fixed; every change since is recorded with its date, its "
       "commit, the values before and after and why, and a test fails when a change has no record or, made after its "
       "claim first ran, does not say its results were known. Of the {} claims here, {} verdicts were settled with "
-      "results in view: {} by a change to the claim itself ({}), and {} by a change to its experiment's geometry or "
-      "physics alone ({}); those are not predictions made before the run. {} claims changed in all since they were "
-      "first fixed; the table below says what each change was.",
-      claims, own.size() + by_experiment.size(), own.size(), list(own), by_experiment.size(), list(by_experiment), changed);
+      "results in view: {} by a change to the claim itself ({}), {} by a change to its experiment's geometry or "
+      "physics alone ({}), and {} fixed first in the commit that first reported their results ({}); those are not "
+      "predictions made before the run. {} claims changed in all since they were first fixed; the table below says what "
+      "each change was.",
+      claims, own.size() + by_experiment.size() + at_first.size(), own.size(), list(own), by_experiment.size(),
+      list(by_experiment), at_first.size(), list(at_first), changed);
 }
 
 Table claim_table(const ExperimentResult& e) {

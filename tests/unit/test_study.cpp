@@ -184,6 +184,39 @@ TEST(Catalogue, EveryChangeToAReadingBandPaperValueOrGeometryIsRecorded) {
   }
 }
 
+// A claim whose band was first fixed in the commit that first reported its results (the
+// mechanisms experiment's) says so in its record, as a yes or no; text there is refused by name.
+TEST(Catalogue, AFirstFixingMadeWithTheResultsInViewIsRecordedAsSuch) {
+  const std::string text = R"([[experiment]]
+name = "x"
+title = "t"
+source = "s"
+analysis = "fig3"
+  [[experiment.claim]]
+  statement = "s"
+  quantity = "q"
+  band = [0, 1]
+  band_reason = "r"
+  expect = "within"
+  fixed = { date = "2026-01-01", commit = "abcdef0", KNOWN quantity = "q", band = "[0, 1]", paper = "none" }
+)";
+  const auto parse = [&](const std::string& known) {
+    auto t = text;
+    t.replace(t.find("KNOWN "), 6, known);
+    return parse_catalogue(t, "t").experiments.front();
+  };
+  EXPECT_FALSE(parse("").claims.front().record.fixed_with_results);
+  const auto known = parse("results_known = true, ");
+  EXPECT_TRUE(known.claims.front().record.fixed_with_results);
+  EXPECT_TRUE(unrecorded_changes(known).empty());
+  try {
+    parse("results_known = \"yes\", ");
+    FAIL() << "a text results_known was taken";
+  } catch (const CatalogueError& e) {
+    EXPECT_NE(std::string(e.what()).find("'results_known'"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Catalogue, AChangeWithoutARecordOrWithAWrongBeforeIsFound) {
   const std::string head = R"([[experiment]]
 name = "x"

@@ -24,6 +24,9 @@ struct Change {
 struct Record {
   std::string date, commit;
   std::map<std::string, std::string> fixed;  // field -> value as text
+  // The first values were fixed in the commit that first reported their results (fixed's
+  // results_known = true): not a prediction made before the run either.
+  bool fixed_with_results = false;
   std::vector<Change> changes;
 };
 
