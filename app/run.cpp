@@ -80,8 +80,8 @@ void show_progress(runner::RunOptions& o, StatusLine& status, std::mutex& mutex,
   };
 }
 
-// More threads or ranks than granstack's CPUs run far slower, not faster (refsim --threads 8 on
-// 2 CPUs: 40 s against 0.19 s; --np 64: 89 s against 0.4 s): said before the run.
+// More threads or ranks than granstack's CPUs run far slower, not faster (measured by
+// bench/oversubscription.sh, its record in bench/results/): said before the run.
 void warn_if_oversubscribed(const runner::RunOptions& o, int cases) {
   const bool refsim = o.engine == runner::Engine::refsim;
   const int each = refsim ? o.threads : o.ranks;

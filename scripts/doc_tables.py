@@ -51,6 +51,8 @@ RECORDS = {
     "reproduce": "bench/results/reproduce-2026-11-28.json",
     # OUT=... bench/design_front.sh, on the 2-core machine (the example's confined front, #47 item 9)
     "design_front": "bench/results/design-front-2026-11-28.json",
+    # bench/oversubscription.sh 3, on the 2-core machine
+    "oversubscription": "bench/results/oversubscription-2026-11-28.json",
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
                  "refsim_against_liggghts": ["docs/how-to/big-nests.md"],
@@ -61,7 +63,8 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "reproduce_cost": ["README.md", "docs/index.md", "docs/tutorials/reproduce.md"],
                  "reproduce_speed": ["docs/explanation/performance.md"],
                  "design_front": ["docs/how-to/design.md"], "design_sides": ["docs/how-to/design.md"],
-                 "design_yield": ["docs/how-to/design.md"], "design_example_cost": ["docs/explanation/performance.md"]}
+                 "design_yield": ["docs/how-to/design.md"], "design_example_cost": ["docs/explanation/performance.md"],
+                 "oversubscription": ["docs/reference/commands.md"]}
 # The study's tables: LIGGGHTS's reproduction (refsim's in the check) and the LAMMPS study's record.
 REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"], "engines_study": ["docs/explanation/lammps.md"]}
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
@@ -282,6 +285,15 @@ def design_example_cost():
             f"| `design confirm --top 2 --sides free` (LIGGGHTS, each also as the free strip) | {r['confirm_seconds']:.0f} s |\n")
 
 
+def oversubscription():
+    """refsim with 4 threads per CPU against one thread (bench/oversubscription.sh)."""
+    r = record("oversubscription")
+    return (f"Measured on {r['cpus']} CPUs (Fig. 3's three blocks, medians of {r['repeats']} alternating runs, "
+            f"`{RECORDS['oversubscription']}`): refsim with `--threads {r['threads']}` took "
+            f"{r['seconds_oversubscribed']:.2f} s against {r['seconds_one_thread']:.3f} s with one thread, "
+            f"{r['ratio']:.0f} times as long.\n")
+
+
 def engines_agreement():
     """validate --engines on every pair of engines and case (bench/engines.sh)."""
     names = {"two_body": "two-body, e = 1", "elastic": "stack, e = 1", "elastic_wall": "stack on a wall, e = 1",
@@ -415,7 +427,7 @@ def main():
                 design_cores_summary=design_cores_summary(), engines_agreement=engines_agreement(),
                 engines_speed=engines_speed(), reproduce_cost=reproduce_cost(), reproduce_speed=reproduce_speed(),
                 design_front=design_front(), design_sides=design_sides(), design_yield=design_yield(),
-                design_example_cost=design_example_cost())
+                design_example_cost=design_example_cost(), oversubscription=oversubscription())
     places = {**PLACES, **RECORD_PLACES, **REPRODUCE_PLACES}
     if "--reproduce" in sys.argv[1:]:
         made["reproduce"] = reproduce_table(exe, work, "liggghts")

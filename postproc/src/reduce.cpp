@@ -363,8 +363,8 @@ void final_state(const FrameEnergy& last, const model::Stack& stack, CaseReducti
 
 // Frames are handed to threads in batches of about this many bytes: a text piece large enough to
 // hold many frames (each reuses the previous frame's repeated numbers; the first of a piece has
-// none to reuse: 4 MB against 1 MB, 7.7 % fewer instructions, callgrind), a binary batch small,
-// and a few batches per thread small in memory.
+// none to reuse, so a larger piece reuses more), a binary batch small, and a few batches per
+// thread small in memory.
 constexpr std::size_t kTextBatchBytes = std::size_t{4} << 20, kBinaryBatchBytes = std::size_t{1} << 20;
 
 CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& options) {
