@@ -8,7 +8,7 @@
 #include <granstack/formats/run_digests.hpp>
 #include <granstack/os/case_lock.hpp>
 #include <granstack/os/process.hpp>
-#include <granstack/os/shares.hpp>
+#include <granstack/os/workers.hpp>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

@@ -6,7 +6,7 @@
 #include <granstack/formats/case.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/os/case_lock.hpp>
-#include <granstack/os/shares.hpp>
+#include <granstack/os/workers.hpp>
 #include <granstack/os/process.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/model/resolution.hpp>

@@ -5,6 +5,7 @@
 #include <granstack/design/convergence.hpp>
 #include <granstack/design/search.hpp>
 #include <granstack/os/interrupt.hpp>
+#include <granstack/os/workers.hpp>
 #include <granstack/refsim/in_situ.hpp>
 
 #include <fmt/format.h>
@@ -19,7 +20,6 @@
 #include <numeric>
 #include <random>
 #include <set>
-#include <thread>
 
 namespace granstack::design {
 
@@ -51,18 +51,18 @@ struct Finished {
   std::exception_ptr error;
 };
 
-// `jobs` threads, each running one design at a time (in situ on refsim, one core; or through
-// the search's runner, e.g. as a SLURM job array). The search starts a design only when a thread
-// is free, and takes the finished ones back in the order they finished.
+// The designs to run and those that ran, between the search and the threads of an os::Workers
+// that each run work(), one design at a time (in situ on refsim, one core; or through the
+// search's runner, e.g. as a SLURM job array). The search starts a design only when a thread is
+// free, and takes the finished ones back in the order they finished.
 class Pool {
  public:
-  Pool(const Space& space, int jobs, BatchRunner* runner) : space_(space), runner_(runner) {
-    for (int t = 0; t < jobs; ++t) threads_.emplace_back([this] { work(); });
-  }
+  Pool(const Space& space, BatchRunner* runner) : space_(space), runner_(runner) {}
   Pool(const Pool&) = delete;
   Pool& operator=(const Pool&) = delete;
-  // Joins the threads; a design still running is abandoned (its run stops at its next look).
-  ~Pool() {
+  // Ends every work(): nothing more starts, and a design still running is abandoned (its run
+  // stops at its next look).
+  void close() {
     {
       const std::lock_guard<std::mutex> lock(m_);
       closing_ = true;
@@ -70,7 +70,6 @@ class Pool {
     }
     abandon_ = true;
     work_cv_.notify_all();
-    for (auto& t : threads_) t.join();
   }
   void start(Job job) {
     {
@@ -93,8 +92,7 @@ class Pool {
     const std::lock_guard<std::mutex> lock(m_);
     return running_;
   }
-
- private:
+  // A thread's loop: runs the designs started, one at a time, until close().
   void work() {
     for (;;) {
       Job job;
@@ -120,6 +118,8 @@ class Pool {
       done_cv_.notify_one();
     }
   }
+
+ private:
   const Space& space_;
   BatchRunner* runner_;
   std::mutex m_;
@@ -129,7 +129,6 @@ class Pool {
   int running_ = 0;
   bool closing_ = false;
   std::atomic<bool> abandon_{false};
-  std::vector<std::thread> threads_;
 };
 
 // Design number `n`'s own random stream, from the search's seed.
@@ -147,6 +146,7 @@ class Asynchronous {
         population_(static_cast<std::size_t>(space.search.population)) {}
 
   SearchResult run();
+  void search(Pool& pool, int jobs, std::exception_ptr& error);
 
  private:
   void replay();
@@ -461,6 +461,36 @@ void Asynchronous::take(std::vector<Finished> done, std::exception_ptr& error) {
   }
 }
 
+// Starts designs while threads are free and the search goes on, and takes back those that end,
+// until it has ended and nothing it needs still runs.
+void Asynchronous::search(Pool& pool, int jobs, std::exception_ptr& error) {
+  start_probes(pool);
+  for (;;) {
+    if (os::interrupt_signal() != 0) {
+      take(pool.finished(std::chrono::milliseconds(0)), error);
+      throw refsim::InSituStopped("stopped by a signal");  // the pool abandons what runs
+    }
+    int running = pool.running();
+    while (!error && running < jobs && may_start(running - probes_running_)) {
+      auto job = draw();
+      if (!job) {
+        ended_ = "exhausted";
+        break;
+      }
+      if (job->ready) {
+        joined(*job->ready, true, job->subproblem);
+        continue;
+      }
+      pool.start(std::move(*job));
+      ++running;
+    }
+    // Ended but for a space with nothing new (its running designs are new ones, and finish):
+    // what still runs is abandoned, once the probes have fixed the box.
+    if (running == 0 || error || (!ended_.empty() && ended_ != "exhausted" && probes_running_ == 0)) return;
+    take(pool.finished(std::chrono::milliseconds(100)), error);
+  }
+}
+
 SearchResult Asynchronous::run() {
   decompose();
   replay();
@@ -469,34 +499,16 @@ SearchResult Asynchronous::run() {
   }
   const int jobs = std::max(1, options_.jobs);
   std::exception_ptr error;
-  {
-    Pool pool(space_, jobs, options_.runner);
-    start_probes(pool);
-    for (;;) {
-      if (os::interrupt_signal() != 0) {
-        take(pool.finished(std::chrono::milliseconds(0)), error);
-        throw refsim::InSituStopped("stopped by a signal");  // the pool abandons what runs
-      }
-      int running = pool.running();
-      while (!error && running < jobs && may_start(running - probes_running_)) {
-        auto job = draw();
-        if (!job) {
-          ended_ = "exhausted";
-          break;
-        }
-        if (job->ready) {
-          joined(*job->ready, true, job->subproblem);
-          continue;
-        }
-        pool.start(std::move(*job));
-        ++running;
-      }
-      // Ended but for a space with nothing new (its running designs are new ones, and finish):
-      // what still runs is abandoned, once the probes have fixed the box.
-      if (running == 0 || error || (!ended_.empty() && ended_ != "exhausted" && probes_running_ == 0)) break;
-      take(pool.finished(std::chrono::milliseconds(100)), error);
-    }
-  }
+  Pool pool(space_, options_.runner);
+  // The caller's thread searches; `jobs` more run the designs.
+  os::Workers(jobs + 1).run([&](int t) {
+    if (t > 0) return pool.work();
+    struct Closing {
+      Pool& pool;
+      ~Closing() { pool.close(); }  // however the search ends, the threads return
+    } closing{pool};
+    search(pool, jobs, error);
+  });
   if (error) std::rethrow_exception(error);
   result_.ended = ended_.empty() ? "generations" : ended_;
   if (ended_ == "exhausted" && !rejections_.empty()) {

@@ -5,6 +5,7 @@
 #include <granstack/model/protection.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/os/interrupt.hpp>
+#include <granstack/os/workers.hpp>
 #include <granstack/refsim/in_situ.hpp>
 
 #include <fmt/format.h>
@@ -14,7 +15,6 @@
 #include <cmath>
 #include <mutex>
 #include <set>
-#include <thread>
 
 namespace granstack::design {
 
@@ -205,33 +205,30 @@ class LocalRunner : public BatchRunner {
   explicit LocalRunner(int jobs) : jobs_(std::max(1, jobs)) {}
   void run(const Space& space, const std::vector<model::StackSpec>& specs, Store& store,
            const std::function<void(int, int)>& on_done) override {
-    std::atomic<std::size_t> next{0};
     std::atomic<int> finished{0};
+    std::atomic<bool> ended{false};  // a design failed or a signal came: no other starts
     std::mutex m;
     std::exception_ptr error;
-    auto worker = [&] {
-      for (std::size_t k; (k = next.fetch_add(1)) < specs.size();) {
-        if (os::interrupt_signal() != 0) {  // no design starts once a signal came; the batch ends
-          const std::lock_guard<std::mutex> lock(m);
-          if (!error) error = std::make_exception_ptr(refsim::InSituStopped("stopped by a signal"));
-          break;
-        }
-        try {
-          store.put(evaluate_design(space, specs[k]));
-        } catch (...) {
-          const std::lock_guard<std::mutex> lock(m);
-          if (!error) error = std::current_exception();
-          next = specs.size();
-        }
-        const int done = ++finished;
-        const std::lock_guard<std::mutex> lock(m);
-        if (on_done) on_done(done, static_cast<int>(specs.size()));
-      }
+    const auto end_with = [&](std::exception_ptr e) {
+      const std::lock_guard<std::mutex> lock(m);
+      if (!error) error = std::move(e);
+      ended = true;
     };
-    std::vector<std::thread> threads;
-    for (int t = 1; t < std::min<int>(jobs_, static_cast<int>(specs.size())); ++t) threads.emplace_back(worker);
-    worker();
-    for (auto& t : threads) t.join();
+    os::for_each(specs.size(), jobs_, [&](std::size_t k) {
+      if (ended) return;
+      if (os::interrupt_signal() != 0) {  // no design starts once a signal came; the batch ends
+        end_with(std::make_exception_ptr(refsim::InSituStopped("stopped by a signal")));
+        return;
+      }
+      try {
+        store.put(evaluate_design(space, specs[k]));
+      } catch (...) {
+        end_with(std::current_exception());
+      }
+      const int done = ++finished;
+      const std::lock_guard<std::mutex> lock(m);
+      if (on_done) on_done(done, static_cast<int>(specs.size()));
+    });
     if (error) std::rethrow_exception(error);
   }
 

@@ -1,6 +1,7 @@
 #include <granstack/design/convergence.hpp>
 #include <granstack/design/search.hpp>
 #include <granstack/os/interrupt.hpp>
+#include <granstack/os/workers.hpp>
 #include <granstack/refsim/in_situ.hpp>
 
 #include <fmt/format.h>
@@ -15,11 +16,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <atomic>
 #include <memory>
-#include <mutex>
 #include <set>
-#include <thread>
 
 namespace granstack::design {
 
@@ -268,25 +266,7 @@ std::pair<std::vector<Evaluation>, int> evaluate_at_once(const Space& space, Sto
   for (std::size_t k = 0; k < designs.size(); ++k) {
     if (!store.find(spec_digest(designs[k]))) missing.push_back(k);
   }
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::mutex m;
-  const auto work = [&] {
-    for (std::size_t i; (i = next.fetch_add(1)) < missing.size();) {
-      try {
-        done[missing[i]] = evaluate_design(space, designs[missing[i]], true);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(m);
-        if (!error) error = std::current_exception();
-      }
-    }
-  };
-  std::vector<std::thread> threads;
-  for (std::size_t t = 0; t < std::min<std::size_t>(static_cast<std::size_t>(std::max(1, jobs)), missing.size()); ++t) {
-    threads.emplace_back(work);
-  }
-  for (auto& t : threads) t.join();
-  if (error) std::rethrow_exception(error);
+  os::for_each(missing.size(), jobs, [&](std::size_t i) { done[missing[i]] = evaluate_design(space, designs[missing[i]], true); });
   std::vector<Evaluation> out;
   for (std::size_t k = 0; k < designs.size(); ++k) {
     if (done[k]) {

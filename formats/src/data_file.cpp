@@ -2,6 +2,7 @@
 #include <granstack/formats/data_file.hpp>
 #include <granstack/formats/error.hpp>
 #include <granstack/formats/line_reader.hpp>
+#include <granstack/os/workers.hpp>
 
 #include <fmt/format.h>
 
@@ -11,7 +12,6 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
-#include <thread>
 #include <tuple>
 
 namespace granstack::formats {
@@ -134,10 +134,7 @@ std::size_t parse_lines(const std::string& path, std::string_view text, std::siz
       }
     }
   };
-  std::vector<std::thread> workers;
-  for (std::size_t p = 1; p + 1 < starts.size(); ++p) workers.emplace_back(run_piece, p);
-  run_piece(0);
-  for (auto& t : workers) t.join();
+  os::Workers(static_cast<int>(starts.size() - 1)).run([&](int p) { run_piece(static_cast<std::size_t>(p)); });
   for (const auto& f : failures) {
     if (f.line >= 0) throw FormatError(path, f.line, f.message);
   }

@@ -1,13 +1,13 @@
 #pragma once
 // Frames of a dump through a pool of threads, results back in frame order (reduce's engine).
 #include <granstack/formats/batches.hpp>
+#include <granstack/os/workers.hpp>
 
 #include <condition_variable>
 #include <exception>
 #include <map>
 #include <memory>
 #include <mutex>
-#include <thread>
 #include <vector>
 
 namespace granstack::postproc {
@@ -124,10 +124,7 @@ void for_each_frame_in_order(formats::FrameBatchSource& source, int threads, Mak
       changed.notify_all();
     }
   };
-  std::vector<std::thread> helpers;
-  for (int t = 1; t < threads; ++t) helpers.emplace_back(guarded);
-  guarded();
-  for (auto& h : helpers) h.join();
+  os::Workers(threads).run([&](int) { guarded(); });
   if (failure) std::rethrow_exception(failure);
 }
 

@@ -88,8 +88,7 @@ System::System(std::vector<Particle> particles, Parameters params)
   }
   choose_kernels();
   // The threads first: the first neighbour build runs on them.
-  threads_ = std::max(1, p_.threads);
-  for (int t = 1; t < threads_; ++t) workers_.emplace_back([this, t] { worker(t); });
+  workers_ = std::make_unique<os::Workers>(p_.threads);
   build_pairs();
 }
 
@@ -118,61 +117,7 @@ void System::choose_kernels() {
   vector_ = std::make_unique<detail::VectorKernels>(detail::vector_kernels(kernel_));
 }
 
-System::~System() {
-  stop_ = true;
-  generation_.fetch_add(1, std::memory_order_release);
-  for (auto& w : workers_) w.join();
-}
-
-namespace {
-void relax_cpu(long spins) {
-  if (spins < 2000) {
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#endif
-  } else {
-    std::this_thread::yield();  // oversubscribed: let the other work run
-  }
-}
-}  // namespace
-
-void System::worker(int index) {
-  long seen = 0;
-  for (;;) {
-    long g, spins = 0;
-    while ((g = generation_.load(std::memory_order_acquire)) == seen) relax_cpu(spins++);
-    seen = g;
-    if (stop_) return;
-    job_(index);
-    finished_.fetch_add(1, std::memory_order_release);
-  }
-}
-
-void System::parallel(const std::function<void(int)>& job) {
-  job_ = job;
-  finished_.store(0, std::memory_order_relaxed);
-  generation_.fetch_add(1, std::memory_order_release);
-  job(0);
-  long spins = 0;
-  while (finished_.load(std::memory_order_acquire) < threads_ - 1) relax_cpu(spins++);
-}
-
-std::pair<std::size_t, std::size_t> System::share(std::size_t count, int index, std::size_t align) const {
-  const std::size_t t = static_cast<std::size_t>(threads_), k = static_cast<std::size_t>(index);
-  const std::size_t units = (count + align - 1) / align;
-  return {std::min(count, units * k / t * align), std::min(count, units * (k + 1) / t * align)};
-}
-
-void System::for_shares(std::size_t count, const std::function<void(std::size_t, std::size_t)>& job, std::size_t align) {
-  if (threads_ <= 1) {
-    job(0, count);
-    return;
-  }
-  parallel([&](int t) {
-    const auto [begin, end] = share(count, t, align);
-    job(begin, end);
-  });
-}
+System::~System() = default;
 
 namespace {
 
@@ -628,7 +573,7 @@ void System::compute_forces(bool update_history, bool kick, bool drift) {
       detail::contacts_reference(pairs, s, begin, end);
     }
   };
-  if (threads_ == 1) {
+  if (workers_->size() == 1) {
     // Tile by tile: every pair of a particle has its i at or before the particle, so its sums
     // can be taken right after its tile's pairs, while their contributions are in the cache.
     for (std::size_t t = 0; t + 1 < tile_first_.size(); ++t) {

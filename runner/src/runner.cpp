@@ -9,6 +9,7 @@
 #include <granstack/os/case_lock.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/os/process.hpp>
+#include <granstack/os/workers.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include "engine.hpp"
@@ -383,30 +384,27 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
 std::vector<RunOutcome> run_cases(const std::vector<std::string>& case_dirs, const RunOptions& options) {
   std::vector<RunOutcome> outcomes(case_dirs.size());
   Monitor monitor(static_cast<int>(case_dirs.size()));
-  std::atomic<std::size_t> next{0};
   std::atomic<bool> all_done{false};
   std::mutex done_mutex;
   const int jobs = std::max(1, std::min<int>(options.jobs, static_cast<int>(case_dirs.size())));
   RunOptions each = options;
   each.jobs = jobs;  // the cases that run at the same time, as each case sees it
-  auto worker = [&] {
-    for (std::size_t i = next++; i < case_dirs.size(); i = next++) {
-      if (os::interrupt_signal() != 0) {  // asked to stop: no new case starts
-        outcomes[i].case_dir = case_dirs[i];
-        outcomes[i].status = RunStatus::not_started;
-        continue;
-      }
-      try {
-        outcomes[i] = run_one(case_dirs[i], each, monitor);
-      } catch (const std::exception& e) {  // e.g. a disk error: this case fails, the others go on
-        outcomes[i].case_dir = case_dirs[i];
-        outcomes[i].status = RunStatus::failed;
-        outcomes[i].message = e.what();
-      }
-      if (options.on_case_done) {
-        const std::lock_guard lock(done_mutex);
-        options.on_case_done(outcomes[i]);
-      }
+  const auto run_case = [&](std::size_t i) {
+    if (os::interrupt_signal() != 0) {  // asked to stop: no new case starts
+      outcomes[i].case_dir = case_dirs[i];
+      outcomes[i].status = RunStatus::not_started;
+      return;
+    }
+    try {
+      outcomes[i] = run_one(case_dirs[i], each, monitor);
+    } catch (const std::exception& e) {  // e.g. a disk error: this case fails, the others go on
+      outcomes[i].case_dir = case_dirs[i];
+      outcomes[i].status = RunStatus::failed;
+      outcomes[i].message = e.what();
+    }
+    if (options.on_case_done) {
+      const std::lock_guard lock(done_mutex);
+      options.on_case_done(outcomes[i]);
     }
   };
   std::thread reporter;
@@ -418,12 +416,17 @@ std::vector<RunOutcome> run_cases(const std::vector<std::string>& case_dirs, con
       }
     });
   }
-  std::vector<std::thread> workers;
-  for (int j = 1; j < jobs; ++j) workers.emplace_back(worker);
-  worker();
-  for (auto& w : workers) w.join();
-  all_done = true;
-  if (reporter.joinable()) reporter.join();
+  const auto stop_reporter = [&] {
+    all_done = true;
+    if (reporter.joinable()) reporter.join();
+  };
+  try {
+    os::for_each(case_dirs.size(), jobs, run_case);
+  } catch (...) {
+    stop_reporter();
+    throw;
+  }
+  stop_reporter();
   if (options.on_progress) options.on_progress(monitor.snapshot());
   return outcomes;
 }

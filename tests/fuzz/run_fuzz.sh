@@ -13,7 +13,7 @@ rm -rf "$work" && mkdir -p "$work/corpus"
 clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
   -I"$src/formats/include" -I"$src/model/include" -I"$src/os/include" \
   "$src/tests/fuzz/fuzz_readers.cpp" "$src"/formats/src/{error,files,byte_source,line_reader,dump,batches,series,data_file,digest}.cpp \
-  "$src/os/src/interrupt.cpp" -lfmt -lz -lzstd -lxxhash -lcrypto -o "$work/fuzz_readers"
+  "$src/os/src/interrupt.cpp" "$src/os/src/workers.cpp" -lfmt -lz -lzstd -lxxhash -lcrypto -o "$work/fuzz_readers"
 # Seeds: a small real case, text and binary, plus its series and data file.
 for format in text binary; do
   "$gs" generate -o "$work/case_$format" --blocks 1 --rows 2 --duration 2e-6 --dump-every 8 --dump-format "$format" >/dev/null

@@ -1,6 +1,7 @@
 #pragma once
 // LIGGGHTS `dump custom` text files (docs/liggghts.md section 6), read one frame at a time so
 // memory does not grow with the number of frames. Columns are found by name, in any order.
+#include <granstack/os/for_shares.hpp>
 #include <granstack/formats/byte_source.hpp>
 #include <granstack/formats/line_reader.hpp>
 
@@ -150,8 +151,7 @@ void read_deferred(DumpFrame& frame, int fd, const std::string& path);
 
 // Writes frames in LIGGGHTS's `dump custom` layouts: text as the generated decks ask for it
 // (ids and types as integers, every other column %.17g, each line ending in a space), or binary.
-// Runs job(begin, end) over shares of [0, count) that cover it, perhaps several at once.
-using ForShares = std::function<void(std::size_t count, const std::function<void(std::size_t, std::size_t)>& job)>;
+using os::ForShares;
 
 class DumpWriter {
  public:

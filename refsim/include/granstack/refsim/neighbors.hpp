@@ -2,6 +2,7 @@
 // The candidate pairs of a neighbour-list build: every pair of spheres whose centres are within
 // (R_i + R_j) * contact_distance_factor + skin of each other, the criterion of LIGGGHTS's
 // granular neighbour lists (neigh_gran), found through a grid in time linear in the spheres.
+#include <granstack/os/for_shares.hpp>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -19,8 +20,7 @@ struct SphereArrays {
   std::size_t count = 0;
 };
 
-// Runs job(begin, end) over shares of [0, count) that cover it, perhaps several at once.
-using ForShares = std::function<void(std::size_t count, const std::function<void(std::size_t, std::size_t)>& job)>;
+using os::ForShares;
 
 // Pairs (i, j), i < j, in increasing (i, j) order, for which
 //   rsq <= cut * cut,  rsq = dx*dx + dy*dy + dz*dz (d = x_i - x_j),  cut = (R_i + R_j) * factor + skin,

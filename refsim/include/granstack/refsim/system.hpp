@@ -8,10 +8,10 @@
 #include <functional>
 #include <memory>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <granstack/model/contact.hpp>
+#include <granstack/os/workers.hpp>
 #include <granstack/refsim/aligned.hpp>
 
 namespace granstack::refsim {
@@ -132,13 +132,11 @@ class System {
   void external_forces(std::size_t begin, std::size_t end, bool update_history);  // walls then gravity
   detail::Motion motion();
 
-  // Threads: workers wait for a job and run it on their share; the caller runs share 0.
-  void parallel(const std::function<void(int)>& job);
-  void worker(int index);
-  // Share `index` of [0, count), its bounds multiples of `align`.
-  std::pair<std::size_t, std::size_t> share(std::size_t count, int index, std::size_t align = 1) const;
-  // job(begin, end) on every thread's share of [0, count); on the caller alone with one thread.
-  void for_shares(std::size_t count, const std::function<void(std::size_t, std::size_t)>& job, std::size_t align = 1);
+  // job(begin, end) on every thread's share of [0, count), its bounds multiples of `align`; on
+  // the caller alone with one thread.
+  void for_shares(std::size_t count, const std::function<void(std::size_t, std::size_t)>& job, std::size_t align = 1) {
+    workers_->for_shares(count, job, align);
+  }
 
   std::size_t n_ = 0;
   Parameters p_;
@@ -193,12 +191,7 @@ class System {
   bool drifted_ = false;              // the next step's first half is done
   std::atomic<bool> moved_{false};    // a particle moved half a skin in the last first half
 
-  int threads_ = 1;
-  std::vector<std::thread> workers_;
-  std::function<void(int)> job_;
-  std::atomic<long> generation_{0};
-  std::atomic<int> finished_{0};
-  std::atomic<bool> stop_{false};
+  std::unique_ptr<os::Workers> workers_;  // the caller is its thread 0
 };
 
 }  // namespace granstack::refsim
