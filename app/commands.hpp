@@ -1,6 +1,7 @@
 #pragma once
 // The granstack subcommands: each file in app/ adds one to the CLI11 parser and says how it runs.
 #include <granstack/postproc/reduce.hpp>
+#include <granstack/runner/engines.hpp>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -60,6 +61,15 @@ inline std::string flag_for_engines(const CLI::App& cmd, const std::string& flag
   }
   return fmt::format("{} is for {} and none runs here ({}): leave it out, or choose the engine it is for", flag,
                      fmt::join(engines, " or "), fmt::join(running, ", "));
+}
+
+// The first option given to `cmd` that is some engines' own (runner::engine_table()) where none of
+// them is `running`: why it is refused, or "" when there is none.
+inline std::string other_engines_option(const CLI::App& cmd, const std::vector<std::string>& running) {
+  for (const auto& option : runner::engine_options()) {
+    if (auto why = flag_for_engines(cmd, option, runner::engines_owning(option), running); !why.empty()) return why;
+  }
+  return "";
 }
 
 // A subcommand: its parser and what runs it once the command line is parsed.

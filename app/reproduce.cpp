@@ -118,11 +118,9 @@ Command add_reproduce(CLI::App& app) {
     if (!given.engine.empty()) {
       std::vector<std::string> running{given.engine};
       if (given.validate) running.push_back(given.engine == "refsim" ? "liggghts" : "refsim");
-      for (const auto& [flag, engine] : {std::pair{"--lammps", "lammps"}, std::pair{"--liggghts", "liggghts"}}) {
-        if (const auto why = flag_for_engines(*cmd, flag, {engine}, running); !why.empty()) {
-          fmt::print(stderr, "error: {}\n", why);
-          return kBadInput;
-        }
+      if (const auto why = other_engines_option(*cmd, running); !why.empty()) {
+        fmt::print(stderr, "error: {}\n", why);
+        return kBadInput;
       }
     }
     return reproduce(*f);

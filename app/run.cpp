@@ -6,6 +6,7 @@
 #include <granstack/os/interrupt.hpp>
 #include <granstack/os/process.hpp>
 #include <granstack/refsim/system.hpp>
+#include <granstack/runner/engines.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include <fmt/format.h>
@@ -94,6 +95,15 @@ void warn_if_oversubscribed(const runner::RunOptions& o, int cases) {
              refsim ? "--threads" : "--np");
 }
 
+// --engine's help, from the engines' table: "liggghts (the real DEM code), refsim (...) or lammps (...)".
+std::string engine_help() {
+  std::vector<std::string> parts;
+  for (const auto& row : runner::engine_table()) parts.push_back(fmt::format("{} ({})", row.name, row.help));
+  const auto last = parts.back();
+  parts.pop_back();
+  return fmt::format("{} or {}", fmt::join(parts, ", "), last);
+}
+
 // --kernel's values: auto, reference and the vector instruction sets this CPU runs.
 std::vector<std::string> kernel_choices() {
   std::vector<std::string> choices{"auto", "reference"};
@@ -141,32 +151,11 @@ int run(const RunFlags& f, const CLI::App& cmd) {
   o.lammps = f.lammps;
   o.lammps_template = f.lammps_template;
   o.engine = runner::parse_engine(f.engine);
-  for (const auto& [flag, engine] : {std::pair{"--lammps", "lammps"}, std::pair{"--liggghts", "liggghts"},
-                                     std::pair{"--kernel", "refsim"}}) {
-    if (const auto why = flag_for_engines(cmd, flag, {engine}, {f.engine}); !why.empty()) {
-      fmt::print(stderr, "error: {}\n", why);
-      return kBadInput;
-    }
-  }
-  if (!f.contact_rules.empty() && o.engine != runner::Engine::refsim) {
-    fmt::print(stderr, "error: --contact-rules chooses refsim's rules: add --engine refsim, or leave it out\n");
+  if (const auto why = other_engines_option(cmd, {f.engine}); !why.empty()) {
+    fmt::print(stderr, "error: {}\n", why);
     return kBadInput;
   }
   o.lammps_rules = f.contact_rules == "lammps";
-  if (o.engine != runner::Engine::lammps && !f.lammps_template.empty()) {
-    fmt::print(stderr, "error: --lammps-template is the LAMMPS deck's template: add --engine lammps, or leave it out\n");
-    return kBadInput;
-  }
-  if (o.engine == runner::Engine::refsim && !f.grid.empty()) {
-    fmt::print(stderr, "note: --grid is LIGGGHTS's MPI processor grid; refsim runs in this process and ignores it\n");
-  }
-  if (o.engine == runner::Engine::refsim && f.ranks > 1) {
-    fmt::print(stderr, "note: refsim runs in this process and does not use MPI ranks (--np); use --threads {}\n", f.ranks);
-  }
-  if (o.engine != runner::Engine::refsim && f.threads > 1) {
-    fmt::print(stderr, "note: --threads is for --engine refsim; {} runs in parallel with --np\n",
-               o.engine == runner::Engine::lammps ? "LAMMPS" : "LIGGGHTS");
-  }
   warn_if_oversubscribed(o, static_cast<int>(dirs.size()));
   StatusLine status;
   std::mutex mutex;
@@ -179,38 +168,41 @@ int run(const RunFlags& f, const CLI::App& cmd) {
 
 }  // namespace
 
+// The options every engine takes, then each engine's own in its group of the help (the table's
+// rows: a group's option given with another --engine is refused by name).
 Command add_run(CLI::App& app) {
   auto f = std::make_shared<RunFlags>();
   auto* cmd = app.add_subcommand("run", "Run LIGGGHTS (or refsim, or LAMMPS) on case directories (or sweep directories)");
   cmd->add_option("cases", f->cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("--engine", f->engine, fmt::format("{} [liggghts]", engine_help()))->check(CLI::IsMember(runner::engine_names()));
   cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
-  cmd->add_option("--np", f->ranks, "MPI ranks per case (mpirun when > 1) [1]")->check(CLI::Range(1, 4096));
-  cmd->add_option("--grid", f->grid,
-                  "LIGGGHTS's MPI processor grid, ranks along x,y,z (product --np), e.g. 4,4,1; by default the grid "
-                  "whose busiest rank holds the fewest spheres, owned and ghost (run.json's \"decomposition\")");
-  cmd->add_option("--threads", f->threads,
-                  "Threads per case for --engine refsim (results do not depend on it; where a CPU is left over, "
-                  "refsim writes its outputs on one more) [1]")
-      ->check(CLI::Range(1, 256));
-  cmd->add_option("--kernel", f->kernel,
-                  fmt::format("refsim's kernels: auto (the best vector instruction set this CPU runs), reference (scalar) "
-                              "or one of this CPU's: {}; all give the same bits [auto]",
-                              fmt::join(refsim::vector_kernels(), ", ")))
-      ->check(CLI::IsMember(kernel_choices()));
-  cmd->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
-  cmd->add_option("--contact-rules", f->contact_rules,
-                  "For --engine refsim: liggghts (the case's deck, LIGGGHTS's contact law to the bit) or lammps (the "
-                  "same spec as LAMMPS runs it: docs/explanation/lammps.md) [liggghts]")
-      ->check(CLI::IsMember({"liggghts", "lammps"}));
-  cmd->add_option("--lammps", f->lammps, "The LAMMPS executable, for --engine lammps [lmp, on PATH]");
-  cmd->add_option("--lammps-template", f->lammps_template,
-                  "For --engine lammps: a template of yours for the LAMMPS deck instead of templates/in.lammps.tmpl")
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--engine", f->engine,
-                  "liggghts (the real DEM code), refsim (the in-house reference integrator) or lammps (LAMMPS's "
-                  "GRANULAR package, the case's contacts mapped onto its models) [liggghts]")
-      ->check(CLI::IsMember(runner::engine_names()));
   cmd->add_flag("--force", f->force, "Run cases again even if they finished");
+  auto* mpi = cmd->add_option_group("MPI", "For --engine liggghts and lammps");
+  mpi->add_option("--np", f->ranks, "MPI ranks per case (mpirun when > 1) [1]")->check(CLI::Range(1, 4096));
+  auto* liggghts = cmd->add_option_group("liggghts", "For --engine liggghts");
+  liggghts->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
+  liggghts->add_option("--grid", f->grid,
+                       "LIGGGHTS's MPI processor grid, ranks along x,y,z (product --np), e.g. 4,4,1; by default the grid "
+                       "whose busiest rank holds the fewest spheres, owned and ghost (run.json's \"decomposition\")");
+  auto* refsim = cmd->add_option_group("refsim", "For --engine refsim");
+  refsim->add_option("--threads", f->threads,
+                     "Threads per case (results do not depend on it; where a CPU is left over, refsim writes its outputs "
+                     "on one more) [1]")
+      ->check(CLI::Range(1, 256));
+  refsim->add_option("--kernel", f->kernel,
+                     fmt::format("refsim's kernels: auto (the best vector instruction set this CPU runs), reference "
+                                 "(scalar) or one of this CPU's: {}; all give the same bits [auto]",
+                                 fmt::join(refsim::vector_kernels(), ", ")))
+      ->check(CLI::IsMember(kernel_choices()));
+  refsim->add_option("--contact-rules", f->contact_rules,
+                     "liggghts (the case's deck, LIGGGHTS's contact law to the bit) or lammps (the same spec as LAMMPS "
+                     "runs it: docs/explanation/lammps.md) [liggghts]")
+      ->check(CLI::IsMember({"liggghts", "lammps"}));
+  auto* lammps = cmd->add_option_group("lammps", "For --engine lammps");
+  lammps->add_option("--lammps", f->lammps, "The LAMMPS executable [lmp, on PATH]");
+  lammps->add_option("--lammps-template", f->lammps_template,
+                     "A template of yours for the LAMMPS deck instead of templates/in.lammps.tmpl")
+      ->check(CLI::ExistingFile);
   return {cmd, [f, cmd] { return run(*f, *cmd); }};
 }
 

@@ -128,11 +128,9 @@ Command add_validate(CLI::App& app) {
       ->expected(2)
       ->check(CLI::IsMember(runner::engine_names()));
   return {cmd, [f, cmd] {
-    for (const auto& [flag, engine] : {std::pair{"--lammps", "lammps"}, std::pair{"--liggghts", "liggghts"}}) {
-      if (const auto why = flag_for_engines(*cmd, flag, {engine}, f->engines); !why.empty()) {
-        fmt::print(stderr, "error: {}\n", why);
-        return kBadInput;
-      }
+    if (const auto why = other_engines_option(*cmd, f->engines); !why.empty()) {
+      fmt::print(stderr, "error: {}\n", why);
+      return kBadInput;
     }
     return validate(*f);
   }};

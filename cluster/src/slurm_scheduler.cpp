@@ -3,6 +3,7 @@
 #include "scheduler.hpp"
 
 #include <granstack/os/process.hpp>
+#include <granstack/runner/engines.hpp>
 
 #include <fmt/format.h>
 
@@ -179,7 +180,11 @@ class Slurm final : public Scheduler {
     if (!o.partition.empty()) head += fmt::format("#SBATCH --partition={}\n", sbatch_value("--partition", o.partition));
     if (!o.account.empty()) head += fmt::format("#SBATCH --account={}\n", sbatch_value("--account", o.account));
     if (o.mem_mb) head += fmt::format("#SBATCH --mem={}\n", *o.mem_mb);
-    std::string run = fmt::format("exec {} run --engine {} --np {}{}", sh_quote(o.granstack), o.engine, o.ranks, o.force ? " --force" : "");
+    // --np only for an engine that takes it (runner's engine table): refsim refuses it by name.
+    const auto mpi = runner::engines_owning("--np");
+    const bool ranks = std::find(mpi.begin(), mpi.end(), o.engine) != mpi.end();
+    std::string run = fmt::format("exec {} run --engine {}{}{}", sh_quote(o.granstack), o.engine,
+                                  ranks ? fmt::format(" --np {}", o.ranks) : "", o.force ? " --force" : "");
     return head + fmt::format(
                       "# granstack submit: array {} of {}: task i runs lines {} + i*{} + 1 .. {} + (i+1)*{} of cases.txt,\n"
                       "# with `granstack run`, so each case is locked and gets its run.json as on a laptop. The job name\n"

@@ -2,8 +2,9 @@
 // The engines granstack runs a case on, behind one interface: run_one (runner.cpp) does the
 // rest (the lock, the earlier outputs, run.json) the same for all. LIGGGHTS's is
 // liggghts_engine.cpp, refsim's refsim_engine.cpp, LAMMPS's lammps_engine.cpp; another engine is
-// one more such file, its name in Engine (runner.hpp) and its line in make_engine.
+// one more such file, its enumerator in Engine (runner.hpp) and its row in engines.cpp.
 #include <granstack/formats/case.hpp>
+#include <granstack/runner/engines.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include <nlohmann/json.hpp>
@@ -49,8 +50,6 @@ class CaseEngine {
 std::unique_ptr<CaseEngine> make_liggghts_engine();
 std::unique_ptr<CaseEngine> make_refsim_engine();
 std::unique_ptr<CaseEngine> make_lammps_engine();
-inline std::unique_ptr<CaseEngine> make_engine(Engine e) {
-  return e == Engine::refsim ? make_refsim_engine() : e == Engine::lammps ? make_lammps_engine() : make_liggghts_engine();
-}
+inline std::unique_ptr<CaseEngine> make_engine(Engine e) { return engine_row(e).make(); }
 
 }  // namespace granstack::runner

@@ -195,6 +195,20 @@ TEST_F(Answers, MessagesNameTheRealCause) {
   r = granstack({"run", "--kernel", "reference", "flags"});
   EXPECT_EQ(r.code, 2) << r.output;
   expect_contains(r, "--kernel is for refsim and none runs here (liggghts)");
+  // Every engine's own option, as the engines' table gives them: MPI ranks for refsim, refsim's
+  // threads for LIGGGHTS, LIGGGHTS's processor grid for LAMMPS.
+  for (const auto& [args, said] :
+       {std::pair<std::vector<std::string>, std::string>{{"--engine", "refsim", "--np", "2"}, "--np is for liggghts or lammps and none runs here (refsim)"},
+        {{"--threads", "2"}, "--threads is for refsim and none runs here (liggghts)"},
+        {{"--engine", "lammps", "--grid", "1,1,1", "--np", "1"}, "--grid is for liggghts and none runs here (lammps)"},
+        {{"--engine", "liggghts", "--contact-rules", "lammps"}, "--contact-rules is for refsim and none runs here (liggghts)"}}) {
+    auto argv = std::vector<std::string>{"run"};
+    argv.insert(argv.end(), args.begin(), args.end());
+    argv.push_back("flags");
+    r = granstack(argv);
+    EXPECT_EQ(r.code, 2) << r.output;
+    expect_contains(r, said);
+  }
   r = granstack({"validate", "--liggghts", "liggghts", "--engines", "lammps,refsim", "flags"});
   EXPECT_EQ(r.code, 2) << r.output;
   expect_contains(r, "--liggghts is for liggghts and none runs here (lammps, refsim)");

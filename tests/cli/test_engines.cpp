@@ -113,13 +113,13 @@ TEST_F(Engines, ValidateAndRefsimRulesTakeTheirEnginesByName) {
   EXPECT_EQ(r.code, 5) << r.output;
   r = granstack({"run", "--contact-rules", "lammps", c.string()});
   EXPECT_EQ(r.code, 2) << r.output;
-  expect_contains(r, "--contact-rules chooses refsim's rules");
+  expect_contains(r, "--contact-rules is for refsim and none runs here (liggghts)");
   r = granstack({"run", "--engine", "refsim", "--contact-rules", "lammps", c.string()});
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(record(c).at("contact_rules"), "lammps");
   r = granstack({"run", "--lammps-template", path("case/in.stack").string(), c.string()});
   EXPECT_EQ(r.code, 2) << r.output;
-  expect_contains(r, "--lammps-template is the LAMMPS deck's template");
+  expect_contains(r, "--lammps-template is for lammps and none runs here (liggghts)");
 }
 
 namespace {

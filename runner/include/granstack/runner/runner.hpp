@@ -22,24 +22,18 @@ struct ProgressSnapshot {
   std::vector<CaseProgress> running;
 };
 
+// The engines, each a row of engine_table() (engines.hpp).
 enum class Engine {
   liggghts,  // the real DEM code, as a separate process
   refsim,    // the in-house reference integrator, in this process
   lammps     // LAMMPS's GRANULAR package, as a separate process (docs/explanation/lammps.md)
 };
 
-// The engines' names, as flags, run.json and folder names spell them.
-inline const std::vector<std::string>& engine_names() {
-  static const std::vector<std::string> names{"liggghts", "refsim", "lammps"};
-  return names;
-}
-inline std::string to_string(Engine e) {
-  return e == Engine::refsim ? "refsim" : e == Engine::lammps ? "lammps" : "liggghts";
-}
-// The engine a name (one of engine_names()) stands for.
-inline Engine parse_engine(const std::string& name) {
-  return name == "refsim" ? Engine::refsim : name == "lammps" ? Engine::lammps : Engine::liggghts;
-}
+// The engines' names, as flags, run.json and folder names spell them (engines.hpp's table).
+const std::vector<std::string>& engine_names();
+std::string to_string(Engine e);
+// The engine a name (one of engine_names()) stands for; std::invalid_argument for another.
+Engine parse_engine(const std::string& name);
 // The engine a cross-check sets beside `e`: refsim beside a DEM code, LIGGGHTS beside refsim.
 inline Engine other_engine(Engine e) { return e == Engine::refsim ? Engine::liggghts : Engine::refsim; }
 

@@ -1,0 +1,34 @@
+#pragma once
+// The engines granstack runs a case on, one row each: `--engine` is bound to this table, and a
+// command-line option that is some engines' own is refused by name where none of them runs. A
+// fourth engine is its file (a CaseEngine, runner/src/engine.hpp), its enumerator and its row in
+// runner/src/engines.cpp.
+#include <granstack/runner/runner.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace granstack::runner {
+
+class CaseEngine;  // runner/src/engine.hpp
+
+struct EngineRow {
+  Engine engine;
+  std::string name;   // as flags, run.json and folder names spell it
+  std::string help;   // what it is, in --engine's help
+  // The command-line options that are its own, in every command that has them (an option several
+  // engines share, as --np, is in each of their rows).
+  std::vector<std::string> options;
+  std::unique_ptr<CaseEngine> (*make)();  // its factory
+};
+
+// Every engine, in the order --engine's help lists them.
+const std::vector<EngineRow>& engine_table();
+const EngineRow& engine_row(Engine e);
+// The engines whose own `option` is (empty: every engine takes it).
+std::vector<std::string> engines_owning(const std::string& option);
+// Every option some engine owns.
+std::vector<std::string> engine_options();
+
+}  // namespace granstack::runner

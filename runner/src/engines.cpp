@@ -1,0 +1,66 @@
+#include <granstack/runner/engines.hpp>
+
+#include "engine.hpp"
+
+#include <algorithm>
+#include <set>
+#include <stdexcept>
+
+namespace granstack::runner {
+
+const std::vector<EngineRow>& engine_table() {
+  static const std::vector<EngineRow> table{
+      {Engine::liggghts, "liggghts", "the real DEM code", {"--liggghts", "--np", "--grid"}, make_liggghts_engine},
+      {Engine::refsim, "refsim", "the in-house reference integrator", {"--threads", "--kernel", "--contact-rules"},
+       make_refsim_engine},
+      {Engine::lammps, "lammps", "LAMMPS's GRANULAR package, the case's contacts mapped onto its models",
+       {"--lammps", "--lammps-template", "--np"}, make_lammps_engine},
+  };
+  return table;
+}
+
+const EngineRow& engine_row(Engine e) {
+  for (const auto& row : engine_table()) {
+    if (row.engine == e) return row;
+  }
+  throw std::logic_error("an engine without a row in engine_table()");
+}
+
+std::vector<std::string> engines_owning(const std::string& option) {
+  std::vector<std::string> out;
+  for (const auto& row : engine_table()) {
+    if (std::find(row.options.begin(), row.options.end(), option) != row.options.end()) out.push_back(row.name);
+  }
+  return out;
+}
+
+std::vector<std::string> engine_options() {
+  std::set<std::string> seen;
+  std::vector<std::string> out;
+  for (const auto& row : engine_table()) {
+    for (const auto& o : row.options) {
+      if (seen.insert(o).second) out.push_back(o);
+    }
+  }
+  return out;
+}
+
+const std::vector<std::string>& engine_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const auto& row : engine_table()) n.push_back(row.name);
+    return n;
+  }();
+  return names;
+}
+
+std::string to_string(Engine e) { return engine_row(e).name; }
+
+Engine parse_engine(const std::string& name) {
+  for (const auto& row : engine_table()) {
+    if (row.name == name) return row.engine;
+  }
+  throw std::invalid_argument("'" + name + "' is no engine; engines: liggghts, refsim, lammps");
+}
+
+}  // namespace granstack::runner
