@@ -1,17 +1,11 @@
+#include "report_parts.hpp"
+
 #include <granstack/design/convergence.hpp>
 #include <granstack/design/report.hpp>
-#include <granstack/formats/case.hpp>
 #include <granstack/formats/files.hpp>
-#include <granstack/generator/case_writer.hpp>
 #include <granstack/model/spec_fields.hpp>
 #include <granstack/model/version.hpp>
-#include <granstack/postproc/compare.hpp>
 #include <granstack/postproc/document.hpp>
-#include <granstack/postproc/plot.hpp>
-#include <granstack/postproc/reduce.hpp>
-#include <granstack/refsim/case_run.hpp>
-#include <granstack/refsim/in_situ.hpp>
-#include <granstack/runner/runner.hpp>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -19,9 +13,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
-#include <iterator>
 #include <ctime>
 #include <regex>
 #include <set>
@@ -31,19 +23,9 @@ namespace granstack::design {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using namespace report_parts;
 
-namespace {
-
-// One seed's run of a search, against the front of every run together.
-struct RunSummary {
-  int run = 0;
-  std::uint64_t seed = 0;
-  std::size_t designs = 0;      // distinct designs it joined (ran, or took from another run)
-  int last_generation = -1;
-  double hypervolume = 0.0;     // its last generation's
-  double igd_plus = 0.0;        // of its own front against the front of all runs, in the box
-  std::size_t on_front = 0;     // of the front of all runs, the designs it found
-};
+namespace report_parts {
 
 // Each run's designs, from its joins (a store from before them: run 0 joined every design).
 std::vector<RunSummary> summarise_runs(const Space& space, const Store& store, const std::vector<Evaluation>& all,
@@ -76,19 +58,9 @@ std::vector<RunSummary> summarise_runs(const Space& space, const Store& store, c
   return out;
 }
 
-// What the report shows, read from the store once (each read parses every design's spec).
-struct Snapshot {
-  Snapshot(const Space& space, const Store& store)
-      : all(store.evaluations()), studies(store.study_designs()), generations(store.generations()),
-        confirmations(store.confirmations()), box(stored_normalisation(store)),
-        runs(summarise_runs(space, store, all, generations)) {}
-  std::vector<Evaluation> all;
-  std::vector<std::pair<std::string, Evaluation>> studies;
-  std::vector<Generation> generations;
-  std::vector<Confirmation> confirmations;
-  std::optional<Normalisation> box;
-  std::vector<RunSummary> runs;
-};
+}  // namespace report_parts
+
+namespace {
 
 // The hypervolume over the runs that finished a generation: "mean M, standard deviation S, from A to B".
 std::string hypervolume_spread(const std::vector<RunSummary>& runs) {
@@ -361,24 +333,6 @@ postproc::Table box_table(const Normalisation& box) {
   return t;
 }
 
-// A case confirm writes: its dumps binary (the same doubles as text, reduce and validate give the
-// same numbers, about a third of the bytes and LIGGGHTS's time writing them).
-model::StackSpec binary_dumps(model::StackSpec spec) {
-  spec.dump_format = model::DumpFormat::binary;
-  return spec;
-}
-
-// The run of the physical variant of a design's run `ran`: the variant's own, to its own blow's end
-// (a store written before runs stopped there holds the strip's length and cadences: not the nest's).
-model::StackSpec variant_run(const Space& space, const model::StackSpec& ran) {
-  auto v = space.confirm_variant.applied_to(ran);
-  if (!stops_at_blow_end(v)) return v;
-  v.duration.reset();
-  v.dump_every.reset();
-  v.series_every.reset();
-  return stopping_at_blow_end(v, space.cap_durations);
-}
-
 // The physical variant's run measures beside the design's (the worst over its scenarios), in the
 // objective table's order.
 std::string variant_text(const Confirmation& c, const Evaluation* e) {
@@ -446,185 +400,6 @@ postproc::Table confirmations_table(const Snapshot& s) {
                       variant_text(c, e != s.all.end() ? &*e : nullptr)});
   }
   return t;
-}
-
-// A value for a log axis or a linear one: the objectives that span decades are drawn on a log axis.
-bool log_axis(Objective o) { return o->log_axis; }
-
-std::string axis_label(Objective o) { return fmt::format("{} ({})", to_string(o), unit_of(o)); }
-
-// The front's plot elements: one per top-block material on the front (its own symbol), each
-// point coloured by its number of blocks (column 3); column 4 holds the material's index.
-std::string front_elements(const Space& space, const std::vector<Evaluation>& front) {
-  static constexpr int kSymbols[] = {7, 5, 9, 11, 13, 15};
-  std::string out;
-  for (std::size_t k = 0; k < space.materials.size(); ++k) {
-    const bool present = std::any_of(front.begin(), front.end(), [&](const auto& e) { return e.spec.block_material(1) == space.materials[k]; });
-    if (!present) continue;
-    out += fmt::format("     '' index 1 using 1:($4 == {} ? $2 : 1/0):3 with points pt {} ps 1.5 lc palette title 'front, top block {}', \\\n",
-                       k, kSymbols[k % std::size(kSymbols)], space.materials[k]);
-  }
-  return out;
-}
-
-std::string pair_data(const Space& space, const Snapshot& s, const std::vector<Evaluation>& front, Objective x, Objective y) {
-  std::string data = "# every feasible design: x y N_B\n";
-  for (const auto& e : s.all) {
-    if (e.feasible) data += fmt::format("{:.10g} {:.10g} {}\n", *objective_value(e, x), *objective_value(e, y), e.spec.blocks);
-  }
-  data += "\n\n# the front: x y N_B top-block-material-index\n";
-  for (const auto& e : front) {
-    const auto k = std::find(space.materials.begin(), space.materials.end(), e.spec.block_material(1)) - space.materials.begin();
-    data += fmt::format("{:.10g} {:.10g} {} {}\n", *objective_value(e, x), *objective_value(e, y), e.spec.blocks, k);
-  }
-  data += "\n\n# the study's designs: x y name\n";
-  for (const auto& [name, e] : s.studies) {
-    if (objective_value(e, x) && objective_value(e, y)) {
-      data += fmt::format("{:.10g} {:.10g} \"{}\"\n", *objective_value(e, x), *objective_value(e, y), name);
-    }
-  }
-  return data;
-}
-
-// One pair of objectives: every feasible design (grey), the front coloured by N_B with a symbol
-// per top-block material, the study's designs labelled.
-postproc::Figure pair_figure(const Space& space, const Snapshot& s, const std::vector<Evaluation>& front, Objective x,
-                             Objective y, const fs::path& dir) {
-  const auto name = fmt::format("{}_vs_{}", to_string(y), to_string(x));
-  postproc::PlotOptions o;
-  o.format = "svg";
-  const auto script = fmt::format(
-      "{}\nset output '{}.svg'\nset xlabel '{}' noenhanced\nset ylabel '{}' noenhanced\n{}{}set key outside right top\n"
-      "set cblabel 'N_B'\nset cbtics 1\n"
-      "set palette defined (1 '#1b9e77', 2 '#d95f02', 3 '#7570b3', 4 '#e7298a', 5 '#66a61e', 6 '#e6ab02')\n"
-      "plot '{}.dat' index 0 using 1:2 with points pt 7 ps 0.5 lc rgb '#c0c0c0' title 'evaluated', \\\n{}"
-      "     '' index 2 using 1:2 with points pt 6 ps 2 lw 2 lc rgb 'black' title \"the study's designs\", \\\n"
-      "     '' index 2 using 1:2:3 with labels offset -1,1 right font 'Sans,18' noenhanced notitle\n",
-      postproc::gnuplot_terminal(o), name, axis_label(x), axis_label(y), log_axis(x) ? "set logscale x\nset format x '10^{%L}'\n" : "",
-      log_axis(y) ? "set logscale y\nset format y '10^{%L}'\n" : "", name, front_elements(space, front));
-  postproc::render_gnuplot(dir.string(), name, pair_data(space, s, front, x, y), script, o);
-  return {name + ".svg", fmt::format("{} against {}: every feasible design evaluated (grey), the front (of all the objectives, "
-                                     "seen in these two) coloured by the number of blocks with a symbol per top-block material, "
-                                     "the study's designs (circles)",
-                                     to_string(y), to_string(x))};
-}
-
-// The run of a design the figure shows: its own (no scenarios), else its scenario with the
-// largest peak wall force.
-model::StackSpec worst_run(const Evaluation& e) {
-  if (e.scenarios.empty()) return e.spec;
-  const auto force = [](const ScenarioRun& r) {
-    const auto it = r.measures.find("peak_wall_force");
-    return it == r.measures.end() ? 0.0 : it->second;
-  };
-  return std::max_element(e.scenarios.begin(), e.scenarios.end(), [&](const auto& a, const auto& b) { return force(a) < force(b); })->spec;
-}
-
-// The front's designs and the study's, each rerun in situ as the store measured it (to its blow's
-// end; with scenarios, the one with the largest peak force). The figure shows the front's first
-// kFiguredFront (least first objective) beside the study's; the energy table all of them.
-constexpr std::size_t kFiguredFront = 3;
-struct Rerun {
-  std::string name;
-  refsim::InSituResult r;
-  double striker_speed = 0.0;  // m/s, of the run
-  bool figured = true;
-};
-std::vector<Rerun> rerun_shown(const Snapshot& s, const std::vector<Evaluation>& front) {
-  std::vector<Rerun> out;
-  const auto add = [&](const std::string& name, const model::StackSpec& spec, bool figured) {
-    const auto stack = model::Stack::build(spec);
-    out.push_back({name, refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "report"))),
-                   spec.striker_speed, figured});
-  };
-  for (std::size_t i = 0; i < front.size(); ++i) {
-    add(fmt::format("front {}: {}", i + 1, front[i].description), worst_run(front[i]), i < kFiguredFront);
-  }
-  for (const auto& [name, e] : s.studies) add(name, worst_run(e), true);
-  return out;
-}
-
-// The force on the protected object against time.
-postproc::Figure force_figure(const std::vector<Rerun>& shown, const fs::path& dir) {
-  std::string data, plots;
-  double peak = 0.0;  // the y axis spans three decades below the largest force shown
-  std::size_t index = 0;  // of the figure's data sets
-  for (const auto& one : shown) {
-    if (!one.figured) continue;
-    const std::size_t k = index++;
-    const auto& r = one.r;
-    peak = std::max(peak, r.peak_wall_force.value_or(0.0));
-    data += fmt::format("# {}: t (s) F (N)\n", one.name);
-    for (std::size_t j = 0; j < r.wall_force.size(); ++j) {
-      data += fmt::format("{:.9g} {:.9g}\n", static_cast<double>(j + 1) * r.wall_force_interval, r.wall_force[j]);
-    }
-    data += "\n\n";
-    plots += fmt::format("{}'force.dat' index {} using ($1*1e3):2 with lines lw {} title '{}'", k == 0 ? "plot " : ", \\\n     ", k,
-                         k < kFiguredFront ? 2 : 1, one.name);
-  }
-  postproc::PlotOptions o;
-  o.format = "svg";
-  const auto script = fmt::format("{}\nset output 'force.svg'\nset xlabel 't (ms)'\nset ylabel 'F on the wall (N)'\n"
-                                  "set key below noenhanced\nset logscale y\nset yrange [1e-3 * {}:*]\nset format y '%g'\n{}\n",
-                                  postproc::gnuplot_terminal(o), fmt::format("{:.6g}", peak), plots);
-  postproc::render_gnuplot(dir.string(), "force", data, script, o);
-  return {"force.svg", "The force on the protected object (the bottom wall) against time (log scale), each run to its blow's end (with "
-                       "scenarios, the one with the largest peak): the front's first three designs (thick) and the study's "
-                       "designs at the same footprint"};
-}
-
-// Where the energy is when each run ends, over E_in: the striker, each block, the part of the
-// blocks' that moves sideways, and the rest (elastic energy in the contacts, less what damping and
-// friction took); and the striker's and (free bottom) the output sphere's speed then, over the
-// striker's speed at impact.
-postproc::Table energy_table(const std::vector<Rerun>& shown, bool wall) {
-  std::size_t blocks = 0;
-  for (const auto& x : shown) blocks = std::max(blocks, x.r.end_block_ke.size());
-  postproc::Table t{"Where the energy is when the blow has ended, over E_in; and how fast the striker comes back up "
-                    "(and, with a free bottom, the output sphere leaves), over the striker's speed",
-                    {"design", "ended at (s)", "striker"},
-                    {}};
-  for (std::size_t k = 0; k < blocks; ++k) t.header.push_back(fmt::format("block {}", k + 1));
-  t.header.push_back("of the blocks', sideways");
-  t.header.push_back("the rest (contacts, dissipated)");
-  t.header.push_back("v_striker up / v_0");
-  if (!wall) t.header.push_back("v_out / v_0");
-  for (const auto& x : shown) {
-    const auto& r = x.r;
-    std::vector<std::string> row{x.name, r.blow_end_time ? fmt::format("{:.4g}", *r.blow_end_time) : "not ended",
-                                 fmt::format("{:.3g}", r.end_striker_ke / r.e_in)};
-    double sum = r.end_striker_ke;
-    for (std::size_t k = 0; k < blocks; ++k) {
-      row.push_back(k < r.end_block_ke.size() ? fmt::format("{:.3g}", r.end_block_ke[k] / r.e_in) : "");
-      if (k < r.end_block_ke.size()) sum += r.end_block_ke[k];
-    }
-    row.push_back(fmt::format("{:.3g}", r.end_sideways_ke / r.e_in));
-    row.push_back(fmt::format("{:.3g}", 1.0 - sum / r.e_in));
-    row.push_back(fmt::format("{:.3g}", r.end_striker_vz / x.striker_speed));
-    if (!wall) row.push_back(fmt::format("{:.3g}", r.end_output_speed / x.striker_speed));
-    t.rows.push_back(std::move(row));
-  }
-  return t;
-}
-
-postproc::Figure hypervolume_figure(const Snapshot& s, const fs::path& dir) {
-  std::string data = "# generation hypervolume (a block per seed's run)\n";
-  std::string plots;
-  for (const auto& r : s.runs) {
-    data += fmt::format("# seed {}\n", r.seed);
-    for (const auto& g : s.generations) {
-      if (g.run == r.run) data += fmt::format("{} {:.10g}\n", g.index, g.hypervolume);
-    }
-    data += "\n\n";
-    plots += fmt::format("{}'hypervolume.dat' index {} using 1:2 with linespoints pt 7 title 'seed {}'", plots.empty() ? "" : ", ", r.run, r.seed);
-  }
-  postproc::PlotOptions o;
-  o.format = "svg";
-  const auto script = fmt::format("{}\nset output 'hypervolume.svg'\nset xlabel 'generation'\nset ylabel 'hypervolume'\n"
-                                  "set key bottom right\nplot {}\n",
-                                  postproc::gnuplot_terminal(o), plots);
-  postproc::render_gnuplot(dir.string(), "hypervolume", data, script, o);
-  return {"hypervolume.svg", "The hypervolume of each generation's front: it grows while the search still finds better designs"};
 }
 
 json evaluation_json(const Space& space, const Evaluation& e) {
@@ -729,64 +504,6 @@ std::unique_ptr<toml::node> toml_of(const json& v) {
     return t;
   }
   return nullptr;  // null: the field keeps its default
-}
-
-// The largest relative difference between the design's objectives from LIGGGHTS (reduce of
-// its run) and the store's in-situ values.
-double objective_difference(const Space& space, const model::StackSpec& ran, const std::map<std::string, double>& stored,
-                            const postproc::CaseReduction& r) {
-  const auto outcome = outcome_of(r, ran);
-  double worst = 0.0;
-  for (const auto o : space.objectives) {
-    if (o->from_run == nullptr) continue;  // the geometric ones: the same stack
-    const auto liggghts = o->from_run(outcome, space);
-    const auto mine = stored.find(std::string(o->name));
-    if (!liggghts || mine == stored.end()) continue;
-    worst = std::max(worst, std::fabs(*liggghts - mine->second) / std::max(std::fabs(*liggghts), std::fabs(mine->second)));
-  }
-  return worst;
-}
-
-// A run of the design `ran` ran for `steps` steps, twice as long, with the same dt and output cadences.
-model::StackSpec twice_as_long(const model::StackSpec& ran, long steps) { return running_for(ran, 2 * steps); }
-
-// The steps the run of a case took: its run record's (a case that stops at its blow's end), or its spec's.
-long steps_run(const std::string& case_dir) {
-  const auto c = formats::Case::open(case_dir);
-  return (formats::frames_written(c) - 1) * c.derived().dump_every;
-}
-
-// What confirm runs of a design: its run spec and stored measures, one per scenario.
-std::vector<std::pair<model::StackSpec, std::map<std::string, double>>> confirm_runs(const Evaluation& e) {
-  if (e.scenarios.empty()) return {{e.spec, e.measures}};
-  std::vector<std::pair<model::StackSpec, std::map<std::string, double>>> out;
-  for (const auto& r : e.scenarios) out.emplace_back(r.spec, r.measures);
-  return out;
-}
-
-// What confirm will run and the most it can write (each run to its cap, binary dumps): LIGGGHTS
-// and refsim of every scenario's case, LIGGGHTS again at up to twice that length, and the variant.
-std::string confirm_plan(const Space& space, const std::vector<Evaluation>& front, std::size_t cases) {
-  double bytes = 0.0;
-  long runs = 0;
-  const auto add = [&](const model::StackSpec& spec, double times) {
-    const auto stack = model::Stack::build(binary_dumps(spec));
-    const auto cost = model::estimate_cost(stack, model::resolve(stack));
-    bytes += times * (cost.dump_bytes + cost.series_bytes);
-  };
-  for (const auto& e : front) {
-    for (const auto& [spec, measures] : confirm_runs(e)) {
-      add(spec, 4.0);  // two engines, and LIGGGHTS twice as long
-      runs += 3;
-    }
-    if (!space.confirm_variant.empty()) {
-      add(variant_run(space, worst_run(e)), 1.0);
-      ++runs;
-    }
-  }
-  return fmt::format("confirm: {} front design{}, {} case{}, {} runs; at most {:.0f} MB of dumps and series (binary, each "
-                     "run to its cap at most)",
-                     front.size(), front.size() == 1 ? "" : "s", cases, cases == 1 ? "" : "s", runs, bytes / 1e6);
 }
 
 }  // namespace
@@ -902,130 +619,6 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   formats::write_file_atomically(dir / "design.html", postproc::html(d, dir, "granstack design"));
   formats::write_file_atomically(dir / "design.json", report_json(space, s, front).dump(2) + "\n");
   return dir / "design.html";
-}
-
-std::vector<Confirmation> confirm_front(const Space& space, Store& store, const fs::path& dir, int top,
-                                        const std::function<void(const std::string&)>& on_progress,
-                                        const std::string& liggghts_exe,
-                                        const std::function<void(const std::string&)>& on_plan) {
-  auto front = pareto_front(space, store.evaluations());
-  if (front.size() > static_cast<std::size_t>(top)) front.resize(static_cast<std::size_t>(top));
-  // A case per design and scenario (DIGEST12, or DIGEST12_sK), each the run the store measured.
-  struct Entry {
-    std::size_t design;
-    std::map<std::string, double> measures;
-    model::StackSpec spec;
-    std::string dir;
-  };
-  std::vector<Entry> entries;
-  std::vector<std::string> dirs;
-  for (std::size_t i = 0; i < front.size(); ++i) {
-    const auto runs = confirm_runs(front[i]);
-    for (std::size_t k = 0; k < runs.size(); ++k) {
-      const auto name = front[i].digest.substr(0, 12) + (runs.size() > 1 ? fmt::format("_s{}", k + 1) : "");
-      generator::GenerateOptions o;
-      o.output = dir / name;
-      o.force = true;  // replaces only a case granstack made
-      generator::generate({{name, binary_dumps(runs[k].first)}}, o);
-      entries.push_back({i, runs[k].second, runs[k].first, o.output.string()});
-      dirs.push_back(o.output.string());
-    }
-  }
-  if (on_plan) on_plan(confirm_plan(space, front, entries.size()));
-  runner::RunOptions ro;
-  if (!liggghts_exe.empty()) ro.liggghts = liggghts_exe;
-  const auto check = [](const std::vector<runner::RunOutcome>& outcomes) {
-    for (const auto& r : outcomes) {
-      if (r.status == runner::RunStatus::failed) throw ConfirmRunFailed(fmt::format("{}: {}", r.case_dir, r.message));
-    }
-  };
-  for (const auto engine : {runner::Engine::liggghts, runner::Engine::refsim}) {
-    ro.on_progress = [&](const runner::ProgressSnapshot& s) {
-      if (on_progress) on_progress(fmt::format("confirm: {} runs {} of {}", runner::to_string(engine), s.finished, s.total));
-    };
-    check(runner::run_copies(dirs, engine, ro));
-  }
-  // The physical confirmation: each run again on LIGGGHTS, twice as long as LIGGGHTS ran it
-  // (to the frame where it judged the blow ended), with the same cadences.
-  std::vector<std::string> longer_dirs;
-  std::vector<model::StackSpec> longer_specs;
-  for (const auto& en : entries) {
-    generator::GenerateOptions o;
-    o.output = en.dir + "_x2";
-    o.force = true;
-    longer_specs.push_back(twice_as_long(en.spec, steps_run(runner::copy_dir(en.dir, runner::Engine::liggghts))));
-    generator::generate({{o.output.filename().string(), binary_dumps(longer_specs.back())}}, o);
-    longer_dirs.push_back(o.output.string());
-  }
-  ro.engine = runner::Engine::liggghts;
-  ro.force = true;
-  ro.on_progress = [&](const runner::ProgressSnapshot& s) {
-    if (on_progress) on_progress(fmt::format("confirm: LIGGGHTS twice as long, {} of {}", s.finished, s.total));
-  };
-  check(runner::run_cases(longer_dirs, ro));
-  // The physical variant the space asks for, of each design's worst scenario, on LIGGGHTS.
-  const auto& variant = space.confirm_variant;
-  std::vector<std::pair<std::string, model::StackSpec>> variant_runs(front.size());
-  if (!variant.empty()) {
-    std::vector<std::string> variant_dirs;
-    for (std::size_t i = 0; i < front.size(); ++i) {
-      generator::GenerateOptions o;
-      o.output = dir / (front[i].digest.substr(0, 12) + variant.suffix());
-      o.force = true;
-      variant_runs[i] = {o.output.string(), variant_run(space, worst_run(front[i]))};
-      generator::generate({{o.output.filename().string(), binary_dumps(variant_runs[i].second)}}, o);
-      variant_dirs.push_back(o.output.string());
-    }
-    ro.on_progress = [&](const runner::ProgressSnapshot& s) {
-      if (on_progress) on_progress(fmt::format("confirm: LIGGGHTS, {}, {} of {}", variant.label(), s.finished, s.total));
-    };
-    check(runner::run_cases(variant_dirs, ro));
-  }
-  // Per design: the worst of its scenarios' comparisons, and the largest LIGGGHTS values.
-  std::vector<Confirmation> out;
-  for (std::size_t i = 0; i < front.size(); ++i) {
-    Confirmation c{front[i].digest, "", 0.0, std::nullopt, 0.0, 0.0, "", std::nullopt, "", {}, ""};
-    std::vector<std::string> disagreements;
-    for (std::size_t n = 0; n < entries.size(); ++n) {
-      const auto& en = entries[n];
-      if (en.design != i) continue;
-      const auto liggghts = runner::copy_dir(en.dir, runner::Engine::liggghts), refsim = runner::copy_dir(en.dir, runner::Engine::refsim);
-      const auto compared = postproc::compare_runs(liggghts, refsim);
-      if (const auto why = compared.disagreement(postproc::kDefaultTolerance); !why.empty()) {
-        disagreements.push_back(fs::path(en.dir).filename().string() + ": " + why);
-      }
-      postproc::ReduceOptions quiet;
-      quiet.write_files = false;
-      const auto r = postproc::reduce_case(liggghts, quiet);
-      if (c.case_dir.empty()) c.case_dir = en.dir;
-      c.liggghts_output_fraction = std::max(c.liggghts_output_fraction, r.output_fraction);
-      if (r.peak_wall_force) c.liggghts_peak_wall_force = std::max(c.liggghts_peak_wall_force.value_or(0.0), *r.peak_wall_force);
-      c.largest_difference = std::max(c.largest_difference, compared.worst());
-      c.objective_difference = std::max(c.objective_difference, objective_difference(space, en.spec, en.measures, r));
-      const auto longer = postproc::reduce_case(en.dir + "_x2", quiet);
-      c.longer_difference = std::max(c.longer_difference.value_or(0.0),
-                                     objective_difference(space, longer_specs[n], en.measures, longer));
-    }
-    // One tolerance, one verdict: the objectives and the whole runs, frame by frame, to the same
-    // stopping frame (validate's), whatever the objectives say.
-    if (c.objective_difference > postproc::kDefaultTolerance) {
-      disagreements.push_back(fmt::format("objectives differ by {:.3g} (tolerance {:g})", c.objective_difference,
-                                          postproc::kDefaultTolerance));
-    }
-    c.verdict = disagreements.empty() ? "agree" : fmt::format("DISAGREE: {}", fmt::join(disagreements, "; "));
-    if (!variant.empty()) {
-      postproc::ReduceOptions quiet;
-      quiet.write_files = false;
-      const auto& [vdir, vspec] = variant_runs[i];
-      const auto outcome = outcome_of(postproc::reduce_case(vdir, quiet), vspec);
-      c.variant = variant.label();
-      c.variant_measures = run_measures(space, outcome);
-      c.variant_not_final = not_final(space, vspec, outcome);
-    }
-    out.push_back(c);
-    store.put_confirmation(c);
-  }
-  return out;
 }
 
 }  // namespace granstack::design

@@ -1,0 +1,71 @@
+#pragma once
+// What the design report's parts share: the store read once (Snapshot), the figures and their
+// reruns (report_figures.cpp), and the run a figure and confirm take of a design. report.cpp
+// writes the report, report_figures.cpp its figures, confirm.cpp the LIGGGHTS confirmation.
+#include <granstack/design/convergence.hpp>
+#include <granstack/design/report.hpp>
+#include <granstack/design/search.hpp>
+#include <granstack/design/store.hpp>
+#include <granstack/postproc/document.hpp>
+#include <granstack/refsim/in_situ.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace granstack::design::report_parts {
+
+// One seed's run of a search, against the front of every run together.
+struct RunSummary {
+  int run = 0;
+  std::uint64_t seed = 0;
+  std::size_t designs = 0;      // distinct designs it joined (ran, or took from another run)
+  int last_generation = -1;
+  double hypervolume = 0.0;     // its last generation's
+  double igd_plus = 0.0;        // of its own front against the front of all runs, in the box
+  std::size_t on_front = 0;     // of the front of all runs, the designs it found
+};
+std::vector<RunSummary> summarise_runs(const Space& space, const Store& store, const std::vector<Evaluation>& all,
+                                       const std::vector<Generation>& generations);
+
+// What the report shows, read from the store once (each read parses every design's spec).
+struct Snapshot {
+  Snapshot(const Space& space, const Store& store)
+      : all(store.evaluations()), studies(store.study_designs()), generations(store.generations()),
+        confirmations(store.confirmations()), box(stored_normalisation(store)),
+        runs(summarise_runs(space, store, all, generations)) {}
+  std::vector<Evaluation> all;
+  std::vector<std::pair<std::string, Evaluation>> studies;
+  std::vector<Generation> generations;
+  std::vector<Confirmation> confirmations;
+  std::optional<Normalisation> box;
+  std::vector<RunSummary> runs;
+};
+
+// The run of a design the figures and confirm show: its own (no scenarios), else its scenario
+// with the largest peak wall force.
+model::StackSpec worst_run(const Evaluation& e);
+
+// Figure: an objective against another, every feasible design, the front and the study's designs.
+postproc::Figure pair_figure(const Space& space, const Snapshot& s, const std::vector<Evaluation>& front, Objective x,
+                             Objective y, const std::filesystem::path& dir);
+
+// The front's designs and the study's, each rerun in situ as the store measured it (to its blow's
+// end; with scenarios, the one with the largest peak force). The figure shows the front's first
+// kFiguredFront (least first objective) beside the study's; the energy table all of them.
+inline constexpr std::size_t kFiguredFront = 3;
+struct Rerun {
+  std::string name;
+  refsim::InSituResult r;
+  double striker_speed = 0.0;  // m/s, of the run
+  bool figured = true;
+};
+std::vector<Rerun> rerun_shown(const Snapshot& s, const std::vector<Evaluation>& front);
+postproc::Figure force_figure(const std::vector<Rerun>& shown, const std::filesystem::path& dir);
+postproc::Table energy_table(const std::vector<Rerun>& shown, bool wall);
+postproc::Figure hypervolume_figure(const Snapshot& s, const std::filesystem::path& dir);
+
+}  // namespace granstack::design::report_parts
