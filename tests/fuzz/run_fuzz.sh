@@ -12,7 +12,7 @@ src=$(cd "$(dirname "$0")/../.." && pwd)
 rm -rf "$work" && mkdir -p "$work/corpus"
 clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
   -I"$src/formats/include" -I"$src/model/include" -I"$src/os/include" \
-  "$src/tests/fuzz/fuzz_readers.cpp" "$src"/formats/src/{error,files,byte_source,line_reader,dump,batches,series,data_file,digest}.cpp \
+  "$src/tests/fuzz/fuzz_readers.cpp" "$src"/formats/src/{error,files,byte_source,line_reader,dump,text_dump_reader,repeated_tokens,binary_dump_reader,dump_writer,batches,series,data_file,digest}.cpp \
   "$src/os/src/interrupt.cpp" "$src/os/src/workers.cpp" -lfmt -lz -lzstd -lxxhash -lcrypto -o "$work/fuzz_readers"
 # Seeds: a small real case, text and binary, plus its series and data file.
 for format in text binary; do

@@ -3,7 +3,9 @@
 // memory does not grow with the number of frames. Columns are found by name, in any order.
 #include <granstack/os/for_shares.hpp>
 #include <granstack/formats/byte_source.hpp>
+#include <granstack/formats/error.hpp>
 #include <granstack/formats/line_reader.hpp>
+#include <granstack/formats/repeated_tokens.hpp>
 
 #include <fmt/format.h>
 
@@ -79,20 +81,30 @@ class TextDumpReader final : public DumpReader {
   void convert_only(std::vector<std::string> columns);
 
  private:
+  // The parts of next(): the frame's header (false at a clean end of the file), which columns are
+  // converted, and its atom lines, each parsed in place.
+  bool read_header(DumpFrame& f, std::string_view& line);
+  void choose_conversions(DumpFrame& f);
+  void read_atoms(DumpFrame& f);
+  // Why atom line a is bad (a file's cut-short last line is truncation, not corruption).
+  [[noreturn]] void bad_row(const DumpFrame& f, long a, std::string_view line);
+  [[noreturn]] void bad_row_message(const DumpFrame& f, long a, const std::string& msg);
+  [[noreturn]] void not_finite(const DumpFrame& f, long a, std::size_t c, const char* p, const char* end);
+  bool in_frame(std::string_view& line);
+  void expect_item(std::string_view& line, std::string_view item, long step);
+  FormatError fail(const std::string& msg) const;
+
   LineReader reader_;
   bool first_ = true, last_ = true;
   std::string next_line_;
   bool in_memory_ = false;
   bool next_frame_seen_ = false;
-  // The previous frame's atom lines and values, where the piece in memory lets them be reused.
-  std::vector<std::string_view> lines_, previous_lines_;
-  std::vector<std::uint32_t> starts_, previous_starts_;  // where each token starts in its line
-  const double* previous_values_ = nullptr;
-  std::vector<std::string> previous_columns_;
+  RepeatedTokens repeats_;  // the previous frame's lines, where the piece in memory lets them be reused
   long step_read_ = -1;
   bool nul_by_step_ = false;
   std::vector<std::string> wanted_;
   std::vector<char> convert_;  // per column of the current header
+  bool convert_all_ = true;
   std::vector<std::string_view> words_;
   long last_step_ = -1;
 };
