@@ -9,6 +9,7 @@
 #include <granstack/formats/dump.hpp>
 
 #include <cstdlib>
+#include <fstream>
 #include <set>
 
 namespace granstack::formats {

@@ -7,6 +7,7 @@
 #include <granstack/study/report.hpp>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>

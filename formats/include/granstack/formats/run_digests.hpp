@@ -4,7 +4,7 @@
 // case with other physics, a run.json copied without its outputs, a file changed since.
 #include <granstack/formats/case.hpp>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <optional>
 #include <set>

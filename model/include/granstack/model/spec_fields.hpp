@@ -6,7 +6,7 @@
 // row here and a member of StackSpec.
 #include <granstack/model/spec.hpp>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <functional>
 #include <string>

@@ -4,7 +4,7 @@
 #include <granstack/postproc/fit.hpp>
 #include <granstack/postproc/reduce.hpp>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <vector>

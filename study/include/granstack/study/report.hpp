@@ -3,7 +3,7 @@
 // as inline SVG, no network needed), and DIR/report.json for machines.
 #include <granstack/study/reproduce.hpp>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 
 namespace granstack::study {
