@@ -184,26 +184,31 @@ TEST(Catalogue, EveryChangeToAReadingBandPaperValueOrGeometryIsRecorded) {
   }
 }
 
-// A claim whose band was first fixed in the commit that first reported its results (the
-// mechanisms experiment's) says so in its record, as a yes or no; text there is refused by name.
-TEST(Catalogue, AFirstFixingMadeWithTheResultsInViewIsRecordedAsSuch) {
-  const std::string text = R"([[experiment]]
+// A catalogue of one experiment x (fig3's analysis; `experiment` adds its fixed record and cases)
+// holding one claim of quantity q, its band and its fixed record.
+std::string one_claim_catalogue(const std::string& experiment, const std::string& band, const std::string& fixed) {
+  return fmt::format(R"([[experiment]]
 name = "x"
 title = "t"
 source = "s"
 analysis = "fig3"
-  [[experiment.claim]]
+{}  [[experiment.claim]]
   statement = "s"
   quantity = "q"
-  band = [0, 1]
+  band = {}
   band_reason = "r"
   expect = "within"
-  fixed = { date = "2026-01-01", commit = "abcdef0", KNOWN quantity = "q", band = "[0, 1]", paper = "none" }
-)";
+  fixed = {}
+)",
+                     experiment, band, fixed);
+}
+
+// A claim whose band was first fixed in the commit that first reported its results (the
+// mechanisms experiment's) says so in its record, as a yes or no; text there is refused by name.
+TEST(Catalogue, AFirstFixingMadeWithTheResultsInViewIsRecordedAsSuch) {
   const auto parse = [&](const std::string& known) {
-    auto t = text;
-    t.replace(t.find("KNOWN "), 6, known);
-    return parse_catalogue(t, "t").experiments.front();
+    const auto fixed = fmt::format(R"({{ date = "2026-01-01", commit = "abcdef0", {}quantity = "q", band = "[0, 1]", paper = "none" }})", known);
+    return parse_catalogue(one_claim_catalogue("", "[0, 1]", fixed), "t").experiments.front();
   };
   EXPECT_FALSE(parse("").claims.front().record.fixed_with_results);
   const auto known = parse("results_known = true, ");
@@ -218,22 +223,12 @@ analysis = "fig3"
 }
 
 TEST(Catalogue, AChangeWithoutARecordOrWithAWrongBeforeIsFound) {
-  const std::string head = R"([[experiment]]
-name = "x"
-title = "t"
-source = "s"
-analysis = "fig3"
-fixed = { date = "2026-01-01", geometry = "1 block of 8 rows, 2 top columns, steel, bottom free, sides free, stop duration", physics = "e = 1, mu = 0, striker 1 m/s, radius 1 R_1, steel, bottom radius 0.001 m, model hertz tangential history" }
+  const std::string head = one_claim_catalogue(
+      R"(fixed = { date = "2026-01-01", geometry = "1 block of 8 rows, 2 top columns, steel, bottom free, sides free, stop duration", physics = "e = 1, mu = 0, striker 1 m/s, radius 1 R_1, steel, bottom radius 0.001 m, model hertz tangential history" }
   [experiment.cases.a]
   blocks = 1
-  [[experiment.claim]]
-  statement = "s"
-  quantity = "q"
-  band = [0, 2]
-  band_reason = "r"
-  expect = "within"
-  fixed = { date = "2026-01-01", quantity = "q", band = "[0, 1]", paper = "none" }
-)";
+)",
+      "[0, 2]", R"({ date = "2026-01-01", quantity = "q", band = "[0, 1]", paper = "none" })");
   // The band moved from [0, 1] to [0, 2] with no record.
   auto problems = unrecorded_changes(parse_catalogue(head, "t").experiments.front());
   ASSERT_EQ(problems.size(), 1u) << fmt::format("{}", fmt::join(problems, "\n"));
