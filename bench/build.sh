@@ -4,6 +4,8 @@
 # turn: each commit checked out into a scratch worktree, built from nothing, the commits
 # alternating, medians of REPEATS builds (min..max). A ratio against the first commit, in the
 # same run, is what to compare: this machine drifts by 30 %.
+# A commit may carry configure options after a '+': HEAD+-DGRANSTACK_UNITY_BUILD=OFF builds HEAD
+# without unity batches (options separated by '+').
 # Usage: bench/build.sh REPEATS BASE_COMMIT COMMIT...   (about 15 minutes a round on 2 cores)
 set -euo pipefail
 repeats=${1:?usage: bench/build.sh REPEATS BASE_COMMIT COMMIT...}
@@ -12,17 +14,21 @@ shift
 source "$(dirname "$0")/common.sh"
 cd "$here"
 declare -A walls
-for rev in "$@"; do
+declare -A trees
+for spec in "$@"; do
+  rev=${spec%%+*}
   git rev-parse --verify -q "$rev^{commit}" >/dev/null || { echo "bench/build.sh: no commit '$rev'" >&2; exit 2; }
-  git worktree add -q --detach "$work/src-$rev" "$rev"
+  [ -n "${trees[$rev]:-}" ] || git worktree add -q --detach "$work/src-$rev" "$rev"
+  trees[$rev]=1
 done
-revs=("$@")
-trap 'for rev in "${revs[@]}"; do git worktree remove --force "$work/src-$rev" 2>/dev/null || true; done; rm -rf "$work"' EXIT
+trap 'for rev in "${!trees[@]}"; do git worktree remove --force "$work/src-$rev" 2>/dev/null || true; done; rm -rf "$work"' EXIT
 for ((i = 1; i <= repeats; i++)); do
   for rev in "$@"; do
+    options=()
+    [[ "$rev" == *+* ]] && IFS=+ read -r -a options <<<"${rev#*+}"
     rm -rf "$work/build"
     t0=$(date +%s.%N)
-    cmake --preset ci -S "$work/src-$rev" -B "$work/build" >/dev/null
+    cmake --preset ci "${options[@]}" -S "$work/src-${rev%%+*}" -B "$work/build" >/dev/null
     cmake --build "$work/build" -j2 >"$work/build.log" 2>&1 || { tail -20 "$work/build.log" >&2; exit 1; }
     t1=$(date +%s.%N)
     walls[$rev]+=" $(awk "BEGIN{printf \"%.1f\", $t1 - $t0}")"

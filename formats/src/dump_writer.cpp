@@ -21,7 +21,7 @@ DumpWriter::DumpWriter(const std::string& path, bool binary)
     : path_(path), binary_(binary), file_(nullptr, &std::fclose) {
   // Only the file's own name is a pattern: a '*' or '%' in a directory's name is a character.
   name_at_ = path_.size() - std::filesystem::path(path_).filename().string().size();
-  if (const auto rank = path_.find('%', name_at_); rank != std::string::npos) path_.replace(rank, 1, "0");
+  if (const auto rank = path_.find('%', name_at_); rank != std::string::npos) path_[rank] = '0';
   per_step_ = path_.find('*', name_at_) != std::string::npos;
   if (!per_step_) open(path_);
 }

@@ -109,6 +109,8 @@ class TextDumpReader final : public DumpReader {
   long last_step_ = -1;
 };
 
+struct BinaryHeader;  // one binary frame's header (binary_dump_reader.cpp)
+
 // LIGGGHTS's binary `dump custom` (.bin, docs/liggghts.md section 6): little-endian, full double
 // precision, no column names, so they come from the deck (the manifest's dump_columns).
 class BinaryDumpReader final : public DumpReader {
@@ -122,11 +124,24 @@ class BinaryDumpReader final : public DumpReader {
   bool defer_values();
 
  private:
+  // The parts of next(): the header (false at a clean end of the file), LAMMPS's tag and column
+  // names where it wrote them, the values chunk by chunk.
+  bool read_header(BinaryHeader& h, bool& lammps);
+  void read_lammps_tag();
+  void read_lammps_columns();
+  void read_chunks(DumpFrame& f, std::int32_t chunks);
+  // Reads up to `bytes` (fewer only where the data end), counting them in offset_.
+  std::size_t fill(void* dst, std::size_t bytes);
+  // Reads exactly `bytes`, or throws TruncatedError naming `what` of this frame.
+  void read(void* dst, std::size_t bytes, const char* what);
+  std::string where() const;  // "frame N (at byte B)"
+
   bool defer_ = false;
   std::string path_;
   std::vector<std::string> columns_;
   std::unique_ptr<ByteSource> source_;
   long offset_ = 0;
+  long frame_offset_ = 0;  // where the frame being read began
   long last_step_ = -1;
 };
 
