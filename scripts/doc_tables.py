@@ -53,6 +53,8 @@ RECORDS = {
     "design_front": "bench/results/design-front-2026-11-28.json",
     # bench/oversubscription.sh 3, on the 2-core machine
     "oversubscription": "bench/results/oversubscription-2026-11-28.json",
+    # scripts/extension_counts.py, from the commits it names (git history)
+    "extension_counts": "bench/results/extension-counts-2026-11-28.json",
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
                  "refsim_against_liggghts": ["docs/how-to/big-nests.md"],
@@ -64,7 +66,8 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "reproduce_speed": ["docs/explanation/performance.md"],
                  "design_front": ["docs/how-to/design.md"], "design_sides": ["docs/how-to/design.md"],
                  "design_yield": ["docs/how-to/design.md"], "design_example_cost": ["docs/explanation/performance.md"],
-                 "oversubscription": ["docs/reference/commands.md"]}
+                 "oversubscription": ["docs/reference/commands.md"],
+                 "extension_counts": ["docs/developer/extending.md"]}
 # The study's tables: LIGGGHTS's reproduction (refsim's in the check) and the LAMMPS study's record.
 REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"], "engines_study": ["docs/explanation/lammps.md"]}
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
@@ -294,6 +297,17 @@ def oversubscription():
             f"{r['ratio']:.0f} times as long.\n")
 
 
+def extension_counts():
+    """The files each extension touched, from its commits (scripts/extension_counts.py)."""
+    rows = ["| extension | commits | library and program files (by folder) | test files | deck templates | other files |",
+            "|---|---|---|---|---|---|"]
+    for r in record("extension_counts")["extensions"]:
+        folders = ", ".join(f"{n} in `{d}/`" for d, n in r["by_folder"].items())
+        rows.append(f"| {r['extension']} | {', '.join(r['commits'])} | {r['library_files']} ({folders}) | "
+                    f"{r['test_files']} | {r['templates']} | {r['other_files']} |")
+    return "\n".join(rows) + "\n"
+
+
 def engines_agreement():
     """validate --engines on every pair of engines and case (bench/engines.sh)."""
     names = {"two_body": "two-body, e = 1", "elastic": "stack, e = 1", "elastic_wall": "stack on a wall, e = 1",
@@ -427,7 +441,8 @@ def main():
                 design_cores_summary=design_cores_summary(), engines_agreement=engines_agreement(),
                 engines_speed=engines_speed(), reproduce_cost=reproduce_cost(), reproduce_speed=reproduce_speed(),
                 design_front=design_front(), design_sides=design_sides(), design_yield=design_yield(),
-                design_example_cost=design_example_cost(), oversubscription=oversubscription())
+                design_example_cost=design_example_cost(), oversubscription=oversubscription(),
+                extension_counts=extension_counts())
     places = {**PLACES, **RECORD_PLACES, **REPRODUCE_PLACES}
     if "--reproduce" in sys.argv[1:]:
         made["reproduce"] = reproduce_table(exe, work, "liggghts")
