@@ -117,7 +117,7 @@ int run_design(const DesignFlags& f) {
     o.runner = slurm.get();
   }
   o.on_progress = [&](int gen, int done, int total) { line.count(fmt::format("generation {}: designs", gen), done, total); };
-  o.time_limit = f.time_limit;
+  o.time_limit = f.time_limit > 0.0 ? f.time_limit : space.search.time_limit;  // the flag, else the space's
   o.on_generation = [&](const design::Generation& g) {  // a line each, on a terminal or in a log
     line.clear();
     fmt::print(stderr, "generation {}: {} new designs, hypervolume {:.6g}\n", g.index, g.evaluations, g.hypervolume);

@@ -57,7 +57,8 @@ struct Finished {
 // free, and takes the finished ones back in the order they finished.
 class Pool {
  public:
-  Pool(const Space& space, BatchRunner* runner) : space_(space), runner_(runner) {}
+  Pool(const Space& space, BatchRunner* runner, Dominator dominator)
+      : space_(space), runner_(runner), dominator_(std::move(dominator)) {}
   Pool(const Pool&) = delete;
   Pool& operator=(const Pool&) = delete;
   // Ends every work(): nothing more starts, and a design still running is abandoned (its run
@@ -106,8 +107,8 @@ class Pool {
       Finished f{std::move(job), std::nullopt, nullptr};
       try {
         const bool run_anyway = f.job.probe.has_value();
-        f.evaluation = runner_ != nullptr ? runner_->evaluate_one(space_, f.job.spec, run_anyway, &abandon_)
-                                          : evaluate_design(space_, f.job.spec, run_anyway, &abandon_);
+        f.evaluation = runner_ != nullptr ? runner_->evaluate_one(space_, f.job.spec, run_anyway, &abandon_, dominator_)
+                                          : evaluate_design(space_, f.job.spec, run_anyway, &abandon_, dominator_);
       } catch (...) {
         f.error = std::current_exception();
       }
@@ -122,6 +123,7 @@ class Pool {
  private:
   const Space& space_;
   BatchRunner* runner_;
+  Dominator dominator_;
   std::mutex m_;
   std::condition_variable work_cv_, done_cv_;
   std::deque<Job> queue_;
@@ -160,6 +162,12 @@ class Asynchronous {
   std::vector<double> uniform(std::mt19937& rng) const;
   bool may_start(int searching);
   bool rejected(const model::StackSpec& spec);
+  // The store's evaluation of a design where it stands for this run (stands_for), else none: it runs.
+  std::optional<Evaluation> standing(const std::string& digest) {
+    auto e = store_.find(digest);
+    if (e && !stands_for(*e, space_, [this](const std::vector<double>& v) { return dominated(v); })) return std::nullopt;
+    return e;
+  }
   std::map<std::string, long> rejections_;  // constraint broken -> draws it refused
   long limit() const;
   long finished() const { return static_cast<long>(archive_.size() + held_.size()) + (norm_ ? 0 : warm_expected_); }
@@ -184,6 +192,17 @@ class Asynchronous {
   std::vector<Member> members_;
   std::vector<Evaluation> archive_;  // the designs the search has joined, in order
   std::vector<Evaluation> front_;    // the archive's feasible designs no other dominates
+  // The front as the shortcuts ask it (from the pool's threads while designs join): rebuilt as it changes.
+  std::optional<std::string> dominated(const std::vector<double>& v) {
+    Dominator d;
+    {
+      const std::lock_guard<std::mutex> lock(front_m_);
+      d = front_dominator_;
+    }
+    return d ? d(v) : std::nullopt;
+  }
+  std::mutex front_m_;
+  Dominator front_dominator_;
   std::set<std::string> known_;      // stored, running or rejected: never drawn again
   long drawn_ = 0;                   // designs started, over every call (the random streams' numbers)
   int last_generation_ = -1;
@@ -269,6 +288,9 @@ void Asynchronous::join(const Evaluation& e, bool replaying, std::size_t subprob
     if (std::none_of(front_.begin(), front_.end(), [&](const Evaluation& f) { return dominates(objective_values(space_, f), v); })) {
       std::erase_if(front_, [&](const Evaluation& f) { return dominates(v, objective_values(space_, f)); });
       front_.push_back(e);
+      auto d = dominator_over(space_, front_);
+      const std::lock_guard<std::mutex> lock(front_m_);
+      front_dominator_ = std::move(d);
     }
   }
   survive({*x, e.digest, fitness(space_, e, &*norm_)}, subproblem);
@@ -366,7 +388,7 @@ std::optional<Job> Asynchronous::draw() {
     auto digest = spec_digest(spec);
     if (!known_.insert(digest).second || rejected(spec)) continue;
     ++drawn_;
-    return Job{x, std::move(spec), std::nullopt, store_.find(digest), static_cast<std::size_t>(drawn_ - 1) % population_};
+    return Job{x, std::move(spec), std::nullopt, standing(digest), static_cast<std::size_t>(drawn_ - 1) % population_};
   }
   auto rng = stream(seed_, drawn_);
   const auto subproblem = static_cast<std::size_t>(drawn_) % population_;
@@ -378,7 +400,7 @@ std::optional<Job> Asynchronous::draw() {
     if (!known_.insert(digest).second) continue;
     if (rejected(spec)) continue;  // rejected before it runs; known from now on
     ++drawn_;
-    return Job{x, std::move(spec), std::nullopt, store_.find(digest), subproblem};
+    return Job{x, std::move(spec), std::nullopt, standing(digest), subproblem};
   }
   return std::nullopt;
 }
@@ -499,7 +521,7 @@ SearchResult Asynchronous::run() {
   }
   const int jobs = std::max(1, options_.jobs);
   std::exception_ptr error;
-  Pool pool(space_, options_.runner);
+  Pool pool(space_, options_.runner, [this](const std::vector<double>& v) { return dominated(v); });
   // The caller's thread searches; `jobs` more run the designs.
   os::Workers(jobs + 1).run([&](int t) {
     if (t > 0) return pool.work();

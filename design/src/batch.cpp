@@ -30,8 +30,9 @@ class SlurmRunner : public BatchRunner {
 
   // One design of the asynchronous search: its scenarios as one batch (a job array), run again
   // longer where first_run's length did not reach a final output, as run() does for many.
+  // Every scenario runs (the shortcuts are this machine's, in situ).
   Evaluation evaluate_one(const Space& space, const model::StackSpec& spec, bool run_anyway,
-                          const std::atomic<bool>* abandon) override {
+                          const std::atomic<bool>* abandon, const Dominator& /*dominator*/) override {
     auto e = measured(space, spec);
     if (!e.feasible && !run_anyway) return e;
     const auto scenarios = scenario_specs(space, spec);
@@ -63,7 +64,7 @@ class SlurmRunner : public BatchRunner {
   }
 
   void run(const Space& space, const std::vector<model::StackSpec>& specs, Store& store,
-           const std::function<void(int, int)>& on_done) override {
+           const std::function<void(int, int)>& on_done, const Dominator& /*dominator*/) override {
     // A job: one scenario of one design (design index, scenario index, the spec it runs). Round 1
     // runs each as first_run says (to its blow's end); round 2, with gravity only, those whose
     // output was not final, longer. A design is stored once every scenario of it is done.

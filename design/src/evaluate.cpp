@@ -14,13 +14,16 @@
 #include <atomic>
 #include <cmath>
 #include <mutex>
+#include <numeric>
 #include <set>
 
 namespace granstack::design {
 
 namespace {
-// One in-situ run of `spec`, to the blow's end when `to_blow_end`.
-Outcome run(const model::StackSpec& spec, bool to_blow_end, double cap_durations, const std::atomic<bool>* abandon) {
+// One in-situ run of `spec`, to the blow's end when `to_blow_end` (abandoned once it is certain
+// not to end by the cap, with `shortcuts`).
+Outcome run(const model::StackSpec& spec, bool to_blow_end, double cap_durations, const std::atomic<bool>* abandon,
+            bool shortcuts) {
   const auto stack = model::Stack::build(spec);
   // The particles exactly as a generated case's data file gives them to refsim.
   refsim::InSituOptions options;
@@ -28,6 +31,7 @@ Outcome run(const model::StackSpec& spec, bool to_blow_end, double cap_durations
   options.stop = [abandon] { return os::interrupt_signal() != 0 || (abandon != nullptr && abandon->load()); };
   options.stop_at_blow_end = to_blow_end;
   options.cap_durations = cap_durations;
+  options.abandon_when_censored = shortcuts;
   auto r = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "design")), options);
   Outcome o;
   take_shared(o, r);
@@ -136,11 +140,13 @@ void add_violation(Evaluation& e, const std::string& why) {
 }
 }  // namespace
 
-void record(const Space& space, Evaluation& e, const std::vector<std::pair<model::StackSpec, Outcome>>& runs) {
+void record(const Space& space, Evaluation& e, const std::vector<std::optional<ScenarioOutcome>>& runs) {
   std::vector<ScenarioRun> done;
   for (std::size_t k = 0; k < runs.size(); ++k) {
-    const auto& [ran, o] = runs[k];
-    done.push_back({space.scenarios.empty() ? "" : space.scenarios[k].label, ran, run_measures(space, o), not_final(space, ran, o)});
+    if (!runs[k]) continue;  // settled before it ran
+    const auto& [ran, o] = *runs[k];
+    done.push_back({space.scenarios.empty() ? "" : space.scenarios[k].label, ran, run_measures(space, o), not_final(space, ran, o),
+                    o.seconds});
     if (!done.back().not_final.empty()) {
       add_violation(e, done.back().label.empty() ? done.back().not_final : fmt::format("at {}: {}", done.back().label, done.back().not_final));
     }
@@ -152,36 +158,100 @@ void record(const Space& space, Evaluation& e, const std::vector<std::pair<model
     const auto it = e.measures.find(name);
     if (it != e.measures.end() && it->second > bound) add_violation(e, fmt::format("{} {:.4g} > {:.4g}", name, it->second, bound));
   }
-  if (space.scenarios.empty()) e.spec = runs.front().first;  // as run: its length and cadences
+  if (space.scenarios.empty()) e.spec = done.front().spec;  // as run: its length and cadences
   else e.scenarios = std::move(done);
 }
 
-Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway, const std::atomic<bool>* abandon) {
+void record(const Space& space, Evaluation& e, const std::vector<ScenarioOutcome>& runs) {
+  record(space, e, std::vector<std::optional<ScenarioOutcome>>(runs.begin(), runs.end()));
+}
+
+std::vector<std::size_t> scenario_order(const Space& space) {
+  std::vector<std::size_t> order(std::max<std::size_t>(1, space.scenarios.size()));
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  if (!space.search.shortcuts) return order;
+  const auto energy = [&](std::size_t k) {
+    const auto& sc = space.scenarios[k];
+    return std::pow(sc.striker_radius_ratio, 3) * sc.striker_speed * sc.striker_speed;
+  };
+  if (!space.scenarios.empty()) std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return energy(a) > energy(b); });
+  return order;
+}
+
+namespace {
+// One scenario's run: to its blow's end, or (gravity) as it is and once more where not final.
+ScenarioOutcome run_scenario(const Space& space, const model::StackSpec& one, const std::atomic<bool>* abandon, bool shortcuts) {
+  if (stops_at_blow_end(one)) {
+    auto o = run(one, true, space.cap_durations, abandon, shortcuts);
+    return {stopping_at_blow_end(one, space.cap_durations), std::move(o)};
+  }
+  auto ran = one;
+  auto o = run(ran, false, space.cap_durations, abandon, shortcuts);
+  if (const auto longer = extended(one, ran, o)) {
+    const double first = o.seconds;
+    ran = *longer;
+    o = run(ran, false, space.cap_durations, abandon, shortcuts);
+    o.seconds += first;  // the scenario's time is both runs'
+  }
+  return {ran, std::move(o)};
+}
+
+// Why the design is settled by the scenarios run so far (`runs`, the rest not run), or "": a run
+// not final (the design is infeasible whatever the rest give), a measure taken at its worst over
+// its bound (the rest can only raise it), or its objectives, each taken at its worst, dominated
+// by a design of the run's front (the rest can only raise them). `kind` gets which.
+std::string settled_by(const Space& space, const Evaluation& e, const std::vector<std::optional<ScenarioOutcome>>& runs,
+                       const Dominator& dominator, std::string& kind) {
+  auto partial = e;
+  record(space, partial, runs);
+  for (const auto& r : partial.scenarios) {
+    if (r.not_final.empty()) continue;
+    kind = "censored";
+    return fmt::format("at {}: {}", r.label, r.not_final);
+  }
+  for (const auto& [name, bound] : space.constraints.max_measures) {
+    const auto it = partial.measures.find(name);
+    if (space.aggregate_of(name) != Aggregate::worst || it == partial.measures.end() || !(it->second > bound)) continue;
+    kind = "constraint";
+    return fmt::format("{} {:.4g} > {:.4g}", name, it->second, bound);
+  }
+  const bool worst_only = std::all_of(space.objectives.begin(), space.objectives.end(), [&](Objective o) {
+    return o->from_run == nullptr || space.aggregate_of(o->name) == Aggregate::worst;
+  });
+  if (!dominator || !worst_only) return "";
+  const auto by = dominator(objective_values(space, partial));
+  if (!by) return "";
+  kind = "dominated";
+  return "dominated by " + *by;
+}
+}  // namespace
+
+Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway, const std::atomic<bool>* abandon,
+                           const Dominator& dominator) {
   auto e = measured(space, spec);
   if (!e.feasible && !run_anyway) return e;
-  std::vector<std::pair<model::StackSpec, Outcome>> runs;
-  for (const auto& one : scenario_specs(space, spec)) {
-    if (stops_at_blow_end(one)) {
-      auto o = run(one, true, space.cap_durations, abandon);
-      runs.emplace_back(stopping_at_blow_end(one, space.cap_durations), std::move(o));
-      continue;
-    }
-    auto ran = one;
-    auto o = run(ran, false, space.cap_durations, abandon);
-    if (const auto longer = extended(one, ran, o)) {
-      e.seconds += o.seconds;
-      ran = *longer;
-      o = run(ran, false, space.cap_durations, abandon);
-    }
-    runs.emplace_back(ran, std::move(o));
+  // The probes (run_anyway) fix the objectives' box: every scenario of theirs runs.
+  const bool shortcuts = space.search.shortcuts && !run_anyway;
+  const auto specs = scenario_specs(space, spec);
+  const auto order = scenario_order(space);
+  std::vector<std::optional<ScenarioOutcome>> runs(specs.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    runs[order[i]] = run_scenario(space, specs[order[i]], abandon, shortcuts);
+    if (!shortcuts || i + 1 == order.size()) continue;
+    const auto why = settled_by(space, e, runs, dominator, e.shortcut);
+    if (why.empty()) continue;
+    std::vector<std::string> left;
+    for (std::size_t j = i + 1; j < order.size(); ++j) left.push_back(space.scenarios[order[j]].label);
+    e.shortcut_why = fmt::format("{}; not run: {}", why, fmt::join(left, ", "));
+    break;
   }
   record(space, e, runs);
   return e;
 }
 
 Evaluation BatchRunner::evaluate_one(const Space& space, const model::StackSpec& spec, bool run_anyway,
-                                     const std::atomic<bool>* abandon) {
-  return evaluate_design(space, spec, run_anyway, abandon);
+                                     const std::atomic<bool>* abandon, const Dominator& dominator) {
+  return evaluate_design(space, spec, run_anyway, abandon, dominator);
 }
 
 Evaluation measured(const Space& space, const model::StackSpec& spec) {
@@ -204,7 +274,7 @@ class LocalRunner : public BatchRunner {
  public:
   explicit LocalRunner(int jobs) : jobs_(std::max(1, jobs)) {}
   void run(const Space& space, const std::vector<model::StackSpec>& specs, Store& store,
-           const std::function<void(int, int)>& on_done) override {
+           const std::function<void(int, int)>& on_done, const Dominator& dominator) override {
     std::atomic<int> finished{0};
     std::atomic<bool> ended{false};  // a design failed or a signal came: no other starts
     std::mutex m;
@@ -221,7 +291,7 @@ class LocalRunner : public BatchRunner {
         return;
       }
       try {
-        store.put(evaluate_design(space, specs[k]));
+        store.put(evaluate_design(space, specs[k], false, nullptr, dominator));
       } catch (...) {
         end_with(std::current_exception());
       }
@@ -239,13 +309,38 @@ class LocalRunner : public BatchRunner {
 
 std::unique_ptr<BatchRunner> local_runner(int jobs) { return std::make_unique<LocalRunner>(jobs); }
 
+Dominator dominator_over(const Space& space, const std::vector<Evaluation>& designs) {
+  auto points = std::make_shared<std::vector<std::pair<std::vector<double>, std::string>>>();
+  for (const auto& d : designs) {
+    if (d.feasible && d.shortcut.empty()) points->emplace_back(objective_values(space, d), fmt::format("{} ({})", d.description, d.digest.substr(0, 12)));
+  }
+  return [points](const std::vector<double>& v) -> std::optional<std::string> {
+    for (const auto& [p, name] : *points) {
+      bool better = false, worse = false;
+      for (std::size_t k = 0; k < v.size() && !worse; ++k) {
+        worse = !(p[k] <= v[k]);  // a NaN in either is no domination
+        better = better || p[k] < v[k];
+      }
+      if (better && !worse) return name;
+    }
+    return std::nullopt;
+  };
+}
+
+bool stands_for(const Evaluation& e, const Space& space, const Dominator& dominator) {
+  return e.shortcut != "dominated" || (dominator && dominator(objective_values(space, e)).has_value());
+}
+
 std::vector<Evaluation> Evaluator::evaluate(const std::vector<model::StackSpec>& specs,
-                                            const std::function<void(int, int)>& on_done) {
+                                            const std::function<void(int, int)>& on_done, const Dominator& dominator) {
   std::vector<model::StackSpec> to_run;
   std::set<std::string> asked;
   for (const auto& spec : specs) {
     const auto digest = spec_digest(spec);
-    if (auto e = store_.find(digest)) {
+    auto e = store_.find(digest);
+    if (e && !stands_for(*e, space_, dominator)) {  // settled against another run's front: run in full for this one
+      if (asked.insert(digest).second) to_run.push_back(spec);
+    } else if (e) {
       if (!e->searched) {  // run before as one of the study's designs: the search has now asked for it too
         e->searched = true;
         store_.put(*e);
@@ -256,7 +351,7 @@ std::vector<Evaluation> Evaluator::evaluate(const std::vector<model::StackSpec>&
       else store_.put(m);  // outside the constraints: stored, never run
     }
   }
-  if (!to_run.empty()) runner_.run(space_, to_run, store_, on_done);
+  if (!to_run.empty()) runner_.run(space_, to_run, store_, on_done, dominator);
   runs_ += static_cast<int>(to_run.size());
   std::vector<Evaluation> out;
   for (const auto& spec : specs) {

@@ -33,16 +33,9 @@ std::vector<RunSummary> summarise_runs(const Space& space, const Store& store, c
   std::vector<RunSummary> out;
   const auto box = stored_normalisation(store);
   const auto front = pareto_front(space, all);
-  std::map<std::string, const Evaluation*> by_digest;
-  for (const auto& e : all) by_digest[e.digest] = &e;
   for (std::size_t r = 0; r < space.search.seeds.size(); ++r) {
     RunSummary s{static_cast<int>(r), space.search.seeds[r], 0, -1, 0.0, 0.0, 0};
-    std::vector<Evaluation> mine;
-    const auto joins = store.joins(s.run);
-    for (const auto& d : joins) {
-      if (const auto it = by_digest.find(d); it != by_digest.end()) mine.push_back(*it->second);
-    }
-    if (joins.empty() && r == 0) mine = all;
+    const auto mine = run_designs(store, s.run, all);
     for (const auto& g : generations) {
       if (g.run != s.run) continue;
       s.last_generation = g.index;
@@ -236,31 +229,6 @@ std::string yield_text(const std::vector<Evaluation>& front, const std::vector<E
 }
 
 // Each front design's run objectives in each scenario: the spread its aggregate hides.
-// The scenarios (indices into e.scenarios) that decided each of the space's run objectives: the
-// worst's, or all of them for a mean. Without scenarios, none.
-std::map<std::size_t, std::vector<std::string>> deciding_scenarios(const Space& space, const Evaluation& e) {
-  std::map<std::size_t, std::vector<std::string>> out;
-  if (e.scenarios.empty()) return out;
-  for (const auto o : space.objectives) {
-    if (o->from_run == nullptr) continue;
-    const std::string name(o->name);
-    if (space.aggregate_of(name) == Aggregate::mean) {
-      for (std::size_t k = 0; k < e.scenarios.size(); ++k) out[k].push_back(name + " (mean)");
-      continue;
-    }
-    const auto value = [&](std::size_t k) {
-      const auto it = e.scenarios[k].measures.find(name);
-      return it == e.scenarios[k].measures.end() ? -std::numeric_limits<double>::infinity() : it->second;
-    };
-    std::size_t worst = 0;
-    for (std::size_t k = 1; k < e.scenarios.size(); ++k) {
-      if (value(k) > value(worst)) worst = k;
-    }
-    out[worst].push_back(name + " (worst)");
-  }
-  return out;
-}
-
 postproc::Table scenario_table(const Space& space, const std::vector<Evaluation>& front) {
   postproc::Table t{"The front's designs in each scenario", {"#", "scenario"}, {}};
   std::vector<Objective> run;
@@ -402,6 +370,16 @@ postproc::Table confirmations_table(const Snapshot& s) {
   return t;
 }
 
+// Whether each seed's run has stopped improving, by the rule stated.
+std::string convergence_text(const Space& space, const std::vector<Progress>& progress) {
+  std::vector<std::string> runs;
+  for (const auto& p : progress) runs.push_back(fmt::format("seed {}: {}", p.seed, stopped_improving(space, p)));
+  return fmt::format("Has the search stopped improving? The rule: a run has when its hypervolume gained at most {:g} of itself "
+                     "over {} generations' worth of distinct designs ({} each; [search] stagnation and stagnation_tolerance "
+                     "set them, and end a search by the same rule). {}.",
+                     space.search.stagnation_tolerance, convergence_window(space), space.search.population, fmt::join(runs, "; "));
+}
+
 json evaluation_json(const Space& space, const Evaluation& e) {
   json objectives = json::object();
   for (const auto o : space.objectives) {
@@ -410,10 +388,32 @@ json evaluation_json(const Space& space, const Evaluation& e) {
   }
   return {{"digest", e.digest}, {"description", e.description}, {"spheres", e.spheres}, {"feasible", e.feasible},
           {"violations", e.violations}, {"objectives", objectives}, {"areal_mass", e.areal_mass}, {"height", e.height},
-          {"measures", e.measures}, {"spec", model::spec_json(e.spec)}};
+          {"measures", e.measures}, {"spec", model::spec_json(e.spec)}, {"shortcut", e.shortcut}};
 }
 
-json report_json(const Space& space, const Snapshot& s, const std::vector<Evaluation>& front) {
+// Each run's spending and progress, for the benchmark's record (bench/design_budget.sh).
+json runs_json(const Space& space, const Store& store, const Snapshot& s) {
+  json runs = json::array();
+  const auto budgets = run_budgets(space, store, s.all);
+  const auto progress = s.box ? run_progress(space, store, s.all, *s.box) : std::vector<Progress>{};
+  for (std::size_t k = 0; k < s.runs.size(); ++k) {
+    const auto& r = s.runs[k];
+    const auto& b = budgets.at(k);
+    json j = {{"seed", r.seed}, {"designs", r.designs}, {"last_generation", r.last_generation}, {"hypervolume", r.hypervolume},
+              {"igd_plus", r.igd_plus}, {"front_designs_found", r.on_front}, {"refsim_seconds", b.seconds},
+              {"censored_seconds", b.censored}, {"undecided_seconds", b.undecided}, {"off_front_seconds", b.off_front},
+              {"settled", b.settled}, {"scenario_runs", b.scenario_runs}, {"scenario_runs_not_run", b.skipped_runs},
+              {"timed", b.timed}};
+    if (k < progress.size()) {
+      j["stopped_improving"] = stopped_improving(space, progress[k]);
+      for (const auto& p : progress[k].points) j["progress"].push_back({p.designs, p.hypervolume, p.igd_plus});
+    }
+    runs.push_back(j);
+  }
+  return runs;
+}
+
+json report_json(const Space& space, const Store& store, const Snapshot& s, const std::vector<Evaluation>& front) {
   json j = json::object();
   j["granstack_version"] = std::string(granstack::version());
   j["space_digest"] = space.digest();
@@ -430,11 +430,7 @@ json report_json(const Space& space, const Snapshot& s, const std::vector<Evalua
                                 {"hypervolume", g.hypervolume}, {"new_designs", g.evaluations}});
   }
   j["schedule"] = std::string(to_string(space.search.schedule));
-  j["runs"] = json::array();
-  for (const auto& r : s.runs) {
-    j["runs"].push_back({{"seed", r.seed}, {"designs", r.designs}, {"last_generation", r.last_generation},
-                         {"hypervolume", r.hypervolume}, {"igd_plus", r.igd_plus}, {"front_designs_found", r.on_front}});
-  }
+  j["runs"] = runs_json(space, store, s);
   if (s.box) {
     for (const auto& a : s.box->axes) {
       j["normalisation"].push_back({{"objective", a.objective}, {"log", a.log}, {"ideal", a.ideal}, {"nadir", a.nadir}, {"basis", a.basis}});
@@ -605,8 +601,15 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   } else {
     if (s.box) d.push_back(box_table(*s.box));
     if (s.runs.size() > 1) d.push_back(runs_table(s, front.size()));
+    if (s.box) {
+      const auto progress = run_progress(space, store, s.all, *s.box);
+      d.push_back(postproc::Paragraph{convergence_text(space, progress)});
+      for (auto& f : convergence_figures(progress, dir)) d.push_back(std::move(f));
+    } else {
+      d.push_back(hypervolume_figure(s, dir));
+    }
     d.push_back(generations_table(s));
-    d.push_back(hypervolume_figure(s, dir));
+    d.push_back(budget_table(run_budgets(space, store, s.all)));
   }
   if (!s.confirmations.empty()) {
     d.push_back(postproc::Heading{2, "Confirmed on LIGGGHTS", "confirmed"});
@@ -617,7 +620,7 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   write_front_specs(space, front, generation, dir);
   formats::write_file_atomically(dir / "design.md", postproc::markdown(d));
   formats::write_file_atomically(dir / "design.html", postproc::html(d, dir, "granstack design"));
-  formats::write_file_atomically(dir / "design.json", report_json(space, s, front).dump(2) + "\n");
+  formats::write_file_atomically(dir / "design.json", report_json(space, store, s, front).dump(2) + "\n");
   return dir / "design.html";
 }
 

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <map>
 #include <set>
 #include <string>
@@ -190,6 +191,35 @@ postproc::Figure hypervolume_figure(const Snapshot& s, const fs::path& dir) {
                                   postproc::gnuplot_terminal(o), plots);
   postproc::render_gnuplot(dir.string(), "hypervolume", data, script, o);
   return {"hypervolume.svg", "The hypervolume of each generation's front: it grows while the search still finds better designs"};
+}
+
+// Figures: each seed's hypervolume and IGD+ (against the front of all runs) after each
+// generation's worth of distinct designs.
+std::vector<postproc::Figure> convergence_figures(const std::vector<Progress>& progress, const fs::path& dir) {
+  std::string data = "# distinct designs, hypervolume, IGD+ (a block per seed's run)\n";
+  for (const auto& p : progress) {
+    data += fmt::format("# seed {}\n", p.seed);
+    for (const auto& x : p.points) data += fmt::format("{} {:.10g} {:.10g}\n", x.designs, x.hypervolume, x.igd_plus);
+    data += "\n\n";
+  }
+  postproc::PlotOptions o;
+  o.format = "svg";
+  // One image per render: hypervolume.dat and igd_plus.dat hold the same table.
+  for (const auto& [name, column, ylabel, key] : {std::tuple{"hypervolume", 2, "hypervolume (normalised box)", "bottom right"},
+                                                  std::tuple{"igd_plus", 3, "IGD+ to the front of all runs", "top right"}}) {
+    std::string plots;
+    for (std::size_t r = 0; r < progress.size(); ++r) {
+      plots += fmt::format("{}'{}.dat' index {} using 1:{} with linespoints pt 7 title 'seed {}'", plots.empty() ? "" : ", ", name, r,
+                           column, progress[r].seed);
+    }
+    postproc::render_gnuplot(dir.string(), name, data,
+                             fmt::format("{}\nset output '{}.svg'\nset xlabel 'distinct designs'\nset ylabel '{}'\nset key {}\nplot {}\n",
+                                         postproc::gnuplot_terminal(o), name, ylabel, key, plots),
+                             o);
+  }
+  return {{"hypervolume.svg", "Each seed's hypervolume against the distinct designs it has run: it grows while the search still "
+                              "finds better designs"},
+          {"igd_plus.svg", "Each seed's IGD+ to the front of all runs (0: it has found every point of that front)"}};
 }
 
 }  // namespace granstack::design::report_parts

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -67,5 +68,46 @@ std::vector<Rerun> rerun_shown(const Snapshot& s, const std::vector<Evaluation>&
 postproc::Figure force_figure(const std::vector<Rerun>& shown, const std::filesystem::path& dir);
 postproc::Table energy_table(const std::vector<Rerun>& shown, bool wall);
 postproc::Figure hypervolume_figure(const Snapshot& s, const std::filesystem::path& dir);
+
+// The designs seed number `run` joined, in order, from `all` (budget.cpp).
+std::vector<Evaluation> run_designs(const Store& store, int run, const std::vector<Evaluation>& all);
+// The scenarios (indices into e.scenarios) that decided each of the space's run objectives: the
+// worst's, or all of them for a mean. Without scenarios, none.
+std::map<std::size_t, std::vector<std::string>> deciding_scenarios(const Space& space, const Evaluation& e);
+
+// What one seed's run spent refsim's time on, over the designs it joined (#50).
+struct RunBudget {
+  std::uint64_t seed = 0;
+  std::size_t designs = 0;
+  double seconds = 0.0;     // refsim wall time of its designs
+  double censored = 0.0;    // of it, on runs whose blow had not ended by the cap
+  double undecided = 0.0;   // on scenario runs of a design run in full, within its constraints, that decided no objective
+  double off_front = 0.0;   // on designs off its front
+  std::map<std::string, std::size_t> settled;  // designs settled early, by shortcut
+  std::size_t scenario_runs = 0, skipped_runs = 0;
+  bool timed = true;        // every scenario run timed (a store from before: its shares unknown)
+};
+std::vector<RunBudget> run_budgets(const Space& space, const Store& store, const std::vector<Evaluation>& all);
+postproc::Table budget_table(const std::vector<RunBudget>& budgets);
+
+// A seed's run after every `population` distinct designs it joined (and its last): the
+// hypervolume of those designs' front in the box and its IGD+ against the front of all runs.
+struct ProgressPoint {
+  std::size_t designs = 0;
+  double hypervolume = 0.0, igd_plus = 0.0;
+};
+struct Progress {
+  std::uint64_t seed = 0;
+  std::vector<ProgressPoint> points;
+};
+std::vector<Progress> run_progress(const Space& space, const Store& store, const std::vector<Evaluation>& all,
+                                   const Normalisation& box);
+// The report's rule for a run that has stopped improving: its hypervolume gained at most
+// [search] stagnation_tolerance of itself over `convergence_window` generations' worth of designs
+// ([search] stagnation, else kConvergenceWindow), the rule [search] stagnation ends a search by.
+inline constexpr int kConvergenceWindow = 3;
+int convergence_window(const Space& space);
+std::string stopped_improving(const Space& space, const Progress& p);
+std::vector<postproc::Figure> convergence_figures(const std::vector<Progress>& progress, const std::filesystem::path& dir);
 
 }  // namespace granstack::design::report_parts

@@ -54,7 +54,7 @@ struct Context {
   pagmo::vector_double fitnesses(const pagmo::vector_double& dvs) {
     const auto evaluations = evaluator->evaluate(decode(dvs), [&](int done, int total) {
       if (options->on_progress) options->on_progress(generation, done, total);
-    });
+    }, dominator_over(*space, archive));
     join(evaluations);
     pagmo::vector_double out;
     for (const auto& e : evaluations) {

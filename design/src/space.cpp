@@ -516,6 +516,14 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
       }
     } else if (key == "crossover_probability" || key == "crossover_eta" || key == "mutation_eta" || key == "mutation_probability") {
       read_operator(key, v, s, problems);
+    } else if (key == "shortcuts") {
+      const auto on = v.value_exact<bool>();
+      if (!on) problems.push_back("[search] shortcuts: true (settle a design once its scenarios so far decide it) or false (run every scenario)");
+      else s.search.shortcuts = *on;
+    } else if (key == "time_limit") {
+      const auto x = v.value<double>();
+      if (!x || !(*x > 0.0) || !std::isfinite(*x)) problems.push_back("[search] time_limit: seconds, above 0 (the search starts no design after it)");
+      else s.search.time_limit = *x;
     } else if (key == "stagnation_tolerance") {
       const auto x = v.value<double>();
       if (!x || !(*x >= 0.0 && *x < 1.0)) problems.push_back("[search] stagnation_tolerance: a fraction from 0 to below 1");
@@ -526,7 +534,7 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
       read_search_count(key, v, s, problems);
     } else {
       problems.push_back(fmt::format("[search] {}: unknown; evaluation, algorithm, population, generations, seed, "
-                                     "max_designs, stagnation, stagnation_tolerance, start, crossover_probability, "
+                                     "max_designs, stagnation, stagnation_tolerance, time_limit, shortcuts, start, crossover_probability, "
                                      "crossover_eta, mutation_eta or mutation_probability", key));
     }
   }

@@ -102,9 +102,10 @@ constexpr const char* kEvaluationColumns =
     "digest, description, spec, spheres, feasible, violations, areal_mass, height, seconds, searched, output_separated";
 constexpr int kFixedColumns = 11;
 
-// The columns a row of evaluations is read from: the fixed ones, each run measure's, and the
-// scenarios' runs (JSON; a store written before them reads as none).
-std::string prefixed_columns(const std::string& prefix, const std::vector<std::string>& measures, bool scenarios) {
+// The columns a row of evaluations is read from: the fixed ones, each run measure's, the
+// scenarios' runs (JSON; a store written before them reads as none) and the shortcut that settled
+// the design and why (a store written before them: none).
+std::string prefixed_columns(const std::string& prefix, const std::vector<std::string>& measures, bool scenarios, bool shortcuts) {
   std::string out;
   std::string_view rest = kEvaluationColumns;
   while (!rest.empty()) {
@@ -114,13 +115,15 @@ std::string prefixed_columns(const std::string& prefix, const std::vector<std::s
   }
   for (const auto& m : measures) out += ", " + prefix + m;
   out += scenarios ? ", " + prefix + "scenarios" : std::string(", '[]'");
+  out += shortcuts ? fmt::format(", {0}shortcut, {0}shortcut_why", prefix) : std::string(", '', ''");
   return out;
 }
 
 nlohmann::json scenarios_json(const std::vector<ScenarioRun>& runs) {
   auto j = nlohmann::json::array();
   for (const auto& r : runs) {
-    j.push_back({{"label", r.label}, {"spec", model::spec_json(r.spec)}, {"measures", r.measures}, {"not_final", r.not_final}});
+    j.push_back({{"label", r.label}, {"spec", model::spec_json(r.spec)}, {"measures", r.measures}, {"not_final", r.not_final},
+                 {"seconds", r.seconds}});
   }
   return j;
 }
@@ -129,7 +132,8 @@ std::vector<ScenarioRun> scenarios_from(const std::string& text) {
   std::vector<ScenarioRun> out;
   for (const auto& r : nlohmann::json::parse(text)) {
     out.push_back({r.at("label").get<std::string>(), model::spec_from_json_fields(r.at("spec")),
-                   r.at("measures").get<std::map<std::string, double>>(), r.at("not_final").get<std::string>()});
+                   r.at("measures").get<std::map<std::string, double>>(), r.at("not_final").get<std::string>(),
+                   r.value("seconds", 0.0)});
   }
   return out;
 }
@@ -151,7 +155,10 @@ Evaluation evaluation_from(const Statement& q, const std::vector<std::string>& m
   for (std::size_t k = 0; k < measures.size(); ++k) {
     if (const auto v = q.maybe(from + kFixedColumns + static_cast<int>(k))) e.measures.emplace(measures[k], *v);
   }
-  e.scenarios = scenarios_from(q.text(from + kFixedColumns + static_cast<int>(measures.size())));
+  const int tail = from + kFixedColumns + static_cast<int>(measures.size());
+  e.scenarios = scenarios_from(q.text(tail));
+  e.shortcut = q.text(tail + 1);
+  e.shortcut_why = q.text(tail + 2);
   return e;
 }
 
@@ -185,7 +192,8 @@ void throw_store_error(sqlite3* db, const std::string& what) {
 
 Store::Store(sqlite3* db) : db_(db), mutex_(std::make_unique<std::mutex>()) {}
 Store::Store(Store&& o) noexcept
-    : db_(o.db_), measures_(std::move(o.measures_)), has_scenarios_(o.has_scenarios_), mutex_(std::move(o.mutex_)) {
+    : db_(o.db_), measures_(std::move(o.measures_)), has_scenarios_(o.has_scenarios_), has_shortcuts_(o.has_shortcuts_),
+      has_runs_(o.has_runs_), has_joins_(o.has_joins_), mutex_(std::move(o.mutex_)) {
   o.db_ = nullptr;
 }
 Store::~Store() { sqlite3_close(db_); }
@@ -210,6 +218,11 @@ Store Store::open(const std::string& path, const std::string& space_digest, cons
   }
   if (std::find(present.begin(), present.end(), "scenarios") == present.end()) {
     s.exec("ALTER TABLE evaluations ADD COLUMN scenarios TEXT NOT NULL DEFAULT '[]'");
+  }
+  for (const char* c : {"shortcut", "shortcut_why"}) {
+    if (std::find(present.begin(), present.end(), c) == present.end()) {
+      s.exec(fmt::format("ALTER TABLE evaluations ADD COLUMN {} TEXT NOT NULL DEFAULT ''", c));
+    }
   }
   if (const auto c = s.columns("confirmations"); std::find(c.begin(), c.end(), "longer_difference") == c.end()) {
     s.exec("ALTER TABLE confirmations ADD COLUMN longer_difference REAL");
@@ -278,7 +291,7 @@ void Store::set_meta(const std::string& key, const std::string& value) {
 
 std::optional<Evaluation> Store::find(const std::string& digest) const {
   const std::lock_guard<std::mutex> lock(*mutex_);
-  Statement q(db_, fmt::format("SELECT {} FROM evaluations WHERE digest = ?", prefixed_columns("", measures_, has_scenarios_)));
+  Statement q(db_, fmt::format("SELECT {} FROM evaluations WHERE digest = ?", prefixed_columns("", measures_, has_scenarios_, has_shortcuts_)));
   q.bind(1, digest);
   if (q.step()) return evaluation_from(q, measures_);
   return std::nullopt;
@@ -287,8 +300,8 @@ std::optional<Evaluation> Store::find(const std::string& digest) const {
 void Store::put(const Evaluation& e) {
   const std::lock_guard<std::mutex> lock(*mutex_);
   std::string marks = "?";
-  for (int k = 1; k < kFixedColumns + static_cast<int>(measures_.size()) + 2; ++k) marks += ", ?";
-  Statement q(db_, fmt::format("INSERT OR REPLACE INTO evaluations ({}, blocks) VALUES ({})", prefixed_columns("", measures_, has_scenarios_), marks));
+  for (int k = 1; k < kFixedColumns + static_cast<int>(measures_.size()) + 4; ++k) marks += ", ?";
+  Statement q(db_, fmt::format("INSERT OR REPLACE INTO evaluations ({}, blocks) VALUES ({})", prefixed_columns("", measures_, has_scenarios_, has_shortcuts_), marks));
   q.bind(1, e.digest).bind(2, e.description).bind(3, model::spec_json(e.spec).dump()).bind(4, e.spheres);
   q.bind(5, static_cast<long>(e.feasible)).bind(6, e.violations).bind(7, e.areal_mass).bind(8, e.height).bind(9, e.seconds);
   q.bind(10, static_cast<long>(e.searched)).bind(11, static_cast<long>(e.output_separated));
@@ -298,6 +311,8 @@ void Store::put(const Evaluation& e) {
     q.bind(at++, v == e.measures.end() ? std::nullopt : std::optional<double>(v->second));
   }
   q.bind(at++, scenarios_json(e.scenarios).dump());
+  q.bind(at++, e.shortcut);
+  q.bind(at++, e.shortcut_why);
   q.bind(at, static_cast<long>(e.spec.blocks));
   q.step();
 }
@@ -312,6 +327,7 @@ std::vector<std::string> Store::columns(const std::string& table) const {
 void Store::find_measures() {
   const auto present = columns("evaluations");
   has_scenarios_ = std::find(present.begin(), present.end(), "scenarios") != present.end();
+  has_shortcuts_ = std::find(present.begin(), present.end(), "shortcut") != present.end();
   const auto gens = columns("generations");
   has_runs_ = std::find(gens.begin(), gens.end(), "run") != gens.end();
   has_joins_ = !columns("joins").empty();
@@ -323,7 +339,7 @@ void Store::find_measures() {
 
 std::vector<Evaluation> Store::evaluations() const {
   const std::lock_guard<std::mutex> lock(*mutex_);
-  Statement q(db_, fmt::format("SELECT {} FROM evaluations WHERE searched = 1 ORDER BY rowid", prefixed_columns("", measures_, has_scenarios_)));
+  Statement q(db_, fmt::format("SELECT {} FROM evaluations WHERE searched = 1 ORDER BY rowid", prefixed_columns("", measures_, has_scenarios_, has_shortcuts_)));
   std::vector<Evaluation> out;
   while (q.step()) out.push_back(evaluation_from(q, measures_));
   return out;
@@ -332,7 +348,7 @@ std::vector<Evaluation> Store::evaluations() const {
 std::vector<std::pair<std::string, Evaluation>> Store::study_designs() const {
   const std::lock_guard<std::mutex> lock(*mutex_);
   Statement q(db_, fmt::format("SELECT s.name, {} FROM study_designs s JOIN evaluations e ON e.digest = s.digest ORDER BY s.rowid",
-                               prefixed_columns("e.", measures_, has_scenarios_)));
+                               prefixed_columns("e.", measures_, has_scenarios_, has_shortcuts_)));
   std::vector<std::pair<std::string, Evaluation>> out;
   while (q.step()) out.emplace_back(q.text(0), evaluation_from(q, measures_, 1));
   return out;

@@ -21,6 +21,18 @@ using detail::momentum_z;
 using detail::touches_nothing;
 
 namespace {
+// The earliest step at which `blow`, judged at the frame `step` and not ended, can end: its
+// condition held from the frame it began holding (or, not holding, from the next frame) for the
+// hold, at a frame.
+long earliest_end(const model::BlowEnd& blow, long step, long dump_every) {
+  const long from = blow.holding_since().value_or(step + dump_every) + blow.hold_steps();
+  return (from + dump_every - 1) / dump_every * dump_every;
+}
+// Whether the blow can no longer end by the step `cap`.
+bool certainly_censored(const model::BlowEnd& blow, long step, long dump_every, long cap) {
+  return earliest_end(blow, step, dump_every) > cap;
+}
+
 double sphere_ke(const System& s, std::size_t i) {
   const auto v = s.v(i), w = s.omega(i);
   return model::translational_energy(s.mass(i), v[0], v[1], v[2]) +
@@ -47,6 +59,7 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
   const bool stops = options.stop_at_blow_end || res.stops_at_blow_end;
   long end = options.stop_at_blow_end && !res.stops_at_blow_end ? model::blow_end_cap_steps(res, options.cap_durations)
                                                                   : res.steps;
+  const bool abandon = stops && options.abandon_when_censored && stack.spec().gravity == 0.0;
   const auto bottom_row = stack.bottom_row_ids();
   // The output sphere's energy and the bottom row's, in the order reduce sums them (ids ascending).
   const auto final_energies = [&] {
@@ -89,6 +102,10 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
       const bool ended = blow.ended_at().has_value();
       detail::judge_blow_end(blow, stack, system);
       if (stops && !ended && blow.ended_at()) end = next_frame;
+      if (abandon && !blow.ended_at() && certainly_censored(blow, next_frame, res.dump_every, end)) {
+        r.abandoned_at = next_frame;
+        end = next_frame;
+      }
       if (next_frame == end) {
         final_ke = final_energies();
         energy_at_end();
@@ -129,6 +146,11 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
   r.wall_force_interval = static_cast<double>(res.series_every) * res.dt;
   if (const auto at = blow.ended_at()) r.blow_end_time = static_cast<double>(*at) * res.dt;
   r.blow_not_ended = blow.why_not_ended();
+  if (r.abandoned_at) {
+    r.blow_not_ended += fmt::format("; abandoned at step {}: held from {}, the blow could end at step {} at the earliest, "
+                                    "past the cap", *r.abandoned_at, blow.holding_since() ? "when it began holding" : "the next frame",
+                                    earliest_end(blow, *r.abandoned_at, res.dump_every));
+  }
   r.output_fraction = wall ? r.output_peak_fraction : std::get<0>(final_ke) / r.e_in;
   r.bottom_row_fraction = std::get<1>(final_ke) / r.e_in;
   r.final_momentum_ratio = std::get<2>(final_ke) / (stack.striker_mass() * stack.spec().striker_speed * stack.strikers());

@@ -1083,8 +1083,12 @@ TEST(DesignCli, TheHtmlReportRendersInChromium) {
     EXPECT_NE(r.output.substr(pos, end - pos).find("<path"), std::string::npos) << "figure " << svgs + 1 << " draws nothing";
     pos = end;
   }
-  EXPECT_EQ(svgs, 5u);  // the three pairs of peak_wall_force, crush and areal_mass, the wall's force, the hypervolume
+  // The three pairs of peak_wall_force, crush and areal_mass, the wall's force, the hypervolume
+  // and IGD+ against the distinct designs.
+  EXPECT_EQ(svgs, 6u);
   EXPECT_NE(r.output.find("<caption>The Pareto front"), std::string::npos);
+  EXPECT_NE(r.output.find("<caption>What each seed's run spent"), std::string::npos);
+  EXPECT_NE(r.output.find("Has the search stopped improving?"), std::string::npos);
   EXPECT_NE(r.output.find("four steel blocks"), std::string::npos);
 }
 
@@ -1743,4 +1747,169 @@ TEST(DesignCli, TheFrontsFilesGiveTheFrontsNumbers) {
   const auto md = test::read_bytes(dir / "search" / "report" / "design.md");
   EXPECT_NE(md.find("| decides |"), std::string::npos);
   EXPECT_NE(md.find("| peak_wall_force (worst), wall_impulse (worst) |"), std::string::npos);
+}
+
+namespace {
+// One in-situ run of `spec` to its blow's end, capped at `cap` automatic durations, abandoned
+// once certain not to end by the cap when `abandon`.
+refsim::InSituResult capped(const model::StackSpec& spec, double cap, bool abandon) {
+  const auto stack = model::Stack::build(spec);
+  refsim::InSituOptions o;
+  o.stop_at_blow_end = true;
+  o.cap_durations = cap;
+  o.abandon_when_censored = abandon;
+  return refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "t")), o);
+}
+}  // namespace
+
+// #50: a run is abandoned only once it is certain not to end by its cap. A blow that ends exactly
+// at the cap's frame ends there with the shortcut on, bit for bit as without; a cap one frame
+// earlier censors it either way, and the shortcut stops it sooner; and a run far from its cap is
+// unchanged to the bit.
+TEST(Shortcuts, ARunIsAbandonedOnlyWhenItCannotEndByItsCap) {
+  const auto spec = small_space().decode({2, 0, 1, 0, 2, 3});  // steel over Teflon, 2 and 3 rows
+  const auto res = model::resolve(model::Stack::build(spec));
+  const auto free = capped(spec, model::kBlowEndCapDurations, false);
+  ASSERT_TRUE(free.blow_end_time) << free.blow_not_ended;
+  const long end = free.steps;
+  const auto same = capped(spec, model::kBlowEndCapDurations, true);
+  EXPECT_FALSE(same.abandoned_at);
+  EXPECT_EQ(same.steps, end);
+  EXPECT_EQ(same.peak_wall_force, free.peak_wall_force);
+  EXPECT_EQ(same.crush, free.crush);
+  EXPECT_EQ(same.wall_force, free.wall_force);
+  // A cap at the frame where the blow ends: ceil((end - 1/2) / steps x steps) = end.
+  const double at_end = (static_cast<double>(end) - 0.5) / static_cast<double>(res.steps);
+  ASSERT_EQ(model::blow_end_cap_steps(res, at_end), end);
+  const auto tight = capped(spec, at_end, true);
+  EXPECT_FALSE(tight.abandoned_at) << tight.blow_not_ended;
+  ASSERT_TRUE(tight.blow_end_time) << tight.blow_not_ended;
+  EXPECT_EQ(*tight.blow_end_time, *free.blow_end_time);
+  EXPECT_EQ(tight.peak_wall_force, free.peak_wall_force);
+  // One frame short of it: censored with or without the shortcut; with it, stopped no later.
+  const double short_cap = (static_cast<double>(end - res.dump_every) - 0.5) / static_cast<double>(res.steps);
+  const auto to_cap = capped(spec, short_cap, false), abandoned = capped(spec, short_cap, true);
+  EXPECT_FALSE(to_cap.blow_end_time);
+  EXPECT_FALSE(abandoned.blow_end_time);
+  ASSERT_TRUE(abandoned.abandoned_at);
+  EXPECT_LE(abandoned.steps, to_cap.steps);
+  EXPECT_NE(abandoned.blow_not_ended.find("abandoned at step"), std::string::npos) << abandoned.blow_not_ended;
+  // Far from its end (a quarter of it): abandoned well before the cap, whose frame it could not reach.
+  const double quarter = static_cast<double>(end) / 4.0 / static_cast<double>(res.steps);
+  const auto early = capped(spec, quarter, true), late = capped(spec, quarter, false);
+  ASSERT_TRUE(early.abandoned_at);
+  EXPECT_LT(early.steps, late.steps);
+  std::printf("blow ends at step %ld (hold %ld steps, frames every %d); cap one frame short: abandoned at step %ld of %ld; "
+              "cap a quarter of the end: at step %ld of %ld\n", end, model::blow_end_hold_steps(res), res.dump_every,
+              abandoned.steps, to_cap.steps, early.steps, late.steps);
+}
+
+namespace {
+const std::string kThreeBlows = "[scenarios]\nstriker_speed = [0.5, 1.0, 2.0]\n";
+design::Space three_blows(const std::string& search, const std::string& more = "") {
+  auto text = kSmallSpace.substr(0, kSmallSpace.find("[search]")) + kThreeBlows + more + "[search]\n" + search + "\n";
+  return design::parse_space(text, "three.toml");
+}
+}  // namespace
+
+// #50: a design is settled as soon as the scenarios it has run decide it. Its hardest blow runs
+// first; with nothing decided, all three run and the evaluation is the one without shortcuts to
+// the bit; dominated after its first blow, a crush over its bound, or a mean objective (which the
+// rest can lower: never settled by dominance) each do what they say, and the store keeps why.
+TEST(Shortcuts, ADesignIsSettledOnlyByWhatItsRunsHaveDecided) {
+  const auto on = three_blows("shortcuts = true"), off = three_blows("shortcuts = false");
+  EXPECT_EQ(on.digest(), off.digest());
+  EXPECT_EQ(design::scenario_order(on), (std::vector<std::size_t>{2, 1, 0}));
+  EXPECT_EQ(design::scenario_order(off), (std::vector<std::size_t>{0, 1, 2}));
+  const auto spec = on.decode({2, 0, 1, 0, 2, 3});
+  const auto never = [](const std::vector<double>&) -> std::optional<std::string> { return std::nullopt; };
+  const auto always = [](const std::vector<double>&) -> std::optional<std::string> { return "the best design"; };
+  const auto full = design::evaluate_design(off, spec, false, nullptr, always);
+  const auto kept = design::evaluate_design(on, spec, false, nullptr, never);
+  ASSERT_TRUE(full.feasible) << full.violations;
+  EXPECT_EQ(full.shortcut, "");
+  EXPECT_EQ(kept.shortcut, "");
+  EXPECT_EQ(kept.measures, full.measures);
+  ASSERT_EQ(kept.scenarios.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(kept.scenarios[k].label, full.scenarios[k].label);
+    EXPECT_EQ(kept.scenarios[k].measures, full.scenarios[k].measures);
+    EXPECT_GT(kept.scenarios[k].seconds, 0.0);
+  }
+  const auto settled = design::evaluate_design(on, spec, false, nullptr, always);
+  EXPECT_EQ(settled.shortcut, "dominated");
+  ASSERT_EQ(settled.scenarios.size(), 1u);
+  EXPECT_EQ(settled.scenarios[0].label, full.scenarios[2].label);
+  EXPECT_EQ(settled.measures, full.scenarios[2].measures);  // the worst of three was the fastest's
+  EXPECT_NE(settled.shortcut_why.find("dominated by the best design; not run: 1 m/s, striker 1 R_1, 0.5 m/s"), std::string::npos)
+      << settled.shortcut_why;
+  // The probes fix the box: every scenario of theirs runs.
+  EXPECT_EQ(design::evaluate_design(on, spec, true, nullptr, always).scenarios.size(), 3u);
+
+  const double bound = 0.5 * (full.scenarios[1].measures.at("crush") + full.scenarios[2].measures.at("crush"));
+  const auto bounded = three_blows("", fmt::format("[constraints]\nmax_crush = {}\n", bound));
+  const auto broke = design::evaluate_design(bounded, spec, false, nullptr, never);
+  EXPECT_FALSE(broke.feasible);
+  EXPECT_EQ(broke.shortcut, "constraint");
+  EXPECT_EQ(broke.scenarios.size(), 1u);
+  EXPECT_NE(broke.violations.find("crush"), std::string::npos) << broke.violations;
+
+  const auto mean = three_blows("", "aggregate = \"mean\"\n");
+  const auto averaged = design::evaluate_design(mean, spec, false, nullptr, always);
+  EXPECT_EQ(averaged.shortcut, "");
+  EXPECT_EQ(averaged.scenarios.size(), 3u);
+
+  const auto dir = work_dir();
+  auto store = design::Store::open((dir / "s.sqlite").string(), on.digest(), kSmallSpace);
+  store.put(settled);
+  const auto back = store.find(settled.digest);
+  ASSERT_TRUE(back);
+  EXPECT_EQ(back->shortcut, "dominated");
+  EXPECT_EQ(back->shortcut_why, settled.shortcut_why);
+  EXPECT_EQ(back->scenarios.at(0).seconds, settled.scenarios.at(0).seconds);
+  // Settled against a front that dominates it; a run whose front does not runs it again.
+  EXPECT_TRUE(design::stands_for(*back, on, always));
+  EXPECT_FALSE(design::stands_for(*back, on, never));
+  EXPECT_TRUE(design::stands_for(full, on, never));
+}
+
+// #50: the shortcuts never change the answer. On the small space struck at three speeds, which
+// each search runs to exhaustion, the front with the shortcuts is the front without, design for
+// design and bit for bit, on both schedules, while fewer scenarios run.
+TEST(Shortcuts, TheFrontWithShortcutsIsTheFrontWithout) {
+  const auto dir = work_dir();
+  for (const auto* schedule : {"asynchronous", "generational"}) {
+    std::map<bool, std::vector<design::Evaluation>> fronts;
+    std::map<bool, std::size_t> runs, settled;
+    std::map<bool, std::set<std::string>> visited;
+    for (const bool shortcuts : {false, true}) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+      const auto space = three_blows(fmt::format("population = 8\ngenerations = 50\nevaluation = \"{}\"\nshortcuts = {}", schedule, shortcuts));
+      auto store = design::Store::open((dir / fmt::format("{}-{}.sqlite", schedule, shortcuts)).string(), space.digest(), kSmallSpace);
+      design::run_search(space, store, {});
+      const auto all = store.evaluations();
+      for (const auto& e : all) {
+        runs[shortcuts] += e.scenarios.size();
+        settled[shortcuts] += !e.shortcut.empty();
+      }
+      fronts[shortcuts] = design::pareto_front(space, all);
+      for (const auto& e : all) visited[shortcuts].insert(e.digest);
+      std::printf("%s, shortcuts %s: %zu designs in %.1f s\n", schedule, shortcuts ? "on" : "off", all.size(), seconds());
+    }
+    EXPECT_EQ(visited[true], visited[false]) << schedule << ": the same designs visited";
+    EXPECT_GE(visited[true].size(), 39u) << schedule << ": of the space's 42";
+    ASSERT_EQ(fronts[true].size(), fronts[false].size()) << schedule;
+    ASSERT_GE(fronts[true].size(), 2u);
+    for (std::size_t k = 0; k < fronts[true].size(); ++k) {
+      EXPECT_EQ(fronts[true][k].digest, fronts[false][k].digest) << schedule;
+      EXPECT_EQ(fronts[true][k].measures, fronts[false][k].measures) << schedule;
+      EXPECT_EQ(fronts[true][k].shortcut, "") << schedule;
+    }
+    EXPECT_EQ(settled[false], 0u);
+    EXPECT_GT(settled[true], 0u);
+    EXPECT_LT(runs[true], runs[false]);
+    std::printf("%s: %zu front designs the same; scenario runs %zu with the shortcuts (%zu designs settled early), %zu without\n",
+                schedule, fronts[true].size(), runs[true], settled[true], runs[false]);
+  }
 }

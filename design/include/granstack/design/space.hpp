@@ -110,6 +110,10 @@ struct Search {
   std::optional<long> max_designs;  // distinct designs run by the search, in all
   int stagnation = 0;               // generations over which the hypervolume gains no more than
   double stagnation_tolerance = 1e-3;  // this fraction of itself (0: never)
+  double time_limit = 0.0;          // s of wall time after which no design starts (0: none; --time-limit overrides)
+  // Settle a design as soon as the scenarios it has run decide it (evaluate_design): the front
+  // is the same, the designs off it cost less. Not part of the digest.
+  bool shortcuts = true;
 };
 // Bounds that keep a typo from a search that cannot fit in memory or never ends (a population of
 // 1e8 ran out of memory before its first design).

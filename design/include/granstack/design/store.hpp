@@ -22,6 +22,7 @@ struct ScenarioRun {
   model::StackSpec spec;
   std::map<std::string, double> measures;
   std::string not_final;  // why its measures are not final ("" when they are)
+  double seconds = 0.0;   // wall time of its refsim run(s)
 };
 
 struct Evaluation {
@@ -42,6 +43,12 @@ struct Evaluation {
   double height = 0.0;      // m
   double seconds = 0.0;     // wall time of the refsim run
   bool searched = true;     // the search asked for it (not only a study design placed beside the front)
+  // The search's shortcut (#50; search.hpp, evaluate_design): how the design was settled before
+  // all its scenarios ran ("" when each ran): "censored", "constraint" or "dominated"; and why, with
+  // the scenarios not run. Its measures are then over the scenarios that ran (lower bounds of the
+  // worst over all): a dominated design's feasibility is that of the scenarios run.
+  std::string shortcut;
+  std::string shortcut_why;
 };
 
 struct Generation {
@@ -136,7 +143,7 @@ class Store {
   std::string generation_columns() const;
   sqlite3* db_ = nullptr;
   std::vector<std::string> measures_;
-  bool has_scenarios_ = false;
+  bool has_scenarios_ = false, has_shortcuts_ = false;
   bool has_runs_ = true, has_joins_ = true;  // a store from before several seeds has neither
   std::unique_ptr<std::mutex> mutex_;
 };

@@ -30,6 +30,11 @@ struct InSituOptions {
   // duration steps x dt with the same dump_every and series_every gives (the design search).
   bool stop_at_blow_end = false;
   double cap_durations = model::kBlowEndCapDurations;  // the cap, in automatic durations
+  // Stopping at the blow's end: stop as soon as the blow can no longer end by the cap, which is
+  // certain at a frame where the condition's earliest hold (from the frame it began holding, or the
+  // next frame when it does not hold) would end past the cap. The run is censored either way; its
+  // measures are then taken to that frame, not to the cap (the design search's shortcut, #50).
+  bool abandon_when_censored = false;
 };
 
 class InSituStopped : public std::runtime_error {
@@ -75,6 +80,9 @@ struct InSituResult {
   // why not.
   std::optional<double> blow_end_time;      // s
   std::string blow_not_ended;
+  // abandon_when_censored: the frame's step at which the run stopped, its blow certain not to end
+  // by the cap (none: it ran to its end or its cap).
+  std::optional<long> abandoned_at;
   // Where the energy is at the run's last frame, J: the strikers' kinetic energy, each block's
   // (index 0 = block 1; a container's matrix in none) and the part of those blocks' that moves
   // sideways (1/2 m (vx^2 + vy^2)). With e = 1 and no friction, E_in less their sum is the elastic
