@@ -55,6 +55,8 @@ RECORDS = {
     "oversubscription": "bench/results/oversubscription-2026-11-28.json",
     # scripts/extension_counts.py, from the commits it names (git history)
     "extension_counts": "bench/results/extension-counts-2026-11-28.json",
+    # OUT=... bench/design_budget.sh, on the 2-core machine, idle (#50)
+    "design_budget": "bench/results/design-budget-2026-11-28.json",
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
                  "refsim_against_liggghts": ["docs/how-to/big-nests.md"],
@@ -67,7 +69,8 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "design_front": ["docs/how-to/design.md"], "design_sides": ["docs/how-to/design.md"],
                  "design_yield": ["docs/how-to/design.md"], "design_example_cost": ["docs/explanation/performance.md"],
                  "oversubscription": ["docs/reference/commands.md"],
-                 "extension_counts": ["docs/developer/extending.md"]}
+                 "extension_counts": ["docs/developer/extending.md"],
+                 "design_budget": ["docs/explanation/performance.md"], "design_shortcuts": ["docs/explanation/performance.md"]}
 # The study's tables: LIGGGHTS's reproduction (refsim's in the check) and the LAMMPS study's record.
 REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"], "engines_study": ["docs/explanation/lammps.md"]}
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
@@ -288,6 +291,56 @@ def design_example_cost():
             f"| `design confirm --top 2 --sides free` (LIGGGHTS, each also as the free strip) | {r['confirm_seconds']:.0f} s |\n")
 
 
+def design_budget():
+    """The search's budget against its targets, per algorithm (bench/design_budget.sh, #50)."""
+    r = record("design_budget")
+    t = r["targets"]
+    pct = lambda x: "-" if x is None else f"{x:.3f}"
+    rows = [f"| algorithm | seeds | hypervolume at {t['designs']} designs (of the reference's) | IGD+ at {t['designs']} designs | "
+            f"seeds reaching {t['hypervolume_fraction']} | designs to reach it | hypervolume in {t['seconds']:.0f} s | "
+            f"designs in {t['seconds']:.0f} s | refsim s per design |", "|---|---|---|---|---|---|---|---|---|"]
+    for algorithm, m in r["summary"].items():
+        mine = [x for x in r["runs"] if x["algorithm"] == algorithm and x["shortcuts"]]
+        span = lambda k: (f" ({min(x[k] for x in mine if x[k] is not None):.3f}..{max(x[k] for x in mine if x[k] is not None):.3f})"
+                          if any(x[k] is not None for x in mine) else "")
+        reached = sorted(x["designs_to_target"] for x in mine if x["designs_to_target"] is not None)
+        rows.append(f"| {algorithm} | {m['seeds']} | {pct(m['median_hypervolume_fraction_at_500'])}{span('hypervolume_fraction_at_500')} | "
+                    f"{pct(m['median_igd_plus_at_500'])}{span('igd_plus_at_500')} | {m['seeds_reaching_target']} of {m['seeds']} | "
+                    f"{', '.join(map(str, reached)) or '-'} | {pct(m['median_hypervolume_fraction_in_600_s'])} | "
+                    f"{m['median_designs_in_600_s']:.0f} | {m['median_refsim_seconds_per_design']:.2f} |")
+    ref = r["reference"]
+    met = lambda ok: "met" if ok else "not met"
+    lines = [f"The reference front: {ref['front']} designs, the front of all {ref['runs']} runs' {ref['designs']} feasible designs "
+             f"run in full (hypervolume {ref['hypervolume']:.6f} in the normalised box). Each run ended as it says in the record "
+             f"(`{RECORDS['design_budget']}`, `runs[].ended` and `stopped_improving`)."]
+    for algorithm, m in r["summary"].items():
+        hv, igd = m["median_hypervolume_fraction_at_500"], m["median_igd_plus_at_500"]
+        lines.append(f"{algorithm}: median hypervolume {pct(hv)} and IGD+ {pct(igd)} at {t['designs']} designs: "
+                     f"{met(hv is not None and hv >= t['hypervolume_fraction'] and igd is not None and igd <= t['igd_plus'])}; "
+                     f"median {pct(m['median_hypervolume_fraction_in_600_s'])} of the reference and "
+                     f"{m['median_designs_in_600_s']:.0f} designs in {t['seconds']:.0f} s on {r['cores']} cores "
+                     f"(-j {r['jobs']}): {met((m['median_hypervolume_fraction_in_600_s'] or 0) >= t['hypervolume_fraction'] and m['median_designs_in_600_s'] >= 1000)}.")
+    return "\n".join(rows) + "\n\n" + "\n\n".join(lines) + "\n"
+
+
+def design_shortcuts():
+    """One seed with the shortcuts and without (bench/design_budget.sh, #50)."""
+    r = record("design_budget")
+    rows = ["| shortcuts | designs | wall | refsim s | refsim s per design | on censored runs | on scenarios deciding no objective | "
+            "on designs off the front | settled (censored / constraint / dominated) | scenario runs not run |",
+            "|---|---|---|---|---|---|---|---|---|---|"]
+    for key in ("on", "off"):
+        x = r["shortcuts"][key]
+        n = lambda k: x["settled"].get(k, 0)
+        share = lambda k: f"{100 * x[k]:.1f} %"
+        rows.append(f"| {key} | {x['designs']} | {x['seconds']:.0f} s | {x['refsim_seconds']:.0f} | {x['refsim_seconds_per_design']:.2f} | "
+                    f"{share('share_censored')} | {share('share_undecided')} | {share('share_off_front')} | "
+                    f"{n('censored')} / {n('constraint')} / {n('dominated')} | {x['scenario_runs_not_run']} |")
+    on, off = r["shortcuts"]["on"], r["shortcuts"]["off"]
+    return ("\n".join(rows) + f"\n\n{on['algorithm']}, seed {on['seed']}: the shortcuts cut refsim's time per design "
+            f"{off['refsim_seconds_per_design'] / on['refsim_seconds_per_design']:.2f} times.\n")
+
+
 def oversubscription():
     """refsim with 4 threads per CPU against one thread (bench/oversubscription.sh)."""
     r = record("oversubscription")
@@ -442,7 +495,7 @@ def main():
                 engines_speed=engines_speed(), reproduce_cost=reproduce_cost(), reproduce_speed=reproduce_speed(),
                 design_front=design_front(), design_sides=design_sides(), design_yield=design_yield(),
                 design_example_cost=design_example_cost(), oversubscription=oversubscription(),
-                extension_counts=extension_counts())
+                extension_counts=extension_counts(), design_budget=design_budget(), design_shortcuts=design_shortcuts())
     places = {**PLACES, **RECORD_PLACES, **REPRODUCE_PLACES}
     if "--reproduce" in sys.argv[1:]:
         made["reproduce"] = reproduce_table(exe, work, "liggghts")

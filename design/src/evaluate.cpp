@@ -20,10 +20,14 @@
 namespace granstack::design {
 
 namespace {
+// Asked as a run goes (every refsim::kSettleEvery samples) with its outcome so far: why what it has
+// measured already settles the design, or "".
+using Settle = std::function<std::string(const Outcome& so_far)>;
+
 // One in-situ run of `spec`, to the blow's end when `to_blow_end` (abandoned once it is certain
-// not to end by the cap, with `shortcuts`).
+// not to end by the cap, with `shortcuts`; stopped where `settle` says).
 Outcome run(const model::StackSpec& spec, bool to_blow_end, double cap_durations, const std::atomic<bool>* abandon,
-            bool shortcuts) {
+            bool shortcuts, const Settle& settle = {}) {
   const auto stack = model::Stack::build(spec);
   // The particles exactly as a generated case's data file gives them to refsim.
   refsim::InSituOptions options;
@@ -32,8 +36,18 @@ Outcome run(const model::StackSpec& spec, bool to_blow_end, double cap_durations
   options.stop_at_blow_end = to_blow_end;
   options.cap_durations = cap_durations;
   options.abandon_when_censored = shortcuts;
+  std::string settled;
+  if (settle) {
+    options.settle = [&](const refsim::InSituResult& so_far) {
+      Outcome partial;
+      take_shared(partial, so_far);
+      settled = settle(partial);
+      return !settled.empty();
+    };
+  }
   auto r = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "design")), options);
   Outcome o;
+  if (r.settled_at) o.settled = fmt::format("{}, stopped at t = {:.4g} s", settled, r.run_time);
   take_shared(o, r);
   o.bottom_row_fraction = r.bottom_row_fraction;
   o.output_settled = r.output_settled;
@@ -98,6 +112,7 @@ std::vector<model::StackSpec> scenario_specs(const Space& space, const model::St
 }
 
 std::string not_final(const Space& space, const model::StackSpec& ran, const Outcome& o) {
+  if (!o.settled.empty()) return "";  // stopped under way by a shortcut: decided, not final (Evaluation::shortcut)
   if (stops_at_blow_end(ran)) {
     if (o.blow_end_time) return "";
     return fmt::format("censored: the blow had not ended at the cap ({:g} automatic durations, t = {:.4g} s): {}; its "
@@ -180,17 +195,19 @@ std::vector<std::size_t> scenario_order(const Space& space) {
 
 namespace {
 // One scenario's run: to its blow's end, or (gravity) as it is and once more where not final.
-ScenarioOutcome run_scenario(const Space& space, const model::StackSpec& one, const std::atomic<bool>* abandon, bool shortcuts) {
+ScenarioOutcome run_scenario(const Space& space, const model::StackSpec& one, const std::atomic<bool>* abandon, bool shortcuts,
+                             const Settle& settle) {
   if (stops_at_blow_end(one)) {
-    auto o = run(one, true, space.cap_durations, abandon, shortcuts);
+    auto o = run(one, true, space.cap_durations, abandon, shortcuts, settle);
     return {stopping_at_blow_end(one, space.cap_durations), std::move(o)};
   }
   auto ran = one;
-  auto o = run(ran, false, space.cap_durations, abandon, shortcuts);
+  auto o = run(ran, false, space.cap_durations, abandon, shortcuts, settle);
+  if (!o.settled.empty()) return {ran, std::move(o)};
   if (const auto longer = extended(one, ran, o)) {
     const double first = o.seconds;
     ran = *longer;
-    o = run(ran, false, space.cap_durations, abandon, shortcuts);
+    o = run(ran, false, space.cap_durations, abandon, shortcuts, settle);
     o.seconds += first;  // the scenario's time is both runs'
   }
   return {ran, std::move(o)};
@@ -224,6 +241,45 @@ std::string settled_by(const Space& space, const Evaluation& e, const std::vecto
   kind = "dominated";
   return "dominated by " + *by;
 }
+// What settles a design while its scenario runs (the same rules as between scenarios, on the
+// measures that grow with a run: their values so far are lower bounds of the run's): a measure
+// aggregated as the worst over its bound, or every objective, each at its worst over the finished
+// runs and the one under way, dominated. `kind` gets which.
+Settle settle_for(const Space& space, const Evaluation& e, const std::vector<std::optional<ScenarioOutcome>>& runs,
+                  const Dominator& dominator, std::string& kind) {
+  std::vector<std::map<std::string, double>> finished;
+  for (const auto& r : runs) {
+    if (r) finished.push_back(run_measures(space, r->second));
+  }
+  const auto worst = [&space, finished](Objective o, const Outcome& so_far) -> std::optional<double> {
+    if (space.aggregate_of(o->name) != Aggregate::worst) return std::nullopt;
+    auto v = value_so_far(o, so_far, space);
+    for (const auto& m : finished) {
+      if (const auto it = m.find(std::string(o->name)); v && it != m.end()) v = std::max(*v, it->second);
+    }
+    return v;
+  };
+  return [&space, &e, dominator, worst, &kind](const Outcome& so_far) -> std::string {
+    for (const auto& [name, bound] : space.constraints.max_measures) {
+      const auto* def = find_objective(name);
+      const auto v = def != nullptr ? worst(def, so_far) : std::nullopt;
+      if (!v || !(*v > bound)) continue;
+      kind = "constraint";
+      return fmt::format("{} {:.4g} > {:.4g} so far", name, *v, bound);
+    }
+    if (!dominator) return "";
+    std::vector<double> values;
+    for (const auto o : space.objectives) {
+      const auto v = o->from_run == nullptr ? std::optional<double>(o->geometric(e)) : worst(o, so_far);
+      if (!v) return "";
+      values.push_back(*v);
+    }
+    const auto by = dominator(values);
+    if (!by) return "";
+    kind = "dominated";
+    return "dominated so far by " + *by;
+  };
+}
 }  // namespace
 
 Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, bool run_anyway, const std::atomic<bool>* abandon,
@@ -236,13 +292,17 @@ Evaluation evaluate_design(const Space& space, const model::StackSpec& spec, boo
   const auto order = scenario_order(space);
   std::vector<std::optional<ScenarioOutcome>> runs(specs.size());
   for (std::size_t i = 0; i < order.size(); ++i) {
-    runs[order[i]] = run_scenario(space, specs[order[i]], abandon, shortcuts);
-    if (!shortcuts || i + 1 == order.size()) continue;
-    const auto why = settled_by(space, e, runs, dominator, e.shortcut);
+    const auto settle = shortcuts ? settle_for(space, e, runs, dominator, e.shortcut) : Settle{};
+    runs[order[i]] = run_scenario(space, specs[order[i]], abandon, shortcuts, settle);
+    const auto& under_way = runs[order[i]]->second.settled;
+    const bool last = i + 1 == order.size();
+    if (!shortcuts || (last && under_way.empty())) continue;
+    auto why = under_way.empty() ? settled_by(space, e, runs, dominator, e.shortcut)
+                                 : fmt::format("{}{}", space.scenarios.empty() ? "" : "at " + space.scenarios[order[i]].label + ": ", under_way);
     if (why.empty()) continue;
     std::vector<std::string> left;
     for (std::size_t j = i + 1; j < order.size(); ++j) left.push_back(space.scenarios[order[j]].label);
-    e.shortcut_why = fmt::format("{}; not run: {}", why, fmt::join(left, ", "));
+    e.shortcut_why = left.empty() ? why : fmt::format("{}; not run: {}", why, fmt::join(left, ", "));
     break;
   }
   record(space, e, runs);

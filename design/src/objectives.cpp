@@ -61,30 +61,30 @@ const std::vector<ObjectiveDef> kTable{
     {"peak_wall_force", "N",
      "max over t of F(t), the bottom wall's force on the stack along z, at the in-situ series' samples (every "
      "series_every steps)",
-     Needs::wall, true, false, peak_wall_force, nullptr},
+     Needs::wall, true, false, peak_wall_force, nullptr, true},
     {"wall_impulse", "N s",
      "max over the series' sample times t of the integral of F from t to t + tau, tau = [measures] impulse_window, F "
      "linear between the samples: the sustained load, where peak_wall_force is the instant one",
-     Needs::wall, true, false, wall_impulse, nullptr},
+     Needs::wall, true, false, wall_impulse, nullptr, true},
     {"crush", "m",
      "max over the dump's frames and the stack's spheres over the footprint of z(0) - z(t): the stack's largest loss "
      "of height (its stroke; the top surface's travel while the stack crushes as a whole, the layers' under a top row "
      "that sprang back), what a soft stack pays for a low force; the striker's indentation into a top sphere is not "
      "in it. Bound it with [constraints] max_crush",
-     Needs::wall, false, false, crush, nullptr},
+     Needs::wall, false, false, crush, nullptr, true},
     {"penetration", "m",
      "max over the dump's frames of H - (z_s(t) - R_s): the depth of the striker's lowest point below the stack's "
      "initial top surface z = H; from the seat depth at first touch ((2 - sqrt 3) R_1 for the study's striker), grown "
      "by the striker's indentation and its descent between spheres pushed aside. Bound it with [constraints] "
      "max_penetration",
-     Needs::wall, false, false, penetration, nullptr},
+     Needs::wall, false, false, penetration, nullptr, true},
     {"yield_ratio", "of first yield",
      "max over the dump's frames and every touching pair (and sphere on a wall) of p0 / (1.6 Y): Hertz's peak contact "
      "pressure p0 = 3F / (2 pi a^2) = (2 Y* / pi) sqrt(d / R*) over the pressure at which the pair starts to yield, 1.6 "
      "times the lower yield strength Y of its materials (model/data/materials.toml; Johnson, Contact Mechanics, 6.2); "
      "above 1 a contact yields and the elastic result is a model there. Brittle materials (no Y) are not judged "
      "against each other. Bound it with [constraints] max_yield_ratio",
-     Needs::any, true, false, yield_ratio, nullptr},
+     Needs::any, true, false, yield_ratio, nullptr, true},
     {"filtered_wall_force", "N",
      "max over t of F(t) through the channel filter of SAE J211-1 / ISO 6487, class [measures] cfc (a phaseless 4-pole "
      "Butterworth, 3 dB down at 5/3 cfc Hz): the peak a load cell under the stack would report",
@@ -122,6 +122,13 @@ std::string_view retired_measure(std::string_view name) {
            "penetration (the striker's depth below the stack's initial top surface)";
   }
   return {};
+}
+
+std::optional<double> value_so_far(Objective o, const Outcome& so_far, const Space& space) {
+  if (!o->grows) return std::nullopt;
+  const double span = so_far.wall_force_interval * static_cast<double>(so_far.wall_force.size());
+  if (o->from_run == wall_impulse && !(span > space.impulse_window + so_far.wall_force_interval)) return std::nullopt;
+  return o->from_run(so_far, space);
 }
 
 std::string_view measure_rules_changes() {

@@ -135,8 +135,19 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
         r.peak_wall_force_time = static_cast<double>(step) * res.dt;
       }
     }
+    if (options.settle && sample_steps.size() % kSettleEvery == 0) {
+      r.wall_force_interval = static_cast<double>(res.series_every) * res.dt;
+      r.crush = crush.crush();
+      r.penetration = crush.penetration();
+      if (pressures.meter().judged()) r.yield_ratio = pressures.meter().largest().ratio;
+      if (options.settle(r)) {
+        r.settled_at = step;
+        end = step;
+        break;
+      }
+    }
   }
-  advance_to(end);
+  if (!r.settled_at) advance_to(end);
   r.crush = crush.crush();
   r.penetration = crush.penetration();
   if (pressures.meter().judged()) {

@@ -37,6 +37,9 @@ struct Outcome {
   long steps = 0;                        // the run's
   std::optional<double> blow_end_time;   // s, model::BlowEnd; none: not ended within the run
   std::string blow_not_ended;            // why not
+  // The search's shortcut stopped the run under way, its measures so far deciding the design
+  // (why, with when; "" when it ran to its end): its measures are lower bounds of the whole run's.
+  std::string settled;
 };
 // The fields refsim's in-situ result and reduce's reduction share by name, into an outcome.
 template <class Run>
@@ -82,6 +85,11 @@ struct ObjectiveDef {
   // From a run (nullptr: from the geometry, with `geometric`).
   std::optional<double> (*from_run)(const Outcome&, const Space&) = nullptr;
   double (*geometric)(const Evaluation&) = nullptr;
+  // A run measure that is a largest value so far (over the series' samples or the dump's frames):
+  // over the first part of a run it is at most its value over the whole run (the search's
+  // shortcuts settle a design from it before its run ends). A filtered signal, a spectrum or a
+  // final energy is not.
+  bool grows = false;
 };
 using Objective = const ObjectiveDef*;
 
@@ -99,6 +107,10 @@ std::string_view to_string(Needs n);
 
 // The value of objective `o` for an evaluation (nullopt when the design was not run).
 std::optional<double> objective_value(const Evaluation& e, Objective o);
+// A growing measure's value over the run so far (`so_far`: an outcome of a run under way), a lower
+// bound of its value over the whole run; none for a measure that does not grow, or not yet (the
+// windowed impulse until the run is longer than its window, whose windows are then whole).
+std::optional<double> value_so_far(Objective o, const Outcome& so_far, const Space& space);
 // Every run measure the space's bottom allows, by name, from one outcome (Evaluation::measures).
 std::map<std::string, double> run_measures(const Space& space, const Outcome& o);
 

@@ -19,6 +19,8 @@ class Stack;
 
 namespace granstack::refsim {
 
+struct InSituResult;
+
 struct InSituOptions {
   int threads = 1;
   std::string kernel = "auto";
@@ -35,7 +37,13 @@ struct InSituOptions {
   // next frame when it does not hold) would end past the cap. The run is censored either way; its
   // measures are then taken to that frame, not to the cap (the design search's shortcut, #50).
   bool abandon_when_censored = false;
+  // Asked every kSettleEvery series samples with the result so far (peak_wall_force, wall_force,
+  // wall_force_interval, crush, penetration, yield_ratio and output_peak_fraction over the run up to
+  // then): true stops the run there, settled (InSituResult::settled_at; the design search's
+  // shortcut when the measures so far already decide the design, #50).
+  std::function<bool(const InSituResult& so_far)> settle;
 };
+inline constexpr long kSettleEvery = 64;
 
 class InSituStopped : public std::runtime_error {
  public:
@@ -83,6 +91,9 @@ struct InSituResult {
   // abandon_when_censored: the frame's step at which the run stopped, its blow certain not to end
   // by the cap (none: it ran to its end or its cap).
   std::optional<long> abandoned_at;
+  // settle: the step at which it stopped the run (none: it did not). Its measures are then over the
+  // run up to that step.
+  std::optional<long> settled_at;
   // Where the energy is at the run's last frame, J: the strikers' kinetic energy, each block's
   // (index 0 = block 1; a container's matrix in none) and the part of those blocks' that moves
   // sideways (1/2 m (vx^2 + vy^2)). With e = 1 and no friction, E_in less their sum is the elastic
