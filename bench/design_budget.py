@@ -10,7 +10,7 @@ import sqlite3
 import statistics
 import sys
 
-work, version, cores, max_designs, time_limit, jobs, space = sys.argv[1:8]
+work, version, cores, max_designs, time_limit, jobs, space, stagnation = sys.argv[1:9]
 REFERENCE_POINT = 1.1
 TARGET_HV = 0.98        # of the reference front's hypervolume
 TARGET_IGD = 0.005      # IGD+ in the normalised box
@@ -156,7 +156,7 @@ on = [r for r in record_runs if r["shortcuts"] and off and r["algorithm"] == off
 print(json.dumps({
     "what": "the design search's budget (#50): each seed alone per algorithm until it stops improving, against the front of all",
     "command": "OUT=... bench/design_budget.sh", "granstack": version, "cores": int(cores), "jobs": int(jobs), "space": space,
-    "max_designs": int(max_designs), "time_limit": float(time_limit),
+    "max_designs": int(max_designs), "time_limit": float(time_limit), "stagnation": int(stagnation),
     "targets": {"hypervolume_fraction": TARGET_HV, "igd_plus": TARGET_IGD, "designs": TARGET_DESIGNS, "seconds": TARGET_SECONDS},
     "reference": {"runs": len(designs_of), "designs": len(everything), "front": len(reference), "hypervolume": reference_hv},
     "summary": summary,
