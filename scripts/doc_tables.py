@@ -57,6 +57,8 @@ RECORDS = {
     "extension_counts": "bench/results/extension-counts-2026-11-28.json",
     # OUT=... bench/design_budget.sh, on the 2-core machine, idle (#50)
     "design_budget": "bench/results/design-budget-2026-11-28.json",
+    # the same at ca2da3e, whose script stopped each run by a window of 3 generations
+    "design_budget_stagnation3": "bench/results/design-budget-stagnation3-2026-11-28.json",
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
                  "refsim_against_liggghts": ["docs/how-to/big-nests.md"],
@@ -297,8 +299,8 @@ def design_budget():
     t = r["targets"]
     pct = lambda x: "-" if x is None else f"{x:.3f}"
     rows = [f"| algorithm | seeds | hypervolume at {t['designs']} designs (of the reference's) | IGD+ at {t['designs']} designs | "
-            f"seeds reaching {t['hypervolume_fraction']} | designs to reach it | hypervolume in {t['seconds']:.0f} s | "
-            f"designs in {t['seconds']:.0f} s | refsim s per design |", "|---|---|---|---|---|---|---|---|---|"]
+            f"seeds reaching {t['hypervolume_fraction']} | designs to reach it | hypervolume at the run's end | "
+            f"designs at its end | its wall time | refsim s per design |", "|---|---|---|---|---|---|---|---|---|---|"]
     for algorithm, m in r["summary"].items():
         mine = [x for x in r["runs"] if x["algorithm"] == algorithm and x["shortcuts"]]
         span = lambda k: (f" ({min(x[k] for x in mine if x[k] is not None):.3f}..{max(x[k] for x in mine if x[k] is not None):.3f})"
@@ -307,7 +309,8 @@ def design_budget():
         rows.append(f"| {algorithm} | {m['seeds']} | {pct(m['median_hypervolume_fraction_at_500'])}{span('hypervolume_fraction_at_500')} | "
                     f"{pct(m['median_igd_plus_at_500'])}{span('igd_plus_at_500')} | {m['seeds_reaching_target']} of {m['seeds']} | "
                     f"{', '.join(map(str, reached)) or '-'} | {pct(m['median_hypervolume_fraction_in_600_s'])} | "
-                    f"{m['median_designs_in_600_s']:.0f} | {m['median_refsim_seconds_per_design']:.2f} |")
+                    f"{m['median_designs_in_600_s']:.0f} | {min(x['seconds'] for x in mine):.0f}..{max(x['seconds'] for x in mine):.0f} s | "
+                    f"{m['median_refsim_seconds_per_design']:.2f} |")
     ref = r["reference"]
     met = lambda ok: "met" if ok else "not met"
     lines = [f"The reference front: {ref['front']} designs, the front of all {ref['runs']} runs' {ref['designs']} feasible designs "
@@ -315,11 +318,24 @@ def design_budget():
              f"(`{RECORDS['design_budget']}`, `runs[].ended` and `stopped_improving`)."]
     for algorithm, m in r["summary"].items():
         hv, igd = m["median_hypervolume_fraction_at_500"], m["median_igd_plus_at_500"]
+        mine = [x for x in r["runs"] if x["algorithm"] == algorithm and x["shortcuts"]]
+        longest = max(x["seconds"] for x in mine)
         lines.append(f"{algorithm}: median hypervolume {pct(hv)} and IGD+ {pct(igd)} at {t['designs']} designs: "
-                     f"{met(hv is not None and hv >= t['hypervolume_fraction'] and igd is not None and igd <= t['igd_plus'])}; "
-                     f"median {pct(m['median_hypervolume_fraction_in_600_s'])} of the reference and "
-                     f"{m['median_designs_in_600_s']:.0f} designs in {t['seconds']:.0f} s on {r['cores']} cores "
-                     f"(-j {r['jobs']}): {met((m['median_hypervolume_fraction_in_600_s'] or 0) >= t['hypervolume_fraction'] and m['median_designs_in_600_s'] >= 1000)}.")
+                     f"{met(hv is not None and hv >= t['hypervolume_fraction'] and igd is not None and igd <= t['igd_plus'])}. "
+                     f"On {r['cores']} cores (-j {r['jobs']}) every run ended by its rule or its {r['max_designs']} designs within "
+                     f"{longest:.0f} s, at a median {pct(m['median_hypervolume_fraction_in_600_s'])} of the reference after "
+                     f"{m['median_designs_in_600_s']:.0f} designs: 1,000 distinct designs in {t['seconds']:.0f} s "
+                     f"{met(min(x['designs'] for x in mine) >= 1000 and longest <= t['seconds'])}, "
+                     f"{t['hypervolume_fraction']} of the reference within them "
+                     f"{met((m['median_hypervolume_fraction_in_600_s'] or 0) >= t['hypervolume_fraction'])} by runs that had stopped "
+                     f"improving or spent their budget.")
+    old = record("design_budget_stagnation3")
+    stops = [x["designs"] for x in old["runs"] if x["shortcuts"]]
+    share = sorted(x["progress"][-1]["hypervolume_fraction"] * old["reference"]["hypervolume"] / ref["hypervolume"]
+                   for x in old["runs"] if x["shortcuts"])
+    lines.append(f"With a window of 3 generations (`{RECORDS['design_budget_stagnation3']}`, the same box), the rule called "
+                 f"every run stopped between {min(stops)} and {max(stops)} designs, at {share[0]:.3f} to {share[-1]:.3f} of "
+                 f"this reference's hypervolume: the window is {r['stagnation']} generations since.")
     return "\n".join(rows) + "\n\n" + "\n\n".join(lines) + "\n"
 
 
