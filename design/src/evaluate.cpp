@@ -213,71 +213,68 @@ ScenarioOutcome run_scenario(const Space& space, const model::StackSpec& one, co
   return {ran, std::move(o)};
 }
 
-// Why the design is settled by the scenarios run so far (`runs`, the rest not run), or "": a run
-// not final (the design is infeasible whatever the rest give), a measure taken at its worst over
-// its bound (the rest can only raise it), or its objectives, each taken at its worst, dominated
-// by a design of the run's front (the rest can only raise them). `kind` gets which.
-std::string settled_by(const Space& space, const Evaluation& e, const std::vector<std::optional<ScenarioOutcome>>& runs,
-                       const Dominator& dominator, std::string& kind) {
-  auto partial = e;
-  record(space, partial, runs);
-  for (const auto& r : partial.scenarios) {
-    if (r.not_final.empty()) continue;
-    kind = "censored";
-    return fmt::format("at {}: {}", r.label, r.not_final);
-  }
-  for (const auto& [name, bound] : space.constraints.max_measures) {
-    const auto it = partial.measures.find(name);
-    if (space.aggregate_of(name) != Aggregate::worst || it == partial.measures.end() || !(it->second > bound)) continue;
-    kind = "constraint";
-    return fmt::format("{} {:.4g} > {:.4g}", name, it->second, bound);
-  }
-  const bool worst_only = std::all_of(space.objectives.begin(), space.objectives.end(), [&](Objective o) {
-    return o->from_run == nullptr || space.aggregate_of(o->name) == Aggregate::worst;
-  });
-  if (!dominator || !worst_only) return "";
-  const auto by = dominator(objective_values(space, partial));
-  if (!by) return "";
-  kind = "dominated";
-  return "dominated by " + *by;
-}
-// What settles a design while its scenario runs (the same rules as between scenarios, on the
-// measures that grow with a run: their values so far are lower bounds of the run's): a measure
-// aggregated as the worst over its bound, or every objective, each at its worst over the finished
-// runs and the one under way, dominated. `kind` gets which.
-Settle settle_for(const Space& space, const Evaluation& e, const std::vector<std::optional<ScenarioOutcome>>& runs,
-                  const Dominator& dominator, std::string& kind) {
-  std::vector<std::map<std::string, double>> finished;
-  for (const auto& r : runs) {
-    if (r) finished.push_back(run_measures(space, r->second));
-  }
-  const auto worst = [&space, finished](Objective o, const Outcome& so_far) -> std::optional<double> {
-    if (space.aggregate_of(o->name) != Aggregate::worst) return std::nullopt;
-    auto v = value_so_far(o, so_far, space);
+// Why what has run already decides the design, or "" (`kind` gets which rule): a measure
+// aggregated as the worst over its bound (the rest can only raise a worst), or, every objective
+// geometric or a worst, its objectives dominated by a design of the run's front (the rest can only
+// raise them). Each measure is taken at its worst over the finished runs' measures (`finished`) and,
+// when given, the run under way (`so_far`: only the measures that grow with a run, whose values so
+// far are lower bounds of the run's).
+std::string decided(const Space& space, const Evaluation& e, const std::vector<std::map<std::string, double>>& finished,
+                    const Outcome* so_far, const Dominator& dominator, std::string& kind) {
+  const auto worst = [&](Objective o) -> std::optional<double> {
+    if (o == nullptr || space.aggregate_of(o->name) != Aggregate::worst) return std::nullopt;
+    auto v = so_far != nullptr ? value_so_far(o, *so_far, space) : std::optional<double>();
+    if (so_far != nullptr && !v) return std::nullopt;  // not a growing measure, or not yet
     for (const auto& m : finished) {
-      if (const auto it = m.find(std::string(o->name)); v && it != m.end()) v = std::max(*v, it->second);
+      if (const auto it = m.find(std::string(o->name)); it != m.end()) v = std::max(v.value_or(it->second), it->second);
     }
     return v;
   };
-  return [&space, &e, dominator, worst, &kind](const Outcome& so_far) -> std::string {
-    for (const auto& [name, bound] : space.constraints.max_measures) {
-      const auto* def = find_objective(name);
-      const auto v = def != nullptr ? worst(def, so_far) : std::nullopt;
-      if (!v || !(*v > bound)) continue;
-      kind = "constraint";
-      return fmt::format("{} {:.4g} > {:.4g} so far", name, *v, bound);
-    }
-    if (!dominator) return "";
-    std::vector<double> values;
-    for (const auto o : space.objectives) {
-      const auto v = o->from_run == nullptr ? std::optional<double>(o->geometric(e)) : worst(o, so_far);
-      if (!v) return "";
-      values.push_back(*v);
-    }
-    const auto by = dominator(values);
-    if (!by) return "";
-    kind = "dominated";
-    return "dominated so far by " + *by;
+  for (const auto& [name, bound] : space.constraints.max_measures) {
+    const auto v = worst(find_objective(name));
+    if (!v || !(*v > bound)) continue;
+    kind = "constraint";
+    return fmt::format("{} {:.4g} > {:.4g}{}", name, *v, bound, so_far != nullptr ? " so far" : "");
+  }
+  if (!dominator) return "";
+  std::vector<double> values;
+  for (const auto o : space.objectives) {
+    const auto v = o->from_run == nullptr ? std::optional<double>(o->geometric(e)) : worst(o);
+    if (!v) return "";
+    values.push_back(*v);
+  }
+  const auto by = dominator(values);
+  if (!by) return "";
+  kind = "dominated";
+  return fmt::format("dominated {}by {}", so_far != nullptr ? "so far " : "", *by);
+}
+
+std::vector<std::map<std::string, double>> finished_measures(const Space& space, const std::vector<std::optional<ScenarioOutcome>>& runs) {
+  std::vector<std::map<std::string, double>> out;
+  for (const auto& r : runs) {
+    if (r) out.push_back(run_measures(space, r->second));
+  }
+  return out;
+}
+
+// Why the scenarios run so far (`runs`, the rest not run) settle the design, or "": a run not final
+// (infeasible whatever the rest give), else what decided() says of them.
+std::string settled_by(const Space& space, const Evaluation& e, const std::vector<std::optional<ScenarioOutcome>>& runs,
+                       const Dominator& dominator, std::string& kind) {
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    if (!runs[k]) continue;
+    const auto why = not_final(space, runs[k]->first, runs[k]->second);
+    if (why.empty()) continue;
+    kind = "censored";
+    return space.scenarios.empty() ? why : fmt::format("at {}: {}", space.scenarios[k].label, why);
+  }
+  return decided(space, e, finished_measures(space, runs), nullptr, dominator, kind);
+}
+// What settles a design while a scenario runs: decided() with the run under way.
+Settle settle_for(const Space& space, const Evaluation& e, const std::vector<std::optional<ScenarioOutcome>>& runs,
+                  const Dominator& dominator, std::string& kind) {
+  return [&space, &e, finished = finished_measures(space, runs), dominator, &kind](const Outcome& so_far) {
+    return decided(space, e, finished, &so_far, dominator, kind);
   };
 }
 }  // namespace

@@ -392,10 +392,10 @@ json evaluation_json(const Space& space, const Evaluation& e) {
 }
 
 // Each run's spending and progress, for the benchmark's record (bench/design_budget.sh).
-json runs_json(const Space& space, const Store& store, const Snapshot& s) {
+json runs_json(const Space& space, const Snapshot& s) {
   json runs = json::array();
-  const auto budgets = run_budgets(space, store, s.all);
-  const auto progress = s.box ? run_progress(space, store, s.all, *s.box) : std::vector<Progress>{};
+  const auto& budgets = s.budgets;
+  const auto& progress = s.progress;
   for (std::size_t k = 0; k < s.runs.size(); ++k) {
     const auto& r = s.runs[k];
     const auto& b = budgets.at(k);
@@ -413,7 +413,7 @@ json runs_json(const Space& space, const Store& store, const Snapshot& s) {
   return runs;
 }
 
-json report_json(const Space& space, const Store& store, const Snapshot& s, const std::vector<Evaluation>& front) {
+json report_json(const Space& space, const Snapshot& s, const std::vector<Evaluation>& front) {
   json j = json::object();
   j["granstack_version"] = std::string(granstack::version());
   j["space_digest"] = space.digest();
@@ -430,7 +430,7 @@ json report_json(const Space& space, const Store& store, const Snapshot& s, cons
                                 {"hypervolume", g.hypervolume}, {"new_designs", g.evaluations}});
   }
   j["schedule"] = std::string(to_string(space.search.schedule));
-  j["runs"] = runs_json(space, store, s);
+  j["runs"] = runs_json(space, s);
   if (s.box) {
     for (const auto& a : s.box->axes) {
       j["normalisation"].push_back({{"objective", a.objective}, {"log", a.log}, {"ideal", a.ideal}, {"nadir", a.nadir}, {"basis", a.basis}});
@@ -602,14 +602,13 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
     if (s.box) d.push_back(box_table(*s.box));
     if (s.runs.size() > 1) d.push_back(runs_table(s, front.size()));
     if (s.box) {
-      const auto progress = run_progress(space, store, s.all, *s.box);
-      d.push_back(postproc::Paragraph{convergence_text(space, progress)});
-      for (auto& f : convergence_figures(progress, dir)) d.push_back(std::move(f));
+      d.push_back(postproc::Paragraph{convergence_text(space, s.progress)});
+      for (auto& f : convergence_figures(s.progress, dir)) d.push_back(std::move(f));
     } else {
       d.push_back(hypervolume_figure(s, dir));
     }
     d.push_back(generations_table(s));
-    d.push_back(budget_table(run_budgets(space, store, s.all)));
+    d.push_back(budget_table(s.budgets));
   }
   if (!s.confirmations.empty()) {
     d.push_back(postproc::Heading{2, "Confirmed on LIGGGHTS", "confirmed"});
@@ -620,7 +619,7 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   write_front_specs(space, front, generation, dir);
   formats::write_file_atomically(dir / "design.md", postproc::markdown(d));
   formats::write_file_atomically(dir / "design.html", postproc::html(d, dir, "granstack design"));
-  formats::write_file_atomically(dir / "design.json", report_json(space, store, s, front).dump(2) + "\n");
+  formats::write_file_atomically(dir / "design.json", report_json(space, s, front).dump(2) + "\n");
   return dir / "design.html";
 }
 

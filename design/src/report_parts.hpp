@@ -32,19 +32,7 @@ struct RunSummary {
 std::vector<RunSummary> summarise_runs(const Space& space, const Store& store, const std::vector<Evaluation>& all,
                                        const std::vector<Generation>& generations);
 
-// What the report shows, read from the store once (each read parses every design's spec).
-struct Snapshot {
-  Snapshot(const Space& space, const Store& store)
-      : all(store.evaluations()), studies(store.study_designs()), generations(store.generations()),
-        confirmations(store.confirmations()), box(stored_normalisation(store)),
-        runs(summarise_runs(space, store, all, generations)) {}
-  std::vector<Evaluation> all;
-  std::vector<std::pair<std::string, Evaluation>> studies;
-  std::vector<Generation> generations;
-  std::vector<Confirmation> confirmations;
-  std::optional<Normalisation> box;
-  std::vector<RunSummary> runs;
-};
+struct Snapshot;  // below: the store read once
 
 // The run of a design the figures and confirm show: its own (no scenarios), else its scenario
 // with the largest peak wall force.
@@ -111,5 +99,23 @@ inline constexpr int kConvergenceWindow = 10;
 int convergence_window(const Space& space);
 std::string stopped_improving(const Space& space, const Progress& p);
 std::vector<postproc::Figure> convergence_figures(const std::vector<Progress>& progress, const std::filesystem::path& dir);
+
+// What the report shows, read from the store once (each read parses every design's spec), with
+// each run's spending and progress (budget.cpp), computed once for the report and its JSON.
+struct Snapshot {
+  Snapshot(const Space& space, const Store& store)
+      : all(store.evaluations()), studies(store.study_designs()), generations(store.generations()),
+        confirmations(store.confirmations()), box(stored_normalisation(store)),
+        runs(summarise_runs(space, store, all, generations)), budgets(run_budgets(space, store, all)),
+        progress(box ? run_progress(space, store, all, *box) : std::vector<Progress>{}) {}
+  std::vector<Evaluation> all;
+  std::vector<std::pair<std::string, Evaluation>> studies;
+  std::vector<Generation> generations;
+  std::vector<Confirmation> confirmations;
+  std::optional<Normalisation> box;
+  std::vector<RunSummary> runs;
+  std::vector<RunBudget> budgets;
+  std::vector<Progress> progress;  // none without the normalised box
+};
 
 }  // namespace granstack::design::report_parts

@@ -28,10 +28,6 @@ long earliest_end(const model::BlowEnd& blow, long step, long dump_every) {
   const long from = blow.holding_since().value_or(step + dump_every) + blow.hold_steps();
   return (from + dump_every - 1) / dump_every * dump_every;
 }
-// Whether the blow can no longer end by the step `cap`.
-bool certainly_censored(const model::BlowEnd& blow, long step, long dump_every, long cap) {
-  return earliest_end(blow, step, dump_every) > cap;
-}
 
 double sphere_ke(const System& s, std::size_t i) {
   const auto v = s.v(i), w = s.omega(i);
@@ -102,7 +98,7 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
       const bool ended = blow.ended_at().has_value();
       detail::judge_blow_end(blow, stack, system);
       if (stops && !ended && blow.ended_at()) end = next_frame;
-      if (abandon && !blow.ended_at() && certainly_censored(blow, next_frame, res.dump_every, end)) {
+      if (abandon && !blow.ended_at() && earliest_end(blow, next_frame, res.dump_every) > end) {  // it cannot end by the cap
         r.abandoned_at = next_frame;
         end = next_frame;
       }

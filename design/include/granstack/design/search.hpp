@@ -98,8 +98,7 @@ void record(const Space& space, Evaluation& e, const std::vector<ScenarioOutcome
 void record(const Space& space, Evaluation& e, const std::vector<std::optional<ScenarioOutcome>>& runs);
 // The order a design's scenarios run in: with the space's shortcuts, the hardest blow first (the
 // striker's kinetic energy, m v^2 with m ~ R^3; the order of the space between equals), the one
-// that decides the worst case in every measurement (#50: 2 m/s for 449 of 449 designs); without,
-// the space's.
+// most likely to decide the worst case (Hertz: the force grows as v^(6/5)); without, the space's.
 std::vector<std::size_t> scenario_order(const Space& space);
 // A design stored as settled by dominance (Evaluation::shortcut) stands for a run only where that
 // run's front dominates it too; elsewhere it runs again, in full.
