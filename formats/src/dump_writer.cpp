@@ -14,11 +14,24 @@
 #include <filesystem>
 #include <limits>
 #include <unistd.h>
+#include <zstd.h>
 
 namespace granstack::formats {
 
-DumpWriter::DumpWriter(const std::string& path, bool binary)
-    : path_(path), binary_(binary), file_(nullptr, &std::fclose) {
+namespace {
+// zstd's fastest level: what a stack's dump repeats (spheres at rest, constant columns) is
+// what it removes.
+constexpr int kZstdLevel = 1;
+}  // namespace
+
+DumpWriter::DumpWriter(const std::string& path, bool binary, bool compressed)
+    : path_(path), binary_(binary), file_(nullptr, &std::fclose), zstd_(nullptr, &ZSTD_freeCCtx) {
+  if (compressed && binary) {
+    zstd_.reset(ZSTD_createCCtx());
+    if (!zstd_) throw std::runtime_error(fmt::format("{}: cannot start zstd", path));
+    ZSTD_CCtx_setParameter(zstd_.get(), ZSTD_c_compressionLevel, kZstdLevel);
+    compressed_.resize(ZSTD_CStreamOutSize());
+  }
   // Only the file's own name is a pattern: a '*' or '%' in a directory's name is a character.
   name_at_ = path_.size() - std::filesystem::path(path_).filename().string().size();
   if (const auto rank = path_.find('%', name_at_); rank != std::string::npos) path_[rank] = '0';
@@ -33,8 +46,46 @@ void DumpWriter::open(const std::string& path) {
   current_ = path;
 }
 
+DumpWriter::~DumpWriter() {
+  try {
+    if (file_) end_stream();
+  } catch (const std::exception&) {  // NOLINT(bugprone-empty-catch): unchecked, as documented
+  }
+}
+
 void DumpWriter::close() {
-  if (file_) close_written(file_.release(), current_);
+  if (!file_) return;
+  end_stream();
+  close_written(file_.release(), current_);
+}
+
+void DumpWriter::put(const char* bytes, std::size_t n) {
+  if (!zstd_) {
+    if (std::fwrite(bytes, 1, n, file_.get()) != n) throw std::runtime_error(fmt::format("{}: cannot write: {}", current_, std::strerror(errno)));
+    return;
+  }
+  ZSTD_inBuffer in{bytes, n, 0};
+  while (in.pos < in.size) {
+    ZSTD_outBuffer out{compressed_.data(), compressed_.size(), 0};
+    const std::size_t rc = ZSTD_compressStream2(zstd_.get(), &out, &in, ZSTD_e_continue);
+    if (ZSTD_isError(rc)) throw std::runtime_error(fmt::format("{}: zstd: {}", current_, ZSTD_getErrorName(rc)));
+    if (std::fwrite(compressed_.data(), 1, out.pos, file_.get()) != out.pos) {
+      throw std::runtime_error(fmt::format("{}: cannot write: {}", current_, std::strerror(errno)));
+    }
+  }
+}
+
+void DumpWriter::end_stream() {
+  if (!zstd_) return;
+  ZSTD_inBuffer in{nullptr, 0, 0};
+  for (std::size_t left = 1; left != 0;) {
+    ZSTD_outBuffer out{compressed_.data(), compressed_.size(), 0};
+    left = ZSTD_compressStream2(zstd_.get(), &out, &in, ZSTD_e_end);
+    if (ZSTD_isError(left)) throw std::runtime_error(fmt::format("{}: zstd: {}", current_, ZSTD_getErrorName(left)));
+    if (std::fwrite(compressed_.data(), 1, out.pos, file_.get()) != out.pos) {
+      throw std::runtime_error(fmt::format("{}: cannot write: {}", current_, std::strerror(errno)));
+    }
+  }
 }
 
 void DumpWriter::write(const DumpFrame& f, const ForShares& shares) {
@@ -76,13 +127,10 @@ void DumpWriter::write(const DumpFrame& f, const ForShares& shares) {
     write_atoms(f, integer, shares);
   }
   // The header, then (text) the atoms' lines as write_atoms left them.
-  bool written = std::fwrite(buffer_.data(), 1, buffer_.size(), file_.get()) == buffer_.size();
+  put(buffer_.data(), buffer_.size());
   if (!binary_) {
-    for (const auto& p : previous_pieces_) {
-      written = written && std::fwrite(p.text.data(), 1, p.text.size(), file_.get()) == p.text.size();
-    }
+    for (const auto& p : previous_pieces_) put(p.text.data(), p.text.size());
   }
-  if (!written) throw std::runtime_error(fmt::format("{}: cannot write: {}", current_, std::strerror(errno)));
 }
 
 // Each value in the shortest text that reads back to the same double (LIGGGHTS writes %.17g).

@@ -582,7 +582,8 @@ std::vector<SpecField> resolution_rows() {
       "dump_format", &StackSpec::dump_format, parse_dump_format, [](DumpFormat f) { return to_string(f); },
       "'text' or 'binary'", "text", "Dump format: text | binary");
   format.doc = "`text` (`%.17g`) or `binary` (LIGGGHTS `.bin`: a tenth smaller and half again faster to read); both "
-               "hold the exact doubles and reduce to identical results";
+               "hold the exact doubles and reduce to identical results. refsim writes its binary dump as a zstd stream "
+               "(`zstd -d` gives LIGGGHTS's bytes; every granstack reader takes both)";
   rows.push_back(std::move(format));
   return rows;
 }

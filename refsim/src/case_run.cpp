@@ -334,7 +334,9 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   const auto built = Clock::now();
 
   fs::create_directories((dir / manifest.files.dump).parent_path());
-  formats::DumpWriter dump((dir / manifest.files.dump).string(), manifest.spec.dump_format == model::DumpFormat::binary);
+  // refsim's binary dumps are zstd streams of LIGGGHTS's bytes: a stack at rest or a constant
+  // column costs next to nothing on disk, and every reader here takes them.
+  formats::DumpWriter dump((dir / manifest.files.dump).string(), manifest.spec.dump_format == model::DumpFormat::binary, true);
   SeriesWriter series((dir / manifest.files.series).string(), stack, manifest.files.series_columns);
   const auto columns = resolve_columns(manifest.files.dump_columns);
   FramePool frames;

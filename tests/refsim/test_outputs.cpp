@@ -1,5 +1,6 @@
 // refsim's outputs written behind the steps (a thread of their own) against written in line:
 // the same bytes, and a write that fails fails the run, naming the file, on either path.
+#include <granstack/formats/dump.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/series.hpp>
 #include <granstack/generator/case_writer.hpp>
@@ -188,6 +189,38 @@ TEST(Outputs, WritingBehindTheStepsGivesTheSameBytes) {
       EXPECT_TRUE(a[k].second == b[k].second) << c.name << ": " << a[k].first << " differs";
     }
   }
+}
+
+// refsim writes its binary dump as a zstd stream (LIGGGHTS's layout inside), smaller than its
+// frames' bytes and holding, frame by frame, the doubles of the same run's text dump.
+TEST(Outputs, ABinaryDumpIsAZstdStreamOfTheTextDumpsDoubles) {
+  model::StackSpec spec;
+  spec.blocks = 2;
+  spec.restitution.value = 0.95;
+  const auto text_dir = generate("text", spec);
+  spec.dump_format = model::DumpFormat::binary;
+  const auto binary_dir = generate("binary", spec);
+  run(text_dir, true);
+  run(binary_dir, true);
+  const auto m = formats::read_manifest(binary_dir);
+  const auto path = (fs::path(binary_dir) / m.files.dump).string();
+  EXPECT_EQ(bytes(path).substr(0, 4), std::string("\x28\xb5\x2f\xfd", 4));
+  formats::TextDumpReader text((fs::path(text_dir) / formats::read_manifest(text_dir).files.dump).string());
+  formats::BinaryDumpReader binary(path, m.files.dump_columns);
+  formats::DumpFrame t, b;
+  std::size_t frames = 0, values = 0;
+  while (text.next(t)) {
+    ASSERT_TRUE(binary.next(b)) << "frame " << frames;
+    EXPECT_EQ(b.step, t.step);
+    EXPECT_TRUE(b.values == t.values) << "step " << t.step;
+    ++frames;
+    values += b.values.size();
+  }
+  EXPECT_FALSE(binary.next(b));
+  const auto res = model::resolve(model::Stack::build(spec));
+  EXPECT_EQ(frames, static_cast<std::size_t>(res.steps / res.dump_every + 1));
+  const std::size_t header = 44 + 6 * 8 + 3 * 4;  // LIGGGHTS's header, the box, three counts
+  EXPECT_LT(fs::file_size(path), frames * header + values * sizeof(double)) << "compressed";
 }
 
 // A dump or series that cannot be written (here /dev/full: every write fails with ENOSPC) fails

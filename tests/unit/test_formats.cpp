@@ -309,8 +309,8 @@ using BatchTest = TempDir;
 // (/dev/full) must fail there, naming the file, not pass unseen.
 TEST(DumpWriter, AWriteThatFailsAtTheCloseIsAnError) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "this system has no /dev/full to fill";
-  for (const bool binary : {false, true}) {
-    formats::DumpWriter w("/dev/full", binary);
+  for (const auto& [binary, compressed] : {std::pair{false, false}, std::pair{true, false}, std::pair{true, true}}) {
+    formats::DumpWriter w("/dev/full", binary, compressed);
     formats::DumpFrame f;
     f.atoms = 1;
     f.box_flags = "mm mm mm";
@@ -461,6 +461,69 @@ TEST_F(BatchTest, ACompressedDumpIsCutAndParsedTheSameWay) {
   ASSERT_EQ(std::system(("gzip -k " + plain).c_str()), 0);
   const auto whole = test_support::read_whole(plain);
   EXPECT_EQ(test_support::difference(whole, test_support::read_in_batches(plain + ".gz", 700)), "");
+}
+
+// A compressed binary dump is the plain writer's bytes as zstd frames: decompressed, the same
+// file; read by the dump reader and in batches, the same frames; a file per step each its own
+// stream; ended by the destructor (a run cut short), still a whole stream.
+TEST_F(BatchTest, ACompressedBinaryDumpIsThePlainBytesAsAZstdStream) {
+  formats::TextDumpReader text(write("dump.txt", dump_text(40, 17)));
+  std::vector<formats::DumpFrame> frames;
+  for (formats::DumpFrame f; text.next(f);) frames.push_back(f);
+  const auto plain = (dir_ / "plain.bin").string(), packed = (dir_ / "packed.bin").string();
+  const auto unclosed = (dir_ / "unclosed.bin").string();
+  fs::create_directories(dir_ / "steps");
+  {
+    formats::DumpWriter a(plain, true), b(packed, true, true), c(unclosed, true, true);
+    formats::DumpWriter steps((dir_ / "steps" / "dump*.bin").string(), true, true);
+    for (const auto& f : frames) {
+      a.write(f);
+      b.write(f);
+      c.write(f);
+      steps.write(f);
+    }
+    a.close();
+    b.close();
+    steps.close();
+  }  // c: by its destructor
+  const auto decompressed = [](const std::string& path) {
+    auto source = formats::open_bytes(path);
+    EXPECT_STREQ(source->kind(), "zstd") << path;
+    std::string out(1 << 16, '\0'), all;
+    for (std::size_t n; (n = source->read(out.data(), out.size())) > 0;) all.append(out.data(), n);
+    return all;
+  };
+  const std::string bytes = formats::read_file(plain);
+  ASSERT_EQ(bytes.size(), 40u * (44 + 6 * 8 + 3 * 4 + 17 * 7 * 8));  // header, box, three counts, values
+  EXPECT_TRUE(decompressed(packed) == bytes);
+  EXPECT_TRUE(decompressed(unclosed) == bytes);
+  EXPECT_LT(fs::file_size(packed), bytes.size() / 2);  // two of the seven columns are constant
+  const std::vector<std::string> columns{"id", "type", "x", "z", "vx", "vz", "fx"};
+  formats::BinaryDumpReader reader(packed, columns);
+  formats::FrameBatchSource source(packed, true, columns, {}, 3000);
+  formats::FrameBatch batch;
+  std::size_t k = 0;
+  formats::DumpFrame f;
+  while (source.take(batch)) {
+    source.parse(batch);
+    source.settle(batch);
+    ASSERT_FALSE(batch.error);
+    for (const auto& b : batch.frames) {
+      ASSERT_LT(k, frames.size());
+      ASSERT_TRUE(reader.next(f));
+      EXPECT_EQ(f.values, frames[k].values);
+      EXPECT_EQ(b.values, frames[k].values);
+      EXPECT_EQ(b.step, frames[k++].step);
+    }
+  }
+  EXPECT_EQ(k, frames.size());
+  for (const auto& g : frames) {
+    const auto one = (dir_ / "steps" / fmt::format("dump{}.bin", g.step)).string();
+    formats::BinaryDumpReader r(one, columns);
+    ASSERT_TRUE(r.next(f)) << one;
+    EXPECT_EQ(f.values, g.values) << one;
+    EXPECT_FALSE(r.next(f)) << one;
+  }
 }
 
 // A binary dump: headers read in turn, values read (pread) by whichever thread parses the batch;

@@ -20,6 +20,8 @@
 #include <utility>
 #include <vector>
 
+struct ZSTD_CCtx_s;  // zstd.h's compression context
+
 namespace granstack::formats {
 
 struct DumpFrame {
@@ -178,13 +180,18 @@ void read_deferred(DumpFrame& frame, int fd, const std::string& path);
 
 // Writes frames in LIGGGHTS's `dump custom` layouts: text as the generated decks ask for it
 // (ids and types as integers, every other column %.17g, each line ending in a space), or binary.
+// A compressed binary dump is the same bytes as one zstd stream per file (`zstd -d` gives
+// LIGGGHTS's file back; every reader here takes either, told by the first bytes).
 using os::ForShares;
 
 class DumpWriter {
  public:
   // A '*' in the file name of `path` writes a file per frame (the step in its place); a '%' there
   // stands for rank 0. The same characters in its directories are only characters.
-  DumpWriter(const std::string& path, bool binary);  // throws std::runtime_error
+  DumpWriter(const std::string& path, bool binary, bool compressed = false);  // throws std::runtime_error
+  DumpWriter(const DumpWriter&) = delete;
+  DumpWriter& operator=(const DumpWriter&) = delete;
+  ~DumpWriter();  // ends the file's zstd stream and closes it, without checking
   // A text frame's lines are formatted in `shares`' shares of its atoms (empty: in one); the
   // file does not depend on them.
   void write(const DumpFrame& frame, const ForShares& shares = {});
@@ -194,12 +201,16 @@ class DumpWriter {
 
  private:
   void open(const std::string& path);
+  void put(const char* bytes, std::size_t n);  // to the file, through zstd when compressed
+  void end_stream();                          // a compressed file's last bytes
   void write_atoms(const DumpFrame& f, const std::vector<bool>& integer, const ForShares& shares);
   std::string path_, current_;  // the path given, and the file open now
   std::size_t name_at_ = 0;     // where the file's name begins in path_
   bool binary_;
   bool per_step_ = false;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
+  std::unique_ptr<ZSTD_CCtx_s, std::size_t (*)(ZSTD_CCtx_s*)> zstd_;  // null: not compressed
+  std::vector<char> compressed_;                                     // zstd's output, written as it fills
   std::string buffer_;
   // The text of the atoms' lines of a frame, in pieces (one per share that formatted it), the
   // first atom of each; written one after the other.
