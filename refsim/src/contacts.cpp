@@ -1,4 +1,5 @@
 #include "contacts.hpp"
+#include "contact_models/sub_models.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -242,109 +243,10 @@ void SumPlan::build(const std::vector<std::size_t>& offsets,
   }
 }
 
-// With beta = 0 (e = 1) the damping coefficients are the factor itself (-0.0) whatever the
-// square root, so it is not taken.
-Normal hertz_normal(const PairConstants& k, double reff, double meff, double deltan, double vn, bool tangential_damping) {
-  const double sqrtval = std::sqrt(reff * deltan);
-  const double kt = k.st_factor * sqrtval;
-  const double kn = k.kn_factor * sqrtval;
-  const bool damped = k.damped();
-  const double gamman = damped ? k.damping_factor * std::sqrt(k.sn_factor * sqrtval * meff) : k.damping_factor;
-  const double gammat = !tangential_damping ? 0.0 : damped ? k.damping_factor * std::sqrt(kt * meff) : k.damping_factor;
-  return {-gamman * vn + kn * deltan, kt, gammat};
-}
-
-Normal hooke_normal(const ModelRecord& r, double deltan, double vn, bool tangential_damping) {
-  const double kn = r.hooke_kn, gamman = r.hooke_gamman;
-  const double gammat = tangential_damping ? gamman : 0.0;
-  const double fn_damping = -gamman * vn;
-  const double fn_contact = kn * deltan;
-  return {fn_damping + fn_contact, kn, gammat};
-}
-
-void tangential_no_history(const double en[3], const double vtr[3], const Normal& n, double mu, double ft[3],
-                           double tor[3]) {
-  const double vrel = std::sqrt(vtr[0] * vtr[0] + vtr[1] * vtr[1] + vtr[2] * vtr[2]);
-  const double ft_friction = mu * std::fabs(n.fn);
-  const double gamma = ft_friction < n.gammat * vrel ? ft_friction / vrel : n.gammat;
-  for (int d = 0; d < 3; ++d) ft[d] = -gamma * vtr[d];
-  tor[0] = en[1] * ft[2] - en[2] * ft[1];
-  tor[1] = en[2] * ft[0] - en[0] * ft[2];
-  tor[2] = en[0] * ft[1] - en[1] * ft[0];
-}
-
-void rolling_torque(double roll[3], const double en[3], const double wr[3], const Normal& n, double reff, double mu_r,
-                    bool update_history, double dt, double torque[3]) {
-  const double wr_dot_delta = wr[0] * en[0] + wr[1] * en[1] + wr[2] * en[2];
-  const double kr = n.kt * reff * reff;
-  const double scale = dt * kr;
-  for (int d = 0; d < 3; ++d) {
-    const double wr_tot = wr[d] - en[d] * wr_dot_delta;
-    torque[d] = roll[d] + scale * wr_tot;
-  }
-  const double magnitude = std::sqrt(torque[0] * torque[0] + torque[1] * torque[1] + torque[2] * torque[2]);
-  const double most = std::fabs(n.fn) * reff * mu_r;
-  if (magnitude > most) {
-    const double factor = most / magnitude;
-    for (int d = 0; d < 3; ++d) torque[d] *= factor;
-  }
-  if (update_history) {
-    for (int d = 0; d < 3; ++d) roll[d] = torque[d];
-  }
-}
-
-void tangential_force(double shear[3], const double en[3], const double vtr[3], const Normal& n, double mu,
-                      bool update_history, double dt, double ft[3], double tor[3]) {
-  if (update_history) {
-    shear[0] += vtr[0] * dt;
-    shear[1] += vtr[1] * dt;
-    shear[2] += vtr[2] * dt;
-    const double rsht = shear[0] * en[0] + shear[1] * en[1] + shear[2] * en[2];
-    shear[0] -= rsht * en[0];
-    shear[1] -= rsht * en[1];
-    shear[2] -= rsht * en[2];
-  }
-  const double kt = n.kt;
-  const double shear_sq = shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2];
-  ft[0] = -(kt * shear[0]);
-  ft[1] = -(kt * shear[1]);
-  ft[2] = -(kt * shear[2]);
-  if (mu == 0.0 && kt > 0.0 && shear_sq > 0.0) {
-    // Frictionless: LIGGGHTS slides with ratio 0 / (kt |xi|), leaving a zero force and a zero
-    // history; the same without the square root and the four divisions (only signs of zero differ).
-    ft[0] = ft[1] = ft[2] = 0.0;
-    if (update_history) shear[0] = shear[1] = shear[2] = 0.0;
-  } else {
-    const double shrmag = std::sqrt(shear_sq);
-    const double ft_shear = kt * shrmag;
-    const double ft_friction = mu * std::fabs(n.fn);
-    if (ft_shear > ft_friction) {
-      if (shrmag != 0.0) {
-        const double ratio = ft_friction / ft_shear;
-        for (int d = 0; d < 3; ++d) ft[d] *= ratio;
-        if (update_history) {
-          for (int d = 0; d < 3; ++d) shear[d] = -ft[d] / kt;
-        }
-      } else {
-        ft[0] = ft[1] = ft[2] = 0.0;
-      }
-    } else {
-      for (int d = 0; d < 3; ++d) ft[d] -= n.gammat * vtr[d];
-    }
-  }
-  tor[0] = en[1] * ft[2] - en[2] * ft[1];
-  tor[1] = en[2] * ft[0] - en[0] * ft[2];
-  tor[2] = en[0] * ft[1] - en[1] * ft[0];
-}
-
 void zero_contribution(PairTable& t, std::size_t p) {
   t.fx[p] = t.fy[p] = t.fz[p] = 0.0;
   for (std::size_t q : {p, t.padded() + p}) t.tx[q] = t.ty[q] = t.tz[q] = 0.0;
 }
-
-namespace {
-
-}  // namespace
 
 namespace {
 
@@ -385,47 +287,38 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
   const double wr3 = (cri * s.w[z + i] + crj * s.w[z + j]) * rinv;
   const double vtr[3] = {vt1 - (delz * wr2 - dely * wr3), vt2 - (delx * wr3 - delz * wr1), vt3 - (dely * wr1 - delx * wr2)};
 
-  const PairConstants k = rec.constants();
-  const ModelRecord& mr = t.model_records[static_cast<std::size_t>(t.record[p])];
-  const Normal n = t.model.normal == model::NormalModel::hooke
-                       ? hooke_normal(mr, deltan, vn, s.tangential_damping)
-                       : hertz_normal(k, rec.reff, rec.meff, deltan, vn, s.tangential_damping);
-  double ft[3], tor[3];
-  if (t.model.tangential == model::TangentialModel::no_history) {
-    tangential_no_history(en, vtr, n, k.friction, ft, tor);
-  } else {
-    double shear[3] = {t.shear_x[p], t.shear_y[p], t.shear_z[p]};
-    tangential_force(shear, en, vtr, n, k.friction, s.update_history, s.dt, ft, tor);
-    t.shear_x[p] = shear[0];
-    t.shear_y[p] = shear[1];
-    t.shear_z[p] = shear[2];
-  }
+  const ContactPoint c{{en[0], en[1], en[2]}, vn, {vtr[0], vtr[1], vtr[2]}, deltan, rec.reff, rec.meff, radi * radj / (radi + radj),
+                 // The relative rotation omega_i - omega_j, which epsd2 turns.
+                 {s.w[i] - s.w[j], s.w[y + i] - s.w[y + j], s.w[z + i] - s.w[z + j]}};
+  double shear[3] = {t.shear_x[p], t.shear_y[p], t.shear_z[p]};
+  double roll[3] = {t.roll_x[p], t.roll_y[p], t.roll_z[p]};
+  const ContactForces out = liggghts_contact(t.model, rec.constants(), t.model_records[static_cast<std::size_t>(t.record[p])],
+                                             c, shear, roll, s.update_history, s.tangential_damping, s.dt);
+  t.shear_x[p] = shear[0];
+  t.shear_y[p] = shear[1];
+  t.shear_z[p] = shear[2];
   // The force on j is (0 + -fn en) + -ft, the exact negative of this but for the sign of a zero
   // (which a sum that starts at +0 never shows): the sums subtract this.
   const std::size_t q = t.padded() + p;
-  t.fx[p] = n.fn * en[0] + ft[0];
-  t.fy[p] = n.fn * en[1] + ft[1];
-  t.fz[p] = n.fn * en[2] + ft[2];
-  t.tx[p] = -cri * tor[0];
-  t.ty[p] = -cri * tor[1];
-  t.tz[p] = -cri * tor[2];
-  t.tx[q] = -crj * tor[0];
-  t.ty[q] = -crj * tor[1];
-  t.tz[q] = -crj * tor[2];
-  if (t.model.rolling != model::RollingModel::off) {
-    // The relative rotation omega_i - omega_j; minus the torque on i, plus on j.
-    const double wr[3] = {s.w[i] - s.w[j], s.w[y + i] - s.w[y + j], s.w[z + i] - s.w[z + j]};
-    double roll[3] = {t.roll_x[p], t.roll_y[p], t.roll_z[p]}, rt[3];
-    rolling_torque(roll, en, wr, n, radi * radj / (radi + radj), mr.rolling_friction, s.update_history, s.dt, rt);
+  t.fx[p] = out.n.fn * en[0] + out.ft[0];
+  t.fy[p] = out.n.fn * en[1] + out.ft[1];
+  t.fz[p] = out.n.fn * en[2] + out.ft[2];
+  t.tx[p] = -cri * out.tor[0];
+  t.ty[p] = -cri * out.tor[1];
+  t.tz[p] = -cri * out.tor[2];
+  t.tx[q] = -crj * out.tor[0];
+  t.ty[q] = -crj * out.tor[1];
+  t.tz[q] = -crj * out.tor[2];
+  if (out.rolling) {  // minus the torque on i, plus on j
     t.roll_x[p] = roll[0];
     t.roll_y[p] = roll[1];
     t.roll_z[p] = roll[2];
-    t.tx[p] -= rt[0];
-    t.ty[p] -= rt[1];
-    t.tz[p] -= rt[2];
-    t.tx[q] += rt[0];
-    t.ty[q] += rt[1];
-    t.tz[q] += rt[2];
+    t.tx[p] -= out.rt[0];
+    t.ty[p] -= out.rt[1];
+    t.tz[p] -= out.rt[2];
+    t.tx[q] += out.rt[0];
+    t.ty[q] += out.rt[1];
+    t.tz[q] += out.rt[2];
   }
 }
 

@@ -221,7 +221,7 @@ inline ContactFrame contact_frame(const PairGeometry& g, const ContactStep& s) {
 // Pair p gives its spheres nothing (not touching).
 void zero_contribution(PairTable& t, std::size_t p);
 
-// One contact by LAMMPS's rules (lammps_contacts.cpp): pair_granular's force on i from j
+// One contact by LAMMPS's rules (contact_models/lammps_rules.cpp): pair_granular's force on i from j
 // (hertz/material, tsuji damping, linear_nohistory 0 0 or mindlin) into entry p of the table.
 void pair_force_lammps(PairTable& t, const ContactStep& s, std::size_t p);
 
@@ -300,32 +300,5 @@ struct VectorKernels {
 std::vector<std::string> vector_targets();
 // The kernels of one of vector_targets(), or of the best with "".
 VectorKernels vector_kernels(const std::string& target);
-
-// The Hertz normal force with restitution damping, and the tangential stiffness and damping
-// (normal_model_hertz.h); shared by the pair kernel and the walls.
-struct Normal {
-  double fn, kt, gammat;
-};
-Normal hertz_normal(const PairConstants& k, double reff, double meff, double deltan, double vn, bool tangential_damping);
-// The Hooke normal force (normal_model_hooke.h): k_n and gamma_n of the pair, k_t = k_n.
-Normal hooke_normal(const ModelRecord& r, double deltan, double vn, bool tangential_damping);
-
-// The viscous tangential force of tangential no_history (tangential_model_no_history.h): no
-// spring, gamma_t capped so that |F_t| <= mu |F_n|. Outputs as tangential_force.
-void tangential_no_history(const double en[3], const double vtr[3], const Normal& n, double mu, double ft[3],
-                           double tor[3]);
-
-// epsd2's rolling torque (rolling_model_epsd2.h, torsionTorque off): the relative rotation's
-// tangential part `wr` drives a spring of stiffness k_t R*^2 on the history `roll`, capped at
-// mu_r R* |F_n|. The torque on the first body is minus `torque`, on the second plus.
-void rolling_torque(double roll[3], const double en[3], const double wr[3], const Normal& n, double reff, double mu_r,
-                    bool update_history, double dt, double torque[3]);
-
-// The tangential history spring (tangential_model_history.h): increment by the sliding velocity,
-// project on the tangent plane, Coulomb-truncate (no damping while sliding). Returns the
-// tangential force on the first body in `ft` and n x Ft in `tor` (the torque on each body is
-// minus its lever arm times it).
-void tangential_force(double shear[3], const double en[3], const double vtr[3], const Normal& n, double mu,
-                      bool update_history, double dt, double ft[3], double tor[3]);
 
 }  // namespace granstack::refsim::detail

@@ -3,6 +3,7 @@
 #include <granstack/refsim/system.hpp>
 
 #include "contacts.hpp"
+#include "contact_models/sub_models.hpp"
 
 #include <granstack/model/contact.hpp>
 
@@ -56,42 +57,30 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
   const double deltan = radi - r;
   const double cr = radi - 0.5 * overlap_in;
   const double wr1 = cr * w[0] * rinv, wr2 = cr * w[1] * rinv, wr3 = cr * w[2] * rinv;
-  const double vtr1 = vt1 - (dz * wr2 - dy * wr3);
-  const double vtr2 = vt2 - (dx * wr3 - dz * wr1);
-  const double vtr3 = vt3 - (dy * wr1 - dx * wr2);
-
   const std::size_t type_pair = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
                                 static_cast<std::size_t>(wall.type - 1);
-  const auto& k = type_constants_[type_pair];
-  // A wall has R* = R_i and m* = m_i.
+  // A wall has R* = R_i and m* = m_i; epsd2 on a wall turns the contact point's rotation speed,
+  // wr = cr omega / r, not omega.
+  const detail::ContactPoint c{{enx, eny, enz},
+                               vn,
+                               {vt1 - (dz * wr2 - dy * wr3), vt2 - (dx * wr3 - dz * wr1), vt3 - (dy * wr1 - dx * wr2)},
+                               deltan,
+                               radi,
+                               meff,
+                               radi,
+                               {wr1, wr2, wr3}};
   const auto model = detail::model_record(p_.contact, model_constants_[type_pair], radi, meff);
-  const detail::Normal n = p_.contact.normal == model::NormalModel::hooke
-                               ? detail::hooke_normal(model, deltan, vn, p_.tangential_damping)
-                               : detail::hertz_normal(k, radi, meff, deltan, vn, p_.tangential_damping);
-  const double fn = n.fn;
+  const detail::ContactForces out = detail::liggghts_contact(p_.contact, type_constants_[type_pair], model, c, shear, roll,
+                                                             update_history, p_.tangential_damping, p_.dt);
+  const double fn = out.n.fn;
   double df[3] = {0.0 + fn * 1. * enx, 0.0 + fn * 1. * eny, 0.0 + fn * 1. * enz};  // * area_ratio (1)
-  const double en[3] = {enx, eny, enz}, vtr[3] = {vtr1, vtr2, vtr3};
-  double ft[3], tor[3];
-  if (p_.contact.tangential == model::TangentialModel::no_history) {
-    detail::tangential_no_history(en, vtr, n, k.friction, ft, tor);
-  } else {
-    detail::tangential_force(shear, en, vtr, n, k.friction, update_history, p_.dt, ft, tor);
-  }
-  df[0] += ft[0] * 1.;
-  df[1] += ft[1] * 1.;
-  df[2] += ft[2] * 1.;
-  // epsd2 on a wall turns the contact point's rotation speed, wr = cr omega / r, not omega.
-  double rt[3] = {0.0, 0.0, 0.0};
-  if (p_.contact.rolling != model::RollingModel::off) {
-    const double wr[3] = {wr1, wr2, wr3};
-    detail::rolling_torque(roll, en, wr, n, radi, model.rolling_friction, update_history, p_.dt, rt);
-  }
+  for (std::size_t d = 0; d < 3; ++d) df[d] += out.ft[d] * 1.;
   for (std::size_t d = 0; d < 3; ++d) {
     const double before = f_[d * stride_ + i];
     f_[d * stride_ + i] += df[d];
     if (stored) wall_store_[3 * i + d] = f_[d * stride_ + i] - before;
-    double dt = 0.0 + -cr * tor[d] * 1.;
-    if (p_.contact.rolling != model::RollingModel::off) dt -= rt[d];
+    double dt = 0.0 + -cr * out.tor[d] * 1.;
+    if (out.rolling) dt -= out.rt[d];
     t_[d * stride_ + i] += dt;
   }
 }

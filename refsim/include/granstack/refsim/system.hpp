@@ -53,7 +53,7 @@ struct Parameters {
   int stored_wall = -1;
   bool tangential_damping = true;
   // LAMMPS's rules instead of LIGGGHTS's for the same spec (model/lammps.hpp, refsim/src/
-  // lammps_contacts.cpp): tsuji damping with the mapped coefficient, no tangential force without
+  // contact_models/lammps_rules.cpp): tsuji damping with the mapped coefficient, no tangential force without
   // friction, pair_granular's mindlin spring with friction, fix wall/gran's walls. The reference
   // kernels run them.
   bool lammps_rules = false;

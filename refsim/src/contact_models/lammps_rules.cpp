@@ -11,7 +11,7 @@
 //     cap resets the spring to what the capped force needs;
 //   - walls: E* as fix wall/gran forms it (model/lammps.hpp gives the E' for it), the elastic force
 //     as (E a) delta, and the torque's lever arm the full radius.
-#include "contacts.hpp"
+#include "../contacts.hpp"
 
 #include <cmath>
 
