@@ -40,14 +40,14 @@ namespace {
 
 // The properties the contact model needs beyond hertz/history's (each on a line of its own,
 // after the four material fixes): hooke's characteristic velocity (normal_model_hooke.h) and
-// epsd2's rolling friction per type pair.
+// a rolling model's friction per type pair (epsd2's and cdt's coefficientRollingFriction).
 std::string contact_model_fixes(const model::StackSpec& spec, const std::vector<std::string>& types) {
   std::string out;
   if (spec.normal_model == model::NormalModel::hooke) {
     out += fmt::format("\nfix             m5 all property/global characteristicVelocity scalar {}",
                        spec.contact_model().characteristic_velocity);
   }
-  if (spec.rolling_model == model::RollingModel::epsd2) {
+  if (spec.rolling_model != model::RollingModel::off) {
     std::string matrix;
     for (const auto& a : types) {
       for (const auto& b : types) matrix += fmt::format(" {}", spec.rolling_friction.get(a, b));

@@ -230,9 +230,10 @@ std::vector<SpecIssue> ignored_fields(const model::StackSpec& s, const std::set<
   const auto all_zero = [](const model::PairTable& t) {
     return t.value == 0.0 && std::all_of(t.pairs.begin(), t.pairs.end(), [](const auto& p) { return p.second == 0.0; });
   };
-  if (s.rolling_model == model::RollingModel::epsd2 && all_zero(s.rolling_friction)) {
-    issues.push_back({"rolling_model", "epsd2 with rolling_friction 0 everywhere exerts no torque: give rolling_friction "
-                                       "> 0 (0..1), or leave rolling_model off"});
+  if (s.rolling_model != model::RollingModel::off && all_zero(s.rolling_friction)) {
+    issues.push_back({"rolling_model", fmt::format("{} with rolling_friction 0 everywhere exerts no torque: give "
+                                                   "rolling_friction > 0 (0..1), or leave rolling_model off",
+                                                   model::to_string(s.rolling_model))});
   }
   const bool elastic = s.restitution.value == 1.0 &&
                        std::all_of(s.restitution.pairs.begin(), s.restitution.pairs.end(),

@@ -51,28 +51,6 @@ double restitution_beta(double e) {
   return l / std::sqrt(std::pow(l, 2.) + std::pow(kPi, 2.));
 }
 
-std::string_view to_string(NormalModel m) { return m == NormalModel::hooke ? "hooke" : "hertz"; }
-std::string_view to_string(TangentialModel m) { return m == TangentialModel::no_history ? "no_history" : "history"; }
-std::string_view to_string(RollingModel m) { return m == RollingModel::epsd2 ? "epsd2" : "off"; }
-
-std::optional<NormalModel> parse_normal_model(std::string_view s) {
-  if (s == "hertz") return NormalModel::hertz;
-  if (s == "hooke") return NormalModel::hooke;
-  return std::nullopt;
-}
-
-std::optional<TangentialModel> parse_tangential_model(std::string_view s) {
-  if (s == "history") return TangentialModel::history;
-  if (s == "no_history") return TangentialModel::no_history;
-  return std::nullopt;
-}
-
-std::optional<RollingModel> parse_rolling_model(std::string_view s) {
-  if (s == "off") return RollingModel::off;
-  if (s == "epsd2") return RollingModel::epsd2;
-  return std::nullopt;
-}
-
 std::string liggghts_model_words(const ContactModel& m) {
   std::string words = "model ";
   words += to_string(m.normal);

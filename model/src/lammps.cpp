@@ -133,18 +133,8 @@ std::string lammps_contact_words(const LammpsContact& c, const LammpsRules& rule
 
 std::string lammps_unmappable(const StackSpec& spec, const LammpsRules& rules) {
   const auto model = spec.contact_model();
-  if (model.normal != NormalModel::hertz) {
-    return "normal_model = 'hooke' has no counterpart in LAMMPS's granular styles (its hooke spring is a constant per "
-           "type pair, LIGGGHTS's depends on each pair's masses and the characteristic velocity); use normal_model = "
-           "'hertz'";
-  }
-  if (model.tangential != TangentialModel::history) {
-    return "tangential_model = 'no_history' is not mapped onto LAMMPS (its linear_nohistory damps with a constant, "
-           "LIGGGHTS's with the Hertz overlap); use tangential_model = 'history'";
-  }
-  if (model.rolling != RollingModel::off) {
-    return "rolling_model = 'epsd2' has no counterpart in this LAMMPS (its rolling sds is a spring without "
-           "LIGGGHTS's plastic cap on R* |F_n|); use rolling_model = 'off'";
+  for (const auto* m : {&info(model.normal), &info(model.tangential), &info(model.rolling)}) {
+    if (!m->lammps_refusal.empty()) return std::string(m->lammps_refusal);
   }
   if (spec.dump_files == DumpFiles::per_rank) {
     return "dump_files = 'per_rank' is not supported on LAMMPS; generate the case with --dump-files single";

@@ -643,32 +643,32 @@ SpecField custom_materials_row() {
   return f;
 }
 
+// A sub-model's choice row, its allowed values, help and notes from contact_models.cpp's table.
+template <typename Model, typename Parse>
+SpecField sub_model_row(std::string name, Model StackSpec::*member, Parse parse_name, std::string what) {
+  std::string help = what + ": ", doc;
+  for (const auto m : all_models<Model>()) {
+    if (m != Model{}) help += " | ";
+    help += info(m).help;
+    if (info(m).doc.empty()) continue;
+    if (!doc.empty()) doc += "; ";
+    doc += info(m).doc;
+  }
+  auto row = choice_row(
+      std::move(name), member, parse_name, [](Model m) { return to_string(m); }, keyword_list<Model>(),
+      std::string(to_string(Model{})), help);
+  row.doc = doc;
+  unless_default(row, [member](const StackSpec& s) { return s.*member != Model{}; });
+  return row;
+}
+
 std::vector<SpecField> contact_model_rows() {
   std::vector<SpecField> rows;
-  auto normal = choice_row(
-      "normal_model", &StackSpec::normal_model, parse_normal_model, [](NormalModel m) { return to_string(m); },
-      "'hertz' or 'hooke'", "hertz", "Normal contact: hertz (the study's) | hooke");
-  normal.doc = "`hooke`: a linear spring with Hertz's largest overlap at `characteristic_velocity` and restitution "
-               "exactly e ([physics](../physics.md#other-contact-models))";
-  unless_default(normal, [](const StackSpec& s) { return s.normal_model != NormalModel::hertz; });
-  rows.push_back(std::move(normal));
-
-  auto tangential = choice_row(
-      "tangential_model", &StackSpec::tangential_model, parse_tangential_model,
-      [](TangentialModel m) { return to_string(m); }, "'history' or 'no_history'", "history",
-      "Tangential contact: history (a spring limited by Coulomb) | no_history (viscous)");
-  tangential.doc = "`no_history`: viscous, capped at `mu F_n`; no tangential force at all at e = 1";
-  unless_default(tangential, [](const StackSpec& s) { return s.tangential_model != TangentialModel::history; });
-  rows.push_back(std::move(tangential));
-
+  rows.push_back(sub_model_row("normal_model", &StackSpec::normal_model, parse_normal_model, "Normal contact"));
+  rows.push_back(
+      sub_model_row("tangential_model", &StackSpec::tangential_model, parse_tangential_model, "Tangential contact"));
+  rows.push_back(sub_model_row("rolling_model", &StackSpec::rolling_model, parse_rolling_model, "Rolling friction"));
   const auto rolling_on = [](const StackSpec& s) { return s.rolling_model != RollingModel::off; };
-  auto rolling = choice_row(
-      "rolling_model", &StackSpec::rolling_model, parse_rolling_model, [](RollingModel m) { return to_string(m); },
-      "'off' or 'epsd2'", "off", "Rolling friction: off | epsd2 (an elastic-plastic torque spring)");
-  rolling.doc = "`epsd2`: a torque spring capped at `mu_r R* F_n`";
-  unless_default(rolling, rolling_on);
-  rows.push_back(std::move(rolling));
-
   auto mu_r = pair_value_row("rolling_friction", &StackSpec::rolling_friction, "0",
                              "Rolling friction coefficient mu_r, 0..1 (rolling_model = epsd2)", "mur");
   unless_default(mu_r, rolling_on);

@@ -118,7 +118,7 @@ std::string run_liggghts(const TwoBodyCase& c, const fs::path& dir, double skin)
     model_fixes += fmt::format("fix m5 all property/global characteristicVelocity scalar {}\n",
                                c.contact.characteristic_velocity);
   }
-  if (c.contact.rolling == model::RollingModel::epsd2) {
+  if (c.contact.rolling != model::RollingModel::off) {
     model_fixes += fmt::format("fix m6 all property/global coefficientRollingFriction peratomtypepair {}{}\n",
                                c.materials.size(), mu_r);
   }

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 using namespace granstack::model;
 
@@ -63,6 +64,34 @@ TEST(Contact, RestitutionBetaFollowsTheLiggghtsFormula) {
   EXPECT_EQ(restitution_beta(1.0), 0.0);
   EXPECT_NEAR(restitution_beta(0.9), std::log(0.9) / std::sqrt(std::log(0.9) * std::log(0.9) + M_PI * M_PI), 1e-16);
   EXPECT_LT(restitution_beta(0.5), 0.0);
+}
+
+// The sub-models' table: each model's keyword reads back to it (and no other), the first of each
+// kind is the study's (LAMMPS maps it), the help names the keyword first, and a refusal names
+// the model it refuses.
+template <typename Model, typename Parse>
+void expect_table_reads_back(Parse parse) {
+  const auto models = all_models<Model>();
+  ASSERT_GE(models.size(), 2u);
+  EXPECT_TRUE(info(models.front()).lammps_refusal.empty());
+  for (const auto m : models) {
+    const auto& row = info(m);
+    EXPECT_EQ(parse(row.keyword), m) << row.keyword;
+    EXPECT_EQ(row.help.substr(0, row.keyword.size()), row.keyword);
+    EXPECT_NE(keyword_list<Model>().find("'" + std::string(row.keyword) + "'"), std::string::npos);
+    if (!row.lammps_refusal.empty()) {
+      EXPECT_NE(row.lammps_refusal.find(row.keyword), std::string::npos) << row.keyword;
+    }
+  }
+  EXPECT_FALSE(parse("none of them").has_value());
+}
+
+TEST(ContactModels, EveryKeywordReadsBackToItsModel) {
+  expect_table_reads_back<NormalModel>(parse_normal_model);
+  expect_table_reads_back<TangentialModel>(parse_tangential_model);
+  expect_table_reads_back<RollingModel>(parse_rolling_model);
+  EXPECT_EQ(keyword_list<NormalModel>(), "'hertz' or 'hooke'");
+  EXPECT_EQ(to_string(NormalModel::hertz), "hertz");
 }
 
 TEST(Resolution, AutomaticTimeStepIsAFixedFractionOfTheShortestContact) {

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace granstack::model {
 
@@ -66,9 +67,27 @@ double rayleigh_time(const Material& m, double radius);
 enum class NormalModel { hertz, hooke };
 enum class TangentialModel { history, no_history };
 enum class RollingModel { off, epsd2 };
-std::string_view to_string(NormalModel m);      // "hertz" | "hooke"
-std::string_view to_string(TangentialModel m);  // "history" | "no_history"
-std::string_view to_string(RollingModel m);     // "off" | "epsd2"
+
+// A sub-model as the spec, the decks and the reference name it: one row of contact_models.cpp's
+// table per model, in the enum's order (a new model is a row there).
+struct SubModelInfo {
+  std::string_view keyword;         // the spec's value, and LIGGGHTS's keyword
+  std::string_view help;            // for the spec's help: the keyword and, in brackets, what it is
+  std::string_view doc;             // the reference's note on it, or ""
+  std::string_view lammps_refusal;  // why the LAMMPS mapping cannot run it, or "" where it does
+};
+const SubModelInfo& info(NormalModel m);
+const SubModelInfo& info(TangentialModel m);
+const SubModelInfo& info(RollingModel m);
+template <typename Model>
+std::vector<Model> all_models();  // every NormalModel, TangentialModel or RollingModel, in order
+// "'hertz' or 'hooke'": the keywords as the spec's error messages list them.
+template <typename Model>
+std::string keyword_list();
+
+std::string_view to_string(NormalModel m);      // info(m).keyword
+std::string_view to_string(TangentialModel m);
+std::string_view to_string(RollingModel m);
 std::optional<NormalModel> parse_normal_model(std::string_view s);
 std::optional<TangentialModel> parse_tangential_model(std::string_view s);
 std::optional<RollingModel> parse_rolling_model(std::string_view s);
@@ -86,7 +105,7 @@ struct ContactModel {
 };
 
 // The words after 'pair_style gran' and 'fix ... wall/gran': "model hertz tangential history",
-// with " rolling_friction epsd2" when it is on.
+// with " rolling_friction epsd2" when a rolling model is on.
 std::string liggghts_model_words(const ContactModel& m);
 
 // Hooke's spring constant, 16/15 sqrt(R*) Y* (15 m* v_c^2 / (16 sqrt(R*) Y*))^(1/5), in

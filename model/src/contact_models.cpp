@@ -1,0 +1,94 @@
+// The contact sub-models' table: each normal, tangential and rolling model's keyword, what the
+// spec's help and reference say of it, and why LAMMPS cannot run it (where it cannot). The
+// formulas are contact.cpp's; refsim's kernels are refsim/src/contact_models/.
+#include <granstack/model/contact.hpp>
+
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <type_traits>
+
+namespace granstack::model {
+
+namespace {
+
+// In each enum's order.
+constexpr std::array<SubModelInfo, 2> kNormal{{
+    {"hertz", "hertz (the study's)", "", ""},
+    {"hooke", "hooke",
+     "`hooke`: a linear spring with Hertz's largest overlap at `characteristic_velocity` and restitution exactly e "
+     "([physics](../physics.md#other-contact-models))",
+     "normal_model = 'hooke' has no counterpart in LAMMPS's granular styles (its hooke spring is a constant per type "
+     "pair, LIGGGHTS's depends on each pair's masses and the characteristic velocity); use normal_model = 'hertz'"},
+}};
+constexpr std::array<SubModelInfo, 2> kTangential{{
+    {"history", "history (a spring limited by Coulomb)", "", ""},
+    {"no_history", "no_history (viscous)", "`no_history`: viscous, capped at `mu F_n`; no tangential force at all at e = 1",
+     "tangential_model = 'no_history' is not mapped onto LAMMPS (its linear_nohistory damps with a constant, "
+     "LIGGGHTS's with the Hertz overlap); use tangential_model = 'history'"},
+}};
+constexpr std::array<SubModelInfo, 2> kRolling{{
+    {"off", "off", "", ""},
+    {"epsd2", "epsd2 (an elastic-plastic torque spring)", "`epsd2`: a torque spring capped at `mu_r R* F_n`",
+     "rolling_model = 'epsd2' has no counterpart in this LAMMPS (its rolling sds is a spring without LIGGGHTS's "
+     "plastic cap on R* |F_n|); use rolling_model = 'off'"},
+}};
+
+template <typename Model>
+const auto& table() {
+  if constexpr (std::is_same_v<Model, NormalModel>) return kNormal;
+  if constexpr (std::is_same_v<Model, TangentialModel>) return kTangential;
+  if constexpr (std::is_same_v<Model, RollingModel>) return kRolling;
+}
+
+template <typename Model>
+std::optional<Model> parse(std::string_view s) {
+  const auto& rows = table<Model>();
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    if (rows[k].keyword == s) return static_cast<Model>(k);
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+const SubModelInfo& info(NormalModel m) { return kNormal.at(static_cast<std::size_t>(m)); }
+const SubModelInfo& info(TangentialModel m) { return kTangential.at(static_cast<std::size_t>(m)); }
+const SubModelInfo& info(RollingModel m) { return kRolling.at(static_cast<std::size_t>(m)); }
+
+template <typename Model>
+std::vector<Model> all_models() {
+  std::vector<Model> out;
+  for (std::size_t k = 0; k < table<Model>().size(); ++k) out.push_back(static_cast<Model>(k));
+  return out;
+}
+
+template <typename Model>
+std::string keyword_list() {
+  const auto& rows = table<Model>();
+  std::string out;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    if (k > 0) out += k + 1 == rows.size() ? " or " : ", ";
+    out += '\'';
+    out += rows[k].keyword;
+    out += '\'';
+  }
+  return out;
+}
+
+template std::vector<NormalModel> all_models<NormalModel>();
+template std::vector<TangentialModel> all_models<TangentialModel>();
+template std::vector<RollingModel> all_models<RollingModel>();
+template std::string keyword_list<NormalModel>();
+template std::string keyword_list<TangentialModel>();
+template std::string keyword_list<RollingModel>();
+
+std::string_view to_string(NormalModel m) { return info(m).keyword; }
+std::string_view to_string(TangentialModel m) { return info(m).keyword; }
+std::string_view to_string(RollingModel m) { return info(m).keyword; }
+std::optional<NormalModel> parse_normal_model(std::string_view s) { return parse<NormalModel>(s); }
+std::optional<TangentialModel> parse_tangential_model(std::string_view s) { return parse<TangentialModel>(s); }
+std::optional<RollingModel> parse_rolling_model(std::string_view s) { return parse<RollingModel>(s); }
+
+}  // namespace granstack::model
