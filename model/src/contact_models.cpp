@@ -28,11 +28,14 @@ constexpr std::array<SubModelInfo, 2> kTangential{{
      "tangential_model = 'no_history' is not mapped onto LAMMPS (its linear_nohistory damps with a constant, "
      "LIGGGHTS's with the Hertz overlap); use tangential_model = 'history'"},
 }};
-constexpr std::array<SubModelInfo, 2> kRolling{{
+constexpr std::array<SubModelInfo, 3> kRolling{{
     {"off", "off", "", ""},
     {"epsd2", "epsd2 (an elastic-plastic torque spring)", "`epsd2`: a torque spring capped at `mu_r R* F_n`",
      "rolling_model = 'epsd2' has no counterpart in this LAMMPS (its rolling sds is a spring without LIGGGHTS's "
      "plastic cap on R* |F_n|); use rolling_model = 'off'"},
+    {"cdt", "cdt (a constant directional torque)",
+     "`cdt`: a torque `mu_r R* k_n delta` against the relative rotation, whatever its speed (no spring)",
+     "rolling_model = 'cdt' has no counterpart in LAMMPS (its rolling sds is a spring); use rolling_model = 'off'"},
 }};
 
 template <typename Model>

@@ -288,8 +288,9 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
   const double vtr[3] = {vt1 - (delz * wr2 - dely * wr3), vt2 - (delx * wr3 - delz * wr1), vt3 - (dely * wr1 - delx * wr2)};
 
   const ContactPoint c{{en[0], en[1], en[2]}, vn, {vtr[0], vtr[1], vtr[2]}, deltan, rec.reff, rec.meff, radi * radj / (radi + radj),
-                 // The relative rotation omega_i - omega_j, which epsd2 turns.
-                 {s.w[i] - s.w[j], s.w[y + i] - s.w[y + j], s.w[z + i] - s.w[z + j]}};
+                 // The relative rotation omega_i - omega_j, which the rolling models turn.
+                       {s.w[i] - s.w[j], s.w[y + i] - s.w[y + j], s.w[z + i] - s.w[z + j]},
+                       false};
   double shear[3] = {t.shear_x[p], t.shear_y[p], t.shear_z[p]};
   double roll[3] = {t.roll_x[p], t.roll_y[p], t.roll_z[p]};
   const ContactForces out = liggghts_contact(t.model, rec.constants(), t.model_records[static_cast<std::size_t>(t.record[p])],

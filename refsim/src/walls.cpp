@@ -59,7 +59,7 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
   const double wr1 = cr * w[0] * rinv, wr2 = cr * w[1] * rinv, wr3 = cr * w[2] * rinv;
   const std::size_t type_pair = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
                                 static_cast<std::size_t>(wall.type - 1);
-  // A wall has R* = R_i and m* = m_i; epsd2 on a wall turns the contact point's rotation speed,
+  // A wall has R* = R_i and m* = m_i; a rolling model on a wall turns the contact point's rotation speed,
   // wr = cr omega / r, not omega.
   const detail::ContactPoint c{{enx, eny, enz},
                                vn,
@@ -68,7 +68,8 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
                                radi,
                                meff,
                                radi,
-                               {wr1, wr2, wr3}};
+                               {wr1, wr2, wr3},
+                               true};
   const auto model = detail::model_record(p_.contact, model_constants_[type_pair], radi, meff);
   const detail::ContactForces out = detail::liggghts_contact(p_.contact, type_constants_[type_pair], model, c, shear, roll,
                                                              update_history, p_.tangential_damping, p_.dt);

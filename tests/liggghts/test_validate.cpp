@@ -165,7 +165,7 @@ TEST_P(ValidateModel, LiggghtsAndRefsimAgreeToRoundOff) {
   spec.normal_model = mc.normal;
   spec.tangential_model = mc.tangential;
   spec.rolling_model = mc.rolling;
-  if (mc.rolling == model::RollingModel::epsd2) spec.rolling_friction.value = 0.1;
+  if (mc.rolling != model::RollingModel::off) spec.rolling_friction.value = 0.1;
   if (mc.normal == model::NormalModel::hooke) spec.characteristic_velocity = 0.5;
   run_both_engines(root, spec);
   if (HasFatalFailure()) return;
@@ -208,7 +208,10 @@ INSTANTIATE_TEST_SUITE_P(
                                 model::RollingModel::off},
                       ModelCase{"epsd2", model::NormalModel::hertz, model::TangentialModel::history, model::RollingModel::epsd2},
                       ModelCase{"hooke_no_history_epsd2", model::NormalModel::hooke, model::TangentialModel::no_history,
-                                model::RollingModel::epsd2}),
+                                model::RollingModel::epsd2},
+                      ModelCase{"cdt", model::NormalModel::hertz, model::TangentialModel::history, model::RollingModel::cdt},
+                      ModelCase{"hooke_cdt", model::NormalModel::hooke, model::TangentialModel::history,
+                                model::RollingModel::cdt}),
     [](const auto& param_info) { return std::string(param_info.param.name); });
 
 }  // namespace

@@ -1,7 +1,8 @@
 // refsim's contact models beyond the study's (model/contact.hpp) against analytic physics, as
 // test_physics.cpp holds the Hertz model: Hooke's linear spring-dashpot (restitution exactly e,
 // contact time pi / omega_d whatever the speed), tangential no_history (viscous, capped at
-// Coulomb's mu |F_n|) and epsd2 rolling friction (a torque capped at mu_r R* |F_n|). Their
+// Coulomb's mu |F_n|), epsd2 rolling friction (a torque capped at mu_r R* |F_n|) and cdt (a
+// torque mu_r R* k_n delta against the spin). Their
 // agreement with LIGGGHTS, bit for bit, is test_agreement.cpp's (tests/data/twobody).
 #include <granstack/model/contact.hpp>
 #include <granstack/refsim/case_run.hpp>
@@ -186,6 +187,44 @@ TEST(Epsd2, ASpinningSphereLosesMuRTimesRTimesTheNormalImpulse) {
 TEST(Epsd2, RollingTorquesBetweenSpheresKeepTheAngularMomentum) {
   model::ContactModel m;
   m.rolling = model::RollingModel::epsd2;
+  System s({steel_sphere(1, {0, 0, 0}, {0, 0, 0.5}, {0, 3000.0, 0}), steel_sphere(1, {0, 0, 2 * kR}, {0, 0, -0.5})},
+           parameters(m, 1.0, 0.0, 0.1, 1));
+  s.setup();
+  for (int k = 0; k < 20000; ++k) s.step();
+  const double spin0 = s.omega(0)[1], spin1 = s.omega(1)[1];
+  std::printf("spins after: %.8g and %.8g rad/s (3000 before)\n", spin0, spin1);
+  EXPECT_LT(spin0, 2990.0);  // the torque acted
+  EXPECT_NEAR((spin0 + spin1) / 3000.0, 1.0, 1e-12);
+}
+
+// cdt on an elastic frictionless wall contact: the torque is mu_r R k_n delta = mu_r R |F_n| at
+// every step (e = 1: no damping part in F_n) against the spin, whatever its speed: the angular
+// impulse is mu_r R times the normal impulse at 3000 rad/s and at 1500 rad/s alike (measured equal
+// to round-off, allowed 1e-9), each step's torque on that value, and the bounce elastic. (That
+// impulse, 2 mu_r m v R, takes 5 mu_r v / R = 1000 rad/s off the spin: a slower one would stop
+// within the contact.)
+TEST(Cdt, ASpinningSphereLosesMuRTimesRTimesTheNormalImpulseWhateverItsSpin) {
+  model::ContactModel m;
+  m.rolling = model::RollingModel::cdt;
+  const double mu_r = 0.2;
+  for (const double spin : {3000.0, 1500.0}) {
+    const auto b = bounce(m, 1.0, 0.0, mu_r, {0, 0, -1.0}, {0, spin, 0});
+    std::printf("%g rad/s: angular impulse / (-mu_r R x normal impulse) - 1 = %.3g; largest |torque| / (R |F_n|) %.8g\n",
+                spin, b.torque_impulse / (-mu_r * kR * b.normal_impulse) - 1.0, b.worst_torque_ratio);
+    EXPECT_NEAR(b.torque_impulse / (-mu_r * kR * b.normal_impulse), 1.0, 1e-9) << spin;
+    EXPECT_NEAR(b.worst_torque_ratio, mu_r, mu_r * 1e-12) << spin;
+    EXPECT_NEAR(b.v[2], 1.0, 1e-4) << spin;
+    EXPECT_EQ(b.v[0], 0.0) << spin;
+    EXPECT_GT(b.w[1], 0.0) << spin;  // slowed, not turned back
+    EXPECT_LT(b.w[1], spin) << spin;
+  }
+}
+
+// Between two spheres cdt's torques are equal and opposite: the total angular momentum is kept
+// (to round-off) while each sphere's spin changes.
+TEST(Cdt, RollingTorquesBetweenSpheresKeepTheAngularMomentum) {
+  model::ContactModel m;
+  m.rolling = model::RollingModel::cdt;
   System s({steel_sphere(1, {0, 0, 0}, {0, 0, 0.5}, {0, 3000.0, 0}), steel_sphere(1, {0, 0, 2 * kR}, {0, 0, -0.5})},
            parameters(m, 1.0, 0.0, 0.1, 1));
   s.setup();

@@ -129,6 +129,8 @@ TEST(Lammps, UnmappableSpecsAreRefusedByName) {
   auto rolling = spec;
   rolling.rolling_model = model::RollingModel::epsd2;
   EXPECT_NE(model::lammps_unmappable(rolling, here()).find("epsd2"), std::string::npos);
+  rolling.rolling_model = model::RollingModel::cdt;
+  EXPECT_NE(model::lammps_unmappable(rolling, here()).find("rolling_model = 'cdt' has no counterpart"), std::string::npos);
   auto viscous = spec;
   viscous.tangential_model = model::TangentialModel::no_history;
   EXPECT_NE(model::lammps_unmappable(viscous, here()).find("no_history"), std::string::npos);

@@ -91,7 +91,7 @@ const BadCase kBadCases[] = {
     {"material_name", [](StackSpec& s) { s.custom_materials.push_back({"Foam!", 100.0, 1e6, 0.3, {}}); },
      "custom_materials.Foam!", "lower-case"},
     {"rolling_friction_without_model", [](StackSpec& s) { s.rolling_friction.value = 0.1; }, "rolling_friction",
-     "rolling_model = epsd2 only"},
+     "rolling_model = epsd2 or cdt only"},
     {"rolling_friction_range", [](StackSpec& s) { s.rolling_model = model::RollingModel::epsd2; s.rolling_friction.value = 2.0; },
      "rolling_friction", "in [0, 1]"},
     {"rolling_friction_pair", [](StackSpec& s) { s.rolling_model = model::RollingModel::epsd2; s.rolling_friction.set("steel", "steel", -1.0); },
@@ -194,7 +194,7 @@ materials = ["steel", "teflon", "steel", "steel"]
   for (const auto& [field, value, words] : std::vector<std::tuple<std::string, std::string, std::string>>{
            {"normal_model", "hertzian", "'hertzian' is not 'hertz' or 'hooke'"},
            {"tangential_model", "none", "'none' is not 'history' or 'no_history'"},
-           {"rolling_model", "epsd", "'epsd' is not 'off' or 'epsd2'"}}) {
+           {"rolling_model", "epsd", "'epsd' is not 'off', 'epsd2' or 'cdt'"}}) {
     try {
       generator::build_sweep({{field, {value}}});
       ADD_FAILURE() << field << " = " << value << " was taken";

@@ -15,9 +15,11 @@ ContactForces liggghts_contact(const model::ContactModel& m, const PairConstants
   } else {
     tangential_force(shear, c.en, c.vtr, out.n, k.friction, update_history, dt, out.ft, out.tor);
   }
-  if (m.rolling != model::RollingModel::off) {
-    out.rolling = true;
+  out.rolling = m.rolling != model::RollingModel::off;
+  if (m.rolling == model::RollingModel::epsd2) {
     rolling_torque(roll, c.en, c.wr, out.n, c.rolling_reff, mr.rolling_friction, update_history, dt, out.rt);
+  } else if (m.rolling == model::RollingModel::cdt) {
+    rolling_cdt(c.en, c.wr, out.n, c.deltan, c.rolling_reff, mr.rolling_friction, c.wall, out.rt);
   }
   return out;
 }

@@ -14,7 +14,7 @@ Normal hertz_normal(const PairConstants& k, double reff, double meff, double del
   const bool damped = k.damped();
   const double gamman = damped ? k.damping_factor * std::sqrt(k.sn_factor * sqrtval * meff) : k.damping_factor;
   const double gammat = !tangential_damping ? 0.0 : damped ? k.damping_factor * std::sqrt(kt * meff) : k.damping_factor;
-  return {-gamman * vn + kn * deltan, kt, gammat};
+  return {-gamman * vn + kn * deltan, kt, gammat, kn};
 }
 
 }  // namespace granstack::refsim::detail

@@ -10,7 +10,7 @@ Normal hooke_normal(const ModelRecord& r, double deltan, double vn, bool tangent
   const double gammat = tangential_damping ? gamman : 0.0;
   const double fn_damping = -gamman * vn;
   const double fn_contact = kn * deltan;
-  return {fn_damping + fn_contact, kn, gammat};
+  return {fn_damping + fn_contact, kn, gammat, kn};
 }
 
 }  // namespace granstack::refsim::detail

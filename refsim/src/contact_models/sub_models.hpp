@@ -3,7 +3,7 @@
 // the one composition of them that both LIGGGHTS's pair style and its fix wall/gran apply
 // (liggghts_composition.cpp): a normal model (hertz | hooke) gives the normal force and the
 // tangential stiffness and damping; a tangential model (history | no_history) the tangential
-// force; a rolling model (off | epsd2) a torque. Each performs LIGGGHTS's floating-point
+// force; a rolling model (off | epsd2 | cdt) a torque. Each performs LIGGGHTS's floating-point
 // operations in its order (refsim agrees with it to the bit). LAMMPS's rules are
 // lammps_rules.cpp's, in this folder too.
 #include "../contacts.hpp"
@@ -16,6 +16,7 @@ namespace granstack::refsim::detail {
 // (normal_model_hertz.h); shared by the pair kernel and the walls.
 struct Normal {
   double fn, kt, gammat;
+  double kn;  // the normal stiffness (cdt's torque is mu_r R* k_n delta)
 };
 Normal hertz_normal(const PairConstants& k, double reff, double meff, double deltan, double vn, bool tangential_damping);
 // The Hooke normal force (normal_model_hooke.h): k_n and gamma_n of the pair, k_t = k_n.
@@ -39,10 +40,17 @@ void rolling_torque(double roll[3], const double en[3], const double wr[3], cons
 void tangential_force(double shear[3], const double en[3], const double vtr[3], const Normal& n, double mu,
                       bool update_history, double dt, double ft[3], double tor[3]);
 
+// cdt's rolling torque (rolling_model_cdt.h, torsionTorque off): mu_r R* k_n delta along the
+// rotation `wr` (none while it is zero), less its part along the normal; no history. The torque
+// on the first body is minus `torque`, on the second plus. LIGGGHTS forms it in two orders, a
+// wall's and a pair's (`wall`).
+void rolling_cdt(const double en[3], const double wr[3], const Normal& n, double deltan, double reff, double mu_r,
+                 bool wall, double torque[3]);
+
 // One touching contact as both LIGGGHTS's pair style and fix wall/gran see it: the unit normal
 // towards the first body, its normal speed, the tangential speed at the contact point, the
-// overlap, the normal model's R* and m*, and epsd2's R* and the rotation it turns (the pair's
-// relative rotation, a wall's contact-point rotation).
+// overlap, the normal model's R* and m*, and the rolling model's R* and the rotation it turns (the
+// pair's relative rotation, a wall's contact-point rotation).
 struct ContactPoint {
   double en[3];
   double vn;
@@ -51,6 +59,7 @@ struct ContactPoint {
   double reff, meff;
   double rolling_reff;
   double wr[3];
+  bool wall;  // a sphere on a wall (cdt's order differs)
 };
 // What the composition gives the first body: the normal part, the tangential force and n x Ft
 // (the torque on each body is minus its lever arm times it), and the rolling torque (minus it on

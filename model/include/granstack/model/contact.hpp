@@ -64,9 +64,11 @@ double rayleigh_time(const Material& m, double radius);
 //     no_history: viscous, F_t = -min(gamma_t, mu |F_n| / |v_t|) v_t (no spring, no memory);
 //   rolling epsd2 (rolling_model_epsd2.h): an elastic-plastic torque spring of stiffness
 //     k_t R*^2 on the relative rotation, capped at mu_r R* |F_n|.
+//   rolling cdt (rolling_model_cdt.h): a constant directional torque, mu_r R* k_n delta against
+//     the relative rotation (no spring, no history).
 enum class NormalModel { hertz, hooke };
 enum class TangentialModel { history, no_history };
-enum class RollingModel { off, epsd2 };
+enum class RollingModel { off, epsd2, cdt };
 
 // A sub-model as the spec, the decks and the reference name it: one row of contact_models.cpp's
 // table per model, in the enum's order (a new model is a row there).
@@ -105,7 +107,7 @@ struct ContactModel {
 };
 
 // The words after 'pair_style gran' and 'fix ... wall/gran': "model hertz tangential history",
-// with " rolling_friction epsd2" when a rolling model is on.
+// with " rolling_friction epsd2" (or cdt) when a rolling model is on.
 std::string liggghts_model_words(const ContactModel& m);
 
 // Hooke's spring constant, 16/15 sqrt(R*) Y* (15 m* v_c^2 / (16 sqrt(R*) Y*))^(1/5), in
