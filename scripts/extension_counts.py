@@ -17,6 +17,7 @@ EXTENSIONS = [
     ("LAMMPS as an engine", ["d98f9c9"]),
     ("design measures of the protected object's shock", ["b4538a3"]),
     ("the yield ratio, read by both engines at every frame", ["83919ba"]),
+    ("a rolling friction model (cdt), on the sub-models' table and composition", ["dae81a7"]),
 ]
 LIBRARIES = {"app", "cluster", "design", "formats", "generator", "model", "os", "postproc", "refsim", "runner",
              "study"}
