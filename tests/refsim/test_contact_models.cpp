@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 using namespace granstack;
 using refsim::Particle;
@@ -182,19 +183,26 @@ TEST(Epsd2, ASpinningSphereLosesMuRTimesRTimesTheNormalImpulse) {
   EXPECT_LT(b.w[1], 2000.0);
 }
 
-// Between two spheres the rolling torques are equal and opposite: with no sliding friction the
-// total angular momentum is kept (to round-off) while each sphere's spin changes.
-TEST(Epsd2, RollingTorquesBetweenSpheresKeepTheAngularMomentum) {
+namespace {
+// Between two spheres a rolling model's torques are equal and opposite: with no sliding friction
+// the total angular momentum is kept (to round-off) while each sphere's spin changes.
+void expect_rolling_keeps_the_angular_momentum(model::RollingModel rolling) {
   model::ContactModel m;
-  m.rolling = model::RollingModel::epsd2;
+  m.rolling = rolling;
   System s({steel_sphere(1, {0, 0, 0}, {0, 0, 0.5}, {0, 3000.0, 0}), steel_sphere(1, {0, 0, 2 * kR}, {0, 0, -0.5})},
            parameters(m, 1.0, 0.0, 0.1, 1));
   s.setup();
   for (int k = 0; k < 20000; ++k) s.step();
   const double spin0 = s.omega(0)[1], spin1 = s.omega(1)[1];
-  std::printf("spins after: %.8g and %.8g rad/s (3000 before)\n", spin0, spin1);
+  std::printf("%s: spins after: %.8g and %.8g rad/s (3000 before)\n", std::string(model::to_string(rolling)).c_str(),
+              spin0, spin1);
   EXPECT_LT(spin0, 2990.0);  // the torque acted
   EXPECT_NEAR((spin0 + spin1) / 3000.0, 1.0, 1e-12);
+}
+}  // namespace
+
+TEST(Epsd2, RollingTorquesBetweenSpheresKeepTheAngularMomentum) {
+  expect_rolling_keeps_the_angular_momentum(model::RollingModel::epsd2);
 }
 
 // cdt on an elastic frictionless wall contact: the torque is mu_r R k_n delta = mu_r R |F_n| at
@@ -220,19 +228,8 @@ TEST(Cdt, ASpinningSphereLosesMuRTimesRTimesTheNormalImpulseWhateverItsSpin) {
   }
 }
 
-// Between two spheres cdt's torques are equal and opposite: the total angular momentum is kept
-// (to round-off) while each sphere's spin changes.
 TEST(Cdt, RollingTorquesBetweenSpheresKeepTheAngularMomentum) {
-  model::ContactModel m;
-  m.rolling = model::RollingModel::cdt;
-  System s({steel_sphere(1, {0, 0, 0}, {0, 0, 0.5}, {0, 3000.0, 0}), steel_sphere(1, {0, 0, 2 * kR}, {0, 0, -0.5})},
-           parameters(m, 1.0, 0.0, 0.1, 1));
-  s.setup();
-  for (int k = 0; k < 20000; ++k) s.step();
-  const double spin0 = s.omega(0)[1], spin1 = s.omega(1)[1];
-  std::printf("spins after: %.8g and %.8g rad/s (3000 before)\n", spin0, spin1);
-  EXPECT_LT(spin0, 2990.0);  // the torque acted
-  EXPECT_NEAR((spin0 + spin1) / 3000.0, 1.0, 1e-12);
+  expect_rolling_keeps_the_angular_momentum(model::RollingModel::cdt);
 }
 
 // The vector kernels run the study's model only: asked for by name with another, refsim says so.
