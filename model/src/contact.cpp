@@ -1,6 +1,8 @@
 #include <granstack/model/contact.hpp>
 
+#include <array>
 #include <cmath>
+#include <cstddef>
 
 namespace granstack::model {
 
@@ -68,25 +70,43 @@ double hooke_stiffness(const ContactPair& c, double v) {
   return 16. / 15. * sqrtval * (c.y_star) * std::pow(15. * c.m_star * v * v / (16. * sqrtval * c.y_star), 0.2);
 }
 
-double elastic_normal_force(const ContactModel& m, const ContactPair& c, double d) {
-  if (m.normal == NormalModel::hooke) return hooke_stiffness(c, m.characteristic_velocity) * d;
+namespace {
+// Each law's formulas (a head-on collision's: physics.md section 5 for Hertz; v sqrt(m*/k_n) and
+// pi sqrt(m*/k_n), whatever v, for Hooke's spring).
+double hertz_force(const ContactModel&, const ContactPair& c, double d) {
   return 4.0 / 3.0 * c.y_star * std::sqrt(c.r_star) * d * std::sqrt(d);
 }
-
-double elastic_energy(const ContactModel& m, const ContactPair& c, double d) {
-  if (m.normal == NormalModel::hooke) return 0.5 * hooke_stiffness(c, m.characteristic_velocity) * d * d;
-  return hertz_elastic_energy(c.y_star, c.r_star, d);
+double hertz_energy(const ContactModel&, const ContactPair& c, double d) { return hertz_elastic_energy(c.y_star, c.r_star, d); }
+double hertz_overlap(const ContactModel&, const ContactPair& c, double v) { return hertz_max_overlap(c, v); }
+double hertz_time(const ContactModel&, const ContactPair& c, double v) { return hertz_contact_time(c, v); }
+double hooke_force(const ContactModel& m, const ContactPair& c, double d) {
+  return hooke_stiffness(c, m.characteristic_velocity) * d;
+}
+double hooke_energy(const ContactModel& m, const ContactPair& c, double d) {
+  return 0.5 * hooke_stiffness(c, m.characteristic_velocity) * d * d;
+}
+double hooke_overlap(const ContactModel& m, const ContactPair& c, double v) {
+  return v * std::sqrt(c.m_star / hooke_stiffness(c, m.characteristic_velocity));
+}
+double hooke_time(const ContactModel& m, const ContactPair& c, double) {
+  return kPi * std::sqrt(c.m_star / hooke_stiffness(c, m.characteristic_velocity));
 }
 
-double max_overlap(const ContactModel& m, const ContactPair& c, double v) {
-  if (m.normal == NormalModel::hooke) return v * std::sqrt(c.m_star / hooke_stiffness(c, m.characteristic_velocity));
-  return hertz_max_overlap(c, v);
-}
+// In NormalModel's order.
+constexpr std::array<NormalLaw, 2> kNormalLaws{{
+    {"Hertz", false, true, hertz_force, hertz_energy, hertz_overlap, hertz_time},
+    {"Hooke", true, false, hooke_force, hooke_energy, hooke_overlap, hooke_time},
+}};
+}  // namespace
 
-double contact_time(const ContactModel& m, const ContactPair& c, double v) {
-  if (m.normal == NormalModel::hooke) return kPi * std::sqrt(c.m_star / hooke_stiffness(c, m.characteristic_velocity));
-  return hertz_contact_time(c, v);
+const NormalLaw& normal_law(NormalModel m) { return kNormalLaws.at(static_cast<std::size_t>(m)); }
+
+double elastic_normal_force(const ContactModel& m, const ContactPair& c, double d) {
+  return normal_law(m.normal).force(m, c, d);
 }
+double elastic_energy(const ContactModel& m, const ContactPair& c, double d) { return normal_law(m.normal).energy(m, c, d); }
+double max_overlap(const ContactModel& m, const ContactPair& c, double v) { return normal_law(m.normal).max_overlap(m, c, v); }
+double contact_time(const ContactModel& m, const ContactPair& c, double v) { return normal_law(m.normal).contact_time(m, c, v); }
 
 namespace {
 

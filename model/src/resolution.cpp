@@ -133,7 +133,7 @@ Resolution resolve(const Stack& stack) {
 }
 
 namespace {
-const char* law_name(const StackSpec& spec) { return spec.normal_model == NormalModel::hooke ? "Hooke" : "Hertz"; }
+const char* law_name(const StackSpec& spec) { return normal_law(spec.normal_model).name; }
 }  // namespace
 
 std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& r) {

@@ -42,7 +42,7 @@ YieldContacts yield_contacts(const Stack& stack) {
   }
   c.walls = stack.walls();
   if (stack.has_walls()) c.wall_material = lib.at(spec.effective_wall_material());
-  c.hertz = spec.contact_model().normal == NormalModel::hertz;
+  c.hertz = normal_law(spec.contact_model().normal).hertzian;
   return c;
 }
 

@@ -136,7 +136,7 @@ class ContactEnergy {
 
   double pair(const model::Sphere& a, const model::Sphere& b, double overlap) const {
     model::ContactPair c{y_star_[type(a) * ntypes_ + type(b)], 0.0, a.radius * b.radius / (a.radius + b.radius), 0.0};
-    if (model_.normal != model::NormalModel::hertz) c.m_star = mass(a) * mass(b) / (mass(a) + mass(b));
+    if (model::normal_law(model_.normal).needs_mass) c.m_star = mass(a) * mass(b) / (mass(a) + mass(b));
     return model::elastic_energy(model_, c, overlap);
   }
 

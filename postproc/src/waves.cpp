@@ -226,7 +226,7 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
     const auto law = stack.spec().contact_model();
     w.peak_force = model::elastic_normal_force(law, pair, c.max_overlap);
     // Nesterenko's solitary wave is a Hertz chain's: a linear (Hooke) chain has none.
-    if (w.peak_force > 0.0 && law.normal == model::NormalModel::hertz) {
+    if (w.peak_force > 0.0 && model::normal_law(law.normal).hertzian) {
       w.nesterenko_speed = 0.6802 *
                            std::cbrt(2.0 * mat.youngs_modulus /
                                      (diameter * std::pow(mat.density, 1.5) * (1.0 - std::pow(mat.poisson_ratio, 2)))) *

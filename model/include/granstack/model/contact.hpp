@@ -113,6 +113,19 @@ std::string liggghts_model_words(const ContactModel& m);
 // Hooke's spring constant, 16/15 sqrt(R*) Y* (15 m* v_c^2 / (16 sqrt(R*) Y*))^(1/5), in
 // normal_model_hooke.h's operation order (so refsim gets LIGGGHTS's double).
 double hooke_stiffness(const ContactPair& c, double characteristic_velocity);
+// A normal model's elastic law, one row per NormalModel (contact.cpp): its name in messages,
+// whether its stiffness takes m* (Hooke's calibration), whether it is Hertz's d^(3/2) (whose
+// chains carry Nesterenko's solitary waves), and its formulas, which the functions below call.
+struct NormalLaw {
+  const char* name;
+  bool needs_mass;
+  bool hertzian;
+  double (*force)(const ContactModel& m, const ContactPair& c, double overlap);
+  double (*energy)(const ContactModel& m, const ContactPair& c, double overlap);
+  double (*max_overlap)(const ContactModel& m, const ContactPair& c, double relative_speed);
+  double (*contact_time)(const ContactModel& m, const ContactPair& c, double relative_speed);
+};
+const NormalLaw& normal_law(NormalModel m);
 // The elastic part of the normal force at overlap d, and the energy stored in it.
 double elastic_normal_force(const ContactModel& m, const ContactPair& c, double overlap);
 double elastic_energy(const ContactModel& m, const ContactPair& c, double overlap);
