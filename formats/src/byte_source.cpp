@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -69,8 +70,36 @@ class ZstdSource final : public ByteSource {
     ZSTD_initDStream(stream_);
   }
   ~ZstdSource() override { ZSTD_freeDStream(stream_); }
+  // zstd fills kStep bytes at a time (into the caller's buffer, or into a block of its own that
+  // serves smaller reads), whatever the caller asks for: zstd gives none of what is left of a
+  // frame whose checksum fails, so how much comes before corrupt data depends only on the file.
   std::size_t read(char* buffer, std::size_t n) override {
-    ZSTD_outBuffer out{buffer, n, 0};
+    if (next_ == filled_ && n >= kStep) return decompress(buffer);  // straight in, kStep bytes at most
+    if (next_ == filled_) {
+      next_ = 0;
+      filled_ = decompress(block_.data());
+      if (filled_ == 0) return 0;
+    }
+    const std::size_t k = std::min(n, filled_ - next_);
+    std::memcpy(buffer, block_.data() + next_, k);
+    next_ += k;
+    return k;
+  }
+  const char* kind() const override { return "zstd"; }
+
+ private:
+  std::string path_;
+  File file_;
+  ZSTD_DStream* stream_;
+  std::vector<char> in_;
+  ZSTD_inBuffer input_{nullptr, 0, 0};
+  static constexpr std::size_t kStep = 1 << 16;
+  std::vector<char> block_ = std::vector<char>(kStep);
+  std::size_t next_ = 0, filled_ = 0;  // block_[next_, filled_) is still to be read
+
+  // Up to kStep next bytes into `to` (0 at the end). Throws FormatError on corrupt data.
+  std::size_t decompress(char* to) {
+    ZSTD_outBuffer out{to, kStep, 0};
     while (out.pos == 0) {
       if (input_.pos == input_.size) {
         const std::size_t got = std::fread(in_.data(), 1, in_.size(), file_.get());
@@ -82,14 +111,6 @@ class ZstdSource final : public ByteSource {
     }
     return out.pos;
   }
-  const char* kind() const override { return "zstd"; }
-
- private:
-  std::string path_;
-  File file_;
-  ZSTD_DStream* stream_;
-  std::vector<char> in_;
-  ZSTD_inBuffer input_{nullptr, 0, 0};
 };
 
 }  // namespace

@@ -27,6 +27,8 @@ if command -v lmp >/dev/null; then
   cp "$work/case_binary/dumps/dump.bin" "$work/corpus/dump_lammps.bin"
 fi
 gzip -c "$work/case_text/dumps/dump.txt" > "$work/corpus/dump.txt.gz"
+# refsim writes its binary dumps as zstd streams: one among the seeds.
+zstd -q -c "$work/case_binary/dumps/dump.bin" > "$work/corpus/dump.bin.zst"
 cp "$src"/tests/fuzz/regressions/* "$work/corpus/" 2>/dev/null || true
 # The regressions first, each on its own, then the bounded search.
 for input in "$src"/tests/fuzz/regressions/*; do

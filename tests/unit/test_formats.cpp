@@ -1,6 +1,7 @@
 // File formats: the data file and the manifest round-trip exactly; the dump, series and log
 // readers accept what LIGGGHTS writes and name the problem in what it does not.
 #include <granstack/formats/batches.hpp>
+#include <granstack/formats/byte_source.hpp>
 #include <granstack/formats/data_file.hpp>
 #include <granstack/formats/digest.hpp>
 #include <granstack/formats/dump.hpp>
@@ -266,6 +267,27 @@ TEST(DumpRegressions, HugeAtomCountsInHeadersAreRefusedWithoutAllocatingThem) {
 
 // A data file whose Velocities come before its Atoms (found by the fuzz target) is refused by
 // name, as LIGGGHTS's read_data refuses it, on one thread and on several.
+// A zstd file whose checksum does not match (a fuzzer's input): the bytes before the error are
+// the same whatever a reader asks for at a time (here none: zstd gives nothing of a frame whose
+// checksum fails once it fits what is asked of zstd), and then the error comes, naming zstd.
+TEST(DumpRegressions, ACorruptZstdFileGivesTheSameBytesBeforeItsErrorAtAnyReadSize) {
+  const std::string path = GRANSTACK_FUZZ_REGRESSIONS "/corrupt_zstd_binary_read_as_text.zst";
+  std::vector<std::string> seen;
+  for (const std::size_t step : {std::size_t{7}, std::size_t{97}, std::size_t{4096}, std::size_t{1} << 18}) {
+    auto source = formats::open_bytes(path);
+    std::string bytes(step, '\0'), all;
+    try {
+      for (std::size_t n; (n = source->read(bytes.data(), step)) > 0;) all.append(bytes.data(), n);
+      ADD_FAILURE() << "read to the end at " << step << " bytes a time";
+    } catch (const formats::FormatError& e) {
+      EXPECT_NE(std::string(e.what()).find("corrupt zstd data"), std::string::npos) << e.what();
+    }
+    std::printf("%zu bytes a read: %zu bytes before the error\n", step, all.size());
+    seen.push_back(all);
+  }
+  for (const auto& s : seen) EXPECT_TRUE(s == seen.front());
+}
+
 TEST(DataFileRegressions, VelocitiesBeforeAtomsAreRefused) {
   for (const int threads : {1, 3}) {
     try {
