@@ -68,14 +68,16 @@ std::vector<Model> all_models() {
 }
 
 template <typename Model>
-std::string keyword_list() {
+std::string keyword_list(bool beyond_default) {
   const auto& rows = table<Model>();
+  const std::size_t first = beyond_default ? 1 : 0;
+  const std::string quote = beyond_default ? "" : "'";
   std::string out;
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    if (k > 0) out += k + 1 == rows.size() ? " or " : ", ";
-    out += '\'';
+  for (std::size_t k = first; k < rows.size(); ++k) {
+    if (k > first) out += k + 1 == rows.size() ? " or " : ", ";
+    out += quote;
     out += rows[k].keyword;
-    out += '\'';
+    out += quote;
   }
   return out;
 }
@@ -83,9 +85,9 @@ std::string keyword_list() {
 template std::vector<NormalModel> all_models<NormalModel>();
 template std::vector<TangentialModel> all_models<TangentialModel>();
 template std::vector<RollingModel> all_models<RollingModel>();
-template std::string keyword_list<NormalModel>();
-template std::string keyword_list<TangentialModel>();
-template std::string keyword_list<RollingModel>();
+template std::string keyword_list<NormalModel>(bool);
+template std::string keyword_list<TangentialModel>(bool);
+template std::string keyword_list<RollingModel>(bool);
 
 std::string_view to_string(NormalModel m) { return info(m).keyword; }
 std::string_view to_string(TangentialModel m) { return info(m).keyword; }

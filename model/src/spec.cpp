@@ -188,7 +188,7 @@ bool PairTable::everywhere(double v) const {
 }
 
 bool is_conservative(const StackSpec& s) {
-  // epsd2's torque spring stores energy that no dump shows, and dissipates when it slips; cdt dissipates.
+  // A rolling model dissipates (epsd2's torque spring also stores energy that no dump shows).
   const bool rolling = s.rolling_model != RollingModel::off && !s.rolling_friction.everywhere(0.0);
   return s.restitution.everywhere(1.0) && s.friction.everywhere(0.0) && s.gravity == 0.0 && !rolling;
 }
@@ -264,8 +264,10 @@ template <typename Bad>
 void validate_contact_model(const StackSpec& s, Bad&& bad) {
   const bool rolling_given = s.rolling_friction.value != 0.0 || !s.rolling_friction.pairs.empty();
   if (s.rolling_model == RollingModel::off && rolling_given) {
-    bad("rolling_friction", "applies to rolling_model = epsd2 or cdt only (this spec has no rolling friction "
-                            "model): set rolling_model = \"epsd2\" (or \"cdt\"), or remove it");
+    const auto models = keyword_list<RollingModel>(true);
+    bad("rolling_friction", fmt::format("applies to rolling_model = {} only (this spec has no rolling friction "
+                                        "model): set a rolling_model ({}), or remove it",
+                                        models, models));
   }
   if (s.characteristic_velocity) {
     const double v = *s.characteristic_velocity;

@@ -670,7 +670,9 @@ std::vector<SpecField> contact_model_rows() {
   rows.push_back(sub_model_row("rolling_model", &StackSpec::rolling_model, parse_rolling_model, "Rolling friction"));
   const auto rolling_on = [](const StackSpec& s) { return s.rolling_model != RollingModel::off; };
   auto mu_r = pair_value_row("rolling_friction", &StackSpec::rolling_friction, "0",
-                             "Rolling friction coefficient mu_r, 0..1 (rolling_model = epsd2 or cdt)", "mur");
+                             "Rolling friction coefficient mu_r, 0..1 (rolling_model = " +
+                                 keyword_list<RollingModel>(true) + ")",
+                             "mur");
   unless_default(mu_r, rolling_on);
   rows.push_back(std::move(mu_r));
   auto mu_r_pairs = pair_entries_row("rolling_friction_pairs", &StackSpec::rolling_friction, "--rolling-friction-pair",

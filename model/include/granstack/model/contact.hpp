@@ -83,9 +83,10 @@ const SubModelInfo& info(TangentialModel m);
 const SubModelInfo& info(RollingModel m);
 template <typename Model>
 std::vector<Model> all_models();  // every NormalModel, TangentialModel or RollingModel, in order
-// "'hertz' or 'hooke'": the keywords as the spec's error messages list them.
+// "'hertz' or 'hooke'": the keywords as the spec's error messages list them; without the
+// default's and unquoted (`beyond_default`), "epsd2 or cdt": the models that are on.
 template <typename Model>
-std::string keyword_list();
+std::string keyword_list(bool beyond_default = false);
 
 std::string_view to_string(NormalModel m);      // info(m).keyword
 std::string_view to_string(TangentialModel m);
