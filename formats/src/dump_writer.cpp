@@ -60,31 +60,32 @@ void DumpWriter::close() {
 }
 
 void DumpWriter::put(const char* bytes, std::size_t n) {
-  if (!zstd_) {
-    if (std::fwrite(bytes, 1, n, file_.get()) != n) throw std::runtime_error(fmt::format("{}: cannot write: {}", current_, std::strerror(errno)));
-    return;
+  if (zstd_) {
+    compress(bytes, n, false);
+  } else {
+    write_out(bytes, n);
   }
-  ZSTD_inBuffer in{bytes, n, 0};
-  while (in.pos < in.size) {
-    ZSTD_outBuffer out{compressed_.data(), compressed_.size(), 0};
-    const std::size_t rc = ZSTD_compressStream2(zstd_.get(), &out, &in, ZSTD_e_continue);
-    if (ZSTD_isError(rc)) throw std::runtime_error(fmt::format("{}: zstd: {}", current_, ZSTD_getErrorName(rc)));
-    if (std::fwrite(compressed_.data(), 1, out.pos, file_.get()) != out.pos) {
-      throw std::runtime_error(fmt::format("{}: cannot write: {}", current_, std::strerror(errno)));
-    }
+}
+
+void DumpWriter::write_out(const char* bytes, std::size_t n) {
+  if (std::fwrite(bytes, 1, n, file_.get()) != n) {
+    throw std::runtime_error(fmt::format("{}: cannot write: {}", current_, std::strerror(errno)));
   }
 }
 
 void DumpWriter::end_stream() {
-  if (!zstd_) return;
-  ZSTD_inBuffer in{nullptr, 0, 0};
-  for (std::size_t left = 1; left != 0;) {
+  if (zstd_) compress(nullptr, 0, true);
+}
+
+// Feeds `n` bytes to zstd (and, with `end`, ends the stream), writing what it gives out.
+void DumpWriter::compress(const char* bytes, std::size_t n, bool end) {
+  ZSTD_inBuffer in{bytes, n, 0};
+  for (;;) {
     ZSTD_outBuffer out{compressed_.data(), compressed_.size(), 0};
-    left = ZSTD_compressStream2(zstd_.get(), &out, &in, ZSTD_e_end);
+    const std::size_t left = ZSTD_compressStream2(zstd_.get(), &out, &in, end ? ZSTD_e_end : ZSTD_e_continue);
     if (ZSTD_isError(left)) throw std::runtime_error(fmt::format("{}: zstd: {}", current_, ZSTD_getErrorName(left)));
-    if (std::fwrite(compressed_.data(), 1, out.pos, file_.get()) != out.pos) {
-      throw std::runtime_error(fmt::format("{}: cannot write: {}", current_, std::strerror(errno)));
-    }
+    write_out(compressed_.data(), out.pos);
+    if (end ? left == 0 : in.pos == in.size) return;
   }
 }
 

@@ -203,6 +203,8 @@ class DumpWriter {
   void open(const std::string& path);
   void put(const char* bytes, std::size_t n);  // to the file, through zstd when compressed
   void end_stream();                          // a compressed file's last bytes
+  void compress(const char* bytes, std::size_t n, bool end);
+  void write_out(const char* bytes, std::size_t n);  // to the file as they are
   void write_atoms(const DumpFrame& f, const std::vector<bool>& integer, const ForShares& shares);
   std::string path_, current_;  // the path given, and the file open now
   std::size_t name_at_ = 0;     // where the file's name begins in path_
