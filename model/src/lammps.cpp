@@ -132,12 +132,17 @@ std::string lammps_contact_words(const LammpsContact& c, const LammpsRules& rule
 }
 
 std::string lammps_unmappable(const StackSpec& spec, const LammpsRules& rules) {
+  if (const auto why = lammps_contact_unmappable(spec, rules); !why.empty()) return why;
+  if (spec.dump_files == DumpFiles::per_rank) {
+    return "dump_files = 'per_rank' is not supported on LAMMPS; generate the case with --dump-files single";
+  }
+  return "";
+}
+
+std::string lammps_contact_unmappable(const StackSpec& spec, const LammpsRules& rules) {
   const auto model = spec.contact_model();
   for (const auto* m : {&info(model.normal), &info(model.tangential), &info(model.rolling)}) {
     if (!m->lammps_refusal.empty()) return std::string(m->lammps_refusal);
-  }
-  if (spec.dump_files == DumpFiles::per_rank) {
-    return "dump_files = 'per_rank' is not supported on LAMMPS; generate the case with --dump-files single";
   }
   std::set<double> restitutions{spec.restitution.value};
   for (const auto& [pair, e] : spec.restitution.pairs) restitutions.insert(e);

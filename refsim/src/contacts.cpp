@@ -250,21 +250,11 @@ void zero_contribution(PairTable& t, std::size_t p) {
 
 namespace {
 
+// Pair p's contact, composed of the table's sub-models, into entry p.
 void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
-  if (s.lammps_rules) {
-    pair_force_lammps(t, s, p);
-    return;
-  }
-  const auto g = pair_geometry(t, s, p);
-  const PairRecord& rec = *g.rec;
-  const std::size_t i = g.i, j = g.j, y = s.stride, z = 2 * s.stride;
-  const double delx = g.delx, dely = g.dely, delz = g.delz, rsq = g.rsq;
-  const double radi = rec.radi, radj = rec.radj;
-  const double radsum = radi + radj;
-  if (!(rsq < radsum * radsum)) {
-    // Close but not touching: the history is reset (surfacesClose); farther: left alone.
-    const double cdf = s.contact_distance_factor;
-    if (rsq < cdf * cdf * radsum * radsum) {
+  const PairPoint point = pair_point(t.sub_models.frame, t, s, p);
+  if (!point.touching) {
+    if (point.forget) {
       t.touching[p] = 0;
       t.shear_x[p] = t.shear_y[p] = t.shear_z[p] = 0.0;
       t.roll_x[p] = t.roll_y[p] = t.roll_z[p] = 0.0;
@@ -273,43 +263,27 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
     return;
   }
   t.touching[p] = 1;
-  const auto f = contact_frame(g, s);
-  const double r = f.r, rinv = f.rinv, vn = f.vn;
-  const double* en = f.en;
-
-  // Relative velocity at the contact point; lever arms shortened by half the overlap.
-  const double vt1 = f.vt[0], vt2 = f.vt[1], vt3 = f.vt[2];
-  const double deltan = radsum - r;
-  const double cri = radi - 0.5 * deltan;
-  const double crj = radj - 0.5 * deltan;
-  const double wr1 = (cri * s.w[i] + crj * s.w[j]) * rinv;
-  const double wr2 = (cri * s.w[y + i] + crj * s.w[y + j]) * rinv;
-  const double wr3 = (cri * s.w[z + i] + crj * s.w[z + j]) * rinv;
-  const double vtr[3] = {vt1 - (delz * wr2 - dely * wr3), vt2 - (delx * wr3 - delz * wr1), vt3 - (dely * wr1 - delx * wr2)};
-
-  const ContactPoint c{{en[0], en[1], en[2]}, vn, {vtr[0], vtr[1], vtr[2]}, deltan, rec.reff, rec.meff, radi * radj / (radi + radj),
-                 // The relative rotation omega_i - omega_j, which the rolling models turn.
-                       {s.w[i] - s.w[j], s.w[y + i] - s.w[y + j], s.w[z + i] - s.w[z + j]},
-                       false};
+  const ContactPoint& c = point.c;
+  const std::size_t record = static_cast<std::size_t>(t.record[p]);
   double shear[3] = {t.shear_x[p], t.shear_y[p], t.shear_z[p]};
   double roll[3] = {t.roll_x[p], t.roll_y[p], t.roll_z[p]};
-  const ContactForces out = liggghts_contact(t.model, rec.constants(), t.model_records[static_cast<std::size_t>(t.record[p])],
-                                             c, shear, roll, s.update_history, s.tangential_damping, s.dt);
+  const ContactForces out = contact(t.sub_models, t.records[record].constants(), t.model_records[record], c, shear, roll,
+                                    s.update_history, s.tangential_damping, s.dt);
   t.shear_x[p] = shear[0];
   t.shear_y[p] = shear[1];
   t.shear_z[p] = shear[2];
   // The force on j is (0 + -fn en) + -ft, the exact negative of this but for the sign of a zero
   // (which a sum that starts at +0 never shows): the sums subtract this.
   const std::size_t q = t.padded() + p;
-  t.fx[p] = out.n.fn * en[0] + out.ft[0];
-  t.fy[p] = out.n.fn * en[1] + out.ft[1];
-  t.fz[p] = out.n.fn * en[2] + out.ft[2];
-  t.tx[p] = -cri * out.tor[0];
-  t.ty[p] = -cri * out.tor[1];
-  t.tz[p] = -cri * out.tor[2];
-  t.tx[q] = -crj * out.tor[0];
-  t.ty[q] = -crj * out.tor[1];
-  t.tz[q] = -crj * out.tor[2];
+  t.fx[p] = out.n.fn * c.en[0] + out.ft[0];
+  t.fy[p] = out.n.fn * c.en[1] + out.ft[1];
+  t.fz[p] = out.n.fn * c.en[2] + out.ft[2];
+  t.tx[p] = -c.arm_i * out.tor[0];
+  t.ty[p] = -c.arm_i * out.tor[1];
+  t.tz[p] = -c.arm_i * out.tor[2];
+  t.tx[q] = -c.arm_j * out.tor[0];
+  t.ty[q] = -c.arm_j * out.tor[1];
+  t.tz[q] = -c.arm_j * out.tor[2];
   if (out.rolling) {  // minus the torque on i, plus on j
     t.roll_x[p] = roll[0];
     t.roll_y[p] = roll[1];

@@ -16,6 +16,8 @@
 #include <granstack/refsim/aligned.hpp>
 #include <granstack/refsim/neighbors.hpp>
 
+#include "contact_models/choice.hpp"
+
 namespace granstack::refsim::detail {
 
 // Where eight lanes' values lie in an array: anywhere; within kWindow entries of a window; or
@@ -55,8 +57,8 @@ struct PairRecord {
 // characteristic velocity.
 struct ModelConstants {
   double y_star = 0.0, restitution_log = 0.0, rolling_friction = 0.0, characteristic_velocity = 0.0;
-  // LAMMPS's rules (Parameters::lammps_rules): tsuji's alpha (0: undamped) and mindlin's
-  // eta_t / eta_n.
+  // LAMMPS's hertz/material with tsuji damping (contact_models/normal_tsuji.cpp): tsuji's alpha
+  // (0: undamped) and mindlin's eta_t / eta_n.
   double lammps_alpha = 0.0, lammps_tangential_ratio = 0.0;
 };
 // ... and of one pair, evaluated once per distinct pair as LIGGGHTS evaluates them in every
@@ -90,9 +92,10 @@ struct PairTable {
   std::size_t count = 0;  // entries, padding (record 0) included; the arrays hold padded()
   AlignedVector<std::int32_t> i, j;
   std::vector<PairRecord> records;                  // distinct records, the first all zero (padding)
-  // The contact model (the vector kernels run the study's only), and per record what the
-  // others need (parallel to records).
+  // The contact model, the sub-models the engine's rules make of it (the vector kernels run the
+  // study's only), and per record what the models beyond hertz/history need (parallel to records).
   model::ContactModel model;
+  SubModels sub_models;
   std::vector<ModelRecord> model_records;
   AlignedVector<double> roll_x, roll_y, roll_z;     // epsd2's torque history (r_torque_old)
   AlignedVector<std::int32_t> record;               // per pair, its record
@@ -172,7 +175,6 @@ struct ContactStep {
   double contact_distance_factor = 1.0;
   bool update_history = true;
   bool tangential_damping = true;
-  bool lammps_rules = false;  // Parameters::lammps_rules
   // Motion::position_changed of the last drift, with room for a 4-byte read past its last byte.
   const std::uint8_t* position_changed = nullptr;
   // If not null, per group of kLanes particles: set to 1 for the groups of both spheres of every
@@ -220,18 +222,6 @@ inline ContactFrame contact_frame(const PairGeometry& g, const ContactStep& s) {
 }
 // Pair p gives its spheres nothing (not touching).
 void zero_contribution(PairTable& t, std::size_t p);
-
-// One contact by LAMMPS's rules (contact_models/lammps_rules.cpp): pair_granular's force on i from j
-// (hertz/material, tsuji damping, linear_nohistory 0 0 or mindlin) into entry p of the table.
-void pair_force_lammps(PairTable& t, const ContactStep& s, std::size_t p);
-
-// A wall's force and torque on one sphere by this LAMMPS's fix wall/gran granular: `gap_axis`
-// the signed distance from the wall to the centre along the axis, radius, mass, velocity and
-// angular velocity; its history (3 values); `k` and `mr` the sphere-wall pair's. Returns
-// whether they touch (else the history is reset and the force is zero).
-bool wall_force_lammps(int axis, double gap_axis, double radius, double mass, const double v[3], const double w[3],
-                       const PairConstants& k, const ModelRecord& mr, double history[3], bool update_history, double dt,
-                       double force[3], double torque[3]);
 
 // Evaluates pairs [begin, end) of the table (both multiples of kPairBlock for the vector kernels).
 void contacts_reference(PairTable& pairs, const ContactStep& s, std::size_t begin, std::size_t end);

@@ -196,6 +196,7 @@ void System::build_pairs() {
   const auto tile = [](std::int32_t i) { return static_cast<std::size_t>(i) / kTile; };
   pairs_->clear();
   pairs_->model = p_.contact;
+  pairs_->sub_models = old.sub_models;
   const auto entry_start = fill_table(*pairs_, found, order, tile_start, kept, shares, [&](std::size_t i, std::size_t j) {
     const std::size_t type_pair = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
                                   static_cast<std::size_t>(type_[j] - 1);

@@ -36,6 +36,8 @@ System::System(std::vector<Particle> particles, Parameters params)
   if (!p_.contact.is_study_model() && (p_.restitution.size() != tt || p_.rolling_friction.size() != tt)) {
     throw std::invalid_argument("refsim: the hooke and epsd2 models need restitution and rolling_friction per type pair");
   }
+  // The engine's rules: the sub-models every contact is composed of (contact_models/choice.hpp).
+  pairs_->sub_models = p_.lammps_rules ? detail::lammps_rules(p_.contact) : detail::liggghts_rules(p_.contact);
   type_.resize(n_);
   stride_ = (n_ + detail::kLanes - 1) / detail::kLanes * detail::kLanes + 2 * detail::kLanes;
   radius_.assign(stride_, 0.0);  // zeros past the last particle, for whole vectors of them
@@ -78,7 +80,8 @@ System::System(std::vector<Particle> particles, Parameters params)
     } else {
       model_constants_.push_back({});
     }
-    if (p_.lammps_rules) {  // the coefficients granstack's LAMMPS deck gives (model/lammps.hpp)
+    if (pairs_->sub_models.normal == detail::NormalKernel::hertz_material_tsuji) {
+      // The coefficients granstack's LAMMPS deck gives (model/lammps.hpp).
       const double e = p_.restitution.empty() ? 1.0 : p_.restitution[k];
       model_constants_.back().lammps_alpha = e < 1.0 ? model::tsuji_alpha(model::lammps_tsuji_restitution(e)) : 0.0;
       model_constants_.back().lammps_tangential_ratio = std::sqrt(4.0 * p_.g_star[k] / p_.y_star[k]);
@@ -95,15 +98,16 @@ std::vector<std::string> vector_kernels() { return detail::vector_targets(); }
 void System::choose_kernels() {
   const auto targets = detail::vector_targets();
   // The vector kernels are written for the study's model: any other runs on the reference.
-  if (p_.kernel == "reference" || (p_.kernel == "auto" && (!p_.contact.is_study_model() || p_.lammps_rules))) {
+  const bool vector_model = pairs_->sub_models.vector_kernels_run();
+  if (p_.kernel == "reference" || (p_.kernel == "auto" && !vector_model)) {
     kernel_ = "reference";
     return;
   }
-  if (!p_.contact.is_study_model()) {
+  if (!vector_model) {
     throw std::invalid_argument(fmt::format(
-        "refsim: the {} kernels run the study's contact model (hertz, history, no rolling friction) only, not '{}'; "
-        "use --kernel auto or reference",
-        p_.kernel, model::liggghts_model_words(p_.contact)));
+        "the {} kernels run the study's contact model by LIGGGHTS's rules (hertz, history, no rolling friction) only, "
+        "not '{}'{}; use --kernel auto or reference",
+        p_.kernel, model::liggghts_model_words(p_.contact), p_.lammps_rules ? " by LAMMPS's rules" : ""));
   }
   if (p_.kernel != "auto" && std::find(targets.begin(), targets.end(), p_.kernel) == targets.end()) {
     throw std::invalid_argument(fmt::format(
@@ -191,7 +195,7 @@ void System::sum_forces(std::size_t begin, std::size_t end, bool update_history,
 void System::compute_forces(bool update_history, bool kick, bool drift) {
   detail::ContactStep s{x_.data(),      v_.data(),           w_.data(),
                         stride_,        p_.dt,               p_.contact_distance_factor,
-                        update_history, p_.tangential_damping, p_.lammps_rules, position_changed_.data()};
+                        update_history, p_.tangential_damping, position_changed_.data()};
   // Elastic frictionless pairs and nothing else acting: a group of particles none of whose pairs
   // was evaluated again keeps its force sums (the same contributions in the same order give the
   // same bits), so they are not taken again (sum_forces). On one thread its pairs all lie in

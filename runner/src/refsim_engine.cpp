@@ -2,6 +2,7 @@
 #include "engine.hpp"
 
 #include <granstack/generator/case_writer.hpp>
+#include <granstack/model/lammps.hpp>
 #include <granstack/model/version.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/os/process.hpp>
@@ -70,7 +71,8 @@ EngineResult run_refsim(const fs::path& dir, const RunOptions& o,
   } catch (const Interrupted&) {
     result.interrupted = true;
   } catch (const std::exception& e) {
-    result.error = std::string("refsim: ") + e.what();
+    const std::string why = e.what();  // System's own messages may name refsim already
+    result.error = why.starts_with("refsim: ") ? why : "refsim: " + why;
   }
   return result;
 }
@@ -78,7 +80,13 @@ EngineResult run_refsim(const fs::path& dir, const RunOptions& o,
 class Refsim final : public CaseEngine {
  public:
   std::string lock_holder() const override { return "granstack run --engine refsim"; }
-  std::string unavailable(const formats::Case& c, const RunOptions&) const override {
+  std::string unavailable(const formats::Case& c, const RunOptions& o) const override {
+    if (o.lammps_rules) {
+      // refsim's LAMMPS rules are those of the LAMMPS this machine has (contact_models/choice.hpp).
+      if (const auto why = model::lammps_contact_unmappable(c.spec(), model::lammps_rules_run_here()); !why.empty()) {
+        return "refsim --contact-rules lammps: " + why;
+      }
+    }
     return refsim_unavailable(c.dir(), c.manifest());
   }
   EngineResult run(const formats::Case& c, const RunOptions& o, const std::function<void(long)>& on_step,

@@ -304,3 +304,43 @@ TEST_F(Answers, OutputDigestsAreTheOnesTheCommonToolsPrint) {
 }
 
 }  // namespace
+
+// refsim by LAMMPS's rules runs what granstack's LAMMPS deck runs, or refuses, before the case is
+// touched: a model LAMMPS has no counterpart for, or a restitution tsuji cannot give (they ran as
+// hertz/tsuji/mindlin, or with a nonsense damping coefficient, under a record saying "lammps");
+// and a vector kernel, which runs LIGGGHTS's rules only, is refused with them (it ran
+// LIGGGHTS's physics, byte for byte, recorded as LAMMPS's).
+TEST_F(Answers, RefsimByLammpsRulesRefusesWhatLammpsCannotRun) {
+  const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
+      {{"--normal-model", "hooke"}, "normal_model = 'hooke' has no counterpart in LAMMPS"},
+      {{"--rolling-model", "epsd2", "--rolling-friction", "0.1"}, "rolling_model = 'epsd2' has no counterpart"},
+      {{"--rolling-model", "cdt", "--rolling-friction", "0.1"}, "rolling_model = 'cdt' has no counterpart"},
+      {{"--restitution", "0.06"}, "restitution 0.06: the tsuji damping of LAMMPS 29 Sep 2021 spans"}};
+  int k = 0;
+  for (const auto& [flags, why] : refused) {
+    const auto c = path(fmt::format("refused{}", k++));
+    std::vector<std::string> args{"generate", "-o", c.string(), "--blocks", "2", "--rows", "3"};
+    args.insert(args.end(), flags.begin(), flags.end());
+    ASSERT_EQ(granstack(args).code, 0);
+    const auto r = granstack({"run", "--engine", "refsim", "--contact-rules", "lammps", c.string()});
+    EXPECT_EQ(r.code, 1) << r.output;
+    expect_contains(r, "refsim --contact-rules lammps: " + why);
+    EXPECT_FALSE(fs::exists(c / "run.json")) << c;
+    // LIGGGHTS's rules run it.
+    EXPECT_EQ(granstack({"run", "--engine", "refsim", c.string()}).code, 0) << c;
+  }
+  const auto c = path("vector");
+  ASSERT_EQ(granstack({"generate", "-o", c.string(), "--blocks", "2", "--rows", "3", "--bottom", "wall"}).code, 0);
+  const std::string kernel = "scalar";  // the vector kernels' portable target, in every build
+  auto r = granstack({"run", "--engine", "refsim", "--contact-rules", "lammps", "--kernel", kernel, c.string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, fmt::format("refsim: the {} kernels run the study's contact model by LIGGGHTS's rules (hertz, "
+                                 "history, no rolling friction) only, not 'model hertz tangential history' by LAMMPS's "
+                                 "rules; use --kernel auto or reference", kernel));
+  r = granstack({"run", "--engine", "refsim", "--contact-rules", "lammps", c.string()});
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto lammps_rules = read_bytes(c / "dumps" / "dump.txt");
+  r = granstack({"run", "--force", "--engine", "refsim", "--kernel", kernel, c.string()});
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(read_bytes(c / "dumps" / "dump.txt"), lammps_rules);  // the wall's E* differs between them
+}

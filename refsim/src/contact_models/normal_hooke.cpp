@@ -5,7 +5,8 @@
 
 namespace granstack::refsim::detail {
 
-Normal hooke_normal(const ModelRecord& r, double deltan, double vn, bool tangential_damping) {
+Normal hooke_normal(const ModelRecord& r, const ContactPoint& c, bool tangential_damping) {
+  const double deltan = c.deltan, vn = c.vn;
   const double kn = r.hooke_kn, gamman = r.hooke_gamman;
   const double gammat = tangential_damping ? gamman : 0.0;
   const double fn_damping = -gamman * vn;

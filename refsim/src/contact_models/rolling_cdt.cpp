@@ -7,8 +7,11 @@ namespace granstack::refsim::detail {
 
 // rolling_model_cdt.h's two branches, each in its own order: a wall takes (mu_r F_n) w / |w| R*
 // with F_n = delta k_n; a pair scales w by mu_r k_n delta R* / |w|.
-void rolling_cdt(const double en[3], const double wr[3], const Normal& n, double deltan, double reff, double mu_r,
-                 bool wall, double torque[3]) {
+void rolling_cdt(const ContactPoint& c, const Normal& n, double mu_r, double torque[3]) {
+  const double* en = c.en;
+  const double* wr = c.wr;
+  const double deltan = c.deltan, reff = c.rolling_reff;
+  const bool wall = c.wall;
   torque[0] = torque[1] = torque[2] = 0.0;
   const double magnitude = std::sqrt(wr[0] * wr[0] + wr[1] * wr[1] + wr[2] * wr[2]);
   if (!(magnitude > 0.)) return;

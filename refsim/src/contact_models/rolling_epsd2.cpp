@@ -5,8 +5,11 @@
 
 namespace granstack::refsim::detail {
 
-void rolling_torque(double roll[3], const double en[3], const double wr[3], const Normal& n, double reff, double mu_r,
-                    bool update_history, double dt, double torque[3]) {
+void rolling_epsd2(double roll[3], const ContactPoint& c, const Normal& n, double mu_r, bool update_history, double dt,
+                   double torque[3]) {
+  const double* en = c.en;
+  const double* wr = c.wr;
+  const double reff = c.rolling_reff;
   const double wr_dot_delta = wr[0] * en[0] + wr[1] * en[1] + wr[2] * en[2];
   const double kr = n.kt * reff * reff;
   const double scale = dt * kr;

@@ -1,56 +1,21 @@
 #pragma once
-// LIGGGHTS's contact sub-models, each a scalar kernel in a file of its own in this folder, and
-// the one composition of them that both LIGGGHTS's pair style and its fix wall/gran apply
-// (liggghts_composition.cpp): a normal model (hertz | hooke) gives the normal force and the
-// tangential stiffness and damping; a tangential model (history | no_history) the tangential
-// force; a rolling model (off | epsd2 | cdt) a torque. Each performs LIGGGHTS's floating-point
-// operations in its order (refsim agrees with it to the bit). LAMMPS's rules are
-// lammps_rules.cpp's, in this folder too.
+// The contact sub-models (choice.hpp), each a scalar kernel in a file of its own in this folder,
+// and the one composition of them (composition.cpp) that every contact takes: sphere-sphere
+// (contacts.cpp) and sphere-wall (walls.cpp), by LIGGGHTS's rules or by LAMMPS's. A frame forms
+// the contact's geometry; a normal model gives the normal force and the tangential stiffness and
+// damping; a tangential model the tangential force; a rolling model a torque. Each kernel
+// performs its engine's floating-point operations in its order (refsim agrees with LIGGGHTS to
+// the bit, with LAMMPS to round-off).
 #include "../contacts.hpp"
-
-#include <granstack/model/contact.hpp>
+#include "choice.hpp"
 
 namespace granstack::refsim::detail {
 
-// The Hertz normal force with restitution damping, and the tangential stiffness and damping
-// (normal_model_hertz.h); shared by the pair kernel and the walls.
-struct Normal {
-  double fn, kt, gammat;
-  double kn;  // the normal stiffness (cdt's torque is mu_r R* k_n delta)
-};
-Normal hertz_normal(const PairConstants& k, double reff, double meff, double deltan, double vn, bool tangential_damping);
-// The Hooke normal force (normal_model_hooke.h): k_n and gamma_n of the pair, k_t = k_n.
-Normal hooke_normal(const ModelRecord& r, double deltan, double vn, bool tangential_damping);
-
-// The viscous tangential force of tangential no_history (tangential_model_no_history.h): no
-// spring, gamma_t capped so that |F_t| <= mu |F_n|. Outputs as tangential_force.
-void tangential_no_history(const double en[3], const double vtr[3], const Normal& n, double mu, double ft[3],
-                           double tor[3]);
-
-// epsd2's rolling torque (rolling_model_epsd2.h, torsionTorque off): the relative rotation's
-// tangential part `wr` drives a spring of stiffness k_t R*^2 on the history `roll`, capped at
-// mu_r R* |F_n|. The torque on the first body is minus `torque`, on the second plus.
-void rolling_torque(double roll[3], const double en[3], const double wr[3], const Normal& n, double reff, double mu_r,
-                    bool update_history, double dt, double torque[3]);
-
-// The tangential history spring (tangential_model_history.h): increment by the sliding velocity,
-// project on the tangent plane, Coulomb-truncate (no damping while sliding). Returns the
-// tangential force on the first body in `ft` and n x Ft in `tor` (the torque on each body is
-// minus its lever arm times it).
-void tangential_force(double shear[3], const double en[3], const double vtr[3], const Normal& n, double mu,
-                      bool update_history, double dt, double ft[3], double tor[3]);
-
-// cdt's rolling torque (rolling_model_cdt.h, torsionTorque off): mu_r R* k_n delta along the
-// rotation `wr` (none while it is zero), less its part along the normal; no history. The torque
-// on the first body is minus `torque`, on the second plus. LIGGGHTS forms it in two orders, a
-// wall's and a pair's (`wall`).
-void rolling_cdt(const double en[3], const double wr[3], const Normal& n, double deltan, double reff, double mu_r,
-                 bool wall, double torque[3]);
-
-// One touching contact as both LIGGGHTS's pair style and fix wall/gran see it: the unit normal
-// towards the first body, its normal speed, the tangential speed at the contact point, the
-// overlap, the normal model's R* and m*, and the rolling model's R* and the rotation it turns (the
-// pair's relative rotation, a wall's contact-point rotation).
+// One touching contact as the frame forms it: the unit normal towards the first body, its normal
+// speed, the tangential speed at the contact point, the overlap, the normal model's R* and m*,
+// the rolling model's R* and the rotation it turns (the pair's relative rotation, a wall's
+// contact-point rotation), whether the second body is a wall, and the lever arms that turn the
+// tangential force into each body's torque (arm_j unused on a wall).
 struct ContactPoint {
   double en[3];
   double vn;
@@ -59,8 +24,90 @@ struct ContactPoint {
   double reff, meff;
   double rolling_reff;
   double wr[3];
-  bool wall;  // a sphere on a wall (cdt's order differs)
+  bool wall;
+  double arm_i, arm_j;
 };
+
+// The frame of pair p of the table, touching or not; `forget`: not touching, and near enough
+// that the engine forgets the pair's history.
+struct PairPoint {
+  bool touching, forget;
+  ContactPoint c;
+};
+// A sphere (radius, mass, velocity, angular velocity) at `position` along the axis of a plane
+// wall at `wall_position`: whether they touch by the frame's test, and if so their frame.
+struct WallPoint {
+  bool touching;
+  ContactPoint c;
+};
+// Each frame's (frame_liggghts.cpp, frame_lammps.cpp), and the frame's by `f` (composition.cpp):
+PairPoint pair_point(Frame f, const PairTable& t, const ContactStep& s, std::size_t p);
+bool wall_touches(Frame f, double wall_position, double position, double radius);
+WallPoint wall_point(Frame f, int axis, double wall_position, double position, double radius, double mass,
+                     const double v[3], const double w[3]);
+// The force the wall gives the sphere, as the frame's fix forms it from the normal force along
+// the normal and the tangential force.
+void wall_force(Frame f, double fn, const double en[3], const double ft[3], double force[3]);
+// The force kept for the stored wall, from the sphere's force before and after the wall's.
+double kept_wall_force(Frame f, double before, double after, double force);
+
+// What both frames take alike of a pair whose spheres touch (radii sum above their distance):
+// the normal, the normal speed, R*, m*, the rolling model's R* and the relative rotation omega_i -
+// omega_j; the frame adds the sliding velocity, the overlap and the lever arms.
+ContactPoint pair_contact_point(const PairGeometry& g, const ContactFrame& f, const ContactStep& s);
+inline bool spheres_touch(const PairGeometry& g) {
+  const double radsum = g.rec->radi + g.rec->radj;
+  return g.rsq < radsum * radsum;
+}
+PairPoint liggghts_pair_point(const PairTable& t, const ContactStep& s, std::size_t p);
+double liggghts_wall_gap(double wall_position, double position, double radius);  // negative: overlapping
+WallPoint liggghts_wall_point(int axis, double wall_position, double position, double radius, double mass,
+                              const double v[3], const double w[3]);
+void liggghts_wall_force(double fn, const double en[3], const double ft[3], double force[3]);
+PairPoint lammps_pair_point(const PairTable& t, const ContactStep& s, std::size_t p);
+bool lammps_wall_touches(double wall_position, double position, double radius);
+WallPoint lammps_wall_point(int axis, double wall_position, double position, double radius, double mass,
+                            const double v[3], const double w[3]);
+void lammps_wall_force(double fn, const double en[3], const double ft[3], double force[3]);
+
+// What a normal model gives: the normal force (elastic and damping), the tangential stiffness
+// and damping for the tangential model, and the normal stiffness (cdt's torque is mu_r R* k_n delta).
+struct Normal {
+  double fn, kt, gammat;
+  double kn;
+};
+// LIGGGHTS's hertz with restitution damping (normal_model_hertz.h).
+Normal hertz_normal(const PairConstants& k, const ContactPoint& c, bool tangential_damping);
+// LIGGGHTS's hooke (normal_model_hooke.h): k_n and gamma_n of the pair, k_t = k_n.
+Normal hooke_normal(const ModelRecord& r, const ContactPoint& c, bool tangential_damping);
+// LAMMPS's hertz/material with tsuji damping (pair_granular, fix wall/gran granular), and the
+// stiffness and damping of its mindlin spring.
+Normal tsuji_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c);
+
+// The tangential force on the first body, `ft`, from the contact, the normal model's output and
+// the friction coefficient, with the contact's tangential history `shear` (updated when
+// `update_history`):
+// LIGGGHTS's history spring (tangential_model_history.h): increment by the sliding velocity,
+// project on the tangent plane, Coulomb-truncate (no damping while sliding).
+void tangential_history(double shear[3], const ContactPoint& c, const Normal& n, double mu, bool update_history,
+                        double dt, double ft[3]);
+// LIGGGHTS's no_history (tangential_model_no_history.h): viscous, no spring, gamma_t capped so
+// that |F_t| <= mu |F_n|.
+void tangential_no_history(const ContactPoint& c, const Normal& n, double mu, double ft[3]);
+// LAMMPS's mindlin, or its linear_nohistory 0 0 (no force) where mu = 0.
+void tangential_mindlin(double shear[3], const ContactPoint& c, const Normal& n, double mu, bool update_history,
+                        double dt, double ft[3]);
+
+// The rolling torque: minus `torque` on the first body, plus on the second.
+// epsd2 (rolling_model_epsd2.h, torsionTorque off): the rotation's tangential part drives a
+// spring of stiffness k_t R*^2 on the history `roll`, capped at mu_r R* |F_n|.
+void rolling_epsd2(double roll[3], const ContactPoint& c, const Normal& n, double mu_r, bool update_history, double dt,
+                   double torque[3]);
+// cdt (rolling_model_cdt.h, torsionTorque off): mu_r R* k_n delta along the rotation (none while
+// it is zero), less its part along the normal; no history. LIGGGHTS forms it in two orders, a
+// wall's and a pair's.
+void rolling_cdt(const ContactPoint& c, const Normal& n, double mu_r, double torque[3]);
+
 // What the composition gives the first body: the normal part, the tangential force and n x Ft
 // (the torque on each body is minus its lever arm times it), and the rolling torque (minus it on
 // the first body, plus on the second; `rolling` false and zero without a rolling model).
@@ -70,10 +117,9 @@ struct ContactForces {
   bool rolling = false;
   double rt[3] = {0.0, 0.0, 0.0};
 };
-// The contact's sub-models by `m`, composed in LIGGGHTS's order, with the contact's tangential
+// The contact's sub-models by `m`, composed in the engines' order, with the contact's tangential
 // (shear) and rolling (roll) histories, updated when `update_history`.
-ContactForces liggghts_contact(const model::ContactModel& m, const PairConstants& k, const ModelRecord& mr,
-                               const ContactPoint& c, double shear[3], double roll[3], bool update_history,
-                               bool tangential_damping, double dt);
+ContactForces contact(const SubModels& m, const PairConstants& k, const ModelRecord& mr, const ContactPoint& c,
+                      double shear[3], double roll[3], bool update_history, bool tangential_damping, double dt);
 
 }  // namespace granstack::refsim::detail

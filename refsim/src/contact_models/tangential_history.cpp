@@ -5,8 +5,10 @@
 
 namespace granstack::refsim::detail {
 
-void tangential_force(double shear[3], const double en[3], const double vtr[3], const Normal& n, double mu,
-                      bool update_history, double dt, double ft[3], double tor[3]) {
+void tangential_history(double shear[3], const ContactPoint& c, const Normal& n, double mu, bool update_history,
+                        double dt, double ft[3]) {
+  const double* en = c.en;
+  const double* vtr = c.vtr;
   if (update_history) {
     shear[0] += vtr[0] * dt;
     shear[1] += vtr[1] * dt;
@@ -44,9 +46,6 @@ void tangential_force(double shear[3], const double en[3], const double vtr[3], 
       for (int d = 0; d < 3; ++d) ft[d] -= n.gammat * vtr[d];
     }
   }
-  tor[0] = en[1] * ft[2] - en[2] * ft[1];
-  tor[1] = en[2] * ft[0] - en[0] * ft[2];
-  tor[2] = en[0] * ft[1] - en[1] * ft[0];
 }
 
 }  // namespace granstack::refsim::detail

@@ -5,15 +5,12 @@
 
 namespace granstack::refsim::detail {
 
-void tangential_no_history(const double en[3], const double vtr[3], const Normal& n, double mu, double ft[3],
-                           double tor[3]) {
+void tangential_no_history(const ContactPoint& c, const Normal& n, double mu, double ft[3]) {
+  const double* vtr = c.vtr;
   const double vrel = std::sqrt(vtr[0] * vtr[0] + vtr[1] * vtr[1] + vtr[2] * vtr[2]);
   const double ft_friction = mu * std::fabs(n.fn);
   const double gamma = ft_friction < n.gammat * vrel ? ft_friction / vrel : n.gammat;
   for (int d = 0; d < 3; ++d) ft[d] = -gamma * vtr[d];
-  tor[0] = en[1] * ft[2] - en[2] * ft[1];
-  tor[1] = en[2] * ft[0] - en[0] * ft[2];
-  tor[2] = en[0] * ft[1] - en[1] * ft[0];
 }
 
 }  // namespace granstack::refsim::detail

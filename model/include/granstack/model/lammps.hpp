@@ -102,5 +102,7 @@ std::string lammps_contact_words(const LammpsContact& c, const LammpsRules& rule
 // can): the normal model hooke, rolling friction, restitution whose damping tsuji cannot give
 // (releases without coeff_restitution), per-rank dumps.
 std::string lammps_unmappable(const StackSpec& spec, const LammpsRules& rules);
+// ... its contact law alone (all but the dumps): what refsim by LAMMPS's rules needs too.
+std::string lammps_contact_unmappable(const StackSpec& spec, const LammpsRules& rules);
 
 }  // namespace granstack::model

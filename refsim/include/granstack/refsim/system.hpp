@@ -52,10 +52,10 @@ struct Parameters {
   // store_force yes keeps it (System::stored_wall_force); -1: none.
   int stored_wall = -1;
   bool tangential_damping = true;
-  // LAMMPS's rules instead of LIGGGHTS's for the same spec (model/lammps.hpp, refsim/src/
-  // contact_models/lammps_rules.cpp): tsuji damping with the mapped coefficient, no tangential force without
-  // friction, pair_granular's mindlin spring with friction, fix wall/gran's walls. The reference
-  // kernels run them.
+  // LAMMPS's rules instead of LIGGGHTS's for the same spec (model/lammps.hpp; the sub-models they
+  // choose, refsim/src/contact_models/choice.hpp): LAMMPS's frame, hertz/material with tsuji damping
+  // of the mapped coefficient, mindlin with friction and no tangential force without, fix
+  // wall/gran's walls. The reference kernels run them; a model LAMMPS lacks is refused.
   bool lammps_rules = false;
   // Threads for the force and integration loops. Every per-particle sum keeps the pair order
   // of one thread, so the result does not depend on the thread count, to the bit.
@@ -128,7 +128,6 @@ class System {
   void compute_forces(bool update_history, bool kick, bool drift);
   void sum_forces(std::size_t begin, std::size_t end, bool update_history, bool kick, bool drift);
   void wall_force(std::size_t i, std::size_t w, bool update_history);
-  void wall_force_lammps_rules(std::size_t i, std::size_t w, bool update_history);  // Parameters::lammps_rules
   void external_forces(std::size_t begin, std::size_t end, bool update_history);  // walls then gravity
   detail::Motion motion();
 

@@ -1,0 +1,110 @@
+// The one composition of the sub-models (sub_models.hpp), for sphere-sphere contacts
+// (contacts.cpp) and walls (walls.cpp), by LIGGGHTS's rules and by LAMMPS's; and the choice of
+// sub-models each engine's rules make of the spec's model.
+#include "sub_models.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace granstack::refsim::detail {
+
+SubModels liggghts_rules(const model::ContactModel& m) {
+  SubModels s;
+  s.frame = Frame::liggghts;
+  s.normal = m.normal == model::NormalModel::hooke ? NormalKernel::hooke : NormalKernel::hertz;
+  s.tangential = m.tangential == model::TangentialModel::no_history ? TangentialKernel::no_history : TangentialKernel::history;
+  s.rolling = m.rolling == model::RollingModel::epsd2 ? RollingKernel::epsd2
+              : m.rolling == model::RollingModel::cdt ? RollingKernel::cdt
+                                                        : RollingKernel::off;
+  return s;
+}
+
+SubModels lammps_rules(const model::ContactModel& m) {
+  for (const auto* row : {&model::info(m.normal), &model::info(m.tangential), &model::info(m.rolling)}) {
+    if (!row->lammps_refusal.empty()) {
+      throw std::invalid_argument("--contact-rules lammps: " + std::string(row->lammps_refusal));
+    }
+  }
+  return {Frame::lammps, NormalKernel::hertz_material_tsuji, TangentialKernel::mindlin, RollingKernel::off};
+}
+
+PairPoint pair_point(Frame f, const PairTable& t, const ContactStep& s, std::size_t p) {
+  return f == Frame::lammps ? lammps_pair_point(t, s, p) : liggghts_pair_point(t, s, p);
+}
+
+bool wall_touches(Frame f, double wall_position, double position, double radius) {
+  return f == Frame::lammps ? lammps_wall_touches(wall_position, position, radius)
+                            : liggghts_wall_gap(wall_position, position, radius) <= 0.0;
+}
+
+WallPoint wall_point(Frame f, int axis, double wall_position, double position, double radius, double mass,
+                     const double v[3], const double w[3]) {
+  return f == Frame::lammps ? lammps_wall_point(axis, wall_position, position, radius, mass, v, w)
+                            : liggghts_wall_point(axis, wall_position, position, radius, mass, v, w);
+}
+
+void wall_force(Frame f, double fn, const double en[3], const double ft[3], double force[3]) {
+  if (f == Frame::lammps) {
+    lammps_wall_force(fn, en, ft, force);
+  } else {
+    liggghts_wall_force(fn, en, ft, force);
+  }
+}
+
+double kept_wall_force(Frame f, double before, double after, double force) {
+  return f == Frame::lammps ? force : after - before;
+}
+
+ContactPoint pair_contact_point(const PairGeometry& g, const ContactFrame& f, const ContactStep& s) {
+  const PairRecord& rec = *g.rec;
+  const std::size_t i = g.i, j = g.j, y = s.stride, z = 2 * s.stride;
+  ContactPoint c{};
+  for (int d = 0; d < 3; ++d) c.en[d] = f.en[d];
+  c.vn = f.vn;
+  c.reff = rec.reff;
+  c.meff = rec.meff;
+  c.rolling_reff = rec.radi * rec.radj / (rec.radi + rec.radj);
+  c.wr[0] = s.w[i] - s.w[j];
+  c.wr[1] = s.w[y + i] - s.w[y + j];
+  c.wr[2] = s.w[z + i] - s.w[z + j];
+  c.wall = false;
+  return c;
+}
+
+namespace {
+
+Normal normal_force(NormalKernel m, const PairConstants& k, const ModelRecord& mr, const ContactPoint& c,
+                    bool tangential_damping) {
+  switch (m) {
+    case NormalKernel::hooke: return hooke_normal(mr, c, tangential_damping);
+    case NormalKernel::hertz_material_tsuji: return tsuji_normal(k, mr, c);
+    case NormalKernel::hertz: break;
+  }
+  return hertz_normal(k, c, tangential_damping);
+}
+
+}  // namespace
+
+ContactForces contact(const SubModels& m, const PairConstants& k, const ModelRecord& mr, const ContactPoint& c,
+                      double shear[3], double roll[3], bool update_history, bool tangential_damping, double dt) {
+  ContactForces out;
+  out.n = normal_force(m.normal, k, mr, c, tangential_damping);
+  switch (m.tangential) {
+    case TangentialKernel::no_history: tangential_no_history(c, out.n, k.friction, out.ft); break;
+    case TangentialKernel::mindlin: tangential_mindlin(shear, c, out.n, k.friction, update_history, dt, out.ft); break;
+    case TangentialKernel::history: tangential_history(shear, c, out.n, k.friction, update_history, dt, out.ft); break;
+  }
+  const double* en = c.en;
+  out.tor[0] = en[1] * out.ft[2] - en[2] * out.ft[1];
+  out.tor[1] = en[2] * out.ft[0] - en[0] * out.ft[2];
+  out.tor[2] = en[0] * out.ft[1] - en[1] * out.ft[0];
+  out.rolling = m.rolling != RollingKernel::off;
+  if (m.rolling == RollingKernel::epsd2) {
+    rolling_epsd2(roll, c, out.n, mr.rolling_friction, update_history, dt, out.rt);
+  } else if (m.rolling == RollingKernel::cdt) {
+    rolling_cdt(c, out.n, mr.rolling_friction, out.rt);
+  }
+  return out;
+}
+
+}  // namespace granstack::refsim::detail

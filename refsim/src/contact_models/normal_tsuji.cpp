@@ -1,0 +1,29 @@
+// LAMMPS's normal model hertz/material with tsuji damping (pair_granular.cpp, fix_wall_gran.cpp of
+// LAMMPS 29 Sep 2021, as granstack's LAMMPS deck sets them: model/lammps.hpp): the elastic force
+// E* sqrt(R* d) d with E* = 4/3 Y* (a wall's E* as fix wall/gran forms it: model/lammps.hpp gives
+// the E' for it), the damping alpha(e') sqrt(m* E* sqrt(R* d)) (tsuji's alpha of the mapped e', 0
+// undamped), and mindlin's stiffness 8 G* sqrt(R* d) and damping eta_t / eta_n times eta_n.
+#include "sub_models.hpp"
+
+#include <cmath>
+
+namespace granstack::refsim::detail {
+
+// pair_granular forms the elastic force as (E delta) a, fix wall/gran as (E a) delta.
+Normal tsuji_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c) {
+  const double delta = c.deltan;
+  const double dr = delta * c.reff;
+  double knfac = k.kn_factor;
+  double fne = knfac * delta;
+  const double a = std::sqrt(dr);
+  fne *= a;
+  knfac *= a;
+  if (c.wall) fne = knfac * delta;
+  // tsuji: alpha sqrt(m* knfac); undamped is viscoelastic with coefficient 0.
+  const double damp_normal = r.lammps_alpha != 0.0 ? std::sqrt(c.meff * knfac) : a * c.meff;
+  const double prefactor = r.lammps_alpha * damp_normal;
+  const double fdamp = -prefactor * c.vn;
+  return {fne + fdamp, k.st_factor * a, r.lammps_tangential_ratio * prefactor, knfac};
+}
+
+}  // namespace granstack::refsim::detail
