@@ -92,8 +92,9 @@ Command add_reproduce(CLI::App& app) {
   auto f = std::make_shared<ReproduceFlags>();
   auto& o = f->options;
   auto* cmd = app.add_subcommand("reproduce", "Reproduce the study's figures and numbers, with a report");
-  cmd->add_option("experiments", o.experiments,
-                  fmt::format("Experiments to run [all]: {}", fmt::join(study::builtin_catalogue().names(), ", ")));
+  cmd->add_option("experiments", o.experiments, "Experiments to run [all: listed below]");
+  // The list from the catalogue only when help is shown: parsing it costs every command's start.
+  cmd->footer([] { return fmt::format("Experiments: {}", fmt::join(study::builtin_catalogue().names(), ", ")); });
   cmd->add_option("-o,--output", o.output, "The reproduction's directory (its cases are reused on a rerun)")
       ->check(output_directory())->required();
   cmd->add_option("-j,--jobs", o.jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
