@@ -7,7 +7,9 @@
 # times, and the medians count.
 # Peak memory (from /usr/bin/time) is also taken on a quarter of the run, to show it does not
 # grow with the number of frames.
-# Usage: bench/reduce_vs_wc.sh [REPEATS] [DUMP_EVERY]   (a few minutes, about 3 GB of disk)
+# With OUT=FILE.json the medians are also written there (the performance page's table is made from
+# such a record by scripts/doc_tables.py).
+# Usage: [OUT=FILE.json] bench/reduce_vs_wc.sh [REPEATS] [DUMP_EVERY]   (a few minutes, about 3 GB of disk)
 set -euo pipefail
 repeats=${1:-5}
 every=${2:-2}
@@ -27,8 +29,8 @@ for format in text binary; do
     fi
   done
 done
-python3 - "$gs" "$work" "$repeats" <<'PY'
-import os, statistics, subprocess, sys, time
+OUT="${OUT:-}" python3 - "$gs" "$work" "$repeats" <<'PY'
+import json, os, statistics, subprocess, sys, time
 gs, work, repeats = sys.argv[1], sys.argv[2], int(sys.argv[3])
 def timed(cmd):
     t = time.perf_counter(); subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL); return time.perf_counter() - t
@@ -37,6 +39,7 @@ def peak_mb(cmd):
                          stderr=subprocess.PIPE, text=True)
     return int(out.stderr.strip().splitlines()[-1]) / 1024
 print(f"{os.cpu_count()} cores; medians of {repeats} alternating runs")
+out = {"cores": os.cpu_count(), "repeats": repeats, "formats": {}}
 for fmt, name in (("text", "dump.txt"), ("binary", "dump.bin")):
     case = os.path.join(work, fmt + "-full")
     path = os.path.join(case, "dumps", name)
@@ -53,4 +56,8 @@ for fmt, name in (("text", "dump.txt"), ("binary", "dump.bin")):
     print(f"{fmt:6s} dump {size:6.0f} MB: wc -l {size / wc:5.0f} MB/s; reduce {size / red:5.0f} MB/s "
           f"(ratio {wc / red:.3f}), on one thread {size / red1:5.0f} MB/s (ratio {wc / red1:.3f}); "
           f"peak memory {mem_full:.0f} MB (a quarter of the frames: {mem_quarter:.0f} MB)")
+    out["formats"][fmt] = {"dump_mb": size, "seconds": runs, "ratio": wc / red, "ratio_one_thread": wc / red1,
+                           "peak_mb": mem_full, "peak_mb_quarter": mem_quarter}
+if os.environ["OUT"]:
+    json.dump(out, open(os.environ["OUT"], "w"), indent=1)
 PY

@@ -59,6 +59,8 @@ RECORDS = {
     "extension_counts": "bench/results/extension-counts-2026-11-29.json",
     # OUT=... bench/design_budget.sh, on the 2-core machine, idle (#50)
     "design_budget": "bench/results/design-budget-2026-11-28.json",
+    # GRANSTACK=build/ci/app/granstack OUT=... bench/reduce_vs_wc.sh 5 2, on the 2-core machine (#46)
+    "reduce_speed": "bench/results/reduce-vs-wc-2026-11-29.json",
     # the same at ca2da3e, whose script stopped each run by a window of 3 generations
     "design_budget_stagnation3": "bench/results/design-budget-stagnation3-2026-11-28.json",
 }
@@ -74,6 +76,7 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "design_yield": ["docs/how-to/design.md"], "design_example_cost": ["docs/explanation/performance.md"],
                  "oversubscription": ["docs/reference/commands.md"],
                  "extension_counts": ["docs/developer/extending.md"],
+                 "reduce_speed": ["docs/explanation/performance.md"],
                  "design_budget": ["docs/explanation/performance.md"], "design_shortcuts": ["docs/explanation/performance.md"]}
 # The study's tables: LIGGGHTS's reproduction (refsim's in the check) and the LAMMPS study's record.
 REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"], "engines_study": ["docs/explanation/lammps.md"]}
@@ -368,6 +371,20 @@ def oversubscription():
             f"{r['ratio']:.0f} times as long.\n")
 
 
+def reduce_speed():
+    """reduce's reading speed against wc -l on the same dump (bench/reduce_vs_wc.sh)."""
+    r = record("reduce_speed")
+    rows = [f"| dump | wc -l | reduce, {r['cores']} threads | ratio | one thread | ratio | peak memory (a quarter of the frames) |",
+            "|---|---|---|---|---|---|---|"]
+    for fmt, f in r["formats"].items():
+        m = {k: statistics.median(v) for k, v in f["seconds"].items()}
+        rows.append(f"| {fmt}, {f['dump_mb']:.0f} MB | {f['dump_mb'] / m['wc']:.0f} MB/s | "
+                    f"{f['dump_mb'] / m['reduce']:.0f} MB/s | {f['ratio']:.3f} | {f['dump_mb'] / m['reduce1']:.0f} MB/s | "
+                    f"{f['ratio_one_thread']:.3f} | {f['peak_mb']:.0f} MB ({f['peak_mb_quarter']:.0f} MB) |")
+    return (f"Medians of {r['repeats']} alternating runs, warm page cache (`{RECORDS['reduce_speed']}`):\n\n"
+            + "\n".join(rows) + "\n")
+
+
 def extension_counts():
     """The files each extension touched, from its commits (scripts/extension_counts.py)."""
     rows = ["| extension | commits | library and program files (by folder) | test files | deck templates | other files |",
@@ -517,7 +534,7 @@ def main():
                 engines_speed=engines_speed(), reproduce_cost=reproduce_cost(), reproduce_speed=reproduce_speed(),
                 design_front=design_front(), design_sides=design_sides(), design_yield=design_yield(),
                 design_example_cost=design_example_cost(), oversubscription=oversubscription(),
-                extension_counts=extension_counts(), design_budget=design_budget(), design_shortcuts=design_shortcuts())
+                extension_counts=extension_counts(), reduce_speed=reduce_speed(), design_budget=design_budget(), design_shortcuts=design_shortcuts())
     places = {**PLACES, **RECORD_PLACES, **REPRODUCE_PLACES}
     if "--reproduce" in sys.argv[1:]:
         made["reproduce"] = reproduce_table(exe, work, "liggghts")
