@@ -8,15 +8,13 @@
 
 namespace granstack::refsim::detail {
 
-ModelRecord model_record(const model::ContactModel& m, const ModelConstants& k, double reff, double meff) {
+ModelRecord model_record(const SubModels& m, const ModelConstants& k, double reff, double meff) {
   ModelRecord r;
-  r.rolling_friction = m.rolling == model::RollingModel::off ? 0.0 : k.rolling_friction;
-  r.lammps_alpha = k.lammps_alpha;
-  r.lammps_tangential_ratio = k.lammps_tangential_ratio;
-  if (m.normal == model::NormalModel::hooke) {
-    r.hooke_kn = model::hooke_stiffness({k.y_star, 0.0, reff, meff}, k.characteristic_velocity);
-    const double log_sq = k.restitution_log * k.restitution_log;
-    r.hooke_gamman = std::sqrt(4. * meff * r.hooke_kn * log_sq / (log_sq + M_PI * M_PI));
+  r.rolling_friction = m.rolling == RollingKernel::off ? 0.0 : k.rolling_friction;
+  if (m.normal == NormalKernel::hooke) hooke_record(k, reff, meff, r);
+  if (m.normal == NormalKernel::hertz_material_tsuji) {
+    r.lammps_alpha = k.lammps_alpha;
+    r.lammps_tangential_ratio = k.lammps_tangential_ratio;
   }
   return r;
 }
@@ -37,7 +35,7 @@ void PairTable::resize(std::size_t entries, const ForShares& shares) {
   touching.assign(entries, 0);
 }
 
-std::pair<PairRecord, ModelRecord> PairTable::describe(const model::ContactModel& model, double ra, double rb, double ma,
+std::pair<PairRecord, ModelRecord> PairTable::describe(const SubModels& model, double ra, double rb, double ma,
                                                        double mb, const PairConstants& k, const ModelConstants& mk) {
   const PairRecord r{ra,          rb,          ra * rb / (ra + rb), ma * mb / (ma + mb), k.kn_factor,
                      k.sn_factor, k.st_factor, k.damping_factor,    k.friction};

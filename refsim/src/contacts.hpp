@@ -68,7 +68,8 @@ struct ModelRecord {
   double lammps_alpha = 0.0, lammps_tangential_ratio = 0.0;
   bool operator==(const ModelRecord&) const = default;
 };
-ModelRecord model_record(const model::ContactModel& m, const ModelConstants& k, double reff, double meff);
+// A pair's record by its sub-models (each computes its own: contact_models/).
+ModelRecord model_record(const SubModels& m, const ModelConstants& k, double reff, double meff);
 
 // The candidate pairs (i < j), what does not change between neighbour-list builds, the
 // tangential history, and what each contact gives its two spheres at the last force call.
@@ -130,7 +131,7 @@ struct PairTable {
   void resize(std::size_t entries, const ForShares& shares = {});
   // What a pair of spheres of radii ra, rb and masses ma, mb with their type pair's constants
   // gives the table.
-  static std::pair<PairRecord, ModelRecord> describe(const model::ContactModel& model, double ra, double rb, double ma,
+  static std::pair<PairRecord, ModelRecord> describe(const SubModels& model, double ra, double rb, double ma,
                                                      double mb, const PairConstants& k, const ModelConstants& mk);
   // Takes a set's records into the table's; returns each one's number in the table.
   std::vector<std::int32_t> merge_records(const RecordSet& set);

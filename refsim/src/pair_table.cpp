@@ -200,7 +200,7 @@ void System::build_pairs() {
   const auto entry_start = fill_table(*pairs_, found, order, tile_start, kept, shares, [&](std::size_t i, std::size_t j) {
     const std::size_t type_pair = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
                                   static_cast<std::size_t>(type_[j] - 1);
-    return detail::PairTable::describe(p_.contact, radius_[i], radius_[j], mass_[i], mass_[j], type_constants_[type_pair],
+    return detail::PairTable::describe(pairs_->sub_models, radius_[i], radius_[j], mass_[i], mass_[j], type_constants_[type_pair],
                                        model_constants_[type_pair]);
   });
   // Where each tile's pairs start (a tile without pairs where the next one's do).

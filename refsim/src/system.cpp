@@ -3,6 +3,7 @@
 #include <granstack/refsim/neighbors.hpp>
 
 #include "contacts.hpp"
+#include "contact_models/sub_models.hpp"
 
 #include <granstack/model/contact.hpp>
 
@@ -81,10 +82,8 @@ System::System(std::vector<Particle> particles, Parameters params)
       model_constants_.push_back({});
     }
     if (pairs_->sub_models.normal == detail::NormalKernel::hertz_material_tsuji) {
-      // The coefficients granstack's LAMMPS deck gives (model/lammps.hpp).
-      const double e = p_.restitution.empty() ? 1.0 : p_.restitution[k];
-      model_constants_.back().lammps_alpha = e < 1.0 ? model::tsuji_alpha(model::lammps_tsuji_restitution(e)) : 0.0;
-      model_constants_.back().lammps_tangential_ratio = std::sqrt(4.0 * p_.g_star[k] / p_.y_star[k]);
+      detail::tsuji_constants(p_.restitution.empty() ? 1.0 : p_.restitution[k], p_.g_star[k], p_.y_star[k],
+                              model_constants_.back());
     }
   }
   choose_kernels();

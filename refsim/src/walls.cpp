@@ -36,7 +36,7 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
   const detail::ContactPoint& c = point.c;
   const std::size_t type_pair = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
                                 static_cast<std::size_t>(wall.type - 1);
-  const auto model = detail::model_record(p_.contact, model_constants_[type_pair], c.reff, c.meff);
+  const auto model = detail::model_record(rules, model_constants_[type_pair], c.reff, c.meff);
   const detail::ContactForces out = detail::contact(rules, type_constants_[type_pair], model, c, shear, roll,
                                                     update_history, p_.tangential_damping, p_.dt);
   double df[3];

@@ -27,3 +27,14 @@ Normal tsuji_normal(const PairConstants& k, const ModelRecord& r, const ContactP
 }
 
 }  // namespace granstack::refsim::detail
+
+namespace granstack::refsim::detail {
+
+// The coefficients granstack's LAMMPS deck gives (model/lammps.hpp): tsuji's alpha of the e' that
+// matches LIGGGHTS's damping of e (0 undamped), and eta_t / eta_n = sqrt(4 G* / Y*).
+void tsuji_constants(double restitution, double g_star, double y_star, ModelConstants& k) {
+  k.lammps_alpha = restitution < 1.0 ? model::tsuji_alpha(model::lammps_tsuji_restitution(restitution)) : 0.0;
+  k.lammps_tangential_ratio = std::sqrt(4.0 * g_star / y_star);
+}
+
+}  // namespace granstack::refsim::detail

@@ -76,6 +76,10 @@ struct Normal {
   double fn, kt, gammat;
   double kn;
 };
+// Each normal model's own per-pair parameters: hooke's k_n and gamma_n of the pair's R* and m*;
+// tsuji's coefficient alpha(e') of the type pair's restitution and mindlin's eta_t / eta_n.
+void hooke_record(const ModelConstants& k, double reff, double meff, ModelRecord& r);
+void tsuji_constants(double restitution, double g_star, double y_star, ModelConstants& k);
 // LIGGGHTS's hertz with restitution damping (normal_model_hertz.h).
 Normal hertz_normal(const PairConstants& k, const ContactPoint& c, bool tangential_damping);
 // LIGGGHTS's hooke (normal_model_hooke.h): k_n and gamma_n of the pair, k_t = k_n.
