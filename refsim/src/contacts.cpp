@@ -10,7 +10,7 @@ namespace granstack::refsim::detail {
 
 ModelRecord model_record(const SubModels& m, const ModelConstants& k, double reff, double meff) {
   ModelRecord r;
-  r.rolling_friction = m.rolling == RollingKernel::off ? 0.0 : k.rolling_friction;
+  r.rolling_friction = m.rolling == model::RollingModel::off ? 0.0 : k.rolling_friction;
   if (m.normal == NormalKernel::hooke) hooke_record(k, reff, meff, r);
   if (m.normal == NormalKernel::hertz_material_tsuji) {
     r.lammps_alpha = k.lammps_alpha;

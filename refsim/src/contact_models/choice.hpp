@@ -21,13 +21,14 @@ enum class NormalKernel : std::uint8_t { hertz, hooke, hertz_material_tsuji };
 // LIGGGHTS's history spring and no_history; LAMMPS's mindlin (linear_nohistory 0 0, which gives
 // no force, where the pair has no friction: tangential_mindlin.cpp).
 enum class TangentialKernel : std::uint8_t { history, no_history, mindlin };
-enum class RollingKernel : std::uint8_t { off, epsd2, cdt };
 
 struct SubModels {
   Frame frame = Frame::liggghts;
   NormalKernel normal = NormalKernel::hertz;
   TangentialKernel tangential = TangentialKernel::history;
-  RollingKernel rolling = RollingKernel::off;
+  // LIGGGHTS's rolling models, by the spec's own name (LAMMPS's deck has none): a kernel each,
+  // in composition.cpp's table.
+  model::RollingModel rolling = model::RollingModel::off;
   bool operator==(const SubModels&) const = default;
   // LIGGGHTS's hertz/history without rolling friction, the study's: the only choice the vector
   // kernels (contacts_simd.cpp) run, held to this composition to the bit.

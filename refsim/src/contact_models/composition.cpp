@@ -3,19 +3,34 @@
 // sub-models each engine's rules make of the spec's model.
 #include "sub_models.hpp"
 
+#include <fmt/format.h>
+
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
 namespace granstack::refsim::detail {
+
+namespace {
+// The rolling models' kernels, by model::RollingModel (none for off): a new rolling model is its
+// file in this folder and its line here.
+constexpr RollingTorque kRolling[] = {
+    nullptr,        // off
+    rolling_epsd2,  // epsd2
+    rolling_cdt,    // cdt
+};
+}  // namespace
 
 SubModels liggghts_rules(const model::ContactModel& m) {
   SubModels s;
   s.frame = Frame::liggghts;
   s.normal = m.normal == model::NormalModel::hooke ? NormalKernel::hooke : NormalKernel::hertz;
   s.tangential = m.tangential == model::TangentialModel::no_history ? TangentialKernel::no_history : TangentialKernel::history;
-  s.rolling = m.rolling == model::RollingModel::epsd2 ? RollingKernel::epsd2
-              : m.rolling == model::RollingModel::cdt ? RollingKernel::cdt
-                                                        : RollingKernel::off;
+  s.rolling = m.rolling;
+  if (static_cast<std::size_t>(m.rolling) >= std::size(kRolling)) {
+    throw std::logic_error(fmt::format("refsim has no kernel for rolling_model = '{}' (contact_models/composition.cpp)",
+                                       model::to_string(m.rolling)));
+  }
   return s;
 }
 
@@ -25,7 +40,7 @@ SubModels lammps_rules(const model::ContactModel& m) {
       throw std::invalid_argument("--contact-rules lammps: " + std::string(row->lammps_refusal));
     }
   }
-  return {Frame::lammps, NormalKernel::hertz_material_tsuji, TangentialKernel::mindlin, RollingKernel::off};
+  return {Frame::lammps, NormalKernel::hertz_material_tsuji, TangentialKernel::mindlin, model::RollingModel::off};
 }
 
 PairPoint pair_point(Frame f, const PairTable& t, const ContactStep& s, std::size_t p) {
@@ -98,11 +113,9 @@ ContactForces contact(const SubModels& m, const PairConstants& k, const ModelRec
   out.tor[0] = en[1] * out.ft[2] - en[2] * out.ft[1];
   out.tor[1] = en[2] * out.ft[0] - en[0] * out.ft[2];
   out.tor[2] = en[0] * out.ft[1] - en[1] * out.ft[0];
-  out.rolling = m.rolling != RollingKernel::off;
-  if (m.rolling == RollingKernel::epsd2) {
-    rolling_epsd2(roll, c, out.n, mr.rolling_friction, update_history, dt, out.rt);
-  } else if (m.rolling == RollingKernel::cdt) {
-    rolling_cdt(c, out.n, mr.rolling_friction, out.rt);
+  if (const RollingTorque kernel = kRolling[static_cast<std::size_t>(m.rolling)]) {
+    out.rolling = true;
+    kernel(roll, c, out.n, mr.rolling_friction, update_history, dt, out.rt);
   }
   return out;
 }

@@ -7,7 +7,8 @@ namespace granstack::refsim::detail {
 
 // rolling_model_cdt.h's two branches, each in its own order: a wall takes (mu_r F_n) w / |w| R*
 // with F_n = delta k_n; a pair scales w by mu_r k_n delta R* / |w|.
-void rolling_cdt(const ContactPoint& c, const Normal& n, double mu_r, double torque[3]) {
+void rolling_cdt(double* /*roll: cdt has no history*/, const ContactPoint& c, const Normal& n, double mu_r,
+                 bool /*update_history*/, double /*dt*/, double torque[3]) {
   const double* en = c.en;
   const double* wr = c.wr;
   const double deltan = c.deltan, reff = c.rolling_reff;

@@ -102,7 +102,11 @@ void tangential_no_history(const ContactPoint& c, const Normal& n, double mu, do
 void tangential_mindlin(double shear[3], const ContactPoint& c, const Normal& n, double mu, bool update_history,
                         double dt, double ft[3]);
 
-// The rolling torque: minus `torque` on the first body, plus on the second.
+// The rolling torque: minus `torque` on the first body, plus on the second, from the contact, the
+// normal model's output, mu_r and the rolling history `roll` (updated when `update_history`; a
+// model without history leaves it alone). Every rolling model's kernel has this form.
+using RollingTorque = void (*)(double roll[3], const ContactPoint& c, const Normal& n, double mu_r, bool update_history,
+                               double dt, double torque[3]);
 // epsd2 (rolling_model_epsd2.h, torsionTorque off): the rotation's tangential part drives a
 // spring of stiffness k_t R*^2 on the history `roll`, capped at mu_r R* |F_n|.
 void rolling_epsd2(double roll[3], const ContactPoint& c, const Normal& n, double mu_r, bool update_history, double dt,
@@ -110,7 +114,8 @@ void rolling_epsd2(double roll[3], const ContactPoint& c, const Normal& n, doubl
 // cdt (rolling_model_cdt.h, torsionTorque off): mu_r R* k_n delta along the rotation (none while
 // it is zero), less its part along the normal; no history. LIGGGHTS forms it in two orders, a
 // wall's and a pair's.
-void rolling_cdt(const ContactPoint& c, const Normal& n, double mu_r, double torque[3]);
+void rolling_cdt(double roll[3], const ContactPoint& c, const Normal& n, double mu_r, bool update_history, double dt,
+                 double torque[3]);
 
 // What the composition gives the first body: the normal part, the tangential force and n x Ft
 // (the torque on each body is minus its lever arm times it), and the rolling torque (minus it on
