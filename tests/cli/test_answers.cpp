@@ -313,6 +313,7 @@ TEST_F(Answers, OutputDigestsAreTheOnesTheCommonToolsPrint) {
 TEST_F(Answers, RefsimByLammpsRulesRefusesWhatLammpsCannotRun) {
   const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
       {{"--normal-model", "hooke"}, "normal_model = 'hooke' has no counterpart in LAMMPS"},
+      {{"--tangential-model", "no_history"}, "tangential_model = 'no_history' is not mapped onto LAMMPS"},
       {{"--rolling-model", "epsd2", "--rolling-friction", "0.1"}, "rolling_model = 'epsd2' has no counterpart"},
       {{"--rolling-model", "cdt", "--rolling-friction", "0.1"}, "rolling_model = 'cdt' has no counterpart"},
       {{"--restitution", "0.06"}, "restitution 0.06: the tsuji damping of LAMMPS 29 Sep 2021 spans"}};
