@@ -12,6 +12,7 @@
 #include <granstack/postproc/table.hpp>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>

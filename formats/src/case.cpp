@@ -3,6 +3,7 @@
 #include <granstack/formats/files.hpp>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <system_error>
 
@@ -12,10 +13,10 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 std::string run_engine(const RunRecord& record) {
-  const auto engine = record.record.value("engine", json());
+  const auto engine = record.record->value("engine", json());
   if (!engine.is_string()) return "";
   const auto name = engine.get<std::string>();
-  return name == "refsim" && record.record.value("contact_rules", std::string()) == "lammps" ? "refsim (LAMMPS's rules)" : name;
+  return name == "refsim" && record.record->value("contact_rules", std::string()) == "lammps" ? "refsim (LAMMPS's rules)" : name;
 }
 
 RunRecord read_run_record(const fs::path& case_dir, const CaseFiles& files) {
@@ -26,11 +27,11 @@ RunRecord read_run_record(const fs::path& case_dir, const CaseFiles& files) {
   if (!fs::exists(path, ec)) return r;
   try {
     r.record = json::parse(read_file(path));
-    if (!r.record.is_object() || !r.record.contains("status") || !r.record.at("status").is_string()) {
+    if (!r.record->is_object() || !r.record->contains("status") || !r.record->at("status").is_string()) {
       throw std::runtime_error("it has no status");
     }
-    r.status = r.record.at("status").get<std::string>();
-    r.error = r.record.value("error", std::string());
+    r.status = r.record->at("status").get<std::string>();
+    r.error = r.record->value("error", std::string());
   } catch (const std::exception& e) {
     r.record = json::object();
     r.status = "damaged";
@@ -42,7 +43,7 @@ RunRecord read_run_record(const fs::path& case_dir, const CaseFiles& files) {
 long frames_written(const Case& c) {
   if (c.spec().stop != model::StopRule::blow_end) return c.derived().frames();
   const auto record = read_run_record(c.dir(), c.files());
-  const auto steps = record.record.value("steps", json());
+  const auto steps = record.record->value("steps", json());
   if (!steps.is_number_integer() || steps.get<long>() < 0 || steps.get<long>() > c.derived().steps ||
       steps.get<long>() % c.derived().dump_every != 0) {
     throw FormatError((fs::path(c.dir()) / c.files().run_record).string(), 0,
@@ -72,7 +73,7 @@ Case Case::open(const std::string& dir) {
   c.dir_ = dir;
   c.manifest_ = read_manifest(dir);
   const auto source = (fs::path(dir) / "manifest.json").string();
-  const auto& d = c.manifest_.derived;
+  const auto& d = *c.manifest_.derived;
   c.derived_ = {derived_value<double>(d, "dt", source), derived_value<double>(d, "duration", source),
                 derived_value<long>(d, "steps", source), derived_value<long>(d, "dump_every", source),
                 derived_value<long>(d, "series_every", source)};
@@ -89,7 +90,7 @@ const model::Stack& Case::stack() const {
 
 model::Cost Case::cost() const {
   const auto source = path("manifest.json").string();
-  const long spheres = derived_value<long>(manifest_.derived, "sphere_count", source);
+  const long spheres = derived_value<long>(*manifest_.derived, "sphere_count", source);
   return model::estimate_cost(manifest_.spec, spheres, derived_.steps, derived_.dump_every, derived_.series_every);
 }
 

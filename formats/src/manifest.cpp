@@ -6,6 +6,7 @@
 #include <granstack/model/spec_fields.hpp>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <filesystem>
@@ -69,8 +70,8 @@ json manifest_to_json(const Manifest& m) {
            {{"data", m.files.data}, {"deck", m.files.deck}, {"dump", m.files.dump}, {"series", m.files.series},
             {"log", m.files.log}, {"screen", m.files.screen}, {"run_record", m.files.run_record},
             {"dump_columns", m.files.dump_columns}, {"series_columns", m.files.series_columns}}},
-          {"derived", m.derived},
-          {"layout", m.layout}};
+          {"derived", *m.derived},
+          {"layout", *m.layout}};
   j["rendered"] = {{"deck_sha256", m.rendered.deck_sha256}, {"data_sha256", m.rendered.data_sha256},
                    {"content_sha256", content_digest(j)}};
   return j;

@@ -81,7 +81,7 @@ class ForeignFinder {
     }
     for (const auto& f : kReduceFiles) files.insert("reduce/" + f);
     try {  // what the run made beyond those (a user's template writing more files): run.json lists them
-      for (const auto& f : read_run_record(dir, m.files).record.value("outputs", json::array())) {
+      for (const auto& f : read_run_record(dir, m.files).record->value("outputs", json::array())) {
         files.insert(f.get<std::string>());
       }
     } catch (const std::exception&) {

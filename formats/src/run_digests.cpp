@@ -6,6 +6,7 @@
 #include <granstack/formats/run_digests.hpp>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <cerrno>
 #include <cstring>
@@ -147,12 +148,12 @@ json run_digests(const Case& c) {
 
 std::string files_not_as_run(const Case& c, const RunRecord& record, DigestCheck how,
                              const std::set<std::string>& digested_by_caller) {
-  if (!record.record.contains("digests")) {
+  if (!record.record->contains("digests")) {
     return "its run.json holds no digests of what its run wrote (a record from a granstack before they were kept, or "
            "edited), so nothing vouches that the outputs in the case are this case's run's and not another's" +
            record_problem(c.path(c.files().run_record));
   }
-  const auto& d = record.record.at("digests");
+  const auto& d = record.record->at("digests");
   if (!d.is_object()) return "its run.json's digests are damaged" + record_problem(c.path(c.files().run_record));
   auto why = check_case(c, d);
   if (why.empty()) why = check_inputs(c, d.value("inputs", json::object()));
@@ -162,7 +163,7 @@ std::string files_not_as_run(const Case& c, const RunRecord& record, DigestCheck
 
 std::string output_not_as_run(const Case& c, const RunRecord& record, const std::string& name,
                               const std::optional<std::string>& xxh128) {
-  const auto& outputs = record.record.value("digests", json::object()).value("outputs", json::object());
+  const auto& outputs = record.record->value("digests", json::object()).value("outputs", json::object());
   const auto it = outputs.find(name);
   const auto p = present(c, name);
   // Not recorded or missing: files_not_as_run said so; a SHA-256 record: it checked the content.
@@ -195,7 +196,7 @@ bool output_folders_hold_more(const fs::path& case_dir, const json& outputs) {
 }  // namespace
 
 bool files_untouched_since_run(const fs::path& case_dir, const RunRecord& record) {
-  const auto& d = record.record.value("digests", json());
+  const auto& d = record.record->value("digests", json());
   if (!d.is_object()) return false;
   for (const char* part : {"inputs", "outputs"}) {
     const auto& files = d.value(part, json());

@@ -10,6 +10,7 @@
 #include <granstack/os/case_lock.hpp>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #include <fmt/ranges.h>
 
 #include <chrono>
@@ -502,7 +503,7 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
     m.created = created;
     m.command_line = options.command_line;
     m.derived = derived_json(stack, res);
-    for (const auto& [key, value] : m.derived.items()) {
+    for (const auto& [key, value] : m.derived->items()) {
       if (value.is_number_float() && !std::isfinite(value.get<double>())) {
         throw std::runtime_error(fmt::format("case {}: the derived value {} is not finite; please report this spec", c.name, key));
       }

@@ -2,6 +2,7 @@
 #include <granstack/postproc/table.hpp>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <map>

@@ -6,6 +6,7 @@
 #include <granstack/study/engines.hpp>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -65,7 +66,7 @@ OtherReproduction read_other_report(const std::string& dir) {
                                      "directory of a finished `granstack reproduce`",
                                      dir, path.string(), formats::short_reason(e)));
   }
-  auto& j = o.report;
+  auto& j = *o.report;
   if (!j.is_object() || !j.contains("engine") || !j["engine"].is_string() || !j.contains("experiments") ||
       !j["experiments"].is_array()) {
     throw AgainstError(fmt::format("--against {}: {} is not a reproduction's report (no engine or experiments)", dir,
@@ -142,7 +143,7 @@ EngineComparison compare_engines(const StudyResult& r, const OtherReproduction& 
   c.engine_there = other.engine;
   for (const auto& e : r.experiments) {
     const nlohmann::json* theirs = nullptr;
-    for (const auto& x : other.report["experiments"]) {
+    for (const auto& x : (*other.report)["experiments"]) {
       if (x.value("name", "") == e.experiment->name) theirs = &x;
     }
     const auto cause = difference_cause(*e.experiment, c.engine_here, c.engine_there);

@@ -83,8 +83,8 @@ TEST(Export, VtkReadsEverySphereOfTheChosenFramesAsTheDumpHasIt) {
 
   const auto m = formats::read_manifest(case_dir().string());
   const auto stack = model::Stack::build(m.spec);
-  const long every = m.derived.at("dump_every"), steps = m.derived.at("steps");
-  const double dt = m.derived.at("dt");
+  const long every = m.derived->at("dump_every"), steps = m.derived->at("steps");
+  const double dt = m.derived->at("dt");
   const auto frames = dump_frames(case_dir());
   const auto series = formats::read_series((case_dir() / m.files.series).string());
   const long count = steps / every + 1;
@@ -126,7 +126,7 @@ TEST(Export, VtkReadsEverySphereOfTheChosenFramesAsTheDumpHasIt) {
     }
     // The spheres' energies add up to LIGGGHTS's own in-situ sums (blocks and striker), and at
     // step 0 (before the series' first row) to the striker's 1/2 m v0^2.
-    double engine = m.derived.at("e_in");
+    double engine = m.derived->at("e_in");
     const auto at_step = std::find_if(series.rows.begin(), series.rows.end(),
                                       [&](const auto& row) { return row.at(0) == static_cast<double>(step); });
     if (step != 0) {

@@ -58,7 +58,7 @@ nlohmann::json run_decomposed(const std::string& dir, int ranks, std::array<int,
   o.force = true;
   const auto outcome = runner::run_cases({dir}, o).at(0);
   EXPECT_EQ(outcome.status, runner::RunStatus::done) << outcome.message;
-  return formats::Case::open(dir).run_record().record.at("decomposition");
+  return formats::Case::open(dir).run_record().record->at("decomposition");
 }
 
 }  // namespace

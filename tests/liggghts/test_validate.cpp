@@ -272,7 +272,7 @@ model::StackSpec blow_end_spec(int blocks, std::vector<int> rows, std::vector<st
 
 long steps_run(const fs::path& dir) {
   const auto c = formats::Case::open(dir.string());
-  return formats::read_run_record(dir, c.files()).record.at("steps").get<long>();
+  return formats::read_run_record(dir, c.files()).record->at("steps").get<long>();
 }
 
 void PrintTo(const BlowEndCase& c, std::ostream* os) { *os << c.name; }

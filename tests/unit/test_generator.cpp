@@ -127,8 +127,8 @@ TEST_F(CaseWriter, WritesACaseAndRefusesToOverwriteWithoutForce) {
   const auto m = formats::read_manifest(o.output.string());
   EXPECT_EQ(m.case_name, "case");
   EXPECT_EQ(m.spec.blocks, 1);
-  EXPECT_EQ(m.derived.at("sphere_count"), 17);
-  EXPECT_EQ(m.layout.at("output_sphere_id"), 17);
+  EXPECT_EQ(m.derived->at("sphere_count"), 17);
+  EXPECT_EQ(m.layout->at("output_sphere_id"), 17);
   EXPECT_EQ(m.command_line, o.command_line);
 
   std::ofstream(o.output / "precious.txt") << "a result";

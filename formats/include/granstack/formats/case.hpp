@@ -3,12 +3,13 @@
 // values generate derived for it (typed, from the manifest: the deck's own dt and step count),
 // its files, its run record (run.json: the one reader and writer) and its lock. Every command
 // that works on a case opens it through here.
+#include <granstack/formats/json_box.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
 #include <granstack/os/case_lock.hpp>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <filesystem>
 #include <memory>
@@ -35,7 +36,7 @@ struct Derived {
 struct RunRecord {
   std::string status;         // "" when there is none, "damaged" when it cannot be read
   std::string error;          // a failed run's message (its first line in `error_line()`), or why it is damaged
-  nlohmann::json record;      // the whole record (an empty object when none or damaged)
+  JsonBox record;             // the whole record (an empty object when none or damaged)
   bool exists() const { return !status.empty(); }
   bool done() const { return status == "done"; }
   std::string error_line() const { return error.substr(0, error.find('\n')); }

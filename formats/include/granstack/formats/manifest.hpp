@@ -2,9 +2,10 @@
 // The case manifest (manifest.json): the spec, provenance, the files of the case, and the
 // derived values and id index the generator computed (informative: readers rebuild the
 // stack from the spec, which is deterministic).
+#include <granstack/formats/json_box.hpp>
 #include <granstack/model/spec.hpp>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <string>
 #include <vector>
@@ -50,8 +51,8 @@ struct Manifest {
   std::string git_commit;
   std::string created;                    // ISO 8601, UTC
   std::vector<std::string> command_line;  // argv of the generating command
-  nlohmann::json derived;                 // informative
-  nlohmann::json layout;                  // informative
+  JsonBox derived;                        // informative
+  JsonBox layout;                         // informative
   Rendered rendered;
 };
 

@@ -1,9 +1,8 @@
 #pragma once
 // A reproduction set beside another engine's (reproduce --against DIR): each claim's value on
 // both, how far apart, whether its verdict changed, and why the engines differ on it.
+#include <granstack/formats/json_box.hpp>
 #include <granstack/study/reproduce.hpp>
-
-#include <nlohmann/json.hpp>
 
 #include <string>
 
@@ -12,7 +11,7 @@ namespace granstack::study {
 // Another reproduction, vouched for by its cases.
 struct OtherReproduction {
   std::string dir;
-  nlohmann::json report;  // its report.json
+  formats::JsonBox report;  // its report.json
   std::string engine;     // the engine its cases ran on, by their run.json
 };
 
