@@ -92,6 +92,13 @@ template std::string keyword_list<RollingModel>(bool);
 std::string_view to_string(NormalModel m) { return info(m).keyword; }
 std::string_view to_string(TangentialModel m) { return info(m).keyword; }
 std::string_view to_string(RollingModel m) { return info(m).keyword; }
+
+std::string_view lammps_refusal(const ContactModel& m) {
+  for (const auto* row : {&info(m.normal), &info(m.tangential), &info(m.rolling)}) {
+    if (!row->lammps_refusal.empty()) return row->lammps_refusal;
+  }
+  return {};
+}
 std::optional<NormalModel> parse_normal_model(std::string_view s) { return parse<NormalModel>(s); }
 std::optional<TangentialModel> parse_tangential_model(std::string_view s) { return parse<TangentialModel>(s); }
 std::optional<RollingModel> parse_rolling_model(std::string_view s) { return parse<RollingModel>(s); }

@@ -140,10 +140,7 @@ std::string lammps_unmappable(const StackSpec& spec, const LammpsRules& rules) {
 }
 
 std::string lammps_contact_unmappable(const StackSpec& spec, const LammpsRules& rules) {
-  const auto model = spec.contact_model();
-  for (const auto* m : {&info(model.normal), &info(model.tangential), &info(model.rolling)}) {
-    if (!m->lammps_refusal.empty()) return std::string(m->lammps_refusal);
-  }
+  if (const auto why = lammps_refusal(spec.contact_model()); !why.empty()) return std::string(why);
   std::set<double> restitutions{spec.restitution.value};
   for (const auto& [pair, e] : spec.restitution.pairs) restitutions.insert(e);
   for (const double e : restitutions) {

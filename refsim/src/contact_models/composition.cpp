@@ -35,10 +35,8 @@ SubModels liggghts_rules(const model::ContactModel& m) {
 }
 
 SubModels lammps_rules(const model::ContactModel& m) {
-  for (const auto* row : {&model::info(m.normal), &model::info(m.tangential), &model::info(m.rolling)}) {
-    if (!row->lammps_refusal.empty()) {
-      throw std::invalid_argument("--contact-rules lammps: " + std::string(row->lammps_refusal));
-    }
+  if (const auto why = model::lammps_refusal(m); !why.empty()) {
+    throw std::invalid_argument("--contact-rules lammps: " + std::string(why));
   }
   return {Frame::lammps, NormalKernel::hertz_material_tsuji, TangentialKernel::mindlin, model::RollingModel::off};
 }

@@ -106,6 +106,9 @@ struct ContactModel {
   }
   bool operator==(const ContactModel&) const = default;
 };
+// Why granstack's LAMMPS mapping has no counterpart for a sub-model of `m` (its row's
+// lammps_refusal, the first that has one), or "".
+std::string_view lammps_refusal(const ContactModel& m);
 
 // The words after 'pair_style gran' and 'fix ... wall/gran': "model hertz tangential history",
 // with " rolling_friction epsd2" (or cdt) when a rolling model is on.
