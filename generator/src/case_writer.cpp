@@ -247,6 +247,10 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
       y_list, nu_list, nt, e_matrix, nt, mu_matrix, contact_model_fixes(spec, types));
   const auto model = spec.contact_model();
   v["contact_model"] = model::liggghts_model_words(model);
+  if (const auto why = model::liggghts_refusal(model); !why.empty()) {
+    // The deck names the spec's model all the same, and LIGGGHTS stops at it; say why beforehand.
+    v["material_fixes"] += fmt::format("\n# LIGGGHTS cannot run this case: {}.", why);
+  }
 
   std::string walls;
   const std::string wall_fix = fmt::format("all wall/gran {} primitive type", model::liggghts_model_words(model));

@@ -30,7 +30,7 @@ std::string pair_coeff_lines(const model::StackSpec& spec, const std::vector<std
       const auto& a = types[i];
       const auto& b = types[j];
       const auto c = model::lammps_contact(lib.at(a), lib.at(b), spec.restitution.get(a, b), spec.friction.get(a, b), false, rules);
-      out += fmt::format("pair_coeff      {} {} {}\n", i + 1, j + 1, model::lammps_contact_words(c, rules));
+      out += fmt::format("pair_coeff      {} {} {}\n", i + 1, j + 1, model::lammps_contact_words(c, rules, spec.tangential_model));
     }
   }
   out.pop_back();
@@ -61,7 +61,7 @@ std::string wall_lines(const model::Stack& stack, const std::vector<std::string>
       const auto c = model::lammps_contact(lib.at(types[t]), lib.at(wall_material), spec.restitution.get(types[t], wall_material),
                                            spec.friction.get(types[t], wall_material), true, rules);
       out += fmt::format("fix             {}_{} gs_type{} wall/gran granular {} {}plane {}{}\n", w.name, type, type,
-                         model::lammps_contact_words(c, rules), "xyz"[w.axis], plane,
+                         model::lammps_contact_words(c, rules, spec.tangential_model), "xyz"[w.axis], plane,
                          w.name == model::kBottomWallName ? " contacts" : "");
     }
   }

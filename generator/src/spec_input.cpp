@@ -235,6 +235,11 @@ std::vector<SpecIssue> ignored_fields(const model::StackSpec& s, const std::set<
                                                    "rolling_friction > 0 (0..1), or leave rolling_model off",
                                                    model::to_string(s.rolling_model))});
   }
+  if (s.tangential_model == model::TangentialModel::mindlin_rescale && all_zero(s.friction)) {
+    issues.push_back({"tangential_model", "mindlin_rescale with friction 0 everywhere exerts no tangential force (LAMMPS "
+                                          "applies none without friction): give friction > 0, or leave tangential_model "
+                                          "at history"});
+  }
   const bool elastic = s.restitution.value == 1.0 &&
                        std::all_of(s.restitution.pairs.begin(), s.restitution.pairs.end(),
                                    [](const auto& p) { return p.second == 1.0; });

@@ -22,11 +22,18 @@ constexpr std::array<SubModelInfo, 2> kNormal{{
      "normal_model = 'hooke' has no counterpart in LAMMPS's granular styles (its hooke spring is a constant per type "
      "pair, LIGGGHTS's depends on each pair's masses and the characteristic velocity); use normal_model = 'hertz'"},
 }};
-constexpr std::array<SubModelInfo, 2> kTangential{{
-    {"history", "history (a spring limited by Coulomb)", "", ""},
+constexpr std::array<SubModelInfo, 3> kTangential{{
+    {"history", "history (a spring limited by Coulomb)", "", "", "", "mindlin"},
     {"no_history", "no_history (viscous)", "`no_history`: viscous, capped at `mu F_n`; no tangential force at all at e = 1",
      "tangential_model = 'no_history' is not mapped onto LAMMPS (its linear_nohistory damps with a constant, "
      "LIGGGHTS's with the Hertz overlap); use tangential_model = 'history'"},
+    {"mindlin_rescale", "mindlin_rescale (LAMMPS's: history's spring, rescaled as the contact unloads)",
+     "`mindlin_rescale` (LAMMPS's, not LIGGGHTS's): history's Mindlin spring, its displacement scaled down with the "
+     "contact radius as the contact unloads ([physics](../physics.md#other-contact-models))",
+     "", "tangential_model = 'mindlin_rescale' is LAMMPS's (pair_style granular); LIGGGHTS 3.8 has no counterpart: run "
+     "it on LAMMPS or on refsim by LAMMPS's rules (run --engine lammps, run --engine refsim --contact-rules lammps, "
+     "validate --engines lammps,refsim), or use tangential_model = 'history'",
+     "mindlin_rescale"},
 }};
 constexpr std::array<SubModelInfo, 3> kRolling{{
     {"off", "off", "", ""},
@@ -93,12 +100,18 @@ std::string_view to_string(NormalModel m) { return info(m).keyword; }
 std::string_view to_string(TangentialModel m) { return info(m).keyword; }
 std::string_view to_string(RollingModel m) { return info(m).keyword; }
 
-std::string_view lammps_refusal(const ContactModel& m) {
+namespace {
+// The first of m's sub-models' rows that has a refusal in `column`.
+std::string_view first_refusal(const ContactModel& m, std::string_view SubModelInfo::*column) {
   for (const auto* row : {&info(m.normal), &info(m.tangential), &info(m.rolling)}) {
-    if (!row->lammps_refusal.empty()) return row->lammps_refusal;
+    if (!(row->*column).empty()) return row->*column;
   }
   return {};
 }
+}  // namespace
+
+std::string_view lammps_refusal(const ContactModel& m) { return first_refusal(m, &SubModelInfo::lammps_refusal); }
+std::string_view liggghts_refusal(const ContactModel& m) { return first_refusal(m, &SubModelInfo::liggghts_refusal); }
 std::optional<NormalModel> parse_normal_model(std::string_view s) { return parse<NormalModel>(s); }
 std::optional<TangentialModel> parse_tangential_model(std::string_view s) { return parse<TangentialModel>(s); }
 std::optional<RollingModel> parse_rolling_model(std::string_view s) { return parse<RollingModel>(s); }

@@ -116,15 +116,15 @@ LammpsContact lammps_contact(const Material& a, const Material& b, double restit
   return c;
 }
 
-std::string lammps_contact_words(const LammpsContact& c, const LammpsRules& rules) {
+std::string lammps_contact_words(const LammpsContact& c, const LammpsRules& rules, TangentialModel tangential) {
   const bool damped = c.tsuji_restitution >= 0.0;
   std::string words = fmt::format("hertz/material {:.17g} {:.17g} {:.17g}", c.youngs_modulus,
                                   damped ? c.tsuji_restitution : 0.0, c.poisson_ratio);
   words += !damped ? " damping viscoelastic"
                    : rules.damping == LammpsDamping::coeff_restitution ? " damping coeff_restitution" : " damping tsuji";
   if (c.friction > 0.0) {
-    words += fmt::format(" tangential mindlin {:.17g} {:.17g} {:.17g}", c.tangential_stiffness, c.tangential_damping,
-                         c.friction);
+    words += fmt::format(" tangential {} {:.17g} {:.17g} {:.17g}", info(tangential).lammps_word, c.tangential_stiffness,
+                         c.tangential_damping, c.friction);
   } else {
     words += " tangential linear_nohistory 0 0";
   }

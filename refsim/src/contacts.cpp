@@ -22,7 +22,7 @@ ModelRecord model_record(const SubModels& m, const ModelConstants& k, double ref
 void PairTable::clear() {
   count = 0;
   for (auto* a : {&i, &j, &record}) a->clear();
-  for (auto* a : {&shear_x, &shear_y, &shear_z, &roll_x, &roll_y, &roll_z}) a->clear();
+  for (auto* a : {&shear_x, &shear_y, &shear_z, &shear_a, &roll_x, &roll_y, &roll_z}) a->clear();
   touching.clear();
   records.assign(1, PairRecord{});
   model_records.assign(1, ModelRecord{});
@@ -31,7 +31,7 @@ void PairTable::clear() {
 void PairTable::resize(std::size_t entries, const ForShares& shares) {
   count = entries;
   for (auto* a : {&i, &j, &record}) fill_in_shares(*a, entries, 0, shares);
-  for (auto* a : {&shear_x, &shear_y, &shear_z, &roll_x, &roll_y, &roll_z}) fill_in_shares(*a, entries, 0.0, shares);
+  for (auto* a : {&shear_x, &shear_y, &shear_z, &shear_a, &roll_x, &roll_y, &roll_z}) fill_in_shares(*a, entries, 0.0, shares);
   touching.assign(entries, 0);
 }
 
@@ -69,7 +69,7 @@ void PairTable::finish(const ForShares& shares) {
   i.resize(n, count > 0 ? i[count - 1] : 0);
   j.resize(n, count > 0 ? j[count - 1] : 0);
   record.resize(n, 0);
-  for (auto* a : {&shear_x, &shear_y, &shear_z, &roll_x, &roll_y, &roll_z}) a->resize(n, 0.0);
+  for (auto* a : {&shear_x, &shear_y, &shear_z, &shear_a, &roll_x, &roll_y, &roll_z}) a->resize(n, 0.0);
   touching.resize(n, 0);
   // Forces of one side, torques of two, and room for a 16-wide read past the last entry.
   for (auto* a : {&fx, &fy, &fz}) fill_in_shares(*a, n + static_cast<std::size_t>(kWindow), 0.0, shares);
@@ -254,7 +254,7 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
   if (!point.touching) {
     if (point.forget) {
       t.touching[p] = 0;
-      t.shear_x[p] = t.shear_y[p] = t.shear_z[p] = 0.0;
+      t.shear_x[p] = t.shear_y[p] = t.shear_z[p] = t.shear_a[p] = 0.0;
       t.roll_x[p] = t.roll_y[p] = t.roll_z[p] = 0.0;
     }
     zero_contribution(t, p);
@@ -263,13 +263,14 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
   t.touching[p] = 1;
   const ContactPoint& c = point.c;
   const std::size_t record = static_cast<std::size_t>(t.record[p]);
-  double shear[3] = {t.shear_x[p], t.shear_y[p], t.shear_z[p]};
+  double shear[kShearHistory] = {t.shear_x[p], t.shear_y[p], t.shear_z[p], t.shear_a[p]};
   double roll[3] = {t.roll_x[p], t.roll_y[p], t.roll_z[p]};
   const ContactForces out = contact(t.sub_models, t.records[record].constants(), t.model_records[record], c, shear, roll,
                                     s.update_history, s.tangential_damping, s.dt);
   t.shear_x[p] = shear[0];
   t.shear_y[p] = shear[1];
   t.shear_z[p] = shear[2];
+  t.shear_a[p] = shear[3];
   // The force on j is (0 + -fn en) + -ft, the exact negative of this but for the sign of a zero
   // (which a sum that starts at +0 never shows): the sums subtract this.
   const std::size_t q = t.padded() + p;

@@ -89,6 +89,10 @@ struct RecordSet {
   std::int32_t intern(const PairRecord& r, const ModelRecord& mr);
 };
 
+// A contact's tangential history: the spring's displacement (x, y, z), then mindlin_rescale's
+// contact radius at its last update (LAMMPS's history[3]; unused by the other models).
+inline constexpr std::size_t kShearHistory = 4;
+
 struct PairTable {
   std::size_t count = 0;  // entries, padding (record 0) included; the arrays hold padded()
   AlignedVector<std::int32_t> i, j;
@@ -101,6 +105,7 @@ struct PairTable {
   AlignedVector<double> roll_x, roll_y, roll_z;     // epsd2's torque history (r_torque_old)
   AlignedVector<std::int32_t> record;               // per pair, its record
   AlignedVector<double> shear_x, shear_y, shear_z;  // the tangential displacement history
+  AlignedVector<double> shear_a;  // mindlin_rescale's contact radius at the last update (kShearHistory)
   // At its last evaluation (kept across rebuilds); not kept for a torque_free table, whose
   // history is +0 throughout, so that which history survives a rebuild does not matter.
   std::vector<std::uint8_t> touching;

@@ -21,7 +21,7 @@ struct Candidate {
 // A pair's history carried across a rebuild.
 struct Kept {
   bool touching;
-  double shear[3], roll[3];
+  double shear[detail::kShearHistory], roll[3];
 };
 
 // The table's entries: the candidates in `order`, each tile's group padded to whole kernel
@@ -61,6 +61,7 @@ std::vector<std::size_t> fill_table(detail::PairTable& pairs, const std::vector<
           pairs.shear_x[q] = k.shear[0];
           pairs.shear_y[q] = k.shear[1];
           pairs.shear_z[q] = k.shear[2];
+          pairs.shear_a[q] = k.shear[3];
           pairs.roll_x[q] = k.roll[0];
           pairs.roll_y[q] = k.roll[1];
           pairs.roll_z[q] = k.roll[2];
@@ -97,13 +98,15 @@ std::vector<Kept> kept_history(const detail::PairTable& old, const std::vector<C
   if (old_order.empty()) return {};
   std::sort(old_order.begin(), old_order.end(),
             [&](std::size_t a, std::size_t b) { return old.i[a] != old.i[b] ? old.i[a] < old.i[b] : old.j[a] < old.j[b]; });
-  std::vector<Kept> kept(found.size(), Kept{false, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}});
+  std::vector<Kept> kept(found.size(), Kept{false, {0.0, 0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}});
   for (std::size_t c = 0, o = 0; c < found.size(); ++c) {
     const auto& f = found[c];
     while (o < old_order.size() && (old.i[old_order[o]] < f.i || (old.i[old_order[o]] == f.i && old.j[old_order[o]] < f.j))) ++o;
     const std::size_t q = o < old_order.size() ? old_order[o] : 0;
     if (o < old_order.size() && old.i[q] == f.i && old.j[q] == f.j && old.touching[q] && f.touching) {
-      kept[c] = {true, {old.shear_x[q], old.shear_y[q], old.shear_z[q]}, {old.roll_x[q], old.roll_y[q], old.roll_z[q]}};
+      kept[c] = {true,
+                 {old.shear_x[q], old.shear_y[q], old.shear_z[q], old.shear_a[q]},
+                 {old.roll_x[q], old.roll_y[q], old.roll_z[q]}};
     }
   }
   return kept;

@@ -59,7 +59,7 @@ System::System(std::vector<Particle> particles, Parameters params)
       w_[d * stride_ + i] = pa.omega[d];
     }
   }
-  wall_history_.assign(3 * n_ * p_.walls.size(), 0.0);
+  wall_history_.assign(detail::kShearHistory * n_ * p_.walls.size(), 0.0);
   wall_roll_.assign(3 * n_ * p_.walls.size(), 0.0);
   wall_store_.assign(p_.stored_wall >= 0 ? 3 * n_ : 0, 0.0);
   wall_touched_.assign(n_ * p_.walls.size(), 0);

@@ -23,13 +23,13 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
   const detail::WallPoint point = detail::wall_point(rules.frame, wall.axis, wall.position,
                                                      x_[static_cast<std::size_t>(wall.axis) * stride_ + i], radius_[i],
                                                      mass_[i], v.data(), w.data());
-  double* shear = &wall_history_[3 * (wi * n_ + i)];
+  double* shear = &wall_history_[detail::kShearHistory * (wi * n_ + i)];
   double* roll = &wall_roll_[3 * (wi * n_ + i)];
   wall_touched_[wi * n_ + i] = point.touching;
   const bool stored = static_cast<int>(wi) == p_.stored_wall;
   if (stored) wall_store_[3 * i] = wall_store_[3 * i + 1] = wall_store_[3 * i + 2] = 0.0;
   if (!point.touching) {  // a wall's history never survives a separation
-    shear[0] = shear[1] = shear[2] = 0.0;
+    shear[0] = shear[1] = shear[2] = shear[3] = 0.0;
     roll[0] = roll[1] = roll[2] = 0.0;
     return;
   }

@@ -7,6 +7,7 @@
 
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/log.hpp>
+#include <granstack/model/contact.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/os/process.hpp>
 
@@ -322,7 +323,10 @@ void remove_forced_restarts(const fs::path& dir, fs::file_time_type since) {
 class Liggghts final : public CaseEngine {
  public:
   std::string lock_holder() const override { return "granstack run"; }
-  std::string unavailable(const formats::Case&, const RunOptions& o) const override { return program_unavailable("LIGGGHTS", o.liggghts, "--liggghts", "liggghts", o); }
+  std::string unavailable(const formats::Case& c, const RunOptions& o) const override {
+    if (const auto why = model::liggghts_refusal(c.spec().contact_model()); !why.empty()) return "LIGGGHTS: " + std::string(why);
+    return program_unavailable("LIGGGHTS", o.liggghts, "--liggghts", "liggghts", o);
+  }
   EngineResult run(const formats::Case& c, const RunOptions& o, const std::function<void(long)>& on_step,
                    const std::function<void()>& on_started) const override {
     return run_program(c, o, {"LIGGGHTS", o.liggghts, c.files(), "liggghts_version", {}}, on_step, on_started);

@@ -86,6 +86,8 @@ class Refsim final : public CaseEngine {
       if (const auto why = model::lammps_contact_unmappable(c.spec(), model::lammps_rules_run_here()); !why.empty()) {
         return "refsim --contact-rules lammps: " + why;
       }
+    } else if (const auto why = model::liggghts_refusal(c.spec().contact_model()); !why.empty()) {
+      return "refsim by LIGGGHTS's contact rules (the default): " + std::string(why);
     }
     return refsim_unavailable(c.dir(), c.manifest());
   }

@@ -305,6 +305,35 @@ TEST_F(Answers, OutputDigestsAreTheOnesTheCommonToolsPrint) {
 
 }  // namespace
 
+// A model of LAMMPS's that LIGGGHTS lacks (tangential mindlin_rescale) is refused by LIGGGHTS and
+// by refsim by LIGGGHTS's rules, by name and before the case is touched, and runs by LAMMPS's
+// rules; without friction it would exert nothing, and generate says so.
+TEST_F(Answers, ALammpsModelIsRefusedByLiggghtsRules) {
+  const auto c = path("rescale");
+  ASSERT_EQ(granstack({"generate", "-o", c.string(), "--blocks", "2", "--rows", "3", "--friction", "0.3",
+                       "--tangential-model", "mindlin_rescale"})
+                .code,
+            0);
+  const std::string why = "tangential_model = 'mindlin_rescale' is LAMMPS's (pair_style granular); LIGGGHTS 3.8 has "
+                          "no counterpart: run it on LAMMPS or on refsim by LAMMPS's rules (run --engine lammps, run --engine "
+                          "refsim --contact-rules lammps, validate --engines lammps,refsim)";
+  // The LIGGGHTS deck names the spec's model, which LIGGGHTS stops at, and says why first.
+  EXPECT_NE(read_bytes(c / "in.stack").find("# LIGGGHTS cannot run this case: " + why), std::string::npos);
+  for (const auto& [engine, who] : {std::pair{"liggghts", "LIGGGHTS: "},
+                                    std::pair{"refsim", "refsim by LIGGGHTS's contact rules (the default): "}}) {
+    const auto r = granstack({"run", "--engine", engine, c.string()});
+    EXPECT_EQ(r.code, 1) << r.output;
+    expect_contains(r, who + why);
+    EXPECT_FALSE(fs::exists(c / "run.json")) << engine;
+  }
+  EXPECT_EQ(granstack({"run", "--engine", "refsim", "--contact-rules", "lammps", c.string()}).code, 0);
+  const auto r = granstack({"generate", "-o", path("rescale_frictionless").string(), "--blocks", "2", "--rows", "3",
+                            "--tangential-model", "mindlin_rescale"});
+  EXPECT_NE(r.code, 0);
+  expect_contains(r, "mindlin_rescale with friction 0 everywhere exerts no tangential force");
+  EXPECT_FALSE(fs::exists(path("rescale_frictionless")));
+}
+
 // refsim by LAMMPS's rules runs what granstack's LAMMPS deck runs, or refuses, before the case is
 // touched: a model LAMMPS has no counterpart for, or a restitution tsuji cannot give (they ran as
 // hertz/tsuji/mindlin, or with a nonsense damping coefficient, under a record saying "lammps");

@@ -1,17 +1,22 @@
 // refsim's contact models beyond the study's (model/contact.hpp) against analytic physics, as
 // test_physics.cpp holds the Hertz model: Hooke's linear spring-dashpot (restitution exactly e,
 // contact time pi / omega_d whatever the speed), tangential no_history (viscous, capped at
-// Coulomb's mu |F_n|), epsd2 rolling friction (a torque capped at mu_r R* |F_n|) and cdt (a
-// torque mu_r R* k_n delta against the spin). Their
-// agreement with LIGGGHTS, bit for bit, is test_agreement.cpp's (tests/data/twobody).
+// Coulomb's mu |F_n|), epsd2 rolling friction (a torque capped at mu_r R* |F_n|), cdt (a
+// torque mu_r R* k_n delta against the spin) and LAMMPS's mindlin_rescale (mindlin's spring
+// while a contact loads). Their
+// agreement with LIGGGHTS, bit for bit, is test_agreement.cpp's (tests/data/twobody);
+// mindlin_rescale's with LAMMPS, to round-off, tests/lammps's.
 #include <granstack/model/contact.hpp>
 #include <granstack/refsim/case_run.hpp>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
+#include <vector>
 
 using namespace granstack;
 using refsim::Particle;
@@ -233,6 +238,57 @@ TEST(Cdt, RollingTorquesBetweenSpheresKeepTheAngularMomentum) {
 }
 
 // The vector kernels run the study's model only: asked for by name with another, refsim says so.
+namespace {
+// A steel sphere thrown at a steel wall at (vt, 0, -vn) by LAMMPS's rules with `tangential`, mu =
+// 1 (it sticks), undamped: per step, the sphere's height and the wall's force on it.
+struct Trace {
+  std::vector<double> z;
+  std::vector<refsim::Vec3> f;
+};
+Trace wall_trace(model::TangentialModel tangential) {
+  model::ContactModel m;
+  m.tangential = tangential;
+  auto p = parameters(m, 1.0, 1.0, 0.0, 2);
+  p.lammps_rules = true;
+  p.walls = {{2, 0.0, 2}};
+  System s({steel_sphere(1, {0, 0, kR}, {0.2, 0, -1.0})}, p);
+  s.setup();
+  Trace t;
+  for (int k = 0; k < 20000 && s.x(0)[2] <= kR; ++k) {
+    s.step();
+    t.z.push_back(s.x(0)[2]);
+    t.f.push_back(s.force(0));
+  }
+  return t;
+}
+}  // namespace
+
+// mindlin_rescale is mindlin's spring, its displacement scaled by a / a_last only when the contact
+// radius a = sqrt(R* d) shrinks: while the sphere goes into the wall (the overlap, and so a, grows
+// at every step), the two give the same force to the bit; once it comes out, the rescaled spring
+// departs from mindlin's (measured: by 0.17 of the largest tangential force; more than 1e-3 is
+// asked, far above the last bits and far below what either spring gives).
+TEST(MindlinRescale, IsMindlinWhileTheContactLoadsAndDepartsAsItUnloads) {
+  const auto mindlin = wall_trace(model::TangentialModel::history);
+  const auto rescale = wall_trace(model::TangentialModel::mindlin_rescale);
+  ASSERT_GT(mindlin.z.size(), 100u);
+  std::size_t deepest = 0;
+  while (deepest + 1 < mindlin.z.size() && mindlin.z[deepest + 1] < mindlin.z[deepest]) ++deepest;
+  ASSERT_GT(deepest, 10u);
+  for (std::size_t k = 0; k <= deepest; ++k) {
+    ASSERT_EQ(rescale.z[k], mindlin.z[k]) << k;
+    for (int d = 0; d < 3; ++d) ASSERT_EQ(rescale.f[k][d], mindlin.f[k][d]) << "step " << k << ", axis " << d;
+  }
+  double largest = 0.0, departure = 0.0;
+  for (std::size_t k = 0; k < std::min(mindlin.f.size(), rescale.f.size()); ++k) {
+    largest = std::max(largest, std::fabs(mindlin.f[k][0]));
+    departure = std::max(departure, std::fabs(rescale.f[k][0] - mindlin.f[k][0]));
+  }
+  std::printf("loading steps %zu of %zu; tangential force: largest %.6g N, rescale's largest departure %.6g N\n",
+              deepest + 1, mindlin.z.size(), largest, departure);
+  EXPECT_GT(departure, 1e-3 * largest);
+}
+
 TEST(ContactModels, AVectorKernelWithAnotherModelIsRefused) {
   auto p = parameters(hooke(1.0), 1.0, 0.0, 0.0, 1);
   p.kernel = refsim::vector_kernels().front();

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 using namespace granstack::model;
 
@@ -67,20 +68,27 @@ TEST(Contact, RestitutionBetaFollowsTheLiggghtsFormula) {
 }
 
 // The sub-models' table: each model's keyword reads back to it (and no other), the first of each
-// kind is the study's (LAMMPS maps it), the help names the keyword first, and a refusal names
-// the model it refuses.
+// kind is the study's (both engines run it), the help names the keyword first, a refusal names
+// the model it refuses, and a model LAMMPS runs has its word there (LIGGGHTS's is the keyword).
 template <typename Model, typename Parse>
 void expect_table_reads_back(Parse parse) {
   const auto models = all_models<Model>();
   ASSERT_GE(models.size(), 2u);
   EXPECT_TRUE(info(models.front()).lammps_refusal.empty());
+  EXPECT_TRUE(info(models.front()).liggghts_refusal.empty());
   for (const auto m : models) {
     const auto& row = info(m);
     EXPECT_EQ(parse(row.keyword), m) << row.keyword;
     EXPECT_EQ(row.help.substr(0, row.keyword.size()), row.keyword);
     EXPECT_NE(keyword_list<Model>().find("'" + std::string(row.keyword) + "'"), std::string::npos);
-    if (!row.lammps_refusal.empty()) {
-      EXPECT_NE(row.lammps_refusal.find(row.keyword), std::string::npos) << row.keyword;
+    for (const auto refusal : {row.lammps_refusal, row.liggghts_refusal}) {
+      if (!refusal.empty()) {
+        EXPECT_NE(refusal.find(row.keyword), std::string::npos) << row.keyword;
+      }
+    }
+    EXPECT_TRUE(row.lammps_refusal.empty() || row.liggghts_refusal.empty()) << row.keyword << ": neither engine runs it";
+    if constexpr (std::is_same_v<Model, TangentialModel>) {
+      EXPECT_EQ(row.lammps_word.empty(), !row.lammps_refusal.empty()) << row.keyword;
     }
   }
   EXPECT_FALSE(parse("none of them").has_value());

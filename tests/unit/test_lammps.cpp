@@ -112,6 +112,11 @@ TEST(Lammps, ContactWordsNameTheModels) {
             "hertz/material 193000000000 0 0.29999999999999999 damping viscoelastic tangential linear_nohistory 0 0");
   const auto words = model::lammps_contact_words(model::lammps_contact(steel(), steel(), 0.9, 0.25, false, here()), here());
   EXPECT_NE(words.find(" damping tsuji tangential mindlin "), std::string::npos) << words;
+  const auto rescale = model::lammps_contact_words(model::lammps_contact(steel(), steel(), 0.9, 0.25, false, here()), here(),
+                                                   model::TangentialModel::mindlin_rescale);
+  EXPECT_EQ(rescale.substr(0, rescale.find(" tangential ")), words.substr(0, words.find(" tangential ")));
+  EXPECT_EQ(rescale.substr(rescale.find(" tangential ")),
+            " tangential mindlin_rescale" + words.substr(words.find(" tangential ") + std::string(" tangential mindlin").size()));
   EXPECT_EQ(words.find("NULL"), std::string::npos) << words;  // k_t given: this LAMMPS's wall NULL is not 8 G*
 }
 

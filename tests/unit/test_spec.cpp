@@ -193,7 +193,7 @@ materials = ["steel", "teflon", "steel", "steel"]
   EXPECT_EQ(model::liggghts_model_words(s.contact_model()), "model hooke tangential no_history rolling_friction epsd2");
   for (const auto& [field, value, words] : std::vector<std::tuple<std::string, std::string, std::string>>{
            {"normal_model", "hertzian", "'hertzian' is not 'hertz' or 'hooke'"},
-           {"tangential_model", "none", "'none' is not 'history' or 'no_history'"},
+           {"tangential_model", "none", "'none' is not 'history', 'no_history' or 'mindlin_rescale'"},
            {"rolling_model", "epsd", "'epsd' is not 'off', 'epsd2' or 'cdt'"}}) {
     try {
       generator::build_sweep({{field, {value}}});

@@ -19,8 +19,8 @@ enum class Frame : std::uint8_t { liggghts, lammps };
 // with tsuji damping (normal_tsuji.cpp).
 enum class NormalKernel : std::uint8_t { hertz, hooke, hertz_material_tsuji };
 // LIGGGHTS's history spring and no_history; LAMMPS's mindlin (linear_nohistory 0 0, which gives
-// no force, where the pair has no friction: tangential_mindlin.cpp).
-enum class TangentialKernel : std::uint8_t { history, no_history, mindlin };
+// no force, where the pair has no friction: tangential_mindlin.cpp) and mindlin_rescale.
+enum class TangentialKernel : std::uint8_t { history, no_history, mindlin, mindlin_rescale };
 
 struct SubModels {
   Frame frame = Frame::liggghts;
@@ -37,8 +37,10 @@ struct SubModels {
 
 // The spec's model as LIGGGHTS runs it.
 SubModels liggghts_rules(const model::ContactModel& m);
-// ... as granstack's LAMMPS deck runs it: hertz/history without rolling friction only (LAMMPS's
-// refusal of the others, model/contact.hpp's rows, is thrown as std::invalid_argument).
+// (LIGGGHTS's refusal of a model it lacks, model/contact.hpp's rows, is thrown as
+// std::invalid_argument.)
+// ... as granstack's LAMMPS deck runs it: hertz with history or mindlin_rescale, without rolling
+// friction (LAMMPS's refusal of the others is thrown likewise).
 SubModels lammps_rules(const model::ContactModel& m);
 
 }  // namespace granstack::refsim::detail

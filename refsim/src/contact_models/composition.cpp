@@ -22,6 +22,9 @@ constexpr RollingTorque kRolling[] = {
 }  // namespace
 
 SubModels liggghts_rules(const model::ContactModel& m) {
+  if (const auto why = model::liggghts_refusal(m); !why.empty()) {
+    throw std::invalid_argument("LIGGGHTS's contact rules (--contact-rules liggghts, the default): " + std::string(why));
+  }
   SubModels s;
   s.frame = Frame::liggghts;
   s.normal = m.normal == model::NormalModel::hooke ? NormalKernel::hooke : NormalKernel::hertz;
@@ -38,7 +41,9 @@ SubModels lammps_rules(const model::ContactModel& m) {
   if (const auto why = model::lammps_refusal(m); !why.empty()) {
     throw std::invalid_argument("--contact-rules lammps: " + std::string(why));
   }
-  return {Frame::lammps, NormalKernel::hertz_material_tsuji, TangentialKernel::mindlin, model::RollingModel::off};
+  const bool rescale = m.tangential == model::TangentialModel::mindlin_rescale;
+  return {Frame::lammps, NormalKernel::hertz_material_tsuji,
+          rescale ? TangentialKernel::mindlin_rescale : TangentialKernel::mindlin, model::RollingModel::off};
 }
 
 PairPoint pair_point(Frame f, const PairTable& t, const ContactStep& s, std::size_t p) {
@@ -99,12 +104,16 @@ Normal normal_force(NormalKernel m, const PairConstants& k, const ModelRecord& m
 }  // namespace
 
 ContactForces contact(const SubModels& m, const PairConstants& k, const ModelRecord& mr, const ContactPoint& c,
-                      double shear[3], double roll[3], bool update_history, bool tangential_damping, double dt) {
+                      double shear[kShearHistory], double roll[3], bool update_history, bool tangential_damping,
+                      double dt) {
   ContactForces out;
   out.n = normal_force(m.normal, k, mr, c, tangential_damping);
   switch (m.tangential) {
     case TangentialKernel::no_history: tangential_no_history(c, out.n, k.friction, out.ft); break;
     case TangentialKernel::mindlin: tangential_mindlin(shear, c, out.n, k.friction, update_history, dt, out.ft); break;
+    case TangentialKernel::mindlin_rescale:
+      tangential_mindlin_rescale(shear, c, out.n, k.friction, update_history, dt, out.ft);
+      break;
     case TangentialKernel::history: tangential_history(shear, c, out.n, k.friction, update_history, dt, out.ft); break;
   }
   const double* en = c.en;

@@ -23,7 +23,7 @@ Normal tsuji_normal(const PairConstants& k, const ModelRecord& r, const ContactP
   const double damp_normal = r.lammps_alpha != 0.0 ? std::sqrt(c.meff * knfac) : a * c.meff;
   const double prefactor = r.lammps_alpha * damp_normal;
   const double fdamp = -prefactor * c.vn;
-  return {fne + fdamp, k.st_factor * a, r.lammps_tangential_ratio * prefactor, knfac};
+  return {fne + fdamp, k.st_factor * a, r.lammps_tangential_ratio * prefactor, knfac, a};
 }
 
 }  // namespace granstack::refsim::detail

@@ -75,6 +75,7 @@ void lammps_wall_force(double fn, const double en[3], const double ft[3], double
 struct Normal {
   double fn, kt, gammat;
   double kn;
+  double a = 0.0;  // the contact radius sqrt(R* d), where the model forms it (LAMMPS's hertz/material)
 };
 // Each normal model's own per-pair parameters: hooke's k_n and gamma_n of the pair's R* and m*;
 // tsuji's coefficient alpha(e') of the type pair's restitution and mindlin's eta_t / eta_n.
@@ -101,6 +102,10 @@ void tangential_no_history(const ContactPoint& c, const Normal& n, double mu, do
 // LAMMPS's mindlin, or its linear_nohistory 0 0 (no force) where mu = 0.
 void tangential_mindlin(double shear[3], const ContactPoint& c, const Normal& n, double mu, bool update_history,
                         double dt, double ft[3]);
+// LAMMPS's mindlin_rescale: mindlin, its displacement first scaled by a / a_last where the
+// contact radius a has shrunk since the last update; shear[3] holds a_last (0 at first touch).
+void tangential_mindlin_rescale(double shear[kShearHistory], const ContactPoint& c, const Normal& n, double mu,
+                                bool update_history, double dt, double ft[3]);
 
 // The rolling torque: minus `torque` on the first body, plus on the second, from the contact, the
 // normal model's output, mu_r and the rolling history `roll` (updated when `update_history`; a
@@ -127,8 +132,10 @@ struct ContactForces {
   double rt[3] = {0.0, 0.0, 0.0};
 };
 // The contact's sub-models by `m`, composed in the engines' order, with the contact's tangential
-// (shear) and rolling (roll) histories, updated when `update_history`.
+// (shear: the displacement, and mindlin_rescale's last contact radius) and rolling (roll)
+// histories, updated when `update_history`.
 ContactForces contact(const SubModels& m, const PairConstants& k, const ModelRecord& mr, const ContactPoint& c,
-                      double shear[3], double roll[3], bool update_history, bool tangential_damping, double dt);
+                      double shear[kShearHistory], double roll[3], bool update_history, bool tangential_damping,
+                      double dt);
 
 }  // namespace granstack::refsim::detail

@@ -62,21 +62,26 @@ double rayleigh_time(const Material& m, double radius);
 //     gamma_n = sqrt(4 m* k_n ln(e)^2 / (ln(e)^2 + pi^2)): restitution exactly e;
 //   tangential history: an elastic-Coulomb spring on the sliding displacement;
 //     no_history: viscous, F_t = -min(gamma_t, mu |F_n| / |v_t|) v_t (no spring, no memory);
+//     mindlin_rescale (LAMMPS's pair_style granular; LIGGGHTS has none): history's Mindlin
+//     spring, k_t = 8 G* a with a = sqrt(R* d), whose displacement is scaled by a / a_last when
+//     the contact radius shrinks (unloading), so the spring's force follows the contact's area;
 //   rolling epsd2 (rolling_model_epsd2.h): an elastic-plastic torque spring of stiffness
 //     k_t R*^2 on the relative rotation, capped at mu_r R* |F_n|.
 //   rolling cdt (rolling_model_cdt.h): a constant directional torque, mu_r R* k_n delta against
 //     the relative rotation (no spring, no history).
 enum class NormalModel { hertz, hooke };
-enum class TangentialModel { history, no_history };
+enum class TangentialModel { history, no_history, mindlin_rescale };
 enum class RollingModel { off, epsd2, cdt };
 
 // A sub-model as the spec, the decks and the reference name it: one row of contact_models.cpp's
 // table per model, in the enum's order (a new model is a row there).
 struct SubModelInfo {
-  std::string_view keyword;         // the spec's value, and LIGGGHTS's keyword
+  std::string_view keyword;         // the spec's value, and LIGGGHTS's keyword where LIGGGHTS has it
   std::string_view help;            // for the spec's help: the keyword and, in brackets, what it is
   std::string_view doc;             // the reference's note on it, or ""
   std::string_view lammps_refusal;  // why the LAMMPS mapping cannot run it, or "" where it does
+  std::string_view liggghts_refusal = {};  // why LIGGGHTS 3.8 cannot run it, or "" where it does
+  std::string_view lammps_word = {};  // a tangential model's word in LAMMPS's pair_coeff and wall/gran
 };
 const SubModelInfo& info(NormalModel m);
 const SubModelInfo& info(TangentialModel m);
@@ -109,6 +114,8 @@ struct ContactModel {
 // Why granstack's LAMMPS mapping has no counterpart for a sub-model of `m` (its row's
 // lammps_refusal, the first that has one), or "".
 std::string_view lammps_refusal(const ContactModel& m);
+// ... LIGGGHTS 3.8 has no counterpart for (its row's liggghts_refusal), or "".
+std::string_view liggghts_refusal(const ContactModel& m);
 
 // The words after 'pair_style gran' and 'fix ... wall/gran': "model hertz tangential history",
 // with " rolling_friction epsd2" (or cdt) when a rolling model is on.

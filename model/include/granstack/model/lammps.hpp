@@ -13,7 +13,8 @@
 //   tangential: friction 0 gives no tangential force in LAMMPS (linear_nohistory 0 0); friction
 //     above 0 maps to `mindlin` with k_t = 8 G* sqrt(R* d) (the 8 G* given, not NULL) and
 //     eta_t / eta_n = sqrt(4 G* / Y*), LIGGGHTS's ratio, but LAMMPS updates and caps the spring
-//     its own way (a model difference).
+//     its own way (a model difference); the spec's mindlin_rescale (LAMMPS's own) to
+//     `mindlin_rescale` with the same coefficients.
 //   walls: 29 Sep 2021's fix wall/gran forms hertz/material's E* as E / (2 (1 - nu)), not
 //     pair_granular's E / (2 (1 - nu^2)) (measured: a bottom-wall case agrees with LIGGGHTS to
 //     1e-14 only with E' = 2 (1 - nu') E*), so a wall's E' is chosen for that form; the granular
@@ -96,7 +97,9 @@ LammpsContact lammps_contact(const Material& a, const Material& b, double restit
 // The words after `pair_coeff I J` (or `wall/gran granular`): "hertz/material E D nu damping
 // tsuji tangential ...", every number with 17 significant digits; D is e' for tsuji, e itself for
 // coeff_restitution.
-std::string lammps_contact_words(const LammpsContact& c, const LammpsRules& rules);
+// The tangential word is the tangential model's (`mindlin`, or `mindlin_rescale`) where c has friction.
+std::string lammps_contact_words(const LammpsContact& c, const LammpsRules& rules,
+                                 TangentialModel tangential = TangentialModel::history);
 
 // Why this spec cannot run on a LAMMPS of the family `rules` with granstack's mapping ("" when it
 // can): the normal model hooke, rolling friction, restitution whose damping tsuji cannot give

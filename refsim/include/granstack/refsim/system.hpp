@@ -168,7 +168,7 @@ class System {
   // Particles in tiles of kTile; the pairs whose i is in tile t are [tile_first_[t], tile_first_[t + 1]).
   static constexpr std::size_t kTile = 64;
   std::vector<std::size_t> tile_first_;
-  std::vector<double> wall_history_;  // 3 per particle and wall
+  std::vector<double> wall_history_;  // detail::kShearHistory per particle and wall
   std::vector<double> wall_roll_;     // epsd2's torque history, 3 per particle and wall
   std::vector<double> wall_store_;    // stored_wall_force, 3 per particle
   // Per particle and wall: it touched the wall at its last force call, so its history or stored
