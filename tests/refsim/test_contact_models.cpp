@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -287,6 +288,34 @@ TEST(MindlinRescale, IsMindlinWhileTheContactLoadsAndDepartsAsItUnloads) {
   std::printf("loading steps %zu of %zu; tangential force: largest %.6g N, rescale's largest departure %.6g N\n",
               deepest + 1, mindlin.z.size(), largest, departure);
   EXPECT_GT(departure, 1e-3 * largest);
+}
+
+// Every sub-model an engine has (its row gives no refusal for it) has its kernel in that engine's
+// rules, and every one it lacks is refused with the row's own words: the tables of
+// contact_models/composition.cpp and model/src/contact_models.cpp say the same.
+TEST(ContactModels, EveryModelAnEngineRunsHasItsKernelThere) {
+  for (const bool lammps : {false, true}) {
+    for (const auto tangential : model::all_models<model::TangentialModel>()) {
+      for (const auto rolling : model::all_models<model::RollingModel>()) {
+        model::ContactModel m;
+        m.tangential = tangential;
+        m.rolling = rolling;
+        auto p = parameters(m, 0.9, 0.3, 0.1, 1);
+        p.lammps_rules = lammps;
+        p.kernel = "reference";
+        const auto refusal = lammps ? model::lammps_refusal(m) : model::liggghts_refusal(m);
+        const auto what = fmt::format("{}, {} by {}'s rules", model::to_string(tangential), model::to_string(rolling),
+                                      lammps ? "LAMMPS" : "LIGGGHTS");
+        try {
+          System s({steel_sphere(1, {0, 0, 0}, {0, 0, 0})}, p);
+          EXPECT_TRUE(refusal.empty()) << what << " ran";
+        } catch (const std::invalid_argument& e) {
+          EXPECT_FALSE(refusal.empty()) << what << ": " << e.what();
+          EXPECT_NE(std::string(e.what()).find(refusal), std::string::npos) << what << ": " << e.what();
+        }
+      }
+    }
+  }
 }
 
 TEST(ContactModels, AVectorKernelWithAnotherModelIsRefused) {

@@ -18,14 +18,15 @@ enum class Frame : std::uint8_t { liggghts, lammps };
 // tangential model: LIGGGHTS's hertz and hooke (restitution damping), LAMMPS's hertz/material
 // with tsuji damping (normal_tsuji.cpp).
 enum class NormalKernel : std::uint8_t { hertz, hooke, hertz_material_tsuji };
-// LIGGGHTS's history spring and no_history; LAMMPS's mindlin (linear_nohistory 0 0, which gives
-// no force, where the pair has no friction: tangential_mindlin.cpp) and mindlin_rescale.
-enum class TangentialKernel : std::uint8_t { history, no_history, mindlin, mindlin_rescale };
 
 struct SubModels {
   Frame frame = Frame::liggghts;
   NormalKernel normal = NormalKernel::hertz;
-  TangentialKernel tangential = TangentialKernel::history;
+  // The spec's tangential model, whose kernel is its frame's (composition.cpp's tables): by
+  // LIGGGHTS's rules history and no_history; by LAMMPS's, history is its mindlin
+  // (linear_nohistory 0 0, which gives no force, where the pair has no friction), and
+  // mindlin_rescale its own.
+  model::TangentialModel tangential = model::TangentialModel::history;
   // LIGGGHTS's rolling models, by the spec's own name (LAMMPS's deck has none): a kernel each,
   // in composition.cpp's table.
   model::RollingModel rolling = model::RollingModel::off;

@@ -19,6 +19,40 @@ constexpr RollingTorque kRolling[] = {
     rolling_epsd2,  // epsd2
     rolling_cdt,    // cdt
 };
+// Each frame's tangential kernels, by model::TangentialModel; none where that engine has no
+// counterpart (its row's refusal in model/src/contact_models.cpp says why). A new tangential
+// model is its file in this folder and its line in each table.
+constexpr TangentialForce kLiggghtsTangential[] = {
+    tangential_history,     // history
+    tangential_no_history,  // no_history
+    nullptr,                // mindlin_rescale: LAMMPS's
+};
+constexpr TangentialForce kLammpsTangential[] = {
+    tangential_mindlin,          // history: LAMMPS's Hertz-Mindlin
+    nullptr,                     // no_history: not mapped
+    tangential_mindlin_rescale,  // mindlin_rescale
+};
+
+TangentialForce tangential_kernel(Frame f, model::TangentialModel m) {
+  const auto k = static_cast<std::size_t>(m);
+  const auto& table = f == Frame::lammps ? kLammpsTangential : kLiggghtsTangential;
+  return k < std::size(table) ? table[k] : nullptr;
+}
+
+// The choice `s` runs: every sub-model has its kernel in the frame (a table short of one is a
+// defect of this file, not of the spec).
+SubModels checked(const SubModels& s) {
+  if (tangential_kernel(s.frame, s.tangential) == nullptr) {
+    throw std::logic_error(fmt::format("refsim has no kernel for tangential_model = '{}' by {}'s rules "
+                                       "(contact_models/composition.cpp)",
+                                       model::to_string(s.tangential), s.frame == Frame::lammps ? "LAMMPS" : "LIGGGHTS"));
+  }
+  if (static_cast<std::size_t>(s.rolling) >= std::size(kRolling)) {
+    throw std::logic_error(fmt::format("refsim has no kernel for rolling_model = '{}' (contact_models/composition.cpp)",
+                                       model::to_string(s.rolling)));
+  }
+  return s;
+}
 }  // namespace
 
 SubModels liggghts_rules(const model::ContactModel& m) {
@@ -28,22 +62,16 @@ SubModels liggghts_rules(const model::ContactModel& m) {
   SubModels s;
   s.frame = Frame::liggghts;
   s.normal = m.normal == model::NormalModel::hooke ? NormalKernel::hooke : NormalKernel::hertz;
-  s.tangential = m.tangential == model::TangentialModel::no_history ? TangentialKernel::no_history : TangentialKernel::history;
+  s.tangential = m.tangential;
   s.rolling = m.rolling;
-  if (static_cast<std::size_t>(m.rolling) >= std::size(kRolling)) {
-    throw std::logic_error(fmt::format("refsim has no kernel for rolling_model = '{}' (contact_models/composition.cpp)",
-                                       model::to_string(m.rolling)));
-  }
-  return s;
+  return checked(s);
 }
 
 SubModels lammps_rules(const model::ContactModel& m) {
   if (const auto why = model::lammps_refusal(m); !why.empty()) {
     throw std::invalid_argument("--contact-rules lammps: " + std::string(why));
   }
-  const bool rescale = m.tangential == model::TangentialModel::mindlin_rescale;
-  return {Frame::lammps, NormalKernel::hertz_material_tsuji,
-          rescale ? TangentialKernel::mindlin_rescale : TangentialKernel::mindlin, model::RollingModel::off};
+  return checked({Frame::lammps, NormalKernel::hertz_material_tsuji, m.tangential, model::RollingModel::off});
 }
 
 PairPoint pair_point(Frame f, const PairTable& t, const ContactStep& s, std::size_t p) {
@@ -108,14 +136,7 @@ ContactForces contact(const SubModels& m, const PairConstants& k, const ModelRec
                       double dt) {
   ContactForces out;
   out.n = normal_force(m.normal, k, mr, c, tangential_damping);
-  switch (m.tangential) {
-    case TangentialKernel::no_history: tangential_no_history(c, out.n, k.friction, out.ft); break;
-    case TangentialKernel::mindlin: tangential_mindlin(shear, c, out.n, k.friction, update_history, dt, out.ft); break;
-    case TangentialKernel::mindlin_rescale:
-      tangential_mindlin_rescale(shear, c, out.n, k.friction, update_history, dt, out.ft);
-      break;
-    case TangentialKernel::history: tangential_history(shear, c, out.n, k.friction, update_history, dt, out.ft); break;
-  }
+  tangential_kernel(m.frame, m.tangential)(shear, c, out.n, k.friction, update_history, dt, out.ft);
   const double* en = c.en;
   out.tor[0] = en[1] * out.ft[2] - en[2] * out.ft[1];
   out.tor[1] = en[2] * out.ft[0] - en[0] * out.ft[2];

@@ -91,17 +91,21 @@ Normal tsuji_normal(const PairConstants& k, const ModelRecord& r, const ContactP
 
 // The tangential force on the first body, `ft`, from the contact, the normal model's output and
 // the friction coefficient, with the contact's tangential history `shear` (updated when
-// `update_history`):
+// `update_history`; a model without history leaves it alone). Every tangential model's kernel
+// has this form.
+using TangentialForce = void (*)(double shear[kShearHistory], const ContactPoint& c, const Normal& n, double mu,
+                                 bool update_history, double dt, double ft[3]);
 // LIGGGHTS's history spring (tangential_model_history.h): increment by the sliding velocity,
 // project on the tangent plane, Coulomb-truncate (no damping while sliding).
-void tangential_history(double shear[3], const ContactPoint& c, const Normal& n, double mu, bool update_history,
-                        double dt, double ft[3]);
+void tangential_history(double shear[kShearHistory], const ContactPoint& c, const Normal& n, double mu,
+                        bool update_history, double dt, double ft[3]);
 // LIGGGHTS's no_history (tangential_model_no_history.h): viscous, no spring, gamma_t capped so
 // that |F_t| <= mu |F_n|.
-void tangential_no_history(const ContactPoint& c, const Normal& n, double mu, double ft[3]);
+void tangential_no_history(double shear[kShearHistory], const ContactPoint& c, const Normal& n, double mu,
+                           bool update_history, double dt, double ft[3]);
 // LAMMPS's mindlin, or its linear_nohistory 0 0 (no force) where mu = 0.
-void tangential_mindlin(double shear[3], const ContactPoint& c, const Normal& n, double mu, bool update_history,
-                        double dt, double ft[3]);
+void tangential_mindlin(double shear[kShearHistory], const ContactPoint& c, const Normal& n, double mu,
+                        bool update_history, double dt, double ft[3]);
 // LAMMPS's mindlin_rescale: mindlin, its displacement first scaled by a / a_last where the
 // contact radius a has shrunk since the last update; shear[3] holds a_last (0 at first touch).
 void tangential_mindlin_rescale(double shear[kShearHistory], const ContactPoint& c, const Normal& n, double mu,

@@ -5,8 +5,8 @@
 
 namespace granstack::refsim::detail {
 
-void tangential_history(double shear[3], const ContactPoint& c, const Normal& n, double mu, bool update_history,
-                        double dt, double ft[3]) {
+void tangential_history(double shear[kShearHistory], const ContactPoint& c, const Normal& n, double mu,
+                        bool update_history, double dt, double ft[3]) {
   const double* en = c.en;
   const double* vtr = c.vtr;
   if (update_history) {
