@@ -18,6 +18,8 @@ EXTENSIONS = [
     ("design measures of the protected object's shock", ["b4538a3"]),
     ("the yield ratio, read by both engines at every frame", ["83919ba"]),
     ("a rolling friction model (cdt), on the sub-models' table and composition", ["dae81a7"]),
+    ("a tangential model of LAMMPS's that LIGGGHTS lacks (mindlin_rescale), with the first LIGGGHTS refusals",
+     ["1698a67"]),
 ]
 LIBRARIES = {"app", "cluster", "design", "formats", "generator", "model", "os", "postproc", "refsim", "runner",
              "study"}
