@@ -99,6 +99,11 @@ void read_fixed(const toml::table* fixed, const std::string& source, Space& s, s
     // without a wall has no wall material.
     if (s.fixed.striker_material.empty()) s.fixed.striker_material = kStudyMaterial;
     if (s.fixed.wall_material.empty() && s.fixed.has_walls()) s.fixed.wall_material = kStudyMaterial;
+    // The search runs refsim by LIGGGHTS's rules: a model LIGGGHTS lacks cannot be searched.
+    if (const auto why = model::liggghts_refusal(s.fixed.contact_model()); !why.empty()) {
+      problems.push_back(fmt::format("[fixed] {}: the search runs refsim by LIGGGHTS's contact rules, and {}", why.substr(0, why.find(" =")),
+                                     why));
+    }
   } catch (const model::SpecError& e) {
     for (const auto& i : e.issues()) problems.push_back(fmt::format("[fixed] {}: {}", i.field, i.message));
   }

@@ -320,6 +320,11 @@ TEST(Space, BadSpacesAreRefusedNamingTheKeyAndTheFix) {
   EXPECT_NE(problems_of(with("\"areal_mass\"]", "\"mass\"]")).find("'mass' is not one of"), std::string::npos);
   // Contradictory: no design meets the constraints.
   EXPECT_NE(problems_of(base + "[constraints]\nmax_spheres = 2\n").find("no design meets it (the fewest any has is 3)"), std::string::npos);
+  // A contact model LIGGGHTS lacks: the search runs refsim by LIGGGHTS's rules.
+  EXPECT_NE(problems_of(with("top_radius = 2e-3", "top_radius = 2e-3\ntangential_model = \"mindlin_rescale\"\nfriction = 0.3"))
+                .find("[fixed] tangential_model: the search runs refsim by LIGGGHTS's contact rules, and tangential_model = "
+                      "'mindlin_rescale' is LAMMPS's"),
+            std::string::npos);
   // A varied field fixed, a sweep in [fixed], an unknown section.
   EXPECT_NE(problems_of(with("top_radius = 2e-3", "top_radius = 2e-3\nrows = 4")).find("[fixed] rows: the search varies it"), std::string::npos);
   EXPECT_NE(problems_of(with("top_radius = 2e-3", "top_radius = 2e-3\nrestitution = [0.9, 1.0]")).find("not a list"), std::string::npos);
