@@ -8,27 +8,33 @@
 # (censored runs, scenarios that decided no objective, designs off its front, the shortcuts). One
 # more run, the first seed of the first algorithm with [search] shortcuts = false, measures what
 # the shortcuts save. Writes the record (OUT, JSON) the performance page's table is made from.
+# With several POPULATIONS each algorithm runs at each, labelled ALGORITHM-pPOPULATION; OFF_RUN=0
+# leaves out the run without shortcuts.
 # Usage: OUT=bench/results/design-budget-DATE.json bench/design_budget.sh
-#   (SPACE, SEEDS="1 2 3 4 5", ALGORITHMS="nsga2 sms-emoa", MAX_DESIGNS=1500, TIME_LIMIT=600,
-#   STAGNATION=10, JOBS=2; up to (seeds x algorithms + 1) x TIME_LIMIT seconds, about 45 minutes
-#   on 2 cores with the shortcuts)
+#   (SPACE, SEEDS="1 2 3 4 5", ALGORITHMS="nsga2 sms-emoa", POPULATIONS=24, MAX_DESIGNS=1500,
+#   TIME_LIMIT=600, STAGNATION=10, JOBS=2, OFF_RUN=1; up to (seeds x algorithms x populations + 1) x
+#   TIME_LIMIT seconds, about 45 minutes on 2 cores with the shortcuts)
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 : "${OUT:?set OUT to the record to write (bench/results/design-budget-DATE.json)}"
 space=${SPACE:-$here/examples/design/least_wall_force.toml}
 seeds=${SEEDS:-1 2 3 4 5}
 algorithms=${ALGORITHMS:-nsga2 sms-emoa}
+populations=${POPULATIONS:-24}
+off_run=${OFF_RUN:-1}
 max_designs=${MAX_DESIGNS:-1500}
 stagnation=${STAGNATION:-10}
 time_limit=${TIME_LIMIT:-600}
 jobs=${JOBS:-2}
 runs=()
-one() {  # one ALGORITHM SEED SHORTCUTS: a search alone in its own store
-  local name="$1-$2-$3" dir="$work/$1-$2-$3"
+one() {  # one ALGORITHM SEED SHORTCUTS POPULATION: a search alone in its own store
+  local label=$1
+  [ "$(wc -w <<< "$populations")" -gt 1 ] && label="$1-p$4"
+  local name="$label-$2-$3" dir="$work/$label-$2-$3"
   mkdir -p "$dir"
   sed -e '/^\[search\]$/,$d' "$space" > "$dir/space.toml"
-  printf '[search]\npopulation = 24\ngenerations = 1000\nseed = %s\nalgorithm = "%s"\nmax_designs = %s\nstagnation = %s\nshortcuts = %s\n' \
-    "$2" "$1" "$max_designs" "$stagnation" "$3" >> "$dir/space.toml"
+  printf '[search]\npopulation = %s\ngenerations = 1000\nseed = %s\nalgorithm = "%s"\nmax_designs = %s\nstagnation = %s\nshortcuts = %s\n' \
+    "$4" "$2" "$1" "$max_designs" "$stagnation" "$3" >> "$dir/space.toml"
   local t0 t1
   t0=$(date +%s.%N)
   "$gs" design run "$dir/space.toml" -o "$dir/out" -j "$jobs" --time-limit "$time_limit" > "$dir/log" 2>&1
@@ -40,9 +46,11 @@ one() {  # one ALGORITHM SEED SHORTCUTS: a search alone in its own store
 first_algorithm=${algorithms%% *}
 first_seed=${seeds%% *}
 for a in $algorithms; do
-  for s in $seeds; do one "$a" "$s" true; done
+  for p in $populations; do
+    for s in $seeds; do one "$a" "$s" true "$p"; done
+  done
 done
-one "$first_algorithm" "$first_seed" false
+[ "$off_run" = 0 ] || one "$first_algorithm" "$first_seed" false "${populations%% *}"
 python3 "$here/bench/design_budget.py" "$work" "$("$gs" --version)" "$(nproc)" "$max_designs" "$time_limit" "$jobs" \
   "$(realpath --relative-to="$here" "$space")" "$stagnation" > "$OUT"
 echo "wrote $OUT"

@@ -63,6 +63,8 @@ RECORDS = {
     "reduce_speed": "bench/results/reduce-vs-wc-2026-11-29.json",
     # the same at ca2da3e, whose script stopped each run by a window of 3 generations
     "design_budget_stagnation3": "bench/results/design-budget-stagnation3-2026-11-28.json",
+    # POPULATIONS="24 64" ALGORITHMS=nsga2 OFF_RUN=0 OUT=... bench/design_budget.sh, 2-core machine, idle
+    "design_population": "bench/results/design-population-2026-11-29.json",
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
                  "refsim_against_liggghts": ["docs/how-to/big-nests.md"],
@@ -77,7 +79,8 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "oversubscription": ["docs/reference/commands.md"],
                  "extension_counts": ["docs/developer/extending.md"],
                  "reduce_speed": ["docs/explanation/performance.md"],
-                 "design_budget": ["docs/explanation/performance.md"], "design_shortcuts": ["docs/explanation/performance.md"]}
+                 "design_budget": ["docs/explanation/performance.md"], "design_shortcuts": ["docs/explanation/performance.md"],
+                 "design_population": ["docs/explanation/performance.md"]}
 # The study's tables: LIGGGHTS's reproduction (refsim's in the check) and the LAMMPS study's record.
 REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"], "engines_study": ["docs/explanation/lammps.md"]}
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
@@ -344,6 +347,29 @@ def design_budget():
     return "\n".join(rows) + "\n\n" + "\n\n".join(lines) + "\n"
 
 
+def design_population():
+    """The search's population: NSGA-II at each population of the record, its seeds against the front of all."""
+    r = record("design_population")
+    t = r["targets"]
+    rows = [f"| population | seeds | hypervolume at {t['designs']} designs (of the reference's) | IGD+ at {t['designs']} designs | "
+            f"hypervolume at the run's end | designs at its end |", "|---|---|---|---|---|---|"]
+    at500 = {}
+    for label, m in r["summary"].items():
+        mine = [x for x in r["runs"] if x["algorithm"] == label and x["shortcuts"]]
+        population = int(label.rsplit("-p", 1)[1])
+        at500[population] = m["median_hypervolume_fraction_at_500"]
+        spread = f" ({min(x['hypervolume_fraction_at_500'] for x in mine):.3f}..{max(x['hypervolume_fraction_at_500'] for x in mine):.3f})"
+        rows.append(f"| {population} | {m['seeds']} | {m['median_hypervolume_fraction_at_500']:.3f}{spread} | "
+                    f"{m['median_igd_plus_at_500']:.3f} | {m['median_hypervolume_fraction_in_600_s']:.3f} | "
+                    f"{m['median_designs_in_600_s']:.0f} |")
+    best = max(at500, key=at500.get)
+    ref = r["reference"]
+    return "\n".join(rows) + (f"\n\nThe reference front: {ref['front']} designs, the front of all {ref['runs']} runs' "
+                              f"{ref['designs']} feasible designs run in full (`{RECORDS['design_population']}`). At "
+                              f"{t['designs']} designs population {best} leads (median {at500[best]:.3f} of the reference's "
+                              f"hypervolume).\n")
+
+
 def design_shortcuts():
     """One seed with the shortcuts and without (bench/design_budget.sh, #50)."""
     r = record("design_budget")
@@ -534,7 +560,8 @@ def main():
                 engines_speed=engines_speed(), reproduce_cost=reproduce_cost(), reproduce_speed=reproduce_speed(),
                 design_front=design_front(), design_sides=design_sides(), design_yield=design_yield(),
                 design_example_cost=design_example_cost(), oversubscription=oversubscription(),
-                extension_counts=extension_counts(), reduce_speed=reduce_speed(), design_budget=design_budget(), design_shortcuts=design_shortcuts())
+                extension_counts=extension_counts(), reduce_speed=reduce_speed(), design_budget=design_budget(), design_shortcuts=design_shortcuts(),
+                design_population=design_population())
     places = {**PLACES, **RECORD_PLACES, **REPRODUCE_PLACES}
     if "--reproduce" in sys.argv[1:]:
         made["reproduce"] = reproduce_table(exe, work, "liggghts")
