@@ -9,6 +9,8 @@
 #include <granstack/model/contact.hpp>
 #include <granstack/refsim/case_run.hpp>
 
+#include "contact_models/sub_models.hpp"
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -288,6 +290,32 @@ TEST(MindlinRescale, IsMindlinWhileTheContactLoadsAndDepartsAsItUnloads) {
   std::printf("loading steps %zu of %zu; tangential force: largest %.6g N, rescale's largest departure %.6g N\n",
               deepest + 1, mindlin.z.size(), largest, departure);
   EXPECT_GT(departure, 1e-3 * largest);
+}
+
+// The kernel alone (refsim's private contact_models/): a spring of displacement s0 on a contact
+// that unloads with no tangential motion, its radius a falling to half in ten steps. mindlin's
+// stiffness 8 G* a falls with a, so its force does; mindlin_rescale also scales the displacement
+// by a / a_last at each step, so its force falls as a^2: at every step F / F_0 = (a / a_0)^2, to
+// the last bits (a product of ten ratios: allowed 1e-14), and the last radius is kept.
+TEST(MindlinRescale, AnUnloadingSpringWithNoTangentialMotionFallsAsTheContactRadiusSquared) {
+  namespace detail = refsim::detail;
+  const double a0 = 1e-4, k = 8.0 * 70e9, s0 = 1e-8, mu = 1e3, fn = 1e3;
+  detail::ContactPoint c{};
+  c.en[2] = 1.0;
+  double rescaled[detail::kShearHistory] = {s0, 0.0, 0.0, 0.0}, plain[detail::kShearHistory] = {s0, 0.0, 0.0, 0.0};
+  double f0 = 0.0;
+  for (int step = 0; step <= 10; ++step) {
+    const double a = a0 * (1.0 - 0.05 * step);
+    const detail::Normal n{fn, k * a, 0.0, 0.0, a};
+    double ft[3], fm[3];
+    detail::tangential_mindlin_rescale(rescaled, c, n, mu, true, 1e-9, ft);
+    detail::tangential_mindlin(plain, c, n, mu, true, 1e-9, fm);
+    if (step == 0) f0 = ft[0];
+    EXPECT_EQ(fm[0], -k * a * s0) << step;
+    EXPECT_NEAR(ft[0] / f0, (a / a0) * (a / a0), 1e-14) << step;
+    EXPECT_EQ(rescaled[3], a) << step;
+  }
+  EXPECT_LT(f0, 0.0);
 }
 
 // Every sub-model an engine has (its row gives no refusal for it) has its kernel in that engine's
