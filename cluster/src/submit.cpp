@@ -9,6 +9,7 @@
 #include <granstack/os/workers.hpp>
 #include <granstack/os/process.hpp>
 #include <granstack/formats/manifest.hpp>
+#include <granstack/model/contact.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
 #include <granstack/runner/runner.hpp>
@@ -37,24 +38,37 @@ using Costs = std::map<std::string, model::Cost>;
 
 model::Cost case_cost(const formats::Case& c) { return c.cost(); }
 
+// What `engine` cannot run of a contact model on any node (its row's refusal; the tasks run refsim
+// by LIGGGHTS's rules), or "".
+std::string_view model_refusal(const std::string& engine, const model::ContactModel& m) {
+  return runner::parse_engine(engine) == runner::Engine::lammps ? model::lammps_refusal(m) : model::liggghts_refusal(m);
+}
+
 // Every case's manifest is read and checked (thousands in a sweep: on every usable CPU), its cost
-// estimated and its run record read; the first case that cannot be opened, in order, is the error.
-std::vector<std::string> pending_cases(const std::vector<std::string>& targets, bool force, Costs& costs) {
+// estimated and its run record read; the first case that cannot be opened, in order, is the error,
+// and then the first pending case whose contact model the engine lacks (its tasks would all fail).
+std::vector<std::string> pending_cases(const std::vector<std::string>& targets, const SubmitOptions& o, Costs& costs) {
   const auto dirs = formats::expand_case_dirs(targets);
   std::vector<model::Cost> cost(dirs.size());
   std::vector<char> pending(dirs.size(), 0);
+  std::vector<std::string_view> refused(dirs.size());
   os::for_shares(dirs.size(), os::usable_cpus(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       const auto c = formats::Case::open(dirs[i]);  // a case, or FormatError naming what is wrong
       cost[i] = case_cost(c);
-      pending[i] = force || !c.run_record().done();
+      pending[i] = o.force || !c.run_record().done();
+      refused[i] = model_refusal(o.engine, c.spec().contact_model());
     }
   });
   std::vector<std::string> out;
   for (std::size_t i = 0; i < dirs.size(); ++i) {
     const auto dir = fs::absolute(dirs[i]).lexically_normal().string();
     costs[dir] = cost[i];
-    if (pending[i] != 0) out.push_back(dir);
+    if (pending[i] == 0) continue;
+    if (!refused[i].empty()) {
+      throw SubmitError(fmt::format("{}: {} cannot run it: {}; nothing is submitted", dirs[i], o.engine, refused[i]));
+    }
+    out.push_back(dir);
   }
   return out;
 }
@@ -253,7 +267,7 @@ Submission submit(const std::vector<std::string>& targets, const SubmitOptions& 
   scheduler->check_directory(first);
   Submission sub;
   Costs costs;
-  const auto pending = pending_cases(targets, o.force, costs);
+  const auto pending = pending_cases(targets, o, costs);
   const auto busy = busy_cases(targets, pending, *scheduler, sub.notes);
   for (const auto& c : pending) (busy.count(c) != 0 ? sub.skipped : sub.cases).push_back(c);
   if (sub.cases.empty()) return sub;

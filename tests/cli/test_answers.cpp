@@ -306,8 +306,9 @@ TEST_F(Answers, OutputDigestsAreTheOnesTheCommonToolsPrint) {
 }  // namespace
 
 // A model of LAMMPS's that LIGGGHTS lacks (tangential mindlin_rescale) is refused by LIGGGHTS and
-// by refsim by LIGGGHTS's rules, by name and before the case is touched, and runs by LAMMPS's
-// rules; without friction it would exert nothing, and generate says so.
+// by refsim by LIGGGHTS's rules, by name and before the case is touched, and by submit for them
+// before a script is written; it runs by LAMMPS's rules; without friction it would exert
+// nothing, and generate says so.
 TEST_F(Answers, ALammpsModelIsRefusedByLiggghtsRules) {
   const auto c = path("rescale");
   ASSERT_EQ(granstack({"generate", "-o", c.string(), "--blocks", "2", "--rows", "3", "--friction", "0.3",
@@ -326,6 +327,13 @@ TEST_F(Answers, ALammpsModelIsRefusedByLiggghtsRules) {
     expect_contains(r, who + why);
     EXPECT_FALSE(fs::exists(c / "run.json")) << engine;
   }
+  // submit refuses before it writes a script: every task would fail.
+  auto s = granstack({"submit", "--dry-run", c.string()});
+  EXPECT_EQ(s.code, 1) << s.output;
+  expect_contains(s, "liggghts cannot run it: " + why);
+  EXPECT_FALSE(fs::exists(c / "slurm"));
+  s = granstack({"submit", "--dry-run", "--engine", "lammps", c.string()});
+  EXPECT_EQ(s.code, 0) << s.output;
   EXPECT_EQ(granstack({"run", "--engine", "refsim", "--contact-rules", "lammps", c.string()}).code, 0);
   const auto r = granstack({"generate", "-o", path("rescale_frictionless").string(), "--blocks", "2", "--rows", "3",
                             "--tangential-model", "mindlin_rescale"});
