@@ -11,6 +11,7 @@
 #include <granstack/os/case_lock.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/postproc/compare.hpp>
+#include <granstack/runner/engines.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include <fmt/format.h>
@@ -43,6 +44,7 @@ int validate(const ValidateFlags& f) {
     return kBadInput;
   }
   const std::array engines{runner::parse_engine(f.engines[0]), runner::parse_engine(f.engines[1])};
+  const bool lammps_rules = std::find(engines.begin(), engines.end(), runner::Engine::lammps) != engines.end();
   const auto dirs = formats::expand_case_dirs(f.cases);
   std::vector<os::CaseLock> locks;
   for (const auto& d : dirs) {
@@ -63,6 +65,13 @@ int validate(const ValidateFlags& f) {
                          "generate the case without --template\n", d, m.files.deck);
       return kCaseFailed;
     }
+    // refsim beside LAMMPS runs LAMMPS's rules; beside LIGGGHTS, LIGGGHTS's.
+    for (const auto engine : engines) {
+      if (const auto why = runner::model_refusal(engine, c.spec().contact_model(), lammps_rules); !why.empty()) {
+        fmt::print(stderr, "error: {}: {} cannot run it: {}\n", d, runner::to_string(engine), why);
+        return kCaseFailed;
+      }
+    }
     // Both copies' places are checked before either engine spends its time.
     for (const auto engine : engines) {
       const auto copy = runner::copy_dir(d, engine);
@@ -77,8 +86,7 @@ int validate(const ValidateFlags& f) {
   o.lammps = f.lammps;
   StatusLine status;
   int rc = kOk;
-  // refsim beside LAMMPS runs LAMMPS's rules; beside LIGGGHTS, LIGGGHTS's.
-  o.lammps_rules = std::find(engines.begin(), engines.end(), runner::Engine::lammps) != engines.end();
+  o.lammps_rules = lammps_rules;
   for (const auto engine : engines) {
     const auto what = "validate: " + runner::to_string(engine) + " runs";
     o.on_progress = [&status, what](const runner::ProgressSnapshot& s) { status.count(what, s.finished, s.total); };

@@ -12,6 +12,7 @@
 #include <granstack/model/contact.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
+#include <granstack/runner/engines.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include <fmt/format.h>
@@ -38,12 +39,6 @@ using Costs = std::map<std::string, model::Cost>;
 
 model::Cost case_cost(const formats::Case& c) { return c.cost(); }
 
-// What `engine` cannot run of a contact model on any node (its row's refusal; the tasks run refsim
-// by LIGGGHTS's rules), or "".
-std::string_view model_refusal(const std::string& engine, const model::ContactModel& m) {
-  return runner::parse_engine(engine) == runner::Engine::lammps ? model::lammps_refusal(m) : model::liggghts_refusal(m);
-}
-
 // Every case's manifest is read and checked (thousands in a sweep: on every usable CPU), its cost
 // estimated and its run record read; the first case that cannot be opened, in order, is the error,
 // and then the first pending case whose contact model the engine lacks (its tasks would all fail).
@@ -57,7 +52,8 @@ std::vector<std::string> pending_cases(const std::vector<std::string>& targets, 
       const auto c = formats::Case::open(dirs[i]);  // a case, or FormatError naming what is wrong
       cost[i] = case_cost(c);
       pending[i] = o.force || !c.run_record().done();
-      refused[i] = model_refusal(o.engine, c.spec().contact_model());
+      // The tasks run refsim by LIGGGHTS's rules.
+      refused[i] = runner::model_refusal(runner::parse_engine(o.engine), c.spec().contact_model());
     }
   });
   std::vector<std::string> out;

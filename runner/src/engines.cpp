@@ -63,4 +63,9 @@ Engine parse_engine(const std::string& name) {
   throw std::invalid_argument("'" + name + "' is no engine; engines: liggghts, refsim, lammps");
 }
 
+std::string_view model_refusal(Engine e, const model::ContactModel& m, bool lammps_rules) {
+  const bool lammps = e == Engine::lammps || (e == Engine::refsim && lammps_rules);
+  return lammps ? model::lammps_refusal(m) : model::liggghts_refusal(m);
+}
+
 }  // namespace granstack::runner

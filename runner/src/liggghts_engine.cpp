@@ -7,7 +7,7 @@
 
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/log.hpp>
-#include <granstack/model/contact.hpp>
+#include <granstack/runner/engines.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/os/process.hpp>
 
@@ -324,7 +324,9 @@ class Liggghts final : public CaseEngine {
  public:
   std::string lock_holder() const override { return "granstack run"; }
   std::string unavailable(const formats::Case& c, const RunOptions& o) const override {
-    if (const auto why = model::liggghts_refusal(c.spec().contact_model()); !why.empty()) return "LIGGGHTS: " + std::string(why);
+    if (const auto why = model_refusal(Engine::liggghts, c.spec().contact_model()); !why.empty()) {
+      return "LIGGGHTS: " + std::string(why);
+    }
     return program_unavailable("LIGGGHTS", o.liggghts, "--liggghts", "liggghts", o);
   }
   EngineResult run(const formats::Case& c, const RunOptions& o, const std::function<void(long)>& on_step,

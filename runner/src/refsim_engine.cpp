@@ -1,6 +1,8 @@
 // refsim behind the engine interface: granstack's reference integrator, in this process.
 #include "engine.hpp"
 
+#include <granstack/runner/engines.hpp>
+
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/lammps.hpp>
 #include <granstack/model/version.hpp>
@@ -86,7 +88,7 @@ class Refsim final : public CaseEngine {
       if (const auto why = model::lammps_contact_unmappable(c.spec(), model::lammps_rules_run_here()); !why.empty()) {
         return "refsim --contact-rules lammps: " + why;
       }
-    } else if (const auto why = model::liggghts_refusal(c.spec().contact_model()); !why.empty()) {
+    } else if (const auto why = model_refusal(Engine::refsim, c.spec().contact_model()); !why.empty()) {
       return "refsim by LIGGGHTS's contact rules (the default): " + std::string(why);
     }
     return refsim_unavailable(c.dir(), c.manifest());

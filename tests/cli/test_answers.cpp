@@ -306,8 +306,8 @@ TEST_F(Answers, OutputDigestsAreTheOnesTheCommonToolsPrint) {
 }  // namespace
 
 // A model of LAMMPS's that LIGGGHTS lacks (tangential mindlin_rescale) is refused by LIGGGHTS and
-// by refsim by LIGGGHTS's rules, by name and before the case is touched, and by submit for them
-// before a script is written; it runs by LAMMPS's rules; without friction it would exert
+// by refsim by LIGGGHTS's rules, by name and before the case is touched, by validate before it
+// copies the case and by submit before it writes a script; it runs by LAMMPS's rules; without friction it would exert
 // nothing, and generate says so.
 TEST_F(Answers, ALammpsModelIsRefusedByLiggghtsRules) {
   const auto c = path("rescale");
@@ -327,7 +327,12 @@ TEST_F(Answers, ALammpsModelIsRefusedByLiggghtsRules) {
     expect_contains(r, who + why);
     EXPECT_FALSE(fs::exists(c / "run.json")) << engine;
   }
-  // submit refuses before it writes a script: every task would fail.
+  // validate refuses before it copies the case; submit before it writes a script (every task would
+  // fail).
+  auto v = granstack({"validate", c.string()});
+  EXPECT_EQ(v.code, 1) << v.output;
+  expect_contains(v, "liggghts cannot run it: " + why);
+  EXPECT_FALSE(fs::exists(c / "validate"));
   auto s = granstack({"submit", "--dry-run", c.string()});
   EXPECT_EQ(s.code, 1) << s.output;
   expect_contains(s, "liggghts cannot run it: " + why);

@@ -3,10 +3,12 @@
 // command-line option that is some engines' own is refused by name where none of them runs. A
 // fourth engine is its file (a CaseEngine, runner/src/engine.hpp), its enumerator and its row in
 // runner/src/engines.cpp.
+#include <granstack/model/contact.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace granstack::runner {
@@ -30,5 +32,8 @@ const EngineRow& engine_row(Engine e);
 std::vector<std::string> engines_owning(const std::string& option);
 // Every option some engine owns.
 std::vector<std::string> engine_options();
+// What engine `e` cannot run of a contact model on any machine (the model's own refusal: LAMMPS's
+// mapping's, or LIGGGHTS's, which refsim runs unless `lammps_rules`), or "".
+std::string_view model_refusal(Engine e, const model::ContactModel& m, bool lammps_rules = false);
 
 }  // namespace granstack::runner
