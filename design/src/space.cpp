@@ -6,6 +6,7 @@
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/shock.hpp>
 #include <granstack/model/spec_fields.hpp>
+#include <granstack/runner/engines.hpp>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -100,7 +101,7 @@ void read_fixed(const toml::table* fixed, const std::string& source, Space& s, s
     if (s.fixed.striker_material.empty()) s.fixed.striker_material = kStudyMaterial;
     if (s.fixed.wall_material.empty() && s.fixed.has_walls()) s.fixed.wall_material = kStudyMaterial;
     // The search runs refsim by LIGGGHTS's rules: a model LIGGGHTS lacks cannot be searched.
-    if (const auto why = model::liggghts_refusal(s.fixed.contact_model()); !why.empty()) {
+    if (const auto why = runner::model_refusal(runner::Engine::refsim, s.fixed.contact_model()); !why.empty()) {
       problems.push_back(fmt::format("[fixed] {}: the search runs refsim by LIGGGHTS's contact rules, and {}", why.substr(0, why.find(" =")),
                                      why));
     }
