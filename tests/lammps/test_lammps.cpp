@@ -156,7 +156,8 @@ TEST(Lammps, DampedAndFrictionalCasesAgreeWithRefsimByLammpsRules) {
 }
 
 // LAMMPS's tangential mindlin_rescale, which LIGGGHTS lacks: LAMMPS and refsim by LAMMPS's rules
-// agree to round-off on a frictional, damped stack on a bottom wall and between side walls, and
+// agree to round-off on a frictional, damped stack on a bottom wall and between side walls, and on
+// a steel and Teflon stack whose steel-Teflon contacts have no friction; and
 // the rescale changes the blow (against mindlin, the spec's history, on LAMMPS: measured 0.094 in
 // vz, relative to validate's floors; more than 1e-3 is asked, far above round-off).
 TEST(Lammps, MindlinRescaleAgreesWithRefsimByLammpsRules) {
@@ -184,6 +185,27 @@ TEST(Lammps, MindlinRescaleAgreesWithRefsimByLammpsRules) {
   c = postproc::compare_runs(history.run("lammps").string(), rescale.run("lammps").string());
   EXPECT_GT(c.worst(), 1e-3) << c.largest().quantity;
   std::printf("LAMMPS, mindlin against mindlin_rescale: %.3g (%s)\n", c.worst(), c.largest().quantity.c_str());
+  // Two materials, steel on Teflon without friction: that pair's pair_coeff is linear_nohistory 0 0
+  // and the others' mindlin_rescale, each with its own pair's coefficients.
+  auto mixed = stack(0.9, 0.3, model::Boundary::wall);
+  mixed.blocks = 2;
+  mixed.rows = 3;
+  mixed.materials = {"steel", "teflon"};
+  mixed.friction.set("steel", "teflon", 0.0);
+  mixed.tangential_model = model::TangentialModel::mindlin_rescale;
+  const auto two = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / "lammps_rescale_mixed");
+  fs::remove_all(two);
+  g.output = two;
+  generator::generate({{"rescale_mixed", mixed}}, g);
+  for (const auto engine : {runner::Engine::refsim, runner::Engine::lammps}) {
+    const auto outcomes = runner::run_copies({two.string()}, engine, o);
+    EXPECT_EQ(outcomes.front().status, runner::RunStatus::done) << runner::to_string(engine) << ": " << outcomes.front().message;
+  }
+  c = postproc::compare_runs(Runs{two}.run("lammps").string(), Runs{two}.run("refsim").string());
+  EXPECT_TRUE(c.mismatches.empty()) << (c.mismatches.empty() ? "" : c.mismatches.front());
+  EXPECT_LE(c.worst(), round_off(mixed)) << c.largest().quantity;
+  std::printf("mindlin_rescale, steel and Teflon: lammps against refsim by LAMMPS's rules: %.3g (%s)\n", c.worst(),
+              c.largest().quantity.c_str());
 }
 
 // LIGGGHTS against LAMMPS on a damped frictionless stack differs by more than round-off, and the
