@@ -44,6 +44,7 @@ int validate(const ValidateFlags& f) {
     return kBadInput;
   }
   const std::array engines{runner::parse_engine(f.engines[0]), runner::parse_engine(f.engines[1])};
+  // refsim beside LAMMPS runs LAMMPS's rules; beside LIGGGHTS, LIGGGHTS's.
   const bool lammps_rules = std::find(engines.begin(), engines.end(), runner::Engine::lammps) != engines.end();
   const auto dirs = formats::expand_case_dirs(f.cases);
   std::vector<os::CaseLock> locks;
@@ -65,7 +66,7 @@ int validate(const ValidateFlags& f) {
                          "generate the case without --template\n", d, m.files.deck);
       return kCaseFailed;
     }
-    // refsim beside LAMMPS runs LAMMPS's rules; beside LIGGGHTS, LIGGGHTS's.
+    // A contact model one of the engines lacks: refused before anything is copied.
     for (const auto engine : engines) {
       if (const auto why = runner::model_refusal(engine, c.spec().contact_model(), lammps_rules); !why.empty()) {
         fmt::print(stderr, "error: {}: {} cannot run it: {}\n", d, runner::to_string(engine), why);

@@ -9,7 +9,6 @@
 #include <granstack/os/workers.hpp>
 #include <granstack/os/process.hpp>
 #include <granstack/formats/manifest.hpp>
-#include <granstack/model/contact.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
 #include <granstack/runner/engines.hpp>
@@ -47,13 +46,14 @@ std::vector<std::string> pending_cases(const std::vector<std::string>& targets, 
   std::vector<model::Cost> cost(dirs.size());
   std::vector<char> pending(dirs.size(), 0);
   std::vector<std::string_view> refused(dirs.size());
+  const auto engine = runner::parse_engine(o.engine);
   os::for_shares(dirs.size(), os::usable_cpus(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       const auto c = formats::Case::open(dirs[i]);  // a case, or FormatError naming what is wrong
       cost[i] = case_cost(c);
       pending[i] = o.force || !c.run_record().done();
       // The tasks run refsim by LIGGGHTS's rules.
-      refused[i] = runner::model_refusal(runner::parse_engine(o.engine), c.spec().contact_model());
+      refused[i] = runner::model_refusal(engine, c.spec().contact_model());
     }
   });
   std::vector<std::string> out;
