@@ -36,6 +36,7 @@ void TextDumpReader::convert_only(std::vector<std::string> columns) {
 }
 
 using tokens::common_prefix;
+using tokens::common_suffix;
 using tokens::same_token;
 using tokens::skip_word;
 using tokens::token_length;
@@ -159,23 +160,43 @@ void TextDumpReader::read_atoms(DumpFrame& f) {
     // The columns wholly inside the bytes both lines begin with (id, type, radius, mass and often
     // the position) repeat: taken in one go; an atom at rest repeats its whole line. The rest
     // are parsed, token by token.
-    std::size_t c = 0;
+    std::size_t c = 0, stop = ncol;
     const char* p = line.data();
+    const char* end = line.data() + line.size();
+    const char* suffix_start = nullptr;  // where column `stop` starts, when the columns from it on repeat
     if (before.values != nullptr) {
-      const std::size_t common = common_prefix(line.data(), before.line.data(), std::min(line.size(), before.line.size()));
+      const std::size_t shorter = std::min(line.size(), before.line.size());
+      const std::size_t common = common_prefix(line.data(), before.line.data(), shorter);
       if (common == line.size() && common == before.line.size()) {
         c = ncol;
         p = line.data() + line.size();
       } else {
         while (c + 1 < ncol && before.starts[c + 1] <= common) ++c;
         p = line.data() + (c > 0 ? before.starts[c] : 0);
+        // The columns wholly inside the bytes both lines end with, with the blank before them,
+        // repeat too: the columns up to them are parsed, and must end where they begin.
+        const std::size_t suffix = common_suffix(end, before.line.data() + before.line.size(), shorter - common);
+        while (stop > c + 1 && before.line.size() - before.starts[stop - 1] < suffix) --stop;
+        if (stop < ncol) suffix_start = end - (before.line.size() - before.starts[stop]);
       }
       std::memcpy(out, before.values, c * sizeof(double));
       std::memcpy(starts, before.starts, c * sizeof(std::uint32_t));
     }
-    const char* end = line.data() + line.size();
     const bool cached = before.values != nullptr;
     for (; c < ncol && p != nullptr; ++c) {
+      if (c == stop) {
+        while (p < suffix_start && (*p == ' ' || *p == '\t')) ++p;
+        if (p == suffix_start) {
+          std::memcpy(out + c, before.values + c, (ncol - c) * sizeof(double));
+          if (starts != nullptr) {
+            const auto shift = static_cast<std::uint32_t>(before.line.size() - line.size());
+            for (std::size_t k = c; k < ncol; ++k) starts[k] = before.starts[k] - shift;
+          }
+          c = ncol;
+          p = end;
+          break;
+        }
+      }
       if (cached && *p == ' ' && p[1] > ' ') {
         ++p;  // the one space LIGGGHTS writes between numbers (the bytes ahead may be read: see previous())
       } else {

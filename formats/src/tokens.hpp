@@ -49,6 +49,19 @@ inline std::size_t common_prefix(const char* a, const char* b, std::size_t n) {
   return k;
 }
 
+// How many bytes the n bytes before a_end and before b_end have in common at their end, 8 at a time.
+inline std::size_t common_suffix(const char* a_end, const char* b_end, std::size_t n) {
+  std::size_t k = 0;
+  for (; k + 8 <= n; k += 8) {
+    std::uint64_t x = 0, y = 0;
+    std::memcpy(&x, a_end - k - 8, 8);
+    std::memcpy(&y, b_end - k - 8, 8);
+    if (x != y) return k + static_cast<std::size_t>(__builtin_clzll(x ^ y)) / 8;  // little-endian: the last byte is the top one
+  }
+  while (k < n && a_end[-1 - static_cast<std::ptrdiff_t>(k)] == b_end[-1 - static_cast<std::ptrdiff_t>(k)]) ++k;
+  return k;
+}
+
 // The length of the token at p (up to the first byte below '!'), read 8 bytes at a time; 0 when
 // it is 32 bytes or longer. Reads up to 32 bytes at p.
 inline std::size_t token_length(const char* p) {

@@ -643,6 +643,50 @@ TEST_F(BatchTest, ColumnsNotAskedForAreLeftUnparsed) {
   EXPECT_EQ(f.at(4, f.column("vx")), 0.0);
 }
 
+// A piece's reader takes the tokens an atom's line shares with its line in the frame before, at
+// its start and at its end, from that frame. A middle token that grew or shrank moves the shared
+// end: the values stay the exact ones, and a line whose shared end does not line up with its
+// tokens (one token more or fewer before it) is the same error as when read whole.
+TEST_F(BatchTest, TheEndOfALineItsLastFrameEndedWithIsTakenOnlyWhereItsTokensLineUp) {
+  const std::string header = "ITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp pp\n-1 1\n-1 1\n-1 1\n"
+                             "ITEM: ATOMS id type x z vx vz fx fy fz\n";
+  const auto dump = [&](const std::vector<std::string>& first_atom) {
+    std::string text;
+    for (std::size_t k = 0; k < first_atom.size(); ++k) {
+      text += "ITEM: TIMESTEP\n" + std::to_string(10 * k) + "\n" + header + first_atom[k] + "\n2 1 0.5 0.75 0 0 7 8 9\n";
+    }
+    return text;
+  };
+  const std::vector<std::string> grows{"1 1 0.5 0.25 0 0 7 8 9", "1 1 0.5 0.125 0 0 7 8 9", "1 1 0.5 2 0 0 7 8 9",
+                                       "1 1 0.5 2 -1e-300 0 7 8 9", "1 1 0.5 2 -1e-300 0 7 8 9"};
+  const auto path = write("grows.txt", dump(grows));
+  const auto whole = test_support::read_whole(path);
+  ASSERT_EQ(whole.error, "");
+  const auto batches = test_support::read_in_batches(path, std::size_t{1} << 20);
+  EXPECT_EQ(test_support::difference(whole, batches), "");
+  ASSERT_EQ(batches.frames.size(), grows.size());
+  const std::vector<std::vector<double>> z_vx{{0.25, 0.0}, {0.125, 0.0}, {2.0, 0.0}, {2.0, -1e-300}, {2.0, -1e-300}};
+  for (std::size_t k = 0; k < grows.size(); ++k) {
+    const auto& f = batches.frames[k];
+    EXPECT_EQ(f.at(0, f.column("z")), z_vx[k][0]) << "frame " << k;
+    EXPECT_EQ(f.at(0, f.column("vx")), z_vx[k][1]) << "frame " << k;
+    EXPECT_EQ(f.at(0, f.column("fz")), 9.0) << "frame " << k;
+    EXPECT_EQ(f.at(1, f.column("z")), 0.75) << "frame " << k;
+  }
+  for (const auto& [name, line, error] :
+       {std::tuple{"one_more.txt", "1 1 0.5 2 5 0 0 7 8 9", "has 10 values"},
+        std::tuple{"one_fewer.txt", "1 1 0.5 0 0 7 8 9", "has 8 values"},
+        std::tuple{"joined.txt", "1 1 0.5 20 0 7 8 9", "has 8 values"},
+        std::tuple{"word.txt", "1 1 0.5 2 x 0 7 8 9", "'x' in column 'vx'"}}) {
+    auto bad = grows;
+    bad[3] = line;
+    const auto bad_path = write(name, dump(bad));
+    const auto bad_whole = test_support::read_whole(bad_path);
+    EXPECT_NE(bad_whole.error.find(error), std::string::npos) << name << ": " << bad_whole.error;
+    EXPECT_EQ(test_support::difference(bad_whole, test_support::read_in_batches(bad_path, std::size_t{1} << 20)), "") << name;
+  }
+}
+
 using SeriesTest = TempDir;
 
 TEST_F(SeriesTest, ReadsNamedColumnsAndDropsACutLastRow) {
