@@ -171,6 +171,7 @@ void BinaryDumpReader::read_chunks(DumpFrame& f, std::int32_t chunks) {
   // storage of the previous frame is reused without clearing it).
   if (f.values.size() > total) f.values.resize(total);
   f.deferred.clear();
+  f.finite = false;  // the bytes as written: not checked here
   std::size_t filled = 0;
   for (std::int32_t c = 0; c < chunks; ++c) {
     std::int32_t n = 0;

@@ -145,6 +145,9 @@ void TextDumpReader::read_atoms(DumpFrame& f) {
   if (f.values.size() > expected) f.values.resize(expected);
   repeats_.begin_frame(f, in_memory_);
   const bool convert_all = convert_all_;
+  // Whether every value is finite: each parsed one is checked, the others are the previous
+  // frame's (finite if it was).
+  bool finite = !repeats_.reusing() || previous_finite_;
   std::string_view line;
   for (long a = 0; a < f.atoms; ++a) {
     if (!in_frame(line)) {
@@ -218,6 +221,7 @@ void TextDumpReader::read_atoms(DumpFrame& f) {
           continue;
         }
         p = parse_next_double(p, end, out[c]);
+        finite = finite && std::isfinite(out[c]);
         continue;
       }
       // Not converted, but checked to be a finite number: its first character past a sign is a
@@ -233,6 +237,8 @@ void TextDumpReader::read_atoms(DumpFrame& f) {
     repeats_.keep(atom, line);
   }
   repeats_.end_frame(f);
+  f.finite = finite;
+  previous_finite_ = finite;
 }
 
 void TextDumpReader::not_finite(const DumpFrame& f, long a, std::size_t c, const char* p, const char* end) {

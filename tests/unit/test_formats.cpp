@@ -687,6 +687,31 @@ TEST_F(BatchTest, TheEndOfALineItsLastFrameEndedWithIsTakenOnlyWhereItsTokensLin
   }
 }
 
+// The text reader vouches for a frame's values being finite (reduce then skips its own check)
+// only where it parsed each or took it from a frame it vouched for: an inf, parsed or repeated
+// from the frame before, leaves the frame to the check.
+TEST_F(BatchTest, AFrameIsVouchedFiniteOnlyWhenEveryValueItHoldsWasCheckedFinite) {
+  const std::string header = "ITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp pp\n-1 1\n-1 1\n-1 1\nITEM: ATOMS id x vx\n";
+  std::string text;
+  const std::vector<std::string> lines{"1 0.5 2", "1 0.5 inf", "1 0.5 inf", "1 0.25 inf", "1 0.25 1e999", "1 0.25 3"};
+  for (std::size_t k = 0; k < lines.size(); ++k) text += "ITEM: TIMESTEP\n" + std::to_string(k) + "\n" + header + lines[k] + "\n";
+  const auto path = write("inf.txt", text);
+  // Read whole, no line is compared with the frame before: the last frame is vouched for again.
+  const auto whole = test_support::read_whole(path);
+  ASSERT_EQ(whole.error, "");
+  ASSERT_EQ(whole.frames.size(), lines.size());
+  const std::vector<bool> finite{true, false, false, false, false, true};
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    EXPECT_EQ(whole.frames[k].finite, finite[k]) << "frame " << k;
+    EXPECT_EQ(std::isfinite(whole.frames[k].at(0, 2)), finite[k]) << "frame " << k;
+  }
+  // In one piece the last frame's line is compared with the frame before, which was not vouched
+  // for: neither is it.
+  const auto piece = test_support::read_in_batches(path, std::size_t{1} << 20);
+  ASSERT_EQ(piece.frames.size(), lines.size());
+  for (std::size_t k = 0; k < lines.size(); ++k) EXPECT_EQ(piece.frames[k].finite, k == 0) << "frame " << k;
+}
+
 using SeriesTest = TempDir;
 
 TEST_F(SeriesTest, ReadsNamedColumnsAndDropsACutLastRow) {

@@ -35,6 +35,9 @@ struct DumpFrame {
   // Values not read yet (BinaryDumpReader::defer_values): (byte offset in the file, count), in
   // the order they fill `values`.
   std::vector<std::pair<long, long>> deferred;
+  // Every value is known to be finite: the text reader checked each number it parsed (and took
+  // the others from a frame it had checked). False: not known, the reader of the values checks.
+  bool finite = false;
 
   // Index of a column, or -1.
   int column(std::string_view name) const;
@@ -101,6 +104,7 @@ class TextDumpReader final : public DumpReader {
   std::string next_line_;
   bool in_memory_ = false;
   bool next_frame_seen_ = false;
+  bool previous_finite_ = false;  // the frame read before had only finite values
   RepeatedTokens repeats_;  // the previous frame's lines, where the piece in memory lets them be reused
   long step_read_ = -1;
   bool nul_by_step_ = false;

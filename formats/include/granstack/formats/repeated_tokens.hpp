@@ -27,6 +27,8 @@ class RepeatedTokens {
   // memory (`in_memory`), whose earlier lines stay put, and a previous frame stored apart from
   // `f` with the same columns.
   void begin_frame(const DumpFrame& f, bool in_memory);
+  // Whether this frame's lines are compared with the previous frame's (begin_frame's verdict).
+  bool reusing() const { return reuse_; }
   // Atom a's previous line, where it may be compared: the bytes up to kTokenReach past `line`'s
   // end are the piece's (`data_end`), so a token comparison may read on.
   Previous previous(std::size_t a, std::string_view line, const char* data_end) const {
