@@ -330,7 +330,10 @@ std::vector<double> Asynchronous::uniform(std::mt19937& rng) const {
   return x;
 }
 
-// Two binary tournaments on (rank, crowding), SBX of the winners, polynomial mutation.
+// Two parents (each, with probability front_parents, one of the search's front; else by the
+// algorithm's rule: binary tournaments on (rank, crowding) for NSGA-II), pagmo2's crossover of
+// them (two-point: every gene is a whole number), then mutate() (or, at step_mutation = 0,
+// pagmo2's mutation, which draws a mutated whole-number gene uniformly from its range).
 std::vector<double> Asynchronous::bred(std::mt19937& rng, std::size_t subproblem) const {
   std::vector<pagmo::vector_double> f;
   for (const auto& m : members_) f.push_back(m.f);
@@ -360,14 +363,24 @@ std::vector<double> Asynchronous::bred(std::mt19937& rng, std::size_t subproblem
     if (local) return near[in_near(rng)];
     return algorithm == Algorithm::nsga2 ? tournament() : any(rng);
   };
-  const auto p1 = pick(), p2 = pick();
   const auto& o = space_.search;
-  auto child = pagmo::sbx_crossover(members_[p1].x, members_[p2].x, bounds_, space_.genes(), o.crossover_probability,
-                                    o.crossover_eta, rng).first;
-  pagmo::polynomial_mutation(child, bounds_, space_.genes(), o.mutation_probability.value_or(1.0 / static_cast<double>(space_.genes())),
-                             o.mutation_eta, rng);
+  std::uniform_real_distribution<double> chance(0.0, 1.0);
+  const auto parent = [&]() -> std::vector<double> {
+    // (no draw at front_parents = 0: the search breeds as it did before the setting existed)
+    if (front_.empty() || o.front_parents <= 0.0 || !(chance(rng) < o.front_parents)) return members_[pick()].x;
+    return *space_.encode(front_[std::uniform_int_distribution<std::size_t>(0, front_.size() - 1)(rng)].spec);
+  };
+  const auto x1 = parent(), x2 = parent();
+  auto child = pagmo::sbx_crossover(x1, x2, bounds_, space_.genes(), o.crossover_probability, o.crossover_eta, rng).first;
+  const double pm = o.mutation_probability.value_or(1.0 / static_cast<double>(space_.genes()));
+  if (o.step_mutation > 0.0) {
+    mutate(space_, bounds_, child, pm, rng);
+  } else {  // as the search bred before step_mutation existed
+    pagmo::polynomial_mutation(child, bounds_, space_.genes(), pm, o.mutation_eta, rng);
+  }
   return child;
 }
+
 
 // Whether a design breaks a constraint known before it runs; the reasons are counted, so that an
 // exhausted space says why its draws were refused.

@@ -343,8 +343,38 @@ void evaluate_study_designs(const Space& space, Store& store, int jobs) {
   for (std::size_t k = 0; k < study.size(); ++k) store.put_study_design(study[k].first, spec_digest(study[k].second));
 }
 
+namespace {
+
+// The breeding a store's search began with: a file that names none adopts it, one that names
+// other values is refused (the search would change its rules halfway). A store whose search
+// began before the breeding was kept bred with neither; one whose search has not begun, with
+// the file's.
+void adopt_breeding(Space& space, const Store& store) {
+  auto& s = space.search;
+  const auto kept = store.meta("breeding");
+  if (!kept && !store.meta("schedule")) return;
+  double front = 0.0, step = 0.0;
+  if (kept) {
+    const auto j = nlohmann::json::parse(*kept);
+    front = j.at("front_parents").get<double>();
+    step = j.at("step_mutation").get<double>();
+  }
+  if (!s.breeding_given) {
+    s.front_parents = front;
+    s.step_mutation = step;
+  } else if (s.front_parents != front || s.step_mutation != step) {
+    throw StoreError(fmt::format("the store's search breeds with front_parents = {} and step_mutation = {}, the space "
+                                 "names {} and {}: name the store's (or neither) to resume it, or give another directory",
+                                 front, step, s.front_parents, s.step_mutation));
+  }
+}
+
+}  // namespace
+
 void adopt_schedule(Space& space, const Store& store) {
-  if (space.search.schedule_given || !store.meta("space_digest")) return;
+  if (!store.meta("space_digest")) return;
+  adopt_breeding(space, store);
+  if (space.search.schedule_given) return;
   const auto named = store.meta("schedule");
   space.search.schedule = named && *named == to_string(Schedule::asynchronous) ? Schedule::asynchronous : Schedule::generational;
 }
@@ -366,7 +396,11 @@ Space stored_space(const Store& store, const std::string& source) {
 }
 
 SearchResult run_search(const Space& space, Store& store, const SearchOptions& options) {
-  if (!store.meta("schedule")) store.set_meta("schedule", std::string(to_string(space.search.schedule)));
+  if (!store.meta("schedule")) {
+    store.set_meta("schedule", std::string(to_string(space.search.schedule)));
+    store.set_meta("breeding", nlohmann::json{{"front_parents", space.search.front_parents},
+                                              {"step_mutation", space.search.step_mutation}}.dump());
+  }
   const bool asynchronous = space.search.schedule == Schedule::asynchronous;
   const auto start = std::chrono::steady_clock::now();
   SearchResult total;

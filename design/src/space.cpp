@@ -445,7 +445,10 @@ void read_operator(const std::string& key, const toml::node& v, Space& s, std::v
     return;
   }
   if (key == "crossover_probability") s.search.crossover_probability = *x;
-  else if (key == "crossover_eta") s.search.crossover_eta = *x;
+  else if (key == "front_parents" || key == "step_mutation") {
+    (key == "front_parents" ? s.search.front_parents : s.search.step_mutation) = *x;
+    s.search.breeding_given = true;
+  } else if (key == "crossover_eta") s.search.crossover_eta = *x;
   else if (key == "mutation_eta") s.search.mutation_eta = *x;
   else s.search.mutation_probability = *x;
 }
@@ -520,7 +523,8 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
       if (a == nullptr || s.search.start_files.size() != a->size()) {
         problems.push_back("[search] start: a list of spec files (granstack generate --config's), relative to the space file");
       }
-    } else if (key == "crossover_probability" || key == "crossover_eta" || key == "mutation_eta" || key == "mutation_probability") {
+    } else if (key == "crossover_probability" || key == "crossover_eta" || key == "mutation_eta" || key == "mutation_probability" ||
+               key == "front_parents" || key == "step_mutation") {
       read_operator(key, v, s, problems);
     } else if (key == "shortcuts") {
       const auto on = v.value_exact<bool>();
@@ -541,7 +545,7 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
     } else {
       problems.push_back(fmt::format("[search] {}: unknown; evaluation, algorithm, population, generations, seed, "
                                      "max_designs, stagnation, stagnation_tolerance, time_limit, shortcuts, start, crossover_probability, "
-                                     "crossover_eta, mutation_eta or mutation_probability", key));
+                                     "crossover_eta, mutation_eta, mutation_probability, front_parents or step_mutation", key));
     }
   }
   if (s.search.population < 8 || s.search.population % 4 != 0) {
@@ -550,6 +554,10 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
   if (s.search.algorithm != Algorithm::nsga2 && s.search.schedule == Schedule::generational) {
     problems.push_back(fmt::format("[search] algorithm = \"{}\": the generational search is pagmo2's NSGA-II; leave out "
                                    "algorithm, or make the search asynchronous", to_string(s.search.algorithm)));
+  }
+  if (s.search.breeding_given && s.search.schedule == Schedule::generational) {
+    problems.push_back("[search] front_parents, step_mutation: the generational search is pagmo2's NSGA-II, which breeds "
+                       "from its population with its own mutation; leave them out, or make the search asynchronous");
   }
 }
 

@@ -104,4 +104,19 @@ std::size_t leaving(const std::vector<std::vector<double>>& f, Algorithm algorit
   return algorithm == Algorithm::sms_emoa ? sms_emoa_leaving(f, last) : nsga3_leaving(f, last);
 }
 
+void mutate(const Space& space, const std::pair<std::vector<double>, std::vector<double>>& bounds, std::vector<double>& x,
+            double pm, std::mt19937& rng) {
+  std::uniform_real_distribution<double> chance(0.0, 1.0);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!(chance(rng) < pm)) continue;
+    const int lo = static_cast<int>(bounds.first[i]), hi = static_cast<int>(bounds.second[i]), now = static_cast<int>(x[i]);
+    if (!space.is_material_gene(i) && chance(rng) < space.search.step_mutation) {
+      x[i] = std::clamp(now + (chance(rng) < 0.5 ? -1 : 1), lo, hi);
+    } else {
+      const int other = std::uniform_int_distribution<int>(lo, hi - 1)(rng);
+      x[i] = other >= now ? other + 1 : other;
+    }
+  }
+}
+
 }  // namespace granstack::design

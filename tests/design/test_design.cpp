@@ -33,6 +33,7 @@
 #include <map>
 #include <mutex>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include "../support/program.hpp"
@@ -345,6 +346,13 @@ TEST(Space, BadSpacesAreRefusedNamingTheKeyAndTheFix) {
             std::string::npos);
   EXPECT_NE(problems_of(with("seed = 7", "seed = 7\ncrossover_probability = 1.0")).find("a probability from 0 to below 1"),
             std::string::npos);
+  EXPECT_NE(problems_of(with("seed = 7", "seed = 7\nfront_parents = 1.5")).find("front_parents: a probability from 0 to 1"),
+            std::string::npos);
+  EXPECT_NE(problems_of(with("seed = 7", "seed = 7\nstep_mutation = -0.1")).find("step_mutation: a probability from 0 to 1"),
+            std::string::npos);
+  EXPECT_NE(problems_of(with("seed = 7", "seed = 7\nstep_mutation = 0.5\nevaluation = \"generational\""))
+                .find("front_parents, step_mutation: the generational search is pagmo2's NSGA-II"),
+            std::string::npos);
   EXPECT_NE(problems_of(with("\"teflon\"]", "\"teflon\", \"steel\"]")).find("steel is listed twice"), std::string::npos);
   EXPECT_NE(problems_of(base + "[constraints]\nmax_spheres = 200.5\n").find("a whole number of spheres"), std::string::npos);
 }
@@ -501,6 +509,37 @@ void expect_resumes_where_it_stopped(design::Schedule schedule, design::Algorith
   EXPECT_GT(ga[0].hypervolume, 0.0);
 }
 
+// A store keeps the breeding its search began with ([search] front_parents, step_mutation): a
+// space that names none adopts it, one that names others is refused; a store whose search began
+// before the breeding was kept bred with neither (pagmo2's tournament parents and mutation).
+TEST(Search, AStoreKeepsTheBreedingItsSearchBeganWith) {
+  const auto dir = work_dir();
+  auto space = small_space();
+  space.search.generations = 0;
+  auto store = design::Store::open((dir / "new.sqlite").string(), space.digest(), kSmallSpace);
+  design::run_search(space, store, {});
+  EXPECT_EQ(store.meta("breeding").value_or(""), R"({"front_parents":0.5,"step_mutation":0.5})");
+  auto named = design::parse_space(kSmallSpace + "front_parents = 0.25\n", "small.toml");
+  try {
+    design::adopt_schedule(named, store);
+    FAIL() << "a space naming other breeding resumed the store";
+  } catch (const design::StoreError& e) {
+    EXPECT_NE(std::string(e.what()).find("the store's search breeds with front_parents = 0.5 and step_mutation = 0.5, the "
+                                         "space names 0.25 and 0.5"),
+              std::string::npos) << e.what();
+  }
+  auto old = design::Store::open((dir / "old.sqlite").string(), space.digest(), kSmallSpace);
+  old.set_meta("schedule", "asynchronous");  // a search begun before the breeding was kept
+  auto adopted = small_space();
+  design::adopt_schedule(adopted, old);
+  EXPECT_EQ(adopted.search.front_parents, 0.0);
+  EXPECT_EQ(adopted.search.step_mutation, 0.0);
+  auto unborn = small_space();  // a store whose search has not begun takes the file's
+  design::adopt_schedule(unborn, design::Store::open((dir / "unborn.sqlite").string(), space.digest(), kSmallSpace));
+  EXPECT_EQ(unborn.search.front_parents, 0.5);
+  EXPECT_THROW(design::adopt_schedule(named, old), design::StoreError);
+}
+
 TEST(Search, IsReproducibleAndResumesWhereItStopped) { expect_resumes_where_it_stopped(design::Schedule::asynchronous); }
 TEST(Search, AGenerationalSearchResumesWhereItStopped) { expect_resumes_where_it_stopped(design::Schedule::generational); }
 TEST(Search, NsgaThreeSmsEmoaAndMoeadResumeWhereTheyStopped) {
@@ -516,6 +555,51 @@ TEST(Search, NsgaThreeSmsEmoaAndMoeadResumeWhereTheyStopped) {
 // 0.0225, is the least (the others 0.045, 0.025, 0.05). NSGA-III with five members has four
 // directions (0,1), (1/3,2/3), (2/3,1/3), (1,0); (0.3,0.7) and (0.32,0.68) share the second, and
 // the first, 0.1/sqrt(5) from it against 0.04/sqrt(5), leaves.
+// The asynchronous search's mutation (design/src/survival.hpp): at step_mutation = 1 every
+// ordinal gene moves by one (or, at a bound, stays or moves inward), at 0 it takes another of its
+// values, any distance away; a material always takes another; nothing leaves the bounds.
+TEST(Search, AStepMutationMovesAnOrdinalGeneOneStepAndAMaterialToAnotherValue) {
+  auto text = kSmallSpace;
+  text.replace(text.find("blocks = [1, 2]"), 15, "blocks = [1, 4]");
+  text.replace(text.find("rows = [1, 3]"), 13, "rows = [1, 8]");
+  text.replace(text.find("radius_ratio = [2]"), 18, "radius_ratio = [2, 3]");
+  text.replace(text.find("\"teflon\"]"), 9, "\"teflon\", \"nylon\", \"brass\"]");
+  auto space = design::parse_space(text, "wide.toml");
+  const auto bounds = space.bounds();
+  std::mt19937 rng(11);
+  for (const double step : {1.0, 0.0}) {
+    space.search.step_mutation = step;
+    long far = 0;
+    for (int draw = 0; draw < 2000; ++draw) {
+      std::vector<double> x(space.genes());
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        x[i] = std::uniform_int_distribution<int>(static_cast<int>(bounds.first[i]), static_cast<int>(bounds.second[i]))(rng);
+      }
+      auto y = x;
+      design::mutate(space, bounds, y, 1.0, rng);
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        ASSERT_GE(y[i], bounds.first[i]);
+        ASSERT_LE(y[i], bounds.second[i]);
+        const double moved = std::abs(y[i] - x[i]);
+        const bool at_bound = x[i] == bounds.first[i] || x[i] == bounds.second[i];
+        if (space.is_material_gene(i) || step == 0.0) {
+          ASSERT_NE(y[i], x[i]) << "gene " << i;
+        } else {
+          ASSERT_TRUE(moved == 1.0 || (at_bound && moved == 0.0)) << "gene " << i << ": " << x[i] << " -> " << y[i];
+        }
+        far += !space.is_material_gene(i) && moved >= 2.0;
+      }
+    }
+    if (step == 0.0) {
+      EXPECT_GT(far, 0);
+    }
+    auto z = std::vector<double>(space.genes(), 1.0);
+    const auto unchanged = z;
+    design::mutate(space, bounds, z, 0.0, rng);
+    EXPECT_EQ(z, unchanged);
+  }
+}
+
 TEST(Search, EachAlgorithmDropsTheDesignItsRuleNames) {
   using design::Algorithm;
   const std::vector<std::vector<double>> dominated{{0.2, 0.2}, {0.5, 0.6}, {0.6, 0.1}, {0.1, 0.6}};
@@ -874,6 +958,33 @@ fs::path searched_dir(const fs::path& dir) {
 }
 
 }  // namespace
+
+// A search with front_parents and step_mutation both 0 breeds as the search did before they
+// existed (a store from then resumes so): on one job, the designs it joins are, in order, those
+// the search of a979248 joined (tests/data/design/joins_before_breeding.txt); the defaults join
+// them in another order.
+TEST(Search, BothBreedingSettingsAtZeroBreedAsBefore) {
+  const auto dir = work_dir();
+  std::vector<std::string> before;
+  std::istringstream golden(test::read_bytes(fs::path(GRANSTACK_TEST_DATA) / "design" / "joins_before_breeding.txt"));
+  for (std::string line; std::getline(golden, line);) {
+    if (!line.empty() && line[0] != '#') before.push_back(line);
+  }
+  ASSERT_EQ(before.size(), 42u);  // every design of the space
+  auto joined = [&](const std::string& name, const std::string& breeding) {
+    auto text = kSmallSpace;
+    text.replace(text.find("generations = 2"), 15, "generations = 5");
+    std::ofstream(dir / (name + ".toml")) << text << breeding;
+    const auto r = program({"design", "run", (dir / (name + ".toml")).string(), "-o", (dir / name).string(), "-j", "1"},
+                           dir / (name + ".log"));
+    EXPECT_EQ(r.code, 0) << r.output;
+    return design::Store::open_existing((dir / name / "design.sqlite").string()).joins(0);
+  };
+  EXPECT_EQ(joined("zero", "front_parents = 0\nstep_mutation = 0\n"), before);
+  const auto now = joined("default", "");
+  EXPECT_NE(now, before);
+  EXPECT_EQ(std::set<std::string>(now.begin(), now.end()), std::set<std::string>(before.begin(), before.end()));
+}
 
 TEST(DesignCli, ABadSpaceIsRefusedWithEveryProblemAndNothingIsWritten) {
   const auto dir = work_dir();

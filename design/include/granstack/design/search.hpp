@@ -173,7 +173,8 @@ std::vector<double> fitness(const Space& space, const Evaluation& e, const Norma
 std::vector<std::pair<std::string, model::StackSpec>> study_designs(const Space& space);
 
 // A store's search keeps the schedule it was run with: a space file that does not name one takes
-// the store's ([search] evaluation; a store from before the key is generational).
+// the store's ([search] evaluation; a store from before the key is generational); and so its
+// breeding ([search] front_parents and step_mutation; a file naming others is refused).
 void adopt_schedule(Space& space, const Store& store);
 // The space a store was written for, as status, report and confirm read it (parse_space's stored).
 Space stored_space(const Store& store, const std::string& source);

@@ -100,6 +100,15 @@ struct Search {
   double crossover_eta = 10.0;                  // distribution index, in [1, 100)
   double mutation_eta = 50.0;                   // in [1, 100)
   std::optional<double> mutation_probability;   // per gene, in [0, 1]; none: one over the genes
+  // Breeding in the asynchronous search (the budget benchmark chose the defaults): the chance
+  // that a parent is drawn from the search's front (every design it ran that none dominates)
+  // instead of by a tournament in the population, and that a mutated ordinal gene (the blocks, a
+  // ratio's index, a block's rows) moves one step instead of to any other of its values. A store
+  // keeps those its search began with (adopt_schedule); a store from before they existed bred
+  // with none of either.
+  double front_parents = 0.5;                   // [search] front_parents, in [0, 1]
+  double step_mutation = 0.5;                   // [search] step_mutation, in [0, 1]
+  bool breeding_given = false;                  // the file named either
   // [search] start: spec files (generate --config's, relative to the space file) whose designs
   // begin the search (their blocks, materials, ratios and rows; the rest is the space's), and
   // their genes (read when a search is parsed to run, not from a stored space).
@@ -150,6 +159,8 @@ struct Space {
   // row count per block, for max_blocks (genes past a design's N_B are carried but unused).
   // A gene with one choice spans two values that decode alike (NSGA-II needs lower < upper).
   std::size_t genes() const { return 3 * static_cast<std::size_t>(max_blocks); }
+  // Whether gene i is a block's material (a choice with no order; the others are ordinal).
+  bool is_material_gene(std::size_t i) const { return i >= 1 && i <= static_cast<std::size_t>(max_blocks); }
   std::pair<std::vector<double>, std::vector<double>> bounds() const;
   // The stack a decision vector stands for (whole numbers; rounded).
   model::StackSpec decode(const std::vector<double>& x) const;
