@@ -8,10 +8,11 @@
 # (censored runs, scenarios that decided no objective, designs off its front, the shortcuts). One
 # more run, the first seed of the first algorithm with [search] shortcuts = false, measures what
 # the shortcuts save. Writes the record (OUT, JSON) the performance page's table is made from.
-# With several POPULATIONS each algorithm runs at each, labelled ALGORITHM-pPOPULATION; OFF_RUN=0
-# leaves out the run without shortcuts.
+# With several POPULATIONS each algorithm runs at each, labelled ALGORITHM-pPOPULATION; with several
+# BREEDINGS (FRONT_PARENTS:STEP_MUTATION, [search] front_parents and step_mutation) at each,
+# labelled ALGORITHM-fFRONT_PARENTS-sSTEP_MUTATION; OFF_RUN=0 leaves out the run without shortcuts.
 # Usage: OUT=bench/results/design-budget-DATE.json bench/design_budget.sh
-#   (SPACE, SEEDS="1 2 3 4 5", ALGORITHMS="nsga2 sms-emoa", POPULATIONS=24, MAX_DESIGNS=1500,
+#   (SPACE, SEEDS="1 2 3 4 5", ALGORITHMS="nsga2 sms-emoa", POPULATIONS=24, BREEDINGS=0.5:0.5, MAX_DESIGNS=1500,
 #   TIME_LIMIT=600, STAGNATION=10, JOBS=2, OFF_RUN=1; up to (seeds x algorithms x populations + 1) x
 #   TIME_LIMIT seconds, about 45 minutes on 2 cores with the shortcuts)
 set -euo pipefail
@@ -21,20 +22,23 @@ space=${SPACE:-$here/examples/design/least_wall_force.toml}
 seeds=${SEEDS:-1 2 3 4 5}
 algorithms=${ALGORITHMS:-nsga2 sms-emoa}
 populations=${POPULATIONS:-24}
+breedings=${BREEDINGS:-0.5:0.5}
 off_run=${OFF_RUN:-1}
 max_designs=${MAX_DESIGNS:-1500}
 stagnation=${STAGNATION:-10}
 time_limit=${TIME_LIMIT:-600}
 jobs=${JOBS:-2}
 runs=()
-one() {  # one ALGORITHM SEED SHORTCUTS POPULATION: a search alone in its own store
-  local label=$1
-  [ "$(wc -w <<< "$populations")" -gt 1 ] && label="$1-p$4"
+one() {  # one ALGORITHM SEED SHORTCUTS POPULATION BREEDING: a search alone in its own store
+  local label=$1 front=${5%%:*} step=${5##*:}
+  [ "$(wc -w <<< "$populations")" -gt 1 ] && label="$label-p$4"
+  [ "$(wc -w <<< "$breedings")" -gt 1 ] && label="$label-f$front-s$step"
   local name="$label-$2-$3" dir="$work/$label-$2-$3"
   mkdir -p "$dir"
   sed -e '/^\[search\]$/,$d' "$space" > "$dir/space.toml"
   printf '[search]\npopulation = %s\ngenerations = 1000\nseed = %s\nalgorithm = "%s"\nmax_designs = %s\nstagnation = %s\nshortcuts = %s\n' \
     "$4" "$2" "$1" "$max_designs" "$stagnation" "$3" >> "$dir/space.toml"
+  printf 'front_parents = %s\nstep_mutation = %s\n' "$front" "$step" >> "$dir/space.toml"
   local t0 t1
   t0=$(date +%s.%N)
   "$gs" design run "$dir/space.toml" -o "$dir/out" -j "$jobs" --time-limit "$time_limit" > "$dir/log" 2>&1
@@ -45,12 +49,15 @@ one() {  # one ALGORITHM SEED SHORTCUTS POPULATION: a search alone in its own st
 }
 first_algorithm=${algorithms%% *}
 first_seed=${seeds%% *}
+# The seeds alternate between the settings compared (the machine drifts over a long benchmark).
 for a in $algorithms; do
-  for p in $populations; do
-    for s in $seeds; do one "$a" "$s" true "$p"; done
+  for s in $seeds; do
+    for p in $populations; do
+      for b in $breedings; do one "$a" "$s" true "$p" "$b"; done
+    done
   done
 done
-[ "$off_run" = 0 ] || one "$first_algorithm" "$first_seed" false "${populations%% *}"
+[ "$off_run" = 0 ] || one "$first_algorithm" "$first_seed" false "${populations%% *}" "${breedings%% *}"
 python3 "$here/bench/design_budget.py" "$work" "$("$gs" --version)" "$(nproc)" "$max_designs" "$time_limit" "$jobs" \
   "$(realpath --relative-to="$here" "$space")" "$stagnation" > "$OUT"
 echo "wrote $OUT"
