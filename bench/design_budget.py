@@ -97,6 +97,11 @@ everything = [point(box, v) for joins, rows, *_ in designs_of.values() for d in 
 reference = front(everything)
 reference_hv = hypervolume(reference)
 
+def breeding(name):  # front_parents:step_mutation, as its space names them
+    named = dict(line.split(" = ", 1) for line in open(f"{work}/{name}/space.toml").read().splitlines() if " = " in line)
+    return f"{named['front_parents']}:{named['step_mutation']}"
+
+
 record_runs = []
 for name, (joins, rows, report, finished) in designs_of.items():
     algorithm, seed, shortcuts = name.rsplit("-", 2)
@@ -117,7 +122,8 @@ for name, (joins, rows, report, finished) in designs_of.items():
     in_time = [p for p in progress if p["seconds"] <= TARGET_SECONDS]
     refsim = run["refsim_seconds"]
     record_runs.append({
-        "algorithm": algorithm, "seed": int(seed), "shortcuts": shortcuts == "true", "seconds": round(t1 - t0, 1),
+        "algorithm": algorithm, "seed": int(seed), "shortcuts": shortcuts == "true", "breeding": breeding(name),
+        "seconds": round(t1 - t0, 1),
         "designs": run["designs"], "ended": last, "stopped_improving": run.get("stopped_improving", ""),
         "designs_to_target": reach["designs"] if reach else None, "seconds_to_target": reach["seconds"] if reach else None,
         "hypervolume_fraction_at_500": at_500[-1]["hypervolume_fraction"] if at_500 else None,

@@ -514,12 +514,17 @@ void expect_resumes_where_it_stopped(design::Schedule schedule, design::Algorith
 // before the breeding was kept bred with neither (pagmo2's tournament parents and mutation).
 TEST(Search, AStoreKeepsTheBreedingItsSearchBeganWith) {
   const auto dir = work_dir();
-  auto space = small_space();
+  const auto half = kSmallSpace + "front_parents = 0.5\nstep_mutation = 0.5\n";
+  auto space = design::parse_space(half, "small.toml");
   space.search.generations = 0;
-  auto store = design::Store::open((dir / "new.sqlite").string(), space.digest(), kSmallSpace);
+  auto store = design::Store::open((dir / "new.sqlite").string(), space.digest(), half);
   design::run_search(space, store, {});
   EXPECT_EQ(store.meta("breeding").value_or(""), R"({"front_parents":0.5,"step_mutation":0.5})");
-  auto named = design::parse_space(kSmallSpace + "front_parents = 0.25\n", "small.toml");
+  auto silent = small_space();  // names neither: takes the store's
+  design::adopt_schedule(silent, store);
+  EXPECT_EQ(silent.search.front_parents, 0.5);
+  EXPECT_EQ(silent.search.step_mutation, 0.5);
+  auto named = design::parse_space(kSmallSpace + "front_parents = 0.25\nstep_mutation = 0.5\n", "small.toml");
   try {
     design::adopt_schedule(named, store);
     FAIL() << "a space naming other breeding resumed the store";
@@ -534,7 +539,7 @@ TEST(Search, AStoreKeepsTheBreedingItsSearchBeganWith) {
   design::adopt_schedule(adopted, old);
   EXPECT_EQ(adopted.search.front_parents, 0.0);
   EXPECT_EQ(adopted.search.step_mutation, 0.0);
-  auto unborn = small_space();  // a store whose search has not begun takes the file's
+  auto unborn = design::parse_space(half, "small.toml");  // a store whose search has not begun takes the file's
   design::adopt_schedule(unborn, design::Store::open((dir / "unborn.sqlite").string(), space.digest(), kSmallSpace));
   EXPECT_EQ(unborn.search.front_parents, 0.5);
   EXPECT_THROW(design::adopt_schedule(named, old), design::StoreError);
@@ -959,11 +964,11 @@ fs::path searched_dir(const fs::path& dir) {
 
 }  // namespace
 
-// A search with front_parents and step_mutation both 0 breeds as the search did before they
-// existed (a store from then resumes so): on one job, the designs it joins are, in order, those
-// the search of a979248 joined (tests/data/design/joins_before_breeding.txt); the defaults join
-// them in another order.
-TEST(Search, BothBreedingSettingsAtZeroBreedAsBefore) {
+// The default breeding (front_parents and step_mutation both 0) is the search as it was before
+// those settings existed (a store from then resumes so): on one job, the designs it joins are, in
+// order, those the search of a979248 joined (tests/data/design/joins_before_breeding.txt); with
+// both at 0.5 it joins them in another order.
+TEST(Search, TheDefaultBreedingIsTheSearchBeforeItsSettings) {
   const auto dir = work_dir();
   std::vector<std::string> before;
   std::istringstream golden(test::read_bytes(fs::path(GRANSTACK_TEST_DATA) / "design" / "joins_before_breeding.txt"));
@@ -980,10 +985,10 @@ TEST(Search, BothBreedingSettingsAtZeroBreedAsBefore) {
     EXPECT_EQ(r.code, 0) << r.output;
     return design::Store::open_existing((dir / name / "design.sqlite").string()).joins(0);
   };
-  EXPECT_EQ(joined("zero", "front_parents = 0\nstep_mutation = 0\n"), before);
-  const auto now = joined("default", "");
-  EXPECT_NE(now, before);
-  EXPECT_EQ(std::set<std::string>(now.begin(), now.end()), std::set<std::string>(before.begin(), before.end()));
+  EXPECT_EQ(joined("default", ""), before);
+  const auto bred = joined("half", "front_parents = 0.5\nstep_mutation = 0.5\n");
+  EXPECT_NE(bred, before);
+  EXPECT_EQ(std::set<std::string>(bred.begin(), bred.end()), std::set<std::string>(before.begin(), before.end()));
 }
 
 TEST(DesignCli, ABadSpaceIsRefusedWithEveryProblemAndNothingIsWritten) {

@@ -100,14 +100,14 @@ struct Search {
   double crossover_eta = 10.0;                  // distribution index, in [1, 100)
   double mutation_eta = 50.0;                   // in [1, 100)
   std::optional<double> mutation_probability;   // per gene, in [0, 1]; none: one over the genes
-  // Breeding in the asynchronous search (the budget benchmark chose the defaults): the chance
-  // that a parent is drawn from the search's front (every design it ran that none dominates)
-  // instead of by a tournament in the population, and that a mutated ordinal gene (the blocks, a
-  // ratio's index, a block's rows) moves one step instead of to any other of its values. A store
-  // keeps those its search began with (adopt_schedule); a store from before they existed bred
-  // with none of either.
-  double front_parents = 0.5;                   // [search] front_parents, in [0, 1]
-  double step_mutation = 0.5;                   // [search] step_mutation, in [0, 1]
+  // Breeding in the asynchronous search: the chance that a parent is drawn from the search's
+  // front (every design it ran that none dominates) instead of by the algorithm's rule in the
+  // population, and that a mutated ordinal gene (the blocks, a ratio's index, a block's rows)
+  // moves one step instead of to any other of its values. The budget benchmark found neither
+  // better than none (the defaults: pagmo2's parents and mutation, as before they existed). A
+  // store keeps those its search began with (adopt_schedule).
+  double front_parents = 0.0;                   // [search] front_parents, in [0, 1]
+  double step_mutation = 0.0;                   // [search] step_mutation, in [0, 1]
   bool breeding_given = false;                  // the file named either
   // [search] start: spec files (generate --config's, relative to the space file) whose designs
   // begin the search (their blocks, materials, ratios and rows; the rest is the space's), and
