@@ -39,7 +39,8 @@ def peak_mb(cmd):
                          stderr=subprocess.PIPE, text=True)
     return int(out.stderr.strip().splitlines()[-1]) / 1024
 print(f"{os.cpu_count()} cores; medians of {repeats} alternating runs")
-out = {"cores": os.cpu_count(), "repeats": repeats, "formats": {}}
+version = subprocess.run([gs, "--version"], check=True, capture_output=True, text=True).stdout.strip()
+out = {"granstack": version, "cores": os.cpu_count(), "repeats": repeats, "formats": {}}
 for fmt, name in (("text", "dump.txt"), ("binary", "dump.bin")):
     case = os.path.join(work, fmt + "-full")
     path = os.path.join(case, "dumps", name)
