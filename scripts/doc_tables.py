@@ -59,7 +59,7 @@ RECORDS = {
     "extension_counts": "bench/results/extension-counts-2026-11-29.json",
     # OUT=... bench/design_budget.sh, on the 2-core machine, idle (#50)
     "design_budget": "bench/results/design-budget-2026-11-28.json",
-    # GRANSTACK=build/ci/app/granstack OUT=... bench/reduce_vs_wc.sh 5 2, on the 2-core machine (#46)
+    # GRANSTACK=build/ci/app/granstack OUT=... bench/reduce_vs_wc.sh 11 2, on the 2-core machine (#46)
     "reduce_speed": "bench/results/reduce-vs-wc-2026-11-29.json",
     # the same at ca2da3e, whose script stopped each run by a window of 3 generations
     "design_budget_stagnation3": "bench/results/design-budget-stagnation3-2026-11-28.json",
@@ -67,6 +67,8 @@ RECORDS = {
     "design_population": "bench/results/design-population-2026-11-29.json",
     # the same with POPULATIONS="12 24"
     "design_population_12": "bench/results/design-population-12-2026-11-29.json",
+    # ALGORITHMS=nsga2 BREEDINGS="0:0 0.5:0.5 0.5:1" SEEDS="1 2 3 4 5 6 7 8" MAX_DESIGNS=500 STAGNATION=0 OFF_RUN=0
+    "design_breeding": "bench/results/design-breeding-2026-11-29.json",
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
                  "refsim_against_liggghts": ["docs/how-to/big-nests.md"],
@@ -82,7 +84,7 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "extension_counts": ["docs/developer/extending.md"],
                  "reduce_speed": ["docs/explanation/performance.md"],
                  "design_budget": ["docs/explanation/performance.md"], "design_shortcuts": ["docs/explanation/performance.md"],
-                 "design_population": ["docs/explanation/performance.md"]}
+                 "design_population": ["docs/explanation/performance.md"], "design_breeding": ["docs/explanation/performance.md"]}
 # The study's tables: LIGGGHTS's reproduction (refsim's in the check) and the LAMMPS study's record.
 REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"], "engines_study": ["docs/explanation/lammps.md"]}
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
@@ -325,7 +327,9 @@ def design_budget():
     met = lambda ok: "met" if ok else "not met"
     lines = [f"The reference front: {ref['front']} designs, the front of all {ref['runs']} runs' {ref['designs']} feasible designs "
              f"run in full (hypervolume {ref['hypervolume']:.6f} in the normalised box). Each run ended as it says in the record "
-             f"(`{RECORDS['design_budget']}`, `runs[].ended` and `stopped_improving`)."]
+             f"(`{RECORDS['design_budget']}`, `runs[].ended` and `stopped_improving`). "
+             f"Measured by {r['granstack']}, breeding with front_parents:step_mutation "
+             f"{', '.join(sorted({x.get('breeding', '0:0 (before the settings existed)') for x in r['runs']}))}."]
     for algorithm, m in r["summary"].items():
         hv, igd = m["median_hypervolume_fraction_at_500"], m["median_igd_plus_at_500"]
         mine = [x for x in r["runs"] if x["algorithm"] == algorithm and x["shortcuts"]]
@@ -399,6 +403,42 @@ def design_population():
     return "\n".join(rows) + "\n\n" + " ".join(lines) + "\n"
 
 
+def design_breeding():
+    """The asynchronous search's breeding ([search] front_parents:step_mutation), NSGA-II at population 24, each
+    against the front of all the record's runs; the seeds paired (a seed's first population is the same at every
+    breeding)."""
+    r = record("design_breeding")
+    t = r["targets"]
+    label = lambda s: s.rsplit("-f", 1)[1].replace("-s", ":")
+    runs = {label(a): {x["seed"]: x["hypervolume_fraction_at_500"] for x in r["runs"] if x["algorithm"] == a and x["shortcuts"]}
+            for a in r["summary"]}
+    rows = [f"| front_parents:step_mutation | seeds | hypervolume at {t['designs']} designs (of the reference's) | "
+            f"IGD+ at {t['designs']} designs | seeds above 0:0's |", "|---|---|---|---|---|"]
+    for a, m in r["summary"].items():
+        b = label(a)
+        mine = runs[b]
+        above = "-" if b == "0:0" else f"{sum(mine[s] > runs['0:0'][s] for s in mine)} of {len(mine)}"
+        rows.append(f"| {b} | {m['seeds']} | {m['median_hypervolume_fraction_at_500']:.3f} ({min(mine.values()):.3f}.."
+                    f"{max(mine.values()):.3f}) | {m['median_igd_plus_at_500']:.3f} | {above} |")
+    ref = r["reference"]
+    medians = {label(a): m["median_hypervolume_fraction_at_500"] for a, m in r["summary"].items()}
+    moved = [record(k)["summary"]["nsga2-p24"]["median_hypervolume_fraction_at_500"] for k in ("design_population", "design_population_12")]
+    noise = max(moved) - min(moved)
+    best = max(medians, key=medians.get)
+    lines = [f"Every run searched {r['max_designs']} distinct designs; the reference front is the front of all "
+             f"{ref['runs']} runs ({ref['front']} designs of {ref['designs']}), `{RECORDS['design_breeding']}`."]
+    for b, v in medians.items():
+        if b != "0:0":
+            lines.append(f"{b} against 0:0: {v - medians['0:0']:+.3f} at {t['designs']} designs.")
+    if best == "0:0":
+        lines.append("No breeding's median is above 0:0's.")
+    else:
+        lines.append(f"The best median is {best}'s; the same search's median moved {noise:.3f} between two invocations "
+                     f"(population 24 in the population records above), so {best} beats 0:0 by "
+                     f"{'more' if medians[best] - medians['0:0'] > noise else 'no more'} than that.")
+    return "\n".join(rows) + "\n\n" + " ".join(lines) + "\n"
+
+
 def design_shortcuts():
     """One seed with the shortcuts and without (bench/design_budget.sh, #50)."""
     r = record("design_budget")
@@ -436,7 +476,8 @@ def reduce_speed():
         rows.append(f"| {fmt}, {f['dump_mb']:.0f} MB | {f['dump_mb'] / m['wc']:.0f} MB/s | "
                     f"{f['dump_mb'] / m['reduce']:.0f} MB/s | {f['ratio']:.3f} | {f['dump_mb'] / m['reduce1']:.0f} MB/s | "
                     f"{f['ratio_one_thread']:.3f} | {f['peak_mb']:.0f} MB ({f['peak_mb_quarter']:.0f} MB) |")
-    return (f"Medians of {r['repeats']} alternating runs, warm page cache (`{RECORDS['reduce_speed']}`):\n\n"
+    build = f", {r['granstack']}" if "granstack" in r else ""
+    return (f"Medians of {r['repeats']} alternating runs, warm page cache (`{RECORDS['reduce_speed']}`{build}):\n\n"
             + "\n".join(rows) + "\n")
 
 
@@ -590,7 +631,7 @@ def main():
                 design_front=design_front(), design_sides=design_sides(), design_yield=design_yield(),
                 design_example_cost=design_example_cost(), oversubscription=oversubscription(),
                 extension_counts=extension_counts(), reduce_speed=reduce_speed(), design_budget=design_budget(), design_shortcuts=design_shortcuts(),
-                design_population=design_population())
+                design_population=design_population(), design_breeding=design_breeding())
     places = {**PLACES, **RECORD_PLACES, **REPRODUCE_PLACES}
     if "--reproduce" in sys.argv[1:]:
         made["reproduce"] = reproduce_table(exe, work, "liggghts")
