@@ -381,7 +381,6 @@ std::vector<double> Asynchronous::bred(std::mt19937& rng, std::size_t subproblem
   return child;
 }
 
-
 // Whether a design breaks a constraint known before it runs; the reasons are counted, so that an
 // exhausted space says why its draws were refused.
 bool Asynchronous::rejected(const model::StackSpec& spec) {

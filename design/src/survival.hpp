@@ -1,7 +1,7 @@
 #pragma once
 // The asynchronous search's survival rules (space.hpp, Algorithm): which member of a population
-// one too large leaves; and its mutation. The fitness vectors are the normalised ones (all minimised; an infeasible
-// design's are its penalty, behind every feasible one).
+// one too large leaves (the fitness vectors are the normalised ones, all minimised; an infeasible
+// design's are its penalty, behind every feasible one); and its mutation.
 #include <granstack/design/space.hpp>
 
 #include <cstddef>

@@ -137,6 +137,28 @@ void TextDumpReader::choose_conversions(DumpFrame& f) {
   convert_all_ = std::find(convert_.begin(), convert_.end(), 0) == convert_.end();
 }
 
+namespace {
+
+// The first column, after c, whose token and the blank before it lie in the `suffix` bytes an
+// atom's line shares at its end with its line in the frame before (ncol when there is none).
+std::size_t repeated_end(const RepeatedTokens::Previous& before, std::size_t c, std::size_t ncol, std::size_t suffix) {
+  std::size_t stop = ncol;
+  while (stop > c + 1 && before.line.size() - before.starts[stop - 1] < suffix) --stop;
+  return stop;
+}
+
+// Columns c.. of a line of `size` bytes, taken from the frame before: their values, and where
+// their tokens start (as far from the line's end as there).
+void take_repeated_end(const RepeatedTokens::Previous& before, std::size_t c, std::size_t ncol, std::size_t size, double* out,
+                       std::uint32_t* starts) {
+  std::memcpy(out + c, before.values + c, (ncol - c) * sizeof(double));
+  if (starts == nullptr) return;
+  const auto shift = static_cast<std::uint32_t>(before.line.size() - size);
+  for (std::size_t k = c; k < ncol; ++k) starts[k] = before.starts[k] - shift;
+}
+
+}  // namespace
+
 void TextDumpReader::read_atoms(DumpFrame& f) {
   const std::size_t ncol = f.columns.size();
   // The header's count is not trusted with memory: the frame grows as its lines arrive (and the
@@ -178,8 +200,7 @@ void TextDumpReader::read_atoms(DumpFrame& f) {
         p = line.data() + (c > 0 ? before.starts[c] : 0);
         // The columns wholly inside the bytes both lines end with, with the blank before them,
         // repeat too: the columns up to them are parsed, and must end where they begin.
-        const std::size_t suffix = common_suffix(end, before.line.data() + before.line.size(), shorter - common);
-        while (stop > c + 1 && before.line.size() - before.starts[stop - 1] < suffix) --stop;
+        stop = repeated_end(before, c, ncol, common_suffix(end, before.line.data() + before.line.size(), shorter - common));
         if (stop < ncol) suffix_start = end - (before.line.size() - before.starts[stop]);
       }
       std::memcpy(out, before.values, c * sizeof(double));
@@ -190,11 +211,7 @@ void TextDumpReader::read_atoms(DumpFrame& f) {
       if (c == stop) {
         while (p < suffix_start && (*p == ' ' || *p == '\t')) ++p;
         if (p == suffix_start) {
-          std::memcpy(out + c, before.values + c, (ncol - c) * sizeof(double));
-          if (starts != nullptr) {
-            const auto shift = static_cast<std::uint32_t>(before.line.size() - line.size());
-            for (std::size_t k = c; k < ncol; ++k) starts[k] = before.starts[k] - shift;
-          }
+          take_repeated_end(before, c, ncol, line.size(), out, starts);
           c = ncol;
           p = end;
           break;
