@@ -85,6 +85,20 @@ void refuse_free_sides_search(const design::Store& existing, const design::Space
       store_path.string(), file));
 }
 
+// Writes the report and prints its path; false when a signal stopped it (said, with how to write
+// it later: the store holds everything it needs).
+bool print_report(const design::Space& space, const design::Store& store, const fs::path& dir, int jobs) {
+  try {
+    fmt::print("report: {}\n", design::write_report(space, store, dir / "report", jobs).string());
+    return true;
+  } catch (const refsim::InSituStopped&) {
+    fmt::print(stderr, "design: stopped by signal {} while writing the report; the store is complete: 'granstack design "
+                       "report {}' writes it\n",
+               os::interrupt_signal(), dir.string());
+    return false;
+  }
+}
+
 int run_design(const DesignFlags& f) {
   const auto text = formats::read_file(f.space_file);
   auto space = design::parse_space(text, f.space_file);
@@ -141,7 +155,7 @@ int run_design(const DesignFlags& f) {
              r.probes > 0 ? fmt::format(", {} of them the study's designs and the probes that fix the objectives' box", r.probes)
                           : std::string(),
              store.evaluations().size());
-  if (!f.no_report) fmt::print("report: {}\n", design::write_report(space, store, dir / "report").string());
+  if (!f.no_report && !print_report(space, store, dir, f.jobs)) return kCaseFailed;
   if (r.ended == "exhausted" && store.evaluations().empty()) {
     fmt::print(stderr, "error: no design of {} can run: change the space so that its designs keep within their "
                        "constraints\n",
@@ -155,8 +169,7 @@ int report(const DesignFlags& f) {
   const fs::path dir(f.dir);
   auto store = design::Store::open_existing((dir / kStoreName).string());
   const auto space = design::stored_space(store, (dir / kSpaceName).string());
-  fmt::print("report: {}\n", design::write_report(space, store, dir / "report").string());
-  return kOk;
+  return print_report(space, store, dir, f.jobs) ? kOk : kCaseFailed;
 }
 
 int confirm(const DesignFlags& f) {
@@ -215,7 +228,7 @@ int confirm(const DesignFlags& f) {
     if (it->is_regular_file(ec)) bytes += it->file_size(ec);
   }
   fmt::print("confirm: its cases take {:.3g} MB in {}\n", static_cast<double>(bytes) / 1e6, (dir / "confirm").string());
-  fmt::print("report: {}\n", design::write_report(space, store, dir / "report").string());
+  if (!print_report(space, store, dir, f.jobs)) return kCaseFailed;
   return disagreements > 0 ? kDisagree : kOk;
 }
 
@@ -264,6 +277,8 @@ Command add_design(CLI::App& app) {
   status->add_option("dir", f->dir, "Design directory")->required()->check(CLI::ExistingDirectory);
   auto* rep = cmd->add_subcommand("report", "Write the report (md, html, json, the front's spec files) again");
   rep->add_option("dir", f->dir, "Design directory")->required()->check(CLI::ExistingDirectory);
+  rep->add_option("-j,--jobs", f->jobs, "The front's designs run again at once for the figures (refsim, one thread each)")
+      ->check(CLI::Range(1, 1024));
   auto* conf = cmd->add_subcommand("confirm", "Run the front's best designs on LIGGGHTS and refsim and compare (validate)");
   conf->add_option("dir", f->dir, "Design directory")->required()->check(CLI::ExistingDirectory);
   conf->add_option("--top", f->top, "How many of the front's designs, best first objective first")->check(CLI::Range(1, 100));

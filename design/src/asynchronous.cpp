@@ -275,23 +275,10 @@ void Asynchronous::join(const Evaluation& e, bool replaying, std::size_t subprob
   if (!replaying) store_.put_join(run_, static_cast<long>(archive_.size()), e.digest);
   archive_.push_back(e);
   known_.insert(e.digest);
-  if (e.feasible) {  // the front, kept as designs join (a front of the whole archive grew as its square)
-    const auto v = objective_values(space_, e);
-    const auto dominates = [](const std::vector<double>& a, const std::vector<double>& b) {
-      bool better = false;
-      for (std::size_t k = 0; k < a.size(); ++k) {
-        if (a[k] > b[k]) return false;
-        better = better || a[k] < b[k];
-      }
-      return better;
-    };
-    if (std::none_of(front_.begin(), front_.end(), [&](const Evaluation& f) { return dominates(objective_values(space_, f), v); })) {
-      std::erase_if(front_, [&](const Evaluation& f) { return dominates(v, objective_values(space_, f)); });
-      front_.push_back(e);
-      auto d = dominator_over(space_, front_);
-      const std::lock_guard<std::mutex> lock(front_m_);
-      front_dominator_ = std::move(d);
-    }
+  if (join_front(space_, front_, e)) {  // the front, kept as designs join (a front of the whole archive grew as its square)
+    auto d = dominator_over(space_, front_);
+    const std::lock_guard<std::mutex> lock(front_m_);
+    front_dominator_ = std::move(d);
   }
   survive({*x, e.digest, fitness(space_, e, &*norm_)}, subproblem);
   if (archive_.size() % population_ == 0) {

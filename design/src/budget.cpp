@@ -112,11 +112,11 @@ std::vector<Progress> run_progress(const Space& space, const Store& store, const
     Progress p;
     p.seed = space.search.seeds[r];
     const auto mine = run_designs(store, static_cast<int>(r), all);
-    std::vector<Evaluation> prefix;
+    std::vector<Evaluation> front;  // the front of the designs so far: each point reads only it
     for (std::size_t n = 0; n < mine.size(); ++n) {
-      prefix.push_back(mine[n]);
+      join_front(space, front, mine[n]);
       if ((n + 1) % step != 0 && n + 1 != mine.size()) continue;
-      p.points.push_back({n + 1, normalised_hypervolume(space, box, prefix), igd_plus(space, box, prefix, reference)});
+      p.points.push_back({n + 1, normalised_hypervolume(space, box, front), igd_plus(space, box, front, reference)});
     }
     out.push_back(std::move(p));
   }

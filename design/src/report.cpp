@@ -554,7 +554,7 @@ std::string status_text(const Space& space, const Store& store) {
   return out;
 }
 
-fs::path write_report(const Space& space, const Store& store, const fs::path& dir) {
+fs::path write_report(const Space& space, const Store& store, const fs::path& dir, int jobs) {
   fs::create_directories(dir);
   const Snapshot s(space, store);
   const auto front = pareto_front(space, s.all);
@@ -590,7 +590,7 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   }
   if (any_feasible) {
     const bool wall = space.fixed.bottom == model::Boundary::wall;
-    const auto shown = rerun_shown(s, front);
+    const auto shown = rerun_shown(s, front, jobs);
     if (wall) d.push_back(force_figure(shown, dir));
     d.push_back(energy_table(shown, wall));
   }

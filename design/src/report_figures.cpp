@@ -7,6 +7,8 @@
 #include <granstack/postproc/plot.hpp>
 #include <granstack/refsim/case_run.hpp>
 #include <granstack/refsim/in_situ.hpp>
+#include <granstack/os/interrupt.hpp>
+#include <granstack/os/workers.hpp>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -96,17 +98,25 @@ model::StackSpec worst_run(const Evaluation& e) {
   return std::max_element(e.scenarios.begin(), e.scenarios.end(), [&](const auto& a, const auto& b) { return force(a) < force(b); })->spec;
 }
 
-std::vector<Rerun> rerun_shown(const Snapshot& s, const std::vector<Evaluation>& front) {
+std::vector<Rerun> rerun_shown(const Snapshot& s, const std::vector<Evaluation>& front, int jobs) {
   std::vector<Rerun> out;
-  const auto add = [&](const std::string& name, const model::StackSpec& spec, bool figured) {
-    const auto stack = model::Stack::build(spec);
-    out.push_back({name, refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "report"))),
-                   spec.striker_speed, figured});
-  };
+  std::vector<model::StackSpec> specs;
   for (std::size_t i = 0; i < front.size(); ++i) {
-    add(fmt::format("front {}: {}", i + 1, front[i].description), worst_run(front[i]), i < kFiguredFront);
+    out.push_back({fmt::format("front {}: {}", i + 1, front[i].description), {}, 0.0, i < kFiguredFront});
+    specs.push_back(worst_run(front[i]));
   }
-  for (const auto& [name, e] : s.studies) add(name, worst_run(e), true);
+  for (const auto& [name, e] : s.studies) {
+    out.push_back({name, {}, 0.0, true});
+    specs.push_back(worst_run(e));
+  }
+  // Each its own refsim run, `jobs` at a time; none starts once a signal came.
+  os::for_each(out.size(), jobs, [&](std::size_t i) {
+    if (os::interrupt_signal() != 0) return;
+    const auto stack = model::Stack::build(specs[i]);
+    out[i].r = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "report")));
+    out[i].striker_speed = specs[i].striker_speed;
+  });
+  if (os::interrupt_signal() != 0) throw refsim::InSituStopped("stopped by a signal while the report ran the front's designs again");
   return out;
 }
 

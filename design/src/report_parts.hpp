@@ -52,7 +52,9 @@ struct Rerun {
   double striker_speed = 0.0;  // m/s, of the run
   bool figured = true;
 };
-std::vector<Rerun> rerun_shown(const Snapshot& s, const std::vector<Evaluation>& front);
+// Each front design's and study design's worst blow run again (refsim, to its blow's end), `jobs`
+// at a time; throws refsim::InSituStopped when a signal came meanwhile.
+std::vector<Rerun> rerun_shown(const Snapshot& s, const std::vector<Evaluation>& front, int jobs);
 postproc::Figure force_figure(const std::vector<Rerun>& shown, const std::filesystem::path& dir);
 postproc::Table energy_table(const std::vector<Rerun>& shown, bool wall);
 postproc::Figure hypervolume_figure(const Snapshot& s, const std::filesystem::path& dir);

@@ -228,6 +228,25 @@ std::vector<Evaluation> pareto_front(const Space& space, const std::vector<Evalu
   return front;
 }
 
+bool join_front(const Space& space, std::vector<Evaluation>& front, const Evaluation& e) {
+  if (!e.feasible) return false;
+  const auto dominates = [](const std::vector<double>& a, const std::vector<double>& b) {
+    bool better = false;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      if (a[k] > b[k]) return false;
+      better = better || a[k] < b[k];
+    }
+    return better;
+  };
+  const auto v = objective_values(space, e);
+  if (std::any_of(front.begin(), front.end(), [&](const Evaluation& f) { return dominates(objective_values(space, f), v); })) {
+    return false;
+  }
+  std::erase_if(front, [&](const Evaluation& f) { return dominates(v, objective_values(space, f)); });
+  front.push_back(e);
+  return true;
+}
+
 double hypervolume(const Space& space, const std::vector<Evaluation>& all, const std::vector<double>& reference) {
   std::vector<pagmo::vector_double> points;
   for (const auto& e : pareto_front(space, all)) {

@@ -870,6 +870,19 @@ TEST(Search, TheFrontIsTheNonDominatedSetByBruteForce) {
   EXPECT_EQ(front, expected);
   EXPECT_GE(expected.size(), 2u);          // a real trade-off: a softer stack crushes further
   EXPECT_LT(expected.size(), all.size());  // and some designs are beaten
+  // Joined one at a time (the search's running front, the report's progress): after every design,
+  // pareto_front's designs of the list so far, in the list's order.
+  std::vector<design::Evaluation> joined;
+  for (std::size_t n = 0; n < all.size(); ++n) {
+    design::join_front(space, joined, all[n]);
+    std::vector<std::size_t> at, of_front;
+    for (const auto& e : joined) at.push_back(static_cast<std::size_t>(std::find_if(all.begin(), all.end(), [&](const auto& a) { return a.digest == e.digest; }) - all.begin()));
+    const std::vector<design::Evaluation> prefix(all.begin(), all.begin() + static_cast<long>(n) + 1);
+    for (const auto& e : design::pareto_front(space, prefix)) of_front.push_back(static_cast<std::size_t>(std::find_if(all.begin(), all.end(), [&](const auto& a) { return a.digest == e.digest; }) - all.begin()));
+    EXPECT_TRUE(std::is_sorted(at.begin(), at.end())) << "after " << n + 1 << " designs";
+    std::sort(of_front.begin(), of_front.end());
+    EXPECT_EQ(at, of_front) << "after " << n + 1 << " designs";
+  }
 }
 
 // The store's key tells every spec field apart: for each field of model::spec_fields, two specs
@@ -1059,6 +1072,27 @@ TEST(DesignCli, AConfirmWhoseLiggghtsCannotRunFailsWithOne) {
                          dir / "confirm.log");
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_NE(r.output.find("no-liggghts"), std::string::npos) << r.output;
+}
+
+// The report's reruns of the front (its force figure and energy table) on two jobs give the report
+// they give on one, line for line but the line that says when it was written.
+TEST(DesignCli, AReportWrittenOnTwoJobsIsTheReportWrittenOnOne) {
+  const auto dir = work_dir();
+  const auto searched = searched_dir(dir);
+  const auto written = [&](const std::string& jobs) {
+    const auto r = program({"design", "report", searched.string(), "-j", jobs}, dir / ("report" + jobs + ".log"));
+    EXPECT_EQ(r.code, 0) << r.output;
+    std::string kept;
+    std::istringstream md(test::read_bytes(searched / "report" / "design.md"));
+    for (std::string line; std::getline(md, line);) {
+      if (line.rfind("granstack ", 0) != 0) kept += line + "\n";
+    }
+    return std::pair{kept, test::read_bytes(searched / "report" / "design.json")};
+  };
+  const auto one = written("1"), two = written("2");
+  EXPECT_NE(one.first.find("Where the energy is when the blow has ended"), std::string::npos);
+  EXPECT_EQ(one.first, two.first);
+  EXPECT_EQ(one.second, two.second);
 }
 
 TEST(DesignCli, StatusTheFrontsSpecFilesAndTheStoreReadFromPython) {

@@ -18,8 +18,9 @@ namespace granstack::design {
 std::string status_text(const Space& space, const Store& store);
 
 // DIR/design.md, design.html, design.json, front/*.toml and the figures (gnuplot SVG); returns
-// the html's path.
-std::filesystem::path write_report(const Space& space, const Store& store, const std::filesystem::path& dir);
+// the html's path. The front's designs run again for the figures and the energy table, `jobs` at
+// a time; a signal meanwhile throws refsim::InSituStopped before the md, html and json are written.
+std::filesystem::path write_report(const Space& space, const Store& store, const std::filesystem::path& dir, int jobs = 1);
 
 // The front's `top` best designs (first objective first) generated as cases under `dir`, run on
 // LIGGGHTS (`liggghts_exe`: its executable, "" for the one on PATH) and on refsim (validate's

@@ -202,6 +202,11 @@ std::vector<Evaluation> warm_designs(const Space& space, Store& store);
 
 // The feasible evaluations no other dominates in the space's objectives, best first objective first.
 std::vector<Evaluation> pareto_front(const Space& space, const std::vector<Evaluation>& all);
+// Designs joining a front one at a time: `e` joins `front` (designs none of which dominates
+// another, in the order they joined) when it is feasible and no member dominates it, and the
+// members it dominates leave; true when it joined. The front of a list so built holds the same
+// designs as pareto_front of the list, in the list's order, at a cost per design of the front's size.
+bool join_front(const Space& space, std::vector<Evaluation>& front, const Evaluation& e);
 
 // The hypervolume of the feasible points among `all` against `reference` (per objective).
 double hypervolume(const Space& space, const std::vector<Evaluation>& all, const std::vector<double>& reference);
