@@ -1,10 +1,16 @@
 # Sourced by the bench scripts: the repository's top folder ($here), the granstack to time ($gs:
-# $GRANSTACK, else the release build) and a scratch folder ($work) removed on exit.
+# $GRANSTACK, else the release build) and a scratch folder ($work) removed on exit; with KEEP=DIR
+# the scratch folder is DIR, kept (a script that appends its runs to a list there, as
+# design_budget.sh does, then adds them to those an earlier invocation left).
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 export PYTHONPATH="$here/bench${PYTHONPATH:+:$PYTHONPATH}"  # bench/frames.py for the scripts' Python
 gs=${GRANSTACK:-$here/build/release/app/granstack}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+if [ -n "${KEEP:-}" ]; then
+  work=$(mkdir -p "$KEEP" && cd "$KEEP" && pwd)
+else
+  work=$(mktemp -d)
+  trap 'rm -rf "$work"' EXIT
+fi
 # A median of fewer than three alternating runs says nothing about a machine that drifts by 30 %:
 # every script takes REPEATS >= 3 (its first argument), and refuses fewer.
 if [ -n "${repeats:-}" ] && ! [ "$repeats" -ge 3 ] 2>/dev/null; then

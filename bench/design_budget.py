@@ -34,8 +34,21 @@ def dominates(a, b):
 
 
 def front(points):
-    unique = sorted(set(map(tuple, points)))
-    return [p for p in unique if not any(dominates(q, p) for q in unique)]
+    # In lexicographic order a point can be dominated only by one before it, and a point one
+    # dominates is dominated by one on the front: each point is read against the front so far.
+    kept = []
+    for p in sorted(set(map(tuple, points))):
+        if not any(dominates(q, p) for q in kept):
+            kept.append(p)
+    return kept
+
+
+def join(running, p):
+    """The front of the points so far, `running`, after `p`: front(running + [p]) as a set."""
+    p = tuple(p)
+    if p in running or any(dominates(q, p) for q in running):
+        return running
+    return {q for q in running if not dominates(p, q)} | {p}
 
 
 def area(points):  # 2D, minimised, against (REFERENCE_POINT, REFERENCE_POINT)
@@ -109,8 +122,13 @@ for name, (joins, rows, report, finished) in designs_of.items():
     step = 24
     t0, t1, last = runs[name]
     progress = []
+    running, joined = set(), 0  # the front of the first `joined` designs
     for k, (n, hv_cpp, _) in enumerate(run.get("progress", [])):
-        prefix = [point(box, rows[d][2]) for d in joins[:n] if rows[d][0]]
+        for d in joins[joined:n]:
+            if rows[d][0]:
+                running = join(running, point(box, rows[d][2]))
+        joined = n
+        prefix = list(running)
         hv = hypervolume(prefix)
         assert abs(hv - hv_cpp) <= 1e-9, f"{name} at {n} designs: hypervolume {hv} here, {hv_cpp} in the report"
         # A generation's worth of designs ends at its record's time (1 s resolution); the last point at the run's end.
