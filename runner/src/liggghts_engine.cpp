@@ -18,6 +18,9 @@
 #include <fstream>
 #include <optional>
 #include <thread>
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace granstack::runner {
@@ -36,22 +39,62 @@ constexpr int kSignalGraceSteps = 20;
 // ends can remove it while another is still creating its own part: the second then fails in
 // orte_init and exits with code 1 before LIGGGHTS prints anything (open-mpi/ompi#3818). A
 // directory per run removes the race.
+//
+// A granstack killed outright (SIGKILL, a batch system's time limit) cannot remove its directory;
+// the next one does. While a directory is in use its granstack holds a lock on it (flock, which the
+// kernel drops however the holder ends; LIGGGHTS, which gets SIGKILL when granstack ends, does not
+// inherit it), and a marker file inside says granstack made it. A directory with the marker, of
+// this user, that nobody holds is left over, and removed; any other is left alone.
 class PrivateTmpDir {
  public:
+  static constexpr const char* kPrefix = "granstack-mpi-";
+  static constexpr const char* kMarker = "made-by-granstack";
+
   PrivateTmpDir() {
-    auto pattern = (fs::temp_directory_path() / "granstack-mpi-XXXXXX").string();
-    if (::mkdtemp(pattern.data()) != nullptr) path_ = pattern;
+    std::error_code ec;
+    const auto base = fs::temp_directory_path(ec);
+    if (ec) return;
+    remove_left_over(base);
+    auto pattern = (base / (std::string(kPrefix) + "XXXXXX")).string();
+    if (::mkdtemp(pattern.data()) == nullptr) return;
+    fd_ = ::open(pattern.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC | O_NOFOLLOW);
+    // The lock before the marker: a directory with the marker is either held or left over.
+    if (fd_ < 0 || ::flock(fd_, LOCK_EX) != 0 || !std::ofstream(fs::path(pattern) / kMarker)) {
+      fs::remove_all(pattern, ec);
+      return;
+    }
+    path_ = pattern;
   }
   ~PrivateTmpDir() {
     std::error_code ec;
     if (!path_.empty()) fs::remove_all(path_, ec);
+    if (fd_ >= 0) ::close(fd_);
   }
   PrivateTmpDir(const PrivateTmpDir&) = delete;
   PrivateTmpDir& operator=(const PrivateTmpDir&) = delete;
   const std::string& path() const { return path_; }
 
  private:
+  // Removes the directories in `base` that a granstack of this user made and no granstack holds.
+  static void remove_left_over(const fs::path& base) {
+    std::error_code ec;
+    for (fs::directory_iterator it(base, ec), end; !ec && it != end; it.increment(ec)) {
+      const auto& dir = it->path();
+      struct stat st {};
+      if (dir.filename().string().rfind(kPrefix, 0) != 0 || ::lstat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) ||
+          st.st_uid != ::geteuid()) {
+        continue;
+      }
+      const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC | O_NOFOLLOW);
+      if (fd < 0) continue;
+      std::error_code gone;
+      if (::flock(fd, LOCK_EX | LOCK_NB) == 0 && fs::is_regular_file(dir / kMarker, gone)) fs::remove_all(dir, gone);
+      ::close(fd);
+    }
+  }
+
   std::string path_;
+  int fd_ = -1;
 };
 
 // Environment added for one LIGGGHTS start; a variable the user has set is left as it is.

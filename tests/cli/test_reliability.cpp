@@ -290,6 +290,45 @@ TEST_F(Reliability, StatusCallsARunKilledOutrightInterrupted) {
   EXPECT_EQ(granstack({"run", c.string()}).code, 0);
 }
 
+// 8'. Open MPI's private session directory of a run killed outright (TMPDIR/granstack-mpi-*) is
+// removed by the next LIGGGHTS start; one a running granstack holds, and one granstack did not
+// make, are not.
+TEST_F(Reliability, ARunKilledOutrightLeavesNoOpenMpiDirectoryBehindTheNext) {
+  const auto tmp = path("tmp");
+  fs::create_directories(tmp / "granstack-mpi-not-ours");
+  environment_ = {"TMPDIR=" + tmp.string()};
+  const auto ours = [&] {
+    std::vector<std::string> found;
+    for (const auto& e : fs::directory_iterator(tmp)) {
+      if (fs::exists(e.path() / "made-by-granstack")) found.push_back(e.path().filename().string());
+    }
+    return found;
+  };
+  const auto big = path("big"), small = path("small");
+  ASSERT_EQ(granstack({"generate", "-o", big.string(), "--blocks", "4", "--rows", "16", "--top-columns", "4"}).code, 0);
+  ASSERT_EQ(granstack({"generate", "-o", small.string(), "--blocks", "1", "--rows", "2"}).code, 0);
+  auto child = start({"run", big.string()});
+  ASSERT_TRUE(eventually([&] { return status_of(big) == "running"; }, 60));
+  ::kill(child.pid, SIGKILL);
+  finish(child);
+  const auto left = ours();
+  ASSERT_EQ(left.size(), 1u) << "the killed run's directory";
+  // A second run of the big case: its start removes what the killed one left, and holds its own.
+  // (run.json says running from the start: the killed run's said so too.)
+  child = start({"run", big.string()});
+  ASSERT_TRUE(eventually([&] { const auto now = ours(); return now.size() == 1 && now != left; }, 60)) << "the leftover stays";
+  const auto held = ours();
+  // A run that starts and ends meanwhile leaves the held directory alone, and removes its own.
+  const auto r = granstack({"run", small.string()});
+  EXPECT_EQ(r.code, 0) << r.output;
+  ASSERT_FALSE(os::poll(child)) << "the big case ended before the small one: it is too small for this test";
+  EXPECT_EQ(ours(), held);
+  ::kill(child.pid, SIGTERM);
+  EXPECT_EQ(finish(child, 60).code, 143);
+  EXPECT_TRUE(ours().empty());
+  EXPECT_TRUE(fs::is_directory(tmp / "granstack-mpi-not-ours"));
+}
+
 // 8a. A hang-up (the terminal closed, an ssh session dropped) stops a run as SIGINT and SIGTERM do:
 // LIGGGHTS is stopped, run.json says interrupted and the exit status says the signal (128 + 1).
 TEST_F(Reliability, AHangUpStopsARunAsInterrupted) {

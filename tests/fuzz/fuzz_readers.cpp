@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <unistd.h>
 
@@ -29,7 +30,13 @@ void expect_clean(Fn&& fn) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const std::string path = "/tmp/granstack-fuzz-" + std::to_string(::getpid());
+  // The input as a file (TMPDIR: run_fuzz.sh's work folder), removed when the fuzzer ends normally;
+  // a crash leaves it beside its crash-* input.
+  static const struct Scratch {
+    std::string path = (std::filesystem::temp_directory_path() / ("granstack-fuzz-" + std::to_string(::getpid()))).string();
+    ~Scratch() { std::remove(path.c_str()); }
+  } scratch;
+  const std::string& path = scratch.path;
   if (std::FILE* f = std::fopen(path.c_str(), "wb")) {
     std::fwrite(data, 1, size, f);
     std::fclose(f);

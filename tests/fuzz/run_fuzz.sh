@@ -10,6 +10,7 @@ work=${2:?usage: $0 GRANSTACK WORK [RUNS]}
 runs=${3:-20000}
 src=$(cd "$(dirname "$0")/../.." && pwd)
 rm -rf "$work" && mkdir -p "$work/corpus"
+export TMPDIR=$work  # the target's scratch file, kept in the work folder
 clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
   -I"$src/formats/include" -I"$src/model/include" -I"$src/os/include" \
   "$src/tests/fuzz/fuzz_readers.cpp" "$src"/formats/src/{error,files,byte_source,line_reader,dump,text_dump_reader,repeated_tokens,binary_dump_reader,dump_writer,batches,series,data_file,digest}.cpp \

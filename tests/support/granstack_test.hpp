@@ -54,6 +54,7 @@ class GranstackTest : public ::testing::Test {
     os::StartOptions o;
     o.cwd = cwd.empty() ? dir_ : cwd;
     o.output = dir_ / fmt_log(++runs_);
+    o.extra_environment = environment_;
     const auto child = os::start(argv, o);
     logs_[child.pid] = o.output;
     return child;
@@ -94,6 +95,7 @@ class GranstackTest : public ::testing::Test {
   }
 
   fs::path dir_;
+  std::vector<std::string> environment_;  // NAME=VALUE added for every granstack the test starts
   int runs_ = 0;
   std::map<pid_t, fs::path> logs_;  // each started granstack's output
 
