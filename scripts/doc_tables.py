@@ -69,6 +69,8 @@ RECORDS = {
     "design_population_12": "bench/results/design-population-12-2026-11-29.json",
     # ALGORITHMS=nsga2 BREEDINGS="0:0 0.5:0.5 0.5:1" SEEDS="1 2 3 4 5 6 7 8" MAX_DESIGNS=500 STAGNATION=0 OFF_RUN=0
     "design_breeding": "bench/results/design-breeding-2026-11-29.json",
+    # ALGORITHMS, SEEDS, KEEP as its "what" says; MAX_DESIGNS=100000 STAGNATION=0 TIME_LIMIT=600 OFF_RUN=0
+    "design_ten_minutes": "bench/results/design-ten-minutes-2026-11-29.json",
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
                  "refsim_against_liggghts": ["docs/how-to/big-nests.md"],
@@ -84,7 +86,8 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "extension_counts": ["docs/developer/extending.md"],
                  "reduce_speed": ["docs/explanation/performance.md"],
                  "design_budget": ["docs/explanation/performance.md"], "design_shortcuts": ["docs/explanation/performance.md"],
-                 "design_population": ["docs/explanation/performance.md"], "design_breeding": ["docs/explanation/performance.md"]}
+                 "design_population": ["docs/explanation/performance.md"], "design_breeding": ["docs/explanation/performance.md"],
+                 "design_ten_minutes": ["docs/explanation/performance.md"]}
 # The study's tables: LIGGGHTS's reproduction (refsim's in the check) and the LAMMPS study's record.
 REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"], "engines_study": ["docs/explanation/lammps.md"]}
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
@@ -439,6 +442,73 @@ def design_breeding():
     return "\n".join(rows) + "\n\n" + " ".join(lines) + "\n"
 
 
+def stop_by_rule(progress, window, tolerance):
+    """Where a run's own stagnation rule (the report's: the hypervolume gained no more than `tolerance`
+    of itself over `window` generations' worth of designs) would have ended it: its progress point."""
+    for i in range(window, len(progress)):
+        now, then = progress[i]["hypervolume_fraction"], progress[i - window]["hypervolume_fraction"]
+        if now - then <= tolerance * now:
+            return progress[i], True
+    return progress[-1], False
+
+
+def design_ten_minutes():
+    """The search given the whole 10 minutes on 2 cores (no design cap, no stagnation stop), each seed against
+    the front of all the record's runs; then the stagnation rule judged on those runs after the fact."""
+    r = record("design_ten_minutes")
+    t = r["targets"]
+    rows = [f"| algorithm | seeds | hypervolume in {t['seconds']:.0f} s (of the reference's) | IGD+ in {t['seconds']:.0f} s | "
+            f"designs in {t['seconds']:.0f} s | seeds reaching {t['hypervolume_fraction']} | seconds to reach it | "
+            f"hypervolume at {t['designs']} designs |", "|---|---|---|---|---|---|---|---|"]
+    verdicts = []
+    for algorithm, m in r["summary"].items():
+        mine = [x for x in r["runs"] if x["algorithm"] == algorithm and x["shortcuts"]]
+        igd = [[p["igd_plus"] for p in x["progress"] if p["seconds"] <= t["seconds"]][-1] for x in mine]
+        hv = [x["hypervolume_fraction_in_600_s"] for x in mine]
+        designs = [x["designs_in_600_s"] for x in mine]
+        reached = sorted(x["seconds_to_target"] for x in mine if x["seconds_to_target"] is not None)
+        rows.append(f"| {algorithm} | {m['seeds']} | {statistics.median(hv):.3f} ({min(hv):.3f}..{max(hv):.3f}) | "
+                    f"{statistics.median(igd):.4f} | {statistics.median(designs):.0f} ({min(designs)}..{max(designs)}) | "
+                    f"{m['seeds_reaching_target']} of {m['seeds']} | {', '.join(f'{s:.0f}' for s in reached) or '-'} | "
+                    f"{m['median_hypervolume_fraction_at_500']:.3f} |")
+        met = statistics.median(hv) >= t["hypervolume_fraction"] and min(designs) >= 1000
+        verdict = ("met" if met else "not met") if len(mine) >= 5 else f"not judged ({len(mine)} seeds; the target is a median of 5)"
+        verdicts.append(f"{algorithm}: a median {statistics.median(hv):.3f} of the reference's hypervolume, and at least "
+                        f"{min(designs)} distinct designs in every run, in {t['seconds']:.0f} s on {r['cores']} cores "
+                        f"(-j {r['jobs']}): the 2-core target {verdict}.")
+    ref = r["reference"]
+    lines = [f"Every run had the whole {r['time_limit']:.0f} s (no design cap, no stagnation rule); the reference front is "
+             f"the front of all {ref['runs']} runs ({ref['front']} designs of {ref['designs']}), `{RECORDS['design_ten_minutes']}`. "
+             f"Builds: {r['granstack']}."] + verdicts
+    # The stagnation rule, judged on these runs: where each would have stopped.
+    tolerance = 1e-3
+    rules = [f"| algorithm | window (generations), tolerance {tolerance:g} | runs it stopped before the time limit | "
+             f"seconds at the stop | designs at the stop | hypervolume at the stop (of the reference's) |", "|---|---|---|---|---|---|"]
+    windows = []
+    for algorithm in r["summary"]:
+        mine = [x for x in r["runs"] if x["algorithm"] == algorithm and x["shortcuts"]]
+        enough = None
+        for window in (5, 10, 20, 40):
+            stops = [stop_by_rule(x["progress"], window, tolerance) for x in mine]
+            hv = [p["hypervolume_fraction"] for p, _ in stops]
+            if enough is None and statistics.median(hv) >= t["hypervolume_fraction"]:
+                enough = window
+            rules.append(f"| {algorithm} | {window} | {sum(s for _, s in stops)} of {len(stops)} | "
+                         f"{statistics.median(p['seconds'] for p, _ in stops):.0f} | {statistics.median(p['designs'] for p, _ in stops):.0f} | "
+                         f"{statistics.median(hv):.3f} ({min(hv):.3f}..{max(hv):.3f}) |")
+        windows.append(f"{algorithm}: " + (f"the shortest window whose stops keep a median of {t['hypervolume_fraction']} is "
+                                           f"{enough} generations" if enough else f"no window's stops keep a median of "
+                                           f"{t['hypervolume_fraction']}") + ".")
+    # The two algorithms against each other, seed by seed.
+    by = {a: sorted(x["hypervolume_fraction_in_600_s"] for x in r["runs"] if x["algorithm"] == a and x["shortcuts"]) for a in r["summary"]}
+    if len(by) == 2:
+        (a, va), (b, vb) = sorted(by.items(), key=lambda kv: -statistics.median(kv[1]))
+        lines.append(f"In {t['seconds']:.0f} s {a}'s median is {statistics.median(va) - statistics.median(vb):+.3f} from {b}'s; "
+                     f"{sum(x > max(vb) for x in va)} of {len(va)} {a} seeds are above every {b} seed.")
+    return ("\n".join(rows) + "\n\n" + " ".join(lines) + "\n\n" + "The rule on each run, after the fact (a run with the "
+            "rule would have been the same run up to its stop):\n\n" + "\n".join(rules) + "\n\n" + " ".join(windows) + "\n")
+
+
 def design_shortcuts():
     """One seed with the shortcuts and without (bench/design_budget.sh, #50)."""
     r = record("design_budget")
@@ -631,7 +701,8 @@ def main():
                 design_front=design_front(), design_sides=design_sides(), design_yield=design_yield(),
                 design_example_cost=design_example_cost(), oversubscription=oversubscription(),
                 extension_counts=extension_counts(), reduce_speed=reduce_speed(), design_budget=design_budget(), design_shortcuts=design_shortcuts(),
-                design_population=design_population(), design_breeding=design_breeding())
+                design_population=design_population(), design_breeding=design_breeding(),
+                design_ten_minutes=design_ten_minutes())
     places = {**PLACES, **RECORD_PLACES, **REPRODUCE_PLACES}
     if "--reproduce" in sys.argv[1:]:
         made["reproduce"] = reproduce_table(exe, work, "liggghts")
