@@ -13,7 +13,7 @@ set -euo pipefail
 generations=${1:-6}
 source "$(dirname "$0")/common.sh"
 # The generational search: the same designs on any number of cores, so the docs' figures repeat.
-sed 's/^\[search\]$/[search]\nevaluation = "generational"/' "$here/examples/design/least_wall_force.toml" > "$work/example.toml"
+sed -e 's/^\[search\]$/[search]\nevaluation = "generational"/' -e '/^algorithm = /d' "$here/examples/design/least_wall_force.toml" > "$work/example.toml"
 example=$work/example.toml
 sed 's/^impulse_window = \(.*\)/impulse_window = \1\ncap_durations = 40/' "$example" > "$work/cap40.toml"
 for run in cap20 cap40; do

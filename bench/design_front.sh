@@ -11,7 +11,7 @@ set -euo pipefail
 source "$(dirname "$0")/common.sh"
 : "${OUT:?set OUT to the record to write (bench/results/design-front-DATE.json)}"
 # The search its record was made with: 10 generational generations (the example now runs until it stops improving).
-sed -e 's/^\[search\]$/[search]\nevaluation = "generational"/' -e 's/^generations = .*/generations = 10/' \
+sed -e 's/^\[search\]$/[search]\nevaluation = "generational"/' -e 's/^generations = .*/generations = 10/' -e '/^algorithm = /d' \
   -e '/^stagnation = /d' -e '/^time_limit = /d' "$here/examples/design/least_wall_force.toml" > "$work/example.toml"
 sed 's/^sides = "wall".*/sides = "free"/' "$work/example.toml" > "$work/strip.toml"
 grep -q '^sides = "free"' "$work/strip.toml"
