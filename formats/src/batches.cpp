@@ -299,7 +299,7 @@ bool FrameBatchSource::take_frames(FrameBatch& batch) {
   return true;  // possibly empty, with `last` set
 }
 
-void FrameBatchSource::parse(FrameBatch& batch) const {
+void FrameBatchSource::parse(FrameBatch& batch, const std::function<bool(std::size_t)>& parsed) const {
   if (batch.raw && batch.file_end >= 0) {
     const auto n = static_cast<std::size_t>(batch.file_end - batch.file_start);
     batch.text_size = 0;
@@ -345,6 +345,7 @@ void FrameBatchSource::parse(FrameBatch& batch) const {
       if (!reader.next(batch.frames[n])) break;
       if (n == 0) batch.first_step_after_nul = reader.nul_by_step();
       ++n;
+      if (parsed && !parsed(n - 1)) break;
     }
   } catch (...) {
     batch.error = std::current_exception();

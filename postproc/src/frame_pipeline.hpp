@@ -96,18 +96,28 @@ void for_each_frame_in_order(formats::FrameBatchSource& source, int threads, Mak
         changed.notify_all();
         return;
       }
+      // Each frame is worked on as soon as the next is parsed (whether it is the batch's last is
+      // known then), while its values are still in the cache; the last once parsing ends.
       auto& batch = slot->batch;
-      source.parse(batch);
-      slot->results.resize(batch.frames.size());
-      for (std::size_t k = 0; k < batch.frames.size(); ++k) {
+      std::size_t worked = 0;
+      std::exception_ptr work_error;  // comes before any parse error, which is later in the file
+      auto work_on = [&](std::size_t k, bool last) {
+        if (slot->results.size() <= k) slot->results.resize(k + 1);
         try {
-          work(*state, batch.frames[k], slot->results[k], k + 1 == batch.frames.size());
+          work(*state, batch.frames[k], slot->results[k], last);
+          worked = k + 1;
         } catch (...) {
-          batch.error = std::current_exception();  // comes before any parse error, which is later in the file
-          batch.frames.resize(k);
-          break;
+          work_error = std::current_exception();
         }
+        return !work_error;
+      };
+      source.parse(batch, [&](std::size_t k) { return k == 0 || work_on(k - 1, false); });
+      while (!work_error && worked < batch.frames.size()) work_on(worked, worked + 1 == batch.frames.size());
+      if (work_error) {
+        batch.error = work_error;
+        batch.frames.resize(worked);
       }
+      slot->results.resize(batch.frames.size());
       std::unique_lock lock(mutex);
       done[batch.index] = std::move(slot);
       deliver_ready(lock);

@@ -220,6 +220,11 @@ TEST_F(Cli, BadDumpFilesGiveClearErrors) {
   r = with_dump(fewer);
   EXPECT_EQ(r.code, 4) << r.output;
   expect_contains(r, "has 16 atoms, the case has 17 spheres");
+  // ... and the file cut short too, in the same piece: each frame is analysed as the next is
+  // parsed, and the frame that cannot be analysed, earlier in the file, is the error.
+  r = with_dump(fewer.substr(0, fewer.size() - 700));
+  EXPECT_EQ(r.code, 4) << r.output;
+  expect_contains(r, "has 16 atoms, the case has 17 spheres");
   // Random bytes, an empty file, and a NaN.
   r = with_dump(std::string("\x7f\x45\x4c\x46\x02\x01\x01\0\0\0garbage", 17));
   EXPECT_EQ(r.code, 4);

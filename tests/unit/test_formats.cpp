@@ -629,6 +629,36 @@ TEST_F(BatchTest, ADumpReadInPiecesIsDigestedAsAWhole) {
   EXPECT_FALSE(compressed.digest_content());
 }
 
+// A piece's frames are handed on one by one as they are parsed (reduce analyses each while its
+// values are in the cache): frame k when it is whole and frame k + 1 not yet begun; a false
+// answer ends the parsing there, the frames up to it kept and no error of the parser's.
+TEST_F(BatchTest, APiecesFramesAreHandedOnAsTheyAreParsed) {
+  const auto path = write("dump.txt", dump_text(6, 5));
+  formats::FrameBatchSource source(path, false, {});
+  formats::FrameBatch batch;
+  ASSERT_TRUE(source.take(batch));
+  std::vector<long> steps;
+  source.parse(batch, [&](std::size_t k) {
+    EXPECT_EQ(batch.frames.size(), k + 1);  // frame k + 1 not begun
+    EXPECT_EQ(batch.frames[k].values.size(), 5u * 7u);
+    steps.push_back(batch.frames[k].step);
+    return true;
+  });
+  ASSERT_FALSE(batch.error);
+  EXPECT_EQ(steps, (std::vector<long>{0, 10, 20, 30, 40, 50}));
+  formats::FrameBatchSource again(path, false, {});
+  ASSERT_TRUE(again.take(batch));
+  steps.clear();
+  again.parse(batch, [&](std::size_t k) {
+    steps.push_back(batch.frames[k].step);
+    return k < 2;
+  });
+  EXPECT_FALSE(batch.error);
+  EXPECT_EQ(steps, (std::vector<long>{0, 10, 20}));
+  ASSERT_EQ(batch.frames.size(), 3u);
+  EXPECT_EQ(batch.frames[2].step, 20);
+}
+
 // Only the named columns are converted; the others are checked to be there and left 0.
 TEST_F(BatchTest, ColumnsNotAskedForAreLeftUnparsed) {
   formats::FrameBatchSource source(write("dump.txt", dump_text(3, 5)), false, {}, {"id", "x"});

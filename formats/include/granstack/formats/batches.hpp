@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <exception>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -56,7 +57,10 @@ class FrameBatchSource {
   // calling thread, outside any lock). False when nothing is left; a batch may be empty.
   bool take(FrameBatch& batch);
   // Parses what take() left raw. Never throws: a bad frame ends the batch with `error`.
-  void parse(FrameBatch& batch) const;
+  // `parsed`, when given, is called with k as soon as frame k of a text piece is parsed (before
+  // frame k + 1 is), so that the caller can use it while its values are still in the cache; when
+  // it returns false the parsing stops there, frames 0..k kept.
+  void parse(FrameBatch& batch, const std::function<bool(std::size_t)>& parsed = {}) const;
   // Call for the batches in index order, one at a time: rebases line numbers to the file's and
   // checks that timesteps do not go backwards from one batch to the next (cutting the batch
   // short with an error if they do).
