@@ -8,8 +8,12 @@
 # Peak memory (from /usr/bin/time) is also taken on a quarter of the run, to show it does not
 # grow with the number of frames.
 # With OUT=FILE.json the medians are also written there (the performance page's table is made from
-# such a record by scripts/doc_tables.py).
-# Usage: [OUT=FILE.json] bench/reduce_vs_wc.sh [REPEATS] [DUMP_EVERY]   (a few minutes, about 3 GB of disk)
+# such a record by scripts/doc_tables.py). With GRANSTACK_BASE=BUILD, that build's reduce (2
+# threads) is timed in every round too, and each round's ratio of the two is kept: a change
+# measured against the build before it on the same machine at the same time (these machines
+# drift by 30 % within minutes, more than most changes).
+# Usage: [GRANSTACK_BASE=BUILD] [OUT=FILE.json] bench/reduce_vs_wc.sh [REPEATS] [DUMP_EVERY]
+#   (a few minutes, about 3 GB of disk)
 set -euo pipefail
 repeats=${1:-5}
 every=${2:-2}
@@ -29,9 +33,9 @@ for format in text binary; do
     fi
   done
 done
-OUT="${OUT:-}" python3 - "$gs" "$work" "$repeats" <<'PY'
+OUT="${OUT:-}" python3 - "$gs" "$work" "$repeats" "${GRANSTACK_BASE:-}" <<'PY'
 import json, os, statistics, subprocess, sys, time
-gs, work, repeats = sys.argv[1], sys.argv[2], int(sys.argv[3])
+gs, work, repeats, base = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4]
 def timed(cmd):
     t = time.perf_counter(); subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL); return time.perf_counter() - t
 def peak_mb(cmd):
@@ -41,15 +45,21 @@ def peak_mb(cmd):
 print(f"{os.cpu_count()} cores; medians of {repeats} alternating runs")
 version = subprocess.run([gs, "--version"], check=True, capture_output=True, text=True).stdout.strip()
 out = {"granstack": version, "cores": os.cpu_count(), "repeats": repeats, "formats": {}}
+if base:
+    out["base"] = subprocess.run([base, "--version"], check=True, capture_output=True, text=True).stdout.strip()
 for fmt, name in (("text", "dump.txt"), ("binary", "dump.bin")):
     case = os.path.join(work, fmt + "-full")
     path = os.path.join(case, "dumps", name)
     size = os.path.getsize(path) / 1e6
     subprocess.run(["cat", path], stdout=subprocess.DEVNULL)  # warm the page cache
     runs = {"wc": [], "reduce": [], "reduce1": []}
-    for _ in range(repeats):
+    if base:
+        runs["reduce_base"] = []
+    for k in range(repeats):
         runs["wc"].append(timed(["wc", "-l", path]))
-        runs["reduce"].append(timed([gs, "reduce", case]))
+        # the two builds in turn, each first in every other round
+        for build in ([gs, base] if k % 2 == 0 else [base, gs]) if base else [gs]:
+            runs["reduce" if build == gs else "reduce_base"].append(timed([build, "reduce", case]))
         runs["reduce1"].append(timed([gs, "reduce", "--threads", "1", case]))
     wc, red, red1 = (statistics.median(runs[k]) for k in ("wc", "reduce", "reduce1"))
     mem_full = peak_mb([gs, "reduce", case])
@@ -59,6 +69,13 @@ for fmt, name in (("text", "dump.txt"), ("binary", "dump.bin")):
           f"peak memory {mem_full:.0f} MB (a quarter of the frames: {mem_quarter:.0f} MB)")
     out["formats"][fmt] = {"dump_mb": size, "seconds": runs, "ratio": wc / red, "ratio_one_thread": wc / red1,
                            "peak_mb": mem_full, "peak_mb_quarter": mem_quarter}
+    if base:
+        per_round = [b / a for a, b in zip(runs["reduce"], runs["reduce_base"])]
+        faster = sum(x > 1 for x in per_round)
+        out["formats"][fmt]["base_over_this"] = statistics.median(per_round)
+        print(f"       the base build took {statistics.median(per_round):.3f} times as long (median of the rounds' "
+              f"ratios; this build faster in {faster} of {repeats}); its ratio to wc -l "
+              f"{wc / statistics.median(runs['reduce_base']):.3f}")
 if os.environ["OUT"]:
     json.dump(out, open(os.environ["OUT"], "w"), indent=1)
 PY

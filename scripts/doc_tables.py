@@ -59,8 +59,8 @@ RECORDS = {
     "extension_counts": "bench/results/extension-counts-2026-11-29.json",
     # OUT=... bench/design_budget.sh, on the 2-core machine, idle (#50)
     "design_budget": "bench/results/design-budget-2026-11-28.json",
-    # GRANSTACK=build/ci/app/granstack OUT=... bench/reduce_vs_wc.sh 11 2, on the 2-core machine (#46)
-    "reduce_speed": "bench/results/reduce-vs-wc-2026-11-29.json",
+    # GRANSTACK=build/ci/app/granstack GRANSTACK_BASE=(the build before) OUT=... bench/reduce_vs_wc.sh 15 2, 2-core machine (#46)
+    "reduce_speed": "bench/results/reduce-vs-wc-2026-11-29-streamed.json",
     # the same at ca2da3e, whose script stopped each run by a window of 3 generations
     "design_budget_stagnation3": "bench/results/design-budget-stagnation3-2026-11-28.json",
     # POPULATIONS="24 64" ALGORITHMS=nsga2 OFF_RUN=0 OUT=... bench/design_budget.sh, 2-core machine, idle
@@ -547,8 +547,15 @@ def reduce_speed():
                     f"{f['dump_mb'] / m['reduce']:.0f} MB/s | {f['ratio']:.3f} | {f['dump_mb'] / m['reduce1']:.0f} MB/s | "
                     f"{f['ratio_one_thread']:.3f} | {f['peak_mb']:.0f} MB ({f['peak_mb_quarter']:.0f} MB) |")
     build = f", {r['granstack']}" if "granstack" in r else ""
-    return (f"Medians of {r['repeats']} alternating runs, warm page cache (`{RECORDS['reduce_speed']}`{build}):\n\n"
+    text = (f"Medians of {r['repeats']} alternating runs, warm page cache (`{RECORDS['reduce_speed']}`{build}):\n\n"
             + "\n".join(rows) + "\n")
+    if "base" in r:
+        against = "; ".join(f"{fmt} {f['base_over_this']:.3f} times as long (ratio to `wc -l` "
+                            f"{statistics.median(f['seconds']['wc']) / statistics.median(f['seconds']['reduce_base']):.3f})"
+                            for fmt, f in r["formats"].items())
+        text += (f"\nThe build before, {r['base']}, timed in the same rounds (the median of each round's ratio): "
+                 f"{against}.\n")
+    return text
 
 
 def extension_counts():
