@@ -1,85 +1,23 @@
 """The record of bench/design_budget.sh: each run's progress against the reference front (the
-front of every run together), in the normalised box every store fixed alike before its search.
+front of every run together, or with REFERENCE=FILE a front kept from earlier runs by
+bench/design_reference.py), in the normalised box every store fixed alike before its search.
 
 The hypervolume here (exact, by slicing, for 2 or 3 objectives) is checked against the one
 granstack's report gives for the same designs (pagmo2's) at every point of every run, to 1e-9.
 """
 import json
-import math
+import os
 import sqlite3
 import statistics
 import sys
 
+from pareto import hypervolume, igd_plus, join, point, reference_front, store_designs
+
 work, version, cores, max_designs, time_limit, jobs, space, stagnation = sys.argv[1:9]
-REFERENCE_POINT = 1.1
 TARGET_HV = 0.98        # of the reference front's hypervolume
 TARGET_IGD = 0.005      # IGD+ in the normalised box
 TARGET_DESIGNS = 500
 TARGET_SECONDS = 600.0
-
-
-def point(axes, values):
-    out = []
-    for a, v in zip(axes, values):
-        if a["log"]:
-            t = (math.log10(v) - math.log10(a["ideal"])) / (math.log10(a["nadir"]) - math.log10(a["ideal"])) if v > 0 else 0.0
-        else:
-            t = (v - a["ideal"]) / (a["nadir"] - a["ideal"])
-        out.append(max(t, 0.0))
-    return out
-
-
-def dominates(a, b):
-    return all(x <= y for x, y in zip(a, b)) and any(x < y for x, y in zip(a, b))
-
-
-def front(points):
-    # In lexicographic order a point can be dominated only by one before it, and a point one
-    # dominates is dominated by one on the front: each point is read against the front so far.
-    kept = []
-    for p in sorted(set(map(tuple, points))):
-        if not any(dominates(q, p) for q in kept):
-            kept.append(p)
-    return kept
-
-
-def join(running, p):
-    """The front of the points so far, `running`, after `p`: front(running + [p]) as a set."""
-    p = tuple(p)
-    if p in running or any(dominates(q, p) for q in running):
-        return running
-    return {q for q in running if not dominates(p, q)} | {p}
-
-
-def area(points):  # 2D, minimised, against (REFERENCE_POINT, REFERENCE_POINT)
-    total, best_y = 0.0, REFERENCE_POINT
-    for x, y in sorted(points):
-        if y < best_y:
-            total += (REFERENCE_POINT - x) * (best_y - y)
-            best_y = y
-    return total
-
-
-def hypervolume(points):
-    inside = [p for p in front(points) if all(x < REFERENCE_POINT for x in p)]
-    if not inside:
-        return 0.0
-    if len(inside[0]) == 2:
-        return area(inside)
-    assert len(inside[0]) == 3, "2 or 3 objectives"
-    inside.sort(key=lambda p: p[2])
-    volume = 0.0
-    for k, p in enumerate(inside):
-        top = inside[k + 1][2] if k + 1 < len(inside) else REFERENCE_POINT
-        volume += area([q[:2] for q in inside[:k + 1]]) * (top - p[2])
-    return volume
-
-
-def igd_plus(points, reference):
-    f = front(points)
-    if not f:
-        return math.inf
-    return sum(min(math.sqrt(sum(max(a - r, 0.0) ** 2 for a, r in zip(q, p))) for q in f) for p in reference) / len(reference)
 
 
 runs = {}
@@ -90,24 +28,28 @@ for line in open(f"{work}/runs.txt"):
 box, designs_of = None, {}
 for name in runs:
     out = f"{work}/{name}/out"
-    db = sqlite3.connect(f"{out}/design.sqlite")
-    axes = json.loads(db.execute("select value from meta where key = 'normalisation'").fetchone()[0])
+    axes, joins, described = store_designs(f"{out}/design.sqlite")
     assert box is None or axes == box, f"{name}: another box ({axes} against {box})"
     box = axes
-    objectives = [a["objective"] for a in axes]
     report = json.load(open(f"{out}/report/design.json"))
-    rows = {}
-    cols = ", ".join(objectives)
-    for digest, feasible, shortcut, *values in db.execute(f"select digest, feasible, shortcut, {cols} from evaluations"):
-        rows[digest] = (bool(feasible), shortcut, values)
-    joins = [d for (d,) in db.execute("select digest from joins where run = 0 order by position")]
+    rows = {d: (feasible, shortcut, values) for d, (feasible, shortcut, values, _) in described.items()}
+    db = sqlite3.connect(f"{out}/design.sqlite")
     finished = [int(t) for (t,) in db.execute("select strftime('%s', finished) from generations where run = 0 order by generation")]
     designs_of[name] = (joins, rows, report, finished)
 
-# The reference front: every run's feasible designs run in full, together.
+# The reference front: every run's feasible designs run in full, together; or one kept.
 everything = [point(box, v) for joins, rows, *_ in designs_of.values() for d in joins
               for feasible, shortcut, v in [rows[d]] if feasible and not shortcut]
-reference = front(everything)
+kept = os.environ.get("REFERENCE", "")
+if kept:
+    made = json.load(open(kept))
+    assert made["box"] == box, f"{kept}: its box is not the runs' ({made['box']} against {box})"
+    reference_designs = made["designs"]
+    about = {"kept": os.path.relpath(kept), "made": made["made"]}
+else:
+    _, reference_designs = reference_front(f"{work}/{name}/out/design.sqlite" for name in runs)
+    about = {"runs": len(designs_of), "designs": len(everything)}
+reference = [tuple(d["point"]) for d in reference_designs]
 reference_hv = hypervolume(reference)
 
 def breeding(name):  # front_parents:step_mutation, as its space names them
@@ -182,7 +124,8 @@ print(json.dumps({
     "command": "OUT=... bench/design_budget.sh", "granstack": version, "cores": int(cores), "jobs": int(jobs), "space": space,
     "max_designs": int(max_designs), "time_limit": float(time_limit), "stagnation": int(stagnation),
     "targets": {"hypervolume_fraction": TARGET_HV, "igd_plus": TARGET_IGD, "designs": TARGET_DESIGNS, "seconds": TARGET_SECONDS},
-    "reference": {"runs": len(designs_of), "designs": len(everything), "front": len(reference), "hypervolume": reference_hv},
+    "reference": {**about, "front": len(reference), "hypervolume": reference_hv, "box": box,
+                  "designs": reference_designs},
     "summary": summary,
     "shortcuts": {"off": off[0] if off else None, "on": on[0] if on else None},
     "runs": record_runs,

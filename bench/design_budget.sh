@@ -11,6 +11,10 @@
 # With several POPULATIONS each algorithm runs at each, labelled ALGORITHM-pPOPULATION; with several
 # BREEDINGS (FRONT_PARENTS:STEP_MUTATION, [search] front_parents and step_mutation) at each,
 # labelled ALGORITHM-fFRONT_PARENTS-sSTEP_MUTATION; OFF_RUN=0 leaves out the run without shortcuts.
+# With ROUNDS=N every run is made N times, labelled ALGORITHM-rROUND (on more than one job the order
+# in which designs end shapes a search, so a seed's run is not the same run twice). With
+# REFERENCE=FILE the runs are judged against a front kept by bench/design_reference.py instead of
+# their own together (the record then names it); every record keeps its reference front's designs.
 # Usage: OUT=bench/results/design-budget-DATE.json bench/design_budget.sh
 #   (SPACE, SEEDS="1 2 3 4 5", ALGORITHMS="nsga2 sms-emoa", POPULATIONS=24, BREEDINGS=0.5:0.5, MAX_DESIGNS=1500,
 #   TIME_LIMIT=600, STAGNATION=10, JOBS=2, OFF_RUN=1; up to (seeds x algorithms x populations + 1) x
@@ -28,9 +32,11 @@ max_designs=${MAX_DESIGNS:-1500}
 stagnation=${STAGNATION:-10}
 time_limit=${TIME_LIMIT:-600}
 jobs=${JOBS:-2}
+rounds=${ROUNDS:-1}
 runs=()
-one() {  # one ALGORITHM SEED SHORTCUTS POPULATION BREEDING: a search alone in its own store
+one() {  # one ALGORITHM SEED SHORTCUTS POPULATION BREEDING [ROUND]: a search alone in its own store
   local label=$1 front=${5%%:*} step=${5##*:}
+  [ "${6:-1}" -gt 1 ] && label="$label-r$6"
   [ "$(wc -w <<< "$populations")" -gt 1 ] && label="$label-p$4"
   [ "$(wc -w <<< "$breedings")" -gt 1 ] && label="$label-f$front-s$step"
   local name="$label-$2-$3" dir="$work/$label-$2-$3"
@@ -50,10 +56,12 @@ one() {  # one ALGORITHM SEED SHORTCUTS POPULATION BREEDING: a search alone in i
 first_algorithm=${algorithms%% *}
 first_seed=${seeds%% *}
 # The seeds alternate between the settings compared (the machine drifts over a long benchmark).
-for a in $algorithms; do
-  for s in $seeds; do
-    for p in $populations; do
-      for b in $breedings; do one "$a" "$s" true "$p" "$b"; done
+for r in $(seq "$rounds"); do
+  for a in $algorithms; do
+    for s in $seeds; do
+      for p in $populations; do
+        for b in $breedings; do one "$a" "$s" true "$p" "$b" "$r"; done
+      done
     done
   done
 done
