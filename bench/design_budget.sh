@@ -17,7 +17,7 @@
 # their own together (the record then names it); every record keeps its reference front's designs.
 # Usage: OUT=bench/results/design-budget-DATE.json bench/design_budget.sh
 #   (SPACE, SEEDS="1 2 3 4 5", ALGORITHMS="nsga2 sms-emoa", POPULATIONS=24, BREEDINGS=0.5:0.5, MAX_DESIGNS=1500,
-#   TIME_LIMIT=600, STAGNATION=10, JOBS=2, OFF_RUN=1; up to (seeds x algorithms x populations + 1) x
+#   TIME_LIMIT=600, STAGNATION=10, JOBS=2, OFF_RUN=1, ROUNDS=1, REFERENCE unset; up to (rounds x seeds x algorithms x populations + 1) x
 #   TIME_LIMIT seconds, about 45 minutes on 2 cores with the shortcuts)
 set -euo pipefail
 source "$(dirname "$0")/common.sh"

@@ -71,6 +71,9 @@ RECORDS = {
     "design_breeding": "bench/results/design-breeding-2026-11-29.json",
     # ALGORITHMS, SEEDS, KEEP as its "what" says; MAX_DESIGNS=100000 STAGNATION=0 TIME_LIMIT=600 OFF_RUN=0
     "design_ten_minutes": "bench/results/design-ten-minutes-2026-11-29.json",
+    # REFERENCE=bench/results/design-reference-front-2026-11-29.json ROUNDS=2 ALGORITHMS="sms-emoa nsga2"
+    # MAX_DESIGNS=500 STAGNATION=0 OFF_RUN=0 BREEDINGS=0:0 OUT=... bench/design_budget.sh, 2-core machine, idle
+    "design_repeat": "bench/results/design-repeat-2026-11-29.json",
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
                  "refsim_against_liggghts": ["docs/how-to/big-nests.md"],
@@ -87,7 +90,8 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "reduce_speed": ["docs/explanation/performance.md"],
                  "design_budget": ["docs/explanation/performance.md"], "design_shortcuts": ["docs/explanation/performance.md"],
                  "design_population": ["docs/explanation/performance.md"], "design_breeding": ["docs/explanation/performance.md"],
-                 "design_ten_minutes": ["docs/explanation/performance.md"]}
+                 "design_ten_minutes": ["docs/explanation/performance.md"],
+                 "design_repeat": ["docs/explanation/performance.md"]}
 # The study's tables: LIGGGHTS's reproduction (refsim's in the check) and the LAMMPS study's record.
 REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"], "engines_study": ["docs/explanation/lammps.md"]}
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
@@ -452,6 +456,38 @@ def stop_by_rule(progress, window, tolerance):
     return progress[-1], False
 
 
+def design_repeat():
+    """Every seed's search made twice against a kept reference front, at 500 designs (bench/design_budget.sh
+    ROUNDS=2 REFERENCE=...): how far one seed's run moves between two runs on 2 jobs."""
+    r = record("design_repeat")
+    runs = {}
+    for run in r["runs"]:
+        name, _, round_ = run["algorithm"].partition("-r")
+        runs.setdefault(name, {}).setdefault(run["seed"], {})[int(round_ or 1)] = run
+    rows = ["| algorithm | seed | hypervolume at 500 designs (of the reference's), run 1 | run 2 | difference | IGD+, run 1 | run 2 |",
+            "|---|---|---|---|---|---|---|"]
+    said = []
+    for name, seeds in runs.items():
+        for seed, pair in sorted(seeds.items()):
+            a, b = pair[1], pair[2]
+            rows.append(f"| {name} | {seed} | {a['hypervolume_fraction_at_500']:.3f} | {b['hypervolume_fraction_at_500']:.3f} | "
+                        f"{b['hypervolume_fraction_at_500'] - a['hypervolume_fraction_at_500']:+.3f} | "
+                        f"{a['igd_plus_at_500']:.4f} | {b['igd_plus_at_500']:.4f} |")
+        moved = [abs(p[2]["hypervolume_fraction_at_500"] - p[1]["hypervolume_fraction_at_500"]) for p in seeds.values()]
+        medians = [statistics.median(p[k]["hypervolume_fraction_at_500"] for p in seeds.values()) for k in (1, 2)]
+        igd = [statistics.median(p[k]["igd_plus_at_500"] for p in seeds.values()) for k in (1, 2)]
+        met = [m >= r["targets"]["hypervolume_fraction"] and i <= r["targets"]["igd_plus"] for m, i in zip(medians, igd)]
+        said.append(f"{name}: the median of the {len(seeds)} seeds {medians[0]:.3f} and {medians[1]:.3f} (IGD+ {igd[0]:.4f} and "
+                    f"{igd[1]:.4f}; the 500-design target {'met' if all(met) else 'met by one run' if any(met) else 'not met'}); "
+                    f"a seed moved by {statistics.median(moved):.3f} between its runs (median; at most {max(moved):.3f}), the "
+                    f"median of the seeds by {abs(medians[1] - medians[0]):.3f}.")
+    ref = r["reference"]
+    return ("\n".join(rows) + "\n\n"
+            f"The reference: `{ref['kept']}` ({ref['front']} designs, hypervolume {ref['hypervolume']:.6f}), kept from {ref['made']}. "
+            f"Every run searched {r['max_designs']} distinct designs on {r['jobs']} jobs ({r['granstack']}, `{RECORDS['design_repeat']}`). "
+            + " ".join(said) + "\n")
+
+
 def design_ten_minutes():
     """The search given the whole 10 minutes on 2 cores (no design cap, no stagnation stop), each seed against
     the front of all the record's runs; then the stagnation rule judged on those runs after the fact."""
@@ -709,7 +745,7 @@ def main():
                 design_example_cost=design_example_cost(), oversubscription=oversubscription(),
                 extension_counts=extension_counts(), reduce_speed=reduce_speed(), design_budget=design_budget(), design_shortcuts=design_shortcuts(),
                 design_population=design_population(), design_breeding=design_breeding(),
-                design_ten_minutes=design_ten_minutes())
+                design_ten_minutes=design_ten_minutes(), design_repeat=design_repeat())
     places = {**PLACES, **RECORD_PLACES, **REPRODUCE_PLACES}
     if "--reproduce" in sys.argv[1:]:
         made["reproduce"] = reproduce_table(exe, work, "liggghts")
