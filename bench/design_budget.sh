@@ -15,6 +15,7 @@
 # in which designs end shapes a search, so a seed's run is not the same run twice). With
 # REFERENCE=FILE the runs are judged against a front kept by bench/design_reference.py instead of
 # their own together (the record then names it); every record keeps its reference front's designs.
+# With several SCREENINGS ([search] screening) each runs at each, labelled ALGORITHM-scSCREENING.
 # Usage: OUT=bench/results/design-budget-DATE.json bench/design_budget.sh
 #   (SPACE, SEEDS="1 2 3 4 5", ALGORITHMS="nsga2 sms-emoa", POPULATIONS=24, BREEDINGS=0.5:0.5, MAX_DESIGNS=1500,
 #   TIME_LIMIT=600, STAGNATION=10, JOBS=2, OFF_RUN=1, ROUNDS=1, REFERENCE unset; up to (rounds x seeds x algorithms x populations + 1) x
@@ -33,10 +34,12 @@ stagnation=${STAGNATION:-10}
 time_limit=${TIME_LIMIT:-600}
 jobs=${JOBS:-2}
 rounds=${ROUNDS:-1}
+screenings=${SCREENINGS:-1}
 runs=()
-one() {  # one ALGORITHM SEED SHORTCUTS POPULATION BREEDING [ROUND]: a search alone in its own store
-  local label=$1 front=${5%%:*} step=${5##*:}
+one() {  # one ALGORITHM SEED SHORTCUTS POPULATION BREEDING [ROUND] [SCREENING]: a search alone in its own store
+  local label=$1 front=${5%%:*} step=${5##*:} screening=${7:-1}
   [ "${6:-1}" -gt 1 ] && label="$label-r$6"
+  [ "$(wc -w <<< "$screenings")" -gt 1 ] && label="$label-sc$screening"
   [ "$(wc -w <<< "$populations")" -gt 1 ] && label="$label-p$4"
   [ "$(wc -w <<< "$breedings")" -gt 1 ] && label="$label-f$front-s$step"
   local name="$label-$2-$3" dir="$work/$label-$2-$3"
@@ -45,6 +48,7 @@ one() {  # one ALGORITHM SEED SHORTCUTS POPULATION BREEDING [ROUND]: a search al
   printf '[search]\npopulation = %s\ngenerations = 1000\nseed = %s\nalgorithm = "%s"\nmax_designs = %s\nstagnation = %s\nshortcuts = %s\n' \
     "$4" "$2" "$1" "$max_designs" "$stagnation" "$3" >> "$dir/space.toml"
   printf 'front_parents = %s\nstep_mutation = %s\n' "$front" "$step" >> "$dir/space.toml"
+  [ "$screening" -gt 1 ] && printf 'screening = %s\n' "$screening" >> "$dir/space.toml"
   local t0 t1
   t0=$(date +%s.%N)
   "$gs" design run "$dir/space.toml" -o "$dir/out" -j "$jobs" --time-limit "$time_limit" > "$dir/log" 2>&1
@@ -60,7 +64,9 @@ for r in $(seq "$rounds"); do
   for a in $algorithms; do
     for s in $seeds; do
       for p in $populations; do
-        for b in $breedings; do one "$a" "$s" true "$p" "$b" "$r"; done
+        for b in $breedings; do
+          for c in $screenings; do one "$a" "$s" true "$p" "$b" "$r" "$c"; done
+        done
       done
     done
   done

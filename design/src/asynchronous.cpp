@@ -1,5 +1,6 @@
 // The asynchronous search (search.hpp, run_asynchronous): a steady-state NSGA-II whose designs
 // run on a pool of threads, a new one started whenever one ends.
+#include "screening.hpp"
 #include "survival.hpp"
 
 #include <granstack/design/convergence.hpp>
@@ -160,6 +161,7 @@ class Asynchronous {
   std::optional<Job> draw();
   std::vector<double> bred(std::mt19937& rng, std::size_t subproblem) const;
   std::vector<double> uniform(std::mt19937& rng) const;
+  std::optional<Job> screened(std::mt19937& rng, std::size_t subproblem);
   bool may_start(int searching);
   bool rejected(const model::StackSpec& spec);
   // The store's evaluation of a design where it stands for this run (stands_for), else none: it runs.
@@ -192,6 +194,7 @@ class Asynchronous {
   std::vector<Member> members_;
   std::vector<Evaluation> archive_;  // the designs the search has joined, in order
   std::vector<Evaluation> front_;    // the archive's feasible designs no other dominates
+  Screening screening_{space_};      // the archive's genes and points, for [search] screening
   // The front as the shortcuts ask it (from the pool's threads while designs join): rebuilt as it changes.
   std::optional<std::string> dominated(const std::vector<double>& v) {
     Dominator d;
@@ -280,7 +283,9 @@ void Asynchronous::join(const Evaluation& e, bool replaying, std::size_t subprob
     const std::lock_guard<std::mutex> lock(front_m_);
     front_dominator_ = std::move(d);
   }
-  survive({*x, e.digest, fitness(space_, e, &*norm_)}, subproblem);
+  auto point = fitness(space_, e, &*norm_);
+  if (space_.search.screening > 1) screening_.add(*x, point);
+  survive({*x, e.digest, std::move(point)}, subproblem);
   if (archive_.size() % population_ == 0) {
     const int index = static_cast<int>(archive_.size() / population_) - 1;
     hypervolumes_.push_back(normalised_hypervolume(space_, *norm_, front_));
@@ -392,6 +397,9 @@ std::optional<Job> Asynchronous::draw() {
   auto rng = stream(seed_, drawn_);
   const auto subproblem = static_cast<std::size_t>(drawn_) % population_;
   const bool initial = static_cast<std::size_t>(drawn_) < population_ || members_.size() < 2;
+  if (!initial && space_.search.screening > 1) {
+    if (auto job = screened(rng, subproblem)) return job;
+  }
   for (int attempt = 0; attempt < kDrawsPerDesign; ++attempt) {
     const auto x = space_.canonical_genes(!initial && attempt < kBredDraws ? bred(rng, subproblem) : uniform(rng));
     auto spec = space_.decode(x);
@@ -402,6 +410,43 @@ std::optional<Job> Asynchronous::draw() {
     return Job{x, std::move(spec), std::nullopt, standing(digest), subproblem};
   }
   return std::nullopt;
+}
+
+// [search] screening: of up to `screening` new designs bred within the known constraints, the one
+// whose estimate (Screening) would gain the front the most (the first bred of equals); those not
+// chosen are not known, and may be bred again. None bred: nullopt, and draw() goes on as without.
+std::optional<Job> Asynchronous::screened(std::mt19937& rng, std::size_t subproblem) {
+  const auto wanted = static_cast<std::size_t>(space_.search.screening);
+  std::vector<std::pair<std::vector<double>, model::StackSpec>> candidates;
+  std::set<std::string> seen;
+  for (int attempt = 0; attempt < kBredDraws && candidates.size() < wanted; ++attempt) {
+    const auto x = space_.canonical_genes(bred(rng, subproblem));
+    auto spec = space_.decode(x);
+    const auto digest = spec_digest(spec);
+    if (known_.count(digest) != 0 || !seen.insert(digest).second) continue;
+    if (rejected(spec)) {
+      known_.insert(digest);
+      continue;
+    }
+    candidates.emplace_back(x, std::move(spec));
+  }
+  if (candidates.empty()) return std::nullopt;
+  std::vector<std::vector<double>> front;
+  for (const auto& e : front_) front.push_back(fitness(space_, e, &*norm_));
+  std::size_t best = 0;
+  double best_score = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    const double score = screening_score(screening_.estimate(candidates[i].first), front);
+    if (score > best_score) {
+      best_score = score;
+      best = i;
+    }
+  }
+  auto& [x, spec] = candidates[best];
+  auto digest = spec_digest(spec);
+  known_.insert(digest);
+  ++drawn_;
+  return Job{std::move(x), std::move(spec), std::nullopt, standing(digest), subproblem};
 }
 
 // The designs the run joins before it ends: its generations', or its budget.

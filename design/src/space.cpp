@@ -538,6 +538,15 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
       const auto x = v.value<double>();
       if (!x || !(*x >= 0.0 && *x < 1.0)) problems.push_back("[search] stagnation_tolerance: a fraction from 0 to below 1");
       else s.search.stagnation_tolerance = *x;
+    } else if (key == "screening") {
+      const auto n = v.value_exact<std::int64_t>();
+      if (!n || *n < 1 || *n > kMaxScreening) {
+        problems.push_back(fmt::format("[search] screening: a whole number from 1 (no screening) to {}, the designs bred for "
+                                       "each one run",
+                                       kMaxScreening));
+      } else {
+        s.search.screening = static_cast<int>(*n);
+      }
     } else if (key == "seed" && v.is_array()) {
       read_seeds(*v.as_array(), s, problems);
     } else if (key == "population" || key == "generations" || key == "seed" || key == "max_designs" || key == "stagnation") {
@@ -545,7 +554,8 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
     } else {
       problems.push_back(fmt::format("[search] {}: unknown; evaluation, algorithm, population, generations, seed, "
                                      "max_designs, stagnation, stagnation_tolerance, time_limit, shortcuts, start, crossover_probability, "
-                                     "crossover_eta, mutation_eta, mutation_probability, front_parents or step_mutation", key));
+                                     "crossover_eta, mutation_eta, mutation_probability, front_parents, step_mutation or "
+                                     "screening", key));
     }
   }
   if (s.search.population < 8 || s.search.population % 4 != 0) {
@@ -554,6 +564,10 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
   if (s.search.algorithm != Algorithm::nsga2 && s.search.schedule == Schedule::generational) {
     problems.push_back(fmt::format("[search] algorithm = \"{}\": the generational search is pagmo2's NSGA-II; leave out "
                                    "algorithm, or make the search asynchronous", to_string(s.search.algorithm)));
+  }
+  if (s.search.screening > 1 && s.search.schedule == Schedule::generational) {
+    problems.push_back("[search] screening: the generational search is pagmo2's NSGA-II, which runs every design it breeds; "
+                       "leave it out, or make the search asynchronous");
   }
   if (s.search.breeding_given && s.search.schedule == Schedule::generational) {
     problems.push_back("[search] front_parents, step_mutation: the generational search is pagmo2's NSGA-II, which breeds "
@@ -728,6 +742,7 @@ std::string Space::digest() const {
   if (search.crossover_eta != 10.0) j["crossover_eta"] = search.crossover_eta;
   if (search.mutation_eta != 50.0) j["mutation_eta"] = search.mutation_eta;
   if (search.mutation_probability) j["mutation_probability"] = *search.mutation_probability;
+  if (search.screening != 1) j["screening"] = search.screening;
   if (!search.start_files.empty()) j["start"] = search.start_files;
   return formats::sha256_hex(j.dump());
 }
