@@ -74,6 +74,9 @@ RECORDS = {
     # REFERENCE=bench/results/design-reference-front-2026-11-29.json ROUNDS=2 ALGORITHMS="sms-emoa nsga2"
     # MAX_DESIGNS=500 STAGNATION=0 OFF_RUN=0 BREEDINGS=0:0 OUT=... bench/design_budget.sh, 2-core machine, idle
     "design_repeat": "bench/results/design-repeat-2026-11-29.json",
+    # REFERENCE=bench/results/design-reference-front-2026-11-29.json SCREENINGS="1 8" ALGORITHMS=sms-emoa
+    # MAX_DESIGNS=500 STAGNATION=0 OFF_RUN=0 BREEDINGS=0:0 OUT=... bench/design_budget.sh, 2-core machine
+    "design_screening": "bench/results/design-screening-2026-11-29.json",
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
                  "refsim_against_liggghts": ["docs/how-to/big-nests.md"],
@@ -91,7 +94,8 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "design_budget": ["docs/explanation/performance.md"], "design_shortcuts": ["docs/explanation/performance.md"],
                  "design_population": ["docs/explanation/performance.md"], "design_breeding": ["docs/explanation/performance.md"],
                  "design_ten_minutes": ["docs/explanation/performance.md"],
-                 "design_repeat": ["docs/explanation/performance.md"]}
+                 "design_repeat": ["docs/explanation/performance.md"],
+                 "design_screening": ["docs/explanation/performance.md"]}
 # The study's tables: LIGGGHTS's reproduction (refsim's in the check) and the LAMMPS study's record.
 REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"], "engines_study": ["docs/explanation/lammps.md"]}
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
@@ -488,6 +492,46 @@ def design_repeat():
             + " ".join(said) + "\n")
 
 
+def design_screening():
+    """[search] screening against none, each seed's 500-design search with and without, against the kept front."""
+    r = record("design_screening")
+    by = {}
+    for run in r["runs"]:
+        name, _, screening = run["algorithm"].partition("-sc")
+        by.setdefault((name, int(screening)), {})[run["seed"]] = run
+    rows = ["| algorithm | screening | seeds | hypervolume at 500 designs (of the reference's) | IGD+ at 500 designs | "
+            "seeds above screening 1's run |", "|---|---|---|---|---|---|"]
+    said = []
+    for (name, screening), seeds in sorted(by.items()):
+        hv = [x["hypervolume_fraction_at_500"] for x in seeds.values()]
+        igd = [x["igd_plus_at_500"] for x in seeds.values()]
+        base = by.get((name, 1), {})
+        above = "-" if screening == 1 else f"{sum(x['hypervolume_fraction_at_500'] > base[k]['hypervolume_fraction_at_500'] for k, x in seeds.items())} of {len(seeds)}"
+        rows.append(f"| {name} | {screening} | {len(seeds)} | {statistics.median(hv):.3f} ({min(hv):.3f}..{max(hv):.3f}) | "
+                    f"{statistics.median(igd):.4f} | {above} |")
+        if screening > 1 and base:
+            gain = statistics.median(hv) - statistics.median(x["hypervolume_fraction_at_500"] for x in base.values())
+            said.append((name, screening, gain, statistics.median(hv), statistics.median(igd)))
+    repeat = record("design_repeat")
+    moved = {}
+    for run in repeat["runs"]:
+        name, _, round_ = run["algorithm"].partition("-r")
+        moved.setdefault(name, {}).setdefault(int(round_ or 1), []).append(run["hypervolume_fraction_at_500"])
+    # The most a median of 5 seeds moved between two rounds of one setting, over the algorithms.
+    drift = max(abs(statistics.median(r[2]) - statistics.median(r[1])) for r in moved.values())
+    text = []
+    for name, screening, gain, hv, igd in said:
+        seen = (f", {'more' if abs(gain) > drift else 'no more'} than the {drift:.3f} the median of 5 seeds moved between two "
+                f"rounds of one setting (`{RECORDS['design_repeat']}`, the larger of its two algorithms)")
+        target = "met" if hv >= r["targets"]["hypervolume_fraction"] and igd <= r["targets"]["igd_plus"] else "not met"
+        text.append(f"{name} with screening {screening}: the median {gain:+.3f} from screening 1's in the same invocation{seen}; "
+                    f"the 500-design target {target}.")
+    ref = r["reference"]
+    return ("\n".join(rows) + "\n\n"
+            f"The reference: `{ref['kept']}` ({ref['front']} designs). Every run searched {r['max_designs']} distinct designs "
+            f"on {r['jobs']} jobs ({r['granstack']}, `{RECORDS['design_screening']}`). " + " ".join(text) + "\n")
+
+
 def design_ten_minutes():
     """The search given the whole 10 minutes on 2 cores (no design cap, no stagnation stop), each seed against
     the front of all the record's runs; then the stagnation rule judged on those runs after the fact."""
@@ -745,7 +789,8 @@ def main():
                 design_example_cost=design_example_cost(), oversubscription=oversubscription(),
                 extension_counts=extension_counts(), reduce_speed=reduce_speed(), design_budget=design_budget(), design_shortcuts=design_shortcuts(),
                 design_population=design_population(), design_breeding=design_breeding(),
-                design_ten_minutes=design_ten_minutes(), design_repeat=design_repeat())
+                design_ten_minutes=design_ten_minutes(), design_repeat=design_repeat(),
+                design_screening=design_screening())
     places = {**PLACES, **RECORD_PLACES, **REPRODUCE_PLACES}
     if "--reproduce" in sys.argv[1:]:
         made["reproduce"] = reproduce_table(exe, work, "liggghts")

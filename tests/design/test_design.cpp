@@ -1,5 +1,6 @@
 // granstack design: the space file and its refusals, the in-situ evaluation against reduce on
 // the same case, the store, and the search's reproducibility and resumption.
+#include "../../design/src/screening.hpp"
 #include "../../design/src/survival.hpp"
 
 #include <granstack/design/convergence.hpp>
@@ -353,6 +354,13 @@ TEST(Space, BadSpacesAreRefusedNamingTheKeyAndTheFix) {
   EXPECT_NE(problems_of(with("seed = 7", "seed = 7\nstep_mutation = 0.5\nevaluation = \"generational\""))
                 .find("front_parents, step_mutation: the generational search is pagmo2's NSGA-II"),
             std::string::npos);
+  for (const std::string bad : {"0", "65", "2.5"}) {
+    EXPECT_NE(problems_of(with("seed = 7", "seed = 7\nscreening = " + bad)).find("screening: a whole number from 1"),
+              std::string::npos) << bad;
+  }
+  EXPECT_NE(problems_of(with("seed = 7", "seed = 7\nscreening = 4\nevaluation = \"generational\""))
+                .find("screening: the generational search is pagmo2's NSGA-II"),
+            std::string::npos);
   EXPECT_NE(problems_of(with("\"teflon\"]", "\"teflon\", \"steel\"]")).find("steel is listed twice"), std::string::npos);
   EXPECT_NE(problems_of(base + "[constraints]\nmax_spheres = 200.5\n").find("a whole number of spheres"), std::string::npos);
 }
@@ -480,11 +488,13 @@ TEST(Store, KeepsEvaluationsAndRefusesAnotherSpacesStore) {
 // A search stopped after generation 1 and resumed gives the generations of one run straight
 // through, design for design and bit for bit (the asynchronous one on one job: on several, the
 // order designs end in shapes it); its hypervolume, of every design run so far, never falls.
-void expect_resumes_where_it_stopped(design::Schedule schedule, design::Algorithm algorithm = design::Algorithm::nsga2) {
+void expect_resumes_where_it_stopped(design::Schedule schedule, design::Algorithm algorithm = design::Algorithm::nsga2,
+                                     int screening = 1) {
   const auto dir = work_dir();
   auto space = small_space();
   space.search.schedule = schedule;
   space.search.algorithm = algorithm;
+  space.search.screening = screening;
   auto whole = design::Store::open((dir / "whole.sqlite").string(), space.digest(), kSmallSpace);
   const auto a = design::run_search(space, whole, {});
   const int first = schedule == design::Schedule::asynchronous ? 0 : 1;  // generational: 0 is the initial population
@@ -546,6 +556,42 @@ TEST(Search, AStoreKeepsTheBreedingItsSearchBeganWith) {
 }
 
 TEST(Search, IsReproducibleAndResumesWhereItStopped) { expect_resumes_where_it_stopped(design::Schedule::asynchronous); }
+// With [search] screening the same: the estimates come from the designs joined, which a resumed
+// search joins again in their order.
+TEST(Search, AScreenedSearchResumesWhereItStopped) {
+  expect_resumes_where_it_stopped(design::Schedule::asynchronous, design::Algorithm::nsga2, 4);
+}
+
+// The screening's estimate (design/src/screening.hpp) and score, against hand counts. Two designs
+// one rows step either side of a candidate weigh alike: their mean less their spread is, per
+// axis, the lesser of the two; one design alone is its own estimate; an infeasible design's
+// penalty counts as 1.5. The score of (0.25, 0.5, 0.5) against a front of (0.5, 0.5, 0.5) is the
+// box it adds, 0.25 x 0.6 x 0.6 = 0.09; a dominated (0.6, 0.7, 0.5) scores minus its IGD+
+// distance, sqrt(0.1^2 + 0.2^2); a point beyond the reference point adds nothing.
+TEST(Search, TheScreeningsEstimateAndScoreAreTheHandCounts) {
+  auto space = small_space();
+  design::Screening screening(space);
+  const std::vector<double> candidate{2, 0, 1, 0, 2, 2};
+  auto below = candidate, above = candidate;
+  below[4] = 1;  // block 1's rows, from 1 to 3
+  above[4] = 3;
+  const auto expect_near = [](const std::vector<double>& got, const std::vector<double>& want) {
+    ASSERT_EQ(got.size(), want.size());
+    for (std::size_t o = 0; o < want.size(); ++o) EXPECT_NEAR(got[o], want[o], 1e-12) << "axis " << o;
+  };
+  screening.add(below, {0.2, 0.8, 0.5});
+  expect_near(screening.estimate(candidate), {0.2, 0.8, 0.5});
+  screening.add(above, {0.6, 0.4, 0.5});
+  expect_near(screening.estimate(candidate), {0.2, 0.4, 0.5});
+  design::Screening penalised(space);
+  penalised.add(below, std::vector<double>(3, design::kInfeasible));
+  expect_near(penalised.estimate(candidate), std::vector<double>(3, design::kInfeasiblePoint));
+  const std::vector<std::vector<double>> front{{0.5, 0.5, 0.5}};
+  EXPECT_NEAR(design::screening_score({0.25, 0.5, 0.5}, front), 0.09, 1e-12);
+  EXPECT_NEAR(design::screening_score({0.6, 0.7, 0.5}, front), -std::sqrt(0.05), 1e-12);
+  EXPECT_EQ(design::screening_score({1.2, 0.1, 0.1}, front), 0.0);
+  EXPECT_NEAR(design::screening_score({0.1, 0.1, 0.1}, {}), 1.0, 1e-12);
+}
 TEST(Search, AGenerationalSearchResumesWhereItStopped) { expect_resumes_where_it_stopped(design::Schedule::generational); }
 TEST(Search, NsgaThreeSmsEmoaAndMoeadResumeWhereTheyStopped) {
   for (const auto a : {design::Algorithm::nsga3, design::Algorithm::sms_emoa, design::Algorithm::moead}) {
