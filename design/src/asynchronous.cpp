@@ -433,10 +433,11 @@ std::optional<Job> Asynchronous::screened(std::mt19937& rng, std::size_t subprob
   if (candidates.empty()) return std::nullopt;
   std::vector<std::vector<double>> front;
   for (const auto& e : front_) front.push_back(fitness(space_, e, &*norm_));
+  const ScreeningGain gain(std::move(front));
   std::size_t best = 0;
   double best_score = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < candidates.size(); ++i) {
-    const double score = screening_score(screening_.estimate(candidates[i].first), front);
+    const double score = gain(screening_.estimate(candidates[i].first));
     if (score > best_score) {
       best_score = score;
       best = i;

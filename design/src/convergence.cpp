@@ -129,16 +129,23 @@ std::vector<double> objective_values(const Space& space, const Evaluation& e) {
   return v;
 }
 
+double box_hypervolume(const std::vector<std::vector<double>>& points) {
+  std::vector<pagmo::vector_double> inside;
+  for (const auto& p : points) {
+    if (std::all_of(p.begin(), p.end(), [](double x) { return x < kReferencePoint; })) inside.push_back(p);
+  }
+  if (inside.empty()) return 0.0;
+  return pagmo::hypervolume(inside, false).compute(pagmo::vector_double(inside.front().size(), kReferencePoint));
+}
+
 double normalised_hypervolume(const Space& space, const Normalisation& n, const std::vector<Evaluation>& all) {
   const auto m = space.objectives.size();
   const auto flat = front_points(space, n, all);
-  std::vector<pagmo::vector_double> inside;
+  std::vector<std::vector<double>> points;
   for (std::size_t at = 0; at < flat.size(); at += m) {
-    pagmo::vector_double p(flat.begin() + static_cast<long>(at), flat.begin() + static_cast<long>(at + m));
-    if (std::all_of(p.begin(), p.end(), [](double x) { return x < kReferencePoint; })) inside.push_back(std::move(p));
+    points.emplace_back(flat.begin() + static_cast<long>(at), flat.begin() + static_cast<long>(at + m));
   }
-  if (inside.empty()) return 0.0;
-  return pagmo::hypervolume(inside, false).compute(pagmo::vector_double(m, kReferencePoint));
+  return box_hypervolume(points);
 }
 
 double igd_plus(const Space& space, const Normalisation& n, const std::vector<Evaluation>& all,

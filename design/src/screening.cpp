@@ -2,8 +2,6 @@
 
 #include <granstack/design/convergence.hpp>
 
-#include <pagmo/utils/hypervolume.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -53,11 +51,13 @@ std::vector<double> Screening::estimate(const std::vector<double>& genes) const 
   return mean;
 }
 
-double screening_score(const std::vector<double>& p, const std::vector<std::vector<double>>& front) {
+ScreeningGain::ScreeningGain(std::vector<std::vector<double>> front)
+    : front_(std::move(front)), hypervolume_(box_hypervolume(front_)) {}
+
+double ScreeningGain::operator()(const std::vector<double>& p) const {
   double nearest = std::numeric_limits<double>::infinity();
   bool dominated = false;
-  std::vector<pagmo::vector_double> inside;
-  for (const auto& q : front) {
+  for (const auto& q : front_) {
     double plus = 0.0;
     bool weakly = true;
     for (std::size_t o = 0; o < p.size(); ++o) {
@@ -66,14 +66,11 @@ double screening_score(const std::vector<double>& p, const std::vector<std::vect
     }
     dominated = dominated || weakly;
     nearest = std::min(nearest, std::sqrt(plus));
-    if (std::all_of(q.begin(), q.end(), [](double v) { return v < kReferencePoint; })) inside.push_back(q);
   }
   if (dominated) return -nearest;
-  if (!std::all_of(p.begin(), p.end(), [](double v) { return v < kReferencePoint; })) return 0.0;
-  const pagmo::vector_double reference(p.size(), kReferencePoint);
-  const double before = inside.empty() ? 0.0 : pagmo::hypervolume(inside, false).compute(reference);
-  inside.push_back(p);
-  return pagmo::hypervolume(inside, false).compute(reference) - before;
+  auto with = front_;
+  with.push_back(p);
+  return box_hypervolume(with) - hypervolume_;
 }
 
 }  // namespace granstack::design

@@ -37,7 +37,16 @@ inline constexpr double kInfeasiblePoint = 1.5;  // beyond the reference point 1
 
 // What running a design of estimated point p would gain a front (points in the box): the
 // hypervolume it adds against the reference point; when a point of the front weakly dominates p,
-// minus p's IGD+ distance to the front (the least it must improve to stop being dominated).
-double screening_score(const std::vector<double>& p, const std::vector<std::vector<double>>& front);
+// minus p's IGD+ distance to the front (the least it must improve to stop being dominated). The
+// front's own hypervolume is taken once, for every candidate of a draw.
+class ScreeningGain {
+ public:
+  explicit ScreeningGain(std::vector<std::vector<double>> front);
+  double operator()(const std::vector<double>& p) const;
+
+ private:
+  std::vector<std::vector<double>> front_;
+  double hypervolume_;
+};
 
 }  // namespace granstack::design

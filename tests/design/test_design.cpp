@@ -586,11 +586,11 @@ TEST(Search, TheScreeningsEstimateAndScoreAreTheHandCounts) {
   design::Screening penalised(space);
   penalised.add(below, std::vector<double>(3, design::kInfeasible));
   expect_near(penalised.estimate(candidate), std::vector<double>(3, design::kInfeasiblePoint));
-  const std::vector<std::vector<double>> front{{0.5, 0.5, 0.5}};
-  EXPECT_NEAR(design::screening_score({0.25, 0.5, 0.5}, front), 0.09, 1e-12);
-  EXPECT_NEAR(design::screening_score({0.6, 0.7, 0.5}, front), -std::sqrt(0.05), 1e-12);
-  EXPECT_EQ(design::screening_score({1.2, 0.1, 0.1}, front), 0.0);
-  EXPECT_NEAR(design::screening_score({0.1, 0.1, 0.1}, {}), 1.0, 1e-12);
+  const design::ScreeningGain gain({{0.5, 0.5, 0.5}});
+  EXPECT_NEAR(gain({0.25, 0.5, 0.5}), 0.09, 1e-12);
+  EXPECT_NEAR(gain({0.6, 0.7, 0.5}), -std::sqrt(0.05), 1e-12);
+  EXPECT_EQ(gain({1.2, 0.1, 0.1}), 0.0);
+  EXPECT_NEAR(design::ScreeningGain({})({0.1, 0.1, 0.1}), 1.0, 1e-12);
 }
 TEST(Search, AGenerationalSearchResumesWhereItStopped) { expect_resumes_where_it_stopped(design::Schedule::generational); }
 TEST(Search, NsgaThreeSmsEmoaAndMoeadResumeWhereTheyStopped) {

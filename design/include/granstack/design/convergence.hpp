@@ -47,6 +47,9 @@ void store_normalisation(Store& store, const Normalisation& n);
 
 // The objective values of an evaluation, in the space's order (feasible ones only).
 std::vector<double> objective_values(const Space& space, const Evaluation& e);
+// The hypervolume of points in the normalised box against kReferencePoint (a point not below it
+// on every axis adds nothing and is left out).
+double box_hypervolume(const std::vector<std::vector<double>>& points);
 // The hypervolume of the feasible front of `all` in the normalised box, against kReferencePoint.
 double normalised_hypervolume(const Space& space, const Normalisation& n, const std::vector<Evaluation>& all);
 // IGD+ (Ishibuchi et al. 2015) of the feasible front of `all` against `reference` (a front), in
