@@ -163,7 +163,8 @@ class Asynchronous {
   std::vector<double> uniform(std::mt19937& rng) const;
   std::optional<Job> screened(std::mt19937& rng, std::size_t subproblem);
   bool may_start(int searching);
-  bool rejected(const model::StackSpec& spec);
+  bool rejected(const Geometry& g);
+  bool rejected(const model::StackSpec& spec) { return rejected(measure(space_, spec)); }
   // The store's evaluation of a design where it stands for this run (stands_for), else none: it runs.
   std::optional<Evaluation> standing(const std::string& digest) {
     auto e = store_.find(digest);
@@ -284,7 +285,7 @@ void Asynchronous::join(const Evaluation& e, bool replaying, std::size_t subprob
     front_dominator_ = std::move(d);
   }
   auto point = fitness(space_, e, &*norm_);
-  if (space_.search.screening > 1) screening_.add(*x, point);
+  if (space_.search.screening > 1) screening_.add(*x, point, e.feasible);
   survive({*x, e.digest, std::move(point)}, subproblem);
   if (archive_.size() % population_ == 0) {
     const int index = static_cast<int>(archive_.size() / population_) - 1;
@@ -375,8 +376,8 @@ std::vector<double> Asynchronous::bred(std::mt19937& rng, std::size_t subproblem
 
 // Whether a design breaks a constraint known before it runs; the reasons are counted, so that an
 // exhausted space says why its draws were refused.
-bool Asynchronous::rejected(const model::StackSpec& spec) {
-  const auto violations = measure(space_, spec).violations;
+bool Asynchronous::rejected(const Geometry& g) {
+  const auto& violations = g.violations;
   for (const auto& v : violations) ++rejections_[v.substr(0, std::min<std::size_t>(v.find('\n'), 300))];
   return !violations.empty();
 }
@@ -417,18 +418,24 @@ std::optional<Job> Asynchronous::draw() {
 // chosen are not known, and may be bred again. None bred: nullopt, and draw() goes on as without.
 std::optional<Job> Asynchronous::screened(std::mt19937& rng, std::size_t subproblem) {
   const auto wanted = static_cast<std::size_t>(space_.search.screening);
-  std::vector<std::pair<std::vector<double>, model::StackSpec>> candidates;
+  struct Candidate {
+    std::vector<double> x;
+    model::StackSpec spec;
+    std::vector<std::optional<double>> known;  // its axes known before it runs
+  };
+  std::vector<Candidate> candidates;
   std::set<std::string> seen;
   for (int attempt = 0; attempt < kBredDraws && candidates.size() < wanted; ++attempt) {
     const auto x = space_.canonical_genes(bred(rng, subproblem));
     auto spec = space_.decode(x);
     const auto digest = spec_digest(spec);
     if (known_.count(digest) != 0 || !seen.insert(digest).second) continue;
-    if (rejected(spec)) {
+    const auto geometry = measure(space_, spec);
+    if (rejected(geometry)) {
       known_.insert(digest);
       continue;
     }
-    candidates.emplace_back(x, std::move(spec));
+    candidates.push_back({x, std::move(spec), known_axes(space_, *norm_, geometry)});
   }
   if (candidates.empty()) return std::nullopt;
   std::vector<std::vector<double>> front;
@@ -437,17 +444,17 @@ std::optional<Job> Asynchronous::screened(std::mt19937& rng, std::size_t subprob
   std::size_t best = 0;
   double best_score = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < candidates.size(); ++i) {
-    const double score = gain(screening_.estimate(candidates[i].first));
+    const double score = gain(screening_.estimate(candidates[i].x, candidates[i].known));
     if (score > best_score) {
       best_score = score;
       best = i;
     }
   }
-  auto& [x, spec] = candidates[best];
-  auto digest = spec_digest(spec);
+  auto& chosen = candidates[best];
+  auto digest = spec_digest(chosen.spec);
   known_.insert(digest);
   ++drawn_;
-  return Job{std::move(x), std::move(spec), std::nullopt, standing(digest), subproblem};
+  return Job{std::move(chosen.x), std::move(chosen.spec), std::nullopt, standing(digest), subproblem};
 }
 
 // The designs the run joins before it ends: its generations', or its budget.

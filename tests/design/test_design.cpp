@@ -562,35 +562,97 @@ TEST(Search, AScreenedSearchResumesWhereItStopped) {
   expect_resumes_where_it_stopped(design::Schedule::asynchronous, design::Algorithm::nsga2, 4);
 }
 
-// The screening's estimate (design/src/screening.hpp) and score, against hand counts. Two designs
-// one rows step either side of a candidate weigh alike: their mean less their spread is, per
-// axis, the lesser of the two; one design alone is its own estimate; an infeasible design's
-// penalty counts as 1.5. The score of (0.25, 0.5, 0.5) against a front of (0.5, 0.5, 0.5) is the
-// box it adds, 0.25 x 0.6 x 0.6 = 0.09; a dominated (0.6, 0.7, 0.5) scores minus its IGD+
-// distance, sqrt(0.1^2 + 0.2^2); a point beyond the reference point adds nothing.
+// The screening's estimate (design/src/screening.hpp) and score, against hand counts. The small
+// space's features of (2 blocks, steel over Teflon, ratio 2, rows 2 and 3) and of (one Teflon
+// block of 3 rows) by hand. A target additive in those features (a Teflon top 0.1 lower, each
+// row of block 1 0.05 higher, two blocks 0.2 lower) is recovered on a design left out of the
+// fit, to 1e-6, and the axis the geometry gives is taken as given. A candidate whose nearest
+// designs run are infeasible is estimated infeasible (1.5 on every axis). The score of (0.25,
+// 0.5, 0.5) against a front of (0.5, 0.5, 0.5) is the box it adds, 0.25 x 0.6 x 0.6 = 0.09; a
+// dominated (0.6, 0.7, 0.5) scores minus its IGD+ distance, sqrt(0.1^2 + 0.2^2); a point beyond
+// the reference point adds nothing.
 TEST(Search, TheScreeningsEstimateAndScoreAreTheHandCounts) {
   auto space = small_space();
   design::Screening screening(space);
-  const std::vector<double> candidate{2, 0, 1, 0, 2, 2};
-  auto below = candidate, above = candidate;
-  below[4] = 1;  // block 1's rows, from 1 to 3
-  above[4] = 3;
-  const auto expect_near = [](const std::vector<double>& got, const std::vector<double>& want) {
-    ASSERT_EQ(got.size(), want.size());
-    for (std::size_t o = 0; o < want.size(); ++o) EXPECT_NEAR(got[o], want[o], 1e-12) << "axis " << o;
+  const auto expect_features = [&](const std::vector<double>& genes, const std::vector<double>& want) {
+    const auto phi = screening.features(genes);
+    ASSERT_EQ(static_cast<std::size_t>(phi.size()), want.size());
+    for (std::size_t i = 0; i < want.size(); ++i) EXPECT_EQ(phi[static_cast<Eigen::Index>(i)], want[i]) << "feature " << i;
   };
-  screening.add(below, {0.2, 0.8, 0.5});
-  expect_near(screening.estimate(candidate), {0.2, 0.8, 0.5});
-  screening.add(above, {0.6, 0.4, 0.5});
-  expect_near(screening.estimate(candidate), {0.2, 0.4, 0.5});
+  //                     blocks  top    2nd    bottom ratio rows 1   rows 2
+  expect_features({2, 0, 1, 0, 2, 3}, {0, 1, 1, 0, 0, 1, 0, 1, 1, 0, 1, 0, 0, 0, 1});
+  expect_features({1, 1, 1, 0, 3, 3}, {1, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0});
+  const auto truth = [](const std::vector<double>& x) { return 0.6 - 0.1 * x[1] + 0.05 * x[4] - 0.2 * (x[0] - 1); };
+  const std::vector<double> left_out{2, 1, 0, 0, 3, 1};
+  design::EvidenceRegression regression(15);
+  for (const double blocks : {1.0, 2.0}) {
+    for (const double top : {0.0, 1.0}) {
+      for (const double second : {0.0, 1.0}) {
+        for (const double rows1 : {1.0, 2.0, 3.0}) {
+          for (const double rows2 : {1.0, 2.0, 3.0}) {
+            const std::vector<double> x{blocks, top, blocks == 1 ? top : second, 0, rows1, blocks == 1 ? rows1 : rows2};
+            if (x == left_out || (blocks == 1 && (second != top || rows2 != rows1))) continue;
+            screening.add(x, {truth(x), 0.3, 0.4}, true);
+            regression.add(screening.features(x), truth(x));
+          }
+        }
+      }
+    }
+  }
+  const auto [mean, sd] = regression.predict(screening.features(left_out));
+  EXPECT_NEAR(mean, truth(left_out), 1e-6);
+  EXPECT_LT(sd, 1e-3);
+  // The estimate: that mean less its deviation (optimistic), a constant measure's constant, and
+  // the known axis as given.
+  const auto got = screening.estimate(left_out, {std::nullopt, std::nullopt, 0.25});
+  EXPECT_NEAR(got[0], mean - sd, 1e-12);
+  EXPECT_LT(got[0], truth(left_out));
+  EXPECT_LE(got[1], 0.3);
+  EXPECT_GT(got[1], 0.3 - 1e-3);
+  EXPECT_EQ(got[2], 0.25);
   design::Screening penalised(space);
-  penalised.add(below, std::vector<double>(3, design::kInfeasible));
-  expect_near(penalised.estimate(candidate), std::vector<double>(3, design::kInfeasiblePoint));
+  penalised.add({2, 0, 1, 0, 1, 2}, std::vector<double>(3, design::kInfeasible), false);
+  penalised.add({1, 0, 0, 0, 3, 3}, {0.2, 0.2, 0.2}, true);
+  EXPECT_EQ(penalised.estimate({2, 0, 1, 0, 2, 2}), std::vector<double>(3, design::kInfeasiblePoint));
   const design::ScreeningGain gain({{0.5, 0.5, 0.5}});
   EXPECT_NEAR(gain({0.25, 0.5, 0.5}), 0.09, 1e-12);
   EXPECT_NEAR(gain({0.6, 0.7, 0.5}), -std::sqrt(0.05), 1e-12);
   EXPECT_EQ(gain({1.2, 0.1, 0.1}), 0.0);
   EXPECT_NEAR(design::ScreeningGain({})({0.1, 0.1, 0.1}), 1.0, 1e-12);
+}
+
+// The screening's regression against the textbook's dense formulas (Bishop 2006, eqs. 3.53-3.54,
+// 3.91-3.92), computed here from the design matrix itself: at the precisions it settled on, its
+// mean and standard deviation at a new point are the posterior's, and the precisions are the
+// evidence's fixed point (alpha = gamma / |m|^2, beta = (n - gamma) / E_D), to 1e-6 relative.
+TEST(Search, TheScreeningsRegressionIsTheEvidencesFixedPoint) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.1);
+  const int n = 40, p = 6;
+  Eigen::MatrixXd phi(n, p);
+  Eigen::VectorXd y(n);
+  design::EvidenceRegression r(p);
+  for (int i = 0; i < n; ++i) {
+    phi(i, 0) = 1.0;  // a constant, as the screening's one-hot features sum to one per gene
+    for (int j = 1; j < p; ++j) phi(i, j) = std::uniform_int_distribution<int>(0, 1)(rng);
+    y[i] = 0.5 * phi(i, 1) - 0.3 * phi(i, 2) + 0.1 * phi(i, 5) + noise(rng);
+    r.add(phi.row(i).transpose(), y[i]);
+  }
+  Eigen::VectorXd x(p);
+  x << 1, 0, 1, 1, 0, 0;
+  const auto [mean, sd] = r.predict(x);
+  const double alpha = r.alpha(), beta = r.beta();
+  const Eigen::VectorXd centred = y.array() - y.mean();
+  const Eigen::MatrixXd a = alpha * Eigen::MatrixXd::Identity(p, p) + beta * phi.transpose() * phi;
+  const Eigen::VectorXd m = beta * a.ldlt().solve(phi.transpose() * centred);
+  EXPECT_NEAR(mean, y.mean() + m.dot(x), 1e-9);
+  EXPECT_NEAR(sd, std::sqrt(x.dot(a.ldlt().solve(x))), 1e-9);
+  const Eigen::VectorXd lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(beta * phi.transpose() * phi).eigenvalues();
+  const double gamma = (lambda.array() / (alpha + lambda.array())).sum();
+  EXPECT_NEAR(alpha, gamma / m.squaredNorm(), 1e-6 * alpha);
+  EXPECT_NEAR(beta, (n - gamma) / (centred - phi * m).squaredNorm(), 1e-6 * beta);
+  // The noise's deviation, 0.1, within three of its estimate's standard errors (0.1 / sqrt(2 (n - gamma))).
+  EXPECT_NEAR(1.0 / std::sqrt(beta), 0.1, 3 * 0.1 / std::sqrt(2 * (n - gamma)));
 }
 TEST(Search, AGenerationalSearchResumesWhereItStopped) { expect_resumes_where_it_stopped(design::Schedule::generational); }
 TEST(Search, NsgaThreeSmsEmoaAndMoeadResumeWhereTheyStopped) {
