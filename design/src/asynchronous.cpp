@@ -413,9 +413,11 @@ std::optional<Job> Asynchronous::draw() {
   return std::nullopt;
 }
 
-// [search] screening: of up to `screening` new designs bred within the known constraints, the one
-// whose estimate (Screening) would gain the front the most (the first bred of equals); those not
-// chosen are not known, and may be bred again. None bred: nullopt, and draw() goes on as without.
+// [search] screening: of up to `screening` new designs within the known constraints, half of them
+// (rounded up) bred and the rest drawn uniformly from the space (where the population has not
+// been, the estimate judges too), the one whose estimate (Screening) would gain the front the most
+// (the first drawn of equals); those not chosen are not known, and may be drawn again. None found:
+// nullopt, and draw() goes on as without.
 std::optional<Job> Asynchronous::screened(std::mt19937& rng, std::size_t subproblem) {
   const auto wanted = static_cast<std::size_t>(space_.search.screening);
   struct Candidate {
@@ -425,8 +427,10 @@ std::optional<Job> Asynchronous::screened(std::mt19937& rng, std::size_t subprob
   };
   std::vector<Candidate> candidates;
   std::set<std::string> seen;
+  const std::size_t bred_wanted = wanted - wanted / 2;
   for (int attempt = 0; attempt < kBredDraws && candidates.size() < wanted; ++attempt) {
-    const auto x = space_.canonical_genes(bred(rng, subproblem));
+    const bool breed = candidates.size() < bred_wanted && attempt < kBredDraws / 2;  // then uniform ones
+    const auto x = space_.canonical_genes(breed ? bred(rng, subproblem) : uniform(rng));
     auto spec = space_.decode(x);
     const auto digest = spec_digest(spec);
     if (known_.count(digest) != 0 || !seen.insert(digest).second) continue;

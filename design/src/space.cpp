@@ -541,7 +541,7 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
     } else if (key == "screening") {
       const auto n = v.value_exact<std::int64_t>();
       if (!n || *n < 1 || *n > kMaxScreening) {
-        problems.push_back(fmt::format("[search] screening: a whole number from 1 (no screening) to {}, the designs bred for "
+        problems.push_back(fmt::format("[search] screening: a whole number from 1 (no screening) to {}, the designs drawn for "
                                        "each one run",
                                        kMaxScreening));
       } else {

@@ -109,8 +109,8 @@ struct Search {
   double front_parents = 0.0;                   // [search] front_parents, in [0, 1]
   double step_mutation = 0.0;                   // [search] step_mutation, in [0, 1]
   bool breeding_given = false;                  // the file named either
-  // The asynchronous search's screening: each bred design is the best of this many bred, by an
-  // estimate from the designs run (design/src/screening.hpp); 1: the first bred runs.
+  // The asynchronous search's screening: each design run is the best of this many drawn (half bred,
+  // half uniform), by an estimate from the designs run (design/src/screening.hpp); 1: the first bred runs.
   int screening = 1;                            // [search] screening, 1 to kMaxScreening
   // [search] start: spec files (generate --config's, relative to the space file) whose designs
   // begin the search (their blocks, materials, ratios and rows; the rest is the space's), and
@@ -130,7 +130,7 @@ struct Search {
 // Bounds that keep a typo from a search that cannot fit in memory or never ends (a population of
 // 1e8 ran out of memory before its first design).
 inline constexpr int kMaxPopulation = 100'000;
-inline constexpr int kMaxScreening = 64;  // [search] screening: bred designs per design run, at most
+inline constexpr int kMaxScreening = 64;  // [search] screening: designs drawn per design run, at most
 inline constexpr int kMaxGenerations = 100'000;  // as the --generations flag
 inline constexpr std::size_t kMaxSeeds = 64;
 
