@@ -52,8 +52,12 @@ else:
 reference = [tuple(d["point"]) for d in reference_designs]
 reference_hv = hypervolume(reference)
 
+def searched(name):  # the [search] settings its space names
+    return dict(line.split(" = ", 1) for line in open(f"{work}/{name}/space.toml").read().splitlines() if " = " in line)
+
+
 def breeding(name):  # front_parents:step_mutation, as its space names them
-    named = dict(line.split(" = ", 1) for line in open(f"{work}/{name}/space.toml").read().splitlines() if " = " in line)
+    named = searched(name)
     return f"{named['front_parents']}:{named['step_mutation']}"
 
 
@@ -83,6 +87,7 @@ for name, (joins, rows, report, finished) in designs_of.items():
     refsim = run["refsim_seconds"]
     record_runs.append({
         "algorithm": algorithm, "seed": int(seed), "shortcuts": shortcuts == "true", "breeding": breeding(name),
+        "screening": int(searched(name).get("screening", 1)),
         "seconds": round(t1 - t0, 1),
         "designs": run["designs"], "ended": last, "stopped_improving": run.get("stopped_improving", ""),
         "designs_to_target": reach["designs"] if reach else None, "seconds_to_target": reach["seconds"] if reach else None,
