@@ -80,6 +80,9 @@ RECORDS = {
     # The same command on an earlier build, whose screening's estimate was the nearest designs' mean: read
     # for its screening 1 runs only, another invocation of the unscreened search (its code is unchanged)
     "design_screening_nearest": "bench/results/design-screening-2026-11-29.json",
+    # GRANSTACK=<9647ffd build> REFERENCE=bench/results/design-reference-front-2026-11-29.json SCREENINGS=8
+    # ALGORITHMS=sms-emoa MAX_DESIGNS=100000 STAGNATION=0 TIME_LIMIT=600 OFF_RUN=0 BREEDINGS=0:0 OUT=... bench/design_budget.sh
+    "design_ten_minutes_screening": "bench/results/design-ten-minutes-screening-2026-11-29.json",
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
                  "refsim_against_liggghts": ["docs/how-to/big-nests.md"],
@@ -98,7 +101,8 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "design_population": ["docs/explanation/performance.md"], "design_breeding": ["docs/explanation/performance.md"],
                  "design_ten_minutes": ["docs/explanation/performance.md"],
                  "design_repeat": ["docs/explanation/performance.md"],
-                 "design_screening": ["docs/explanation/performance.md"]}
+                 "design_screening": ["docs/explanation/performance.md"],
+                 "design_ten_minutes_screening": ["docs/explanation/performance.md"]}
 # The study's tables: LIGGGHTS's reproduction (refsim's in the check) and the LAMMPS study's record.
 REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"], "engines_study": ["docs/explanation/lammps.md"]}
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
@@ -495,17 +499,22 @@ def design_repeat():
             + " ".join(said) + "\n")
 
 
-def unscreened_medians():
-    """The median of 5 seeds' hypervolume at 500 designs of SMS-EMOA unscreened against the kept front, per
-    invocation that ran it: (record, median)."""
+def sms_emoa_rounds(screening):
+    """The median of 5 seeds' hypervolume at 500 designs of SMS-EMOA with this screening (the regression's; screening
+    1 is the unscreened search, whose code did not change) against the kept front, per round that ran it, over the
+    records: [(record, median)]. A ten-minute run's first 500 designs are a 500-design run's."""
+    keys = ["design_repeat", "design_ten_minutes"] + (["design_screening_nearest"] if screening == 1 else []) + \
+        ["design_screening", "design_ten_minutes_screening"]
     out = []
-    for key in ("design_repeat", "design_screening_nearest", "design_screening"):
+    for key in keys:
         rounds = {}
         for run in record(key)["runs"]:
-            name, _, rest = run["algorithm"].partition("-")
-            if name != "sms" or not (rest == "emoa" or rest.startswith("emoa-r") or rest == "emoa-sc1"):
+            label = run["algorithm"]
+            if not (label == "sms-emoa" or label.startswith("sms-emoa-r") or label.startswith("sms-emoa-sc")):
                 continue
-            rounds.setdefault(rest, []).append(run["hypervolume_fraction_at_500"])
+            if run.get("screening", int(label.partition("-sc")[2] or 1)) != screening or not run["shortcuts"]:
+                continue
+            rounds.setdefault(label, []).append(run["hypervolume_fraction_at_500"])
         out += [(RECORDS[key], statistics.median(v)) for _, v in sorted(rounds.items())]
     return out
 
@@ -531,21 +540,43 @@ def design_screening():
         if screening > 1 and base:
             gain = statistics.median(hv) - statistics.median(x["hypervolume_fraction_at_500"] for x in base.values())
             said.append((name, screening, gain, statistics.median(hv), statistics.median(igd)))
-    unscreened = unscreened_medians()
-    low, high = min(m for _, m in unscreened), max(m for _, m in unscreened)
     text = []
     for name, screening, gain, hv, igd in said:
-        seen = (f"; the unscreened search's median of 5 seeds was {low:.3f} to {high:.3f} over the {len(unscreened)} rounds "
-                f"that ran it ({', '.join(f'{m:.3f}' for _, m in unscreened)}; "
-                f"{', '.join(dict.fromkeys(f'`{k}`' for k, _ in unscreened))}), so screening {screening}'s median is "
-                f"{'above' if hv > high else 'not above'} the unscreened search's best round")
+        rounds = {k: sms_emoa_rounds(k) for k in (1, screening)}
+        listed = {k: f"{', '.join(f'{m:.3f}' for _, m in v)} ({', '.join(dict.fromkeys(f'`{r}`' for r, _ in v))})"
+                  for k, v in rounds.items()}
+        low = min(m for _, m in rounds[screening])
+        high = max(m for _, m in rounds[1])
         target = "met" if hv >= r["targets"]["hypervolume_fraction"] and igd <= r["targets"]["igd_plus"] else "not met"
-        text.append(f"{name} with screening {screening}: the median {gain:+.3f} from screening 1's in the same invocation{seen}; "
-                    f"the 500-design target {target}.")
+        text.append(f"{name} with screening {screening}: the median {gain:+.3f} from screening 1's in the same invocation; "
+                    f"the median of 5 seeds at 500 designs over every round that ran it, unscreened: {listed[1]}; "
+                    f"screening {screening}: {listed[screening]}: its worst round is "
+                    f"{'above' if low > high else 'not above'} the unscreened search's best; the 500-design target {target}.")
     ref = r["reference"]
     return ("\n".join(rows) + "\n\n"
             f"The reference: `{ref['kept']}` ({ref['front']} designs). Every run searched {r['max_designs']} distinct designs "
             f"on {r['jobs']} jobs ({r['granstack']}, `{RECORDS['design_screening']}`). " + " ".join(text) + "\n")
+
+
+def ten_minute_row(r, algorithm, label):
+    """One algorithm's runs of a ten-minute record: its table row (seeds, hypervolume and IGD+ in the time, designs,
+    seeds reaching the target and when, hypervolume at 500 designs) and its verdict on the 2-core target."""
+    t = r["targets"]
+    m = r["summary"][algorithm]
+    mine = [x for x in r["runs"] if x["algorithm"] == algorithm and x["shortcuts"]]
+    igd = [[p["igd_plus"] for p in x["progress"] if p["seconds"] <= t["seconds"]][-1] for x in mine]
+    hv = [x["hypervolume_fraction_in_600_s"] for x in mine]
+    designs = [x["designs_in_600_s"] for x in mine]
+    reached = sorted(x["seconds_to_target"] for x in mine if x["seconds_to_target"] is not None)
+    row = (f"| {label} | {m['seeds']} | {statistics.median(hv):.3f} ({min(hv):.3f}..{max(hv):.3f}) | "
+           f"{statistics.median(igd):.4f} | {statistics.median(designs):.0f} ({min(designs)}..{max(designs)}) | "
+           f"{m['seeds_reaching_target']} of {m['seeds']} | {', '.join(f'{s:.0f}' for s in reached) or '-'} | "
+           f"{m['median_hypervolume_fraction_at_500']:.3f} |")
+    met = statistics.median(hv) >= t["hypervolume_fraction"] and min(designs) >= 1000
+    verdict = ("met" if met else "not met") if len(mine) >= 5 else f"not judged ({len(mine)} seeds; the target is a median of 5)"
+    return row, (f"{label}: a median {statistics.median(hv):.3f} of the reference's hypervolume, and at least "
+                 f"{min(designs)} distinct designs in every run, in {t['seconds']:.0f} s on {r['cores']} cores "
+                 f"(-j {r['jobs']}): the 2-core target {verdict}.")
 
 
 def design_ten_minutes():
@@ -558,20 +589,9 @@ def design_ten_minutes():
             f"hypervolume at {t['designs']} designs |", "|---|---|---|---|---|---|---|---|"]
     verdicts = []
     for algorithm, m in r["summary"].items():
-        mine = [x for x in r["runs"] if x["algorithm"] == algorithm and x["shortcuts"]]
-        igd = [[p["igd_plus"] for p in x["progress"] if p["seconds"] <= t["seconds"]][-1] for x in mine]
-        hv = [x["hypervolume_fraction_in_600_s"] for x in mine]
-        designs = [x["designs_in_600_s"] for x in mine]
-        reached = sorted(x["seconds_to_target"] for x in mine if x["seconds_to_target"] is not None)
-        rows.append(f"| {algorithm} | {m['seeds']} | {statistics.median(hv):.3f} ({min(hv):.3f}..{max(hv):.3f}) | "
-                    f"{statistics.median(igd):.4f} | {statistics.median(designs):.0f} ({min(designs)}..{max(designs)}) | "
-                    f"{m['seeds_reaching_target']} of {m['seeds']} | {', '.join(f'{s:.0f}' for s in reached) or '-'} | "
-                    f"{m['median_hypervolume_fraction_at_500']:.3f} |")
-        met = statistics.median(hv) >= t["hypervolume_fraction"] and min(designs) >= 1000
-        verdict = ("met" if met else "not met") if len(mine) >= 5 else f"not judged ({len(mine)} seeds; the target is a median of 5)"
-        verdicts.append(f"{algorithm}: a median {statistics.median(hv):.3f} of the reference's hypervolume, and at least "
-                        f"{min(designs)} distinct designs in every run, in {t['seconds']:.0f} s on {r['cores']} cores "
-                        f"(-j {r['jobs']}): the 2-core target {verdict}.")
+        row, verdict = ten_minute_row(r, algorithm, algorithm)
+        rows.append(row)
+        verdicts.append(verdict)
     ref = r["reference"]
     lines = [f"Every run had the whole {r['time_limit']:.0f} s (no design cap, no stagnation rule); the reference front is "
              f"the front of all {ref['runs']} runs ({ref['front']} designs of {ref['designs']}), `{RECORDS['design_ten_minutes']}`. "
@@ -603,6 +623,29 @@ def design_ten_minutes():
                      f"{sum(x > max(vb) for x in va)} of {len(va)} {a} seeds are above every {b} seed.")
     return ("\n".join(rows) + "\n\n" + " ".join(lines) + "\n\n" + "The rule on each run, after the fact (a run with the "
             "rule would have been the same run up to its stop):\n\n" + "\n".join(rules) + "\n\n" + " ".join(windows) + "\n")
+
+
+def design_ten_minutes_screening():
+    """The shipped example's algorithm given the whole 10 minutes on 2 cores with [search] screening, against the
+    kept front (the ten-minute record's own), beside that record's unscreened runs."""
+    plain, screened = record("design_ten_minutes"), record("design_ten_minutes_screening")
+    t = screened["targets"]
+    rows = [f"| search | seeds | hypervolume in {t['seconds']:.0f} s (of the reference's) | IGD+ in {t['seconds']:.0f} s | "
+            f"designs in {t['seconds']:.0f} s | seeds reaching {t['hypervolume_fraction']} | seconds to reach it | "
+            f"hypervolume at {t['designs']} designs |", "|---|---|---|---|---|---|---|---|"]
+    verdicts = []
+    for r, algorithm in ((plain, "sms-emoa"), (screened, "sms-emoa")):
+        screening = {x.get("screening", 1) for x in r["runs"] if x["algorithm"] == algorithm}
+        assert len(screening) == 1, f"{algorithm}'s runs name screenings {screening}"
+        row, verdict = ten_minute_row(r, algorithm, f"{algorithm}, screening {screening.pop()}")
+        rows.append(row)
+        verdicts.append(verdict)
+    ref = screened["reference"]
+    assert ref["kept"] == "bench/results/design-reference-front-2026-11-29.json", ref
+    return ("\n".join(rows) + "\n\n"
+            f"The reference: `{ref['kept']}` ({ref['front']} designs), the front of the unscreened record's 10 runs "
+            f"(`{RECORDS['design_ten_minutes']}`: {plain['granstack']}). The screened runs: `{RECORDS['design_ten_minutes_screening']}` "
+            f"({screened['granstack']}), another invocation. " + " ".join(verdicts) + "\n")
 
 
 def design_shortcuts():
@@ -806,7 +849,8 @@ def main():
                 extension_counts=extension_counts(), reduce_speed=reduce_speed(), design_budget=design_budget(), design_shortcuts=design_shortcuts(),
                 design_population=design_population(), design_breeding=design_breeding(),
                 design_ten_minutes=design_ten_minutes(), design_repeat=design_repeat(),
-                design_screening=design_screening())
+                design_screening=design_screening(),
+                design_ten_minutes_screening=design_ten_minutes_screening())
     places = {**PLACES, **RECORD_PLACES, **REPRODUCE_PLACES}
     if "--reproduce" in sys.argv[1:]:
         made["reproduce"] = reproduce_table(exe, work, "liggghts")
