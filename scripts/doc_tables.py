@@ -467,6 +467,17 @@ def stop_by_rule(progress, window, tolerance):
     return progress[-1], False
 
 
+def meets_500(r, hv, igd):
+    """Whether a median hypervolume and IGD+ at 500 designs meet the record's 500-design target."""
+    return hv >= r["targets"]["hypervolume_fraction"] and igd <= r["targets"]["igd_plus"]
+
+
+def searched_500(r, key):
+    """What every run of a 500-design record searched, on what, and which record it is."""
+    return (f"Every run searched {r['max_designs']} distinct designs on {r['jobs']} jobs ({r['granstack']}, "
+            f"`{RECORDS[key]}`). ")
+
+
 def design_repeat():
     """Every seed's search made twice against a kept reference front, at 500 designs (bench/design_budget.sh
     ROUNDS=2 REFERENCE=...): how far one seed's run moves between two runs on 2 jobs."""
@@ -487,7 +498,7 @@ def design_repeat():
         moved = [abs(p[2]["hypervolume_fraction_at_500"] - p[1]["hypervolume_fraction_at_500"]) for p in seeds.values()]
         medians = [statistics.median(p[k]["hypervolume_fraction_at_500"] for p in seeds.values()) for k in (1, 2)]
         igd = [statistics.median(p[k]["igd_plus_at_500"] for p in seeds.values()) for k in (1, 2)]
-        met = [m >= r["targets"]["hypervolume_fraction"] and i <= r["targets"]["igd_plus"] for m, i in zip(medians, igd)]
+        met = [meets_500(r, m, i) for m, i in zip(medians, igd)]
         said.append(f"{name}: the median of the {len(seeds)} seeds {medians[0]:.3f} and {medians[1]:.3f} (IGD+ {igd[0]:.4f} and "
                     f"{igd[1]:.4f}; the 500-design target {'met' if all(met) else 'met by one run' if any(met) else 'not met'}); "
                     f"a seed moved by {statistics.median(moved):.3f} between its runs (median; at most {max(moved):.3f}), the "
@@ -495,8 +506,7 @@ def design_repeat():
     ref = r["reference"]
     return ("\n".join(rows) + "\n\n"
             f"The reference: `{ref['kept']}` ({ref['front']} designs, hypervolume {ref['hypervolume']:.6f}), kept from {ref['made']}. "
-            f"Every run searched {r['max_designs']} distinct designs on {r['jobs']} jobs ({r['granstack']}, `{RECORDS['design_repeat']}`). "
-            + " ".join(said) + "\n")
+            + searched_500(r, "design_repeat") + " ".join(said) + "\n")
 
 
 def sms_emoa_rounds(screening):
@@ -547,15 +557,14 @@ def design_screening():
                   for k, v in rounds.items()}
         low = min(m for _, m in rounds[screening])
         high = max(m for _, m in rounds[1])
-        target = "met" if hv >= r["targets"]["hypervolume_fraction"] and igd <= r["targets"]["igd_plus"] else "not met"
+        target = "met" if meets_500(r, hv, igd) else "not met"
         text.append(f"{name} with screening {screening}: the median {gain:+.3f} from screening 1's in the same invocation; "
                     f"the median of 5 seeds at 500 designs over every round that ran it, unscreened: {listed[1]}; "
                     f"screening {screening}: {listed[screening]}: its worst round is "
                     f"{'above' if low > high else 'not above'} the unscreened search's best; the 500-design target {target}.")
     ref = r["reference"]
     return ("\n".join(rows) + "\n\n"
-            f"The reference: `{ref['kept']}` ({ref['front']} designs). Every run searched {r['max_designs']} distinct designs "
-            f"on {r['jobs']} jobs ({r['granstack']}, `{RECORDS['design_screening']}`). " + " ".join(text) + "\n")
+            f"The reference: `{ref['kept']}` ({ref['front']} designs). " + searched_500(r, "design_screening") + " ".join(text) + "\n")
 
 
 def ten_minute_row(r, algorithm, label):
