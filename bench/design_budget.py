@@ -88,7 +88,6 @@ for name, (joins, rows, report, finished) in designs_of.items():
     record_runs.append({
         "algorithm": algorithm, "seed": int(seed), "shortcuts": shortcuts == "true", "breeding": breeding(name),
         "screening": int(searched(name).get("screening", 1)),
-        "climb": int(searched(name).get("climb", 0)),
         "seconds": round(t1 - t0, 1),
         "designs": run["designs"], "ended": last, "stopped_improving": run.get("stopped_improving", ""),
         "designs_to_target": reach["designs"] if reach else None, "seconds_to_target": reach["seconds"] if reach else None,

@@ -15,9 +15,7 @@
 # in which designs end shapes a search, so a seed's run is not the same run twice). With
 # REFERENCE=FILE the runs are judged against a front kept by bench/design_reference.py instead of
 # their own together (the record then names it); every record keeps its reference front's designs.
-# With several SCREENINGS ([search] screening) each runs at each, labelled ALGORITHM-scSCREENING;
-# with several CLIMBS ([search] climb, given with a screening above 1) at each, labelled
-# ALGORITHM-clCLIMB.
+# With several SCREENINGS ([search] screening) each runs at each, labelled ALGORITHM-scSCREENING.
 # Usage: OUT=bench/results/design-budget-DATE.json bench/design_budget.sh
 #   (SPACE, SEEDS="1 2 3 4 5", ALGORITHMS="nsga2 sms-emoa", POPULATIONS=24, BREEDINGS=0.5:0.5, MAX_DESIGNS=1500,
 #   TIME_LIMIT=600, STAGNATION=10, JOBS=2, OFF_RUN=1, ROUNDS=1, REFERENCE unset; up to (rounds x seeds x algorithms x populations + 1) x
@@ -37,13 +35,11 @@ time_limit=${TIME_LIMIT:-600}
 jobs=${JOBS:-2}
 rounds=${ROUNDS:-1}
 screenings=${SCREENINGS:-1}
-climbs=${CLIMBS:-0}
 runs=()
-one() {  # one ALGORITHM SEED SHORTCUTS POPULATION BREEDING [ROUND] [SCREENING] [CLIMB]: a search alone in its own store
-  local label=$1 front=${5%%:*} step=${5##*:} screening=${7:-1} climb=${8:-0}
+one() {  # one ALGORITHM SEED SHORTCUTS POPULATION BREEDING [ROUND] [SCREENING]: a search alone in its own store
+  local label=$1 front=${5%%:*} step=${5##*:} screening=${7:-1}
   [ "${6:-1}" -gt 1 ] && label="$label-r$6"
   [ "$(wc -w <<< "$screenings")" -gt 1 ] && label="$label-sc$screening"
-  [ "$(wc -w <<< "$climbs")" -gt 1 ] && label="$label-cl$climb"
   [ "$(wc -w <<< "$populations")" -gt 1 ] && label="$label-p$4"
   [ "$(wc -w <<< "$breedings")" -gt 1 ] && label="$label-f$front-s$step"
   local name="$label-$2-$3" dir="$work/$label-$2-$3"
@@ -53,7 +49,6 @@ one() {  # one ALGORITHM SEED SHORTCUTS POPULATION BREEDING [ROUND] [SCREENING] 
     "$4" "$2" "$1" "$max_designs" "$stagnation" "$3" >> "$dir/space.toml"
   printf 'front_parents = %s\nstep_mutation = %s\n' "$front" "$step" >> "$dir/space.toml"
   [ "$screening" -gt 1 ] && printf 'screening = %s\n' "$screening" >> "$dir/space.toml"
-  [ "$climb" -gt 0 ] && printf 'climb = %s\n' "$climb" >> "$dir/space.toml"
   local t0 t1
   t0=$(date +%s.%N)
   "$gs" design run "$dir/space.toml" -o "$dir/out" -j "$jobs" --time-limit "$time_limit" > "$dir/log" 2>&1
@@ -70,9 +65,7 @@ for r in $(seq "$rounds"); do
     for s in $seeds; do
       for p in $populations; do
         for b in $breedings; do
-          for c in $screenings; do
-            for k in $climbs; do one "$a" "$s" true "$p" "$b" "$r" "$c" "$k"; done
-          done
+          for c in $screenings; do one "$a" "$s" true "$p" "$b" "$r" "$c"; done
         done
       done
     done

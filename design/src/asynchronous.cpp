@@ -162,12 +162,6 @@ class Asynchronous {
   std::vector<double> bred(std::mt19937& rng, std::size_t subproblem) const;
   std::vector<double> uniform(std::mt19937& rng) const;
   std::optional<Job> screened(std::mt19937& rng, std::size_t subproblem);
-  struct Candidate {  // a design screening may choose
-    std::vector<double> x;
-    model::StackSpec spec;
-    std::vector<std::optional<double>> known;  // its axes known before it runs
-  };
-  std::optional<Candidate> candidate(std::vector<double> genes, std::set<std::string>& seen);
   bool may_start(int searching);
   bool rejected(const Geometry& g);
   bool rejected(const model::StackSpec& spec) { return rejected(measure(space_, spec)); }
@@ -291,7 +285,7 @@ void Asynchronous::join(const Evaluation& e, bool replaying, std::size_t subprob
     front_dominator_ = std::move(d);
   }
   auto point = fitness(space_, e, &*norm_);
-  if (space_.search.screening > 1) screening_.add(*x, point, e.feasible, e.measures);
+  if (space_.search.screening > 1) screening_.add(*x, point, e.feasible);
   survive({*x, e.digest, std::move(point)}, subproblem);
   if (archive_.size() % population_ == 0) {
     const int index = static_cast<int>(archive_.size() / population_) - 1;
@@ -422,69 +416,49 @@ std::optional<Job> Asynchronous::draw() {
 // [search] screening: of up to `screening` new designs within the known constraints, half of them
 // (rounded up) bred and the rest drawn uniformly from the space (where the population has not
 // been, the estimate judges too), the one whose estimate (Screening) would gain the front the most
-// (the first drawn of equals); then, with [search] climb = N, up to N moves to the neighbour one
-// step away whose estimate gains the most, while that gains more than the design it leaves. Those
-// not chosen are not known, and may be drawn again. None found: nullopt, and draw() goes on as
-// without.
+// (the first drawn of equals); those not chosen are not known, and may be drawn again. None found:
+// nullopt, and draw() goes on as without.
 std::optional<Job> Asynchronous::screened(std::mt19937& rng, std::size_t subproblem) {
   const auto wanted = static_cast<std::size_t>(space_.search.screening);
+  struct Candidate {
+    std::vector<double> x;
+    model::StackSpec spec;
+    std::vector<std::optional<double>> known;  // its axes known before it runs
+  };
   std::vector<Candidate> candidates;
   std::set<std::string> seen;
   const std::size_t bred_wanted = wanted - wanted / 2;
   for (int attempt = 0; attempt < kBredDraws && candidates.size() < wanted; ++attempt) {
     const bool breed = candidates.size() < bred_wanted && attempt < kBredDraws / 2;  // then uniform ones
-    if (auto c = candidate(breed ? bred(rng, subproblem) : uniform(rng), seen)) candidates.push_back(std::move(*c));
+    const auto x = space_.canonical_genes(breed ? bred(rng, subproblem) : uniform(rng));
+    auto spec = space_.decode(x);
+    const auto digest = spec_digest(spec);
+    if (known_.count(digest) != 0 || !seen.insert(digest).second) continue;
+    const auto geometry = measure(space_, spec);
+    if (rejected(geometry)) {
+      known_.insert(digest);
+      continue;
+    }
+    candidates.push_back({x, std::move(spec), known_axes(space_, *norm_, geometry)});
   }
   if (candidates.empty()) return std::nullopt;
   std::vector<std::vector<double>> front;
   for (const auto& e : front_) front.push_back(fitness(space_, e, &*norm_));
   const ScreeningGain gain(std::move(front));
-  const auto score = [&](const Candidate& c) {
-    return screening_score(gain(screening_.estimate(c.x, c.known)), screening_.feasibility(c.x));
-  };
   std::size_t best = 0;
   double best_score = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < candidates.size(); ++i) {
-    if (const double s = score(candidates[i]); s > best_score) {
-      best_score = s;
+    const double score = gain(screening_.estimate(candidates[i].x, candidates[i].known));
+    if (score > best_score) {
+      best_score = score;
       best = i;
     }
   }
-  auto chosen = std::move(candidates[best]);
-  for (int move = 0; move < space_.search.climb; ++move) {
-    std::optional<Candidate> next;
-    double next_score = best_score;
-    for (auto& x : step_neighbours(space_, bounds_, chosen.x)) {
-      auto c = candidate(std::move(x), seen);
-      if (!c) continue;
-      if (const double s = score(*c); s > next_score) {
-        next_score = s;
-        next = std::move(c);
-      }
-    }
-    if (!next) break;
-    chosen = std::move(*next);
-    best_score = next_score;
-  }
+  auto& chosen = candidates[best];
   auto digest = spec_digest(chosen.spec);
   known_.insert(digest);
   ++drawn_;
   return Job{std::move(chosen.x), std::move(chosen.spec), std::nullopt, standing(digest), subproblem};
-}
-
-// A design screening may choose: canonical, not known and not yet among `seen` (which it joins),
-// and within the constraints known before it runs (one that is not is known from now on).
-std::optional<Asynchronous::Candidate> Asynchronous::candidate(std::vector<double> genes, std::set<std::string>& seen) {
-  const auto x = space_.canonical_genes(genes);
-  auto spec = space_.decode(x);
-  const auto digest = spec_digest(spec);
-  if (known_.count(digest) != 0 || !seen.insert(digest).second) return std::nullopt;
-  const auto geometry = measure(space_, spec);
-  if (rejected(geometry)) {
-    known_.insert(digest);
-    return std::nullopt;
-  }
-  return Candidate{x, std::move(spec), known_axes(space_, *norm_, geometry)};
 }
 
 // The designs the run joins before it ends: its generations', or its budget.

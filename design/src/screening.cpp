@@ -96,11 +96,7 @@ std::size_t feature_count(const Space& s) {
 }  // namespace
 
 Screening::Screening(const Space& space)
-    : space_(space), bounds_(space.bounds()), axes_(space.objectives.size(), EvidenceRegression(feature_count(space))) {
-  for (const auto& [name, bound] : space.constraints.max_measures) {
-    if (bound > 0.0) limits_.push_back({name, std::log(bound), EvidenceRegression(feature_count(space))});
-  }
-}
+    : space_(space), bounds_(space.bounds()), axes_(space.objectives.size(), EvidenceRegression(feature_count(space))) {}
 
 Eigen::VectorXd Screening::features(const std::vector<double>& x) const {
   const auto& s = space_;
@@ -130,33 +126,13 @@ Eigen::VectorXd Screening::features(const std::vector<double>& x) const {
   return phi;
 }
 
-void Screening::add(const std::vector<double>& genes, const std::vector<double>& point, bool feasible,
-                    const std::map<std::string, double>& measures) {
+void Screening::add(const std::vector<double>& genes, const std::vector<double>& point, bool feasible) {
   genes_.push_back(genes);
   feasible_.push_back(feasible);
-  const auto phi = features(genes);
-  for (auto& limit : limits_) {
-    const auto it = measures.find(limit.measure);
-    if (it != measures.end() && it->second > 0.0 && std::isfinite(it->second)) limit.regression.add(phi, std::log(it->second));
-  }
   if (!feasible) return;
+  const auto phi = features(genes);
   for (std::size_t o = 0; o < axes_.size(); ++o) axes_[o].add(phi, point.at(o));
 }
-
-double Screening::feasibility(const std::vector<double>& genes) {
-  if (limits_.empty()) return 1.0;
-  const auto phi = features(genes);
-  double chance = 1.0;
-  for (auto& limit : limits_) {
-    if (limit.regression.size() == 0) continue;  // nothing measured yet: no guess
-    const auto [mean, sd] = limit.regression.predict(phi);
-    const double spread = std::sqrt(sd * sd + 1.0 / limit.regression.beta());
-    if (spread > 0.0 && std::isfinite(spread)) chance *= 0.5 * std::erfc((mean - limit.log_bound) / (spread * std::sqrt(2.0)));
-  }
-  return chance;
-}
-
-double screening_score(double gain, double feasibility) { return gain > 0.0 ? gain * feasibility : gain - (1.0 - feasibility); }
 
 double Screening::distance(const std::vector<double>& a, const std::vector<double>& b) const {
   double d = 0.0;

@@ -13,18 +13,11 @@
 // - a design whose kScreeningNeighbours nearest designs run (in genes: a material differs by 1 or
 //   0, another gene by its change over its range) are infeasible by the larger inverse-distance
 //   weight is estimated infeasible (kInfeasiblePoint on every axis).
-// The chance that a design meets the space's bounds on run measures ([constraints] max_crush, ...):
-// per bound, a Bayesian linear regression as above on the logarithm of the measure, fitted to every
-// design run that measured it (one settled by the bound measured at least the bound), read as a
-// normal with the regression's mean and its deviation with the noise's; the bounds' chances
-// multiplied.
 #include <granstack/design/space.hpp>
 
 #include <Eigen/Dense>
 
 #include <cstddef>
-#include <map>
-#include <string>
 #include <optional>
 #include <vector>
 
@@ -52,7 +45,6 @@ class EvidenceRegression {
   std::pair<double, double> predict(const Eigen::VectorXd& phi);
   double alpha() const { return alpha_; }  // the prior's precision (after predict)
   double beta() const { return beta_; }    // the noise's precision (after predict)
-  long size() const { return n_; }         // the designs added
 
  private:
   void fit();
@@ -72,13 +64,9 @@ class Screening {
   explicit Screening(const Space& space);
   // A design run: its genes (Space::encode), its point in the box (fitness(), normalised) and
   // whether it met the constraints (an infeasible design's point is a penalty, not a measure).
-  // `measures`: what the run measured, by name (Evaluation::measures), for the bounds' regressions.
-  void add(const std::vector<double>& genes, const std::vector<double>& point, bool feasible,
-           const std::map<std::string, double>& measures = {});
+  void add(const std::vector<double>& genes, const std::vector<double>& point, bool feasible);
   // The estimate for genes not yet run (above); `known`: known_axes() of the design, or empty.
   std::vector<double> estimate(const std::vector<double>& genes, const std::vector<std::optional<double>>& known = {});
-  // The chance that the design meets the bounds on run measures (above); 1 with none.
-  double feasibility(const std::vector<double>& genes);
   // The regression's features of a decision vector (one-hot blocks, materials, bottom material,
   // ratios and rows; a block past N_B has none).
   Eigen::VectorXd features(const std::vector<double>& genes) const;
@@ -92,18 +80,7 @@ class Screening {
   std::vector<std::vector<double>> genes_;
   std::vector<bool> feasible_;
   std::vector<EvidenceRegression> axes_;  // one per objective
-  struct Limit {
-    std::string measure;
-    double log_bound;
-    EvidenceRegression regression;  // of the measure's logarithm
-  };
-  std::vector<Limit> limits_;  // one per bound on a run measure
 };
-
-// What screening ranks a candidate by: the gain its estimate would bring (ScreeningGain) weighed
-// by the chance it is feasible: a gain times the chance; a loss (a dominated estimate) less the
-// chance it is not, so that of two dominated candidates the likelier feasible goes first too.
-double screening_score(double gain, double feasibility);
 
 // What running a design of estimated point p would gain a front (points in the box): the
 // hypervolume it adds against the reference point; when a point of the front weakly dominates p,

@@ -547,15 +547,6 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
       } else {
         s.search.screening = static_cast<int>(*n);
       }
-    } else if (key == "climb") {
-      const auto n = v.value_exact<std::int64_t>();
-      if (!n || *n < 0 || *n > kMaxClimb) {
-        problems.push_back(fmt::format("[search] climb: a whole number from 0 (no climb) to {}, the moves screening's "
-                                       "chosen design may make to a neighbour its estimate prefers",
-                                       kMaxClimb));
-      } else {
-        s.search.climb = static_cast<int>(*n);
-      }
     } else if (key == "seed" && v.is_array()) {
       read_seeds(*v.as_array(), s, problems);
     } else if (key == "population" || key == "generations" || key == "seed" || key == "max_designs" || key == "stagnation") {
@@ -563,8 +554,8 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
     } else {
       problems.push_back(fmt::format("[search] {}: unknown; evaluation, algorithm, population, generations, seed, "
                                      "max_designs, stagnation, stagnation_tolerance, time_limit, shortcuts, start, crossover_probability, "
-                                     "crossover_eta, mutation_eta, mutation_probability, front_parents, step_mutation, "
-                                     "screening or climb", key));
+                                     "crossover_eta, mutation_eta, mutation_probability, front_parents, step_mutation or "
+                                     "screening", key));
     }
   }
   if (s.search.population < 8 || s.search.population % 4 != 0) {
@@ -577,11 +568,6 @@ void read_search(const toml::table* t, Space& s, std::vector<std::string>& probl
   if (s.search.screening > 1 && s.search.schedule == Schedule::generational) {
     problems.push_back("[search] screening: the generational search is pagmo2's NSGA-II, which runs every design it breeds; "
                        "leave it out, or make the search asynchronous");
-  }
-  if (s.search.climb > 0 && s.search.screening <= 1) {
-    problems.push_back(fmt::format("[search] climb = {}: the climb moves the design screening chose, and screening is off; "
-                                   "set screening (e.g. 8), or leave climb out",
-                                   s.search.climb));
   }
   if (s.search.breeding_given && s.search.schedule == Schedule::generational) {
     problems.push_back("[search] front_parents, step_mutation: the generational search is pagmo2's NSGA-II, which breeds "
@@ -757,7 +743,6 @@ std::string Space::digest() const {
   if (search.mutation_eta != 50.0) j["mutation_eta"] = search.mutation_eta;
   if (search.mutation_probability) j["mutation_probability"] = *search.mutation_probability;
   if (search.screening != 1) j["screening"] = search.screening;
-  if (search.climb != 0) j["climb"] = search.climb;
   if (!search.start_files.empty()) j["start"] = search.start_files;
   return formats::sha256_hex(j.dump());
 }

@@ -119,18 +119,4 @@ void mutate(const Space& space, const std::pair<std::vector<double>, std::vector
   }
 }
 
-std::vector<std::vector<double>> step_neighbours(const Space& space, const std::pair<std::vector<double>, std::vector<double>>& bounds,
-                                                 const std::vector<double>& x) {
-  std::vector<std::vector<double>> out;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const int lo = static_cast<int>(bounds.first[i]), hi = static_cast<int>(bounds.second[i]), now = static_cast<int>(x[i]);
-    for (int v = lo; v <= hi; ++v) {
-      if (v == now || (!space.is_material_gene(i) && std::abs(v - now) != 1)) continue;
-      out.push_back(x);
-      out.back()[i] = v;
-    }
-  }
-  return out;
-}
-
 }  // namespace granstack::design

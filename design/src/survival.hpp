@@ -24,9 +24,4 @@ std::vector<std::vector<double>> reference_directions(std::size_t m, std::size_t
 void mutate(const Space& space, const std::pair<std::vector<double>, std::vector<double>>& bounds, std::vector<double>& x,
             double pm, std::mt19937& rng);
 
-// The designs one step from genes x: each material gene at each other material, each other gene
-// one step up and one down (within `bounds`), in gene order; not made canonical.
-std::vector<std::vector<double>> step_neighbours(const Space& space, const std::pair<std::vector<double>, std::vector<double>>& bounds,
-                                                 const std::vector<double>& x);
-
 }  // namespace granstack::design

@@ -361,14 +361,6 @@ TEST(Space, BadSpacesAreRefusedNamingTheKeyAndTheFix) {
   EXPECT_NE(problems_of(with("seed = 7", "seed = 7\nscreening = 4\nevaluation = \"generational\""))
                 .find("screening: the generational search is pagmo2's NSGA-II"),
             std::string::npos);
-  for (const std::string bad : {"-1", "65", "1.5"}) {
-    EXPECT_NE(problems_of(with("seed = 7", "seed = 7\nscreening = 4\nclimb = " + bad)).find("climb: a whole number from 0"),
-              std::string::npos) << bad;
-  }
-  EXPECT_NE(problems_of(with("seed = 7", "seed = 7\nclimb = 4")).find("climb = 4: the climb moves the design screening chose, "
-                                                                        "and screening is off"),
-            std::string::npos);
-  EXPECT_EQ(problems_of(with("seed = 7", "seed = 7\nscreening = 4\nclimb = 4")), "");
   EXPECT_NE(problems_of(with("\"teflon\"]", "\"teflon\", \"steel\"]")).find("steel is listed twice"), std::string::npos);
   EXPECT_NE(problems_of(base + "[constraints]\nmax_spheres = 200.5\n").find("a whole number of spheres"), std::string::npos);
 }
@@ -497,13 +489,12 @@ TEST(Store, KeepsEvaluationsAndRefusesAnotherSpacesStore) {
 // through, design for design and bit for bit (the asynchronous one on one job: on several, the
 // order designs end in shapes it); its hypervolume, of every design run so far, never falls.
 void expect_resumes_where_it_stopped(design::Schedule schedule, design::Algorithm algorithm = design::Algorithm::nsga2,
-                                     int screening = 1, int climb = 0) {
+                                     int screening = 1) {
   const auto dir = work_dir();
   auto space = small_space();
   space.search.schedule = schedule;
   space.search.algorithm = algorithm;
   space.search.screening = screening;
-  space.search.climb = climb;
   auto whole = design::Store::open((dir / "whole.sqlite").string(), space.digest(), kSmallSpace);
   const auto a = design::run_search(space, whole, {});
   const int first = schedule == design::Schedule::asynchronous ? 0 : 1;  // generational: 0 is the initial population
@@ -570,10 +561,6 @@ TEST(Search, IsReproducibleAndResumesWhereItStopped) { expect_resumes_where_it_s
 TEST(Search, AScreenedSearchResumesWhereItStopped) {
   expect_resumes_where_it_stopped(design::Schedule::asynchronous, design::Algorithm::nsga2, 4);
 }
-// And with screening's climb.
-TEST(Search, AScreenedSearchThatClimbsResumesWhereItStopped) {
-  expect_resumes_where_it_stopped(design::Schedule::asynchronous, design::Algorithm::nsga2, 4, 3);
-}
 
 // The screening's estimate (design/src/screening.hpp) and score, against hand counts. The small
 // space's features of (2 blocks, steel over Teflon, ratio 2, rows 2 and 3) and of (one Teflon
@@ -632,44 +619,6 @@ TEST(Search, TheScreeningsEstimateAndScoreAreTheHandCounts) {
   EXPECT_NEAR(gain({0.6, 0.7, 0.5}), -std::sqrt(0.05), 1e-12);
   EXPECT_EQ(gain({1.2, 0.1, 0.1}), 0.0);
   EXPECT_NEAR(design::ScreeningGain({})({0.1, 0.1, 0.1}), 1.0, 1e-12);
-}
-
-// The chance screening gives a design of meeting a bound on a run measure ([constraints]
-// max_crush = 1e-3): a regression on the measure's logarithm. Fitted to designs whose log crush is
-// additive in their genes (the bound, plus 2 per row of block 1 above 2, 0.5 for a Teflon top,
-// less 0.25 for a second block), every one of them, feasible or not: a left-out design 1.75 below
-// the bound's logarithm is feasible, one 1.75 above it is not, each to a chance of 1e-6; with
-// nothing measured, or no such bound, the chance is 1. The score: a gain of 0.2 at a chance of 0.5
-// is 0.1; a loss of 0.1 at 0.25, -0.1 - 0.75.
-TEST(Search, TheScreeningsChanceOfMeetingABoundIsTheRegressionsOnItsLogarithm) {
-  auto space = design::parse_space(kSmallSpace + "[constraints]\nmax_crush = 1e-3\n", "bounded.toml");
-  ASSERT_EQ(space.constraints.max_measures.count("crush"), 1u);
-  design::Screening screening(space);
-  EXPECT_EQ(screening.feasibility({2, 1, 0, 0, 1, 1}), 1.0);
-  const auto log_crush = [](const std::vector<double>& x) { return std::log(1e-3) + 2.0 * (x[4] - 2.0) + 0.5 * x[1] - 0.25 * (x[0] - 1.0); };
-  const std::vector<double> below{2, 1, 0, 0, 1, 1}, above{2, 0, 1, 0, 3, 2};
-  for (const double blocks : {1.0, 2.0}) {
-    for (const double top : {0.0, 1.0}) {
-      for (const double second : {0.0, 1.0}) {
-        for (const double rows1 : {1.0, 2.0, 3.0}) {
-          for (const double rows2 : {1.0, 2.0, 3.0}) {
-            const std::vector<double> x{blocks, top, blocks == 1 ? top : second, 0, rows1, blocks == 1 ? rows1 : rows2};
-            if (x == below || x == above || (blocks == 1 && (second != top || rows2 != rows1))) continue;
-            const double crush = std::exp(log_crush(x));
-            screening.add(x, {0.5, 0.5, 0.5}, crush <= 1e-3, {{"crush", crush}, {"peak_wall_force", 1.0}});
-          }
-        }
-      }
-    }
-  }
-  EXPECT_NEAR(log_crush(below) - std::log(1e-3), -1.75, 1e-12);
-  EXPECT_GT(screening.feasibility(below), 1.0 - 1e-6);
-  EXPECT_LT(screening.feasibility(above), 1e-6);
-  design::Screening unbounded(small_space());
-  unbounded.add(above, {0.5, 0.5, 0.5}, true, {{"crush", 1.0}});
-  EXPECT_EQ(unbounded.feasibility(above), 1.0);
-  EXPECT_NEAR(design::screening_score(0.2, 0.5), 0.1, 1e-15);
-  EXPECT_NEAR(design::screening_score(-0.1, 0.25), -0.85, 1e-15);
 }
 
 // The screening's regression against the textbook's dense formulas (Bishop 2006, eqs. 3.53-3.54,
@@ -761,37 +710,6 @@ TEST(Search, AStepMutationMovesAnOrdinalGeneOneStepAndAMaterialToAnotherValue) {
     const auto unchanged = z;
     design::mutate(space, bounds, z, 0.0, rng);
     EXPECT_EQ(z, unchanged);
-  }
-}
-
-// Screening's climb moves to the designs one step away: in a space of 4 blocks, 3 materials, 2
-// ratios and rows 1-8, a design of (2 blocks; materials 0, 2, 1, 1; ratio indices 0, 1, 1; rows 1,
-// 5, 8, 8) has 2 materials more at each of its 4 material genes, a neighbour on each side of each
-// ordinal gene not at a bound (blocks 2: 1 and 3; ratio index 0: 1; index 1: 0, twice; rows 1:
-// 2; rows 5: 4 and 6; rows 8: 7, twice): 8 + 2 + 1 + 2 + 1 + 2 + 2 = 18, each one gene from x.
-TEST(Search, TheClimbsNeighboursAreOneStepAway) {
-  auto text = kSmallSpace;
-  text.replace(text.find("blocks = [1, 2]"), 15, "blocks = [1, 4]");
-  text.replace(text.find("rows = [1, 3]"), 13, "rows = [1, 8]");
-  text.replace(text.find("radius_ratio = [2]"), 18, "radius_ratio = [2, 3]");
-  text.replace(text.find("\"teflon\"]"), 9, "\"teflon\", \"nylon\"]");
-  const auto space = design::parse_space(text, "wide.toml");
-  const std::vector<double> x{2, 0, 2, 1, 1, 0, 1, 1, 1, 5, 8, 8};
-  ASSERT_EQ(x.size(), space.genes());
-  const auto near = design::step_neighbours(space, space.bounds(), x);
-  EXPECT_EQ(near.size(), 18u);
-  std::set<std::vector<double>> distinct(near.begin(), near.end());
-  EXPECT_EQ(distinct.size(), near.size());
-  for (const auto& y : near) {
-    int changed = 0;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      if (y[i] == x[i]) continue;
-      ++changed;
-      if (!space.is_material_gene(i)) {
-        EXPECT_EQ(std::abs(y[i] - x[i]), 1.0) << "gene " << i;
-      }
-    }
-    EXPECT_EQ(changed, 1);
   }
 }
 

@@ -112,10 +112,6 @@ struct Search {
   // The asynchronous search's screening: each design run is the best of this many drawn (half bred,
   // half uniform), by an estimate from the designs run (design/src/screening.hpp); 1: the first bred runs.
   int screening = 1;                            // [search] screening, 1 to kMaxScreening
-  // Screening's climb: the design chosen moves, up to this many times, to the one-step neighbour
-  // (another material, or one step of an ordinal gene) whose estimate gains the front the most,
-  // while that gains more than the design itself; 0: the best drawn runs.
-  int climb = 0;                                // [search] climb, 0 to kMaxClimb (with screening)
   // [search] start: spec files (generate --config's, relative to the space file) whose designs
   // begin the search (their blocks, materials, ratios and rows; the rest is the space's), and
   // their genes (read when a search is parsed to run, not from a stored space).
@@ -135,7 +131,6 @@ struct Search {
 // 1e8 ran out of memory before its first design).
 inline constexpr int kMaxPopulation = 100'000;
 inline constexpr int kMaxScreening = 64;  // [search] screening: designs drawn per design run, at most
-inline constexpr int kMaxClimb = 64;      // [search] climb: moves per design run, at most
 inline constexpr int kMaxGenerations = 100'000;  // as the --generations flag
 inline constexpr std::size_t kMaxSeeds = 64;
 
