@@ -80,6 +80,7 @@ struct Command {
 
 Command add_generate(CLI::App& app, const std::vector<std::string>& argv);
 Command add_run(CLI::App& app);
+Command add_adopt(CLI::App& app);
 Command add_decompose(CLI::App& app);
 Command add_reduce(CLI::App& app);
 Command add_table(CLI::App& app);

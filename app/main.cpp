@@ -118,7 +118,8 @@ int main(int argc, char** argv) {
   CLI::App app{fmt::format("granstack {}: impact decimation in nested granular lattices with LIGGGHTS", version())};
   app.require_subcommand(1);
   app.set_version_flag("--version", fmt::format("granstack {} (commit {})", version(), git_commit()));
-  const app::Command commands[] = {app::add_generate(app, args), app::add_run(app),   app::add_decompose(app), app::add_reduce(app),
+  const app::Command commands[] = {app::add_generate(app, args), app::add_run(app),   app::add_adopt(app),
+                                   app::add_decompose(app),      app::add_reduce(app),
                                    app::add_table(app),          app::add_plot(app),  app::add_validate(app),
                                    app::add_reproduce(app),      app::add_submit(app), app::add_status(app),
                                    app::add_export(app),         app::add_fields(app),  app::add_design(app)};

@@ -11,6 +11,7 @@
 #include <granstack/os/workers.hpp>
 
 #include <fmt/format.h>
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -45,6 +46,8 @@ CaseState read_state(const std::string& dir) {
       why = e.what();
     }
     if (!why.empty()) return {dir, "damaged", why.substr(0, why.find('\n')) + "; generate the case again (granstack generate --force)"};
+    std::error_code ec;
+    if (fs::exists(fs::path(dir) / files.log, ec)) return {dir, "pending", "its deck was run outside granstack"};
     return {dir, "pending", ""};
   }
   if (!record.done()) return {dir, record.status == "damaged" ? "failed" : record.status, record.error_line()};
@@ -146,6 +149,17 @@ StatusReport status(const std::vector<std::string>& targets, const std::string& 
     else if (c.status == "changed") ++r.changed;
     else if (c.status == "damaged") ++r.damaged;
     else ++r.pending;
+  }
+  const auto by_hand = std::count_if(r.cases.begin(), r.cases.end(), [](const CaseState& c) {
+    return c.status == "pending" && !c.error.empty();
+  });
+  if (by_hand > 0) {
+    const auto first = std::find_if(r.cases.begin(), r.cases.end(), [](const CaseState& c) {
+      return c.status == "pending" && !c.error.empty();
+    });
+    r.notes.push_back(fmt::format("{} pending case(s) hold a log of LIGGGHTS run outside granstack ({}{}): 'granstack "
+                                  "adopt' takes such a run as the case's, once its log shows the case's deck run whole",
+                                  by_hand, first->dir, by_hand > 1 ? ", ..." : ""));
   }
   return r;
 }

@@ -16,6 +16,7 @@ std::string run_engine(const RunRecord& record) {
   const auto engine = record.record->value("engine", json());
   if (!engine.is_string()) return "";
   const auto name = engine.get<std::string>();
+  if (record.record->value("run_by", std::string()) == "hand") return name + " (run by hand)";
   return name == "refsim" && record.record->value("contact_rules", std::string()) == "lammps" ? "refsim (LAMMPS's rules)" : name;
 }
 
@@ -38,6 +39,16 @@ RunRecord read_run_record(const fs::path& case_dir, const CaseFiles& files) {
     r.error = fmt::format("{} cannot be read ({}): run the case again with --force", path.string(), short_reason(e));
   }
   return r;
+}
+
+std::vector<std::string> deck_additions_ran(const RunRecord& record) {
+  std::vector<std::string> out;
+  const auto executed = record.record->value("executed", json::object());
+  if (!executed.is_object()) return out;
+  for (const auto& a : executed.value("additions", json::array())) {
+    if (a.is_string()) out.push_back(a.get<std::string>());
+  }
+  return out;
 }
 
 long frames_written(const Case& c) {

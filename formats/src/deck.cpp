@@ -95,43 +95,6 @@ class RunCheck {
   bool capped_ = false;
 };
 
-// A LAMMPS command's words: split at blanks outside quotes ("...", '...'), the quotes kept; a
-// '#' outside quotes ends the line.
-void lammps_words(std::string_view line, std::vector<std::string>& words) {
-  words.clear();
-  std::string word;
-  char quote = 0;
-  bool in_word = false;
-  for (const char ch : line) {
-    if (quote == 0 && ch == '#') break;
-    if (quote == 0 && (ch == ' ' || ch == '\t' || ch == '\r')) {
-      if (in_word) words.push_back(std::move(word));
-      word.clear();
-      in_word = false;
-      continue;
-    }
-    if (ch == '"' || ch == '\'') quote = quote == 0 ? ch : quote == ch ? 0 : quote;
-    word += ch;
-    in_word = true;
-  }
-  if (in_word) words.push_back(std::move(word));
-}
-
-std::string normalised(const std::vector<std::string>& words) {
-  std::string out;
-  for (const auto& w : words) out += (out.empty() ? "" : " ") + w;
-  return out;
-}
-
-// Whether a file a deck names stays inside the case: relative, no "..", no variable that could
-// take it elsewhere.
-bool inside_case(std::string_view name) {
-  if (name.empty() || name.front() == '/' || name.find('$') != std::string_view::npos) return false;
-  for (const auto& part : std::filesystem::path(name)) {
-    if (part == "..") return false;
-  }
-  return true;
-}
 }  // namespace
 
 void check_deck_matches_manifest(const Case& c) {
@@ -153,58 +116,6 @@ void check_deck_matches_manifest(const Case& c) {
     }
   }
   runs.finish();
-}
-
-void check_lammps_deck(const Case& c, std::string_view deck, const std::string& path, const std::string& source,
-                       const std::set<std::string>& contact_lines) {
-  const auto fix = fmt::format("; granstack writes the spec's values into the deck: take them out of {} (use its "
-                               "placeholders, as templates/in.lammps.tmpl does)",
-                               source);
-  RunCheck runs(c, path, fix);
-  std::set<std::string> contacts;
-  std::vector<std::string_view> split;
-  std::vector<std::string> words;
-  long number = 0;
-  const auto refuse = [&](const std::string& why) { throw FormatError(path, number, why + fix); };
-  for (std::size_t at = 0; at < deck.size();) {
-    auto end = deck.find('\n', at);
-    if (end == std::string_view::npos) end = deck.size();
-    const auto line = deck.substr(at, end - at);
-    at = end + 1;
-    ++number;
-    lammps_words(line, words);
-    if (words.empty()) continue;
-    split_words(line, split);
-    if (words.size() >= 2 && runs.line(split, line, number)) continue;
-    const auto& command = words[0];
-    if (command == "shell") refuse("the deck runs a shell command, which could write anywhere");
-    if (command == "pair_style" && normalised(words) != "pair_style granular") {
-      refuse(fmt::format("'{}' is not the pair style the spec maps onto ('pair_style granular')", normalised(words)));
-    }
-    if (command == "pair_coeff" || (command == "fix" && words.size() > 3 && words[3] == "wall/gran")) {
-      const auto text = normalised(words);
-      if (contact_lines.count(text) == 0) refuse(fmt::format("'{}' is not a contact the spec maps onto", text));
-      contacts.insert(text);
-    }
-    if (command == "dump" && words.size() > 5 && words[5] != c.files().dump) {
-      refuse(fmt::format("the dump '{}' goes to {}, not to the case's {}", words[1], words[5], c.files().dump));
-    }
-    if ((command == "log" || command == "write_data" || command == "write_restart" || command == "write_dump" ||
-         command == "restart" || command == "write_coeff") && words.size() > 1 && !inside_case(words[command == "restart" && words.size() > 2 ? 2 : 1])) {
-      refuse(fmt::format("'{}' writes outside the case", normalised(words)));
-    }
-    for (std::size_t k = 1; k + 1 < words.size(); ++k) {
-      if ((words[k] == "file" || words[k] == "append" || words[k] == "screen") && command == "fix" && !inside_case(words[k + 1])) {
-        refuse(fmt::format("'{}' writes {} outside the case", command + " " + words[1], words[k + 1]));
-      }
-    }
-  }
-  runs.finish();
-  for (const auto& expected : contact_lines) {
-    if (contacts.count(expected) == 0) {
-      throw FormatError(path, 0, fmt::format("the deck lacks '{}', a contact the spec maps onto{}", expected, fix));
-    }
-  }
 }
 
 }  // namespace granstack::formats

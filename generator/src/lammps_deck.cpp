@@ -170,22 +170,6 @@ TemplateVars lammps_variables(const model::Stack& stack, const model::Resolution
 
 std::string_view default_lammps_template() { return embedded::lammps_template(); }
 
-std::set<std::string> lammps_contact_lines(const model::Stack& stack, const model::LammpsRules& rules) {
-  const auto types = stack.type_materials();
-  std::set<std::string> lines;
-  std::string line;
-  const auto text = pair_coeff_lines(stack.spec(), types, rules) + "\n" + wall_lines(stack, types, rules);
-  for (const char ch : text + "\n") {  // each line, its blanks collapsed to one
-    if (ch == '\n') {
-      if (!line.empty()) lines.insert(line);
-      line.clear();
-    } else if (ch != ' ' || (!line.empty() && line.back() != ' ')) {
-      line += ch;
-    }
-  }
-  return lines;
-}
-
 std::string lammps_deck(const model::Stack& stack, const model::Resolution& res, const formats::CaseFiles& files,
                         const std::string& case_name, std::string_view tmpl, std::string_view source,
                         const model::LammpsRules& rules) {

@@ -510,6 +510,48 @@ std::vector<SpecField> striker_and_boundary_rows() {
   return rows;
 }
 
+// The commands a deck template of the user's adds to granstack's (formats/deck_rules.hpp): a run
+// that executes a command granstack's deck does not run, and the spec does not list, is refused.
+SpecField deck_additions_row() {
+  auto f = row("deck_additions", "list of commands", "none",
+               "Commands your --template adds to granstack's deck, each 'COMMAND' or 'fix|compute|dump STYLE' "
+               "(e.g. 'fix viscous'); a run names them, and refuses any other");
+  f.doc = "a run is held to the commands LIGGGHTS or LAMMPS executed (read from its log): granstack's own, run as "
+          "its template writes them, and these; `fix viscous`, `dump custom/vtk`, `displace_atoms`. Commands that "
+          "change nothing a result is labelled with (variables, prints, thermo output, computes and groups of names "
+          "of your own) need no listing. `reduce`, `table` and the reports name a run's additions";
+  f.shape = FieldShape::list;
+  f.parse = [](StackSpec& s, const Tokens& t, Issues& issues) {
+    s.deck_additions.clear();
+    for (const auto& entry : t) {
+      std::vector<std::string> words;
+      std::string word;
+      for (const char c : entry + " ") {
+        if (c != ' ' && c != '\t') {
+          word += c;
+        } else if (!word.empty()) {
+          words.push_back(std::move(word));
+          word.clear();
+        }
+      }
+      const bool styled = !words.empty() && (words[0] == "fix" || words[0] == "compute" || words[0] == "dump");
+      if (words.empty() || words.size() != (styled ? 2u : 1u) ||
+          words[0].find_first_not_of("abcdefghijklmnopqrstuvwxyz_/") != std::string::npos) {
+        issues.push_back({"deck_additions", fmt::format("'{}' is not a command ('displace_atoms') or a fix, compute or "
+                                                        "dump with its style ('fix viscous')",
+                                                        entry)});
+        continue;
+      }
+      s.deck_additions.push_back(fmt::format("{}", fmt::join(words, " ")));
+    }
+  };
+  f.save = [](const StackSpec& s, json& j) {  // written where given, so older manifests stay as they were
+    if (!s.deck_additions.empty()) j["deck_additions"] = s.deck_additions;
+  };
+  f.load = [](StackSpec& s, const json& j) { s.deck_additions = read<std::vector<std::string>>(j, "deck_additions"); };
+  return f;
+}
+
 std::vector<SpecField> resolution_rows() {
   std::vector<SpecField> rows;
   auto dt = auto_row("dt", &StackSpec::dt, "auto: 1/100 of the shortest contact time",
@@ -585,6 +627,7 @@ std::vector<SpecField> resolution_rows() {
                "hold the exact doubles and reduce to identical results. refsim writes its binary dump as a zstd stream "
                "(`zstd -d` gives LIGGGHTS's bytes; every granstack reader takes both)";
   rows.push_back(std::move(format));
+  rows.push_back(deck_additions_row());
   return rows;
 }
 

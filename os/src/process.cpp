@@ -1,5 +1,7 @@
 #include <granstack/os/process.hpp>
 
+#include "write_confinement.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -29,7 +31,7 @@ bool executable_file(const std::string& path) {
 // What the child does between fork and exec: only async-signal-safe calls (the parent has
 // threads). Reports a failure to the parent through `report` (close-on-exec) and exits 127.
 [[noreturn]] void become(char* const* argv, char* const* envp, const char* cwd, const char* output, pid_t parent,
-                         int report) {
+                         int report, int confinement) {
   auto fail = [&](int stage) {
     const int e[2] = {stage, errno};
     [[maybe_unused]] const auto n = ::write(report, e, sizeof e);
@@ -51,6 +53,7 @@ bool executable_file(const std::string& path) {
   if (in < 0 || ::dup2(in, STDIN_FILENO) < 0) fail(2);
   const int out = output[0] != '\0' ? ::open(output, O_WRONLY | O_CREAT | O_TRUNC, 0644) : ::open("/dev/null", O_WRONLY);
   if (out < 0 || ::dup2(out, STDOUT_FILENO) < 0 || ::dup2(out, STDERR_FILENO) < 0) fail(2);
+  if (confinement >= 0 && !detail::apply_write_confinement(confinement)) fail(4);
   ::execve(argv[0], argv, envp);
   fail(3);
   ::_exit(127);
@@ -116,10 +119,12 @@ Child start(const std::vector<std::string>& argv, const StartOptions& options) {
     child.error = fmt::format("cannot start {}: {}", argv[0], std::strerror(errno));
     return child;
   }
+  const int confinement = options.writable.empty() ? -1 : detail::write_confinement(options.writable);
   const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
-  if (pid == 0) become(arg_ptrs.data(), env.data(), cwd.c_str(), output.c_str(), parent, report[1]);
+  if (pid == 0) become(arg_ptrs.data(), env.data(), cwd.c_str(), output.c_str(), parent, report[1], confinement);
   ::close(report[1]);
+  if (confinement >= 0) ::close(confinement);
   if (pid < 0) {
     child.error = fmt::format("cannot start {}: {}", argv[0], std::strerror(errno));
     ::close(report[0]);
@@ -136,14 +141,15 @@ Child start(const std::vector<std::string>& argv, const StartOptions& options) {
     int status = 0;
     ::waitpid(pid, &status, 0);
     static const char* const stages[] = {"set up its parent-death signal", "enter the directory", "redirect its output",
-                                         "execute"};
-    const char* where = stages[failure[0] >= 0 && failure[0] <= 3 ? failure[0] : 3];
+                                         "execute", "confine its writes (Landlock)"};
+    const char* where = stages[failure[0] >= 0 && failure[0] <= 4 ? failure[0] : 3];
     child.error = fmt::format("cannot start {}: could not {}{}: {}", *program, where,
                               failure[0] == 1 ? " " + cwd : failure[0] == 2 ? " to " + output : "",
                               std::strerror(failure[1]));
     return child;
   }
   child.pid = pid;
+  child.confined = confinement >= 0;
   return child;
 }
 

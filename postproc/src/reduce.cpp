@@ -43,6 +43,12 @@ void require_successful_run(const formats::Case& c, bool holding_lock) {
   const auto record = c.run_record();
   const auto& dir = c.dir();
   if (!record.exists()) {
+    if (fs::exists(c.path(c.files().log))) {
+      throw std::runtime_error(fmt::format("{}: the case has not been run by granstack, but its {} says LIGGGHTS ran its "
+                                           "deck: take that run as the case's with 'granstack adopt {}' (it checks the "
+                                           "log and outputs against the deck), or run it with 'granstack run {}'",
+                                           dir, c.files().log, dir, dir));
+    }
     throw std::runtime_error(fmt::format("{}: the case has not been run; run 'granstack run {}' first", dir, dir));
   }
   if (record.status == "damaged") throw formats::FormatError(c.path(c.files().run_record).string(), 0, record.error);
@@ -73,6 +79,7 @@ struct SeriesColumns {
   int step = -1;
   std::vector<int> trans, rot;  // per block
   int striker_t = -1, striker_r = -1, out_t = -1, out_r = -1;
+  int bottom_t = -1, bottom_r = -1;  // the bottom row's, where the deck writes them
   int wall_force = -1;  // the bottom wall's force (model::kBottomWallForceColumn), when the deck writes it
   static double at(const std::vector<double>& row, int c) { return row[static_cast<std::size_t>(c)]; }
   double block_ke(const std::vector<double>& row, int k) const {
@@ -80,6 +87,7 @@ struct SeriesColumns {
   }
   double striker_ke(const std::vector<double>& row) const { return at(row, striker_t) + at(row, striker_r); }
   double output_ke(const std::vector<double>& row) const { return at(row, out_t) + at(row, out_r); }
+  double bottom_row_ke(const std::vector<double>& row) const { return at(row, bottom_t) + at(row, bottom_r); }
 };
 
 SeriesColumns series_columns(const formats::Series& series, const std::string& path, int nb) {
@@ -100,6 +108,8 @@ SeriesColumns series_columns(const formats::Series& series, const std::string& p
   c.out_t = find("ke_trans_output_sphere");
   c.out_r = find("ke_rot_output_sphere");
   c.wall_force = series.column(model::kBottomWallForceColumn);
+  c.bottom_t = series.column("ke_trans_bottom_row");
+  c.bottom_r = series.column("ke_rot_bottom_row");
   if (!missing.empty()) {
     throw formats::FormatError(path, 0, fmt::format("lacks the columns {} that the case's deck writes: it is not this "
                                                     "case's series", fmt::join(missing, ", ")));
@@ -182,11 +192,18 @@ void require_frame_matches_series(const FrameEnergy& e, const formats::Series& s
                                                       e.step, k + 1, c.block_ke(row, static_cast<int>(k)), e.block_ke[k]));
     }
   }
-  if (differ(c.striker_ke(row), e.striker_ke)) {
-    throw formats::FormatError(path, 0, fmt::format("at step {} the striker's kinetic energy is {:.17g} J here and "
-                                                    "{:.17g} J in the dump: the series is not this run's",
-                                                    e.step, c.striker_ke(row), e.striker_ke));
-  }
+  // The striker, the output sphere and the bottom row, whose columns the output fraction and the
+  // peaks are read from: a group the deck defined otherwise would give another sphere's energy.
+  const auto check = [&](const char* what, double series_value, double dump_value) {
+    if (!differ(series_value, dump_value)) return;
+    throw formats::FormatError(path, 0, fmt::format("at step {} the {}'s kinetic energy is {:.17g} J here and {:.17g} J "
+                                                    "in the dump: the series is not this run's, or its group is not "
+                                                    "the case's",
+                                                    e.step, what, series_value, dump_value));
+  };
+  check("striker", c.striker_ke(row), e.striker_ke);
+  check("output sphere", c.output_ke(row), e.output_sphere_ke);
+  if (c.bottom_t >= 0 && c.bottom_r >= 0) check("bottom row", c.bottom_row_ke(row), e.bottom_row_ke);
 }
 
 
@@ -404,7 +421,9 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   CaseReduction r;
   r.case_dir = case_dir;
   r.case_name = manifest.case_name;
-  r.engine = formats::run_engine(c.run_record());
+  const auto record = c.run_record();
+  r.engine = formats::run_engine(record);
+  r.deck_additions = formats::deck_additions_ran(record);
   r.spec = spec;
   r.e_in = stack.incident_energy();
   // The in-situ series gives the peaks. It must be the run's own and whole (checked here), and
@@ -599,6 +618,7 @@ json to_json(const CaseReduction& r) {
   json j = {{"case", r.case_name},
           {"case_dir", r.case_dir},
           {"engine", r.engine},
+          {"deck_additions", r.deck_additions},
           {"blocks", r.spec.blocks},
           {"restitution", r.spec.restitution.value},
           {"friction", r.spec.friction.value},
@@ -739,6 +759,11 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
                      "surface): {:.6g} m\n", r.crush, r.penetration);
     }
     fmt::format_to(out, "{}\n", yield_line(r));
+  }
+  for (const auto& r : rs) {
+    if (r.deck_additions.empty()) continue;
+    fmt::format_to(out, "{}the deck of {} added what its spec's deck_additions lists: {}\n", rs.size() == 1 ? "" : "note: ",
+                   r.case_name, fmt::join(r.deck_additions, "; "));
   }
   // A container's panels one by one (the blocks' figures sum every panel), for each container case.
   for (const auto& r : rs) {

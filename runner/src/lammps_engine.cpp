@@ -1,6 +1,7 @@
 // LAMMPS behind the engine interface: the case's spec rendered as a LAMMPS deck (in.lammps, from
 // templates/in.lammps.tmpl or the user's --lammps-template), run as LIGGGHTS is (program.hpp) on
 // the same data file, writing the same dumps and series.
+#include "deck_check.hpp"
 #include "engine.hpp"
 #include "program.hpp"
 
@@ -19,6 +20,7 @@
 #include <mutex>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 
 namespace granstack::runner {
 
@@ -106,14 +108,28 @@ const model::LammpsRules* rules_of(const std::string& program, const std::string
 }
 
 // The case's deck, from the template the options name (a user's, or templates/in.lammps.tmpl), for
-// the LAMMPS of the family `rules`, checked against the manifest (formats::check_lammps_deck).
+// the LAMMPS of the family `rules`, its lines held to the case (deck_refusal).
+constexpr const char* kOwnTemplate = "templates/in.lammps.tmpl";
+
+// The deck granstack's own template gives the case on LAMMPS: what a deck and its run are held to.
+std::string reference_deck(const formats::Case& c, const model::LammpsRules& rules) {
+  return generator::lammps_deck(c.stack(), c.resolution(), c.files(), c.name(), generator::default_lammps_template(),
+                                kOwnTemplate, rules);
+}
+
+// A deck from the user's template that does not run the case (deck_refusal says why).
+struct DeckRefused : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 std::string render_deck(const formats::Case& c, const RunOptions& o, const model::LammpsRules& rules) {
-  const bool own = o.lammps_template.empty();
-  const auto text = own ? std::string(generator::default_lammps_template()) : formats::read_file(o.lammps_template);
-  const auto source = own ? std::string("templates/in.lammps.tmpl") : o.lammps_template;
-  auto deck = generator::lammps_deck(c.stack(), c.resolution(), c.files(), c.name(), text, source, rules);
-  formats::check_lammps_deck(c, deck, c.path(lammps_files(c.files()).deck).string(), source,
-                             generator::lammps_contact_lines(c.stack(), rules));
+  if (o.lammps_template.empty()) return reference_deck(c, rules);
+  auto deck = generator::lammps_deck(c.stack(), c.resolution(), c.files(), c.name(),
+                                     formats::read_file(o.lammps_template), o.lammps_template, rules);
+  const auto name = lammps_files(c.files()).deck;
+  if (const auto why = deck_refusal(c, deck, name, o.lammps_template, reference_deck(c, rules)); !why.empty()) {
+    throw DeckRefused(why);
+  }
   return deck;
 }
 
@@ -167,9 +183,8 @@ class Lammps final : public CaseEngine {
     if (why = model::lammps_unmappable(c.spec(), *rules); !why.empty()) return "LAMMPS: " + why;
     try {
       (void)render_deck(c, o, *rules);
-    } catch (const formats::FormatError& e) {
-      return fmt::format("LAMMPS: the deck from {} does not run the case's spec: {}",
-                         o.lammps_template.empty() ? "templates/in.lammps.tmpl" : o.lammps_template, e.what());
+    } catch (const DeckRefused& e) {
+      return fmt::format("LAMMPS: {}", e.what());
     } catch (const std::exception& e) {
       return fmt::format("LAMMPS: the deck cannot be rendered: {}", e.what());
     }
@@ -192,7 +207,8 @@ class Lammps final : public CaseEngine {
       result.error = fmt::format("LAMMPS: {} could not be written: {}", files.deck, e.what());
       return result;
     }
-    result = run_program(c, o, {"LAMMPS", o.lammps, files, "lammps_version", {}}, on_step, on_started);
+    result = run_program(c, o, {"LAMMPS", o.lammps, files, "lammps_version", {}, reference_deck(c, *rules), kOwnTemplate},
+                         on_step, on_started);
     if (result.error.empty() && !result.interrupted) {
       try {
         result.error = drop_setup_rows(fs::path(c.dir()) / files.series);
@@ -202,7 +218,7 @@ class Lammps final : public CaseEngine {
     }
     result.record["lammps_deck"] = files.deck;
     result.record["lammps_rules"] = rules->name;
-    result.record["lammps_template"] = o.lammps_template.empty() ? "templates/in.lammps.tmpl" : o.lammps_template;
+    result.record["lammps_template"] = o.lammps_template.empty() ? kOwnTemplate : o.lammps_template;
     return result;
   }
 };

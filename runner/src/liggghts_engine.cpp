@@ -1,5 +1,6 @@
 // LIGGGHTS behind the engine interface: the program (or mpirun with it) on the case's deck, its
 // log followed for progress and errors.
+#include "deck_check.hpp"
 #include "engine.hpp"
 #include "program.hpp"
 
@@ -7,6 +8,7 @@
 
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/log.hpp>
+#include <granstack/generator/case_writer.hpp>
 #include <granstack/runner/engines.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/os/process.hpp>
@@ -138,6 +140,19 @@ class Tail {
   std::string partial_;
 };
 
+// Where the program may write (os::StartOptions::writable): the case (its dump folder too, where
+// that is a link to scratch space), Open MPI's session folder (granstack's, or the user's own) and
+// /dev (/dev/null, and /dev/shm for Open MPI's shared memory). A deck that writes elsewhere fails.
+std::vector<fs::path> writable_folders(const fs::path& dir, const formats::CaseFiles& files, const std::string& tmpdir) {
+  std::vector<fs::path> writable{fs::absolute(dir), "/dev"};
+  std::error_code ec;
+  const auto dumps = fs::canonical(dir / fs::path(files.dump).parent_path(), ec);
+  if (!ec) writable.push_back(dumps);
+  if (!tmpdir.empty()) writable.emplace_back(tmpdir);
+  if (const char* own = std::getenv("OMPI_MCA_orte_tmpdir_base"); own != nullptr && own[0] != '\0') writable.emplace_back(own);
+  return writable;
+}
+
 }  // namespace
 
 std::string program_unavailable(const std::string& name, const std::string& executable, const std::string& flag,
@@ -257,11 +272,13 @@ EngineResult run_program(const formats::Case& c, const RunOptions& o, const Prog
     start.cwd = fs::absolute(dir);
     start.output = fs::absolute(dir / files.screen);
     start.extra_environment = mpi_environment(tmpdir.path(), o.ranks);
+    start.writable = writable_folders(dir, files, tmpdir.path());
     const auto child = os::start(argv, start);
     if (child.pid < 0) {
       result.error = child.error;
       return result;
     }
+    result.record["writes_confined"] = child.confined;
     scanner = formats::LogScanner();
     exit_code = -1;
     signal_text.clear();
@@ -333,6 +350,11 @@ EngineResult run_program(const formats::Case& c, const RunOptions& o, const Prog
                                  files.screen);
     }
   }
+  if (result.record.value("writes_confined", false) && result.error.find("Cannot open") != std::string::npos) {
+    result.error += "; granstack lets the program write only inside the case (and /dev and Open MPI's session "
+                    "folder): a deck that writes elsewhere fails at that command, before it writes anything there";
+  }
+  if (result.error.empty()) result.error = hold_run(c, files, program.reference, program.reference_source, result.record);
   result.record["exit_code"] = exit_code;
   result.record[program.version_key] = scanner.version();
   if (!scanner.warnings().empty()) result.record["warnings"] = scanner.warnings();
@@ -363,6 +385,16 @@ void remove_forced_restarts(const fs::path& dir, fs::file_time_type since) {
   }
 }
 
+// The template generate rendered the case's deck from, as its command line names it.
+std::string template_of(const formats::Manifest& m) {
+  for (std::size_t i = 0; i < m.command_line.size(); ++i) {
+    const auto& a = m.command_line[i];
+    if (a == "--template" && i + 1 < m.command_line.size()) return m.command_line[i + 1];
+    if (a.rfind("--template=", 0) == 0) return a.substr(11);
+  }
+  return "a template of yours";
+}
+
 class Liggghts final : public CaseEngine {
  public:
   std::string lock_holder() const override { return "granstack run"; }
@@ -370,11 +402,19 @@ class Liggghts final : public CaseEngine {
     if (const auto why = model_refusal(Engine::liggghts, c.spec().contact_model()); !why.empty()) {
       return "LIGGGHTS: " + std::string(why);
     }
-    return program_unavailable("LIGGGHTS", o.liggghts, "--liggghts", "liggghts", o);
+    if (const auto why = program_unavailable("LIGGGHTS", o.liggghts, "--liggghts", "liggghts", o); !why.empty()) {
+      return why;
+    }
+    const auto deck = c.files().deck;
+    return deck_refusal(c, formats::read_file(c.path(deck)), deck, template_of(c.manifest()),
+                        generator::default_deck(c.manifest()));
   }
   EngineResult run(const formats::Case& c, const RunOptions& o, const std::function<void(long)>& on_step,
                    const std::function<void()>& on_started) const override {
-    return run_program(c, o, {"LIGGGHTS", o.liggghts, c.files(), "liggghts_version", {}}, on_step, on_started);
+    return run_program(c, o,
+                       {"LIGGGHTS", o.liggghts, c.files(), "liggghts_version", {}, generator::default_deck(c.manifest()),
+                        "templates/in.granstack.tmpl"},
+                       on_step, on_started);
   }
   void tidy(const fs::path& dir, fs::file_time_type since) const override { remove_forced_restarts(dir, since); }
 };

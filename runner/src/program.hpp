@@ -15,6 +15,10 @@ struct Program {
   formats::CaseFiles files;  // the deck it reads, the log and screen files it writes
   std::string version_key;   // run.json's key for its banner's version
   std::vector<std::string> extra_arguments;  // after -in DECK -log LOG
+  // The deck granstack's own template gives for the case on this program, and its name: what the
+  // run's executed commands are held to (deck_check.hpp).
+  std::string reference;
+  std::string reference_source;
 };
 
 // Why the program cannot be started at all (not found; mpirun missing for ranks > 1; no

@@ -89,11 +89,13 @@ TEST_F(Engines, LammpsErrorsAreTheRunsFailure) {
   const auto c = make_case("case");
   const auto tmpl = path("broken.tmpl");
   auto text = read_bytes(fs::path(GRANSTACK_SOURCE_DIR) / "templates" / "in.lammps.tmpl");
-  text.replace(text.find("fix             integr all nve/sphere"), 37, "fix             integr all no_such_style");
+  // A harmless command (thermo output) that LAMMPS itself refuses.
+  text.replace(text.find("thermo_style    custom step atoms ke c_gs_erot cpu"), 50,
+               "thermo_style    custom step atoms ke c_gs_erot no_such_keyword");
   std::ofstream(tmpl) << text;
   const auto r = granstack({"run", "--engine", "lammps", "--lammps-template", tmpl.string(), c.string()});
   EXPECT_EQ(r.code, 1) << r.output;
-  expect_contains(r, "ERROR: Unrecognized fix style 'no_such_style'");
+  expect_contains(r, "ERROR: Unknown keyword 'no_such_keyword' in thermo_style custom command");
   const auto j = record(c);
   EXPECT_EQ(j.at("status"), "failed");
   EXPECT_EQ(j.at("lammps_template"), tmpl.string());
@@ -169,15 +171,17 @@ TEST_F(Engines, LammpsVersionChoosesTheMapping) {
   EXPECT_EQ(deck.find("damping tsuji"), std::string::npos);
 }
 
-// A user's LAMMPS template is held to the spec as the LIGGGHTS deck is (#46 M3, M4): a hard-coded
-// time step, another contact, a dump sent outside the case or a shell command are refused before
-// the case is touched, naming the line; nothing is written outside the case.
+// A user's LAMMPS template is held to the case as the LIGGGHTS deck is (#46 M3, M4; #65): a
+// hard-coded time step, another contact, a dump sent outside the case or a shell command are
+// refused before the case is touched, naming the line and what to do; nothing is written outside
+// the case.
 TEST_F(Engines, ALammpsTemplateIsHeldToTheSpec) {
   const auto c = make_case("case");
   const auto own = read_bytes(fs::path(GRANSTACK_SOURCE_DIR) / "templates" / "in.lammps.tmpl");
   const auto outside = path("elsewhere");
   fs::create_directories(outside);
-  const auto refused = [&](const std::string& from, const std::string& to, const std::string& words) {
+  const auto refused = [&](const std::string& from, const std::string& to, const std::string& words,
+                           const std::string& mend) {
     auto text = own;
     const auto at = text.find(from);
     ASSERT_NE(at, std::string::npos) << from;
@@ -187,17 +191,27 @@ TEST_F(Engines, ALammpsTemplateIsHeldToTheSpec) {
     const auto r = granstack({"run", "--engine", "lammps", "--lammps-template", tmpl.string(), c.string()});
     EXPECT_EQ(r.code, 1) << r.output;
     expect_contains(r, words);
-    expect_contains(r, "take them out of " + tmpl.string());
+    expect_contains(r, "to mend: " + mend);
+    expect_contains(r, "(from " + tmpl.string() + ") does not run its case as the spec says");
     EXPECT_FALSE(fs::exists(c / "run.json")) << words;
     EXPECT_FALSE(fs::exists(c / "in.lammps")) << words;
   };
-  refused("timestep        {{dt}}", "timestep        1e-9", "the time step is 1e-9, the manifest's dt is");
+  const std::string placeholders = "leave it to the template's placeholders";
+  refused("timestep        {{dt}}", "timestep        1e-9", "'timestep 1e-9' is not what granstack's deck runs for this case",
+          placeholders);
   refused("{{pair_coeffs}}", "{{pair_coeffs}}\npair_coeff 1 1 hertz/material 1e9 0 0.3 damping viscoelastic tangential "
                              "linear_nohistory 0 0",
-          "is not a contact the spec maps onto");
-  refused("{{dump_file}}", (outside / "dump.txt").string(), "goes to " + (outside / "dump.txt").string());
-  refused("read_data       {{data_file}}", "read_data       {{data_file}}\nshell touch gotcha", "runs a shell command");
-  refused("read_data       {{data_file}}", "read_data       {{data_file}}\nlog ../../log.lammps", "writes outside the case");
+          "'pair_coeff 1 1 hertz/material 1e9 0 0.3 damping viscoelastic tangential linear_nohistory 0 0' is not what "
+          "granstack's deck runs",
+          placeholders);
+  refused("{{dump_file}}", (outside / "dump.txt").string(), "writes " + (outside / "dump.txt").string() + ", outside the case",
+          "write inside the case");
+  refused("read_data       {{data_file}}", "read_data       {{data_file}}\nshell touch gotcha",
+          "'shell touch gotcha' cannot be followed: it runs a program", "write out the commands it stands for");
+  refused("read_data       {{data_file}}", "read_data       {{data_file}}\nlog ../../log.lammps",
+          "'log ../../log.lammps' cannot be followed", "write out the commands it stands for");
+  refused("read_data       {{data_file}}", "read_data       {{data_file}}\nwrite_dump all atom ../USERFILE.txt",
+          "writes ../USERFILE.txt, outside the case", "write inside the case");
   EXPECT_TRUE(fs::is_empty(outside));
 }
 

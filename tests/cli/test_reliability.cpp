@@ -129,7 +129,8 @@ TEST_F(Reliability, GenerateForceKeepsWhatTheUserAddedToACaseOrSweep) {
   deck.insert(deck.rfind("{{run}}"), "fix             kt all ave/time 10 1 10 c_kt1 file ave_time.txt\n");
   std::ofstream(path("ave.tmpl")) << deck;
   const auto t = path("templated");
-  ASSERT_EQ(granstack({"generate", "-o", t.string(), "--blocks", "1", "--rows", "4", "--template", path("ave.tmpl").string()}).code, 0);
+  ASSERT_EQ(granstack({"generate", "-o", t.string(), "--blocks", "1", "--rows", "4", "--template", path("ave.tmpl").string(),
+                       "--deck-additions", "fix ave/time"}).code, 0);
   ASSERT_EQ(granstack({"run", t.string()}).code, 0);
   ASSERT_TRUE(fs::exists(t / "ave_time.txt"));
   EXPECT_EQ(granstack({"generate", "-o", t.string(), "--blocks", "1", "--rows", "4", "--force"}).code, 0);

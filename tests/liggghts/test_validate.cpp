@@ -3,6 +3,7 @@
 // different is a disagreement, named, never skipped.
 #include <granstack/formats/case.hpp>
 #include <granstack/formats/files.hpp>
+#include <granstack/formats/run_digests.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/generator/spec_input.hpp>
 #include <granstack/postproc/compare.hpp>
@@ -13,7 +14,9 @@
 
 #include "../support/scratch.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -331,22 +334,35 @@ TEST_P(StopAtBlowEnd, BothEnginesStopAtTheFrameWhereTheBlowEndedAndTheDeckChange
   }
 }
 
-// A deck that stops where the blow has not ended (a template of the user's that runs one dump
-// interval and jumps over the judging loop, which the checks on its run lines still find): reduce
-// says so, and does not take the blow as ended; the measures are read as reduce judges them.
+// A run that stopped where reduce judges the blow had not ended (an engine judging a frame within
+// round-off otherwise, as several MPI ranks may): reduce says so, and does not take the blow as
+// ended; the measures are read as reduce judges them. The record of such a run is made here from a
+// whole run, cut at its third frame, with its digests taken anew (what run.json would hold). A
+// template of the user's that skips the judging loop is refused: its run executed too few of the
+// case's commands.
 TEST(StopAtBlowEndCheck, ARunThatStopsElsewhereIsSaidAndItsBlowIsNotTakenAsEnded) {
   const auto root = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / "blow_end_elsewhere");
   fs::remove_all(root);
   fs::create_directories(root);
-  std::string text(generator::default_deck_template());
-  text.replace(text.rfind("{{run}}"), 7,
-               "run             {{dump_every}}\njump            SELF skipped\n{{run}}\nlabel           skipped");
-  std::ofstream(root / "deck.tmpl") << text;
   generator::GenerateOptions o;
   o.output = root / "case";
-  o.deck_template_path = (root / "deck.tmpl").string();
   generator::generate({{"case", blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::wall)}}, o);
   ASSERT_EQ(runner::run_cases({o.output.string()}, {}).front().status, runner::RunStatus::done);
+  const auto c = formats::Case::open(o.output.string());
+  const long every = c.derived().dump_every, stop = 2 * every;
+  auto dump = formats::read_file(c.path(c.files().dump));
+  dump.resize(dump.find(fmt::format("ITEM: TIMESTEP\n{}\n", stop + every)));
+  formats::write_file_atomically(c.path(c.files().dump), dump);
+  std::istringstream series(formats::read_file(c.path(c.files().series)));
+  std::string kept, line;
+  while (std::getline(series, line)) {
+    if (line[0] == '#' || std::stol(line.substr(0, line.find(' '))) <= stop) kept += line + "\n";
+  }
+  formats::write_file_atomically(c.path(c.files().series), kept);
+  auto record = nlohmann::json::parse(formats::read_file(c.path(c.files().run_record)));
+  record["steps"] = stop;
+  record["digests"] = formats::run_digests(c);
+  c.write_run_record(record);
   postproc::ReduceOptions quiet;
   quiet.write_files = false;
   const auto r = postproc::reduce_case(o.output.string(), quiet);
@@ -355,6 +371,17 @@ TEST(StopAtBlowEndCheck, ARunThatStopsElsewhereIsSaidAndItsBlowIsNotTakenAsEnded
     return w.find("before its cap") != std::string::npos && w.find("otherwise than reduce does") != std::string::npos;
   });
   EXPECT_TRUE(said) << (r.warnings.empty() ? std::string("no warning") : r.warnings.front());
+
+  std::string text(generator::default_deck_template());
+  text.replace(text.rfind("{{run}}"), 7,
+               "run             {{dump_every}} pre no post no\njump            SELF skipped\n{{run}}\nlabel           skipped");
+  std::ofstream(root / "deck.tmpl") << text;
+  o.output = root / "skipping";
+  o.deck_template_path = (root / "deck.tmpl").string();
+  generator::generate({{"case", blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::wall)}}, o);
+  const auto skipping = runner::run_cases({o.output.string()}, {}).front();
+  EXPECT_EQ(skipping.status, runner::RunStatus::failed);
+  EXPECT_NE(skipping.message.find("the deck never ran 'compute gs_pz"), std::string::npos) << skipping.message;
 }
 
 INSTANTIATE_TEST_SUITE_P(

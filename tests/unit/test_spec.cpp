@@ -232,6 +232,18 @@ TEST(SpecInput, UnknownKeysAndWrongTypesAreNamed) {
     EXPECT_EQ(e.issues()[1].field, "bottom");
   }
   EXPECT_THROW(generator::parse_spec_toml("blocks = [1, \n", "spec.toml"), std::runtime_error);
+  // A deck addition is a command, or a fix, compute or dump with its style.
+  try {
+    generator::build_sweep(generator::parse_spec_toml("deck_additions = [\"fix\", \"viscous 0.1\", \"Run\"]\n", "s"));
+    FAIL();
+  } catch (const model::SpecError& e) {
+    ASSERT_EQ(e.issues().size(), 3u);
+    EXPECT_EQ(e.issues()[0].field, "deck_additions");
+    EXPECT_NE(e.issues()[0].message.find("'fix' is not a command ('displace_atoms') or a fix, compute or dump with its "
+                                         "style ('fix viscous')"),
+              std::string::npos)
+        << e.issues()[0].message;
+  }
 }
 
 TEST(SpecInput, FlagListsSplitOnCommasAndDuplicatesAreRejected) {
@@ -302,6 +314,7 @@ rolling_model = "epsd2"
 rolling_friction = 0.1
 rolling_friction_pairs = { "steel:steel" = 0.05 }
 characteristic_velocity = 2
+deck_additions = ["fix viscous", "displace_atoms"]
 )", "every.toml");
   // Every field but rows, which block_rows replaces (the two are refused together), and stacking,
   // which the container refuses (strip only; read and written below).
@@ -315,6 +328,7 @@ characteristic_velocity = 2
   EXPECT_EQ(*spec.characteristic_velocity, 2.0);
   EXPECT_EQ(spec.rolling_friction.get("steel", "steel"), 0.05);
   EXPECT_EQ(spec.impact_offset, -1);
+  EXPECT_EQ(spec.deck_additions, (std::vector<std::string>{"fix viscous", "displace_atoms"}));
   auto nested = generator::build_sweep(generator::parse_spec_toml("radius_ratio = 3\nstacking = \"nested\"\n", "t")).base;
   EXPECT_EQ(nested.stacking, model::Stacking::nested);
   EXPECT_EQ(model::spec_from_json_fields(nlohmann::json::parse(model::spec_json(nested).dump())), nested);

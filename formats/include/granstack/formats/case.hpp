@@ -43,8 +43,13 @@ struct RunRecord {
 };
 
 // The engine a run's record names, with refsim's contact rules where they are LAMMPS's: "liggghts",
-// "lammps", "refsim" or "refsim (LAMMPS's rules)"; "" when the record names none.
+// "lammps", "refsim" or "refsim (LAMMPS's rules)", and "liggghts (run by hand)" for a run
+// `granstack adopt` took; "" when the record names none.
 std::string run_engine(const RunRecord& record);
+
+// The commands beyond granstack's deck that a run executed, as its spec's deck_additions let them
+// ("TEXT (FILE:LINE)", formats/deck_rules.hpp), from its record; empty when none.
+std::vector<std::string> deck_additions_ran(const RunRecord& record);
 
 // Reads DIR/run.json (files.run_record).
 RunRecord read_run_record(const std::filesystem::path& case_dir, const CaseFiles& files);

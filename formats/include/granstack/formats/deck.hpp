@@ -18,16 +18,6 @@ namespace granstack::formats {
 // contact model than the manifest.
 void check_deck_matches_manifest(const Case& c);
 
-// A LAMMPS deck rendered for the case (`deck`, to be written to `path`, from the template `source`)
-// against the manifest: its
-// time step and runs as above, its pair style granular and its pair_coeff and wall/gran lines
-// exactly `contact_lines` (the spec's contacts as model/lammps.hpp maps them, words separated by one
-// blank), its dump into the case's dump file, and no file written outside the case (a log,
-// write_*, restart or a fix's file outside it, or any shell command). Throws FormatError naming the
-// line and what to change.
-void check_lammps_deck(const Case& c, std::string_view deck, const std::string& path, const std::string& source,
-                       const std::set<std::string>& contact_lines);
-
 // The first half of the above: the deck's and data file's digests alone.
 void check_rendered_files(const std::string& case_dir, const Manifest& manifest);
 

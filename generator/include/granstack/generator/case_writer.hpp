@@ -56,9 +56,6 @@ std::string_view default_lammps_template();
 std::string lammps_deck(const model::Stack& stack, const model::Resolution& res, const formats::CaseFiles& files,
                         const std::string& case_name, std::string_view tmpl, std::string_view source,
                         const model::LammpsRules& rules);
-// The deck's pair_coeff and wall/gran lines for the stack (words separated by one blank): what
-// formats::check_lammps_deck holds a deck from another template to.
-std::set<std::string> lammps_contact_lines(const model::Stack& stack, const model::LammpsRules& rules);
 nlohmann::json derived_json(const model::Stack& stack, const model::Resolution& res);
 nlohmann::json layout_json(const model::Stack& stack);
 

@@ -122,6 +122,9 @@ struct StackSpec {
   RollingModel rolling_model = RollingModel::off;
   PairTable rolling_friction{0.0, {}};         // mu_r, rolling_model = epsd2 only
   std::optional<double> characteristic_velocity;  // m/s, normal_model = hooke only; nullopt = striker_speed
+  // Commands a deck template of the user's adds to granstack's ("fix viscous", "displace_atoms"):
+  // a run executing them is accepted and names them (formats/deck_rules.hpp).
+  std::vector<std::string> deck_additions;
 
   // The contact model with hooke's characteristic velocity resolved.
   ContactModel contact_model() const;

@@ -18,6 +18,10 @@ struct StartOptions {
   std::filesystem::path cwd;                 // empty: granstack's own
   std::filesystem::path output;              // stdout and stderr go here (truncated); empty: /dev/null
   std::vector<std::string> extra_environment;  // NAME=VALUE added to granstack's environment (replacing its NAME)
+  // Where the program (and all it starts) may write: beneath these folders (or files) alone,
+  // where the kernel has Landlock (Linux 5.13 and later; Child::confined says); empty: anywhere.
+  // Reading stays free.
+  std::vector<std::filesystem::path> writable;
 };
 
 // A started child. It runs in a process group of its own (so a Ctrl-C at the terminal reaches
@@ -25,7 +29,8 @@ struct StartOptions {
 // when the thread that started it ends, even when granstack itself is SIGKILLed.
 struct Child {
   pid_t pid = -1;
-  std::string error;  // why it could not start; pid is -1 then
+  std::string error;      // why it could not start; pid is -1 then
+  bool confined = false;  // it may write only where StartOptions::writable says
 };
 
 // Starts argv[0] (a path, as find_program returns) with the arguments exactly as given.

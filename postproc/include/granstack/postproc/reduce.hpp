@@ -24,6 +24,9 @@ struct CaseReduction {
   std::string case_dir;
   std::string case_name;
   std::string engine;                  // the engine that ran it, by its run.json (formats::run_engine)
+  // The commands beyond granstack's deck that the run executed, as the spec's deck_additions let
+  // them ("TEXT (FILE:LINE)"), by its run.json.
+  std::vector<std::string> deck_additions;
   model::StackSpec spec;
   double e_in = 0.0;                   // J
   double output_fraction = 0.0;        // output sphere's KE after separation / E_in

@@ -79,6 +79,14 @@ struct RunOptions {
 // are stopped (their LIGGGHTS killed) and marked interrupted, and no other case starts.
 std::vector<RunOutcome> run_cases(const std::vector<std::string>& case_dirs, const RunOptions& options);
 
+// Takes the outputs of cases whose deck was run outside granstack (`liggghts -in in.stack` in the
+// case's folder, or scripts of the user's own) as their runs (adopt.cpp): the deck as generated,
+// what its log shows LIGGGHTS executed held to the case, a whole run, the dump's frames and the
+// series' rows; then run.json records the run with its digests and "run_by": "hand". A case with
+// a finished run is skipped unless `force`; a case refused is `failed`, its message saying why,
+// and keeps its run.json.
+std::vector<RunOutcome> adopt_cases(const std::vector<std::string>& case_dirs, bool force);
+
 // Copies the inputs of a case (manifest, data file, deck) into a new directory `target`
 // (replacing a granstack case there; anything else there is refused), so the same case can be
 // run again elsewhere, e.g. by the other engine.
