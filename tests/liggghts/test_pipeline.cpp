@@ -5,6 +5,7 @@
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/log.hpp>
 #include <granstack/formats/manifest.hpp>
+#include <granstack/formats/run_digests.hpp>
 #include <granstack/formats/series.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/contact.hpp>
@@ -15,6 +16,7 @@
 #include <granstack/runner/runner.hpp>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include "../support/scratch.hpp"
 
 #include <gtest/gtest.h>
@@ -732,6 +734,43 @@ TEST(Reduce, TheNumberOfThreadsChangesNoByteOfTheResult) {
 // A user's template adding `fix ave/time` (whose file has two '#' header lines and %g values):
 // the series reader takes the last header's names, and the values match the full-precision
 // in-situ series to the 6 digits ave/time writes.
+// The series' columns reduce takes the output fraction and the bottom row from are the output
+// sphere's and the bottom row's, checked against the dump as each block's are (#65 N2): a series
+// whose output-sphere columns hold another sphere's energy (the striker's, here, with run.json's
+// digests taken anew, as a run of a deck that defined the group otherwise would record them) is
+// refused by name; so is one whose bottom-row columns do.
+TEST(Reduce, TheOutputSphereAndBottomRowColumnsAreCheckedAgainstTheDump) {
+  for (const std::string group : {"output_sphere", "bottom_row"}) {
+    const auto dir = run_case("case_" + group, blocks(2));
+    const auto c = formats::Case::open(dir);
+    const auto path = c.path(c.files().series);
+    auto series = formats::read_series(path.string());
+    std::string text = "# " + fmt::format("{}", fmt::join(series.columns, " ")) + "\n";
+    const auto from_t = static_cast<std::size_t>(series.column("ke_trans_striker"));
+    const auto from_r = static_cast<std::size_t>(series.column("ke_rot_striker"));
+    const auto to_t = static_cast<std::size_t>(series.column("ke_trans_" + group));
+    const auto to_r = static_cast<std::size_t>(series.column("ke_rot_" + group));
+    for (auto& row : series.rows) {
+      row[to_t] = row[from_t];
+      row[to_r] = row[from_r];
+      text += fmt::format("{}\n", fmt::join(row, " "));
+    }
+    formats::write_file_atomically(path, text);
+    auto record = nlohmann::json::parse(formats::read_file(c.path(c.files().run_record)));
+    record["digests"] = formats::run_digests(c);
+    c.write_run_record(record);
+    try {
+      postproc::reduce_case(dir);
+      ADD_FAILURE() << group << ": reduced";
+    } catch (const std::exception& e) {
+      const std::string what = e.what();
+      const auto name = group == "output_sphere" ? "output sphere" : "bottom row";
+      EXPECT_NE(what.find(fmt::format("the {}'s kinetic energy is", name)), std::string::npos) << what;
+      EXPECT_NE(what.find("or its group is not the case's"), std::string::npos) << what;
+    }
+  }
+}
+
 TEST(Reduce, FixAveTimeFilesFromAUserTemplateAreRead) {
   const fs::path dir = generate_with_template(
       [](std::string& text) {
