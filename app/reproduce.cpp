@@ -113,17 +113,11 @@ Command add_reproduce(CLI::App& app) {
                   "statements change between the engines, by how much, and why")
       ->check(CLI::ExistingDirectory);
   return {cmd, [f, cmd] {
-    // With --engine given, the engines that run are known now (refsim checks a DEM code with --validate,
-    // LIGGGHTS checks refsim); without it, the directory's cases say, later.
-    const auto& given = f->options;
-    if (!given.engine.empty()) {
-      std::vector<std::string> running{given.engine};
-      if (given.validate) running.push_back(given.engine == "refsim" ? "liggghts" : "refsim");
-      if (const auto why = other_engines_option(*cmd, running); !why.empty()) {
-        fmt::print(stderr, "error: {}\n", why);
-        return kBadInput;
-      }
-    }
+    // The engines that run (refsim checks a DEM code with --validate, LIGGGHTS checks refsim) are
+    // known once the engine is chosen: --engine, else the directory's finished cases, else LIGGGHTS.
+    f->options.refuse_engine_options = [cmd](const std::vector<std::string>& running) {
+      return other_engines_option(*cmd, running);
+    };
     return reproduce(*f);
   }};
 }

@@ -37,6 +37,12 @@ int submit(SubmitFlags& f) {
                o.nodes);
     return kBadInput;
   }
+  if (o.ranks > 1 && o.engine == "refsim") {  // its tasks would ask SLURM for ranks refsim never uses
+    fmt::print(stderr, "error: --np {}: refsim runs in one process and takes no MPI ranks; use --np with --engine "
+                       "liggghts or lammps\n",
+               o.ranks);
+    return kBadInput;
+  }
   cluster::Submission s;
   try {
     s = cluster::submit(f.targets, o);

@@ -33,21 +33,11 @@ SlurmResult run_slurm(const std::vector<std::string>& argv, double timeout_secon
   args.front() = *program;
   os::StartOptions o;
   o.output = temp;
-  const auto child = os::start(args, o);
-  r.started = child.pid >= 0;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_seconds);
-  std::optional<os::Exit> end;
-  while (r.started && !(end = os::poll(child))) {
-    if (std::chrono::steady_clock::now() > deadline) {
-      os::kill_group(child);
-      os::wait(child);
-      r.timed_out = true;
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  r.code = end ? end->code : -1;
-  const std::string error = r.started ? "" : child.error;
+  std::string error;
+  const auto end = os::run(args, o, &error, timeout_seconds);
+  r.started = error.empty();
+  r.timed_out = end.timed_out || end.stopped;
+  r.code = r.timed_out ? -1 : end.code;
   try {
     r.output = formats::read_file(temp);
   } catch (const std::exception&) {
@@ -55,7 +45,8 @@ SlurmResult run_slurm(const std::vector<std::string>& argv, double timeout_secon
   std::error_code ec;
   fs::remove(temp, ec);
   if (!r.started) r.output = error;
-  if (r.timed_out) r.output = fmt::format("{} did not answer within {:.0f} s (is the SLURM controller up?)", argv.front(), timeout_seconds);
+  if (end.stopped) r.output = fmt::format("{} was stopped: granstack was asked to stop", argv.front());
+  else if (r.timed_out) r.output = fmt::format("{} did not answer within {:.0f} s (is the SLURM controller up?)", argv.front(), timeout_seconds);
   while (!r.output.empty() && (r.output.back() == '\n' || r.output.back() == ' ')) r.output.pop_back();
   return r;
 }

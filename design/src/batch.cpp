@@ -175,7 +175,7 @@ class SlurmRunner : public BatchRunner {
       if (abandon != nullptr && abandon->load()) {
         std::vector<std::string> argv{"scancel"};
         argv.insert(argv.end(), ids.begin(), ids.end());
-        (void)os::run(argv, {});
+        (void)os::run(argv, {}, nullptr, os::probe_seconds());
         throw refsim::InSituStopped(fmt::format("abandoned: the search ended while {} ran (SLURM jobs {} cancelled)",
                                                 batch.string(), fmt::join(ids, ", ")));
       }

@@ -153,6 +153,36 @@ void add_violation(Evaluation& e, const std::string& why) {
   e.feasible = false;
   e.violations += (e.violations.empty() ? "" : "; ") + why;
 }
+
+// The run measures the space ranks on or bounds: a design lacking one has no place on the front.
+std::vector<std::string> named_run_measures(const Space& space) {
+  std::vector<std::string> names;
+  for (const auto o : space.objectives) {
+    if (o->from_run != nullptr) names.emplace_back(o->name);
+  }
+  for (const auto& [name, bound] : space.constraints.max_measures) names.push_back(name);
+  return names;
+}
+
+// Why a measure the space names is missing from the runs: their series does not resolve what a
+// shock measure reads, or it came out as no finite number; "" where the measure does not apply
+// (a yield ratio of contacts that are not Hertz's).
+std::string unmeasured_why(const Space& space, const std::string& name,
+                           const std::vector<std::optional<ScenarioOutcome>>& runs) {
+  const auto o = find_objective(name);
+  const bool shock = name == "filtered_wall_force" || name == "protected_acceleration" || name == "srs_peak";
+  for (const auto& r : runs) {
+    if (!r) continue;
+    if (const auto why = shock_measures_unresolved(space, r->second.wall_force_interval); shock && !why.empty()) {
+      return fmt::format("{} not measured: {}; lower it in [measures], or sample the designs' series finer", name, why);
+    }
+    if (const auto v = o != nullptr && o->from_run != nullptr ? o->from_run(r->second, space) : std::nullopt;
+        v && !std::isfinite(*v)) {
+      return fmt::format("{} not measured: it came out as {}, no number", name, *v);
+    }
+  }
+  return "";
+}
 }  // namespace
 
 void record(const Space& space, Evaluation& e, const std::vector<std::optional<ScenarioOutcome>>& runs) {
@@ -169,6 +199,10 @@ void record(const Space& space, Evaluation& e, const std::vector<std::optional<S
     e.seconds += o.seconds;
   }
   e.measures = aggregated(space, done);
+  for (const auto& name : named_run_measures(space)) {
+    if (e.measures.count(name) != 0) continue;  // taken in every run
+    if (const auto why = unmeasured_why(space, name, runs); !why.empty()) add_violation(e, why);
+  }
   for (const auto& [name, bound] : space.constraints.max_measures) {
     const auto it = e.measures.find(name);
     if (it != e.measures.end() && it->second > bound) add_violation(e, fmt::format("{} {:.4g} > {:.4g}", name, it->second, bound));

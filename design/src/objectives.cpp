@@ -5,6 +5,8 @@
 #include <granstack/model/shock.hpp>
 #include <granstack/postproc/reduce.hpp>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -21,9 +23,11 @@ std::optional<double> wall_impulse(const Outcome& o, const Space& s) {
 std::optional<double> crush(const Outcome& o, const Space&) { return o.crush; }
 std::optional<double> penetration(const Outcome& o, const Space&) { return o.penetration; }
 std::optional<double> yield_ratio(const Outcome& o, const Space&) { return o.yield_ratio; }
-// The wall's force through the space's channel filter, or none without one.
+// The wall's force through the space's channel filter, or none without one, or where the series
+// does not resolve the filter's design frequency (shock_measures_unresolved says so).
 std::optional<std::vector<double>> filtered_force(const Outcome& o, const Space& s) {
   if (!o.peak_wall_force || s.cfc == 0) return std::nullopt;
+  if (!model::unresolved("", model::channel_design_frequency(s.cfc), o.wall_force_interval).empty()) return std::nullopt;
   return model::channel_filter(o.wall_force, o.wall_force_interval, s.cfc).values;
 }
 std::optional<double> filtered_wall_force(const Outcome& o, const Space& s) {
@@ -44,6 +48,7 @@ std::optional<double> protected_acceleration(const Outcome& o, const Space& s) {
 // causal input: the phaseless filter's output starts before the blow).
 std::optional<double> srs_peak(const Outcome& o, const Space& s) {
   if (!o.peak_wall_force || s.protected_mass <= 0.0 || s.srs_high <= 0.0) return std::nullopt;
+  if (!model::unresolved("", s.srs_high, o.wall_force_interval).empty()) return std::nullopt;
   auto a = o.wall_force;
   for (double& v : a) v /= s.protected_mass;
   return model::shock_response_peak(a, o.wall_force_interval, s.srs_low, s.srs_high, s.srs_damping).acceleration;
@@ -160,13 +165,26 @@ std::optional<double> objective_value(const Evaluation& e, Objective o) {
   return it->second;
 }
 
+std::string shock_measures_unresolved(const Space& space, double interval) {
+  if (space.cfc > 0) {
+    if (auto why = model::unresolved(fmt::format("the channel filter (cfc = {}, its design frequency)", space.cfc),
+                                     model::channel_design_frequency(space.cfc), interval);
+        !why.empty()) {
+      return why;
+    }
+  }
+  if (space.srs_high > 0.0) return model::unresolved("srs_band (its top)", space.srs_high, interval);
+  return "";
+}
+
 std::map<std::string, double> run_measures(const Space& space, const Outcome& o) {
   const bool wall = space.fixed.bottom == model::Boundary::wall;
   std::map<std::string, double> out;
   for (const auto& def : kTable) {
     if (def.from_run == nullptr) continue;
     if ((def.needs == Needs::wall && !wall) || (def.needs == Needs::free_bottom && wall)) continue;
-    if (const auto v = def.from_run(o, space)) out.emplace(std::string(def.name), *v);
+    // A value that is not a number is no measure: the design's record says which is missing.
+    if (const auto v = def.from_run(o, space); v && std::isfinite(*v)) out.emplace(std::string(def.name), *v);
   }
   return out;
 }

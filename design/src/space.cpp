@@ -1,3 +1,5 @@
+#include <granstack/design/objectives.hpp>
+#include <granstack/design/search.hpp>
 #include <granstack/design/space.hpp>
 #include <granstack/formats/digest.hpp>
 #include <granstack/formats/error.hpp>
@@ -16,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <set>
 #include <sstream>
 
 namespace granstack::design {
@@ -139,6 +142,13 @@ void read_vary(const toml::table* vary, Space& s, std::vector<std::string>& prob
   }
 }
 
+// A value as the file wrote it (for messages).
+std::string toml_text(const toml::node& v) {
+  std::ostringstream out;
+  out << toml::toml_formatter{v};
+  return out.str();
+}
+
 std::vector<std::string> objective_names() {
   std::vector<std::string> names;
   for (const auto& o : objective_table()) names.emplace_back(o.name);
@@ -148,7 +158,13 @@ std::vector<std::string> objective_names() {
 void read_objectives(const toml::table& root, Space& s, std::vector<std::string>& problems) {
   const auto* a = root.get_as<toml::array>("objectives");
   if (a == nullptr) {
-    problems.push_back(fmt::format("objectives is missing: a list of two or more of {}", joined(objective_names())));
+    const auto* given = root.get("objectives");
+    problems.push_back(given == nullptr
+                           ? fmt::format("objectives is missing: a list of two or more of {}", joined(objective_names()))
+                           : fmt::format("objectives = {}: a list of two or more of {}, e.g. objectives = [\"{}\", "
+                                         "\"areal_mass\"]",
+                                         toml_text(*given), joined(objective_names()),
+                                         given->value<std::string>().value_or("peak_wall_force")));
     return;
   }
   for (const auto& e : *a) {
@@ -196,23 +212,36 @@ bool read_shock_measure(const std::string& key, const toml::node& v, Space& s, s
 
 // The settings each measure of what the protected object feels needs, for the objectives and
 // constraints that name it.
-void require_shock_settings(Space& s, std::vector<std::string>& problems) {
+// A setting given with a value refused is not also said to be missing (`given`: the [measures]
+// keys the file names).
+void require_shock_settings(Space& s, const std::set<std::string>& given, std::vector<std::string>& problems) {
   const auto named = [&](std::string_view m) {
     return std::find(s.objectives.begin(), s.objectives.end(), find_objective(m)) != s.objectives.end() ||
            s.constraints.max_measures.count(std::string(m)) > 0;
   };
+  const auto missing = [&](const char* key, bool unset) { return unset && given.count(key) == 0; };
   for (const char* m : {"filtered_wall_force", "protected_acceleration"}) {
-    if (named(m) && s.cfc == 0) {
+    if (named(m) && missing("cfc", s.cfc == 0)) {
       problems.push_back(fmt::format("{} needs its filter: set [measures] cfc (SAE J211-1's channel frequency class: 60, 180, "
                                      "600 or 1000)", m));
     }
   }
   for (const char* m : {"protected_acceleration", "srs_peak"}) {
-    if (named(m) && s.protected_mass <= 0.0) problems.push_back(fmt::format("{} needs [measures] protected_mass (kg)", m));
+    if (named(m) && missing("protected_mass", s.protected_mass <= 0.0)) {
+      problems.push_back(fmt::format("{} needs [measures] protected_mass (kg)", m));
+    }
   }
-  if (named("srs_peak") && s.srs_high <= 0.0) {
+  if (named("srs_peak") && missing("srs_band", s.srs_high <= 0.0)) {
     problems.push_back("srs_peak needs [measures] srs_band = [low, high] (Hz), e.g. [100, 10000]");
   }
+}
+
+std::set<std::string> keys_of(const toml::table* t) {
+  std::set<std::string> keys;
+  if (t != nullptr) {
+    for (const auto& [k, v] : *t) keys.insert(std::string(k.str()));
+  }
+  return keys;
 }
 
 // [measures]: the settings of measures that take one (wall_impulse's window).
@@ -747,6 +776,31 @@ std::string Space::digest() const {
   return formats::sha256_hex(j.dump());
 }
 
+namespace {
+// The shock measures inside what the designs' series resolve, judged before anything is written on
+// the space's lightest and heaviest designs at each scenario (how finely a run samples the wall's
+// force follows its time step and length); a design of another size whose series does not resolve
+// them is infeasible, saying why (evaluate.cpp).
+void check_shock_resolved(const Space& s, std::vector<std::string>& problems) {
+  if (s.cfc == 0 && s.srs_high <= 0.0) return;
+  const auto [light, heavy] = s.extreme_designs();
+  for (const auto& design : {light, heavy}) {
+    for (const auto& one : scenario_specs(s, design)) {
+      const auto stack = model::Stack::build(first_run(s, one));
+      const auto res = model::resolve(stack);
+      const auto why = shock_measures_unresolved(s, res.dt * static_cast<double>(res.series_every));
+      if (why.empty()) continue;
+      problems.push_back(fmt::format("[measures]: {} for the design {} struck at {:g} m/s: a measure above what the series "
+                                     "resolves reads the interpolation between its samples, not the blow; lower srs_band's "
+                                     "top or cfc below {:.4g} Hz",
+                                     why, describe(design), one.striker_speed,
+                                     model::highest_resolved_frequency(res.dt * static_cast<double>(res.series_every))));
+      return;
+    }
+  }
+}
+}  // namespace
+
 Space parse_space(std::string_view text, const std::string& source, bool stored, bool free_sides_by_default) {
   toml::table root;
   try {
@@ -771,7 +825,7 @@ Space parse_space(std::string_view text, const std::string& source, bool stored,
   read_measures(root.get_as<toml::table>("measures"), s, problems);
   read_scenarios(root.get_as<toml::table>("scenarios"), root.get_as<toml::table>("fixed"), s, problems);
   read_constraints(root.get_as<toml::table>("constraints"), s, problems);
-  require_shock_settings(s, problems);
+  require_shock_settings(s, keys_of(root.get_as<toml::table>("measures")), problems);
   read_confirm(root.get_as<toml::table>("confirm"), s, problems);
   read_search(root.get_as<toml::table>("search"), s, problems);
   if (problems.empty()) {
@@ -781,6 +835,7 @@ Space parse_space(std::string_view text, const std::string& source, bool stored,
     to.insert(to.end(), unsound.begin(), unsound.end());
   }
   if (problems.empty()) check_not_empty(s, problems);
+  if (problems.empty() && !stored) check_shock_resolved(s, problems);
   if (problems.empty() && !stored) read_start(s, source, problems);
   if (!problems.empty()) throw SpaceError(std::move(problems));
   return s;

@@ -30,6 +30,17 @@ void two_pole_pass(std::vector<double>& y, double a0, double b1, double b2) {
 }
 }  // namespace
 
+double channel_design_frequency(int cfc) { return design_frequency(cfc); }
+
+double highest_resolved_frequency(double interval) { return interval > 0.0 ? 0.1 / interval : 0.0; }
+
+std::string unresolved(const std::string& what, double frequency, double interval) {
+  if (frequency <= highest_resolved_frequency(interval)) return "";
+  return fmt::format("{} reads up to {:.4g} Hz, and the series samples every {:.3g} s, which resolves up to {:.4g} Hz (ten "
+                     "samples a period)",
+                     what, frequency, interval, highest_resolved_frequency(interval));
+}
+
 bool is_channel_class(int cfc) { return cfc == 60 || cfc == 180 || cfc == 600 || cfc == 1000; }
 double channel_corner_frequency(int cfc) { return 5.0 / 3.0 * cfc; }
 

@@ -2,9 +2,13 @@
 
 #include "write_confinement.hpp"
 
+#include <granstack/os/interrupt.hpp>
+
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 #include <cerrno>
 #include <csignal>
 #include <cstdlib>
@@ -186,13 +190,32 @@ std::optional<Exit> poll(const Child& child) {
   return std::nullopt;
 }
 
-Exit run(const std::vector<std::string>& argv, const StartOptions& options, std::string* start_error) {
+Exit run(const std::vector<std::string>& argv, const StartOptions& options, std::string* start_error, double seconds) {
   const auto child = start(argv, options);
   if (child.pid < 0) {
     if (start_error != nullptr) *start_error = child.error;
     return Exit{};
   }
-  return wait(child);
+  if (seconds <= 0.0) return wait(child);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  for (;;) {
+    if (const auto end = poll(child)) return *end;
+    const bool late = std::chrono::steady_clock::now() > deadline;
+    if (late || interrupt_signal() != 0) {
+      kill_group(child);
+      auto end = wait(child);
+      (late ? end.timed_out : end.stopped) = true;
+      return end;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+}
+
+double probe_seconds() {
+  const char* text = std::getenv("GRANSTACK_PROBE_SECONDS");
+  char* end = nullptr;
+  const double v = text != nullptr ? std::strtod(text, &end) : 0.0;
+  return text != nullptr && end != text && *end == '\0' && v > 0.0 && v < 1e6 ? v : 20.0;
 }
 
 int usable_cpus() {

@@ -40,7 +40,9 @@ std::string render_gnuplot(const std::string& dir_name, const std::string& name,
   start.cwd = dir;
   start.output = log;
   std::string start_error;
-  const auto end = os::run({o.gnuplot, name + ".gp"}, start, &start_error);
+  // Bounded: a figure takes gnuplot seconds; one that hangs (a broken terminal driver) cannot hold granstack.
+  constexpr double kGnuplotSeconds = 600.0;
+  const auto end = os::run({o.gnuplot, name + ".gp"}, start, &start_error, kGnuplotSeconds);
   std::error_code ec;
   if (!start_error.empty()) {
     throw std::runtime_error(fmt::format("{}; gnuplot comes with scripts/setup.sh (Debian package gnuplot-nox)", start_error));
@@ -52,8 +54,10 @@ std::string render_gnuplot(const std::string& dir_name, const std::string& name,
     } catch (const std::exception&) {
     }
     throw std::runtime_error(fmt::format("gnuplot failed on {} ({}). Its output: {}", (dir / (name + ".gp")).string(),
-                                         end.signal != 0 ? fmt::format("signal {}", end.signal)
-                                                         : fmt::format("exit code {}", end.code),
+                                         end.timed_out ? fmt::format("it did not end within {:g} s, and was killed", kGnuplotSeconds)
+                                         : end.stopped  ? std::string("stopped: granstack was asked to stop")
+                                         : end.signal != 0 ? fmt::format("signal {}", end.signal)
+                                                           : fmt::format("exit code {}", end.code),
                                          what.substr(0, 400)));
   }
   fs::remove(log, ec);

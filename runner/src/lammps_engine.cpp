@@ -33,6 +33,7 @@ using formats::lammps_files;
 // What `lmp -h` says of a LAMMPS: whether it lists pair style granular (the GRANULAR package), and
 // its version. Asked once per program.
 struct LammpsProgram {
+  std::string failure;    // why `lmp -h` gave no answer (it did not end in time, granstack was stopped)
   int exit_code = 0;      // of `lmp -h`
   bool banner = false;    // it printed LAMMPS's name
   bool granular = false;
@@ -47,8 +48,17 @@ LammpsProgram probe(const std::string& program) {
   const auto help = fs::temp_directory_path() / fmt::format("granstack-lmp-help-{}", ::getpid());
   os::StartOptions start;
   start.output = help;
-  const auto exit = os::run({program, "-h"}, start);
+  const auto seconds = os::probe_seconds();
+  const auto exit = os::run({program, "-h"}, start, nullptr, seconds);
   LammpsProgram p;
+  if (exit.timed_out || exit.stopped) {
+    p.failure = exit.stopped ? "was stopped with granstack, asked to stop"
+                             : fmt::format("did not end within {:g} s (it was killed; GRANSTACK_PROBE_SECONDS sets the "
+                                           "wait)", seconds);
+    std::error_code ec;
+    fs::remove(help, ec);
+    return p;  // not kept: the next run asks again
+  }
   p.exit_code = exit.ok() ? 0 : exit.signal != 0 ? 128 + exit.signal : exit.code;
   if (exit.ok()) {
     std::string text;
@@ -75,6 +85,12 @@ LammpsProgram probe(const std::string& program) {
 // The rules of the LAMMPS `program` (its version's), or why granstack cannot map onto it.
 const model::LammpsRules* rules_of(const std::string& program, const std::string& flag_value, std::string& why) {
   const auto p = probe(program);
+  if (!p.failure.empty()) {
+    why = fmt::format("'{} -h', asked which LAMMPS it is, {}; install Debian's 'lammps', or pass --lammps with the LAMMPS "
+                      "executable",
+                      flag_value, p.failure);
+    return nullptr;
+  }
   if (p.exit_code != 0 || !p.banner) {
     why = fmt::format("{} is not a LAMMPS: '{} -h' {}; install Debian's 'lammps', or pass --lammps with the LAMMPS "
                       "executable",

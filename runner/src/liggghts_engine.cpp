@@ -345,16 +345,20 @@ EngineResult run_program(const formats::Case& c, const RunOptions& o, const Prog
                                  quote.empty() ? "it printed nothing" : started ? "its last lines" : "its first lines",
                                  files.screen, quote.empty() ? "" : ":");
       for (const auto& line : quote) result.error += "\n    " + line;
+    } else if (auto held = hold_run(c, files, program.reference, program.reference_source, result.record); !held.empty()) {
+      result.error = std::move(held);  // what ran, from the log: also a deck that ran more or fewer steps
     } else if (!loop || !(c.spec().stop == model::StopRule::blow_end ? loop->steps <= total_steps : loop->steps == total_steps)) {
-      result.error = fmt::format("{} ended without finishing the run of {} steps (see {})", name, total_steps,
-                                 files.screen);
+      result.error = !loop || loop->steps < total_steps
+                         ? fmt::format("{} ended without finishing the run of {} steps ({} ran; see {})", name,
+                                       total_steps, loop ? std::to_string(loop->steps) : "none", files.screen)
+                         : fmt::format("{} ran {} steps, more than the case's {} (see {})", name, loop->steps,
+                                       total_steps, files.screen);
     }
   }
   if (result.record.value("writes_confined", false) && result.error.find("Cannot open") != std::string::npos) {
     result.error += "; granstack lets the program write only inside the case (and /dev and Open MPI's session "
                     "folder): a deck that writes elsewhere fails at that command, before it writes anything there";
   }
-  if (result.error.empty()) result.error = hold_run(c, files, program.reference, program.reference_source, result.record);
   result.record["exit_code"] = exit_code;
   result.record[program.version_key] = scanner.version();
   if (!scanner.warnings().empty()) result.record["warnings"] = scanner.warnings();

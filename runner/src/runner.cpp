@@ -122,8 +122,15 @@ class EarlierOutputs {
  public:
   static constexpr const char* kStash = ".granstack-earlier-run";
 
-  EarlierOutputs(const fs::path& dir, const formats::CaseFiles& files) : dir_(dir) {
+  // `files`: the engine's; `case_files`: the case's (the manifest's, LIGGGHTS's): another engine's
+  // log, screen output and LAMMPS's rendered deck go too, so that no earlier run's file stands
+  // beside the new record.
+  EarlierOutputs(const fs::path& dir, const formats::CaseFiles& files, const formats::CaseFiles& case_files) : dir_(dir) {
+    const auto lammps = formats::lammps_files(case_files);
     std::vector<std::string> names{files.series, files.log, files.screen, files.run_record};
+    for (const auto& other : {case_files.log, case_files.screen, lammps.deck, lammps.log, lammps.screen}) {
+      if (std::find(names.begin(), names.end(), other) == names.end() && other != case_files.deck) names.push_back(other);
+    }
     // Every piece of an earlier dump (per step, per rank, compressed), and nothing else; named
     // lexically from the case (never through a resolved link).
     for (const auto& piece : formats::dump_files_matching((dir / files.dump).string())) {
@@ -316,7 +323,7 @@ RunOutcome run_one(const std::string& case_dir, const RunOptions& o, Monitor& mo
     return outcome;
   }
   json record = running_record(o);
-  EarlierOutputs earlier(dir, files);
+  EarlierOutputs earlier(dir, files, c.files());
   fs::create_directories((dir / files.dump).parent_path());
   c.write_run_record(record);
   const auto started = fs::file_time_type::clock::now();

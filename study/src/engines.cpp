@@ -4,6 +4,7 @@
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/run_digests.hpp>
 #include <granstack/study/engines.hpp>
+#include <granstack/study/report.hpp>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -24,6 +25,24 @@ int EngineComparison::changed() const {
   return static_cast<int>(std::count_if(claims.begin(), claims.end(), [](const EngineDifference& d) {
     return d.verdict_here != "not run" && d.verdict_there != "not run" && d.verdict_here != d.verdict_there;
   }));
+}
+
+int EngineComparison::compared() const {
+  return static_cast<int>(std::count_if(claims.begin(), claims.end(), [](const EngineDifference& d) {
+    return d.verdict_here != "not run" && d.verdict_there != "not run";
+  }));
+}
+
+std::string EngineComparison::verdict_changes() const {
+  const int both = compared();
+  const int elsewhere = static_cast<int>(claims.size()) - both;
+  if (both == 0) {
+    return fmt::format("none of the {} statements was run there (its report holds other experiments): nothing was "
+                       "compared",
+                       claims.size());
+  }
+  return fmt::format("{} of {} statements run on both change their verdict{}", changed(), both,
+                     elsewhere > 0 ? fmt::format(" ({} not run there)", elsewhere) : "");
 }
 
 namespace {
@@ -71,6 +90,19 @@ OtherReproduction read_other_report(const std::string& dir) {
       !j["experiments"].is_array()) {
     throw AgainstError(fmt::format("--against {}: {} is not a reproduction's report (no engine or experiments)", dir,
                                      path.string()));
+  }
+  const auto recorded = j.value(kReportDigestKey, std::string());
+  if (recorded.empty() || recorded != report_digest(j)) {
+    std::string again = fmt::format("granstack reproduce -o {}", dir);
+    for (const auto& x : j["experiments"]) again += " " + x.value("name", "");
+    throw AgainstError(fmt::format(
+        "--against {}: {} {}, so its values and verdicts cannot be taken as its cases'; write it anew with `{}` (its "
+        "finished cases are kept)",
+        dir, path.string(),
+        recorded.empty() ? "predates granstack's record of its own digest (no report_sha256)"
+                         : "was edited after `granstack reproduce` wrote it (the SHA-256 of its content differs from "
+                           "its report_sha256)",
+        again));
   }
   o.engine = j["engine"].get<std::string>();
   std::vector<std::string> problems;

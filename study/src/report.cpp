@@ -1,3 +1,4 @@
+#include <granstack/formats/digest.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/postproc/compare.hpp>
 #include <granstack/postproc/document.hpp>
@@ -272,12 +273,12 @@ std::string against_note(const EngineComparison& c) {
       where = d.claim;
     }
   }
-  return fmt::format("This reproduction ran on {}; the one in {} on {}. {} of {} statements change their verdict between "
-                     "the engines; the largest relative difference of a claim's value is {:.3g} ({}). Each row names why "
+  return fmt::format("This reproduction ran on {}; the one in {} on {}: {}; the largest relative difference of a "
+                     "claim's value is {:.3g} ({}). Each row names why "
                      "the engines differ on the experiment's cases: the mapping of the spec onto LAMMPS's models "
                      "(docs/explanation/lammps.md) is exact for the Hertz force and the normal damping, and differs "
                      "only where named.",
-                     c.engine_here, c.dir, c.engine_there, c.changed(), c.claims.size(), largest, where);
+                     c.engine_here, c.dir, c.engine_there, c.verdict_changes(), largest, where);
 }
 
 Table against_table(const EngineComparison& c) {
@@ -414,9 +415,17 @@ nlohmann::json report_json(const StudyResult& r) {
     against = {{"dir", r.against->dir}, {"engine", r.against->engine_there}, {"changed", r.against->changed()},
                {"claims", rows}};
   }
-  return {{"granstack_version", std::string(version())}, {"against", against}, {"validation", r.validated ? json(validation_summary(r)) : json(nullptr)}, {"git_commit", std::string(git_commit())}, {"engine", r.engine},
+  json report = {{"granstack_version", std::string(version())}, {"against", against}, {"validation", r.validated ? json(validation_summary(r)) : json(nullptr)}, {"git_commit", std::string(git_commit())}, {"engine", r.engine},
           {"validated", r.validated}, {"quick", r.quick}, {"full", r.full}, {"wall_seconds", r.wall_seconds},
           {"failed_cases", r.failed_cases}, {"interrupted_cases", r.interrupted_cases}, {"interrupted", r.interrupted}, {"experiments", experiments}};
+  report[kReportDigestKey] = report_digest(report);
+  return report;
+}
+
+std::string report_digest(const nlohmann::json& report) {
+  auto rest = report;
+  rest.erase(kReportDigestKey);
+  return formats::sha256_hex(rest.dump());
 }
 
 // How the two engines agreed over every case.
@@ -464,9 +473,8 @@ std::string summary_text(const StudyResult& r) {
     }
   }
   if (r.against) {
-    out += fmt::format("\nagainst {} ({}): {} of {} statements change their verdict (report.md, 'Against {}')\n",
-                       r.against->engine_there, r.against->dir, r.against->changed(), r.against->claims.size(),
-                       r.against->engine_there);
+    out += fmt::format("\nagainst {} ({}): {} (report.md, 'Against {}')\n", r.against->engine_there, r.against->dir,
+                       r.against->verdict_changes(), r.against->engine_there);
   }
   out += "\nfrom the paper: (granstack - paper) / paper, in standard errors (s.e.) where a fit gives one; outside, by X %:\n"
          "X % beyond the nearer band edge. Each verdict is on the claim's one primary reading (report.md lists the others).\n";

@@ -389,6 +389,11 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& option
     for (auto& rec : er.cases) in_order.push_back(&rec);
   }
   o.engine = result.engine = choose_engine(o, in_order);
+  if (o.refuse_engine_options) {
+    std::vector<std::string> running{o.engine};
+    if (o.validate) running.push_back(runner::to_string(runner::other_engine(runner::parse_engine(o.engine))));
+    if (const auto why = o.refuse_engine_options(running); !why.empty()) throw AgainstError(why);
+  }
   if (other && other->engine == o.engine) {
     throw AgainstError(fmt::format("--against {}: that reproduction ran on {} too; give one made with another --engine",
                                    o.against, o.engine));

@@ -309,6 +309,17 @@ TEST(Reproduce, TheStudyOnLammpsKeepsEveryVerdictAndNamesEachDifference) {
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("that reproduction ran on lammps too"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(never));
+  // Its report vouched for by its digest, as its cases are by theirs (#65 M6): a value edited by
+  // hand, its verdict with it, is refused by name before anything is made.
+  auto edited = nlohmann::json::parse(read_bytes(dir / "report.json"));
+  auto& claim = edited.at("experiments").at(0).at("claims").at(0);
+  claim["value"] = 123.0;
+  claim["verdict"] = "within";
+  std::ofstream(dir / "report.json") << edited.dump(2) << "\n";
+  r = granstack({"reproduce", "--quick", "scale", "--engine", "refsim", "--against", dir.string(), "-o", never.string()});
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("report.json was edited after `granstack reproduce` wrote it"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(never));
 }
 
 // The HTML report in a real browser (Debian's Chromium, headless, no network): it loads, every

@@ -8,8 +8,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 using namespace granstack;
@@ -187,6 +191,53 @@ TEST_F(WhatRan, ADeckRunByHandIsAdoptedAndReducesAsGranstacksRun) {
   r = granstack({"adopt", "--force", path("hand").string()});
   EXPECT_EQ(r.code, 4) << r.output;
   expect_contains(r, "dump.txt");
+}
+
+}  // namespace
+
+namespace {
+
+// Processes whose command line is exactly `words` (the probe a fake LAMMPS leaves behind).
+int processes_running(const std::string& words) {
+  int found = 0;
+  for (const auto& p : fs::directory_iterator("/proc")) {
+    std::ifstream in(p.path() / "cmdline", std::ios::binary);
+    std::string cmd((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::replace(cmd.begin(), cmd.end(), '\0', ' ');
+    found += cmd == words + " " ? 1 : 0;
+  }
+  return found;
+}
+
+// N6: a LAMMPS whose '-h' never returns holds neither run nor validate: the probe is killed after
+// its time (GRANSTACK_PROBE_SECONDS), or at once when granstack is asked to stop, and nothing it
+// started is left.
+TEST_F(WhatRan, AProbeThatNeverAnswersIsKilledAndSaid) {
+  const auto fake = path("lmp");
+  std::ofstream(fake) << "#!/bin/sh\nexec sleep 987\n";
+  fs::permissions(fake, fs::perms::owner_all);
+  ASSERT_EQ(granstack({"generate", "-o", path("c").string(), "--blocks", "1"}).code, 0);
+  environment_ = {"GRANSTACK_PROBE_SECONDS=1"};
+  auto t0 = std::chrono::steady_clock::now();
+  auto r = granstack({"run", "--engine", "lammps", "--lammps", fake.string(), path("c").string()}, {}, 30);
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "'" + fake.string() + " -h', asked which LAMMPS it is, did not end within 1 s (it was killed");
+  r = granstack({"validate", "--engines", "lammps,refsim", "--lammps", fake.string(), path("c").string()}, {}, 30);
+  EXPECT_NE(r.code, 0) << r.output;
+  expect_contains(r, "did not end within 1 s");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 20.0);
+  EXPECT_EQ(processes_running("sleep 987"), 0);
+  // Without a bound of its own (20 s), a stop signal ends it at once.
+  environment_.clear();
+  t0 = std::chrono::steady_clock::now();
+  const auto child = start({"run", "--engine", "lammps", "--lammps", fake.string(), path("c").string()});
+  ASSERT_TRUE(eventually([&] { return processes_running("sleep 987") == 1; }, 10));
+  ::kill(child.pid, SIGINT);
+  r = finish(child, 10);
+  EXPECT_EQ(r.code, 130) << r.output;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10.0);
+  EXPECT_EQ(processes_running("sleep 987"), 0);
+  EXPECT_FALSE(fs::exists(path("c") / "run.json"));
 }
 
 }  // namespace

@@ -1705,6 +1705,20 @@ TEST(Protection, WhatTheProtectedObjectFeelsObeysItsClosedForms) {
   EXPECT_NE(problems_of(named).find("srs_peak needs [measures] srs_band"), std::string::npos) << problems_of(named);
   EXPECT_NE(problems_of(kSmallSpace + "[measures]\ncfc = 100\n").find("[measures] cfc: an SAE J211-1 channel frequency class"),
             std::string::npos);
+  // A setting given a value it refuses is not also said to be missing (#65 M13).
+  const auto refused = problems_of(named + "[measures]\ncfc = 100\nprotected_mass = -1\nsrs_band = [5]\n");
+  EXPECT_NE(refused.find("[measures] cfc: an SAE"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("[measures] protected_mass: a mass in kg"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("[measures] srs_band: [low, high]"), std::string::npos) << refused;
+  EXPECT_EQ(refused.find("needs"), std::string::npos) << refused;
+  // A band above what the designs' series resolve is refused before anything is written (#65 N3):
+  // the spectrum there reads the interpolation between samples, not the blow.
+  auto wall = kSmallSpace;
+  wall.replace(wall.find("\"areal_mass\"]"), 13, "\"areal_mass\", \"srs_peak\"]");
+  const auto above = problems_of(wall + "[measures]\nprotected_mass = 1\nsrs_band = [100, 1e8]\n");
+  EXPECT_NE(above.find("srs_band (its top) reads up to 1e+08 Hz, and the series samples every"), std::string::npos) << above;
+  EXPECT_NE(above.find("lower srs_band's top or cfc below"), std::string::npos) << above;
+  EXPECT_EQ(problems_of(wall + "[measures]\nprotected_mass = 1\nsrs_band = [100, 1e4]\n"), "");
 }
 
 // Robust designs (#32): a design runs once per scenario and each run measure is taken over them.

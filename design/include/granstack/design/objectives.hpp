@@ -111,7 +111,12 @@ std::optional<double> objective_value(const Evaluation& e, Objective o);
 // bound of its value over the whole run; none for a measure that does not grow, or not yet (the
 // windowed impulse until the run is longer than its window, whose windows are then whole).
 std::optional<double> value_so_far(Objective o, const Outcome& so_far, const Space& space);
-// Every run measure the space's bottom allows, by name, from one outcome (Evaluation::measures).
+// Every run measure the space's bottom allows, by name, from one outcome (Evaluation::measures);
+// a value that is not finite is left out, and so are the shock measures where the run's series does
+// not resolve what they read (shock_measures_unresolved).
 std::map<std::string, double> run_measures(const Space& space, const Outcome& o);
+// Why the space's shock measures (the channel filter's design frequency, the SRS band's top) cannot
+// be taken from a series sampled every `interval` s (model::unresolved), or "".
+std::string shock_measures_unresolved(const Space& space, double interval);
 
 }  // namespace granstack::design

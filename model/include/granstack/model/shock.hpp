@@ -4,6 +4,7 @@
 // a mass mounted on the protected object. Both read the series' samples of the wall's force,
 // linear between samples, as model::peak_window_impulse does, from F = 0 at the run's start.
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace granstack::model {
@@ -12,6 +13,18 @@ namespace granstack::model {
 bool is_channel_class(int cfc);
 // The class's corner frequency F_H (Hz), where the phaseless filter is 3 dB down: 5/3 CFC.
 double channel_corner_frequency(int cfc);
+// Its design frequency f_d (Hz): 2.0775 CFC.
+double channel_design_frequency(int cfc);
+
+// The highest frequency a series sampled every `interval` s resolves for these measures: a tenth of
+// its sample rate (ten samples a period; ISO 18431-4's rule for a shock response spectrum, and
+// what the channel filter asks of its design frequency, beyond which the bilinear transform's
+// warping is no longer small). Above it, what a measure reads is the interpolation between
+// samples, not the blow.
+double highest_resolved_frequency(double interval);
+// Why measures reading up to `frequency` Hz (`what` names them) cannot be taken from a series
+// sampled every `interval` s, or "".
+std::string unresolved(const std::string& what, double frequency, double interval);
 
 // `x`, sampled every `interval` s, through the channel filter of class `cfc` as SAE J211-1
 // (appendix C) gives it: a two-pole Butterworth low-pass of design frequency 2.0775 CFC,

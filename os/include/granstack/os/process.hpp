@@ -43,7 +43,9 @@ void kill_group(const Child& child);
 struct Exit {
   int code = -1;    // the exit code, or -1
   int signal = 0;   // the signal that ended it, or 0
-  bool ok() const { return code == 0 && signal == 0; }
+  bool timed_out = false;  // run(): killed (with its process group) after its time
+  bool stopped = false;    // run(): killed because granstack was asked to stop (interrupt_signal())
+  bool ok() const { return code == 0 && signal == 0 && !timed_out && !stopped; }
 };
 
 // Waits for the child to end (restarting on EINTR).
@@ -51,8 +53,16 @@ Exit wait(const Child& child);
 // The child's end if it has ended, else nullopt.
 std::optional<Exit> poll(const Child& child);
 
-// Runs argv to completion (start + wait); output as in StartOptions.
-Exit run(const std::vector<std::string>& argv, const StartOptions& options, std::string* start_error = nullptr);
+// Runs argv to completion (start + wait); output as in StartOptions. With `seconds` > 0 it
+// waits at most that long; a program still running then, or when granstack is asked to stop
+// (interrupt_signal()), is killed with everything it started (Exit::timed_out, Exit::stopped):
+// no external program can hold granstack.
+Exit run(const std::vector<std::string>& argv, const StartOptions& options, std::string* start_error = nullptr,
+         double seconds = 0.0);
+
+// How long granstack waits for a program that should answer at once (a version probe, a
+// scheduler's command): 20 s, or GRANSTACK_PROBE_SECONDS where that is a number above 0.
+double probe_seconds();
 
 // The CPUs granstack may run on: its affinity mask's (what taskset or a SLURM allocation leaves
 // it), at least 1.

@@ -72,6 +72,10 @@ struct ReproduceOptions {
   std::string lammps = "lmp";
   std::string against;                     // another engine's reproduction to set this one beside ("": none)
   std::string gnuplot = "gnuplot";
+  // Why the options given are for engines that will not run, once the engine is chosen (`running`:
+  // the chosen one and, with validate, the other), or "": a refusal (AgainstError's exit) before
+  // any case is made or changed. None: not checked.
+  std::function<std::string(const std::vector<std::string>& running)> refuse_engine_options;
   // Progress: a stage name and a line of detail, about twice a second while cases run.
   std::function<void(const std::string& line)> on_progress;
   // A line per event worth a log line (a case done, reused, failed), flushed at once by the caller.
@@ -92,6 +96,10 @@ struct EngineComparison {
   std::string engine_here, engine_there;
   std::vector<EngineDifference> claims;
   int changed() const;                 // claims whose verdict differs
+  int compared() const;                // claims run on both engines
+  // "K of N statements run on both change their verdict" (and how many were not run there), or,
+  // where none was run on both, that the other reproduction ran none of these statements.
+  std::string verdict_changes() const;
 };
 
 struct StudyResult {
