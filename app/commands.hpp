@@ -50,6 +50,21 @@ inline CLI::Validator finite_range(double lo, double hi) {
       fmt::format("FLOAT in [{:g} - {:g}]", lo, hi));
 }
 
+// A whole number in [lo, hi] ("1.5" is refused as no whole number, not as out of range); `why` is
+// said of a number below lo.
+inline CLI::Validator whole_range(long lo, long hi, std::string why = "") {
+  return CLI::Validator(
+      [lo, hi, why](const std::string& text) {
+        long v = 0;
+        if (!CLI::detail::lexical_cast(text, v)) return fmt::format("'{}' is not a whole number", text);
+        if (v < lo || v > hi) {
+          return fmt::format("{} is not from {} to {}{}", v, lo, hi, v < lo && !why.empty() ? " (" + why + ")" : "");
+        }
+        return std::string();
+      },
+      fmt::format("INT in [{} - {}]", lo, hi));
+}
+
 // A flag that belongs to some engines given where none of them runs: "" when it is not given or one
 // of `engines` runs; else why it is refused (the flag is never silently ignored).
 inline std::string flag_for_engines(const CLI::App& cmd, const std::string& flag, const std::vector<std::string>& engines,

@@ -15,8 +15,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 namespace granstack::app {
 
@@ -45,7 +47,11 @@ struct DesignFlags {
 void require_design_dir(const fs::path& dir) {
   if (!fs::exists(dir)) return;
   if (!fs::is_directory(dir)) throw formats::OutputError(fmt::format("{} exists and is not a directory: give another --output", dir.string()));
-  if (fs::is_empty(dir) || fs::exists(dir / kStoreName)) return;
+  if (fs::exists(dir / kStoreName)) return;
+  // Empty, or holding only the lock a design run that kept nothing left.
+  const auto only_lock = std::all_of(fs::directory_iterator(dir), fs::directory_iterator(),
+                                     [](const fs::directory_entry& e) { return e.path().filename() == os::CaseLock::kFileName; });
+  if (only_lock) return;
   throw formats::OutputError(fmt::format("{} holds files but no design store ({}): it is not a design directory; give "
                                          "another --output", dir.string(), kStoreName));
 }
@@ -106,14 +112,19 @@ int run_design(const DesignFlags& f) {
   if (f.max_designs > 0) space.search.max_designs = f.max_designs;
   const fs::path dir(f.dir);
   require_design_dir(dir);
-  if (fs::exists(dir / kStoreName)) {
+  const bool dir_made_now = !fs::exists(dir);
+  const bool store_made_now = !fs::exists(dir / kStoreName) || design::Store::unfinished((dir / kStoreName).string());
+  if (!store_made_now) {
     const auto existing = design::Store::open_existing((dir / kStoreName).string());
     design::adopt_schedule(space, existing);
     refuse_free_sides_search(existing, space, text, f.space_file, dir / kStoreName);
   }
+  const bool space_made_now = !fs::exists(dir / kSpaceName);
   fs::create_directories(dir);
   const os::CaseLock lock(dir, "granstack design run");
-  auto store = design::Store::open((dir / kStoreName).string(), space.digest(), text);
+  std::optional<design::Store> held;  // closed before a store this call made is removed
+  held.emplace(design::Store::open((dir / kStoreName).string(), space.digest(), text));
+  auto& store = *held;
   if (!fs::exists(dir / kSpaceName)) formats::write_file_atomically(dir / kSpaceName, text);
   StatusLine line;
   design::SearchOptions o;
@@ -146,22 +157,35 @@ int run_design(const DesignFlags& f) {
                os::interrupt_signal(), store.evaluations().size(), f.space_file, dir.string());
     return kCaseFailed;  // the caller's exit code says the signal (130, 143)
   }
+  if (r.ended == "exhausted" && store.evaluations().empty()) {
+    // Nothing ran: what this call made goes, so that the space corrected runs in the same folder.
+    if (store_made_now) {
+      held.reset();
+      for (const char* suffix : {"", "-wal", "-shm", "-journal"}) fs::remove(dir / (std::string(kStoreName) + suffix));
+      if (space_made_now) fs::remove(dir / kSpaceName);
+      if (dir_made_now && fs::is_empty(dir)) fs::remove(dir);
+    }
+    line.clear();
+    fmt::print(stderr, "error: no design of {} can run ({}): change the space so that its designs keep within their "
+                       "constraints{}\n",
+               f.space_file, r.exhausted_because.empty() ? "every one drawn breaks a constraint" : r.exhausted_because,
+               store_made_now ? "; nothing was kept" : "");
+    return kBadInput;
+  }
   design::evaluate_study_designs(space, store, f.jobs);
   const auto gens = store.generations();
+  const bool beyond = !gens.empty() && r.ended == "generations" && gens.back().index > space.search.generations;
   fmt::print("{}: {}; {} ({} designs run this time{}; the store holds {} distinct designs)\n", dir.string(),
-             ended_because(r.ended, space, r.exhausted_because),
+             beyond ? fmt::format("the store is at generation {} already, beyond the {} asked for: nothing to run (give "
+                                  "more generations to go on)",
+                                  gens.back().index, space.search.generations)
+                    : ended_because(r.ended, space, r.exhausted_because),
              gens.empty() ? std::string("no generation finished") : fmt::format("generation {} done", gens.back().index),
              r.runs,
              r.probes > 0 ? fmt::format(", {} of them the study's designs and the probes that fix the objectives' box", r.probes)
                           : std::string(),
              store.evaluations().size());
   if (!f.no_report && !print_report(space, store, dir, f.jobs)) return kCaseFailed;
-  if (r.ended == "exhausted" && store.evaluations().empty()) {
-    fmt::print(stderr, "error: no design of {} can run: change the space so that its designs keep within their "
-                       "constraints\n",
-               f.space_file);
-    return kBadInput;
-  }
   return kOk;
 }
 
@@ -198,6 +222,10 @@ int confirm(const DesignFlags& f) {
   } catch (const design::ConfirmRunFailed& e) {  // a run that failed: exit 1, as run's
     line.clear();
     fmt::print(stderr, "error: {}\n", e.what());
+    return kCaseFailed;
+  } catch (const refsim::InSituStopped& e) {  // a stop signal: the exit code says which (130, 143)
+    line.clear();
+    fmt::print(stderr, "{}\n", e.what());
     return kCaseFailed;
   }
   line.clear();
@@ -256,9 +284,9 @@ Command add_design(CLI::App& app) {
       ->check(output_directory())->required();
   run->add_option("-j,--jobs", f->jobs, "Designs run at once (refsim, one thread each)")->check(CLI::Range(1, 1024));
   run->add_option("--generations", f->generations, "Generations to reach (overrides [search] generations; more resumes further)")
-      ->check(CLI::Range(0, design::kMaxGenerations));
+      ->check(whole_range(0, design::kMaxGenerations));
   run->add_option("--max-designs", f->max_designs, "End once the search has run this many distinct designs (overrides [search] max_designs)")
-      ->check(CLI::Range(1L, 100'000'000L));
+      ->check(whole_range(design::kLeastMaxDesigns, 100'000'000L, design::kLeastMaxDesignsWhy));
   run->add_option("--time-limit", f->time_limit, "Start no design after this many seconds, abandoning those running (run again to go on)")
       ->check(finite_range(1.0, 1e9));
   run->add_flag("--no-report", f->no_report, "Do not write the report");

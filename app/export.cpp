@@ -1,5 +1,7 @@
 // granstack export: a run case's dump as ParaView files (a .vtp per frame and a .pvd series).
 #include "commands.hpp"
+
+#include <granstack/postproc/reduce.hpp>
 #include "progress.hpp"
 
 #include <granstack/os/case_lock.hpp>
@@ -34,6 +36,10 @@ int export_case(const ExportFlags& f) {
   postproc::ExportResult r;
   try {
     r = postproc::export_case(f.case_dir, o);
+  } catch (const postproc::NotRunError& e) {
+    status.clear();
+    fmt::print(stderr, "error: {}\n", e.what());
+    return kCaseFailed;
   } catch (const os::LockFileError& e) {  // a read-only case: its paraview/ cannot be written
     throw os::LockFileError(fmt::format("{}; export it into another directory with 'granstack export -o DIR {}'",
                                         e.what(), f.case_dir));

@@ -74,6 +74,41 @@ std::string invalid_utf8_in(const std::vector<std::string>& args) {
   return "";
 }
 
+// An option the command given does not have, named before CLI11 reads the line: CLI11 would
+// take the value after it for a case path ("Directory does not exist: liggghts"). "" when every
+// option is the command's.
+std::string option_not_of_command(const CLI::App& app, const std::vector<std::string>& args) {
+  const CLI::App* cmd = &app;
+  std::size_t i = 1;
+  for (; i < args.size(); ++i) {
+    const auto subs = cmd->get_subcommands([&](const CLI::App* a) { return a->check_name(args[i]); });
+    if (subs.empty()) break;
+    cmd = subs.front();
+  }
+  if (cmd == &app) return "";
+  std::string path;
+  for (const auto* c = cmd; c != nullptr && c != &app; c = c->get_parent()) path = c->get_name() + (path.empty() ? "" : " " + path);
+  for (; i < args.size(); ++i) {
+    const auto& a = args[i];
+    if (a == "--") break;
+    double number = 0.0;
+    if (a.size() < 2 || a[0] != '-' || CLI::detail::lexical_cast(a, number)) continue;
+    const auto name = a[1] == '-' ? a.substr(0, a.find('=')) : a.substr(0, 2);
+    const auto* opt = cmd->get_option_no_throw(name);
+    if (opt == nullptr) {
+      std::vector<std::string> known;
+      for (const auto* o : cmd->get_options()) {
+        if (!o->get_lnames().empty()) known.push_back("--" + o->get_lnames().front());
+      }
+      return fmt::format("'{}' is not an option of 'granstack {}' (its options: {}); 'granstack {} --help' says what each "
+                         "does",
+                         name, path, fmt::join(known, ", "), path);
+    }
+    if (opt->get_expected_min() > 0 && a.find('=') == std::string::npos && (a[1] == '-' || a.size() == 2)) ++i;
+  }
+  return "";
+}
+
 // Says what went wrong and gives the exit code for it.
 int said(const std::string& message, int code) {
   fmt::print(stderr, "error: {}\n", message);
@@ -123,6 +158,7 @@ int main(int argc, char** argv) {
                                    app::add_table(app),          app::add_plot(app),  app::add_validate(app),
                                    app::add_reproduce(app),      app::add_submit(app), app::add_status(app),
                                    app::add_export(app),         app::add_fields(app),  app::add_design(app)};
+  if (const auto why = option_not_of_command(app, args); !why.empty()) return said(why, app::kBadInput);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

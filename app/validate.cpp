@@ -93,13 +93,21 @@ int validate(const ValidateFlags& f) {
     o.on_progress = [&status, what](const runner::ProgressSnapshot& s) { status.count(what, s.finished, s.total); };
     for (const auto& r : runner::run_copies(dirs, engine, o)) {
       if (r.status == runner::RunStatus::failed) {
+        status.clear();
         fmt::print(stderr, "FAILED   {}  {}\n", r.case_dir, r.message);
         rc = kCaseFailed;
       }
     }
+    if (os::interrupt_signal() != 0) break;
   }
   status.clear();
-  if (rc != kOk || os::interrupt_signal() != 0) return rc;
+  if (const int signal = os::interrupt_signal(); signal != 0) {
+    fmt::print(stderr, "validate: stopped by signal {} before the engines were compared; the copies made so far are in "
+                       "each case's validate/ folder, and 'granstack validate' makes them anew\n",
+               signal);
+    return rc;
+  }
+  if (rc != kOk) return rc;
   for (const auto& d : dirs) {
     const auto c = postproc::compare_runs(runner::copy_dir(d, engines[0]), runner::copy_dir(d, engines[1]));
     fmt::print("{}", postproc::format_comparison(c, f.engines[0], f.engines[1], f.tolerance));

@@ -41,7 +41,12 @@ CaseState read_state(const std::string& dir) {
     const auto manifest = fs::path(dir) / "manifest.json";
     std::string why;
     try {
-      if (!json::accept(formats::read_file(manifest))) why = fmt::format("{}: not valid JSON", manifest.string());
+      const auto text = formats::read_file(manifest);
+      if (!json::accept(text)) {
+        why = fmt::format("{}: not valid JSON", manifest.string());
+      } else if (const auto j = json::parse(text); !j.is_object() || !j.contains("schema") || !j.contains("spec")) {
+        why = fmt::format("{}: not a granstack manifest (no schema or spec)", manifest.string());
+      }
     } catch (const std::exception& e) {
       why = e.what();
     }

@@ -10,6 +10,8 @@
 #include <granstack/postproc/reduce.hpp>
 #include <granstack/runner/runner.hpp>
 
+#include <granstack/os/interrupt.hpp>
+#include <granstack/refsim/in_situ.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -136,6 +138,12 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
   const auto check = [](const std::vector<runner::RunOutcome>& outcomes) {
     for (const auto& r : outcomes) {
       if (r.status == runner::RunStatus::failed) throw ConfirmRunFailed(fmt::format("{}: {}", r.case_dir, r.message));
+    }
+    // A stop signal: the runs went no further, and nothing of them is read.
+    if (const int signal = os::interrupt_signal(); signal != 0) {
+      throw refsim::InSituStopped(fmt::format("confirm stopped by signal {}: the front's runs went no further (its cases, "
+                                              "in confirm/, are kept); 'granstack design confirm' runs them again",
+                                              signal));
     }
   };
   for (const auto engine : {runner::Engine::liggghts, runner::Engine::refsim}) {

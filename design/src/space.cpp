@@ -487,10 +487,11 @@ void read_search_count(const std::string& key, const toml::node& v, Space& s, st
   const auto n = v.value_exact<std::int64_t>();
   const long most = key == "population" ? kMaxPopulation : key == "generations" ? kMaxGenerations
                     : key == "stagnation" ? kMaxGenerations : -1;
-  const long least = key == "max_designs" ? 1 : 0;
+  const long least = key == "max_designs" ? kLeastMaxDesigns : 0;
   if (!n || *n < least || (most >= 0 && *n > most)) {
     problems.push_back(most >= 0 ? fmt::format("[search] {}: a whole number from {} to {}", key, least, most)
-                                 : fmt::format("[search] {}: a whole number >= {}", key, least));
+                                 : fmt::format("[search] {}: a whole number >= {}{}", key, least,
+                                               key == "max_designs" ? fmt::format(" ({})", kLeastMaxDesignsWhy) : ""));
   } else if (key == "population") s.search.population = static_cast<int>(*n);
   else if (key == "generations") s.search.generations = static_cast<int>(*n);
   else if (key == "stagnation") s.search.stagnation = static_cast<int>(*n);

@@ -262,9 +262,31 @@ void Store::require_measure_rules(const std::string& path) {
   if (!evaluated) set_meta("measure_rules", std::to_string(kMeasureRules));
 }
 
+bool Store::unfinished(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
+  if (std::filesystem::file_size(path, ec) == 0) return !ec;
+  try {
+    Store s(open_db(path, SQLITE_OPEN_READONLY));
+    if (s.meta("space_digest")) return false;
+    Statement tables(s.db_, "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' AND name = 'evaluations'");
+    if (!tables.step() || tables.integer(0) == 0) return true;
+    Statement q(s.db_, "SELECT COUNT(*) FROM evaluations");
+    return q.step() && q.integer(0) == 0;
+  } catch (const std::exception&) {
+    return false;  // not SQLite: what it is, open_existing says
+  }
+}
+
 Store Store::open_existing(const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) {
     throw StoreError(fmt::format("{}: no design store there; run 'granstack design run SPACE.toml -o DIR' first", path));
+  }
+  if (unfinished(path)) {
+    throw StoreError(fmt::format("{}: its search's first write did not finish (a full disk, or a search stopped as it "
+                                 "began): it holds no design; run 'granstack design run SPACE.toml -o {}' again, which "
+                                 "begins it anew",
+                                 path, std::filesystem::path(path).parent_path().string()));
   }
   Store s(open_db(path, SQLITE_OPEN_READONLY));
   if (!s.meta("space_digest")) throw StoreError(fmt::format("{}: not a granstack design store", path));

@@ -57,16 +57,32 @@ void write_files_atomically(const std::filesystem::path& dir,
   for (std::size_t i = 0; i < files.size(); ++i) std::filesystem::rename(written[i], dir / files[i].first);
 }
 
-void require_regular_file(const std::string& path) {
+std::string why_not_a_regular_file(const std::string& path) {
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) throw FormatError(path, 0, std::string("cannot open: ") + std::strerror(errno));
-  if (S_ISREG(st.st_mode)) return;
+  if (::stat(path.c_str(), &st) != 0) {
+    const int error = errno;
+    // A copy compressed by a program granstack does not read (it reads gzip and zstd).
+    for (const auto& [suffix, program] : {std::pair{".xz", "xz"}, std::pair{".bz2", "bzip2"}, std::pair{".lz4", "lz4"},
+                                          std::pair{".lzma", "xz"}, std::pair{".7z", "7z"}, std::pair{".zip", "unzip"}}) {
+      if (::stat((path + suffix).c_str(), &st) == 0) {
+        return fmt::format("is missing, and {}{} is there, compressed with {}, which granstack does not read: decompress it "
+                           "({} -d), or compress the file with zstd or gzip, which it reads",
+                           path, suffix, program, program);
+      }
+    }
+    return error == ENOENT ? std::string("is missing") : fmt::format("cannot be opened: {}", std::strerror(error));
+  }
+  if (S_ISREG(st.st_mode)) return "";
   const char* kind = S_ISDIR(st.st_mode)   ? "a directory"
                      : S_ISFIFO(st.st_mode) ? "a FIFO (named pipe)"
                      : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device"
                      : S_ISSOCK(st.st_mode) ? "a socket"
                                             : "not a regular file";
-  throw FormatError(path, 0, fmt::format("is {}: granstack reads only regular files; put the file itself there", kind));
+  return fmt::format("is {}: granstack reads only regular files; put the file itself there", kind);
+}
+
+void require_regular_file(const std::string& path) {
+  if (const auto why = why_not_a_regular_file(path); !why.empty()) throw FormatError(path, 0, why);
 }
 
 std::string read_file(const std::filesystem::path& path) {

@@ -125,11 +125,37 @@ Manifest manifest_from_json(const json& j, const std::string& source, bool verif
   return m;
 }
 
+std::string not_a_case(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto under = [&](const fs::path& p) { return (fs::path(dir) / p).string(); };
+  if (fs::is_regular_file(fs::path(dir) / "sweep.json", ec)) {
+    std::string first;
+    try {
+      first = json::parse(read_file(fs::path(dir) / "sweep.json")).at("cases").at(0).at("dir").get<std::string>();
+    } catch (const std::exception&) {
+    }
+    return fmt::format("is a sweep's directory (granstack generate of several cases): name one of its cases{}",
+                       first.empty() ? "" : fmt::format(", e.g. {}", under(first)));
+  }
+  const auto maker = made_by(dir);
+  if (maker == "granstack design run") {
+    return "is a design search's folder (granstack design run): its designs live in its store; 'granstack design report' "
+           "writes the front's spec files, which 'granstack generate --config FILE -o DIR' makes into cases";
+  }
+  if (maker == "granstack reproduce") {
+    return "is a reproduction's folder (granstack reproduce): its cases are its EXPERIMENT/CASE folders, e.g. " +
+           under("fig3/nb1_e1");
+  }
+  if (!maker.empty()) return fmt::format("is what '{}' wrote, not a case", maker);
+  return "holds no manifest.json: it is not a case directory; make one with 'granstack generate -o DIR'";
+}
+
 Manifest read_manifest(const std::string& case_dir, bool verify) {
   const std::string path = case_dir + "/manifest.json";
   if (std::filesystem::exists(path)) require_regular_file(path);
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw FormatError(path, 0, "cannot open: is this a case directory made by 'granstack generate'?");
+  if (!in) throw FormatError(case_dir, 0, not_a_case(case_dir));
   // Parsed from memory: nlohmann's stream adapter reads a character at a time (half the time of
   // a 10,000-case submit went there).
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -180,10 +206,7 @@ std::vector<std::string> expand_case_dirs(const std::vector<std::string>& dirs) 
     const auto sweep_path = (fs::path(d) / "sweep.json").string();
     if (fs::exists(sweep_path)) require_regular_file(sweep_path);
     std::ifstream in(sweep_path);
-    if (!in) {
-      throw FormatError(d, 0, "not a case directory (no manifest.json) nor a sweep directory (no sweep.json); "
-                              "make one with 'granstack generate -o DIR'");
-    }
+    if (!in) throw FormatError(d, 0, not_a_case(d) + " (nor a sweep's, with sweep.json)");
     try {
       const auto j = json::parse(in);
       for (const auto& c : j.at("cases")) {
@@ -195,7 +218,9 @@ std::vector<std::string> expand_case_dirs(const std::vector<std::string>& dirs) 
         add((fs::path(d) / name).string());
       }
     } catch (const json::exception& e) {
-      throw FormatError(sweep_path, 0, fmt::format("not a valid sweep index: {}", e.what()));
+      throw FormatError(sweep_path, 0, fmt::format("is damaged ({}): it is not the index 'granstack generate' wrote; "
+                                                   "generate the sweep again with --force",
+                                                   short_reason(e)));
     }
   }
   return out;

@@ -2,6 +2,7 @@
 #include <granstack/formats/digest.hpp>
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/error.hpp>
+#include <granstack/formats/files.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/run_digests.hpp>
 
@@ -118,7 +119,12 @@ std::string check_outputs(const Case& c, const json& outputs, DigestCheck how, c
   }
   for (const auto& [name, rec] : outputs.items()) {
     const auto p = present(c, name);
-    if (p.empty()) return fmt::format("{}, which its run wrote, is missing", c.path(name).string());
+    if (p.empty()) {
+      const auto path = c.path(name).string();
+      auto why = why_not_a_regular_file(path);
+      if (why.empty() || why == "is missing") why = "is missing";
+      return fmt::format("{}, which its run wrote, {}", path, why);
+    }
     if (how == DigestCheck::quick && same_stat(p, rec)) continue;
     if (later.count(name) > 0 && rec.contains("xxh3_128")) continue;  // output_not_as_run's
     if (auto why = check_output_content(p, rec, std::nullopt); !why.empty()) return why;

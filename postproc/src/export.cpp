@@ -11,6 +11,7 @@
 #include <granstack/os/case_lock.hpp>
 #include <granstack/postproc/energy.hpp>
 #include <granstack/postproc/export.hpp>
+#include <granstack/postproc/reduce.hpp>
 
 #include <fmt/format.h>
 
@@ -146,11 +147,12 @@ formats::VtkPoints frame_points(const model::Stack& stack, const formats::DumpFr
 
 ExportResult export_case(const std::string& case_dir, const ExportOptions& o) {
   const auto c = formats::Case::open(case_dir);
-  formats::check_deck_matches_manifest(c);  // an edited case's frames would carry the manifest's labels
-  formats::require_files_as_run(c);          // and so would another case's dump copied in
   // Writing into the case (its paraview/), export holds the case's lock, as every command that writes a case does.
   std::optional<os::CaseLock> lock;
   if (o.output_dir.empty()) lock.emplace(c.lock("granstack export"));
+  require_finished_run(c, lock.has_value());  // a run that failed or goes on has no frames to show as the case's
+  formats::check_deck_matches_manifest(c);  // an edited case's frames would carry the manifest's labels
+  formats::require_files_as_run(c);          // and so would another case's dump copied in
   const auto& m = c.manifest();
   const auto& stack = c.stack();
   const double dt = c.derived().dt;

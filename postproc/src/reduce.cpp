@@ -36,41 +36,41 @@ namespace granstack::postproc {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-namespace {
-
 // `holding_lock`: this process holds the case's lock (reduce writing its reduce/), so no run can.
-void require_successful_run(const formats::Case& c, bool holding_lock) {
+void require_finished_run(const formats::Case& c, bool holding_lock) {
   const auto record = c.run_record();
   const auto& dir = c.dir();
   if (!record.exists()) {
     if (fs::exists(c.path(c.files().log))) {
-      throw std::runtime_error(fmt::format("{}: the case has not been run by granstack, but its {} says LIGGGHTS ran its "
+      throw NotRunError(fmt::format("{}: the case has not been run by granstack, but its {} says LIGGGHTS ran its "
                                            "deck: take that run as the case's with 'granstack adopt {}' (it checks the "
                                            "log and outputs against the deck), or run it with 'granstack run {}'",
                                            dir, c.files().log, dir, dir));
     }
-    throw std::runtime_error(fmt::format("{}: the case has not been run; run 'granstack run {}' first", dir, dir));
+    throw NotRunError(fmt::format("{}: the case has not been run; run 'granstack run {}' first", dir, dir));
   }
   if (record.status == "damaged") throw formats::FormatError(c.path(c.files().run_record).string(), 0, record.error);
   if (record.status == "failed") {
-    throw std::runtime_error(fmt::format("{}: the run failed ({}); fix it and run again with 'granstack run --force'",
+    throw NotRunError(fmt::format("{}: the run failed ({}); fix it and run again with 'granstack run --force'",
                                          dir, record.error.empty() ? "no message" : record.error));
   }
   if (!record.done()) {
     if (const auto holder = holding_lock ? std::nullopt : os::CaseLock::holder(dir)) {  // running now: advice to rerun it would be refused
-      throw std::runtime_error(fmt::format("{}: the case is being run now ({}); reduce it when that run has ended", dir,
-                                           *holder));
+      throw NotRunError(fmt::format("{}: the case is being run now ({}); its outputs can be read when that run "
+                                           "has ended", dir, *holder));
     }
     if (record.status == "running") {
-      throw std::runtime_error(fmt::format("{}: its run was killed before it finished (run.json says running, but no "
+      throw NotRunError(fmt::format("{}: its run was killed before it finished (run.json says running, but no "
                                            "granstack runs the case: SIGKILL, a time limit, a node failure?); run it again "
                                            "with 'granstack run --force {}'",
                                            dir, dir));
     }
-    throw std::runtime_error(fmt::format("{}: the run did not finish (status '{}'); run 'granstack run --force {}'", dir,
+    throw NotRunError(fmt::format("{}: the run did not finish (status '{}'); run 'granstack run --force {}'", dir,
                                          record.status, dir));
   }
 }
+
+namespace {
 
 
 
@@ -392,7 +392,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   // Writing into the case (its reduce/), reduce holds the case's lock, as every command that writes a case does.
   std::optional<os::CaseLock> lock;
   if (options.write_files && options.output_dir.empty()) lock.emplace(c.lock("granstack reduce"));
-  require_successful_run(c, lock.has_value());
+  require_finished_run(c, lock.has_value());
   const auto& stack = c.stack();
   // The derived dt and steps must be those its spec gives, and the deck's those of the manifest:
   // every time in the results is a step times dt.
@@ -474,6 +474,12 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     }
     take_series();
     const auto& e = fr.e;
+    if (r.frames >= expected_frames) {
+      throw formats::FormatError(dump_path, 0, fmt::format("frame {} (step {}) comes after the run's last frame (step {}): "
+                                                           "the run wrote {} frames, and more were added to its dump",
+                                                           r.frames + 1, e.step, (expected_frames - 1) * res.dump_every,
+                                                           expected_frames));
+    }
     if (e.step != r.frames * res.dump_every) {
       throw formats::FormatError(dump_path, 0, fmt::format("frame {} is at step {}, where the run dumped step {} (every {} "
                                                            "steps): frames are missing or out of order",

@@ -233,9 +233,15 @@ TEST_F(Answers, DesignMessagesSayWhatHappened) {
   EXPECT_EQ(r.code, 2) << r.output;
   expect_contains(r, "'nan' is not a number from 1 to 1e+09");
   EXPECT_FALSE(fs::exists(path("d")));
+  // A budget below the two probes cannot be kept: refused, saying why (#65 M10: it ran 2).
   r = granstack({"design", "run", "small.toml", "-o", "d", "--max-designs", "1", "-j", "2"});
+  EXPECT_EQ(r.code, 2) << r.output;
+  expect_contains(r, "1 is not from 2 to 100000000 (a search's first two designs are the space's lightest and heaviest");
+  EXPECT_FALSE(fs::exists(path("d")));
+  r = granstack({"design", "run", "small.toml", "-o", "d", "--max-designs", "2", "-j", "2"});
   ASSERT_EQ(r.code, 0) << r.output;
-  expect_contains(r, "its budget of 1 designs is spent");
+  expect_contains(r, "its budget of 2 designs is spent");
+  expect_contains(r, "the store holds 2 distinct designs");
   EXPECT_EQ(r.output.find("generation -1"), std::string::npos) << r.output;
   r = granstack({"generate", "--force", "-o", "d"});
   EXPECT_EQ(r.code, 3) << r.output;
@@ -245,10 +251,19 @@ TEST_F(Answers, DesignMessagesSayWhatHappened) {
   std::ofstream(path("hot.toml")) << hot;
   r = granstack({"design", "run", "hot.toml", "-o", "hot", "-j", "2"});
   EXPECT_EQ(r.code, 2) << r.output;
-  expect_contains(r, "the space is exhausted");
+  expect_contains(r, "no design of hot.toml can run");
   expect_contains(r, "striker_speed: 400 m/s presses the striker");
-  expect_contains(r, "no generation finished");
-  r = granstack({"design", "confirm", "hot"});
+  expect_contains(r, "nothing was kept");
+  // What it made went with it (#65 M8): the space corrected runs in the same folder.
+  EXPECT_FALSE(fs::exists(path("hot") / "design.sqlite"));
+  r = granstack({"design", "run", "small.toml", "-o", "hot", "--max-designs", "2"});
+  EXPECT_EQ(r.code, 0) << r.output;
+  // A front with no design: every design run breaks a bound on what it measures.
+  auto tight = small + "[constraints]\nmax_crush = 1e-15\n";
+  std::ofstream(path("tight.toml")) << tight;
+  r = granstack({"design", "run", "tight.toml", "-o", "tight", "--max-designs", "2"});
+  EXPECT_EQ(r.code, 0) << r.output;
+  r = granstack({"design", "confirm", "tight"});
   EXPECT_EQ(r.code, 1) << r.output;
   expect_contains(r, "has no design on its front");
 }

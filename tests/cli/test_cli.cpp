@@ -161,7 +161,7 @@ TEST_F(Cli, AnExistingCaseIsKeptUnlessForced) {
 TEST_F(Cli, DecomposeSaysTheGridsAndABadGridIsRefusedBeforeAnyRun) {
   auto r = granstack("decompose " + dir_.string());
   EXPECT_EQ(r.code, 4);
-  expect_contains(r, "is this a case directory");
+  expect_contains(r, "holds no manifest.json: it is not a case directory; make one with 'granstack generate -o DIR'");
   ASSERT_EQ(granstack("generate -o " + path("nest") + " --geometry nested3d --blocks 2 --top-columns 4 --rows 4").code, 0);
   r = granstack("decompose " + path("nest") + " --np 4 8 --grids 2");
   EXPECT_EQ(r.code, 0) << r.output;
@@ -178,7 +178,7 @@ TEST_F(Cli, DecomposeSaysTheGridsAndABadGridIsRefusedBeforeAnyRun) {
 TEST_F(Cli, ReduceAndRunRefuseWhatIsNotACaseOrNotRun) {
   auto r = granstack("reduce " + dir_.string());
   EXPECT_EQ(r.code, 4);
-  expect_contains(r, "not a case directory");
+  expect_contains(r, "it is not a case directory");
   ASSERT_EQ(granstack("generate -o " + path("case") + " --blocks 1").code, 0);
   r = granstack("reduce " + path("case"));
   EXPECT_EQ(r.code, 1);

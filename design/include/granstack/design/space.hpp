@@ -133,6 +133,11 @@ inline constexpr int kMaxPopulation = 100'000;
 inline constexpr int kMaxScreening = 64;  // [search] screening: designs drawn per design run, at most
 inline constexpr int kMaxGenerations = 100'000;  // as the --generations flag
 inline constexpr std::size_t kMaxSeeds = 64;
+// The fewest designs a search's budget (max_designs) can hold, and why: its first two are the
+// probes that fix the objectives' box.
+inline constexpr long kLeastMaxDesigns = 2;
+inline constexpr const char* kLeastMaxDesignsWhy =
+    "a search's first two designs are the space's lightest and heaviest, the probes that fix its objectives' box";
 
 struct Space {
   model::StackSpec fixed;        // everything a design does not vary

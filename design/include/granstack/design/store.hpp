@@ -102,8 +102,13 @@ class Store {
   // Opens (creates when missing) the store at `path` for the space whose digest is
   // `space_digest`; refuses one written for another space (StoreError naming both).
   static Store open(const std::string& path, const std::string& space_digest, const std::string& space_text);
-  // Opens an existing store to read (design status, report); StoreError when it is missing.
+  // Opens an existing store to read (design status, report); StoreError when it is missing, or
+  // unfinished.
   static Store open_existing(const std::string& path);
+  // Whether the file at `path` is a store whose first write did not finish: empty, or SQLite with
+  // no space recorded and no design (a full disk as its search began). `design run` begins such a
+  // store anew.
+  static bool unfinished(const std::string& path);
   Store(Store&&) noexcept;
   ~Store();
 

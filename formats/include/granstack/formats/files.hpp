@@ -20,6 +20,9 @@ void write_files_atomically(const std::filesystem::path& dir,
 // Throws FormatError unless `path` is a regular file (after following links): granstack reads
 // no FIFO, device or directory, which could block or never end.
 void require_regular_file(const std::string& path);
+// Why `path` is not a regular file to read ("is missing", "is a FIFO (named pipe): ...", "is
+// missing, and PATH.xz is there, compressed with xz, which granstack does not read: ..."), or "".
+std::string why_not_a_regular_file(const std::string& path);
 // Reads a whole regular file. Throws IoError naming the path (FormatError when it is no regular file).
 std::string read_file(const std::filesystem::path& path);
 // Writes out what `file` (written with stdio, named `path`) holds buffered and closes it. Throws

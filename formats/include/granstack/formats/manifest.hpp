@@ -62,6 +62,10 @@ model::StackSpec spec_from_json(const nlohmann::json& j, const std::string& sour
 
 // With `rendered.content_sha256`, the digest of all the other fields (as nlohmann::json dumps them).
 nlohmann::json manifest_to_json(const Manifest& m);
+// Why DIR is not a case directory, naming what it is (a sweep's, a reproduction's, a design
+// search's folder) and what to give instead.
+std::string not_a_case(const std::string& dir);
+
 // Throws FormatError for a missing or mistyped field, an older schema, or (with `verify`) a
 // manifest whose content no longer has the digest it was written with: it was edited.
 Manifest manifest_from_json(const nlohmann::json& j, const std::string& source, bool verify = true);

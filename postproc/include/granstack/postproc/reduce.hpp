@@ -7,11 +7,25 @@
 
 #include <functional>
 #include <optional>
+#include <stdexcept>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
+namespace granstack::formats {
+class Case;
+}
+
 namespace granstack::postproc {
+
+// A case whose run has not finished: none yet, one that failed, one running now, one killed.
+struct NotRunError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+// Throws NotRunError (naming the case and what to do) unless the case's run finished
+// (`holding_lock`: this process holds the case's lock, so none can be running); a damaged run
+// record is a FormatError. What reads a case's outputs (reduce, table, plot, export) asks first.
+void require_finished_run(const formats::Case& c, bool holding_lock);
 
 struct BlockPeak {
   int block = 0;           // 1 = top
