@@ -186,7 +186,13 @@ int plot(const PlotFlags& f) {
     fmt::print("{}\n", postproc::plot_block_energy(r.case_dir, r.case_name, f.output, o));
     if (!r.panel_frames.empty()) fmt::print("{}\n", postproc::plot_panel_energy(r, r.case_name, f.output, o));
   }
-  if (any_fit) fmt::print("{}\n", postproc::plot_decay(t, f.output, o));
+  if (any_fit) {
+    fmt::print("{}\n", postproc::plot_decay(t, f.output, o));
+  } else {
+    fmt::print(stderr, "note: no decay figure (decay.{}): no group of these cases has two values of N_B to fit; plot a "
+                       "sweep over --blocks for it\n",
+               o.format);
+  }
   return rc;
 }
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The documentation's result tables, from a run: each lies between the markers
+"""The documentation's result tables and the program's printouts, from a run: each lies between the markers
 <!-- doc-table: NAME --> and <!-- /doc-table --> in the files below, and this script runs the
 cases that make it (LIGGGHTS, as the docs say) and writes it (--write) or checks that the docs
 hold exactly what the run gives (--check, the test docs.tables). With --reproduce it also runs
@@ -108,6 +108,14 @@ REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"], "engines_study
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
 QUOTED_NOTES = ("One reading for Fig. 2 and Fig. 4", "Hypotheses, from the restitution scan", "Each mechanism's share")
 MARK = re.compile(r"(<!-- doc-table: (\w+) -->\n)(.*?)(<!-- /doc-table -->)", re.S)
+# The program's printouts the pages show, each made by running it here (printouts()).
+PRINTOUT_PLACES = {"quickstart_output": ["README.md", "docs/index.md", "docs/tutorials/quick-start.md"],
+                   "spec_error_output": ["docs/reference/spec.md"],
+                   "blow_end_wall": ["docs/how-to/blow-end.md"], "blow_end_generate": ["docs/how-to/blow-end.md"],
+                   "adopt_output": ["docs/liggghts.md"], "deck_refused_output": ["docs/reference/commands.md"]}
+# What differs between two runs of the same commands: a run's wall and loop times. The check compares
+# the printouts with these masked; --write writes what its run printed.
+TIMINGS = re.compile(r"\([0-9.]+ s wall, loop [0-9.e+-]+ s, [0-9.e+-]+ particle-steps/s\)|loop [0-9.e+-]+ s;")
 
 
 def granstack(exe, *args):
@@ -142,6 +150,87 @@ def tables(exe, work):
     return {"depth": "\n".join(rows) + "\n", "decay": decay, "objectives": objectives,
             "spec_fields": granstack(exe, "fields", "--markdown"),
             "materials": granstack(exe, "fields", "--materials", "--markdown")}
+
+
+def printed(exe, cwd, *args, code=0):
+    """What `granstack ARGS` prints in `cwd` (standard output, then standard error), its exit code checked."""
+    r = subprocess.run([exe, *args], cwd=cwd, capture_output=True, text=True)
+    if r.returncode != code:
+        sys.exit(f"granstack {' '.join(args)} exited {r.returncode}, not {code}:\n{r.stdout}\n{r.stderr}")
+    return r.stdout + r.stderr
+
+
+def fenced(text):
+    return "```\n" + text + ("" if text.endswith("\n") else "\n") + "```\n"
+
+
+def printouts(exe, work):
+    """The printouts the pages show: the quick start's (LIGGGHTS, as scripts/quickstart.sh runs it), a
+    refused spec's, the blow-end page's (LIGGGHTS over a wall; where that blow ends, from its run to the
+    blow's end on refsim, which stops at the same frame), a deck run by hand and adopted, a template
+    refused for a command the spec does not list."""
+    cwd = work / "printouts"
+    shutil.rmtree(cwd, ignore_errors=True)
+    (cwd / "runs").mkdir(parents=True)
+    out = {}
+    quick = printed(exe, cwd, "generate", "-o", "runs/quickstart") + printed(exe, cwd, "run", "runs/quickstart")
+    out["quickstart_output"] = fenced(quick + "\n" + printed(exe, cwd, "reduce", "runs/quickstart"))
+    out["spec_error_output"] = fenced("$ granstack generate -o runs/x --restitution 1,0.01\n" +
+                                      printed(exe, cwd, "generate", "-o", "runs/x", "--restitution", "1,0.01", code=2))
+    printed(exe, cwd, "generate", "-o", "runs/wall", "--bottom", "wall")
+    printed(exe, cwd, "run", "runs/wall")
+    not_ended = [l for l in printed(exe, cwd, "reduce", "runs/wall").splitlines() if l.startswith("the blow had not ended")]
+    generated = printed(exe, cwd, "generate", "-o", "runs/wall_end", "--bottom", "wall", "--stop", "blow_end")
+    printed(exe, cwd, "run", "--engine", "refsim", "runs/wall_end")
+    summary = next(json.loads(l) for l in printed(exe, cwd, "reduce", "--json", "runs/wall_end").splitlines()
+                   if l.startswith("{"))
+    automatic = json.loads((cwd / "runs/wall/manifest.json").read_text())["derived"]["duration"]
+    out["blow_end_wall"] = (
+        f"Over a wall, the default stack's blow is still going on when that duration ends: it ends at "
+        f"{summary['blow_end_time'] / automatic:.3g} automatic durations (its run to the blow's end, made by "
+        f"`scripts/doc_tables.py`). `reduce` says so:\n\n" +
+        fenced("$ granstack generate -o runs/wall --bottom wall\n$ granstack run runs/wall && granstack reduce "
+               "runs/wall\n...\n" + "\n".join(not_ended)))
+    out["blow_end_generate"] = fenced("$ granstack generate -o runs/wall_end --bottom wall --stop blow_end\n" + generated +
+                                      "$ granstack run runs/wall_end && granstack reduce runs/wall_end")
+    printed(exe, cwd, "generate", "-o", "runs/hand")
+    subprocess.run(["liggghts", "-in", "in.stack"], cwd=cwd / "runs/hand", capture_output=True, check=True)
+    out["adopt_output"] = fenced("$ cd runs/hand && liggghts -in in.stack && cd ../..\n$ granstack adopt runs/hand\n" +
+                                 printed(exe, cwd, "adopt", "runs/hand"))
+    template = (ROOT / "templates/in.granstack.tmpl").read_text().replace("{{run}}", "fix visc all viscous 0.001\n{{run}}")
+    (cwd / "mine.tmpl").write_text(template)
+    printed(exe, cwd, "generate", "-o", "runs/mine", "--template", "mine.tmpl")
+    out["deck_refused_output"] = fenced("$ granstack generate -o runs/mine --template mine.tmpl\n$ granstack run runs/mine\n" +
+                                        printed(exe, cwd, "run", "runs/mine", code=1))
+    return out
+
+
+def store_unnamed(exe, work):
+    """The design store's tables, columns and meta keys that docs/how-to/design.md's store table does not name
+    (read from a store a small search writes here): each is a problem of the check."""
+    import sqlite3
+    space = work / "store_space.toml"
+    space.write_text((ROOT / "tests/data/design/small_space.toml").read_text())
+    out = work / "store"
+    shutil.rmtree(out, ignore_errors=True)
+    printed(exe, work, "design", "run", str(space), "-o", str(out), "--max-designs", "2", "--no-report")
+    db = sqlite3.connect(out / "design.sqlite")
+    rows = {}
+    for line in (ROOT / "docs/how-to/design.md").read_text().splitlines():
+        m = re.match(r"\| `(\w+)` \|", line)
+        if m:
+            rows[m.group(1)] = line
+    problems = []
+    for (table,) in db.execute("select name from sqlite_master where type = 'table'"):
+        if table not in rows:
+            problems.append(f"docs/how-to/design.md: the store's table `{table}` has no row in its store table")
+            continue
+        names = [c[1] for c in db.execute(f"pragma table_info({table})")]
+        if table == "meta":
+            names += [k for (k,) in db.execute("select key from meta")]
+        problems += [f"docs/how-to/design.md: the store table's row `{table}` does not name `{n}`"
+                     for n in names if f"`{n}`" not in rows[table]]
+    return problems
 
 
 def record(name):
@@ -848,7 +937,7 @@ def main():
     args = [a for a in sys.argv[1:] if a != "--reproduce"]
     if len(args) != 3 or args[0] not in ("--write", "--check"):
         sys.exit(__doc__)
-    mode, exe, work = args[0], args[1], pathlib.Path(args[2])
+    mode, exe, work = args[0], str(pathlib.Path(args[1]).resolve()), pathlib.Path(args[2]).resolve()
     work.mkdir(parents=True, exist_ok=True)
     if mode == "--check":
         # The check's runs in a directory of their own, removed when every table holds (the
@@ -874,6 +963,8 @@ def main():
     else:
         made["reproduce"] = reproduce_table(exe, work, "refsim")
     made["engines_study"] = engines_study()
+    made.update(printouts(exe, work))
+    places.update(PRINTOUT_PLACES)
     stale = []
     for name, files in places.items():
         for f in files:
@@ -882,12 +973,13 @@ def main():
             found = [m for m in MARK.finditer(text) if m.group(2) == name]
             if len(found) != 1:
                 sys.exit(f"{f}: expected one doc-table '{name}', found {len(found)}")
-            if found[0].group(3) == made[name]:
+            if TIMINGS.sub("(timings)", found[0].group(3)) == TIMINGS.sub("(timings)", made[name]):
                 continue
             stale.append(f"{f}: the table '{name}' is not what the run gives:\n{found[0].group(3)}\nthe run:\n{made[name]}")
             if mode == "--write":
                 m = found[0]
                 path.write_text(text[: m.start(3)] + made[name] + text[m.end(3):])
+    stale += store_unnamed(exe, work)
     if mode == "--check" and stale:
         sys.exit("\n".join(stale) + "\nrun: python3 scripts/doc_tables.py --write GRANSTACK WORKDIR")
     if mode == "--check":

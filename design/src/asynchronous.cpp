@@ -445,16 +445,9 @@ std::optional<Job> Asynchronous::screened(std::mt19937& rng, std::size_t subprob
   std::vector<std::vector<double>> front;
   for (const auto& e : front_) front.push_back(fitness(space_, e, &*norm_));
   const ScreeningGain gain(std::move(front));
-  std::size_t best = 0;
-  double best_score = -std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < candidates.size(); ++i) {
-    const double score = gain(screening_.estimate(candidates[i].x, candidates[i].known));
-    if (score > best_score) {
-      best_score = score;
-      best = i;
-    }
-  }
-  auto& chosen = candidates[best];
+  std::vector<double> gains;
+  for (const auto& c : candidates) gains.push_back(gain(screening_.estimate(c.x, c.known)));
+  auto& chosen = candidates[screened_choice(gains)];
   auto digest = spec_digest(chosen.spec);
   known_.insert(digest);
   ++drawn_;

@@ -195,4 +195,12 @@ double ScreeningGain::operator()(const std::vector<double>& p) const {
   return box_hypervolume(with) - hypervolume_;
 }
 
+std::size_t screened_choice(const std::vector<double>& gains) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < gains.size(); ++i) {
+    if (gains[i] > gains[best]) best = i;
+  }
+  return best;
+}
+
 }  // namespace granstack::design

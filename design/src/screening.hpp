@@ -96,4 +96,8 @@ class ScreeningGain {
   double hypervolume_;
 };
 
+// The candidate screening runs: the one whose estimate gains the front the most (ScreeningGain),
+// the first drawn of equals.
+std::size_t screened_choice(const std::vector<double>& gains);
+
 }  // namespace granstack::design

@@ -235,7 +235,7 @@ TEST_F(Cli, BadDumpFilesGiveClearErrors) {
   fs::remove(dump);
   r = granstack("reduce " + path("case"));
   EXPECT_EQ(r.code, 4);
-  expect_contains(r, "cannot open");
+  expect_contains(r, "dumps/dump.txt: is missing");
 }
 
 // validate on the small stacks, elastic, damped, frictional, with walls and gravity, strips,

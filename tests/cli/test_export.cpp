@@ -173,11 +173,12 @@ TEST(Export, RefusesWhatItMustNotDoAndLosesNothing) {
   EXPECT_EQ(r.code, 3) << r.output;
   EXPECT_EQ(test::read_bytes(mine / "stack.pvd"), "my notes\n");
 
-  // A case that has not run: exit 4, naming the missing dump.
+  // A case that has not run: exit 1, saying so (as reduce does), and how to run it.
   const auto unrun = work() / "unrun";
   ASSERT_EQ(granstack({"generate", "-o", unrun.string(), "--blocks", "1", "--rows", "2"}).code, 0);
   r = granstack({"export", unrun.string()});
-  EXPECT_EQ(r.code, 4) << r.output;
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("the case has not been run; run 'granstack run"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(unrun / "paraview" / "unrun.pvd"));
 }
 

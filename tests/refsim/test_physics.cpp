@@ -201,6 +201,33 @@ TEST(Yield, ASphereOnAWallFirstYieldsAtJohnsonsSpeed) {
             std::string::npos);
 }
 
+// A contact of two materials first yields in the softer (#65: every peak compared before fell on
+// a one-material contact, so the higher yield strength would have passed): a steel sphere on a
+// brass wall, whose largest pressure over 1.6 Y_brass is Hertz's closed form for the pair, and
+// the first-yield pressure is the lower Y's whichever body is named first.
+TEST(Yield, AMixedContactYieldsInTheSofterMaterial) {
+  const auto steel = material("steel"), brass = material("brass");
+  ASSERT_LT(*brass.yield_strength, *steel.yield_strength);
+  EXPECT_EQ(model::first_yield_pressure(steel, brass), 1.6 * *brass.yield_strength);
+  EXPECT_EQ(model::first_yield_pressure(brass, steel), 1.6 * *brass.yield_strength);
+  const double r = 1e-3, v = 0.5;
+  const auto c = model::sphere_wall(steel, r, brass);
+  const double dt = model::hertz_contact_time(c, v) / 2000.0;
+  auto p = refsim::uniform_parameters({steel, brass}, 1.0, 0.0, dt, 2e-4);
+  p.walls = {{2, 0.0, 2}};
+  System s({sphere(1, steel, r, {0, 0, r}, {0, 0, -v})}, p);
+  s.setup();
+  model::YieldMeter meter(model::YieldContacts{{steel, brass}, {1}, {r}, {{"wall_bottom", 2, 0.0}}, brass, true});
+  for (long k = 1; k <= 3000; ++k) {
+    s.step();
+    const auto x = s.x(0);
+    meter.add(meter.at(k, {x[0]}, {x[1]}, {x[2]}, {}));
+  }
+  const double y_star = model::effective_youngs_modulus(steel, brass);
+  const double p0 = 2.0 * y_star / model::kPi * std::sqrt(model::hertz_max_overlap(c, v) / r);
+  EXPECT_NEAR(meter.largest().ratio / (p0 / (1.6 * *brass.yield_strength)), 1.0, 1e-5);
+}
+
 // A sphere that starts many skins from two walls meets them only after many neighbour builds,
 // leaves each and comes back: the walls a particle may touch before the next build are found
 // anew at each one (System::wall_near_), so it bounces every time, elastically, and never

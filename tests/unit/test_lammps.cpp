@@ -186,10 +186,16 @@ TEST(Lammps, TheReportedVersionChoosesTheRules) {
   ASSERT_TRUE(stable);
   const auto* rewrite = model::lammps_rules_for(*stable);
   ASSERT_NE(rewrite, nullptr);
+  for (const char* inside : {"27 Jun 2024", "28 Jun 2024", "1 Jul 2025", "22 Jul 2025"}) {
+    EXPECT_EQ(model::lammps_rules_for(*model::parse_lammps_version(banner(inside))), rewrite) << inside;
+  }
   EXPECT_EQ(rewrite->wall, model::LammpsWallModulus::one_minus_nu_squared);
   EXPECT_EQ(rewrite->damping, model::LammpsDamping::coeff_restitution);
   EXPECT_FALSE(rewrite->run_here);
-  for (const char* unknown : {"2 Aug 2023", "7 Feb 2024", "23 Jun 2022", "29 Oct 2020", "11 Feb 2026"}) {
+  // Days in a bound's own month (#65: only other months were tried, so a rule that read the month
+  // and not the day would pass): the day before a family's first release, and after its last.
+  for (const char* unknown : {"2 Aug 2023", "7 Feb 2024", "23 Jun 2022", "29 Oct 2020", "11 Feb 2026", "1 Sep 2021",
+                              "28 Sep 2021", "30 Sep 2021", "26 Jun 2024", "23 Jul 2025", "31 Jul 2025"}) {
     const auto v = model::parse_lammps_version(banner(unknown));
     ASSERT_TRUE(v) << unknown;
     EXPECT_EQ(model::lammps_rules_for(*v), nullptr) << unknown;
