@@ -172,6 +172,16 @@ TEST_F(Messages, DesignRunsSettingsSayWhatTheyMean) {
   r = granstack({"design", "run", "small.toml", "-o", "d", "--generations", "0", "--no-report"});
   EXPECT_EQ(r.code, 0) << r.output;
   expect_contains(r, "the store is at generation 1 already, beyond the 0 asked for: nothing to run");
+  // M11: a store whose first write did not finish (a full disk as its search began: here, empty)
+  // is said to be so, and begun anew by the run its message advises.
+  fs::create_directories(path("full"));
+  std::ofstream(path("full") / "design.sqlite").close();
+  r = granstack({"design", "status", "full"});
+  EXPECT_EQ(r.code, 4) << r.output;
+  expect_contains(r, "its search's first write did not finish");
+  EXPECT_EQ(r.output.find("not a granstack design store"), std::string::npos) << r.output;
+  r = granstack({"design", "run", "small.toml", "-o", "full", "--max-designs", "2", "--no-report"});
+  EXPECT_EQ(r.code, 0) << r.output;
   auto text = small;
   text.replace(text.find("objectives = ["), 14, "objectives = \"peak_wall_force\"\nx = [");
   std::ofstream(path("str.toml")) << text;
