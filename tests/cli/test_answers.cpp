@@ -227,8 +227,7 @@ TEST_F(Answers, MessagesNameTheRealCause) {
 // that refused them and exits 2; confirm of an empty front is an error; generate --force calls a
 // design directory what it is.
 TEST_F(Answers, DesignMessagesSayWhatHappened) {
-  const auto small = read_bytes(fs::path(GRANSTACK_SOURCE_DIR) / "tests" / "data" / "design" / "small_space.toml");
-  std::ofstream(path("small.toml")) << small;
+  const auto small = small_space();
   auto r = granstack({"design", "run", "small.toml", "-o", "d", "--time-limit", "nan"});
   EXPECT_EQ(r.code, 2) << r.output;
   expect_contains(r, "'nan' is not a number from 1 to 1e+09");

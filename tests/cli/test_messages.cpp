@@ -162,8 +162,7 @@ TEST_F(Messages, AnInterruptedValidateSaysSo) {
 
 // M10, M11, M13, N7: the design search's numbers and settings.
 TEST_F(Messages, DesignRunsSettingsSayWhatTheyMean) {
-  const auto small = read_bytes(fs::path(GRANSTACK_SOURCE_DIR) / "tests" / "data" / "design" / "small_space.toml");
-  std::ofstream(path("small.toml")) << small;
+  const auto small = small_space();
   auto r = granstack({"design", "run", "small.toml", "-o", "d", "--generations", "1.5"});
   EXPECT_EQ(r.code, 2) << r.output;
   expect_contains(r, "'1.5' is not a whole number");

@@ -158,6 +158,27 @@ TEST(Wall, BounceReproducesRestitutionAndTheHertzTimeOfAWall) {
   }
 }
 
+// A sphere of `ball` (radius r) striking a wall of `wall` at v, 2000 steps a contact: the yield
+// meter's largest contact pressure over the bounce, which the sphere leaves moving up.
+model::YieldPeak bounce_yield(const model::Material& ball, const model::Material& wall, double r, double v) {
+  const auto c = model::sphere_wall(ball, r, wall);
+  const double dt = model::hertz_contact_time(c, v) / 2000.0;
+  auto p = refsim::uniform_parameters({ball, wall}, 1.0, 0.0, dt, 2e-4);
+  p.walls = {{2, 0.0, 2}};
+  System s({sphere(1, ball, r, {0, 0, r}, {0, 0, -v})}, p);
+  s.setup();
+  model::YieldMeter meter(model::YieldContacts{{ball, wall}, {1}, {r}, {{"wall_bottom", 2, 0.0}}, wall, true});
+  for (long k = 1; k <= 3000; ++k) {
+    s.step();
+    const auto x = s.x(0);
+    meter.add(meter.at(k, {x[0]}, {x[1]}, {x[2]}, {}));
+  }
+  EXPECT_GT(s.v(0)[2], 0.0) << "the sphere bounced off";
+  EXPECT_EQ(meter.largest().id_a, 1);
+  EXPECT_EQ(meter.largest().wall, "wall_bottom");
+  return meter.largest();
+}
+
 // First yield (docs/physics.md section 7): a steel sphere striking a steel wall starts to yield at
 // Johnson's V_Y, rho V_Y^2 / Y = 26 (Y / E*)^4 (Contact Mechanics, section 11.4, given to two
 // digits: 0.8^6 pi^4 = 25.5 for p0 = 1.6 Y), so granstack's yield ratio, the largest contact
@@ -169,25 +190,7 @@ TEST(Yield, ASphereOnAWallFirstYieldsAtJohnsonsSpeed) {
   const double y = *steel.yield_strength, r = 1e-3;
   const double e_star = model::effective_youngs_modulus(steel, steel);
   const double v_y = std::sqrt(26.0 * std::pow(y / e_star, 4) * y / steel.density);
-  const auto largest_ratio = [&](double v) {
-    const auto c = model::sphere_wall(steel, r, steel);
-    const double dt = model::hertz_contact_time(c, v) / 2000.0;
-    auto p = refsim::uniform_parameters({steel, steel}, 1.0, 0.0, dt, 2e-4);
-    p.walls = {{2, 0.0, 2}};
-    System s({sphere(1, steel, r, {0, 0, r}, {0, 0, -v})}, p);
-    s.setup();
-    model::YieldContacts contacts{{steel, steel}, {1}, {r}, {{"wall_bottom", 2, 0.0}}, steel, true};
-    model::YieldMeter meter(contacts);
-    for (long k = 1; k <= 3000; ++k) {
-      s.step();
-      const auto x = s.x(0);
-      meter.add(meter.at(k, {x[0]}, {x[1]}, {x[2]}, {}));
-    }
-    EXPECT_GT(s.v(0)[2], 0.0) << "the sphere bounced off";
-    EXPECT_EQ(meter.largest().id_a, 1);
-    EXPECT_EQ(meter.largest().wall, "wall_bottom");
-    return meter.largest().ratio;
-  };
+  const auto largest_ratio = [&](double v) { return bounce_yield(steel, steel, r, v).ratio; };
   const double at_v_y = largest_ratio(v_y);
   EXPECT_NEAR(at_v_y, 1.0, 0.005);
   // And exactly the closed form behind Johnson's 26 (2000 steps a contact: the peak is resolved).
@@ -211,21 +214,9 @@ TEST(Yield, AMixedContactYieldsInTheSofterMaterial) {
   EXPECT_EQ(model::first_yield_pressure(steel, brass), 1.6 * *brass.yield_strength);
   EXPECT_EQ(model::first_yield_pressure(brass, steel), 1.6 * *brass.yield_strength);
   const double r = 1e-3, v = 0.5;
-  const auto c = model::sphere_wall(steel, r, brass);
-  const double dt = model::hertz_contact_time(c, v) / 2000.0;
-  auto p = refsim::uniform_parameters({steel, brass}, 1.0, 0.0, dt, 2e-4);
-  p.walls = {{2, 0.0, 2}};
-  System s({sphere(1, steel, r, {0, 0, r}, {0, 0, -v})}, p);
-  s.setup();
-  model::YieldMeter meter(model::YieldContacts{{steel, brass}, {1}, {r}, {{"wall_bottom", 2, 0.0}}, brass, true});
-  for (long k = 1; k <= 3000; ++k) {
-    s.step();
-    const auto x = s.x(0);
-    meter.add(meter.at(k, {x[0]}, {x[1]}, {x[2]}, {}));
-  }
   const double y_star = model::effective_youngs_modulus(steel, brass);
-  const double p0 = 2.0 * y_star / model::kPi * std::sqrt(model::hertz_max_overlap(c, v) / r);
-  EXPECT_NEAR(meter.largest().ratio / (p0 / (1.6 * *brass.yield_strength)), 1.0, 1e-5);
+  const double p0 = 2.0 * y_star / model::kPi * std::sqrt(model::hertz_max_overlap(model::sphere_wall(steel, r, brass), v) / r);
+  EXPECT_NEAR(bounce_yield(steel, brass, r, v).ratio / (p0 / (1.6 * *brass.yield_strength)), 1.0, 1e-5);
 }
 
 // A sphere that starts many skins from two walls meets them only after many neighbour builds,

@@ -84,6 +84,16 @@ class GranstackTest : public ::testing::Test {
     return finish(start(args, cwd), seconds);
   }
 
+#ifdef GRANSTACK_SOURCE_DIR
+  // The tests' design space (tests/data/design/small_space.toml) written as `name` in the test's
+  // directory; its text.
+  std::string small_space(const std::string& name = "small.toml") {
+    const auto text = read_bytes(fs::path(GRANSTACK_SOURCE_DIR) / "tests" / "data" / "design" / "small_space.toml");
+    std::ofstream(path(name)) << text;
+    return text;
+  }
+#endif
+
   // `granstack generate -o NAME FLAGS...`, then the case run on refsim; both must succeed.
   void generate_and_run(const std::string& name, const std::vector<std::string>& flags) {
     std::vector<std::string> args{"generate", "-o", name};
