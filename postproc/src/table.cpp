@@ -17,7 +17,8 @@ namespace {
 std::string short_name(const std::string& field) {
   static const std::map<std::string, std::string> names{{"restitution", "e"},   {"friction", "mu"},
                                                         {"striker_speed", "v"}, {"top_columns", "cols"},
-                                                        {"bottom_radius", "r"}, {"radius_ratio", "ratio"}};
+                                                        {"bottom_radius", "r"}, {"radius_ratio", "ratio"},
+                                                        {"deck_additions", "additions"}};
   const auto it = names.find(field);
   return it == names.end() ? field : it->second;
 }
@@ -56,10 +57,16 @@ OutputTable build_table(const std::vector<CaseReduction>& reductions) {
     return key.value(json::json_pointer("/custom_materials/" + path), json());
   };
   std::set<std::string> constants;  // "NAME/constant" of every custom material of any group
+  std::set<std::string> fields;  // a field written only where it is given (deck_additions) is in some keys alone
   for (const auto& [text, key] : keys) {
-    for (const auto& [field, value] : key.items()) {
-      if (keys.begin()->second.value(field, json()) != value) differing.insert(field);
+    for (const auto& [field, value] : key.items()) fields.insert(field);
+  }
+  for (const auto& field : fields) {
+    for (const auto& [text, key] : keys) {
+      if (keys.begin()->second.value(field, json()) != key.value(field, json())) differing.insert(field);
     }
+  }
+  for (const auto& [text, key] : keys) {
     const json custom = key.value("custom_materials", json::object());
     for (const auto& [name, m] : custom.items()) {
       for (const auto& [c, v] : m.items()) constants.insert(name + "/" + c);
@@ -97,10 +104,11 @@ OutputTable build_table(const std::vector<CaseReduction>& reductions) {
     std::vector<std::string> parts;
     json sort_key = json::array();
     for (const auto& field : differing) {
-      sort_key.push_back(keys[text][field]);
+      const auto v = keys[text].value(field, json());
+      sort_key.push_back(v);
       if (field == "custom_materials") continue;  // named constant by constant below
-      const auto value = value_text(keys[text][field]);
-      parts.push_back(short_name(field) + "=" + (value.empty() ? "default" : value));
+      const auto value = v.is_null() ? std::string() : value_text(v);
+      parts.push_back(short_name(field) + "=" + (!value.empty() ? value : field == "deck_additions" ? "none" : "default"));
     }
     for (const auto& path : differing_constants) {
       const auto v = constant(keys[text], path);

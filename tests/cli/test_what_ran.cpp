@@ -142,6 +142,13 @@ TEST_F(WhatRan, PhysicsATemplateAddsIsRefusedUnlessTheSpecListsIt) {
   expect_contains(reduce, "the deck of listed added what its spec's deck_additions lists: fix visc all viscous 0.001");
   const auto summary = nlohmann::json::parse(read_bytes(path("listed") / "reduce" / "summary.json"));
   EXPECT_EQ(summary.at("deck_additions").size(), 1u);
+  // table: the case with the addition is a group of its own, named by it.
+  ASSERT_EQ(granstack({"generate", "-o", path("plain").string(), "--blocks", "1", "--rows", "3"}).code, 0);
+  ASSERT_EQ(granstack({"run", path("plain").string()}).code, 0);
+  const auto table = granstack({"table", path("listed").string(), path("plain").string()});
+  EXPECT_EQ(table.code, 0) << table.output;
+  expect_contains(table, "| additions=fix viscous |");
+  expect_contains(table, "| additions=none |");
 }
 
 // A deck run by hand in the case's folder is the case's run once adopted; one whose outputs do not
