@@ -54,13 +54,19 @@ TEST(InputScript, CommentsSubstitutionsAndWordsAreTheProgramsOwn) {
   EXPECT_FALSE(formats::same_word("1e-7", "1.0000001e-07"));
 }
 
+// The running test's own folder under the system's temporary one, not there yet.
+fs::path own_dir(const std::string& kind) {
+  const auto dir = fs::temp_directory_path() / ("granstack_" + kind + "_" + std::to_string(::getpid()) + "_" +
+                                                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  fs::remove_all(dir);
+  return dir;
+}
+
 // A deck and its log, written into a folder of their own.
 class Follow : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("granstack_follow_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
+    dir_ = own_dir("follow");
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -140,9 +146,7 @@ TEST_F(Follow, WhatCannotBeFollowedOrWasNotRunIsSaid) {
 class Rules : public ::testing::Test {
  protected:
   void make(model::StackSpec spec) {
-    dir_ = fs::temp_directory_path() / ("granstack_rules_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
+    dir_ = own_dir("rules");
     generator::GenerateOptions o;
     o.output = dir_;
     generator::generate({{"case", spec}}, o);
