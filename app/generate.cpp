@@ -7,6 +7,8 @@
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/generator/spec_input.hpp>
 #include <granstack/model/spec_fields.hpp>
+#include <granstack/model/stack.hpp>
+#include <granstack/model/yield.hpp>
 
 #include <fmt/format.h>
 
@@ -65,6 +67,17 @@ std::string flag_help(const model::SpecField& f) {
   return help;
 }
 
+// thornton_ning's one yield radius, and the yield pressure each kind of contact has at it.
+void print_yield_plan(const model::YieldRadiusPlan& plan, const model::StackSpec& spec) {
+  fmt::print("thornton_ning: one yield radius a_y = {:.4g} m for every contact (order-independent), at {} Y of "
+             "{}; each kind of contact's yield pressure at it:\n",
+             plan.yield_radius, spec.yield_pressure_factor, plan.honoured);
+  for (const auto& k : plan.kinds) {
+    fmt::print("  {:<22} p_y {:.4g} Pa, intended {:.4g} Pa ({:.3g} times)\n", k.what, k.effective, k.intended,
+               k.effective / k.intended);
+  }
+}
+
 int generate(CLI::App& cmd, const GenerateFlags& g, const std::vector<std::string>& argv) {
   const auto sweep = generator::build_sweep(raw_spec(cmd, g));
   const auto cases = generator::expand(sweep);
@@ -93,6 +106,9 @@ int generate(CLI::App& cmd, const GenerateFlags& g, const std::vector<std::strin
       fmt::print("wrote case {} ({} spheres, dt = {:.4g} s, {} steps, {:.4g} s simulated)\n", g.output, total.spheres, d.dt,
                  total.steps, d.duration);
     }
+  }
+  if (!result.sweep && cases.front().spec.normal_model == model::NormalModel::thornton_ning) {
+    print_yield_plan(model::thornton_ning_plan(model::Stack::build(cases.front().spec)), cases.front().spec);
   }
   const bool capped = std::any_of(result.resolutions.begin(), result.resolutions.end(), [](const auto& r) { return r.stops_at_blow_end; });
   fmt::print("cost{}: about {} of dumps and series, about {} of LIGGGHTS on one core\n", capped ? ", if it runs to its cap" : "",

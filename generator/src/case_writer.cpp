@@ -7,6 +7,7 @@
 #include <granstack/model/contact.hpp>
 #include <granstack/model/protection.hpp>
 #include <granstack/model/version.hpp>
+#include <granstack/model/yield.hpp>
 #include <granstack/os/case_lock.hpp>
 
 #include <fmt/format.h>
@@ -39,11 +40,34 @@ std::string group_command(const model::SeriesGroup& g) {
 
 namespace {
 
+// thornton_ning's properties (normal_model_thornton_ning.h): the yield ratios that give every
+// contact one yield radius (model::thornton_ning_plan, refused where none do), no surface energy,
+// and in comments the yield pressure each kind of contact then has against the intended one.
+std::string thornton_ning_fixes(const model::Stack& stack, std::size_t types) {
+  const auto plan = model::thornton_ning_plan(stack);
+  if (!plan.refusal.empty()) throw std::invalid_argument("normal_model = 'thornton_ning': " + plan.refusal);
+  std::string out = fmt::format("\nfix             m7 all property/global coefficientYieldRatio peratomtype {}",
+                                fmt::join(plan.ratio, " "));
+  out += fmt::format("\nfix             m8 all property/global surfaceEnergy peratomtypepair {}", types);
+  for (std::size_t k = 0; k < types * types; ++k) out += " 0";
+  out += fmt::format("\n# thornton_ning yields where sqrt(R* delta) reaches a_y = {:.6g} m for every contact (r * "
+                     "coefficientYieldRatio the same for every type, so which sphere LIGGGHTS calls i does not "
+                     "matter); a_y gives {} its intended p_y. Each kind's p_y = 2 E* a_y / (pi R*), against "
+                     "{:g} Y of its softer body:",
+                     plan.yield_radius, plan.honoured, stack.spec().yield_pressure_factor);
+  for (const auto& k : plan.kinds) {
+    out += fmt::format("\n#   {:<22} {:.4g} Pa (intended {:.4g} Pa)", k.what, k.effective, k.intended);
+  }
+  return out;
+}
+
 // The properties the contact model needs beyond hertz/history's (each on a line of its own,
 // after the four material fixes): hooke's characteristic velocity (normal_model_hooke.h) and
 // a rolling model's friction per type pair (epsd2's and cdt's coefficientRollingFriction).
-std::string contact_model_fixes(const model::StackSpec& spec, const std::vector<std::string>& types) {
+std::string contact_model_fixes(const model::Stack& stack, const std::vector<std::string>& types) {
+  const auto& spec = stack.spec();
   std::string out;
+  if (spec.normal_model == model::NormalModel::thornton_ning) out += thornton_ning_fixes(stack, types.size());
   if (spec.normal_model == model::NormalModel::hooke) {
     out += fmt::format("\nfix             m5 all property/global characteristicVelocity scalar {}",
                        spec.contact_model().characteristic_velocity);
@@ -244,7 +268,7 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
       "fix             m2 all property/global poissonsRatio peratomtype{}\n"
       "fix             m3 all property/global coefficientRestitution peratomtypepair {}{}\n"
       "fix             m4 all property/global coefficientFriction peratomtypepair {}{}{}",
-      y_list, nu_list, nt, e_matrix, nt, mu_matrix, contact_model_fixes(spec, types));
+      y_list, nu_list, nt, e_matrix, nt, mu_matrix, contact_model_fixes(stack, types));
   const auto model = spec.contact_model();
   v["contact_model"] = model::liggghts_model_words(model);
   if (const auto why = model::liggghts_refusal(model); !why.empty()) {
@@ -349,7 +373,7 @@ json derived_json(const model::Stack& stack, const model::Resolution& r) {
           {"e_in", stack.incident_energy()},
           {"dt", r.dt},
           {"dt_auto", r.dt_auto},
-          {"dt_rule", fmt::format("dt = (shortest Hertz contact time at the striker speed) / {}", model::kStepsPerContact)},
+          {"dt_rule", fmt::format("dt = (shortest Hertz contact time at the striker speed) / {}", model::normal_law(stack.spec().normal_model).steps_per_contact)},
           {"duration", r.duration},
           {"duration_auto", r.duration_auto},
           {"duration_rule", fmt::format("duration = {} x sum over blocks of ({} rows + {}) x (equal-pair Hertz contact "

@@ -1,8 +1,10 @@
 #include <granstack/model/contact.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <stdexcept>
 
 namespace granstack::model {
 
@@ -92,11 +94,43 @@ double hooke_time(const ContactModel& m, const ContactPair& c, double) {
   return kPi * std::sqrt(c.m_star / hooke_stiffness(c, m.characteristic_velocity));
 }
 
-// In NormalModel's order.
-constexpr std::array<NormalLaw, 2> kNormalLaws{{
-    {"Hertz", false, true, hertz_force, hertz_energy, hertz_overlap, hertz_time},
-    {"Hooke", true, false, hooke_force, hooke_energy, hooke_overlap, hooke_time},
-}};
+// The elastic-plastic laws' elastic branch is Hertz's (below yield).
+double no_energy(const ContactModel&, const ContactPair&, double) {
+  throw std::logic_error("an elastic-plastic contact's energy depends on its largest overlap, not on the overlap alone");
+}
+
+constexpr SubModelInfo kHertzInfo{"hertz", "hertz (the study's)", "", ""};
+constexpr SubModelInfo kHookeInfo{
+    "hooke", "hooke",
+    "`hooke`: a linear spring with Hertz's largest overlap at `characteristic_velocity` and restitution exactly e "
+    "([physics](../physics.md#other-contact-models))",
+    "normal_model = 'hooke' has no counterpart in LAMMPS's granular styles (its hooke spring is a constant per type "
+    "pair, LIGGGHTS's depends on each pair's masses and the characteristic velocity); use normal_model = 'hertz'"};
+constexpr SubModelInfo kThorntonInfo{
+    "thornton", "thornton (Thornton 1997: elastic-perfectly-plastic, refsim)",
+    "`thornton`: Thornton (1997)'s elastic-perfectly-plastic contact, yield at `yield_pressure_factor` times the "
+    "softer yield strength ([physics](../physics.md#contacts-that-yield)); refsim only",
+    "normal_model = 'thornton' has no counterpart in LAMMPS 29 Sep 2021 (its granular styles have no elastic-plastic "
+    "normal model); run it on refsim (run --engine refsim)",
+    "normal_model = 'thornton' (Thornton 1997) has no counterpart in LIGGGHTS 3.8: its nearest law is thornton_ning "
+    "(unloading about R*, first order in dt); run thornton on refsim (run --engine refsim), or set normal_model = "
+    "'thornton_ning' to run LIGGGHTS's"};
+constexpr SubModelInfo kThorntonNingInfo{
+    "thornton_ning", "thornton_ning (LIGGGHTS 3.8's elastic-plastic law)",
+    "`thornton_ning`: LIGGGHTS 3.8's elastic-plastic law (surfaceEnergy 0), one yield radius per chain of touching "
+    "types ([physics](../physics.md#contacts-that-yield))",
+    "normal_model = 'thornton_ning' has no counterpart in LAMMPS 29 Sep 2021 (its granular styles have no "
+    "elastic-plastic normal model); run it on LIGGGHTS or refsim"};
+
+// In NormalModel's order: one row per model, the table as long as the enum.
+constexpr auto kNormalLaws = std::to_array<NormalLaw>({
+    {kHertzInfo, "Hertz", false, true, false, false, false, 100.0, hertz_force, hertz_energy, hertz_overlap, hertz_time},
+    {kHookeInfo, "Hooke", true, false, false, false, false, 100.0, hooke_force, hooke_energy, hooke_overlap, hooke_time},
+    {kThorntonInfo, "Thornton", false, true, true, true, true, 100.0, hertz_force, no_energy, hertz_overlap, hertz_time},
+    {kThorntonNingInfo, "LIGGGHTS's thornton_ning", false, true, true, true, true, 1000.0, hertz_force, no_energy,
+     hertz_overlap, hertz_time},
+});
+static_assert(kNormalLaws.size() == kNormalModelCount, "one row per NormalModel");
 }  // namespace
 
 const NormalLaw& normal_law(NormalModel m) { return kNormalLaws.at(static_cast<std::size_t>(m)); }
@@ -106,6 +140,59 @@ double elastic_normal_force(const ContactModel& m, const ContactPair& c, double 
 }
 double elastic_energy(const ContactModel& m, const ContactPair& c, double d) { return normal_law(m.normal).energy(m, c, d); }
 double max_overlap(const ContactModel& m, const ContactPair& c, double v) { return normal_law(m.normal).max_overlap(m, c, v); }
+
+ThorntonLaw thornton_law(const ContactPair& c, double p_y) {
+  const double a_y = kPi * c.r_star * p_y / (2.0 * c.y_star);
+  const double d_y = a_y * a_y / c.r_star;
+  return {c.y_star, c.r_star, p_y, d_y, 4.0 / 3.0 * c.y_star * std::sqrt(c.r_star) * d_y * std::sqrt(d_y),
+          kPi * p_y * c.r_star};
+}
+
+namespace {
+// The unloading curve from d_max > d_y: F_max, R_p and d_max - d_p.
+struct Unloading {
+  double f_max, r_p, w_max;
+};
+Unloading unloading(const ThorntonLaw& l, double d_max) {
+  const double f_max = l.yield_force + l.slope * (d_max - l.yield_overlap);
+  const double a_p = std::sqrt(l.r_star * d_max);
+  const double r_p = 4.0 * l.y_star * a_p * a_p * a_p / (3.0 * f_max);
+  return {f_max, r_p, l.r_star * d_max / r_p};
+}
+}  // namespace
+
+double thornton_force(const ThorntonLaw& l, double d, double d_max) {
+  if (d <= 0.0) return 0.0;
+  if (d_max <= l.yield_overlap) return 4.0 / 3.0 * l.y_star * std::sqrt(l.r_star) * d * std::sqrt(d);
+  if (d >= d_max) return l.yield_force + l.slope * (d - l.yield_overlap);
+  const Unloading u = unloading(l, d_max);
+  const double w = d - (d_max - u.w_max);
+  return w <= 0.0 ? 0.0 : 4.0 / 3.0 * l.y_star * std::sqrt(u.r_p) * w * std::sqrt(w);
+}
+
+ThorntonState thornton_state(const ThorntonLaw& l, double d, double d_max) {
+  d = std::max(d, 0.0);
+  d_max = std::max(d_max, d);
+  if (d_max <= l.yield_overlap) return {thornton_force(l, d, d_max), hertz_elastic_energy(l.y_star, l.r_star, d), 0.0};
+  const Unloading u = unloading(l, d_max);
+  const double beyond = d_max - l.yield_overlap;
+  const double loading_work = hertz_elastic_energy(l.y_star, l.r_star, l.yield_overlap) +
+                              (l.yield_force + 0.5 * l.slope * beyond) * beyond;
+  const double dissipated = loading_work - hertz_elastic_energy(l.y_star, u.r_p, u.w_max);
+  const double w = d - (d_max - u.w_max);
+  return {thornton_force(l, d, d_max), w <= 0.0 ? 0.0 : hertz_elastic_energy(l.y_star, u.r_p, w), dissipated};
+}
+
+double thornton_yield_velocity(const ContactPair& c, double p_y) {
+  return std::sqrt(2.0 * hertz_elastic_energy(c.y_star, c.r_star, thornton_law(c, p_y).yield_overlap) / c.m_star);
+}
+
+double thornton_restitution(double v_y, double v) {
+  if (v <= v_y) return 1.0;
+  const double x = v_y / v;
+  return std::sqrt(6.0 * std::sqrt(3.0) / 5.0) * std::sqrt(1.0 - x * x / 6.0) *
+         std::pow(x / (x + 2.0 * std::sqrt(6.0 / 5.0 - x * x / 5.0)), 0.25);
+}
 double contact_time(const ContactModel& m, const ContactPair& c, double v) { return normal_law(m.normal).contact_time(m, c, v); }
 
 namespace {

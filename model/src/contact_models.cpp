@@ -13,15 +13,7 @@ namespace granstack::model {
 
 namespace {
 
-// In each enum's order.
-constexpr std::array<SubModelInfo, 2> kNormal{{
-    {"hertz", "hertz (the study's)", "", ""},
-    {"hooke", "hooke",
-     "`hooke`: a linear spring with Hertz's largest overlap at `characteristic_velocity` and restitution exactly e "
-     "([physics](../physics.md#other-contact-models))",
-     "normal_model = 'hooke' has no counterpart in LAMMPS's granular styles (its hooke spring is a constant per type "
-     "pair, LIGGGHTS's depends on each pair's masses and the characteristic velocity); use normal_model = 'hertz'"},
-}};
+// In each enum's order (the normal models' rows are their laws', contact.cpp).
 constexpr std::array<SubModelInfo, 3> kTangential{{
     {"history", "history (a spring limited by Coulomb)", "", "", "", "mindlin"},
     {"no_history", "no_history (viscous)", "`no_history`: viscous, capped at `mu F_n`; no tangential force at all at e = 1",
@@ -46,44 +38,43 @@ constexpr std::array<SubModelInfo, 3> kRolling{{
 }};
 
 template <typename Model>
-const auto& table() {
-  if constexpr (std::is_same_v<Model, NormalModel>) return kNormal;
-  if constexpr (std::is_same_v<Model, TangentialModel>) return kTangential;
-  if constexpr (std::is_same_v<Model, RollingModel>) return kRolling;
+std::size_t count() {
+  if constexpr (std::is_same_v<Model, NormalModel>) return kNormalModelCount;
+  if constexpr (std::is_same_v<Model, TangentialModel>) return kTangential.size();
+  if constexpr (std::is_same_v<Model, RollingModel>) return kRolling.size();
 }
 
 template <typename Model>
 std::optional<Model> parse(std::string_view s) {
-  const auto& rows = table<Model>();
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    if (rows[k].keyword == s) return static_cast<Model>(k);
+  for (std::size_t k = 0; k < count<Model>(); ++k) {
+    if (info(static_cast<Model>(k)).keyword == s) return static_cast<Model>(k);
   }
   return std::nullopt;
 }
 
 }  // namespace
 
-const SubModelInfo& info(NormalModel m) { return kNormal.at(static_cast<std::size_t>(m)); }
+const SubModelInfo& info(NormalModel m) { return normal_law(m).info; }
 const SubModelInfo& info(TangentialModel m) { return kTangential.at(static_cast<std::size_t>(m)); }
 const SubModelInfo& info(RollingModel m) { return kRolling.at(static_cast<std::size_t>(m)); }
 
 template <typename Model>
 std::vector<Model> all_models() {
   std::vector<Model> out;
-  for (std::size_t k = 0; k < table<Model>().size(); ++k) out.push_back(static_cast<Model>(k));
+  for (std::size_t k = 0; k < count<Model>(); ++k) out.push_back(static_cast<Model>(k));
   return out;
 }
 
 template <typename Model>
 std::string keyword_list(bool beyond_default) {
-  const auto& rows = table<Model>();
+  const std::size_t rows = count<Model>();
   const std::size_t first = beyond_default ? 1 : 0;
   const std::string quote = beyond_default ? "" : "'";
   std::string out;
-  for (std::size_t k = first; k < rows.size(); ++k) {
-    if (k > first) out += k + 1 == rows.size() ? " or " : ", ";
+  for (std::size_t k = first; k < rows; ++k) {
+    if (k > first) out += k + 1 == rows ? " or " : ", ";
     out += quote;
-    out += rows[k].keyword;
+    out += info(static_cast<Model>(k)).keyword;
     out += quote;
   }
   return out;

@@ -99,7 +99,7 @@ Resolution resolve(const Stack& stack) {
 
   r.dt_auto = !spec.dt.has_value();
   r.duration_auto = !spec.duration.has_value();
-  r.dt = spec.dt.value_or(r.min_contact_time / kStepsPerContact);
+  r.dt = spec.dt.value_or(r.min_contact_time / normal_law(spec.normal_model).steps_per_contact);
   const double wanted = spec.duration.value_or((r.soft_cavity ? kCavityDurationPerArrival : kDurationPerArrival) * arrival);
   // Counts beyond kMaxSteps are held just above it (check_resolution refuses them) rather than
   // overflowing.
@@ -144,7 +144,8 @@ std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& r)
                                         "the integration would not conserve energy; use at most {:.4g} s, or 'auto' "
                                         "({:.4g} s)",
                                         r.dt, kMinStepsPerContact, law_name(spec), r.min_contact_time, r.min_contact_pair,
-                                        r.min_contact_time / kMinStepsPerContact, r.min_contact_time / kStepsPerContact)});
+                                        r.min_contact_time / kMinStepsPerContact,
+                                        r.min_contact_time / normal_law(spec.normal_model).steps_per_contact)});
   }
   const auto& top = stack.block(1);
   // A Hooke spring calibrated beyond Hertz's range makes every overlap meaningless, the striker's too:

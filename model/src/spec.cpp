@@ -125,7 +125,8 @@ const std::string& StackSpec::effective_matrix_material() const {
 }
 
 ContactModel StackSpec::contact_model() const {
-  return {normal_model, tangential_model, rolling_model, characteristic_velocity.value_or(striker_speed)};
+  return {normal_model, tangential_model, rolling_model, characteristic_velocity.value_or(striker_speed),
+          yield_pressure_factor};
 }
 
 int StackSpec::measured_panel() const {
@@ -190,7 +191,8 @@ bool PairTable::everywhere(double v) const {
 bool is_conservative(const StackSpec& s) {
   // A rolling model dissipates (epsd2's torque spring also stores energy that no dump shows).
   const bool rolling = s.rolling_model != RollingModel::off && !s.rolling_friction.everywhere(0.0);
-  return s.restitution.everywhere(1.0) && s.friction.everywhere(0.0) && s.gravity == 0.0 && !rolling;
+  return s.restitution.everywhere(1.0) && s.friction.everywhere(0.0) && s.gravity == 0.0 && !rolling &&
+         !normal_law(s.normal_model).dissipative;
 }
 
 namespace {
@@ -259,6 +261,55 @@ void validate_block_lists(const StackSpec& s, Bad&& bad) {
   }
 }
 
+// The elastic-plastic laws: their yield pressure factor in range (and refused on the others), no
+// viscous damping (they dissipate by yielding), and a yield strength for every material they meet.
+template <typename Bad>
+void validate_yield_law(const StackSpec& s, Bad&& bad) {
+  const auto& law = normal_law(s.normal_model);
+  const double f = s.yield_pressure_factor;
+  if (!law.needs_yield) {
+    if (f != kDefaultYieldPressureFactor) {
+      bad("yield_pressure_factor", fmt::format("applies to the elastic-plastic laws only (normal_model = 'thornton' or "
+                                               "'thornton_ning'; this spec's is {}): remove it",
+                                               to_string(s.normal_model)));
+    }
+    return;
+  }
+  if (!(std::isfinite(f) && f >= kMinYieldPressureFactor && f <= kMaxYieldPressureFactor)) {
+    bad("yield_pressure_factor", fmt::format("{} is outside {:g}..{:g} (p_y / Y: {:g} at first yield, about 3 fully "
+                                             "plastic)",
+                                             f, kMinYieldPressureFactor, kMaxYieldPressureFactor,
+                                             kDefaultYieldPressureFactor));
+  }
+  if (!s.restitution.everywhere(1.0)) {
+    bad("restitution", fmt::format("normal_model = '{}' dissipates by yielding and has no viscous damping (LIGGGHTS's "
+                                   "thornton_ning would turn a restitution below 1 into a negative tangential "
+                                   "damping): set restitution = 1 everywhere",
+                                   to_string(s.normal_model)));
+  }
+  MaterialLibrary lib;
+  try {
+    lib = s.material_library();
+  } catch (const std::exception&) {
+    return;  // an unknown material is reported on its own field
+  }
+  std::vector<std::string> names;
+  for (int k = 1; k <= s.blocks; ++k) names.push_back(s.block_material(k));
+  names.push_back(s.effective_striker_material());
+  if (s.has_walls()) names.push_back(s.effective_wall_material());
+  if (s.geometry == Geometry::panels) names.push_back(s.effective_matrix_material());
+  for (const auto& name : names) {
+    const Material* m = lib.find(name);
+    if (m != nullptr && !m->yield_strength) {
+      bad("normal_model", fmt::format("'{}' needs every material's yield strength, and '{}' has none (a brittle "
+                                      "material cracks rather than yields); use another material there, give it a "
+                                      "yield_strength under [custom_materials], or use normal_model = 'hertz'",
+                                      to_string(s.normal_model), name));
+      return;
+    }
+  }
+}
+
 // The contact model's own fields: each refused where the chosen model does not use it.
 template <typename Bad>
 void validate_contact_model(const StackSpec& s, Bad&& bad) {
@@ -269,6 +320,7 @@ void validate_contact_model(const StackSpec& s, Bad&& bad) {
                                         "model): set a rolling_model ({}), or remove it",
                                         models, models));
   }
+  validate_yield_law(s, bad);
   if (s.characteristic_velocity) {
     const double v = *s.characteristic_velocity;
     if (s.normal_model != NormalModel::hooke) {

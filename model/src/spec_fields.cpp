@@ -727,6 +727,12 @@ std::vector<SpecField> contact_model_rows() {
                            "normal_model = hooke: the speed at which its spring reaches Hertz's overlap, m/s, >= 0.01");
   unless_default(velocity, [](const StackSpec& s) { return s.characteristic_velocity.has_value(); });
   rows.push_back(std::move(velocity));
+  auto yield = number_row("yield_pressure_factor", &StackSpec::yield_pressure_factor, "1.6",
+                          "normal_model = thornton or thornton_ning: the yield pressure p_y over the softer body's "
+                          "yield strength, 1.5..3 (1.6 first yield, about 3 fully plastic)",
+                          "pyf");
+  unless_default(yield, [](const StackSpec& s) { return s.yield_pressure_factor != kDefaultYieldPressureFactor; });
+  rows.push_back(std::move(yield));
   return rows;
 }
 

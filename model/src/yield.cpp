@@ -9,13 +9,97 @@
 
 namespace granstack::model {
 
-std::optional<double> first_yield_pressure(const Material& a, const Material& b) {
+std::optional<double> yield_pressure(const Material& a, const Material& b, double factor) {
   std::optional<double> lower;
   for (const auto* m : {&a, &b}) {
     if (m->yield_strength && (!lower || *m->yield_strength < *lower)) lower = m->yield_strength;
   }
   if (!lower) return std::nullopt;
-  return kFirstYieldPressurePerYield * *lower;
+  return factor * *lower;
+}
+
+std::optional<double> first_yield_pressure(const Material& a, const Material& b) {
+  return yield_pressure(a, b, kFirstYieldPressurePerYield);
+}
+
+namespace {
+// The ratio q with r * q == a_y exactly, searched a few doubles either side of a_y / r; 0 if none.
+double exact_ratio(double a_y, double r) {
+  double q = a_y / r;
+  for (int k = 0; k < 8 && r * q != a_y; ++k) q = r * q < a_y ? std::nextafter(q, 2.0) : std::nextafter(q, 0.0);
+  return r * q == a_y ? q : 0.0;
+}
+}  // namespace
+
+YieldRadiusPlan thornton_ning_plan(const Stack& stack) {
+  const auto& spec = stack.spec();
+  const auto lib = spec.material_library();
+  const double factor = spec.yield_pressure_factor;
+  YieldRadiusPlan plan;
+  const auto& top = stack.block(1);
+  const auto& m1 = lib.at(top.material);
+  const auto kind_of = [&](std::string what, const ContactPair& c, const Material& a, const Material& b) {
+    const double intended = yield_pressure(a, b, factor).value_or(0.0);
+    const double a_y = kPi * c.r_star * intended / (2.0 * c.y_star);
+    return std::pair{YieldRadiusPlan::Kind{std::move(what), 0.0, intended}, a_y};
+  };
+  plan.yield_radius = kind_of("", sphere_sphere(m1, top.radius, m1, top.radius), m1, m1).second;
+  plan.honoured = "block 1 - block 1";
+  // Each sphere type's radius (one per type), and its ratio.
+  const auto types = stack.type_materials();
+  std::vector<double> radius(types.size(), 0.0);
+  for (const auto& s : stack.spheres()) {
+    auto& r = radius[static_cast<std::size_t>(s.atom_type - 1)];
+    if (r != 0.0 && r != s.radius && plan.refusal.empty()) {
+      plan.refusal = fmt::format("atom type {} has spheres of two radii ({:g} and {:g} m), so no one "
+                                 "coefficientYieldRatio gives its contacts one yield radius",
+                                 s.atom_type, r, s.radius);
+    }
+    r = s.radius;
+  }
+  plan.ratio.assign(types.size(), 0.0);
+  for (std::size_t t = 0; t < types.size(); ++t) {
+    if (radius[t] == 0.0) continue;  // the wall's type: LIGGGHTS reads only atom i's ratio
+    const double q = exact_ratio(plan.yield_radius, radius[t]);
+    plan.ratio[t] = q;
+    if (plan.refusal.empty() && q == 0.0) {
+      plan.refusal = fmt::format("no double coefficientYieldRatio gives atom type {} ({}, radius {:g} m) the yield "
+                                 "radius a_y = {:.17g} m exactly, so its contacts would depend on which sphere "
+                                 "LIGGGHTS calls i",
+                                 t + 1, types[t], radius[t], plan.yield_radius);
+    } else if (plan.refusal.empty() && q > 1.0) {
+      plan.refusal = fmt::format("the yield radius a_y = {:.4g} m of block 1's contacts exceeds the radius {:g} m of "
+                                 "atom type {} ({}): its coefficientYieldRatio would be {:.4g}, and LIGGGHTS takes "
+                                 "0..1; use fewer blocks, a stiffer or weaker top block, or normal_model = 'thornton' "
+                                 "(refsim)",
+                                 plan.yield_radius, radius[t], t + 1, types[t], q);
+    }
+  }
+  for (std::size_t t = 0; t < types.size(); ++t) {
+    if (radius[t] == 0.0) plan.ratio[t] = plan.ratio[0];
+  }
+  // Every kind of contact, at the one a_y: p_y,eff = 2 E* a_y / (pi R*).
+  const auto add = [&](std::string what, const ContactPair& c, const Material& a, const Material& b) {
+    auto kind = kind_of(std::move(what), c, a, b).first;
+    kind.effective = 2.0 * c.y_star * plan.yield_radius / (kPi * c.r_star);
+    plan.kinds.push_back(std::move(kind));
+  };
+  const auto& striker = lib.at(spec.effective_striker_material());
+  add("striker - block 1", sphere_sphere(striker, stack.striker_radius(), m1, top.radius), striker, m1);
+  for (const auto& b : stack.blocks()) {
+    const auto& m = lib.at(b.material);
+    add(fmt::format("block {} - block {}", b.index, b.index), sphere_sphere(m, b.radius, m, b.radius), m, m);
+    if (b.index < spec.blocks) {
+      const auto& below = stack.block(b.index + 1);
+      const auto& mb = lib.at(below.material);
+      add(fmt::format("block {} - block {}", b.index, below.index), sphere_sphere(m, b.radius, mb, below.radius), m, mb);
+    }
+    if (stack.has_walls()) {
+      const auto& w = lib.at(spec.effective_wall_material());
+      add(fmt::format("block {} - wall", b.index), sphere_wall(m, b.radius, w), m, w);
+    }
+  }
+  return plan;
 }
 
 namespace {

@@ -268,7 +268,9 @@ void require_energy_balance(const FrameEnergy& e, const model::StackSpec& spec, 
         "most {:g} allowed{}): the integration is broken (a time step too long for the contacts?) or the dump is "
         "not this case's; no result is taken from it",
         dump_path, e.step, e.kinetic + e.elastic, r.e_in, error, kEnergyBalanceBound,
-        conservative ? ", this case conserves energy" : ", damping and friction only remove energy"));
+        conservative ? ", this case conserves energy"
+        : model::has_overlap_energy(spec.contact_model()) ? ", damping and friction only remove energy"
+                                                          : ", yield only removes energy (the elastic energy of an elastic-plastic contact is not in the dump: 0 counted)"));
   }
 }
 }  // namespace
@@ -350,7 +352,11 @@ void series_peaks(const formats::Series& series, const SeriesColumns& cols, doub
 // container, each panel's and the matrix's share.
 void final_state(const FrameEnergy& last, const model::Stack& stack, CaseReduction& r) {
   const auto& spec = stack.spec();
-  if (spec.gravity == 0.0) r.dissipated_fraction = (r.e_in - last.kinetic - last.elastic) / r.e_in;
+  // An elastic-plastic law's elastic energy is not in the dump: what is not kinetic is then stored
+  // and dissipated together, and no dissipated fraction is claimed.
+  if (spec.gravity == 0.0 && model::has_overlap_energy(spec.contact_model())) {
+    r.dissipated_fraction = (r.e_in - last.kinetic - last.elastic) / r.e_in;
+  }
   r.striker_velocity_ratio = last.striker_vz / -spec.striker_speed;
   r.final_momentum_ratio = last.momentum_z / (stack.striker_mass() * spec.striker_speed * stack.strikers());
   r.output_fraction_bottom_row = last.bottom_row_ke / r.e_in;
@@ -589,7 +595,13 @@ std::string yield_line(const CaseReduction& r) {
   if (!r.yield_ratio) return fmt::format("contacts not judged for first yield: {}", r.yield_not_judged);
   std::string line = fmt::format("largest contact pressure: {:.4g} Pa, {:.3g} times first yield (1.6 Y), {} at t = {:.4g} s",
                                  r.yield.pressure, *r.yield_ratio, r.yield_contact, r.yield_time);
-  if (*r.yield_ratio > 1.0) line += ": the contact yields, and the elastic result is a model there";
+  if (*r.yield_ratio > 1.0) {
+    const auto& law = model::normal_law(r.spec.normal_model);
+    line += law.dissipative ? fmt::format(": the Hertz pressure there passes first yield, where the {} law yields and "
+                                          "dissipates (its pressure capped at {:g} Y)",
+                                          law.name, r.spec.yield_pressure_factor)
+                            : std::string(": the contact yields, and the elastic result is a model there");
+  }
   if (!r.yield_unjudged_materials.empty()) {
     line += fmt::format(" (no yield strength, not judged against each other: {})", fmt::join(r.yield_unjudged_materials, ", "));
   }

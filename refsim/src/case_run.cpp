@@ -7,6 +7,7 @@
 #include <granstack/model/protection.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
+#include <granstack/model/yield.hpp>
 #include <granstack/refsim/case_run.hpp>
 
 #include <fmt/compile.h>
@@ -72,7 +73,15 @@ Parameters case_parameters(const model::Stack& stack) {
   p.contact = spec.contact_model();
   p.rolling_friction.clear();
   for (const auto& a : materials) {
-    for (const auto& b : materials) p.rolling_friction.push_back(spec.rolling_friction.get(a.name, b.name));
+    for (const auto& b : materials) {
+      p.rolling_friction.push_back(spec.rolling_friction.get(a.name, b.name));
+      p.yield_pressure.push_back(model::yield_pressure(a, b, spec.yield_pressure_factor).value_or(0.0));
+    }
+  }
+  if (spec.normal_model == model::NormalModel::thornton_ning) {
+    const auto plan = model::thornton_ning_plan(stack);
+    if (!plan.refusal.empty()) throw std::invalid_argument("normal_model = 'thornton_ning': " + plan.refusal);
+    p.yield_ratio = plan.ratio;
   }
   // The deck's walls, in its order.
   for (const auto& w : stack.walls()) {

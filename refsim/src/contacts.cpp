@@ -8,21 +8,10 @@
 
 namespace granstack::refsim::detail {
 
-ModelRecord model_record(const SubModels& m, const ModelConstants& k, double reff, double meff) {
-  ModelRecord r;
-  r.rolling_friction = m.rolling == model::RollingModel::off ? 0.0 : k.rolling_friction;
-  if (m.normal == NormalKernel::hooke) hooke_record(k, reff, meff, r);
-  if (m.normal == NormalKernel::hertz_material_tsuji) {
-    r.lammps_alpha = k.lammps_alpha;
-    r.lammps_tangential_ratio = k.lammps_tangential_ratio;
-  }
-  return r;
-}
-
 void PairTable::clear() {
   count = 0;
   for (auto* a : {&i, &j, &record}) a->clear();
-  for (auto* a : {&shear_x, &shear_y, &shear_z, &shear_a, &roll_x, &roll_y, &roll_z}) a->clear();
+  history.assign(history_layout(sub_models).size, {});
   touching.clear();
   records.assign(1, PairRecord{});
   model_records.assign(1, ModelRecord{});
@@ -31,7 +20,8 @@ void PairTable::clear() {
 void PairTable::resize(std::size_t entries, const ForShares& shares) {
   count = entries;
   for (auto* a : {&i, &j, &record}) fill_in_shares(*a, entries, 0, shares);
-  for (auto* a : {&shear_x, &shear_y, &shear_z, &shear_a, &roll_x, &roll_y, &roll_z}) fill_in_shares(*a, entries, 0.0, shares);
+  history.resize(history_layout(sub_models).size);
+  for (auto& a : history) fill_in_shares(a, entries, 0.0, shares);
   touching.assign(entries, 0);
 }
 
@@ -39,7 +29,7 @@ std::pair<PairRecord, ModelRecord> PairTable::describe(const SubModels& model, d
                                                        double mb, const PairConstants& k, const ModelConstants& mk) {
   const PairRecord r{ra,          rb,          ra * rb / (ra + rb), ma * mb / (ma + mb), k.kn_factor,
                      k.sn_factor, k.st_factor, k.damping_factor,    k.friction};
-  return {r, model_record(model, mk, r.reff, r.meff)};
+  return {r, model_record(model, mk, ra, r.reff, r.meff)};
 }
 
 std::int32_t RecordSet::intern(const PairRecord& r, const ModelRecord& mr) {
@@ -69,7 +59,7 @@ void PairTable::finish(const ForShares& shares) {
   i.resize(n, count > 0 ? i[count - 1] : 0);
   j.resize(n, count > 0 ? j[count - 1] : 0);
   record.resize(n, 0);
-  for (auto* a : {&shear_x, &shear_y, &shear_z, &shear_a, &roll_x, &roll_y, &roll_z}) a->resize(n, 0.0);
+  for (auto& a : history) a.resize(n, 0.0);
   touching.resize(n, 0);
   // Forces of one side, torques of two, and room for a 16-wide read past the last entry.
   for (auto* a : {&fx, &fy, &fz}) fill_in_shares(*a, n + static_cast<std::size_t>(kWindow), 0.0, shares);
@@ -254,8 +244,7 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
   if (!point.touching) {
     if (point.forget) {
       t.touching[p] = 0;
-      t.shear_x[p] = t.shear_y[p] = t.shear_z[p] = t.shear_a[p] = 0.0;
-      t.roll_x[p] = t.roll_y[p] = t.roll_z[p] = 0.0;
+      for (auto& h : t.history) h[p] = 0.0;
     }
     zero_contribution(t, p);
     return;
@@ -263,14 +252,11 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
   t.touching[p] = 1;
   const ContactPoint& c = point.c;
   const std::size_t record = static_cast<std::size_t>(t.record[p]);
-  double shear[kShearHistory] = {t.shear_x[p], t.shear_y[p], t.shear_z[p], t.shear_a[p]};
-  double roll[3] = {t.roll_x[p], t.roll_y[p], t.roll_z[p]};
-  const ContactForces out = contact(t.sub_models, t.records[record].constants(), t.model_records[record], c, shear, roll,
+  double history[kMaxHistory];
+  for (std::size_t k = 0; k < t.history.size(); ++k) history[k] = t.history[k][p];
+  const ContactForces out = contact(t.sub_models, t.records[record].constants(), t.model_records[record], c, history,
                                     s.update_history, s.tangential_damping, s.dt);
-  t.shear_x[p] = shear[0];
-  t.shear_y[p] = shear[1];
-  t.shear_z[p] = shear[2];
-  t.shear_a[p] = shear[3];
+  for (std::size_t k = 0; k < t.history.size(); ++k) t.history[k][p] = history[k];
   // The force on j is (0 + -fn en) + -ft, the exact negative of this but for the sign of a zero
   // (which a sum that starts at +0 never shows): the sums subtract this.
   const std::size_t q = t.padded() + p;
@@ -284,9 +270,6 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
   t.ty[q] = -c.arm_j * out.tor[1];
   t.tz[q] = -c.arm_j * out.tor[2];
   if (out.rolling) {  // minus the torque on i, plus on j
-    t.roll_x[p] = roll[0];
-    t.roll_y[p] = roll[1];
-    t.roll_z[p] = roll[2];
     t.tx[p] -= out.rt[0];
     t.ty[p] -= out.rt[1];
     t.tz[p] -= out.rt[2];

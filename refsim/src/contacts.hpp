@@ -60,16 +60,19 @@ struct ModelConstants {
   // LAMMPS's hertz/material with tsuji damping (contact_models/normal_tsuji.cpp): tsuji's alpha
   // (0: undamped) and mindlin's eta_t / eta_n.
   double lammps_alpha = 0.0, lammps_tangential_ratio = 0.0;
+  // The elastic-plastic laws: Thornton's yield pressure p_y of the type pair (its factor times the
+  // softer yield strength), and thornton_ning's coefficientYieldRatio of the pair's first type.
+  double yield_pressure = 0.0, yield_ratio = 0.0;
 };
 // ... and of one pair, evaluated once per distinct pair as LIGGGHTS evaluates them in every
 // contact: hooke's k_n and gamma_n (functions of R* and m*), and mu_r.
 struct ModelRecord {
   double hooke_kn = 0.0, hooke_gamman = 0.0, rolling_friction = 0.0;
   double lammps_alpha = 0.0, lammps_tangential_ratio = 0.0;
+  model::ThorntonLaw thornton{};                        // thornton's law of the pair
+  double ning_y_star = 0.0, ning_yield_radius = 0.0;   // thornton_ning's E* and a_y = r_i ratio_i
   bool operator==(const ModelRecord&) const = default;
 };
-// A pair's record by its sub-models (each computes its own: contact_models/).
-ModelRecord model_record(const SubModels& m, const ModelConstants& k, double reff, double meff);
 
 // The candidate pairs (i < j), what does not change between neighbour-list builds, the
 // tangential history, and what each contact gives its two spheres at the last force call.
@@ -89,10 +92,6 @@ struct RecordSet {
   std::int32_t intern(const PairRecord& r, const ModelRecord& mr);
 };
 
-// A contact's tangential history: the spring's displacement (x, y, z), then mindlin_rescale's
-// contact radius at its last update (LAMMPS's history[3]; unused by the other models).
-inline constexpr std::size_t kShearHistory = 4;
-
 struct PairTable {
   std::size_t count = 0;  // entries, padding (record 0) included; the arrays hold padded()
   AlignedVector<std::int32_t> i, j;
@@ -102,10 +101,11 @@ struct PairTable {
   model::ContactModel model;
   SubModels sub_models;
   std::vector<ModelRecord> model_records;
-  AlignedVector<double> roll_x, roll_y, roll_z;     // epsd2's torque history (r_torque_old)
   AlignedVector<std::int32_t> record;               // per pair, its record
-  AlignedVector<double> shear_x, shear_y, shear_z;  // the tangential displacement history
-  AlignedVector<double> shear_a;  // mindlin_rescale's contact radius at the last update (kShearHistory)
+  // Each contact's history, value by value (history_layout(sub_models): each sub-model's slice;
+  // the study's model keeps the tangential displacement x, y, z in history[0..2], which the
+  // vector kernels read and write).
+  std::vector<AlignedVector<double>> history;
   // At its last evaluation (kept across rebuilds); not kept for a torque_free table, whose
   // history is +0 throughout, so that which history survives a rebuild does not matter.
   std::vector<std::uint8_t> touching;

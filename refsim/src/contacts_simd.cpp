@@ -278,15 +278,15 @@ struct Pairs<W> {
 
 template <class T>
 HWY_INLINE void store_history(PairTable& t, std::size_t p, const Vec3<T>& h) {
-  Lanes<T>::put(&t.shear_x[p], h.x);
-  Lanes<T>::put(&t.shear_y[p], h.y);
-  Lanes<T>::put(&t.shear_z[p], h.z);
+  Lanes<T>::put(&t.history[0][p], h.x);
+  Lanes<T>::put(&t.history[1][p], h.y);
+  Lanes<T>::put(&t.history[2][p], h.z);
 }
 
 template <class T, class TM>
 HWY_INLINE void clear_history_where(PairTable& t, std::size_t p, const TM& m) {
   const T zero = Lanes<T>::filled(0.0);
-  for (double* a : {&t.shear_x[p], &t.shear_y[p], &t.shear_z[p]}) Lanes<T>::put_where(a, m, zero);
+  for (double* a : {&t.history[0][p], &t.history[1][p], &t.history[2][p]}) Lanes<T>::put_where(a, m, zero);
 }
 
 // The tangential history spring of tangential_force (contacts.cpp) on T's pairs: increment,
@@ -399,7 +399,7 @@ HWY_INLINE void pair_block(PairTable& t, const ContactStep& s, std::size_t p) {
   }
   const T fn = negate(gamman) * vn + kn * deltan;
 
-  const Vec3<T> shear_before{L::at(&t.shear_x[p]), L::at(&t.shear_y[p]), L::at(&t.shear_z[p])};
+  const Vec3<T> shear_before{L::at(&t.history[0][p]), L::at(&t.history[1][p]), L::at(&t.history[2][p])};
   Vec3<T> shear = shear_before;
   const Vec3<T> ft = tangential(shear, en, vtr, kt, gammat, fn, pairs.field(offsetof(PairRecord, friction)), touching, s);
   const Vec3<T> tor{en.y * ft.z - en.z * ft.y, en.z * ft.x - en.x * ft.z, en.x * ft.y - en.y * ft.x};

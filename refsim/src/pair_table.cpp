@@ -18,11 +18,8 @@ struct Candidate {
   std::int32_t i, j;
   bool touching;
 };
-// A pair's history carried across a rebuild.
-struct Kept {
-  bool touching;
-  double shear[detail::kShearHistory], roll[3];
-};
+// Per candidate, the entry of the table before the rebuild whose history it keeps, or kNone.
+constexpr std::size_t kNone = static_cast<std::size_t>(-1);
 
 // The table's entries: the candidates in `order`, each tile's group padded to whole kernel
 // blocks (padding repeats the group's last pair with record 0), filled in the shares of the
@@ -31,7 +28,7 @@ struct Kept {
 // Returns where each group starts in the table, and the table's end.
 template <class Describe>
 std::vector<std::size_t> fill_table(detail::PairTable& pairs, const std::vector<Candidate>& found, const std::vector<std::size_t>& order,
-                const std::vector<std::size_t>& tile_start, const std::vector<Kept>& kept, const ForShares& shares,
+                const std::vector<std::size_t>& tile_start, const detail::PairTable& old, const std::vector<std::size_t>& kept, const ForShares& shares,
                 Describe describe) {
   const std::size_t groups = tile_start.size() - 1;
   std::vector<std::size_t> entry_start(groups + 1, 0);
@@ -55,16 +52,10 @@ std::vector<std::size_t> fill_table(detail::PairTable& pairs, const std::vector<
         pairs.j[q] = f.j;
         const auto [r, mr] = describe(static_cast<std::size_t>(f.i), static_cast<std::size_t>(f.j));
         pairs.record[q] = local.records.intern(r, mr);
-        if (!kept.empty() && kept[order[c]].touching) {
-          const auto& k = kept[order[c]];
+        if (!kept.empty() && kept[order[c]] != kNone) {
+          const std::size_t from = kept[order[c]];
           pairs.touching[q] = 1;
-          pairs.shear_x[q] = k.shear[0];
-          pairs.shear_y[q] = k.shear[1];
-          pairs.shear_z[q] = k.shear[2];
-          pairs.shear_a[q] = k.shear[3];
-          pairs.roll_x[q] = k.roll[0];
-          pairs.roll_y[q] = k.roll[1];
-          pairs.roll_z[q] = k.roll[2];
+          for (std::size_t h = 0; h < pairs.history.size(); ++h) pairs.history[h][q] = old.history[h][from];
         }
       }
       for (; q < entry_start[g + 1]; ++q) {  // padding
@@ -90,7 +81,7 @@ std::vector<std::size_t> fill_table(detail::PairTable& pairs, const std::vector<
 
 // The history each candidate keeps from the table before the rebuild: a pair keeps it only if it
 // was flagged as touching and is within the contact distance now (none at the first build).
-std::vector<Kept> kept_history(const detail::PairTable& old, const std::vector<Candidate>& found) {
+std::vector<std::size_t> kept_history(const detail::PairTable& old, const std::vector<Candidate>& found) {
   std::vector<std::size_t> old_order;
   for (std::size_t q = 0; q < old.count; ++q) {
     if (old.record[q] != 0) old_order.push_back(q);  // padding has record 0
@@ -98,15 +89,13 @@ std::vector<Kept> kept_history(const detail::PairTable& old, const std::vector<C
   if (old_order.empty()) return {};
   std::sort(old_order.begin(), old_order.end(),
             [&](std::size_t a, std::size_t b) { return old.i[a] != old.i[b] ? old.i[a] < old.i[b] : old.j[a] < old.j[b]; });
-  std::vector<Kept> kept(found.size(), Kept{false, {0.0, 0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}});
+  std::vector<std::size_t> kept(found.size(), kNone);
   for (std::size_t c = 0, o = 0; c < found.size(); ++c) {
     const auto& f = found[c];
     while (o < old_order.size() && (old.i[old_order[o]] < f.i || (old.i[old_order[o]] == f.i && old.j[old_order[o]] < f.j))) ++o;
     const std::size_t q = o < old_order.size() ? old_order[o] : 0;
     if (o < old_order.size() && old.i[q] == f.i && old.j[q] == f.j && old.touching[q] && f.touching) {
-      kept[c] = {true,
-                 {old.shear_x[q], old.shear_y[q], old.shear_z[q], old.shear_a[q]},
-                 {old.roll_x[q], old.roll_y[q], old.roll_z[q]}};
+      kept[c] = q;
     }
   }
   return kept;
@@ -200,7 +189,7 @@ void System::build_pairs() {
   pairs_->clear();
   pairs_->model = p_.contact;
   pairs_->sub_models = old.sub_models;
-  const auto entry_start = fill_table(*pairs_, found, order, tile_start, kept, shares, [&](std::size_t i, std::size_t j) {
+  const auto entry_start = fill_table(*pairs_, found, order, tile_start, old, kept, shares, [&](std::size_t i, std::size_t j) {
     const std::size_t type_pair = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
                                   static_cast<std::size_t>(type_[j] - 1);
     return detail::PairTable::describe(pairs_->sub_models, radius_[i], radius_[j], mass_[i], mass_[j], type_constants_[type_pair],

@@ -37,6 +37,12 @@ System::System(std::vector<Particle> particles, Parameters params)
   if (!p_.contact.is_study_model() && (p_.restitution.size() != tt || p_.rolling_friction.size() != tt)) {
     throw std::invalid_argument("refsim: the hooke and epsd2 models need restitution and rolling_friction per type pair");
   }
+  if (p_.contact.normal == model::NormalModel::thornton && p_.yield_pressure.size() != tt) {
+    throw std::invalid_argument("refsim: normal_model thornton needs the yield pressure per type pair");
+  }
+  if (p_.contact.normal == model::NormalModel::thornton_ning && p_.yield_ratio.size() != static_cast<std::size_t>(p_.types)) {
+    throw std::invalid_argument("refsim: normal_model thornton_ning needs the yield ratio per type");
+  }
   // The engine's rules: the sub-models every contact is composed of (contact_models/choice.hpp).
   pairs_->sub_models = p_.lammps_rules ? detail::lammps_rules(p_.contact) : detail::liggghts_rules(p_.contact);
   type_.resize(n_);
@@ -59,8 +65,7 @@ System::System(std::vector<Particle> particles, Parameters params)
       w_[d * stride_ + i] = pa.omega[d];
     }
   }
-  wall_history_.assign(detail::kShearHistory * n_ * p_.walls.size(), 0.0);
-  wall_roll_.assign(3 * n_ * p_.walls.size(), 0.0);
+  wall_history_.assign(detail::history_layout(pairs_->sub_models).size * n_ * p_.walls.size(), 0.0);
   wall_store_.assign(p_.stored_wall >= 0 ? 3 * n_ : 0, 0.0);
   wall_touched_.assign(n_ * p_.walls.size(), 0);
   external_ = !p_.walls.empty() || p_.gravity[0] != 0.0 || p_.gravity[1] != 0.0 || p_.gravity[2] != 0.0;
@@ -81,10 +86,12 @@ System::System(std::vector<Particle> particles, Parameters params)
     } else {
       model_constants_.push_back({});
     }
-    if (pairs_->sub_models.normal == detail::NormalKernel::hertz_material_tsuji) {
+    if (pairs_->sub_models.frame == detail::Frame::lammps) {
       detail::tsuji_constants(p_.restitution.empty() ? 1.0 : p_.restitution[k], p_.g_star[k], p_.y_star[k],
                               model_constants_.back());
     }
+    if (!p_.yield_pressure.empty()) model_constants_.back().yield_pressure = p_.yield_pressure[k];
+    if (!p_.yield_ratio.empty()) model_constants_.back().yield_ratio = p_.yield_ratio[k / static_cast<std::size_t>(p_.types)];
   }
   choose_kernels();
   // The threads first: the first neighbour build runs on them.

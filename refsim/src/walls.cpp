@@ -23,21 +23,20 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
   const detail::WallPoint point = detail::wall_point(rules.frame, wall.axis, wall.position,
                                                      x_[static_cast<std::size_t>(wall.axis) * stride_ + i], radius_[i],
                                                      mass_[i], v.data(), w.data());
-  double* shear = &wall_history_[detail::kShearHistory * (wi * n_ + i)];
-  double* roll = &wall_roll_[3 * (wi * n_ + i)];
+  const std::size_t slots = detail::history_layout(rules).size;
+  double* history = wall_history_.data() + slots * (wi * n_ + i);
   wall_touched_[wi * n_ + i] = point.touching;
   const bool stored = static_cast<int>(wi) == p_.stored_wall;
   if (stored) wall_store_[3 * i] = wall_store_[3 * i + 1] = wall_store_[3 * i + 2] = 0.0;
   if (!point.touching) {  // a wall's history never survives a separation
-    shear[0] = shear[1] = shear[2] = shear[3] = 0.0;
-    roll[0] = roll[1] = roll[2] = 0.0;
+    std::fill(history, history + slots, 0.0);
     return;
   }
   const detail::ContactPoint& c = point.c;
   const std::size_t type_pair = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
                                 static_cast<std::size_t>(wall.type - 1);
-  const auto model = detail::model_record(rules, model_constants_[type_pair], c.reff, c.meff);
-  const detail::ContactForces out = detail::contact(rules, type_constants_[type_pair], model, c, shear, roll,
+  const auto model = detail::model_record(rules, model_constants_[type_pair], radius_[i], c.reff, c.meff);
+  const detail::ContactForces out = detail::contact(rules, type_constants_[type_pair], model, c, history,
                                                     update_history, p_.tangential_damping, p_.dt);
   double df[3];
   detail::wall_force(rules.frame, out.n.fn, c.en, out.ft, df);

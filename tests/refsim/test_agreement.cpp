@@ -33,6 +33,7 @@ struct TwoBodyCase {
   std::string name;
   std::vector<model::Material> materials;
   double restitution = 1.0, friction = 0.0, rolling_friction = 0.0, dt = 0.0;
+  std::vector<double> yield_ratio;  // thornton_ning's coefficientYieldRatio per material
   model::ContactModel contact;
   long steps = 0, dump_every = 0;
   std::vector<refsim::Particle> particles;
@@ -55,6 +56,9 @@ std::vector<TwoBodyCase> load_cases() {
     c.contact.rolling = model::parse_rolling_model(t["rolling"].value_or(std::string("off"))).value();
     c.contact.characteristic_velocity = t["characteristic_velocity"].value_or(0.0);
     c.rolling_friction = t["rolling_friction"].value_or(0.0);
+    if (const auto* ratios = t["yield_ratio"].as_array()) {
+      for (const auto& q : *ratios) c.yield_ratio.push_back(q.value<double>().value());
+    }
     c.dt = t["dt"].value_or(0.0);
     c.steps = t["steps"].value_or(0L);
     c.dump_every = t["dump_every"].value_or(1L);
@@ -118,6 +122,13 @@ std::string run_liggghts(const TwoBodyCase& c, const fs::path& dir, double skin)
     model_fixes += fmt::format("fix m5 all property/global characteristicVelocity scalar {}\n",
                                c.contact.characteristic_velocity);
   }
+  if (c.contact.normal == model::NormalModel::thornton_ning) {
+    model_fixes += fmt::format("fix m7 all property/global coefficientYieldRatio peratomtype {}\n",
+                               fmt::join(c.yield_ratio, " "));
+    model_fixes += fmt::format("fix m8 all property/global surfaceEnergy peratomtypepair {}", c.materials.size());
+    for (std::size_t k = 0; k < c.materials.size() * c.materials.size(); ++k) model_fixes += " 0";
+    model_fixes += "\n";
+  }
   if (c.contact.rolling != model::RollingModel::off) {
     model_fixes += fmt::format("fix m6 all property/global coefficientRollingFriction peratomtypepair {}{}\n",
                                c.materials.size(), mu_r);
@@ -157,6 +168,7 @@ TEST_P(TwoBody, RefsimReproducesLiggghtsDumps) {
   params.walls = c.walls;
   params.contact = c.contact;
   params.rolling_friction.assign(params.restitution.size(), c.rolling_friction);
+  params.yield_ratio = c.yield_ratio;
   refsim::System sys(c.particles, params);
   sys.setup();
   formats::TextDumpReader reader(dump);

@@ -302,7 +302,7 @@ TEST(MindlinRescale, AnUnloadingSpringWithNoTangentialMotionFallsAsTheContactRad
   const double a0 = 1e-4, k = 8.0 * 70e9, s0 = 1e-8, mu = 1e3, fn = 1e3;
   detail::ContactPoint c{};
   c.en[2] = 1.0;
-  double rescaled[detail::kShearHistory] = {s0, 0.0, 0.0, 0.0}, plain[detail::kShearHistory] = {s0, 0.0, 0.0, 0.0};
+  double rescaled[detail::kMindlinRescaleHistory] = {s0, 0.0, 0.0, 0.0}, plain[detail::kMindlinRescaleHistory] = {s0, 0.0, 0.0, 0.0};
   double f0 = 0.0;
   for (int step = 0; step <= 10; ++step) {
     const double a = a0 * (1.0 - 0.05 * step);

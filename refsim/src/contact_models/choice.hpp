@@ -4,6 +4,7 @@
 // folder. An engine's contact rules are a choice of these, made once per run (rules_for), not a
 // flag the kernels test: LIGGGHTS's pair style and fix wall/gran, or LAMMPS's pair_style granular
 // and fix wall/gran granular as granstack's LAMMPS deck sets them (model/lammps.hpp).
+#include <cstddef>
 #include <cstdint>
 
 #include <granstack/model/contact.hpp>
@@ -15,13 +16,11 @@ namespace granstack::refsim::detail {
 // history, when a sphere touches a wall, and the wall force kept for the stored wall.
 enum class Frame : std::uint8_t { liggghts, lammps };
 // The normal force with its damping, and the tangential stiffness and damping it sets for the
-// tangential model: LIGGGHTS's hertz and hooke (restitution damping), LAMMPS's hertz/material
-// with tsuji damping (normal_tsuji.cpp).
-enum class NormalKernel : std::uint8_t { hertz, hooke, hertz_material_tsuji };
-
+// tangential model: by LIGGGHTS's rules the spec's normal model's kernel (composition.cpp's table,
+// one row per model::NormalModel); by LAMMPS's, hertz/material with tsuji damping (normal_tsuji.cpp).
 struct SubModels {
   Frame frame = Frame::liggghts;
-  NormalKernel normal = NormalKernel::hertz;
+  model::NormalModel normal = model::NormalModel::hertz;
   // The spec's tangential model, whose kernel is its frame's (composition.cpp's tables): by
   // LIGGGHTS's rules history and no_history; by LAMMPS's, history is its mindlin
   // (linear_nohistory 0 0, which gives no force, where the pair has no friction), and
@@ -35,6 +34,15 @@ struct SubModels {
   // kernels (contacts_simd.cpp) run, held to this composition to the bit.
   bool vector_kernels_run() const { return *this == SubModels{}; }
 };
+
+// Where each sub-model's per-contact history lies in a contact's history, and its length: each
+// kernel declares how many values it keeps (composition.cpp's tables), and the pair table and the
+// walls carry that many per contact, forgotten together.
+struct HistoryLayout {
+  std::size_t tangential = 0, rolling = 0, normal = 0, size = 0;
+};
+inline constexpr std::size_t kMaxHistory = 24;  // the most any choice keeps (checked)
+HistoryLayout history_layout(const SubModels& s);
 
 // The spec's model as LIGGGHTS runs it.
 SubModels liggghts_rules(const model::ContactModel& m);

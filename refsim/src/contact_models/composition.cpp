@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <iterator>
 #include <stdexcept>
 #include <string>
@@ -12,37 +13,65 @@
 namespace granstack::refsim::detail {
 
 namespace {
+// A kernel and how many history values it keeps per contact.
+template <typename Kernel>
+struct Row {
+  Kernel kernel;
+  std::size_t history;
+};
 // The rolling models' kernels, by model::RollingModel (none for off): a new rolling model is its
 // file in this folder and its line here.
-constexpr RollingTorque kRolling[] = {
-    nullptr,        // off
-    rolling_epsd2,  // epsd2
-    rolling_cdt,    // cdt
+constexpr Row<RollingTorque> kRolling[] = {
+    {nullptr, 0},        // off
+    {rolling_epsd2, 3},  // epsd2: the torque spring's history
+    {rolling_cdt, 0},    // cdt
 };
 // Each frame's tangential kernels, by model::TangentialModel; none where that engine has no
 // counterpart (its row's refusal in model/src/contact_models.cpp says why). A new tangential
 // model is its file in this folder and its line in each table.
-constexpr TangentialForce kLiggghtsTangential[] = {
-    tangential_history,     // history
-    tangential_no_history,  // no_history
-    nullptr,                // mindlin_rescale: LAMMPS's
+constexpr Row<TangentialForce> kLiggghtsTangential[] = {
+    {tangential_history, kTangentialHistory},  // history
+    {tangential_no_history, 0},                // no_history
+    {nullptr, 0},                              // mindlin_rescale: LAMMPS's
 };
-constexpr TangentialForce kLammpsTangential[] = {
-    tangential_mindlin,          // history: LAMMPS's Hertz-Mindlin
-    nullptr,                     // no_history: not mapped
-    tangential_mindlin_rescale,  // mindlin_rescale
+constexpr Row<TangentialForce> kLammpsTangential[] = {
+    {tangential_mindlin, kTangentialHistory},                  // history: LAMMPS's Hertz-Mindlin
+    {nullptr, 0},                                              // no_history: not mapped
+    {tangential_mindlin_rescale, kMindlinRescaleHistory},      // mindlin_rescale
 };
+// The normal models' kernels by LIGGGHTS's rules, by model::NormalModel (one row per model, the
+// compiler checks the count): the force, the per-pair record, the history it keeps. A new normal
+// model is its file in this folder and its row here; none where refsim has no kernel for it.
+struct NormalRow {
+  NormalForce force;
+  NormalRecord record;
+  std::size_t history;
+};
+constexpr auto kLiggghtsNormal = std::to_array<NormalRow>({
+    {hertz_normal, nullptr, 0},                                              // hertz
+    {hooke_normal, hooke_record, 0},                                         // hooke
+    {thornton_normal, thornton_record, 1},                                   // thornton: d_max
+    {thornton_ning_normal, thornton_ning_record, kThorntonNingHistory},      // thornton_ning
+});
+static_assert(kLiggghtsNormal.size() == model::kNormalModelCount, "one row per model::NormalModel");
+// LAMMPS's rules run hertz/material with tsuji damping for the spec's hertz, nothing else.
+constexpr NormalRow kLammpsNormal{tsuji_normal, tsuji_record, 0};
 
-TangentialForce tangential_kernel(Frame f, model::TangentialModel m) {
+const NormalRow& normal_row(const SubModels& s) {
+  return s.frame == Frame::lammps ? kLammpsNormal : kLiggghtsNormal[static_cast<std::size_t>(s.normal)];
+}
+
+const Row<TangentialForce>& tangential_row(Frame f, model::TangentialModel m) {
+  static constexpr Row<TangentialForce> none{nullptr, 0};
   const auto k = static_cast<std::size_t>(m);
-  const auto& table = f == Frame::lammps ? kLammpsTangential : kLiggghtsTangential;
-  return k < std::size(table) ? table[k] : nullptr;
+  if (f == Frame::lammps) return k < std::size(kLammpsTangential) ? kLammpsTangential[k] : none;
+  return k < std::size(kLiggghtsTangential) ? kLiggghtsTangential[k] : none;
 }
 
 // The choice `s` runs: every sub-model has its kernel in the frame (a table short of one is a
 // defect of this file, not of the spec).
 SubModels checked(const SubModels& s) {
-  if (tangential_kernel(s.frame, s.tangential) == nullptr) {
+  if (tangential_row(s.frame, s.tangential).kernel == nullptr) {
     throw std::logic_error(fmt::format("refsim has no kernel for tangential_model = '{}' by {}'s rules "
                                        "(contact_models/composition.cpp)",
                                        model::to_string(s.tangential), s.frame == Frame::lammps ? "LAMMPS" : "LIGGGHTS"));
@@ -51,17 +80,38 @@ SubModels checked(const SubModels& s) {
     throw std::logic_error(fmt::format("refsim has no kernel for rolling_model = '{}' (contact_models/composition.cpp)",
                                        model::to_string(s.rolling)));
   }
+  if (history_layout(s).size > kMaxHistory) throw std::logic_error("refsim: a contact's history exceeds kMaxHistory");
   return s;
 }
 }  // namespace
 
+HistoryLayout history_layout(const SubModels& s) {
+  HistoryLayout h;
+  h.tangential = 0;
+  h.rolling = tangential_row(s.frame, s.tangential).history;
+  h.normal = h.rolling + kRolling[static_cast<std::size_t>(s.rolling)].history;
+  h.size = h.normal + normal_row(s).history;
+  return h;
+}
+
+ModelRecord model_record(const SubModels& m, const ModelConstants& k, double radi, double reff, double meff) {
+  ModelRecord r;
+  r.rolling_friction = m.rolling == model::RollingModel::off ? 0.0 : k.rolling_friction;
+  if (const NormalRecord record = normal_row(m).record) record(k, radi, reff, meff, r);
+  return r;
+}
+
 SubModels liggghts_rules(const model::ContactModel& m) {
-  if (const auto why = model::liggghts_refusal(m); !why.empty()) {
+  // refsim has a kernel in LIGGGHTS's frame for every normal model, LIGGGHTS's own and its own
+  // (thornton, which LIGGGHTS refuses): only the tangential and rolling models can be refused.
+  model::ContactModel probe = m;
+  probe.normal = model::NormalModel::hertz;
+  if (const auto why = model::liggghts_refusal(probe); !why.empty()) {
     throw std::invalid_argument("LIGGGHTS's contact rules (--contact-rules liggghts, the default): " + std::string(why));
   }
   SubModels s;
   s.frame = Frame::liggghts;
-  s.normal = m.normal == model::NormalModel::hooke ? NormalKernel::hooke : NormalKernel::hertz;
+  s.normal = m.normal;
   s.tangential = m.tangential;
   s.rolling = m.rolling;
   return checked(s);
@@ -71,7 +121,7 @@ SubModels lammps_rules(const model::ContactModel& m) {
   if (const auto why = model::lammps_refusal(m); !why.empty()) {
     throw std::invalid_argument("--contact-rules lammps: " + std::string(why));
   }
-  return checked({Frame::lammps, NormalKernel::hertz_material_tsuji, m.tangential, model::RollingModel::off});
+  return checked({Frame::lammps, m.normal, m.tangential, model::RollingModel::off});
 }
 
 PairPoint pair_point(Frame f, const PairTable& t, const ContactStep& s, std::size_t p) {
@@ -117,33 +167,19 @@ ContactPoint pair_contact_point(const PairGeometry& g, const ContactFrame& f, co
   return c;
 }
 
-namespace {
-
-Normal normal_force(NormalKernel m, const PairConstants& k, const ModelRecord& mr, const ContactPoint& c,
-                    bool tangential_damping) {
-  switch (m) {
-    case NormalKernel::hooke: return hooke_normal(mr, c, tangential_damping);
-    case NormalKernel::hertz_material_tsuji: return tsuji_normal(k, mr, c);
-    case NormalKernel::hertz: break;
-  }
-  return hertz_normal(k, c, tangential_damping);
-}
-
-}  // namespace
-
 ContactForces contact(const SubModels& m, const PairConstants& k, const ModelRecord& mr, const ContactPoint& c,
-                      double shear[kShearHistory], double roll[3], bool update_history, bool tangential_damping,
-                      double dt) {
+                      double* history, bool update_history, bool tangential_damping, double dt) {
+  const HistoryLayout h = history_layout(m);
   ContactForces out;
-  out.n = normal_force(m.normal, k, mr, c, tangential_damping);
-  tangential_kernel(m.frame, m.tangential)(shear, c, out.n, k.friction, update_history, dt, out.ft);
+  out.n = normal_row(m).force(k, mr, c, tangential_damping, history + h.normal);
+  tangential_row(m.frame, m.tangential).kernel(history + h.tangential, c, out.n, k.friction, update_history, dt, out.ft);
   const double* en = c.en;
   out.tor[0] = en[1] * out.ft[2] - en[2] * out.ft[1];
   out.tor[1] = en[2] * out.ft[0] - en[0] * out.ft[2];
   out.tor[2] = en[0] * out.ft[1] - en[1] * out.ft[0];
-  if (const RollingTorque kernel = kRolling[static_cast<std::size_t>(m.rolling)]) {
+  if (const RollingTorque kernel = kRolling[static_cast<std::size_t>(m.rolling)].kernel) {
     out.rolling = true;
-    kernel(roll, c, out.n, mr.rolling_friction, update_history, dt, out.rt);
+    kernel(history + h.rolling, c, out.n, mr.rolling_friction, update_history, dt, out.rt);
   }
   return out;
 }

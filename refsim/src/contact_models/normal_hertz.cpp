@@ -7,7 +7,8 @@ namespace granstack::refsim::detail {
 
 // With beta = 0 (e = 1) the damping coefficients are the factor itself (-0.0) whatever the
 // square root, so it is not taken.
-Normal hertz_normal(const PairConstants& k, const ContactPoint& c, bool tangential_damping) {
+Normal hertz_normal(const PairConstants& k, const ModelRecord&, const ContactPoint& c, bool tangential_damping,
+                    double*) {
   const double reff = c.reff, meff = c.meff, deltan = c.deltan, vn = c.vn;
   const double sqrtval = std::sqrt(reff * deltan);
   const double kt = k.st_factor * sqrtval;

@@ -10,7 +10,7 @@
 namespace granstack::refsim::detail {
 
 // pair_granular forms the elastic force as (E delta) a, fix wall/gran as (E a) delta.
-Normal tsuji_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c) {
+Normal tsuji_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool, double*) {
   const double delta = c.deltan;
   const double dr = delta * c.reff;
   double knfac = k.kn_factor;
@@ -32,6 +32,11 @@ namespace granstack::refsim::detail {
 
 // The coefficients granstack's LAMMPS deck gives (model/lammps.hpp): tsuji's alpha of the e' that
 // matches LIGGGHTS's damping of e (0 undamped), and eta_t / eta_n = sqrt(4 G* / Y*).
+void tsuji_record(const ModelConstants& k, double, double, double, ModelRecord& r) {
+  r.lammps_alpha = k.lammps_alpha;
+  r.lammps_tangential_ratio = k.lammps_tangential_ratio;
+}
+
 void tsuji_constants(double restitution, double g_star, double y_star, ModelConstants& k) {
   k.lammps_alpha = restitution < 1.0 ? model::tsuji_alpha(model::lammps_tsuji_restitution(restitution)) : 0.0;
   k.lammps_tangential_ratio = std::sqrt(4.0 * g_star / y_star);

@@ -5,7 +5,7 @@
 
 namespace granstack::refsim::detail {
 
-void rolling_epsd2(double roll[3], const ContactPoint& c, const Normal& n, double mu_r, bool update_history, double dt,
+void rolling_epsd2(double* roll, const ContactPoint& c, const Normal& n, double mu_r, bool update_history, double dt,
                    double torque[3]) {
   const double* en = c.en;
   const double* wr = c.wr;

@@ -77,53 +77,76 @@ struct Normal {
   double kn;
   double a = 0.0;  // the contact radius sqrt(R* d), where the model forms it (LAMMPS's hertz/material)
 };
-// Each normal model's own per-pair parameters: hooke's k_n and gamma_n of the pair's R* and m*;
-// tsuji's coefficient alpha(e') of the type pair's restitution and mindlin's eta_t / eta_n.
-void hooke_record(const ModelConstants& k, double reff, double meff, ModelRecord& r);
-void tsuji_constants(double restitution, double g_star, double y_star, ModelConstants& k);
+// A normal model's kernel: the normal force and what it sets for the tangential model, from the
+// type pair's constants, the pair's record, the contact and its own history (the values it
+// declares, kept from the contact's last evaluation; it updates them at every evaluation, as
+// LIGGGHTS's normal models write theirs whatever shearupdate says). Every normal kernel has this
+// form; its per-pair record (NormalRecord) is computed once per distinct pair.
+using NormalForce = Normal (*)(const PairConstants& k, const ModelRecord& r, const ContactPoint& c,
+                               bool tangential_damping, double* history);
+using NormalRecord = void (*)(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
 // LIGGGHTS's hertz with restitution damping (normal_model_hertz.h).
-Normal hertz_normal(const PairConstants& k, const ContactPoint& c, bool tangential_damping);
-// LIGGGHTS's hooke (normal_model_hooke.h): k_n and gamma_n of the pair, k_t = k_n.
-Normal hooke_normal(const ModelRecord& r, const ContactPoint& c, bool tangential_damping);
+Normal hertz_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool tangential_damping,
+                    double* history);
+// LIGGGHTS's hooke (normal_model_hooke.h): k_n and gamma_n of the pair (of its R* and m*), k_t = k_n.
+Normal hooke_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool tangential_damping,
+                    double* history);
+void hooke_record(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
+// Thornton (1997) (model::thornton_force): history[0] the largest overlap; k_t = 8 G* sqrt(R* d).
+Normal thornton_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool tangential_damping,
+                       double* history);
+void thornton_record(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
+// LIGGGHTS's thornton_ning (normal_model_thornton_ning.h), its ten history values in its order.
+inline constexpr std::size_t kThorntonNingHistory = 10;
+Normal thornton_ning_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c,
+                            bool tangential_damping, double* history);
+void thornton_ning_record(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
 // LAMMPS's hertz/material with tsuji damping (pair_granular, fix wall/gran granular), and the
-// stiffness and damping of its mindlin spring.
-Normal tsuji_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c);
+// stiffness and damping of its mindlin spring; tsuji's coefficient alpha(e') of the type pair's
+// restitution and mindlin's eta_t / eta_n.
+Normal tsuji_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool tangential_damping,
+                    double* history);
+void tsuji_record(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
+void tsuji_constants(double restitution, double g_star, double y_star, ModelConstants& k);
 
 // The tangential force on the first body, `ft`, from the contact, the normal model's output and
 // the friction coefficient, with the contact's tangential history `shear` (updated when
 // `update_history`; a model without history leaves it alone). Every tangential model's kernel
 // has this form.
-using TangentialForce = void (*)(double shear[kShearHistory], const ContactPoint& c, const Normal& n, double mu,
+using TangentialForce = void (*)(double* shear, const ContactPoint& c, const Normal& n, double mu,
                                  bool update_history, double dt, double ft[3]);
 // LIGGGHTS's history spring (tangential_model_history.h): increment by the sliding velocity,
 // project on the tangent plane, Coulomb-truncate (no damping while sliding).
-void tangential_history(double shear[kShearHistory], const ContactPoint& c, const Normal& n, double mu,
+void tangential_history(double* shear, const ContactPoint& c, const Normal& n, double mu,
                         bool update_history, double dt, double ft[3]);
 // LIGGGHTS's no_history (tangential_model_no_history.h): viscous, no spring, gamma_t capped so
 // that |F_t| <= mu |F_n|.
-void tangential_no_history(double shear[kShearHistory], const ContactPoint& c, const Normal& n, double mu,
+void tangential_no_history(double* shear, const ContactPoint& c, const Normal& n, double mu,
                            bool update_history, double dt, double ft[3]);
 // LAMMPS's mindlin, or its linear_nohistory 0 0 (no force) where mu = 0.
-void tangential_mindlin(double shear[kShearHistory], const ContactPoint& c, const Normal& n, double mu,
+void tangential_mindlin(double* shear, const ContactPoint& c, const Normal& n, double mu,
                         bool update_history, double dt, double ft[3]);
 // LAMMPS's mindlin_rescale: mindlin, its displacement first scaled by a / a_last where the
 // contact radius a has shrunk since the last update; shear[3] holds a_last (0 at first touch).
-void tangential_mindlin_rescale(double shear[kShearHistory], const ContactPoint& c, const Normal& n, double mu,
+void tangential_mindlin_rescale(double* shear, const ContactPoint& c, const Normal& n, double mu,
                                 bool update_history, double dt, double ft[3]);
+// How many history values each tangential kernel keeps.
+inline constexpr std::size_t kTangentialHistory = 3;       // history and mindlin: the displacement
+inline constexpr std::size_t kMindlinRescaleHistory = 4;   // ... and the contact radius at the last update
 
 // The rolling torque: minus `torque` on the first body, plus on the second, from the contact, the
 // normal model's output, mu_r and the rolling history `roll` (updated when `update_history`; a
 // model without history leaves it alone). Every rolling model's kernel has this form.
-using RollingTorque = void (*)(double roll[3], const ContactPoint& c, const Normal& n, double mu_r, bool update_history,
+using RollingTorque = void (*)(double* roll, const ContactPoint& c, const Normal& n, double mu_r, bool update_history,
                                double dt, double torque[3]);
 // epsd2 (rolling_model_epsd2.h, torsionTorque off): the rotation's tangential part drives a
 // spring of stiffness k_t R*^2 on the history `roll`, capped at mu_r R* |F_n|.
-void rolling_epsd2(double roll[3], const ContactPoint& c, const Normal& n, double mu_r, bool update_history, double dt,
+void rolling_epsd2(double* roll, const ContactPoint& c, const Normal& n, double mu_r, bool update_history, double dt,
                    double torque[3]);
 // cdt (rolling_model_cdt.h, torsionTorque off): mu_r R* k_n delta along the rotation (none while
 // it is zero), less its part along the normal; no history. LIGGGHTS forms it in two orders, a
 // wall's and a pair's.
-void rolling_cdt(double roll[3], const ContactPoint& c, const Normal& n, double mu_r, bool update_history, double dt,
+void rolling_cdt(double* roll, const ContactPoint& c, const Normal& n, double mu_r, bool update_history, double dt,
                  double torque[3]);
 
 // What the composition gives the first body: the normal part, the tangential force and n x Ft
@@ -135,11 +158,13 @@ struct ContactForces {
   bool rolling = false;
   double rt[3] = {0.0, 0.0, 0.0};
 };
-// The contact's sub-models by `m`, composed in the engines' order, with the contact's tangential
-// (shear: the displacement, and mindlin_rescale's last contact radius) and rolling (roll)
-// histories, updated when `update_history`.
+// The contact's sub-models by `m`, composed in the engines' order, with the contact's history
+// (history_layout(m): each sub-model's slice), the tangential and rolling parts updated when
+// `update_history`, the normal model's at every call.
 ContactForces contact(const SubModels& m, const PairConstants& k, const ModelRecord& mr, const ContactPoint& c,
-                      double shear[kShearHistory], double roll[3], bool update_history, bool tangential_damping,
-                      double dt);
+                      double* history, bool update_history, bool tangential_damping, double dt);
+// The pair's record, by its sub-models (each computes its own): a sphere of radius radi (the
+// first body) and the pair's R* and m*.
+ModelRecord model_record(const SubModels& m, const ModelConstants& k, double radi, double reff, double meff);
 
 }  // namespace granstack::refsim::detail

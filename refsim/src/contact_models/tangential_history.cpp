@@ -5,7 +5,7 @@
 
 namespace granstack::refsim::detail {
 
-void tangential_history(double shear[kShearHistory], const ContactPoint& c, const Normal& n, double mu,
+void tangential_history(double* shear, const ContactPoint& c, const Normal& n, double mu,
                         bool update_history, double dt, double ft[3]) {
   const double* en = c.en;
   const double* vtr = c.vtr;

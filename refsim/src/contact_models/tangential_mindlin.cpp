@@ -16,7 +16,7 @@ constexpr double kFrameEpsilon = 1e-10;
 double length(const double a[3]) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 }  // namespace
 
-void tangential_mindlin(double shear[kShearHistory], const ContactPoint& c, const Normal& n, double mu,
+void tangential_mindlin(double* shear, const ContactPoint& c, const Normal& n, double mu,
                         bool update_history, double dt, double ft[3]) {
   ft[0] = ft[1] = ft[2] = 0.0;
   if (mu == 0.0) return;

@@ -8,7 +8,7 @@
 
 namespace granstack::refsim::detail {
 
-void tangential_mindlin_rescale(double shear[kShearHistory], const ContactPoint& c, const Normal& n, double mu,
+void tangential_mindlin_rescale(double* shear, const ContactPoint& c, const Normal& n, double mu,
                                 bool update_history, double dt, double ft[3]) {
   if (n.a < shear[3]) {
     const double factor = n.a / shear[3];

@@ -5,7 +5,7 @@
 
 namespace granstack::refsim::detail {
 
-void tangential_no_history(double[kShearHistory], const ContactPoint& c, const Normal& n, double mu, bool, double,
+void tangential_no_history(double*, const ContactPoint& c, const Normal& n, double mu, bool, double,
                            double ft[3]) {
   const double* vtr = c.vtr;
   const double vrel = std::sqrt(vtr[0] * vtr[0] + vtr[1] * vtr[1] + vtr[2] * vtr[2]);

@@ -11,6 +11,9 @@
 namespace granstack::model {
 
 inline constexpr double kPi = 3.14159265358979323846;
+// A Hertz contact starts to yield when its peak pressure reaches 1.6 Y of the softer body (Johnson,
+// Contact Mechanics, section 6.2; nu = 0.3): the elastic-plastic laws' default p_y / Y.
+inline constexpr double kDefaultYieldPressureFactor = 1.6;
 
 // Effective quantities of one contact, as LIGGGHTS 3.8.0 forms them (docs/liggghts.md section 1).
 struct ContactPair {
@@ -69,7 +72,14 @@ double rayleigh_time(const Material& m, double radius);
 //     k_t R*^2 on the relative rotation, capped at mu_r R* |F_n|.
 //   rolling cdt (rolling_model_cdt.h): a constant directional torque, mu_r R* k_n delta against
 //     the relative rotation (no spring, no history).
-enum class NormalModel { hertz, hooke };
+//   normal thornton (Thornton 1997, ASME J. Appl. Mech. 64:383): elastic-perfectly-plastic, Hertz up
+//     to the yield pressure p_y, then loading linear in d, unloading Hertzian about the enlarged
+//     radius R_p; the force a function of (d, d_max), evaluated exactly each step (refsim only);
+//   normal thornton_ning (normal_model_thornton_ning.h, surfaceEnergy 0): LIGGGHTS 3.8's
+//     incremental elastic-plastic law, yield at a_y = r_i * coefficientYieldRatio[type_i], unloading
+//     about R* (physics.md section 7 says how it differs from Thornton's).
+enum class NormalModel { hertz, hooke, thornton, thornton_ning };
+inline constexpr std::size_t kNormalModelCount = 4;  // the rows of every table by NormalModel
 enum class TangentialModel { history, no_history, mindlin_rescale };
 enum class RollingModel { off, epsd2, cdt };
 
@@ -105,6 +115,9 @@ struct ContactModel {
   TangentialModel tangential = TangentialModel::history;
   RollingModel rolling = RollingModel::off;
   double characteristic_velocity = 0.0;  // m/s, hooke's calibration speed (unused by hertz)
+  // The elastic-plastic laws' yield pressure p_y over the softer body's yield strength Y: 1.6 at
+  // first yield (Johnson), about 3 fully plastic (physics.md section 7).
+  double yield_pressure_factor = kDefaultYieldPressureFactor;
   // hertz, history, no rolling friction: the study's model (refsim's vector kernels run it).
   bool is_study_model() const {
     return normal == NormalModel::hertz && tangential == TangentialModel::history && rolling == RollingModel::off;
@@ -124,22 +137,64 @@ std::string liggghts_model_words(const ContactModel& m);
 // Hooke's spring constant, 16/15 sqrt(R*) Y* (15 m* v_c^2 / (16 sqrt(R*) Y*))^(1/5), in
 // normal_model_hooke.h's operation order (so refsim gets LIGGGHTS's double).
 double hooke_stiffness(const ContactPair& c, double characteristic_velocity);
-// A normal model's elastic law, one row per NormalModel (contact.cpp): its name in messages,
-// whether its stiffness takes m* (Hooke's calibration), whether it is Hertz's d^(3/2) (whose
-// chains carry Nesterenko's solitary waves), and its formulas, which the functions below call.
+// A normal model's law, one row per NormalModel (contact.cpp's table, of kNormalModelCount rows):
+// its name in messages, whether its stiffness takes m* (Hooke's calibration), whether it is
+// Hertz's d^(3/2) while elastic (whose chains carry Nesterenko's solitary waves), whether it
+// dissipates without damping (yield) and whether its force depends on the contact's past (its
+// largest overlap), and its formulas. A path-dependent law has no energy of the overlap alone
+// (`energy` is null: a dump's overlaps cannot give it); force, max_overlap and contact_time are
+// its elastic branch (below yield), which the time step and the wave analysis take.
 struct NormalLaw {
+  SubModelInfo info;  // its keyword, help, reference note and the engines' refusals
   const char* name;
   bool needs_mass;
   bool hertzian;
+  bool dissipative;
+  bool path_dependent;
+  bool needs_yield;  // p_y from the yield strengths: every material of its contacts needs one
+  // The automatic time step's steps per (Hertz) contact time: 100 for the laws evaluated exactly
+  // each step; 1000 for thornton_ning, whose incremental force is first order in dt (an elastic
+  // impact gains e - 1 = 1.4 dt / t_c: 0.15 % at t_c / 1000, physics.md section 7).
+  double steps_per_contact;
   double (*force)(const ContactModel& m, const ContactPair& c, double overlap);
   double (*energy)(const ContactModel& m, const ContactPair& c, double overlap);
   double (*max_overlap)(const ContactModel& m, const ContactPair& c, double relative_speed);
   double (*contact_time)(const ContactModel& m, const ContactPair& c, double relative_speed);
 };
 const NormalLaw& normal_law(NormalModel m);
-// The elastic part of the normal force at overlap d, and the energy stored in it.
+// The elastic part of the normal force at overlap d, and the energy stored in it (a
+// path-dependent law's: std::logic_error, ask has_overlap_energy first).
 double elastic_normal_force(const ContactModel& m, const ContactPair& c, double overlap);
 double elastic_energy(const ContactModel& m, const ContactPair& c, double overlap);
+inline bool has_overlap_energy(const ContactModel& m) { return !normal_law(m.normal).path_dependent; }
+
+// Thornton (1997)'s elastic-perfectly-plastic contact of a pair (its E* = y_star, R*, m*) at yield
+// pressure p_y (physics.md section 7): the contact radius and overlap at first yield, a_y = pi R*
+// p_y / (2 E*) and d_y = a_y^2 / R*; the force at overlap d after the largest overlap d_max >= d
+// (Hertz to d_y, then F_y + pi p_y R* (d - d_y) while loading; unloading Hertz about R_p = 4 E*
+// a_p^3 / (3 F_max), a_p^2 = R* d_max, from the residual overlap d_p = d_max - R* d_max / R_p,
+// zero below it); the elastic energy it would return from there, and the work it has dissipated
+// (loading work to d_max less what unloading returns); the speed V_y of a head-on impact that
+// just reaches yield (1/2 m* V_y^2 = Hertz's energy at d_y), and the restitution of the closed
+// form at x = V_y / V <= 1 (1 at and below V_y).
+struct ThorntonLaw {
+  double y_star, r_star;  // E*, R*
+  double yield_pressure;  // p_y, Pa
+  double yield_overlap;   // d_y
+  double yield_force;     // F_y, Hertz's at d_y
+  double slope;           // pi p_y R*, the plastic loading stiffness
+  bool operator==(const ThorntonLaw&) const = default;
+};
+ThorntonLaw thornton_law(const ContactPair& c, double yield_pressure);
+double thornton_force(const ThorntonLaw& l, double overlap, double max_overlap);
+struct ThorntonState {
+  double force;       // N
+  double elastic;     // J, returned on unloading to d_p
+  double dissipated;  // J, at d_max
+};
+ThorntonState thornton_state(const ThorntonLaw& l, double overlap, double max_overlap);
+double thornton_yield_velocity(const ContactPair& c, double yield_pressure);
+double thornton_restitution(double yield_velocity, double impact_velocity);
 // An undamped head-on collision at relative speed v: its largest overlap and its duration
 // (Hertz: physics.md section 5; Hooke: v sqrt(m*/k_n) and pi sqrt(m*/k_n), whatever v).
 double max_overlap(const ContactModel& m, const ContactPair& c, double relative_speed);

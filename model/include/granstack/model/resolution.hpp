@@ -11,7 +11,7 @@
 namespace granstack::model {
 
 // dt = (shortest Hertz contact time of any contact in the stack at the striker speed) / this.
-inline constexpr double kStepsPerContact = 100.0;
+inline constexpr double kStepsPerContact = 100.0;  // the exact laws' (NormalLaw::steps_per_contact)
 // Arrival of the pulse at the bottom face, in units of each block's equal-pair contact time
 // t_c,k at the striker speed: sum over blocks of (kRowTransitPerContact * rows + kBlockEntryPerContact)
 // t_c,k. Measured final-energy times of the output sphere (1 to 16 rows, 1 to 3 blocks, and

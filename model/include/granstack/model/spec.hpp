@@ -122,6 +122,8 @@ struct StackSpec {
   RollingModel rolling_model = RollingModel::off;
   PairTable rolling_friction{0.0, {}};         // mu_r, rolling_model = epsd2 only
   std::optional<double> characteristic_velocity;  // m/s, normal_model = hooke only; nullopt = striker_speed
+  // p_y / Y of the elastic-plastic laws (thornton, thornton_ning): 1.6 first yield .. 3 fully plastic.
+  double yield_pressure_factor = kDefaultYieldPressureFactor;
   // Commands a deck template of the user's adds to granstack's ("fix viscous", "displace_atoms"):
   // a run executing them is accepted and names them (formats/deck_rules.hpp).
   std::vector<std::string> deck_additions;
@@ -187,6 +189,10 @@ inline constexpr double kMaxFriction = 10.0;
 inline constexpr double kMaxRollingFriction = 1.0;
 // LIGGGHTS refuses a characteristic velocity below 1e-2 m/s in SI units (global_properties.cpp:235);
 inline constexpr double kMinCharacteristicVelocity = 1e-2;
+// The range of yield_pressure_factor: from first yield under the surface (Johnson: 1.6 Y at nu =
+// 0.3, 1.5 Y at nu = 0.2) to the fully plastic indentation pressure (about 3 Y, Tabor's hardness).
+inline constexpr double kMinYieldPressureFactor = 1.5;
+inline constexpr double kMaxYieldPressureFactor = 3.0;
 // a striker from 1 to 16 times the top spheres' radius (the range of radius_ratio);
 inline constexpr double kMaxStrikerRadiusRatio = 16.0;
 // densities from 1 kg/m^3 to 1e5 (osmium is 22 590) and Young's moduli from 1 kPa (soft gels) to

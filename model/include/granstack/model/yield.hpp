@@ -16,13 +16,35 @@ namespace granstack::model {
 // First yield of a Hertz contact (Johnson, Contact Mechanics, 1985, section 6.2): the von Mises
 // stress under the surface reaches the yield strength Y when the peak pressure p0 reaches 1.60 Y
 // (nu = 0.3; 1.5 to 1.7 Y across nu = 0.2 to 0.5), in the body with the lower Y.
-inline constexpr double kFirstYieldPressurePerYield = 1.6;
+inline constexpr double kFirstYieldPressurePerYield = kDefaultYieldPressureFactor;
 
 // Hertz's peak contact pressure at overlap d is p0 = 3F / (2 pi a^2), F = 4/3 Y* sqrt(R*) d^(3/2),
 // a^2 = R* d, that is (2 Y* / pi) sqrt(d / R*); the meter takes its square over p_y^2.
 // The pressure at which a contact of a and b starts to yield: kFirstYieldPressurePerYield times
 // the lower yield strength of the two that have one; none when neither has one (brittle pairs).
 std::optional<double> first_yield_pressure(const Material& a, const Material& b);
+// ... at `factor` times that lower yield strength (the elastic-plastic laws' p_y).
+std::optional<double> yield_pressure(const Material& a, const Material& b, double factor);
+
+// LIGGGHTS's thornton_ning yields where the contact radius reaches a_y = r_i *
+// coefficientYieldRatio[type_i], of the first sphere alone; a pair whose two spheres give different
+// r * ratio gives an answer that depends on which LIGGGHTS calls i. The plan gives every sphere
+// type the ratio that makes r * ratio one yield radius a_y, bitwise (the stack's touching types
+// form one chain, striker to bottom, so one a_y serves every contact): a_y is the one of block 1's
+// own pairs at factor times their yield strength (the impacted block, where the blow yields
+// first), and each other kind of contact yields at its own effective pressure 2 E* a_y / (pi R*).
+struct YieldRadiusPlan {
+  double yield_radius = 0.0;           // m, a_y
+  std::vector<double> ratio;           // per atom type (index type - 1); the wall's is unread
+  std::string honoured;                // the contact kind whose intended p_y a_y gives
+  struct Kind {
+    std::string what;                  // "block 1 - block 2", "striker - block 1", "block 3 - wall"
+    double effective = 0.0, intended = 0.0;  // Pa
+  };
+  std::vector<Kind> kinds;
+  std::string refusal;                 // why no such ratios exist (a ratio above 1, a type of two radii), or ""
+};
+YieldRadiusPlan thornton_ning_plan(const Stack& stack);
 
 // The largest contact pressure over first yield seen: its ratio p0 / p_y, p0, the frame's step and
 // the contact (sphere ids; id_b = 0 for a wall, named by `wall`).

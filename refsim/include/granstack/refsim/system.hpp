@@ -47,6 +47,9 @@ struct Parameters {
   // With it, per type pair: the restitution e (hooke's damping takes ln e) and epsd2's mu_r.
   model::ContactModel contact;
   std::vector<double> restitution, rolling_friction;
+  // thornton: the yield pressure p_y per type pair (Pa); thornton_ning: coefficientYieldRatio per
+  // type (index type - 1), as the deck writes it.
+  std::vector<double> yield_pressure, yield_ratio;
   std::vector<Wall> walls;               // applied after the pair forces, in this order
   // The wall (index into walls) whose force on each particle is kept, as fix wall/gran's
   // store_force yes keeps it (System::stored_wall_force); -1: none.
@@ -168,8 +171,8 @@ class System {
   // Particles in tiles of kTile; the pairs whose i is in tile t are [tile_first_[t], tile_first_[t + 1]).
   static constexpr std::size_t kTile = 64;
   std::vector<std::size_t> tile_first_;
-  std::vector<double> wall_history_;  // detail::kShearHistory per particle and wall
-  std::vector<double> wall_roll_;     // epsd2's torque history, 3 per particle and wall
+  // Each wall contact's history, history_layout(...).size values per particle and wall.
+  std::vector<double> wall_history_;
   std::vector<double> wall_store_;    // stored_wall_force, 3 per particle
   // Per particle and wall: it touched the wall at its last force call, so its history or stored
   // force may be nonzero. One that did not, and does not touch it now, has nothing to compute or
