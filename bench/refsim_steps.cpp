@@ -3,8 +3,10 @@
 // reference kernels and every vector instruction set this CPU runs, each run in turn, REPEATS
 // rounds; median (and best) time per step. Steadier than timing whole `granstack run`s on a
 // noisy machine, since nothing but System::advance is timed. With --threads, the best vector
-// kernels on one thread and on two instead, alternately.
-// Usage: granstack_bench_refsim_steps [STEPS [REPEATS]] [--damped] [--threads]
+// kernels on one thread and on two instead, alternately. With --thornton, Thornton's
+// elastic-plastic law (the reference kernels) against Hertz on the best vector kernels and on the
+// reference, alternately: the cost of yielding contacts per particle-step.
+// Usage: granstack_bench_refsim_steps [STEPS [REPEATS]] [--damped] [--threads] [--thornton]
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/stack.hpp>
 #include <granstack/refsim/case_run.hpp>
@@ -22,12 +24,13 @@ namespace {
 struct Run {
   std::string label, kernel;
   int threads;
+  granstack::model::NormalModel normal = granstack::model::NormalModel::hertz;
 };
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace granstack;
-  bool damped = false, threads = false;
+  bool damped = false, threads = false, thornton = false;
   std::vector<std::string_view> positional;
   for (int a = 1; a < argc; ++a) {
     const std::string_view arg(argv[a]);
@@ -35,6 +38,8 @@ int main(int argc, char** argv) {
       damped = true;
     } else if (arg == "--threads") {
       threads = true;
+    } else if (arg == "--thornton") {
+      thornton = true;
     } else {
       positional.push_back(arg);
     }
@@ -54,6 +59,11 @@ int main(int argc, char** argv) {
   if (threads) {
     const std::string best = refsim::vector_kernels().front();
     runs = {{best + ", 1 thread", best, 1}, {best + ", 2 threads", best, 2}};
+  } else if (thornton) {
+    const std::string best = refsim::vector_kernels().front();
+    runs = {{"hertz, " + best, best, 1},
+            {"hertz, reference", "reference", 1},
+            {"thornton, reference", "reference", 1, model::NormalModel::thornton}};
   } else {
     runs.push_back({"reference", "reference", 1});
     for (const auto& k : refsim::vector_kernels()) runs.push_back({k, k, 1});
@@ -61,7 +71,9 @@ int main(int argc, char** argv) {
   std::vector<std::vector<double>> times(runs.size());
   for (int r = 0; r < repeats; ++r) {
     for (std::size_t k = 0; k < runs.size(); ++k) {
-      auto params = refsim::case_parameters(stack);
+      auto run_spec = spec;
+      run_spec.normal_model = runs[k].normal;
+      auto params = refsim::case_parameters(model::Stack::build(run_spec));
       params.kernel = runs[k].kernel;
       params.threads = runs[k].threads;
       refsim::System s(particles, params);

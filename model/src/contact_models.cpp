@@ -103,6 +103,11 @@ std::string_view first_refusal(const ContactModel& m, std::string_view SubModelI
 
 std::string_view lammps_refusal(const ContactModel& m) { return first_refusal(m, &SubModelInfo::lammps_refusal); }
 std::string_view liggghts_refusal(const ContactModel& m) { return first_refusal(m, &SubModelInfo::liggghts_refusal); }
+std::string_view refsim_liggghts_refusal(const ContactModel& m) {
+  ContactModel probe = m;
+  probe.normal = NormalModel::hertz;
+  return liggghts_refusal(probe);
+}
 std::optional<NormalModel> parse_normal_model(std::string_view s) { return parse<NormalModel>(s); }
 std::optional<TangentialModel> parse_tangential_model(std::string_view s) { return parse<TangentialModel>(s); }
 std::optional<RollingModel> parse_rolling_model(std::string_view s) { return parse<RollingModel>(s); }

@@ -597,9 +597,9 @@ std::string yield_line(const CaseReduction& r) {
                                  r.yield.pressure, *r.yield_ratio, r.yield_contact, r.yield_time);
   if (*r.yield_ratio > 1.0) {
     const auto& law = model::normal_law(r.spec.normal_model);
-    line += law.dissipative ? fmt::format(": the Hertz pressure there passes first yield, where the {} law yields and "
-                                          "dissipates (its pressure capped at {:g} Y)",
-                                          law.name, r.spec.yield_pressure_factor)
+    line += law.dissipative ? fmt::format(": the Hertz pressure there passes first yield, where the contact law ({}) "
+                                          "yields and dissipates instead",
+                                          law.name)
                             : std::string(": the contact yields, and the elastic result is a model there");
   }
   if (!r.yield_unjudged_materials.empty()) {

@@ -65,12 +65,12 @@ struct ModelConstants {
   double yield_pressure = 0.0, yield_ratio = 0.0;
 };
 // ... and of one pair, evaluated once per distinct pair as LIGGGHTS evaluates them in every
-// contact: hooke's k_n and gamma_n (functions of R* and m*), and mu_r.
+// contact: the normal model's own values (`law`, each model's record fills and its kernel reads
+// them: hooke's k_n and gamma_n of R* and m*, Thornton's law of the pair, ...), and mu_r.
+inline constexpr std::size_t kLawValues = 6;
 struct ModelRecord {
-  double hooke_kn = 0.0, hooke_gamman = 0.0, rolling_friction = 0.0;
-  double lammps_alpha = 0.0, lammps_tangential_ratio = 0.0;
-  model::ThorntonLaw thornton{};                        // thornton's law of the pair
-  double ning_y_star = 0.0, ning_yield_radius = 0.0;   // thornton_ning's E* and a_y = r_i ratio_i
+  double rolling_friction = 0.0;
+  double law[kLawValues] = {};
   bool operator==(const ModelRecord&) const = default;
 };
 

@@ -65,7 +65,8 @@ Engine parse_engine(const std::string& name) {
 
 std::string_view model_refusal(Engine e, const model::ContactModel& m, bool lammps_rules) {
   const bool lammps = e == Engine::lammps || (e == Engine::refsim && lammps_rules);
-  return lammps ? model::lammps_refusal(m) : model::liggghts_refusal(m);
+  if (lammps) return model::lammps_refusal(m);
+  return e == Engine::refsim ? model::refsim_liggghts_refusal(m) : model::liggghts_refusal(m);
 }
 
 }  // namespace granstack::runner

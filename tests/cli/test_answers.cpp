@@ -361,6 +361,34 @@ TEST_F(Answers, ALammpsModelIsRefusedByLiggghtsRules) {
   EXPECT_FALSE(fs::exists(path("rescale_frictionless")));
 }
 
+// Thornton's law (refsim's own) is refused by LIGGGHTS and LAMMPS by name, before the case is
+// touched, LIGGGHTS's message naming thornton_ning as its nearest law; refsim runs it, and reduce
+// reads the run (the yield meter's line says the law yields there). LIGGGHTS's thornton_ning runs
+// on LIGGGHTS, and generate prints each kind of contact's yield pressure at its one yield radius.
+TEST_F(Answers, ThorntonRunsOnRefsimAndTheEnginesThatLackItRefuseIt) {
+  const auto c = path("thornton");
+  ASSERT_EQ(granstack({"generate", "-o", c.string(), "--blocks", "2", "--rows", "3", "--normal-model", "thornton"}).code, 0);
+  auto r = granstack({"run", "--engine", "liggghts", c.string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "LIGGGHTS: normal_model = 'thornton' (Thornton 1997) has no counterpart in LIGGGHTS 3.8: its nearest "
+                     "law is thornton_ning");
+  r = granstack({"run", "--engine", "lammps", c.string()});
+  EXPECT_EQ(r.code, 1) << r.output;
+  expect_contains(r, "normal_model = 'thornton' has no counterpart in LAMMPS 29 Sep 2021");
+  EXPECT_FALSE(fs::exists(c / "run.json"));
+  ASSERT_EQ(granstack({"run", "--engine", "refsim", c.string()}).code, 0);
+  r = granstack({"reduce", c.string()});
+  EXPECT_EQ(r.code, 0) << r.output;
+  expect_contains(r, "where the contact law (Thornton) yields and dissipates instead");
+  const auto n = path("ning");
+  r = granstack({"generate", "-o", n.string(), "--blocks", "2", "--rows", "3", "--normal-model", "thornton_ning"});
+  EXPECT_EQ(r.code, 0) << r.output;
+  expect_contains(r, "thornton_ning: one yield radius a_y = ");
+  expect_contains(r, "  block 1 - block 2      p_y ");
+  EXPECT_NE(read_bytes(n / "in.stack").find("coefficientYieldRatio peratomtype"), std::string::npos);
+  EXPECT_EQ(granstack({"run", "--engine", "lammps", n.string()}).code, 1);
+}
+
 // refsim by LAMMPS's rules runs what granstack's LAMMPS deck runs, or refuses, before the case is
 // touched: a model LAMMPS has no counterpart for, or a restitution tsuji cannot give (they ran as
 // hertz/tsuji/mindlin, or with a nonsense damping coefficient, under a record saying "lammps");

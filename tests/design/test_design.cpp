@@ -1068,6 +1068,8 @@ TEST(Space, TheStoreKeyChangesWithEverySpecField) {
                                   with(two, {{"rolling_model", {"epsd2"}}, {"rolling_friction", {"0.1"}}, {"rolling_friction_pairs", {"steel:brass=0.3"}}})}},
       {"characteristic_velocity", {{{"normal_model", {"hooke"}}, {"characteristic_velocity", {"1"}}},
                                    {{"normal_model", {"hooke"}}, {"characteristic_velocity", {"2"}}}}},
+      {"yield_pressure_factor", {{{"normal_model", {"thornton"}}, {"yield_pressure_factor", {"1.6"}}},
+                                 {{"normal_model", {"thornton"}}, {"yield_pressure_factor", {"3"}}}}},
       {"deck_additions", {{}, {{"deck_additions", {"fix viscous"}}}}},
   };
   for (const auto& f : model::spec_fields()) {

@@ -4,8 +4,11 @@
 #include <granstack/model/spec.hpp>
 #include <granstack/model/spec_fields.hpp>
 
+#include <granstack/model/yield.hpp>
+#include <granstack/model/stack.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <set>
@@ -192,7 +195,7 @@ materials = ["steel", "teflon", "steel", "steel"]
   EXPECT_EQ(s.contact_model().characteristic_velocity, s.striker_speed);
   EXPECT_EQ(model::liggghts_model_words(s.contact_model()), "model hooke tangential no_history rolling_friction epsd2");
   for (const auto& [field, value, words] : std::vector<std::tuple<std::string, std::string, std::string>>{
-           {"normal_model", "hertzian", "'hertzian' is not 'hertz' or 'hooke'"},
+           {"normal_model", "hertzian", "'hertzian' is not 'hertz', 'hooke', 'thornton' or 'thornton_ning'"},
            {"tangential_model", "none", "'none' is not 'history', 'no_history' or 'mindlin_rescale'"},
            {"rolling_model", "epsd", "'epsd' is not 'off', 'epsd2' or 'cdt'"}}) {
     try {
@@ -244,6 +247,61 @@ TEST(SpecInput, UnknownKeysAndWrongTypesAreNamed) {
       << issues[0].message;
 }
 
+// The elastic-plastic laws: a material without a yield strength, a dashpot, and the yield
+// pressure factor out of range or on an elastic law are each refused, naming the field and the fix.
+TEST(SpecInput, ElasticPlasticLawsRefuseWhatTheyCannotModel) {
+  auto issues = refusal("normal_model = \"thornton\"\nmaterials = [\"glass\"]\n");
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].field, "normal_model");
+  EXPECT_NE(issues[0].message.find("'glass' has none"), std::string::npos) << issues[0].message;
+  issues = refusal("normal_model = \"thornton_ning\"\nrestitution = 0.9\n");
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].field, "restitution");
+  EXPECT_NE(issues[0].message.find("set restitution = 1"), std::string::npos) << issues[0].message;
+  issues = refusal("normal_model = \"thornton\"\nyield_pressure_factor = 4\n");
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_NE(issues[0].message.find("outside 1.5..3"), std::string::npos) << issues[0].message;
+  issues = refusal("yield_pressure_factor = 2\n");
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_NE(issues[0].message.find("applies to the elastic-plastic laws only"), std::string::npos) << issues[0].message;
+  EXPECT_TRUE(refusal("normal_model = \"thornton\"\nyield_pressure_factor = 3\n").empty());
+  // The engines that lack a law refuse it by name (the rows the engines, submit and the decks read).
+  model::ContactModel m;
+  m.normal = model::NormalModel::thornton;
+  EXPECT_NE(model::liggghts_refusal(m).find("nearest law is thornton_ning"), std::string::npos);
+  EXPECT_NE(model::lammps_refusal(m).find("no elastic-plastic normal model"), std::string::npos);
+  m.normal = model::NormalModel::thornton_ning;
+  EXPECT_TRUE(model::liggghts_refusal(m).empty());
+  EXPECT_NE(model::lammps_refusal(m).find("no elastic-plastic normal model"), std::string::npos);
+}
+
+// thornton_ning's yield ratios give every sphere type the same r * ratio to the bit (so which
+// sphere LIGGGHTS calls i does not matter), block 1's pairs their intended p_y, and a stack
+// whose small bottom spheres would need a ratio above 1 is refused.
+TEST(SpecInput, ThorntonNingYieldRatiosAreOneYieldRadius) {
+  model::StackSpec spec;
+  spec.normal_model = model::NormalModel::thornton_ning;
+  spec.blocks = 4;
+  spec.rows = 3;
+  spec.bottom = model::Boundary::wall;
+  const auto stack = model::Stack::build(spec);
+  const auto plan = model::thornton_ning_plan(stack);
+  ASSERT_TRUE(plan.refusal.empty()) << plan.refusal;
+  for (const auto& s : stack.spheres()) {
+    EXPECT_EQ(s.radius * plan.ratio[static_cast<std::size_t>(s.atom_type - 1)], plan.yield_radius) << s.id;
+  }
+  ASSERT_FALSE(plan.kinds.empty());
+  const auto& own = *std::find_if(plan.kinds.begin(), plan.kinds.end(), [](const auto& k) { return k.what == "block 1 - block 1"; });
+  EXPECT_NEAR(own.effective / own.intended, 1.0, 1e-12);
+  const auto& wall = *std::find_if(plan.kinds.begin(), plan.kinds.end(), [](const auto& k) { return k.what == "block 4 - wall"; });
+  EXPECT_GT(wall.effective, 0.0);
+  spec.materials = {"teflon"};
+  spec.blocks = 8;
+  spec.rows = 1;
+  const auto deep = model::thornton_ning_plan(model::Stack::build(spec));
+  EXPECT_NE(deep.refusal.find("LIGGGHTS takes 0..1"), std::string::npos) << deep.refusal;
+}
+
 TEST(SpecInput, FlagListsSplitOnCommasAndDuplicatesAreRejected) {
   EXPECT_EQ(generator::split_list("1, 2,3"), (std::vector<std::string>{"1", "2", "3"}));
   generator::RawSpec raw{{"blocks", {"1", "2", "1"}}};
@@ -273,7 +331,7 @@ TEST(SpecFields, EveryFieldIsReadWrittenAndDocumented) {
     }
     EXPECT_NE(model::spec_fields_markdown().find("| `" + f.name + "` |"), std::string::npos) << f.name;
   }
-  const auto every = generator::parse_spec_toml(R"(
+  auto every = generator::parse_spec_toml(R"(
 geometry = "panels"
 panels = 3
 impact_panel = 1
@@ -312,12 +370,17 @@ rolling_model = "epsd2"
 rolling_friction = 0.1
 rolling_friction_pairs = { "steel:steel" = 0.05 }
 characteristic_velocity = 2
+yield_pressure_factor = 2.5
 deck_additions = ["fix viscous", "displace_atoms"]
 )", "every.toml");
   // Every field but rows, which block_rows replaces (the two are refused together), and stacking,
   // which the container refuses (strip only; read and written below).
   EXPECT_EQ(every.size() + 2, model::spec_fields().size()) << "a field of the table is missing from this test's file";
   EXPECT_EQ(every.count("rows"), 0u);
+  // yield_pressure_factor belongs to the elastic-plastic laws, not to this file's hooke: read on its own.
+  auto plastic = generator::parse_spec_toml("normal_model = \"thornton\"\nyield_pressure_factor = 2.5\n", "p.toml");
+  EXPECT_EQ(generator::build_sweep(plastic).base.yield_pressure_factor, 2.5);
+  every.erase("yield_pressure_factor");
   const auto spec = generator::build_sweep(every).base;
   EXPECT_EQ(model::spec_from_json_fields(nlohmann::json::parse(model::spec_json(spec).dump())), spec);
   EXPECT_EQ(spec.impact_panel, 1);

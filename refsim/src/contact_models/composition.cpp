@@ -12,6 +12,30 @@
 
 namespace granstack::refsim::detail {
 
+// The normal models' kernels (each its file in this folder) and their per-pair records.
+// LIGGGHTS's hertz with restitution damping (normal_model_hertz.h).
+Normal hertz_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool tangential_damping,
+                    double* history);
+// LIGGGHTS's hooke (normal_model_hooke.h): k_n and gamma_n of the pair (of its R* and m*), k_t = k_n.
+Normal hooke_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool tangential_damping,
+                    double* history);
+void hooke_record(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
+// Thornton (1997) (model::thornton_force): history[0] the largest overlap; k_t = 8 G* sqrt(R* d).
+Normal thornton_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool tangential_damping,
+                       double* history);
+void thornton_record(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
+// LIGGGHTS's thornton_ning (normal_model_thornton_ning.h), its ten history values in its order.
+inline constexpr std::size_t kThorntonNingHistory = 10;
+Normal thornton_ning_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c,
+                            bool tangential_damping, double* history);
+void thornton_ning_record(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
+// LAMMPS's hertz/material with tsuji damping (pair_granular, fix wall/gran granular), and the
+// stiffness and damping of its mindlin spring; tsuji's coefficient alpha(e') of the type pair's
+// restitution and mindlin's eta_t / eta_n.
+Normal tsuji_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool tangential_damping,
+                    double* history);
+void tsuji_record(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
+
 namespace {
 // A kernel and how many history values it keeps per contact.
 template <typename Kernel>
@@ -102,11 +126,7 @@ ModelRecord model_record(const SubModels& m, const ModelConstants& k, double rad
 }
 
 SubModels liggghts_rules(const model::ContactModel& m) {
-  // refsim has a kernel in LIGGGHTS's frame for every normal model, LIGGGHTS's own and its own
-  // (thornton, which LIGGGHTS refuses): only the tangential and rolling models can be refused.
-  model::ContactModel probe = m;
-  probe.normal = model::NormalModel::hertz;
-  if (const auto why = model::liggghts_refusal(probe); !why.empty()) {
+  if (const auto why = model::refsim_liggghts_refusal(m); !why.empty()) {
     throw std::invalid_argument("LIGGGHTS's contact rules (--contact-rules liggghts, the default): " + std::string(why));
   }
   SubModels s;

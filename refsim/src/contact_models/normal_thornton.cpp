@@ -5,18 +5,23 @@
 // it, and the tangential damping is off (restitution 1: the law dissipates by yielding).
 #include "sub_models.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 
 namespace granstack::refsim::detail {
 
 void thornton_record(const ModelConstants& k, double, double reff, double meff, ModelRecord& r) {
-  r.thornton = model::thornton_law({k.y_star, 0.0, reff, meff}, k.yield_pressure);
+  const auto l = model::thornton_law({k.y_star, 0.0, reff, meff}, k.yield_pressure);
+  const double values[] = {l.y_star, l.r_star, l.yield_pressure, l.yield_overlap, l.yield_force, l.slope};
+  static_assert(std::size(values) <= kLawValues);
+  std::copy(std::begin(values), std::end(values), r.law);
 }
 
 Normal thornton_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool, double* history) {
   const double d = c.deltan;
   if (d > history[0]) history[0] = d;
-  const model::ThorntonLaw& law = r.thornton;
+  const model::ThorntonLaw law{r.law[0], r.law[1], r.law[2], r.law[3], r.law[4], r.law[5]};
   const double fn = model::thornton_force(law, d, history[0]);
   const double sqrtval = std::sqrt(c.reff * d);
   // The local stiffness of the loading branch (cdt's k_n delta): Hertz's 2 E* a, or pi p_y R*.

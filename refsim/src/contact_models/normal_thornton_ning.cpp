@@ -16,8 +16,8 @@
 namespace granstack::refsim::detail {
 
 void thornton_ning_record(const ModelConstants& k, double radi, double, double, ModelRecord& r) {
-  r.ning_y_star = k.y_star;
-  r.ning_yield_radius = radi * k.yield_ratio;
+  r.law[0] = k.y_star;
+  r.law[1] = radi * k.yield_ratio;  // a_yield = ri * yield_ratio[itype]
 }
 
 namespace {
@@ -51,11 +51,11 @@ Normal thornton_ning_normal(const PairConstants& k, const ModelRecord& r, const 
                             double* history) {
   double reff = c.reff;
   const double meff = c.meff;
-  const double e = r.ning_y_star;
+  const double e = r.law[0];  // Yeff
   const double gamma_s = 0.0;
   double fc = gamma_s * reff * M_PI * (3. / 2.);
   const double delta = c.deltan;
-  const double a_yield = r.ning_yield_radius;
+  const double a_yield = r.law[1];
   const double yield_stress = ((2. * e * a_yield) / (M_PI * reff)) - std::sqrt(2. * gamma_s * e / (M_PI * a_yield));
   const double limit_yield_stress = std::pow(2. * e * e * gamma_s / (M_PI * M_PI * reff), (1. / 3.));
   const int plastic_from_start = yield_stress < limit_yield_stress ? 1 : 0;

@@ -20,10 +20,10 @@ Normal tsuji_normal(const PairConstants& k, const ModelRecord& r, const ContactP
   knfac *= a;
   if (c.wall) fne = knfac * delta;
   // tsuji: alpha sqrt(m* knfac); undamped is viscoelastic with coefficient 0.
-  const double damp_normal = r.lammps_alpha != 0.0 ? std::sqrt(c.meff * knfac) : a * c.meff;
-  const double prefactor = r.lammps_alpha * damp_normal;
+  const double damp_normal = r.law[0] != 0.0 ? std::sqrt(c.meff * knfac) : a * c.meff;
+  const double prefactor = r.law[0] * damp_normal;
   const double fdamp = -prefactor * c.vn;
-  return {fne + fdamp, k.st_factor * a, r.lammps_tangential_ratio * prefactor, knfac, a};
+  return {fne + fdamp, k.st_factor * a, r.law[1] * prefactor, knfac, a};
 }
 
 }  // namespace granstack::refsim::detail
@@ -33,8 +33,8 @@ namespace granstack::refsim::detail {
 // The coefficients granstack's LAMMPS deck gives (model/lammps.hpp): tsuji's alpha of the e' that
 // matches LIGGGHTS's damping of e (0 undamped), and eta_t / eta_n = sqrt(4 G* / Y*).
 void tsuji_record(const ModelConstants& k, double, double, double, ModelRecord& r) {
-  r.lammps_alpha = k.lammps_alpha;
-  r.lammps_tangential_ratio = k.lammps_tangential_ratio;
+  r.law[0] = k.lammps_alpha;
+  r.law[1] = k.lammps_tangential_ratio;
 }
 
 void tsuji_constants(double restitution, double g_star, double y_star, ModelConstants& k) {

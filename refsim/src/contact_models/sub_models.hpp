@@ -85,28 +85,8 @@ struct Normal {
 using NormalForce = Normal (*)(const PairConstants& k, const ModelRecord& r, const ContactPoint& c,
                                bool tangential_damping, double* history);
 using NormalRecord = void (*)(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
-// LIGGGHTS's hertz with restitution damping (normal_model_hertz.h).
-Normal hertz_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool tangential_damping,
-                    double* history);
-// LIGGGHTS's hooke (normal_model_hooke.h): k_n and gamma_n of the pair (of its R* and m*), k_t = k_n.
-Normal hooke_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool tangential_damping,
-                    double* history);
-void hooke_record(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
-// Thornton (1997) (model::thornton_force): history[0] the largest overlap; k_t = 8 G* sqrt(R* d).
-Normal thornton_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool tangential_damping,
-                       double* history);
-void thornton_record(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
-// LIGGGHTS's thornton_ning (normal_model_thornton_ning.h), its ten history values in its order.
-inline constexpr std::size_t kThorntonNingHistory = 10;
-Normal thornton_ning_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c,
-                            bool tangential_damping, double* history);
-void thornton_ning_record(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
-// LAMMPS's hertz/material with tsuji damping (pair_granular, fix wall/gran granular), and the
-// stiffness and damping of its mindlin spring; tsuji's coefficient alpha(e') of the type pair's
-// restitution and mindlin's eta_t / eta_n.
-Normal tsuji_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool tangential_damping,
-                    double* history);
-void tsuji_record(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
+// The normal models' kernels and records are declared beside their table (composition.cpp);
+// LAMMPS's tsuji coefficients of the type pair's restitution, and mindlin's eta_t / eta_n:
 void tsuji_constants(double restitution, double g_star, double y_star, ModelConstants& k);
 
 // The tangential force on the first body, `ft`, from the contact, the normal model's output and

@@ -129,6 +129,10 @@ struct ContactModel {
 std::string_view lammps_refusal(const ContactModel& m);
 // ... LIGGGHTS 3.8 has no counterpart for (its row's liggghts_refusal), or "".
 std::string_view liggghts_refusal(const ContactModel& m);
+// ... refsim by LIGGGHTS's rules cannot run: LIGGGHTS's refusals of the tangential and rolling
+// models alone (refsim has a kernel in LIGGGHTS's frame for every normal model, its own
+// thornton included).
+std::string_view refsim_liggghts_refusal(const ContactModel& m);
 
 // The words after 'pair_style gran' and 'fix ... wall/gran': "model hertz tangential history",
 // with " rolling_friction epsd2" (or cdt) when a rolling model is on.
