@@ -56,7 +56,7 @@ RECORDS = {
     # bench/oversubscription.sh 3, on the 2-core machine
     "oversubscription": "bench/results/oversubscription-2026-11-28.json",
     # scripts/extension_counts.py, from the commits it names (git history)
-    "extension_counts": "bench/results/extension-counts-2026-11-29.json",
+    "extension_counts": "bench/results/extension-counts-2026-12-06.json",
     # OUT=... bench/design_budget.sh, on the 2-core machine, idle (#50)
     "design_budget": "bench/results/design-budget-2026-11-28.json",
     # GRANSTACK=build/ci/app/granstack GRANSTACK_BASE=(the build before) OUT=... bench/reduce_vs_wc.sh 15 2, 2-core machine (#46)

@@ -20,6 +20,8 @@ EXTENSIONS = [
     ("a rolling friction model (cdt), on the sub-models' table and composition", ["dae81a7"]),
     ("a tangential model of LAMMPS's that LIGGGHTS lacks (mindlin_rescale), with the first LIGGGHTS refusals",
      ["1698a67"]),
+    ("two elastic-plastic normal models with per-contact history (thornton, thornton_ning), with the generic "
+     "history store and the one table of laws they were the first to use", ["d413c65", "48a949c"]),
 ]
 LIBRARIES = {"app", "cluster", "design", "formats", "generator", "model", "os", "postproc", "refsim", "runner",
              "study"}
