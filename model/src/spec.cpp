@@ -281,6 +281,10 @@ void validate_yield_law(const StackSpec& s, Bad&& bad) {
                                              f, kMinYieldPressureFactor, kMaxYieldPressureFactor,
                                              kDefaultYieldPressureFactor));
   }
+  if (s.normal_model == NormalModel::thornton_ning && s.rolling_model == RollingModel::cdt) {
+    bad("rolling_model", "cdt's torque is mu_r R* k_n delta, and LIGGGHTS's thornton_ning sets no k_n for it: use "
+                         "rolling_model = 'epsd2' or 'off' with it");
+  }
   if (!s.restitution.everywhere(1.0)) {
     bad("restitution", fmt::format("normal_model = '{}' dissipates by yielding and has no viscous damping (LIGGGHTS's "
                                    "thornton_ning would turn a restitution below 1 into a negative tangential "

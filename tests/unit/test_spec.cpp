@@ -265,6 +265,9 @@ TEST(SpecInput, ElasticPlasticLawsRefuseWhatTheyCannotModel) {
   ASSERT_EQ(issues.size(), 1u);
   EXPECT_NE(issues[0].message.find("applies to the elastic-plastic laws only"), std::string::npos) << issues[0].message;
   EXPECT_TRUE(refusal("normal_model = \"thornton\"\nyield_pressure_factor = 3\n").empty());
+  issues = refusal("normal_model = \"thornton_ning\"\nrolling_model = \"cdt\"\nrolling_friction = 0.1\n");
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].field, "rolling_model");
   // The engines that lack a law refuse it by name (the rows the engines, submit and the decks read).
   model::ContactModel m;
   m.normal = model::NormalModel::thornton;

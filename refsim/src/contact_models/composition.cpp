@@ -24,8 +24,7 @@ void hooke_record(const ModelConstants& k, double radi, double reff, double meff
 Normal thornton_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool tangential_damping,
                        double* history);
 void thornton_record(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
-// LIGGGHTS's thornton_ning (normal_model_thornton_ning.h), its ten history values in its order.
-inline constexpr std::size_t kThorntonNingHistory = 10;
+// LIGGGHTS's thornton_ning (normal_model_thornton_ning.h), its kThorntonNingHistory values in its order.
 Normal thornton_ning_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c,
                             bool tangential_damping, double* history);
 void thornton_ning_record(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);

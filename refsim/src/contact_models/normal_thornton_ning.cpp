@@ -10,10 +10,13 @@
 // detaching flag, detaching force, yielding flag.
 #include "sub_models.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 
 namespace granstack::refsim::detail {
+
 
 void thornton_ning_record(const ModelConstants& k, double radi, double, double, ModelRecord& r) {
   r.law[0] = k.y_star;
@@ -47,103 +50,104 @@ double elastic_step(double force_old, double fc, int adhesion_flag, double e, do
 }
 }  // namespace
 
+namespace {
+// The contact's ten history values, unpacked as LIGGGHTS reads them (ints where it keeps flags).
+struct NingHistory {
+  int virgin_loading_flag;
+  double delta_old, delta_max, force_old, force_max;
+  int adhesion_flag;
+  double detaching_delta;
+  int detaching_flag;
+  double detaching_force;
+  int yielding_flag;
+};
+NingHistory unpack(const double* h) {
+  return {static_cast<int>(h[0]), h[1], h[2], h[3], h[4], static_cast<int>(h[5]), h[6], static_cast<int>(h[7]), h[8],
+          static_cast<int>(h[9])};
+}
+// The contact's first evaluation: a virgin loading from zero force (fc = 0: no adhesion).
+void start_virgin(NingHistory& h, double fc) {
+  h = {1, 0, 0, -(8. / 9.) * fc, -(8. / 9.) * fc, 0, 0, 0, -(5. / 9.) * fc, 0};
+}
+// The law's constants of one evaluation (surfaceEnergy 0 as granstack writes it).
+struct NingLaw {
+  double e, reff, a_yield, yield_stress, gamma_s, fc;
+  bool plastic_from_start;
+};
+// The force of a contact in touch (UNLOADING_RELOADING and what follows it in LIGGGHTS's code).
+double contact_force(NingHistory& h, NingLaw law, double delta) {
+  double f = 0.0, df = 0.0;
+  const double dn = delta - h.delta_old;
+  if (delta >= h.delta_max) {  // loading
+    h.delta_max = delta;
+    const double fl = calculate_fl(h.force_old, law.fc, 0);
+    const double a = calculate_a(fl, law.e, law.reff, delta, law.gamma_s);
+    if (h.yielding_flag == 0 && a >= law.a_yield) h.yielding_flag = 1;
+    if (law.plastic_from_start || h.yielding_flag == 1) {
+      df = plastic_differential(law.a_yield, law.e, fl, law.fc, law.yield_stress, law.reff) * dn;
+      f = h.force_old + df;
+    } else {
+      f = elastic_step(h.force_old, law.fc, h.adhesion_flag, law.e, law.reff, delta, dn, law.gamma_s, df);
+    }
+  } else if (h.yielding_flag == 0) {  // unloading or reloading, never yielded
+    f = elastic_step(h.force_old, law.fc, h.adhesion_flag, law.e, law.reff, delta, dn, law.gamma_s, df);
+  } else {  // ... yielded: about the modified radius (R* itself without adhesion)
+    const double fl_max = calculate_fl(h.force_max, law.fc, 0);
+    law.reff = law.reff * fl_max / (h.force_max + std::sqrt(4 * law.fc * fl_max));
+    law.fc = (3. / 2.) * M_PI * law.gamma_s * law.reff;
+    f = elastic_step(h.force_old, law.fc, h.adhesion_flag, law.e, law.reff, delta, dn, law.gamma_s, df);
+  }
+  if (law.gamma_s == 0 && f < 0) {  // no cohesion: detach here
+    f = 0;
+    h.detaching_flag = 1;
+    h.detaching_delta = delta;
+    h.detaching_force = 0;
+  }
+  if (f < -law.fc) {
+    h.adhesion_flag = 1 - h.adhesion_flag;
+    f = elastic_step(h.force_old, law.fc, h.adhesion_flag, law.e, law.reff, delta, dn, law.gamma_s, df);
+  }
+  if (h.adhesion_flag == 1 && f + 3 * df >= -(5. / 9.) * law.fc) {
+    f = 0;
+    h.detaching_flag = 1;
+    h.detaching_delta = h.delta_old;
+    h.detaching_force = h.force_old;
+  }
+  return f;
+}
+}  // namespace
+
 Normal thornton_ning_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool,
                             double* history) {
-  double reff = c.reff;
-  const double meff = c.meff;
-  const double e = r.law[0];  // Yeff
-  const double gamma_s = 0.0;
-  double fc = gamma_s * reff * M_PI * (3. / 2.);
+  const double reff = c.reff, e = r.law[0], a_yield = r.law[1], gamma_s = 0.0;  // Yeff, ri * yield_ratio[itype]
+  const double fc = gamma_s * reff * M_PI * (3. / 2.);
   const double delta = c.deltan;
-  const double a_yield = r.law[1];
   const double yield_stress = ((2. * e * a_yield) / (M_PI * reff)) - std::sqrt(2. * gamma_s * e / (M_PI * a_yield));
   const double limit_yield_stress = std::pow(2. * e * e * gamma_s / (M_PI * M_PI * reff), (1. / 3.));
-  const int plastic_from_start = yield_stress < limit_yield_stress ? 1 : 0;
   if (yield_stress <= 0) throw std::invalid_argument("Invalid yield stress, please check surface energy and yield ratio!");
-
-  int virgin_loading_flag = static_cast<int>(history[0]);
-  double delta_old = history[1], delta_max = history[2], force_old = history[3], force_max = history[4];
-  int adhesion_flag = static_cast<int>(history[5]);
-  double detaching_delta = history[6];
-  int detaching_flag = static_cast<int>(history[7]);
-  double detaching_force = history[8];
-  int yielding_flag = static_cast<int>(history[9]);
-
   const double sqrtval = std::sqrt(reff * c.deltan);
   const double k_t = k.st_factor * sqrtval;
-  const double gammat = -k.damping_factor * std::sqrt(k_t * meff);  // 2 sqrt(5/6) beta sqrt(k_t m*)
-  if (virgin_loading_flag != 1) {
-    force_old = -(8. / 9.) * fc;
-    delta_old = 0;
-    virgin_loading_flag = 1;
-    force_max = force_old;
-    delta_max = 0;
-    adhesion_flag = 0;
-    detaching_delta = 0;
-    detaching_flag = 0;
-    detaching_force = -(5. / 9.) * fc;
-    yielding_flag = 0;
-  }
-  double f = 0.0, df = 0.0;
-  bool loaded = true;
-  if (detaching_flag == 1) {
-    if (delta >= detaching_delta) {
-      detaching_flag = 0;
-      delta_old = detaching_delta;
-      force_old = detaching_force;
-    } else {
-      loaded = false;
+  const double gammat = -k.damping_factor * std::sqrt(k_t * c.meff);  // 2 sqrt(5/6) beta sqrt(k_t m*)
+  NingHistory h = unpack(history);
+  if (h.virgin_loading_flag != 1) start_virgin(h, fc);
+  bool in_touch = true;
+  if (h.detaching_flag == 1) {  // detached: reloads from where it left once it reaches there
+    in_touch = delta >= h.detaching_delta;
+    if (in_touch) {
+      h.detaching_flag = 0;
+      h.delta_old = h.detaching_delta;
+      h.force_old = h.detaching_force;
     }
   }
-  if (loaded) {
-    const double dn = delta - delta_old;
-    if (delta >= delta_max) {
-      delta_max = delta;
-      const double fl = calculate_fl(force_old, fc, 0);
-      const double a = calculate_a(fl, e, reff, delta, gamma_s);
-      if (yielding_flag == 0 && a >= a_yield) yielding_flag = 1;
-      if (plastic_from_start == 1 || yielding_flag == 1) {
-        df = plastic_differential(a_yield, e, fl, fc, yield_stress, reff) * dn;
-        f = force_old + df;
-      } else {
-        f = elastic_step(force_old, fc, adhesion_flag, e, reff, delta, dn, gamma_s, df);
-      }
-    } else if (yielding_flag == 0) {
-      f = elastic_step(force_old, fc, adhesion_flag, e, reff, delta, dn, gamma_s, df);
-    } else {
-      const double fl_max = calculate_fl(force_max, fc, 0);
-      reff = reff * fl_max / (force_max + std::sqrt(4 * fc * fl_max));
-      fc = (3. / 2.) * M_PI * gamma_s * reff;
-      f = elastic_step(force_old, fc, adhesion_flag, e, reff, delta, dn, gamma_s, df);
-    }
-    if (gamma_s == 0 && f < 0) {  // no cohesion
-      f = 0;
-      detaching_flag = 1;
-      detaching_delta = delta;
-      detaching_force = 0;
-    }
-    if (f < -fc) {
-      adhesion_flag = 1 - adhesion_flag;
-      f = elastic_step(force_old, fc, adhesion_flag, e, reff, delta, dn, gamma_s, df);
-    }
-    if (adhesion_flag == 1 && f + 3 * df >= -(5. / 9.) * fc) {
-      f = 0;
-      detaching_flag = 1;
-      detaching_delta = delta_old;
-      detaching_force = force_old;
-    }
-  }
-  force_max = (f > force_max) ? f : force_max;
-  history[0] = virgin_loading_flag;
-  history[1] = delta;
-  history[2] = delta_max;
-  history[3] = f;
-  history[4] = force_max;
-  history[5] = adhesion_flag;
-  history[6] = detaching_delta;
-  history[7] = detaching_flag;
-  history[8] = detaching_force;
-  history[9] = yielding_flag;
+  const double f = in_touch ? contact_force(h, {e, reff, a_yield, yield_stress, gamma_s, fc,
+                                                yield_stress < limit_yield_stress}, delta)
+                            : 0.0;
+  h.force_max = (f > h.force_max) ? f : h.force_max;
+  const double values[kThorntonNingHistory] = {
+      static_cast<double>(h.virgin_loading_flag), delta, h.delta_max, f, h.force_max,
+      static_cast<double>(h.adhesion_flag), h.detaching_delta, static_cast<double>(h.detaching_flag),
+      h.detaching_force, static_cast<double>(h.yielding_flag)};
+  std::copy(std::begin(values), std::end(values), history);
   // k_n: LIGGGHTS's law sets none (rolling cdt is refused with it).
   return {f, k_t, gammat, 0.0};
 }

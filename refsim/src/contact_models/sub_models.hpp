@@ -86,6 +86,8 @@ using NormalForce = Normal (*)(const PairConstants& k, const ModelRecord& r, con
                                bool tangential_damping, double* history);
 using NormalRecord = void (*)(const ModelConstants& k, double radi, double reff, double meff, ModelRecord& r);
 // The normal models' kernels and records are declared beside their table (composition.cpp);
+// thornton_ning keeps LIGGGHTS's ten history values:
+inline constexpr std::size_t kThorntonNingHistory = 10;
 // LAMMPS's tsuji coefficients of the type pair's restitution, and mindlin's eta_t / eta_n:
 void tsuji_constants(double restitution, double g_star, double y_star, ModelConstants& k);
 
