@@ -220,6 +220,7 @@ formats::CaseFiles case_files(const model::Stack& stack) {
     f.series_columns.push_back("ke_trans_" + g.name);
     f.series_columns.push_back("ke_rot_" + g.name);
   }
+  for (auto& c : model::series_contact_columns(stack)) f.series_columns.push_back(std::move(c));
   if (spec.bottom == model::Boundary::wall) f.series_columns.push_back(model::kBottomWallForceColumn);
   return f;
 }

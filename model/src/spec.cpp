@@ -188,12 +188,13 @@ bool PairTable::everywhere(double v) const {
   return value == v && std::all_of(pairs.begin(), pairs.end(), [v](const auto& p) { return p.second == v; });
 }
 
-bool is_conservative(const StackSpec& s) {
+bool only_the_law_dissipates(const StackSpec& s) {
   // A rolling model dissipates (epsd2's torque spring also stores energy that no dump shows).
   const bool rolling = s.rolling_model != RollingModel::off && !s.rolling_friction.everywhere(0.0);
-  return s.restitution.everywhere(1.0) && s.friction.everywhere(0.0) && s.gravity == 0.0 && !rolling &&
-         !normal_law(s.normal_model).dissipative;
+  return s.restitution.everywhere(1.0) && s.friction.everywhere(0.0) && s.gravity == 0.0 && !rolling;
 }
+
+bool is_conservative(const StackSpec& s) { return only_the_law_dissipates(s) && !normal_law(s.normal_model).dissipative; }
 
 namespace {
 // The container's fields: refused on any other geometry (naming the field), in range on it.

@@ -234,6 +234,15 @@ std::vector<SeriesGroup> series_groups(const Stack& stack) {
   return g;
 }
 
+std::vector<std::string> series_contact_columns(const Stack& stack) {
+  if (!normal_law(stack.spec().contact_model().normal).series_energy) return {};
+  std::vector<std::string> c{kContactElasticColumn, kContactDissipatedColumn};
+  for (const auto& g : series_groups(stack)) {
+    if (g.atom_type != 0) c.push_back("dissipated_" + g.name);  // the blocks and the strikers
+  }
+  return c;
+}
+
 std::vector<int> Stack::bottom_row_ids() const {
   const auto& b = blocks_.back();
   std::vector<int> ids;

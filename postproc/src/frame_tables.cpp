@@ -97,7 +97,10 @@ const FrameTable kParts{
         fmt::format_to(std::back_inserter(out), ",ke_sideways_block{0}_J,ke_downward_block{0}_J,ke_rotational_block{0}_J",
                        b.index);
       }
-      fmt::format_to(std::back_inserter(out), ",top_row_sideways_J,top_row_downward_J,dissipated_J");
+      // A path-dependent law's elastic energy is not in the dump: what is not kinetic is then
+      // stored and dissipated together.
+      fmt::format_to(std::back_inserter(out), ",top_row_sideways_J,top_row_downward_J,{}",
+                     model::has_overlap_energy(stack.spec().contact_model()) ? "dissipated_J" : "elastic_and_dissipated_J");
     },
     [](const FrameEnergy& e, double e_in, bool, fmt::memory_buffer& out) {
       for (std::size_t k = 0; k < e.block_ke.size(); ++k) {

@@ -81,6 +81,11 @@ struct SeriesColumns {
   int striker_t = -1, striker_r = -1, out_t = -1, out_r = -1;
   int bottom_t = -1, bottom_r = -1;  // the bottom row's, where the deck writes them
   int wall_force = -1;  // the bottom wall's force (model::kBottomWallForceColumn), when the deck writes it
+  // The contacts' elastic energy and dissipated work, each block's and the strikers' share of it
+  // (model::series_contact_columns), where the law has its run report them.
+  int contact_elastic = -1, contact_dissipated = -1, striker_dissipated = -1;
+  std::vector<int> block_dissipated;
+  bool has_contact_energy() const { return contact_elastic >= 0; }
   static double at(const std::vector<double>& row, int c) { return row[static_cast<std::size_t>(c)]; }
   double block_ke(const std::vector<double>& row, int k) const {
     return at(row, trans[static_cast<std::size_t>(k)]) + at(row, rot[static_cast<std::size_t>(k)]);
@@ -90,7 +95,8 @@ struct SeriesColumns {
   double bottom_row_ke(const std::vector<double>& row) const { return at(row, bottom_t) + at(row, bottom_r); }
 };
 
-SeriesColumns series_columns(const formats::Series& series, const std::string& path, int nb) {
+SeriesColumns series_columns(const formats::Series& series, const std::string& path, const model::Stack& stack) {
+  const int nb = stack.spec().blocks;
   SeriesColumns c;
   std::vector<std::string> missing;
   auto find = [&](const std::string& name) {
@@ -110,6 +116,12 @@ SeriesColumns series_columns(const formats::Series& series, const std::string& p
   c.wall_force = series.column(model::kBottomWallForceColumn);
   c.bottom_t = series.column("ke_trans_bottom_row");
   c.bottom_r = series.column("ke_rot_bottom_row");
+  if (!model::series_contact_columns(stack).empty()) {
+    c.contact_elastic = find(model::kContactElasticColumn);
+    c.contact_dissipated = find(model::kContactDissipatedColumn);
+    for (int k = 1; k <= nb; ++k) c.block_dissipated.push_back(find(fmt::format("dissipated_block{}", k)));
+    c.striker_dissipated = find("dissipated_striker");
+  }
   if (!missing.empty()) {
     throw formats::FormatError(path, 0, fmt::format("lacks the columns {} that the case's deck writes: it is not this "
                                                     "case's series", fmt::join(missing, ", ")));
@@ -250,27 +262,49 @@ void warn_if_energy_still_arriving(const formats::Series& series, const SeriesCo
   }
 }
 
-// Energy: without gravity, kinetic plus elastic energy never exceeds E_in (damping and friction
-// only remove energy), and where nothing dissipates it stays at E_in; both within
-// kEnergyBalanceBound of E_in. The bound sits above what the time-step guard lets through: the
-// largest drift measured with refsim at the largest dt generate accepts (t_c/20) is 2.2e-3 of
-// E_in (steel on Teflon; 9.4e-5 on the default stack, 4.3e-4 with walls), against 9.7e-5 and
-// 3.8e-6 at the automatic dt (t_c/100); a broken integration gives orders of magnitude more.
-void require_energy_balance(const FrameEnergy& e, const model::StackSpec& spec, CaseReduction& r,
-                            const std::string& dump_path) {
+// The contacts' elastic energy and dissipated work the series reports at `step` (a frame's),
+// where the law has its run report them and the series sampled that step.
+struct SeriesContactEnergy {
+  double elastic, dissipated;
+};
+std::optional<SeriesContactEnergy> contact_energy_at(long step, const formats::Series& series, const SeriesColumns& c,
+                                                     long series_every) {
+  if (!c.has_contact_energy() || step == 0 || step % series_every != 0) return std::nullopt;
+  const auto i = static_cast<std::size_t>(step / series_every - 1);
+  if (i >= series.rows.size()) return std::nullopt;
+  const auto& row = series.rows[i];
+  return SeriesContactEnergy{SeriesColumns::at(row, c.contact_elastic), SeriesColumns::at(row, c.contact_dissipated)};
+}
+
+// Energy: without gravity, kinetic plus elastic energy never exceeds E_in (damping, friction and
+// yield only remove energy), and where nothing dissipates it stays at E_in; both within
+// kEnergyBalanceBound of E_in. Where the run reports its contacts' energy (`contact`), the
+// elastic energy is the series' and the work the law dissipated is counted too: where nothing
+// else dissipates, the sum stays at E_in. The bound sits above what the time-step guard lets
+// through: the largest drift measured with refsim at the largest dt generate accepts (t_c/20) is
+// 2.2e-3 of E_in (steel on Teflon; 9.4e-5 on the default stack, 4.3e-4 with walls), against
+// 9.7e-5 and 3.8e-6 at the automatic dt (t_c/100); a broken integration gives orders of
+// magnitude more.
+void require_energy_balance(const FrameEnergy& e, const std::optional<SeriesContactEnergy>& contact,
+                            const model::StackSpec& spec, CaseReduction& r, const std::string& dump_path) {
   if (spec.gravity != 0.0) return;  // gravity's potential energy is not counted
-  const bool conservative = model::is_conservative(spec);
-  const double error = (e.kinetic + e.elastic - r.e_in) / r.e_in;
+  const bool conservative = model::is_conservative(spec) || (contact && model::only_the_law_dissipates(spec));
+  const double held = e.kinetic + (contact ? contact->elastic + contact->dissipated : e.elastic);
+  const double error = (held - r.e_in) / r.e_in;
   if (conservative) r.energy_drift = std::max(r.energy_drift.value_or(0.0), std::fabs(error));
   if (error > kEnergyBalanceBound || (conservative && -error > kEnergyBalanceBound)) {
+    const bool elastic_known = contact || model::has_overlap_energy(spec.contact_model());
+    const char* why = conservative  ? (contact ? ", this case loses energy only by yield, which the run reports"
+                                               : ", this case conserves energy")
+                      : elastic_known ? ", damping, friction and yield only remove energy"
+                                      : ", yield only removes energy (the elastic energy of an elastic-plastic contact "
+                                        "is not in the dump: 0 counted)";
     throw PhysicsError(fmt::format(
-        "{}: at step {} the kinetic plus elastic energy is {:.6g} J against E_in = {:.6g} J ({:+.3g} of E_in; at "
+        "{}: at step {} the kinetic plus elastic energy{} is {:.6g} J against E_in = {:.6g} J ({:+.3g} of E_in; at "
         "most {:g} allowed{}): the integration is broken (a time step too long for the contacts?) or the dump is "
         "not this case's; no result is taken from it",
-        dump_path, e.step, e.kinetic + e.elastic, r.e_in, error, kEnergyBalanceBound,
-        conservative ? ", this case conserves energy"
-        : model::has_overlap_energy(spec.contact_model()) ? ", damping and friction only remove energy"
-                                                          : ", yield only removes energy (the elastic energy of an elastic-plastic contact is not in the dump: 0 counted)"));
+        dump_path, e.step, contact ? " plus the contacts' dissipated work" : "", held, r.e_in, error,
+        kEnergyBalanceBound, why));
   }
 }
 }  // namespace
@@ -307,6 +341,21 @@ void track_peaks(const FrameEnergy& e, const model::Stack& stack, double time, C
 }
 }  // namespace
 
+// Where the run reports its contacts' energy and sampled the last frame's step: the work the law
+// dissipated, in all, in each block and in the strikers, and (the elastic energy the series')
+// the dissipated fraction.
+void contact_work(const FrameEnergy& last, const formats::Series& series, const SeriesColumns& c, long series_every,
+                  CaseReduction& r) {
+  const auto at = contact_energy_at(last.step, series, c, series_every);
+  if (!at) return;
+  const auto& row = series.rows[static_cast<std::size_t>(last.step / series_every - 1)];
+  r.plastic_work_fraction = at->dissipated / r.e_in;
+  r.block_plastic_work_fraction.clear();
+  for (const int column : c.block_dissipated) r.block_plastic_work_fraction.push_back(SeriesColumns::at(row, column) / r.e_in);
+  r.striker_plastic_work_fraction = SeriesColumns::at(row, c.striker_dissipated) / r.e_in;
+  if (r.spec.gravity == 0.0) r.dissipated_fraction = (r.e_in - last.kinetic - at->elastic) / r.e_in;
+}
+
 // The run's in-situ series, whole and physical, or FormatError naming what is wrong.
 // `run_steps`: where the run ended (the resolution's steps, or the blow's end of a case that stops there).
 formats::Series read_checked_series(const std::string& path, const model::Stack& stack, const model::Resolution& res,
@@ -316,7 +365,7 @@ formats::Series read_checked_series(const std::string& path, const model::Stack&
                                         "run the case again with --force");
   }
   auto series = formats::read_series(path);
-  require_series_matches_run(series, series_columns(series, path, stack.spec().blocks), path, res, run_steps);
+  require_series_matches_run(series, series_columns(series, path, stack), path, res, run_steps);
   require_series_physical(series, path, stack);
   return series;
 }
@@ -406,7 +455,6 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   formats::check_deck_matches_manifest(c);
   const auto res = c.resolution();
   const auto& spec = stack.spec();
-  const int nb = spec.blocks;
   const auto dump_path = formats::find_dump(case_dir, manifest.files.dump);
   const bool binary = spec.dump_format == model::DumpFormat::binary;
   formats::FrameBatchSource source(dump_path, binary, manifest.files.dump_columns, FrameView::needed_columns(),
@@ -446,7 +494,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   auto take_series = [&] {
     if (series_cols || !series_read.valid()) return;  // taken, or its error already thrown
     series = series_read.get();
-    series_cols = series_columns(series, series_path, nb);
+    series_cols = series_columns(series, series_path, stack);
   };
   const WaveTracker wave_sampler(stack, res.dt);
   WaveTracker waves(stack, res.dt);
@@ -491,7 +539,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
                                                            "steps): frames are missing or out of order",
                                                            r.frames + 1, e.step, r.frames * res.dump_every, res.dump_every));
     }
-    require_energy_balance(e, spec, r, dump_path);
+    require_energy_balance(e, contact_energy_at(e.step, series, *series_cols, res.series_every), spec, r, dump_path);
     require_frame_matches_series(e, series, *series_cols, res.series_every, series_path, r.e_in);
     track_peaks(e, stack, static_cast<double>(e.step) * res.dt, r);
     crush.add(e.crush);
@@ -549,6 +597,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   warn_if_energy_still_arriving(series, cols, res, r);
   r.waves = waves.finish(series);
   final_state(last_energy, stack, r);
+  contact_work(last_energy, series, cols, res.series_every, r);
   // Outputs that read cleanly must still be those this case's run wrote, never another case's
   // under its labels.
   if (outputs_check.valid()) formats::refuse_unless_as_run(c, outputs_check.get());
@@ -668,6 +717,10 @@ json to_json(const CaseReduction& r) {
           {"output_last_change_time", r.output_last_change_time},
           {"energy_drift", r.energy_drift ? json(*r.energy_drift) : json(nullptr)},
           {"dissipated_fraction", r.dissipated_fraction ? json(*r.dissipated_fraction) : json(nullptr)},
+          {"plastic_work_fraction", r.plastic_work_fraction ? json(*r.plastic_work_fraction) : json(nullptr)},
+          {"block_plastic_work_fraction", r.block_plastic_work_fraction},
+          {"striker_plastic_work_fraction",
+           r.striker_plastic_work_fraction ? json(*r.striker_plastic_work_fraction) : json(nullptr)},
           {"top_row_sideways_peak", r.top_row_sideways_peak},
           {"top_row_downward_peak", r.top_row_downward_peak},
           {"waves", waves_json(r.waves)},
@@ -777,6 +830,13 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
                      "surface): {:.6g} m\n", r.crush, r.penetration);
     }
     fmt::format_to(out, "{}\n", yield_line(r));
+    if (r.plastic_work_fraction) {
+      fmt::format_to(out, "work dissipated by the contact law: {:.6g} of E_in at the last frame (blocks from the top: "
+                     "{:.4g}; strikers: {:.4g}){}\n",
+                     *r.plastic_work_fraction, fmt::join(r.block_plastic_work_fraction, ", "), *r.striker_plastic_work_fraction,
+                     r.energy_drift ? fmt::format("; kinetic + elastic + dissipated stays within {:.2g} of E_in", *r.energy_drift)
+                                    : std::string());
+    }
   }
   for (const auto& r : rs) {
     if (r.deck_additions.empty()) continue;

@@ -128,8 +128,10 @@ namespace {
 // The in-situ series of the generated deck: `fix print` of per-group ke and erotate/sphere
 // (compute_ke.cpp and compute_erotate_sphere.cpp), each group's sums taken over its runs of
 // consecutive atoms in System::kinetic_energy's order (LIGGGHTS sums in its own atom order:
-// the sums agree to round-off); each value written in its shortest form that reads back to the
-// same double (LIGGGHTS writes %.20g).
+// the sums agree to round-off); where the law keeps its contacts' energy, the contacts' elastic
+// energy and dissipated work (model::series_contact_columns, System::contact_energies, summed in
+// id order); the bottom wall's force. Each value is written in its shortest form that reads back
+// to the same double (LIGGGHTS writes %.20g).
 class SeriesWriter {
  public:
   SeriesWriter(const std::string& path, const model::Stack& stack, const std::vector<std::string>& columns)
@@ -145,16 +147,21 @@ class SeriesWriter {
           group.emplace_back(static_cast<std::size_t>(id - 1), static_cast<std::size_t>(id));
         }
       }
+      if (g.atom_type != 0) dissipated_groups_.push_back(groups_.size());
       groups_.push_back(std::move(group));
     }
+    contact_energy_ = !model::series_contact_columns(stack).empty();
+    if (!contact_energy_) dissipated_groups_.clear();
     wall_force_ = !columns.empty() && columns.back() == model::kBottomWallForceColumn;
-    if (columns.size() != 1 + 2 * groups_.size() + (wall_force_ ? 1 : 0)) {
+    per_line_ = 1 + 2 * groups_.size() + (contact_energy_ ? 2 + dissipated_groups_.size() : 0) + (wall_force_ ? 1 : 0);
+    if (columns.size() != per_line_) {
       throw std::runtime_error("refsim: the manifest's series columns are not this granstack's: generate the case again");
     }
   }
 
   // The series line of the system's state now: its step, then each group's two sums
-  // (kinetic_energy, on the thread that steps it), appended to `batch`.
+  // (kinetic_energy, on the thread that steps it), the contacts' energies, the wall's force,
+  // appended to `batch`.
   void sample(const System& s, std::vector<double>& batch) const {
     batch.push_back(static_cast<double>(s.step_count()));  // exact: steps stay far below 2^53
     for (const auto& g : groups_) {
@@ -167,20 +174,18 @@ class SeriesWriter {
       batch.push_back(ke);
       batch.push_back(rot);
     }
+    if (contact_energy_) contact_energy(s, batch);
     if (wall_force_) batch.push_back(bottom_wall_force(s));
   }
 
   // The lines of samples taken by sample().
   void write(const std::vector<double>& batch) {
-    const std::size_t per_line = 1 + 2 * groups_.size() + (wall_force_ ? 1 : 0);
     // Formatted straight into a buffer long enough for any line (a number takes at most 24
     // characters and its space).
-    line_.resize(25 * per_line + 1);
-    for (std::size_t at = 0; at + per_line <= batch.size(); at += per_line) {
+    line_.resize(25 * per_line_ + 1);
+    for (std::size_t at = 0; at + per_line_ <= batch.size(); at += per_line_) {
       char* out = fmt::format_to(line_.data(), FMT_COMPILE("{}"), static_cast<long>(batch[at]));
-      const std::size_t pairs_end = at + 1 + 2 * groups_.size();
-      for (std::size_t k = at + 1; k < pairs_end; k += 2) out = fmt::format_to(out, FMT_COMPILE(" {} {}"), batch[k], batch[k + 1]);
-      if (wall_force_) out = fmt::format_to(out, FMT_COMPILE(" {}"), batch[pairs_end]);
+      for (std::size_t k = at + 1; k < at + per_line_; ++k) out = fmt::format_to(out, FMT_COMPILE(" {}"), batch[k]);
       *out++ = '\n';
       const auto length = static_cast<std::size_t>(out - line_.data());
       if (std::fwrite(line_.data(), 1, length, file_.get()) != length) fail();
@@ -193,10 +198,31 @@ class SeriesWriter {
  private:
   using Run = std::pair<std::size_t, std::size_t>;  // particles [first, second)
   [[noreturn]] void fail() const { throw std::runtime_error(fmt::format("{}: cannot write: {}", path_, std::strerror(errno))); }
+  // The contacts' elastic energy and dissipated work, then each dissipating group's share.
+  void contact_energy(const System& s, std::vector<double>& batch) const {
+    const auto e = s.contact_energies();
+    double elastic = 0.0, dissipated = 0.0;
+    for (std::size_t i = 0; i < e.elastic.size(); ++i) {
+      elastic += e.elastic[i];
+      dissipated += e.dissipated[i];
+    }
+    batch.push_back(elastic);
+    batch.push_back(dissipated);
+    for (const std::size_t g : dissipated_groups_) {
+      double sum = 0.0;
+      for (const auto& [begin, end] : groups_[g]) {
+        for (std::size_t i = begin; i < end; ++i) sum += e.dissipated[i];
+      }
+      batch.push_back(sum);
+    }
+  }
   std::string path_;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
   std::vector<std::vector<Run>> groups_;  // each group's runs of consecutive particles
+  std::vector<std::size_t> dissipated_groups_;  // the groups whose dissipated work is a column: blocks, strikers
+  bool contact_energy_ = false;           // the contacts' energy columns follow the groups'
   bool wall_force_ = false;               // the last column is the bottom wall's force
+  std::size_t per_line_ = 0;
   std::string line_;
 };
 

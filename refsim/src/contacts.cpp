@@ -236,6 +236,18 @@ void zero_contribution(PairTable& t, std::size_t p) {
   for (std::size_t q : {p, t.padded() + p}) t.tx[q] = t.ty[q] = t.tz[q] = 0.0;
 }
 
+ContactEnergy pair_contact_energy(const PairTable& t, std::size_t p, double overlap) {
+  double history[kMaxHistory];
+  for (std::size_t k = 0; k < t.history.size(); ++k) history[k] = t.history[k][p];
+  return contact_energy(t.sub_models, t.model_records[static_cast<std::size_t>(t.record[p])], overlap, history);
+}
+
+void bank_opened(const PairTable& t, double* banked, std::size_t p) {
+  const double work = pair_contact_energy(t, p, 0.0).dissipated;
+  bank_work(banked, static_cast<std::size_t>(t.i[p]), 0.5 * work);
+  bank_work(banked, static_cast<std::size_t>(t.j[p]), 0.5 * work);
+}
+
 namespace {
 
 // Pair p's contact, composed of the table's sub-models, into entry p.
@@ -243,6 +255,7 @@ void pair_force(PairTable& t, const ContactStep& s, std::size_t p) {
   const PairPoint point = pair_point(t.sub_models.frame, t, s, p);
   if (!point.touching) {
     if (point.forget) {
+      if (s.banked && t.touching[p]) bank_opened(t, s.banked, p);
       t.touching[p] = 0;
       for (auto& h : t.history) h[p] = 0.0;
     }

@@ -6,6 +6,7 @@
 // set, up to eight pairs or particles per instruction). All perform every floating-point
 // operation of LIGGGHTS's hertz/history model and nve/sphere in its order, so they give the same
 // bits; a test holds every target this CPU runs to that.
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -187,7 +188,17 @@ struct ContactStep {
   // pair the elastic kernel evaluates (a group left at 0 has the contributions it had at the
   // last step, so its sums need not be taken again).
   std::uint8_t* sums_due = nullptr;
+  // Where the normal law keeps a contact's energy with its history (has_contact_energy), per
+  // particle: the work dissipated by its contacts that have opened (half of a pair contact's,
+  // all of a wall contact's), added with bank_work; null otherwise.
+  double* banked = nullptr;
 };
+
+// Adds `work` to particle i's banked work: atomically, as a pair's spheres may lie in two
+// threads' shares (a contact opens rarely, so they hardly ever meet).
+inline void bank_work(double* banked, std::size_t i, double work) {
+  std::atomic_ref<double>(banked[i]).fetch_add(work, std::memory_order_relaxed);
+}
 
 // Pair p's two spheres as both contact rules begin: i, j, their separation (i minus j), its
 // square and the pair's record.

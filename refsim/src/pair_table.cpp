@@ -4,6 +4,7 @@
 #include <granstack/refsim/system.hpp>
 
 #include "contacts.hpp"
+#include "contact_models/sub_models.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -157,6 +158,18 @@ void list_contributions(const detail::PairTable& pairs, std::size_t n, const For
 
 }  // namespace
 
+// The work of the old table's contacts that lose their history at this rebuild (flagged as
+// touching, beyond the contact distance now), banked as their opening banks it.
+void System::bank_lost_pairs(const detail::PairTable& old, const std::vector<std::size_t>& kept) {
+  std::vector<char> carried(old.count, 0);
+  for (const std::size_t q : kept) {
+    if (q != kNone) carried[q] = 1;
+  }
+  for (std::size_t q = 0; q < old.count; ++q) {
+    if (old.record[q] != 0 && old.touching[q] && !carried[q]) detail::bank_opened(old, banked_.data(), q);
+  }
+}
+
 void System::build_pairs() {
   // Candidates: (R_i + R_j) * cdf + skin, as neigh_gran.cpp. A pair keeps its history across
   // the rebuild only if it was flagged as touching and is within the contact distance now.
@@ -183,6 +196,7 @@ void System::build_pairs() {
   detail::PairTable old;
   std::swap(old, *pairs_);
   const auto kept = kept_history(old, found);
+  if (!banked_.empty()) bank_lost_pairs(old, kept);
   std::vector<std::size_t> tile_start;
   const auto order = table_order(found, kTile, shares, tile_start);
   const auto tile = [](std::int32_t i) { return static_cast<std::size_t>(i) / kTile; };

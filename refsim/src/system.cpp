@@ -67,6 +67,7 @@ System::System(std::vector<Particle> particles, Parameters params)
   }
   wall_history_.assign(detail::history_layout(pairs_->sub_models).size * n_ * p_.walls.size(), 0.0);
   wall_store_.assign(p_.stored_wall >= 0 ? 3 * n_ : 0, 0.0);
+  if (detail::has_contact_energy(pairs_->sub_models)) banked_.assign(n_, 0.0);
   wall_touched_.assign(n_ * p_.walls.size(), 0);
   external_ = !p_.walls.empty() || p_.gravity[0] != 0.0 || p_.gravity[1] != 0.0 || p_.gravity[2] != 0.0;
   const double dtf = 0.5 * p_.dt * 1.0;
@@ -202,6 +203,7 @@ void System::compute_forces(bool update_history, bool kick, bool drift) {
   detail::ContactStep s{x_.data(),      v_.data(),           w_.data(),
                         stride_,        p_.dt,               p_.contact_distance_factor,
                         update_history, p_.tangential_damping, position_changed_.data()};
+  s.banked = banked_.empty() ? nullptr : banked_.data();
   // Elastic frictionless pairs and nothing else acting: a group of particles none of whose pairs
   // was evaluated again keeps its force sums (the same contributions in the same order give the
   // same bits), so they are not taken again (sum_forces). On one thread its pairs all lie in

@@ -25,16 +25,17 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
                                                      mass_[i], v.data(), w.data());
   const std::size_t slots = detail::history_layout(rules).size;
   double* history = wall_history_.data() + slots * (wi * n_ + i);
+  const bool touched = wall_touched_[wi * n_ + i] != 0;
   wall_touched_[wi * n_ + i] = point.touching;
   const bool stored = static_cast<int>(wi) == p_.stored_wall;
   if (stored) wall_store_[3 * i] = wall_store_[3 * i + 1] = wall_store_[3 * i + 2] = 0.0;
   if (!point.touching) {  // a wall's history never survives a separation
+    if (touched && !banked_.empty()) detail::bank_work(banked_.data(), i, wall_contact_energy(i, wi, 0.0).dissipated);
     std::fill(history, history + slots, 0.0);
     return;
   }
   const detail::ContactPoint& c = point.c;
-  const std::size_t type_pair = static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
-                                static_cast<std::size_t>(wall.type - 1);
+  const std::size_t type_pair = wall_type_pair(i, wi);
   const auto model = detail::model_record(rules, model_constants_[type_pair], radius_[i], c.reff, c.meff);
   const detail::ContactForces out = detail::contact(rules, type_constants_[type_pair], model, c, history,
                                                     update_history, p_.tangential_damping, p_.dt);
@@ -48,6 +49,19 @@ void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
     if (out.rolling) dt -= out.rt[d];
     t_[d * stride_ + i] += dt;
   }
+}
+
+std::size_t System::wall_type_pair(std::size_t i, std::size_t wi) const {
+  return static_cast<std::size_t>(type_[i] - 1) * static_cast<std::size_t>(p_.types) +
+         static_cast<std::size_t>(p_.walls[wi].type - 1);
+}
+
+// A wall contact's R* is the sphere's radius and its m* the sphere's mass (fix wall/gran).
+detail::ContactEnergy System::wall_contact_energy(std::size_t i, std::size_t wi, double overlap) const {
+  const detail::SubModels& rules = pairs_->sub_models;
+  const auto model = detail::model_record(rules, model_constants_[wall_type_pair(i, wi)], radius_[i], radius_[i], mass_[i]);
+  const std::size_t slots = detail::history_layout(rules).size;
+  return detail::contact_energy(rules, model, overlap, wall_history_.data() + slots * (wi * n_ + i));
 }
 
 // The particles that may touch each wall before the next build (wall_near_): those touching it

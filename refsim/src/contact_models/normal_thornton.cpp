@@ -18,10 +18,19 @@ void thornton_record(const ModelConstants& k, double, double reff, double meff, 
   std::copy(std::begin(values), std::end(values), r.law);
 }
 
+namespace {
+model::ThorntonLaw law_of(const ModelRecord& r) { return {r.law[0], r.law[1], r.law[2], r.law[3], r.law[4], r.law[5]}; }
+}  // namespace
+
+ContactEnergy thornton_energy(const ModelRecord& r, double overlap, const double* history) {
+  const auto state = model::thornton_state(law_of(r), overlap, history[0]);
+  return {state.elastic, state.dissipated};
+}
+
 Normal thornton_normal(const PairConstants& k, const ModelRecord& r, const ContactPoint& c, bool, double* history) {
   const double d = c.deltan;
   if (d > history[0]) history[0] = d;
-  const model::ThorntonLaw law{r.law[0], r.law[1], r.law[2], r.law[3], r.law[4], r.law[5]};
+  const model::ThorntonLaw law = law_of(r);
   const double fn = model::thornton_force(law, d, history[0]);
   const double sqrtval = std::sqrt(c.reff * d);
   // The local stiffness of the loading branch (cdt's k_n delta): Hertz's 2 E* a, or pi p_y R*.

@@ -145,6 +145,22 @@ struct ContactForces {
 // `update_history`, the normal model's at every call.
 ContactForces contact(const SubModels& m, const PairConstants& k, const ModelRecord& mr, const ContactPoint& c,
                       double* history, bool update_history, bool tangential_damping, double dt);
+// A contact's energy where its normal law keeps one with its history (a NormalRow's `energy`,
+// composition.cpp: thornton's, model::thornton_state): the elastic energy it would return from
+// `overlap`, and the work it has dissipated. A pair contact's energy is its spheres' together.
+struct ContactEnergy {
+  double elastic = 0.0, dissipated = 0.0;
+};
+using NormalEnergy = ContactEnergy (*)(const ModelRecord& r, double overlap, const double* history);
+ContactEnergy thornton_energy(const ModelRecord& r, double overlap, const double* history);
+// ... by the choice `m`, from the contact's whole history (history_layout(m)); {0, 0} where its
+// normal law keeps none (has_contact_energy false).
+bool has_contact_energy(const SubModels& m);
+ContactEnergy contact_energy(const SubModels& m, const ModelRecord& mr, double overlap, const double* history);
+// ... of pair p of the table at `overlap`; and the work its contact has dissipated, which opens
+// (or loses its history at a rebuild), banked half to each sphere (bank_work).
+ContactEnergy pair_contact_energy(const PairTable& t, std::size_t p, double overlap);
+void bank_opened(const PairTable& t, double* banked, std::size_t p);
 // The pair's record, by its sub-models (each computes its own): a sphere of radius radi (the
 // first body) and the pair's R* and m*.
 ModelRecord model_record(const SubModels& m, const ModelConstants& k, double radi, double reff, double meff);

@@ -156,6 +156,10 @@ struct NormalLaw {
   bool dissipative;
   bool path_dependent;
   bool needs_yield;  // p_y from the yield strengths: every material of its contacts needs one
+  // Its run reports each contact's elastic energy and dissipated work in the in-situ series
+  // (series_contact_columns, stack.hpp): refsim's own thornton, whose energies are functions of
+  // the overlap and the largest overlap; no other engine runs it.
+  bool series_energy;
   // The automatic time step's steps per (Hertz) contact time: 100 for the laws evaluated exactly
   // each step; 1000 for thornton_ning, whose incremental force is first order in dt (an elastic
   // impact gains e - 1 = 1.4 dt / t_c: 0.15 % at t_c / 1000, physics.md section 7).

@@ -209,8 +209,13 @@ inline constexpr int kAllPanels = -1;
 inline constexpr double kRefsimGigabytesPerMillionSpheres = 1.5;
 inline constexpr long kMaxSpheres = 4'000'000;
 // True when nothing dissipates or adds energy: restitution 1 and friction 0 for every material
-// pair, and no gravity. Then kinetic plus Hertz elastic energy must stay at E_in.
+// pair, no dissipating rolling friction, no gravity, and a normal law that does not yield. Then
+// kinetic plus elastic energy must stay at E_in.
 bool is_conservative(const StackSpec& spec);
+// ... but for the normal law's own dissipation (yield): then, where the run reports the work the
+// law dissipated (model::series_contact_columns), kinetic plus elastic energy plus that work must
+// stay at E_in.
+bool only_the_law_dissipates(const StackSpec& spec);
 
 // Spheres of the stack including the striker (8 C (2^N_B - 1) + 1 for the study's stacks).
 long sphere_count(const StackSpec& spec);

@@ -222,6 +222,14 @@ std::vector<SeriesGroup> series_groups(const Stack& stack);
 // order (compute reduce sum); refsim does the same.
 inline constexpr const char* kBottomWallForceColumn = "fz_wall_bottom";
 inline constexpr const char* kBottomWallName = "wall_bottom";
+// Where the case's law has its run report its contacts' energy (NormalLaw::series_energy), the
+// series' columns after the groups' kinetic energies and before the wall's force: the elastic
+// energy in all contacts, the work all have dissipated, then the share of it of each block's
+// spheres and of the strikers' (dissipated_<group>: half of a pair contact's to each sphere, all
+// of a wall contact's), in J; none otherwise.
+std::vector<std::string> series_contact_columns(const Stack& stack);
+inline constexpr const char* kContactElasticColumn = "contact_elastic";
+inline constexpr const char* kContactDissipatedColumn = "contact_dissipated";
 
 // The vertical distance between the centre of a sphere of radius R_k and the centres it rests
 // on in the block below (radius R_k / n): nested, on two spheres at +-R_{k+1}

@@ -90,7 +90,10 @@ struct CaseReduction {
   // 1e-3 of its final value (a warning when it is late in the run).
   double output_last_change_time = 0.0;
   // max |KE + elastic - E_in| / E_in over the frames; only for a conservative case
-  // (model::is_conservative), where it measures the integration error.
+  // (model::is_conservative), where it measures the integration error; with a law whose run
+  // reports its contacts' energy (model::series_contact_columns) and nothing else dissipating
+  // (model::only_the_law_dissipates), max |KE + elastic + dissipated work - E_in| / E_in over the
+  // frames the series sampled.
   std::optional<double> energy_drift;
   // The friction study (physics.md section 4): peaks over the dump frames of the top row's
   // sideways (1/2 m vx^2 + vy^2) and downward (1/2 m vz^2) kinetic energy, in J.
@@ -100,9 +103,16 @@ struct CaseReduction {
   // goes on at full speed, negative when it bounced back. The isolated collision of physics.md
   // section 5 (Eq. 3) has (1 - 2 kappa cos^2 theta) / (1 + 2 kappa cos^2 theta).
   double striker_velocity_ratio = 0.0;
-  // E_in - kinetic - elastic at the last frame, / E_in: what damping and friction took. Not
-  // defined with gravity (its potential energy is not counted).
+  // E_in - kinetic - elastic at the last frame, / E_in: what damping, friction and yield took.
+  // Not defined with gravity (its potential energy is not counted), nor for a path-dependent law
+  // whose run does not report its contacts' elastic energy (LIGGGHTS's thornton_ning).
   std::optional<double> dissipated_fraction;
+  // Where the run reports its contacts' energy (model::series_contact_columns), at the last
+  // frame, / E_in: the work the contact law dissipated (yield), each block's share of it (top
+  // first: half of a pair contact's to each sphere, all of a wall contact's) and the strikers'.
+  std::optional<double> plastic_work_fraction;
+  std::vector<double> block_plastic_work_fraction;
+  std::optional<double> striker_plastic_work_fraction;
   std::vector<BlockWaves> waves;        // top block first
   // A container (geometry = panels), over the dump frames: each panel's kinetic energy at the
   // last frame and its peak, / E_in (index 0 = panel 1); the matrix's; and the leak, the kinetic

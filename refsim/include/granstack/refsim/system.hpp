@@ -23,6 +23,7 @@ struct ModelConstants;
 struct Motion;
 struct SumPlan;
 struct VectorKernels;
+struct ContactEnergy;
 }  // namespace detail
 
 using Vec3 = std::array<double, 3>;
@@ -120,6 +121,15 @@ class System {
   std::array<double, 2> kinetic_energy(std::size_t begin, std::size_t end) const;
   const std::string& kernel() const { return kernel_; }  // "reference" or a vector instruction set
 
+  // Where the normal law keeps each contact's energy with its history (refsim's thornton), per
+  // particle: the elastic energy in its contacts now and the work they have dissipated since the
+  // start, opened contacts' included; a pair contact's half to each sphere, a wall contact's all
+  // to the sphere. Empty vectors for a law that keeps none.
+  struct ContactEnergies {
+    std::vector<double> elastic, dissipated;
+  };
+  ContactEnergies contact_energies() const;
+
   // Runs job(begin, end) over shares of [0, count) on this system's threads, between steps
   // (for outputs written in line, while the threads would only wait).
   void run_in_shares(std::size_t count, const std::function<void(std::size_t, std::size_t)>& job) { for_shares(count, job); }
@@ -131,6 +141,9 @@ class System {
   void compute_forces(bool update_history, bool kick, bool drift);
   void sum_forces(std::size_t begin, std::size_t end, bool update_history, bool kick, bool drift);
   void wall_force(std::size_t i, std::size_t w, bool update_history);
+  std::size_t wall_type_pair(std::size_t i, std::size_t w) const;  // into the type-pair tables
+  detail::ContactEnergy wall_contact_energy(std::size_t i, std::size_t w, double overlap) const;
+  void bank_lost_pairs(const detail::PairTable& old, const std::vector<std::size_t>& kept);
   void external_forces(std::size_t begin, std::size_t end, bool update_history);  // walls then gravity
   detail::Motion motion();
 
@@ -174,6 +187,9 @@ class System {
   // Each wall contact's history, history_layout(...).size values per particle and wall.
   std::vector<double> wall_history_;
   std::vector<double> wall_store_;    // stored_wall_force, 3 per particle
+  // Per particle, the work dissipated by its contacts that have opened (ContactStep::banked),
+  // where the normal law keeps it; empty otherwise.
+  std::vector<double> banked_;
   // Per particle and wall: it touched the wall at its last force call, so its history or stored
   // force may be nonzero. One that did not, and does not touch it now, has nothing to compute or
   // clear: external_forces skips it (most of a stack's spheres, most steps).
