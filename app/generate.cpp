@@ -69,9 +69,12 @@ std::string flag_help(const model::SpecField& f) {
 
 // thornton_ning's one yield radius, and the yield pressure each kind of contact has at it.
 void print_yield_plan(const model::YieldRadiusPlan& plan, const model::StackSpec& spec) {
-  fmt::print("thornton_ning: one yield radius a_y = {:.4g} m for every contact (order-independent), at {} Y of "
+  fmt::print("thornton_ning: one yield radius a_y = {:.4g} m for every contact ({}), at {} Y of "
              "{}; each kind of contact's yield pressure at it:\n",
-             plan.yield_radius, spec.yield_pressure_factor, plan.honoured);
+             plan.yield_radius,
+             plan.order_dependent.empty() ? "order-independent"
+                                          : "order-dependent, accepted by order_dependent_yield: " + plan.order_dependent,
+             spec.yield_pressure_factor, plan.honoured);
   for (const auto& k : plan.kinds) {
     fmt::print("  {:<22} p_y {:.4g} Pa, intended {:.4g} Pa ({:.3g} times)\n", k.what, k.effective, k.intended,
                k.effective / k.intended);

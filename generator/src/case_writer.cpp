@@ -50,13 +50,20 @@ std::string thornton_ning_fixes(const model::Stack& stack, std::size_t types) {
                                 fmt::join(plan.ratio, " "));
   out += fmt::format("\nfix             m8 all property/global surfaceEnergy peratomtypepair {}", types);
   for (std::size_t k = 0; k < types * types; ++k) out += " 0";
-  out += fmt::format("\n# thornton_ning yields where sqrt(R* delta) reaches a_y = {:.6g} m for every contact (r * "
-                     "coefficientYieldRatio the same for every type, so which sphere LIGGGHTS calls i does not "
-                     "matter); a_y gives {} its intended p_y. Each kind's p_y = 2 E* a_y / (pi R*), against "
-                     "{:g} Y of its softer body:",
-                     plan.yield_radius, plan.honoured, stack.spec().yield_pressure_factor);
+  out += fmt::format("\n# thornton_ning yields where sqrt(R* delta) reaches a_y = {:.6g} m for every contact ({}); a_y "
+                     "gives {} its intended p_y. Each kind's p_y = 2 E* a_y / (pi R*), against {:g} Y of its softer "
+                     "body:",
+                     plan.yield_radius,
+                     plan.order_dependent.empty()
+                         ? "r * coefficientYieldRatio the same for every type, so which sphere LIGGGHTS calls i does not "
+                           "matter"
+                         : "but where the type below makes it depend on which sphere LIGGGHTS calls i",
+                     plan.honoured, stack.spec().yield_pressure_factor);
   for (const auto& k : plan.kinds) {
     out += fmt::format("\n#   {:<22} {:.4g} Pa (intended {:.4g} Pa)", k.what, k.effective, k.intended);
+  }
+  if (!plan.order_dependent.empty()) {
+    out += fmt::format("\n# Accepted by the spec's order_dependent_yield = 'accept': {}.", plan.order_dependent);
   }
   return out;
 }

@@ -54,6 +54,14 @@ std::optional<Stacking> parse_stacking(std::string_view s) {
   return std::nullopt;
 }
 
+std::string_view to_string(OrderDependentYield o) { return o == OrderDependentYield::accept ? "accept" : "refuse"; }
+
+std::optional<OrderDependentYield> parse_order_dependent_yield(std::string_view s) {
+  if (s == "refuse") return OrderDependentYield::refuse;
+  if (s == "accept") return OrderDependentYield::accept;
+  return std::nullopt;
+}
+
 std::optional<DumpFormat> parse_dump_format(std::string_view s) {
   if (s == "text") return DumpFormat::text;
   if (s == "binary") return DumpFormat::binary;
@@ -268,6 +276,11 @@ template <typename Bad>
 void validate_yield_law(const StackSpec& s, Bad&& bad) {
   const auto& law = normal_law(s.normal_model);
   const double f = s.yield_pressure_factor;
+  if (s.order_dependent_yield != OrderDependentYield::refuse && s.normal_model != NormalModel::thornton_ning) {
+    bad("order_dependent_yield", fmt::format("applies to normal_model = 'thornton_ning' only (LIGGGHTS's yield radius "
+                                             "of atom i alone; this spec's is {}): remove it",
+                                             to_string(s.normal_model)));
+  }
   if (!law.needs_yield) {
     if (f != kDefaultYieldPressureFactor) {
       bad("yield_pressure_factor", fmt::format("applies to the elastic-plastic laws only (normal_model = 'thornton' or "

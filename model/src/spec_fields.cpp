@@ -733,6 +733,16 @@ std::vector<SpecField> contact_model_rows() {
                           "pyf");
   unless_default(yield, [](const StackSpec& s) { return s.yield_pressure_factor != kDefaultYieldPressureFactor; });
   rows.push_back(std::move(yield));
+  auto order = choice_row(
+      "order_dependent_yield", &StackSpec::order_dependent_yield, parse_order_dependent_yield,
+      [](OrderDependentYield o) { return to_string(o); }, "'refuse' or 'accept'", "refuse",
+      "normal_model = thornton_ning: a case no yield ratios make order-independent (an atom type of two radii): "
+      "refuse | accept");
+  order.doc = "LIGGGHTS's `thornton_ning` yields at `r_i * coefficientYieldRatio[type_i]` of the first sphere alone; "
+              "`accept` runs a case where that depends on which sphere LIGGGHTS calls i, and generate and the deck "
+              "say which type";
+  unless_default(order, [](const StackSpec& s) { return s.order_dependent_yield != OrderDependentYield::refuse; });
+  rows.push_back(std::move(order));
   return rows;
 }
 

@@ -48,12 +48,13 @@ YieldRadiusPlan thornton_ning_plan(const Stack& stack) {
   // Each sphere type's radius (one per type), and its ratio.
   const auto types = stack.type_materials();
   std::vector<double> radius(types.size(), 0.0);
+  std::string order;  // the first reason the answer would depend on LIGGGHTS's atom order
   for (const auto& s : stack.spheres()) {
     auto& r = radius[static_cast<std::size_t>(s.atom_type - 1)];
-    if (r != 0.0 && r != s.radius && plan.refusal.empty()) {
-      plan.refusal = fmt::format("atom type {} has spheres of two radii ({:g} and {:g} m), so no one "
-                                 "coefficientYieldRatio gives its contacts one yield radius",
-                                 s.atom_type, r, s.radius);
+    if (r != 0.0 && r != s.radius && order.empty()) {
+      order = fmt::format("atom type {} has spheres of two radii ({:g} and {:g} m), so no one coefficientYieldRatio "
+                          "gives its contacts one yield radius",
+                          s.atom_type, r, s.radius);
     }
     r = s.radius;
   }
@@ -61,19 +62,25 @@ YieldRadiusPlan thornton_ning_plan(const Stack& stack) {
   for (std::size_t t = 0; t < types.size(); ++t) {
     if (radius[t] == 0.0) continue;  // the wall's type: LIGGGHTS reads only atom i's ratio
     const double q = exact_ratio(plan.yield_radius, radius[t]);
-    plan.ratio[t] = q;
-    if (plan.refusal.empty() && q == 0.0) {
-      plan.refusal = fmt::format("no double coefficientYieldRatio gives atom type {} ({}, radius {:g} m) the yield "
-                                 "radius a_y = {:.17g} m exactly, so its contacts would depend on which sphere "
-                                 "LIGGGHTS calls i",
-                                 t + 1, types[t], radius[t], plan.yield_radius);
-    } else if (plan.refusal.empty() && q > 1.0) {
+    plan.ratio[t] = q != 0.0 ? q : plan.yield_radius / radius[t];
+    if (order.empty() && q == 0.0) {
+      order = fmt::format("no double coefficientYieldRatio gives atom type {} ({}, radius {:g} m) the yield radius "
+                          "a_y = {:.17g} m exactly, so its contacts would depend on which sphere LIGGGHTS calls i",
+                          t + 1, types[t], radius[t], plan.yield_radius);
+    }
+    if (plan.refusal.empty() && plan.ratio[t] > 1.0) {
       plan.refusal = fmt::format("the yield radius a_y = {:.4g} m of block 1's contacts exceeds the radius {:g} m of "
                                  "atom type {} ({}): its coefficientYieldRatio would be {:.4g}, and LIGGGHTS takes "
                                  "0..1; use fewer blocks, a stiffer or weaker top block, or normal_model = 'thornton' "
                                  "(refsim)",
-                                 plan.yield_radius, radius[t], t + 1, types[t], q);
+                                 plan.yield_radius, radius[t], t + 1, types[t], plan.ratio[t]);
     }
+  }
+  if (spec.order_dependent_yield == OrderDependentYield::accept) {
+    plan.order_dependent = order;
+  } else if (plan.refusal.empty() && !order.empty()) {
+    plan.refusal = order + "; order_dependent_yield = 'accept' runs it anyway, the yield of that type's contacts "
+                           "then depending on which sphere LIGGGHTS calls i";
   }
   for (std::size_t t = 0; t < types.size(); ++t) {
     if (radius[t] == 0.0) plan.ratio[t] = plan.ratio[0];

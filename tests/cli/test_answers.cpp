@@ -389,6 +389,33 @@ TEST_F(Answers, ThorntonRunsOnRefsimAndTheEnginesThatLackItRefuseIt) {
   EXPECT_EQ(granstack({"run", "--engine", "lammps", n.string()}).code, 1);
 }
 
+// thornton_ning yields at r_i * ratio[type_i] of LIGGGHTS's atom i: a container's matrix type has
+// spheres of two radii, so no ratios make it order-independent, and generate refuses it, naming
+// the field that accepts it, before the case is touched; accepted by name, the case is written and
+// generate and the deck say which type depends on LIGGGHTS's atom order.
+TEST_F(Answers, ThorntonNingRefusesAnOrderDependentCaseUnlessAccepted) {
+  const std::vector<std::string> container{"--geometry", "panels", "--panels", "3", "--separator", "matrix", "--blocks", "3", "--rows", "3",
+                                           "--normal-model", "thornton_ning"};
+  const auto refused = path("order_refused");
+  std::vector<std::string> args{"generate", "-o", refused.string()};
+  args.insert(args.end(), container.begin(), container.end());
+  auto r = granstack(args);
+  EXPECT_EQ(r.code, 2) << r.output;
+  expect_contains(r, "has spheres of two radii");
+  expect_contains(r, "order_dependent_yield = 'accept' runs it anyway");
+  EXPECT_FALSE(fs::exists(refused));
+  const auto spec = path("order.toml");
+  std::ofstream(spec) << "order_dependent_yield = \"accept\"\n";
+  const auto accepted = path("order_accepted");
+  args = {"generate", "-o", accepted.string(), "--config", spec.string()};
+  args.insert(args.end(), container.begin(), container.end());
+  r = granstack(args);
+  ASSERT_EQ(r.code, 0) << r.output;
+  expect_contains(r, "order-dependent, accepted by order_dependent_yield: atom type");
+  EXPECT_NE(read_bytes(accepted / "in.stack").find("# Accepted by the spec's order_dependent_yield = 'accept': atom type"),
+            std::string::npos);
+}
+
 // A Thornton run reports the work its contacts dissipated (the in-situ series' contact columns,
 // model::series_contact_columns), and reduce's balance counts it: kinetic + elastic + dissipated
 // stays at E_in within 5e-5 (2.8e-6 measured on this stack against its bottom wall; a pair whose

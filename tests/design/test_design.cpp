@@ -1070,6 +1070,8 @@ TEST(Space, TheStoreKeyChangesWithEverySpecField) {
                                    {{"normal_model", {"hooke"}}, {"characteristic_velocity", {"2"}}}}},
       {"yield_pressure_factor", {{{"normal_model", {"thornton"}}, {"yield_pressure_factor", {"1.6"}}},
                                  {{"normal_model", {"thornton"}}, {"yield_pressure_factor", {"3"}}}}},
+      {"order_dependent_yield", {{{"normal_model", {"thornton_ning"}}, {"order_dependent_yield", {"refuse"}}},
+                                 {{"normal_model", {"thornton_ning"}}, {"order_dependent_yield", {"accept"}}}}},
       {"deck_additions", {{}, {{"deck_additions", {"fix viscous"}}}}},
   };
   for (const auto& f : model::spec_fields()) {

@@ -374,6 +374,7 @@ rolling_friction = 0.1
 rolling_friction_pairs = { "steel:steel" = 0.05 }
 characteristic_velocity = 2
 yield_pressure_factor = 2.5
+order_dependent_yield = "accept"
 deck_additions = ["fix viscous", "displace_atoms"]
 )", "every.toml");
   // Every field but rows, which block_rows replaces (the two are refused together), and stacking,
@@ -384,6 +385,13 @@ deck_additions = ["fix viscous", "displace_atoms"]
   auto plastic = generator::parse_spec_toml("normal_model = \"thornton\"\nyield_pressure_factor = 2.5\n", "p.toml");
   EXPECT_EQ(generator::build_sweep(plastic).base.yield_pressure_factor, 2.5);
   every.erase("yield_pressure_factor");
+  // ... and order_dependent_yield to thornton_ning: read on its own, and refused on another law.
+  const auto ning = generator::build_sweep(
+      generator::parse_spec_toml("normal_model = \"thornton_ning\"\norder_dependent_yield = \"accept\"\n", "n.toml"));
+  EXPECT_EQ(ning.base.order_dependent_yield, model::OrderDependentYield::accept);
+  EXPECT_EQ(model::spec_from_json_fields(nlohmann::json::parse(model::spec_json(ning.base).dump())), ning.base);
+  EXPECT_THROW(generator::build_sweep(every), model::SpecError);
+  every.erase("order_dependent_yield");
   const auto spec = generator::build_sweep(every).base;
   EXPECT_EQ(model::spec_from_json_fields(nlohmann::json::parse(model::spec_json(spec).dump())), spec);
   EXPECT_EQ(spec.impact_panel, 1);

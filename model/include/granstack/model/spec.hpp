@@ -34,6 +34,10 @@ enum class DumpFormat { text, binary };
 enum class StopRule { duration, blow_end };
 // One dump file; one per dumped step (LIGGGHTS's '*'); one per MPI rank (its '%').
 enum class DumpFiles { single, per_step, per_rank };
+// A thornton_ning case no yield ratios make order-independent (model::thornton_ning_plan: an atom
+// type of two radii): refused, or accepted by name, its contacts' yield then depending on which
+// sphere LIGGGHTS calls i.
+enum class OrderDependentYield { refuse, accept };
 
 std::string_view to_string(Boundary b);       // "free" | "wall"
 std::string_view to_string(DumpFormat f);     // "text" | "binary"
@@ -48,6 +52,8 @@ std::optional<DumpFormat> parse_dump_format(std::string_view s);
 std::string_view to_string(DumpFiles f);      // "single" | "per_step" | "per_rank"
 std::optional<DumpFiles> parse_dump_files(std::string_view s);
 std::string_view to_string(StopRule r);       // "duration" | "blow_end"
+std::string_view to_string(OrderDependentYield o);  // "refuse" | "accept"
+std::optional<OrderDependentYield> parse_order_dependent_yield(std::string_view s);
 std::optional<StopRule> parse_stop_rule(std::string_view s);
 
 // A run that stops at the blow's end runs at most this many automatic durations by default (the
@@ -124,6 +130,7 @@ struct StackSpec {
   std::optional<double> characteristic_velocity;  // m/s, normal_model = hooke only; nullopt = striker_speed
   // p_y / Y of the elastic-plastic laws (thornton, thornton_ning): 1.6 first yield .. 3 fully plastic.
   double yield_pressure_factor = kDefaultYieldPressureFactor;
+  OrderDependentYield order_dependent_yield = OrderDependentYield::refuse;  // thornton_ning only
   // Commands a deck template of the user's adds to granstack's ("fix viscous", "displace_atoms"):
   // a run executing them is accepted and names them (formats/deck_rules.hpp).
   std::vector<std::string> deck_additions;

@@ -42,7 +42,10 @@ struct YieldRadiusPlan {
     double effective = 0.0, intended = 0.0;  // Pa
   };
   std::vector<Kind> kinds;
-  std::string refusal;                 // why no such ratios exist (a ratio above 1, a type of two radii), or ""
+  // Why no such ratios exist (a ratio above 1; a type of two radii, or of a radius no double ratio
+  // fits, unless the spec's order_dependent_yield accepts it), or "".
+  std::string refusal;
+  std::string order_dependent;         // accepted by the spec: which type depends on LIGGGHTS's atom order, or ""
 };
 YieldRadiusPlan thornton_ning_plan(const Stack& stack);
 
