@@ -4,8 +4,8 @@
 // rounds; median (and best) time per step. Steadier than timing whole `granstack run`s on a
 // noisy machine, since nothing but System::advance is timed. With --threads, the best vector
 // kernels on one thread and on two instead, alternately. With --thornton, Thornton's
-// elastic-plastic law (the reference kernels) against Hertz on the best vector kernels and on the
-// reference, alternately: the cost of yielding contacts per particle-step.
+// elastic-plastic law against Hertz, each on the reference kernels and on the best vector
+// kernels, alternately: the cost of yielding contacts per particle-step.
 // Usage: granstack_bench_refsim_steps [STEPS [REPEATS]] [--damped] [--threads] [--thornton]
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/stack.hpp>
@@ -63,7 +63,8 @@ int main(int argc, char** argv) {
     const std::string best = refsim::vector_kernels().front();
     runs = {{"hertz, " + best, best, 1},
             {"hertz, reference", "reference", 1},
-            {"thornton, reference", "reference", 1, model::NormalModel::thornton}};
+            {"thornton, reference", "reference", 1, model::NormalModel::thornton},
+            {"thornton, " + best, best, 1, model::NormalModel::thornton}};
   } else {
     runs.push_back({"reference", "reference", 1});
     for (const auto& k : refsim::vector_kernels()) runs.push_back({k, k, 1});

@@ -107,8 +107,9 @@ struct PairTable {
   // the study's model keeps the tangential displacement x, y, z in history[0..2], which the
   // vector kernels read and write).
   std::vector<AlignedVector<double>> history;
-  // At its last evaluation (kept across rebuilds); not kept for a torque_free table, whose
-  // history is +0 throughout, so that which history survives a rebuild does not matter.
+  // At its last evaluation (kept across rebuilds); not kept by the vector kernels for a
+  // torque_free table of the study's model, whose history is +0 throughout, so that which history
+  // survives a rebuild does not matter (the reference kernel keeps them for every model).
   std::vector<std::uint8_t> touching;
   // Per kLanes pairs: the lowest i and j (the windows), where each side's particles lie (kRun
   // if every real pair's is the window plus its lane, kWindowed if all lie within kWindow of
@@ -199,6 +200,9 @@ struct ContactStep {
 inline void bank_work(double* banked, std::size_t i, double work) {
   std::atomic_ref<double>(banked[i]).fetch_add(work, std::memory_order_relaxed);
 }
+// The work pair p's contact has dissipated, as it opens (or loses its history at a rebuild),
+// banked half to each sphere (contacts.cpp; where the law keeps it: has_contact_energy).
+void bank_opened(const PairTable& t, double* banked, std::size_t p);
 
 // Pair p's two spheres as both contact rules begin: i, j, their separation (i minus j), its
 // square and the pair's record.
@@ -301,6 +305,15 @@ struct VectorKernels {
   bool (*second_and_first_half)(const Motion& m, std::size_t begin, std::size_t end) = nullptr;
   void (*kinetic_sums)(const KineticInput& in, std::size_t begin, std::size_t end, double* translational,
                        double* rotational) = nullptr;
+  // contacts_reference on a torque_free table of a model whose force and history are functions of
+  // the positions alone (positional_force, composition.cpp): a block of kPairBlock pairs none of
+  // whose spheres has a new position since its last evaluation keeps its entries (the same
+  // inputs would give the same bits), as the elastic kernel's; marks ContactStep::sums_due.
+  void (*still_reference)(PairTable& pairs, const ContactStep& s, std::size_t begin, std::size_t end) = nullptr;
+  // contacts_reference of Thornton's law (normal_thornton.cpp) by LIGGGHTS's rules on a
+  // torque_free table (no friction, no damping: the tangential force is +-0 and its history stays
+  // +0), in lanes, still blocks kept as still_reference keeps them; the same bits.
+  void (*thornton)(PairTable& pairs, const ContactStep& s, std::size_t begin, std::size_t end) = nullptr;
 };
 // The instruction sets this CPU runs the vector kernels in, best first ("avx512", "avx2",
 // "sse4", "ssse3", "neon", "scalar", as the build has them).

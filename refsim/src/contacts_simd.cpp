@@ -437,6 +437,17 @@ HWY_INLINE bool still(const PairTable& t, const std::uint8_t* changed, std::size
          side_still(changed, t.fetch_j[g], t.window_j[g], t.particles_j[g], &t.j[g * kLanes]);
 }
 
+// The groups of both spheres of every pair of the block from p are due for their sums.
+HWY_INLINE void mark_sums_due(const PairTable& t, const ContactStep& s, std::size_t p) {
+  if (s.sums_due == nullptr) return;
+  // Other threads may mark the same groups (with the same value): relaxed atomic stores.
+  for (std::size_t q = p; q < p + kPairBlock; ++q) {
+    for (const std::int32_t k : {t.i[q], t.j[q]}) {
+      std::atomic_ref<std::uint8_t>(s.sums_due[static_cast<std::size_t>(k) / kLanes]).store(1, std::memory_order_relaxed);
+    }
+  }
+}
+
 // pairs() for a table whose every pair is elastic and frictionless (PairTable::torque_free):
 // the force kn delta n alone. The history of such a pair is +0 from its start to its end (no
 // path of the model makes it anything else), so neither it nor the touching flags that decide
@@ -448,14 +459,7 @@ HWY_INLINE void elastic_block(PairTable& t, const ContactStep& s, std::size_t p)
   std::uint8_t& evaluated = t.evaluated[p / kPairBlock];
   if (evaluated != 0 && still(t, s.position_changed, p / kLanes) && still(t, s.position_changed, p / kLanes + 1)) return;
   evaluated = 1;
-  if (s.sums_due != nullptr) {
-    // Other threads may mark the same groups (with the same value): relaxed atomic stores.
-    for (std::size_t q = p; q < p + kPairBlock; ++q) {
-      for (const std::int32_t k : {t.i[q], t.j[q]}) {
-        std::atomic_ref<std::uint8_t>(s.sums_due[static_cast<std::size_t>(k) / kLanes]).store(1, std::memory_order_relaxed);
-      }
-    }
-  }
+  mark_sums_due(t, s, p);
   std::uint8_t& stored = t.forces_stored[p / kPairBlock];  // else every entry of the block is +0
   bool any = false;
   for (std::size_t q = p; q < p + kPairBlock; q += kN) {
@@ -475,6 +479,89 @@ HWY_INLINE void elastic_block(PairTable& t, const ContactStep& s, std::size_t p)
     store_forces(t, q, touching, Vec{fn * (delx * rinv), fn * (dely * rinv), fn * (delz * rinv)});
   }
   stored = any ? 1 : 0;
+}
+
+void still_reference(PairTable& t, const ContactStep& s, std::size_t begin, std::size_t end) {
+  for (std::size_t p = begin; p < end; p += kPairBlock) {
+    std::uint8_t& evaluated = t.evaluated[p / kPairBlock];
+    if (evaluated != 0 && still(t, s.position_changed, p / kLanes) && still(t, s.position_changed, p / kLanes + 1)) continue;
+    evaluated = 1;
+    mark_sums_due(t, s, p);
+    contacts_reference(t, s, p, p + kPairBlock);
+  }
+}
+
+// Thornton's law of kN pairs (model::ThorntonLaw, the record's law values: E*, R*, p_y, d_y, F_y,
+// pi p_y R*): one broadcast where their group shares a record, else gathered.
+struct ThorntonLanes {
+  V y_star, r_star, d_y, f_y, slope;
+};
+HWY_INLINE ThorntonLanes thornton_law(const PairTable& t, std::size_t q) {
+  static_assert(sizeof(ModelRecord) == (1 + kLawValues) * sizeof(double));
+  const auto* table = reinterpret_cast<const double*>(t.model_records.data());
+  const std::int32_t shared = t.shared_record[q / kLanes];
+  const VI base = shared >= 0 ? hn::Zero(DI()) : hn::Mul(indices(&t.record[q]), hn::Set(DI(), 1 + kLawValues));
+  const auto law = [&](std::size_t k) {
+    const double* at = table + 1 + k;  // law[k], past rolling_friction
+    return shared >= 0 ? broadcast(at[static_cast<std::size_t>(shared) * (1 + kLawValues)]) : hn::GatherIndex(D(), at, base);
+  };
+  return {law(0), law(1), law(3), law(4), law(5)};
+}
+
+// model::thornton_force at overlap d > 0 after the largest overlap dmax >= d, in its operations.
+HWY_INLINE V thornton_force(const ThorntonLanes& l, V d, V dmax, M touching) {
+  const V four_thirds = broadcast(4.0 / 3.0);
+  const V elastic = four_thirds * l.y_star * root(l.r_star) * d * root(d);
+  const M yielded = both(touching, greater(dmax, l.d_y));
+  if (none(yielded)) return elastic;
+  const V loading = l.f_y + l.slope * (d - l.d_y);
+  const V f_max = l.f_y + l.slope * (dmax - l.d_y);
+  const V a_p = root(l.r_star * dmax);
+  const V r_p = broadcast(4.0) * l.y_star * a_p * a_p * a_p / (broadcast(3.0) * f_max);
+  const V w = d - (dmax - l.r_star * dmax / r_p);
+  const V unloading = zero_unless(greater(w, hn::Zero(D())), four_thirds * l.y_star * root(r_p) * w * root(w));
+  return pick(yielded, pick(less(d, dmax), unloading, loading), elastic);
+}
+
+// pair_force (contacts.cpp) with thornton_normal on kN pairs from q of a torque_free table: the
+// flags, the largest overlap (history slot `slot`), the force kept, and a contact that opens
+// forgotten (its work banked first, lane by lane: a contact opens rarely).
+HWY_INLINE void thornton_lanes(PairTable& t, const ContactStep& s, std::size_t q, std::size_t slot) {
+  const Found f = find(t, s, q);
+  const V cdf = broadcast(s.contact_distance_factor);
+  const M close = but_not(f.touching, less(f.rsq, cdf * cdf * f.radsum * f.radsum));
+  const V zero = hn::Zero(D());
+  if (!none(close)) {
+    const unsigned forget = bits(close);
+    for (std::size_t k = 0; k < kN; ++k) {
+      if ((forget >> k & 1U) != 0 && t.touching[q + k] != 0 && s.banked != nullptr) bank_opened(t, s.banked, q + k);
+    }
+    for (auto& h : t.history) hn::BlendedStore(zero, close, D(), &h[q]);
+  }
+  update_flags(&t.touching[q], f.touching, close);
+  if (none(f.touching)) {
+    store_forces(t, q, f.touching, Vec{zero, zero, zero});
+    return;
+  }
+  const V r = root(f.rsq);
+  const V rinv = broadcast(1.0) / r;
+  const V deltan = f.radsum - r;
+  const V before = load(&t.history[slot][q]);
+  const V dmax = pick(greater(deltan, before), deltan, before);
+  hn::BlendedStore(dmax, f.touching, D(), &t.history[slot][q]);
+  const V fn = thornton_force(thornton_law(t, q), deltan, dmax, f.touching);
+  store_forces(t, q, f.touching, Vec{fn * (f.delx * rinv), fn * (f.dely * rinv), fn * (f.delz * rinv)});
+}
+
+void thornton(PairTable& t, const ContactStep& s, std::size_t begin, std::size_t end) {
+  const std::size_t slot = t.history.size() - 1;  // the normal model's one value, last (history_layout)
+  for (std::size_t p = begin; p < end; p += kPairBlock) {
+    std::uint8_t& evaluated = t.evaluated[p / kPairBlock];
+    if (evaluated != 0 && still(t, s.position_changed, p / kLanes) && still(t, s.position_changed, p / kLanes + 1)) continue;
+    evaluated = 1;
+    mark_sums_due(t, s, p);
+    for (std::size_t q = p; q < p + kPairBlock; q += kN) thornton_lanes(t, s, q, slot);
+  }
 }
 
 void contacts(PairTable& t, const ContactStep& s, std::size_t begin, std::size_t end) {
@@ -658,7 +745,8 @@ void kinetic_sums(const KineticInput& in, std::size_t begin, std::size_t end, do
 }
 
 VectorKernels kernels() {
-  return {&contacts, &sum_contributions, &first_half_only, &second_half, &second_and_first_half, &kinetic_sums};
+  return {&contacts,     &sum_contributions, &first_half_only, &second_half, &second_and_first_half,
+          &kinetic_sums, &still_reference,   &thornton};
 }
 
 }  // namespace HWY_NAMESPACE

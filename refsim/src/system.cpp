@@ -104,17 +104,15 @@ std::vector<std::string> vector_kernels() { return detail::vector_targets(); }
 
 void System::choose_kernels() {
   const auto targets = detail::vector_targets();
-  // The vector kernels are written for the study's model: any other runs on the reference.
-  const bool vector_model = pairs_->sub_models.vector_kernels_run();
-  if (p_.kernel == "reference" || (p_.kernel == "auto" && !vector_model)) {
+  // The vector kernels run LIGGGHTS's rules: LAMMPS's run on the reference, which `auto` then picks.
+  if (p_.kernel == "reference" || (p_.kernel == "auto" && p_.lammps_rules)) {
     kernel_ = "reference";
     return;
   }
-  if (!vector_model) {
-    throw std::invalid_argument(fmt::format(
-        "the {} kernels run the study's contact model by LIGGGHTS's rules (hertz, history, no rolling friction) only, "
-        "not '{}'{}; use --kernel auto or reference",
-        p_.kernel, model::liggghts_model_words(p_.contact), p_.lammps_rules ? " by LAMMPS's rules" : ""));
+  if (p_.lammps_rules) {
+    throw std::invalid_argument(fmt::format("the {} kernels run LIGGGHTS's contact rules only, not LAMMPS's; use --kernel "
+                                            "auto or reference",
+                                            p_.kernel));
   }
   if (p_.kernel != "auto" && std::find(targets.begin(), targets.end(), p_.kernel) == targets.end()) {
     throw std::invalid_argument(fmt::format(
@@ -122,8 +120,29 @@ void System::choose_kernels() {
         "reference or one of those",
         p_.kernel, p_.kernel, fmt::join(targets, ", ")));
   }
-  kernel_ = p_.kernel == "auto" ? targets.front() : p_.kernel;
-  vector_ = std::make_unique<detail::VectorKernels>(detail::vector_kernels(kernel_));
+  const std::string target = p_.kernel == "auto" ? targets.front() : p_.kernel;
+  vector_ = std::make_unique<detail::VectorKernels>(detail::vector_kernels(target));
+  choose_pair_kernels(target);
+}
+
+// The vector pair kernels are written for the study's model: any other's pairs run on the
+// reference kernel, its particles (integration, force sums, kinetic sums) on the vector kernels,
+// which give the reference's bits whatever the pairs' model.
+void System::choose_pair_kernels(const std::string& target) {
+  const auto& m = pairs_->sub_models;
+  vector_contacts_ = m.vector_kernels_run();
+  // On a torque_free table (no friction, no damping, no rolling friction): Thornton's law by
+  // LIGGGHTS's rules in lanes; another positional law's still blocks kept.
+  const bool thornton = m.frame == detail::Frame::liggghts && m.normal == model::NormalModel::thornton;
+  if (!vector_contacts_ && thornton) {
+    still_kernel_ = vector_->thornton;
+  } else if (!vector_contacts_ && detail::positional_force(m)) {
+    still_kernel_ = vector_->still_reference;
+  }
+  const bool torque_free = m.rolling == model::RollingModel::off &&
+                           std::all_of(type_constants_.begin(), type_constants_.end(),
+                                       [](const detail::PairConstants& k) { return !k.damped() && k.friction == 0.0; });
+  kernel_ = vector_contacts_ || (thornton && torque_free) ? target : target + kReferencePairs;
 }
 
 System::~System() = default;
@@ -212,7 +231,9 @@ void System::compute_forces(bool update_history, bool kick, bool drift) {
   // Marking the groups costs about as much as it saves once most spheres move: it is tried for
   // a step every kSumsProbe steps, and kept on while it keeps a quarter of the sums or more.
   constexpr long kSumsProbe = 64;
-  const bool may_skip = vector_ && pairs_->torque_free && !external_;
+  // A torque_free table of a positional law (still_kernel_) keeps still blocks' entries too.
+  const bool still_pairs = still_kernel_ != nullptr && pairs_->torque_free;
+  const bool may_skip = (vector_contacts_ || still_pairs) && pairs_->torque_free && !external_;
   const std::size_t groups = sums_due_.size();
   if (skip_sums_) skip_sums_ = 4 * kept_sums_.load(std::memory_order_relaxed) >= groups;  // the last step's
   if (!skip_sums_) skip_sums_ = step_ % kSumsProbe == 0;
@@ -224,8 +245,10 @@ void System::compute_forces(bool update_history, bool kick, bool drift) {
   }
   auto& pairs = *pairs_;
   const auto contacts = [&](std::size_t begin, std::size_t end) {
-    if (vector_) {
+    if (vector_contacts_) {
       vector_->contacts(pairs, s, begin, end);
+    } else if (still_pairs) {
+      still_kernel_(pairs, s, begin, end);
     } else {
       detail::contacts_reference(pairs, s, begin, end);
     }

@@ -492,6 +492,51 @@ TEST(Kernels, EveryVectorInstructionSetGivesExactlyTheReferenceResult) {
   }
 }
 
+// The laws the vector pair kernels do not run, on a torque_free table (no friction, no damping):
+// Thornton's in lanes (VectorKernels::thornton) and Hooke's on the reference kernel with still
+// blocks kept (::still_reference), the particles on the vector kernels. Every instruction set
+// gives the reference's bits on one or two threads, stepping or advancing, and for Thornton the
+// same contact energies (the work banked as contacts open): at 20 m/s on a free bottom and on a
+// wall, in both sphere orders, the contacts yield, unload, open and survive rebuilds.
+TEST(Kernels, ThorntonAndHookeGiveTheReferenceBitsOnEveryInstructionSet) {
+  const auto targets = refsim::vector_kernels();
+  for (const auto normal : {model::NormalModel::thornton, model::NormalModel::hooke}) {
+    for (const auto& [wall, reversed] : {std::pair{false, false}, {true, false}, {false, true}}) {
+      model::StackSpec spec;
+      spec.blocks = 3;
+      spec.top_columns = 4;
+      spec.normal_model = normal;
+      spec.bottom = wall ? model::Boundary::wall : model::Boundary::free_surface;
+      spec.striker_speed = 20.0;
+      const auto stack = model::Stack::build(spec);
+      auto particles = refsim::particles_from(generator::data_file(stack, "kernels"));
+      if (reversed) std::reverse(particles.begin(), particles.end());
+      const KernelCase c{"positional", stack, particles, 0};
+      const auto what = fmt::format("{}{}{}", model::to_string(normal), wall ? " on a wall" : "", reversed ? " reversed" : "");
+      const auto reference = run_kernel(c, "reference", 1);
+      EXPECT_GT(reference->neighbor_builds(), 1) << what;
+      const auto energies = reference->contact_energies();
+      if (normal == model::NormalModel::thornton) {
+        double banked = 0.0;
+        for (const double w : energies.dissipated) banked += w;
+        EXPECT_GT(banked, 0.0) << what;  // contacts yielded
+      }
+      for (const auto& target : targets) {
+        for (const int threads : {1, 2}) {
+          for (const bool advance : {false, true}) {
+            const auto run = run_kernel(c, target, threads, advance);
+            EXPECT_EQ(run->kernel(), normal == model::NormalModel::thornton ? target : target + System::kReferencePairs)
+                << what;
+            expect_same(*run, *reference);
+            const auto e = run->contact_energies();
+            EXPECT_TRUE(e.elastic == energies.elastic && e.dissipated == energies.dissipated) << what << ", " << target;
+          }
+        }
+      }
+    }
+  }
+}
+
 // On x86-64 the build offers every vector instruction set the CPU has, so that a laptop's AVX2
 // runs its own kernels, not the scalar fallback.
 TEST(Kernels, TheInstructionSetsThisCpuHasAreOffered) {

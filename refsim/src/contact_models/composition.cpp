@@ -63,25 +63,27 @@ constexpr Row<TangentialForce> kLammpsTangential[] = {
     {tangential_mindlin_rescale, kMindlinRescaleHistory},      // mindlin_rescale
 };
 // The normal models' kernels by LIGGGHTS's rules, by model::NormalModel (one row per model, the
-// compiler checks the count): the force, the per-pair record, the history it keeps, and the
-// contact's energy where the law keeps it with its history (model::NormalLaw::series_energy). A
-// new normal model is its file in this folder and its row here; none where refsim has no kernel
-// for it.
+// compiler checks the count): the force, the per-pair record, the history it keeps, the
+// contact's energy where the law keeps it with its history (model::NormalLaw::series_energy), and
+// whether, undamped, its force and history are functions of the positions alone (unchanged
+// positions give unchanged bits: positional_force). A new normal model is its file in this folder
+// and its row here; none where refsim has no kernel for it.
 struct NormalRow {
   NormalForce force;
   NormalRecord record;
   std::size_t history;
   NormalEnergy energy;
+  bool positional;
 };
 constexpr auto kLiggghtsNormal = std::to_array<NormalRow>({
-    {hertz_normal, nullptr, 0, nullptr},                                          // hertz
-    {hooke_normal, hooke_record, 0, nullptr},                                     // hooke
-    {thornton_normal, thornton_record, 1, thornton_energy},                       // thornton: d_max
-    {thornton_ning_normal, thornton_ning_record, kThorntonNingHistory, nullptr},  // thornton_ning
+    {hertz_normal, nullptr, 0, nullptr, true},                                           // hertz
+    {hooke_normal, hooke_record, 0, nullptr, true},                                      // hooke
+    {thornton_normal, thornton_record, 1, thornton_energy, true},                        // thornton: d_max
+    {thornton_ning_normal, thornton_ning_record, kThorntonNingHistory, nullptr, false},  // thornton_ning: incremental
 });
 static_assert(kLiggghtsNormal.size() == model::kNormalModelCount, "one row per model::NormalModel");
 // LAMMPS's rules run hertz/material with tsuji damping for the spec's hertz, nothing else.
-constexpr NormalRow kLammpsNormal{tsuji_normal, tsuji_record, 0, nullptr};
+constexpr NormalRow kLammpsNormal{tsuji_normal, tsuji_record, 0, nullptr, false};
 
 const NormalRow& normal_row(const SubModels& s) {
   return s.frame == Frame::lammps ? kLammpsNormal : kLiggghtsNormal[static_cast<std::size_t>(s.normal)];
@@ -121,6 +123,8 @@ HistoryLayout history_layout(const SubModels& s) {
 }
 
 bool has_contact_energy(const SubModels& m) { return normal_row(m).energy != nullptr; }
+
+bool positional_force(const SubModels& m) { return normal_row(m).positional; }
 
 ContactEnergy contact_energy(const SubModels& m, const ModelRecord& mr, double overlap, const double* history) {
   const NormalEnergy energy = normal_row(m).energy;

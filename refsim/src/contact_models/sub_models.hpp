@@ -156,11 +156,12 @@ ContactEnergy thornton_energy(const ModelRecord& r, double overlap, const double
 // ... by the choice `m`, from the contact's whole history (history_layout(m)); {0, 0} where its
 // normal law keeps none (has_contact_energy false).
 bool has_contact_energy(const SubModels& m);
+// Whether the choice's normal law, undamped and frictionless, gives a force and a history that are
+// functions of the positions alone (VectorKernels::still_reference may keep a still block's).
+bool positional_force(const SubModels& m);
 ContactEnergy contact_energy(const SubModels& m, const ModelRecord& mr, double overlap, const double* history);
-// ... of pair p of the table at `overlap`; and the work its contact has dissipated, which opens
-// (or loses its history at a rebuild), banked half to each sphere (bank_work).
+// ... of pair p of the table at `overlap` (its work banked when it opens: bank_opened, contacts.hpp).
 ContactEnergy pair_contact_energy(const PairTable& t, std::size_t p, double overlap);
-void bank_opened(const PairTable& t, double* banked, std::size_t p);
 // The pair's record, by its sub-models (each computes its own): a sphere of radius radi (the
 // first body) and the pair's R* and m*.
 ModelRecord model_record(const SubModels& m, const ModelConstants& k, double radi, double reff, double meff);

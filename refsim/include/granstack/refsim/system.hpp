@@ -24,6 +24,7 @@ struct Motion;
 struct SumPlan;
 struct VectorKernels;
 struct ContactEnergy;
+struct ContactStep;
 }  // namespace detail
 
 using Vec3 = std::array<double, 3>;
@@ -119,7 +120,12 @@ class System {
   // into sum k mod 8) added pairwise, ((s0 + s1) + (s2 + s3)) + ((s4 + s5) + (s6 + s7)): the same
   // bits with every kernel.
   std::array<double, 2> kinetic_energy(std::size_t begin, std::size_t end) const;
-  const std::string& kernel() const { return kernel_; }  // "reference" or a vector instruction set
+  // "reference", a vector instruction set, or one with kReferencePairs appended: a model the vector
+  // pair kernels do not run (other than thornton without friction, whose pairs they run in lanes)
+  // has its pairs on the reference kernel, its particles on the vector kernels (the same bits as
+  // the reference, either way).
+  const std::string& kernel() const { return kernel_; }
+  static constexpr const char* kReferencePairs = ", pairs on the reference";
 
   // Where the normal law keeps each contact's energy with its history (refsim's thornton), per
   // particle: the elastic energy in its contacts now and the work they have dissipated since the
@@ -137,6 +143,7 @@ class System {
  private:
   Vec3 get(const detail::AlignedVector<double>& a, std::size_t i) const { return {a[i], a[stride_ + i], a[2 * stride_ + i]}; }
   void choose_kernels();
+  void choose_pair_kernels(const std::string& target);
   void build_pairs();
   void compute_forces(bool update_history, bool kick, bool drift);
   void sum_forces(std::size_t begin, std::size_t end, bool update_history, bool kick, bool drift);
@@ -203,6 +210,10 @@ class System {
   bool negative_zero_spin_ = false;   // an angular velocity component starts at -0
   std::string kernel_;
   std::unique_ptr<detail::VectorKernels> vector_;  // the vector kernels, unless the reference runs
+  bool vector_contacts_ = false;  // ... which compute the pairs' forces too (the study's model)
+  // ... or, on a torque_free table, Thornton's law in lanes or another positional law's reference
+  // forces, still blocks kept (VectorKernels::thornton, ::still_reference); null otherwise.
+  void (*still_kernel_)(detail::PairTable&, const detail::ContactStep&, std::size_t, std::size_t) = nullptr;
 
   long step_ = 0;
   long builds_ = 0;
