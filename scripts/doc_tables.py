@@ -83,6 +83,8 @@ RECORDS = {
     # GRANSTACK=<9647ffd build> REFERENCE=bench/results/design-reference-front-2026-11-29.json SCREENINGS=8
     # ALGORITHMS=sms-emoa MAX_DESIGNS=100000 STAGNATION=0 TIME_LIMIT=600 OFF_RUN=0 BREEDINGS=0:0 OUT=... bench/design_budget.sh
     "design_ten_minutes_screening": "bench/results/design-ten-minutes-screening-2026-11-29.json",
+    # build/ci/bench/granstack_bench_restitution (the test docs.restitution_record runs it again)
+    "restitution": "bench/results/restitution-2026-12-06.json",
 }
 RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["docs/how-to/big-nests.md"],
                  "refsim_against_liggghts": ["docs/how-to/big-nests.md"],
@@ -102,7 +104,8 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "design_ten_minutes": ["docs/explanation/performance.md"],
                  "design_repeat": ["docs/explanation/performance.md"],
                  "design_screening": ["docs/explanation/performance.md"],
-                 "design_ten_minutes_screening": ["docs/explanation/performance.md"]}
+                 "design_ten_minutes_screening": ["docs/explanation/performance.md"],
+                 "restitution": ["docs/physics.md"]}
 # The study's tables: LIGGGHTS's reproduction (refsim's in the check) and the LAMMPS study's record.
 REPRODUCE_PLACES = {"reproduce": ["docs/tutorials/reproduce.md"], "engines_study": ["docs/explanation/lammps.md"]}
 # The notes of the report the tutorial quotes: what the consistent runs show, computed.
@@ -235,6 +238,19 @@ def store_unnamed(exe, work):
 
 def record(name):
     return json.loads((ROOT / RECORDS[name]).read_text())
+
+
+def restitution():
+    """e(V) of thornton and thornton_ning against Thornton's closed form, and thornton_ning's time step."""
+    r = record("restitution")
+    rows = ["| material | V_y (m/s) | V (m/s) | closed form | `thornton` | `thornton_ning` | `thornton_ning` / closed form |",
+            "|---|---|---|---|---|---|---|"]
+    for i in r["impacts"]:
+        rows.append(f"| {i['material']} | {i['yield_velocity']:.3g} | {i['speed']:g} | {i['closed_form']:.4f} | "
+                    f"{i['thornton']:.4f} | {i['thornton_ning']:.4f} | {i['thornton_ning'] / i['closed_form']:.3f} |")
+    steps = ", ".join(f"{s['e_minus_1']:.3g} at t_c / {s['steps_per_contact']}" for s in r["thornton_ning_elastic_steel_1ms"])
+    return ("\n".join(rows) + "\n\n" + f"`thornton_ning` never yielding (steel at 1 m/s, ratio 1): e - 1 = {steps} "
+            f"(`{RECORDS['restitution']}`).\n")
 
 
 def nest_counts():
@@ -955,7 +971,7 @@ def main():
                 design_population=design_population(), design_breeding=design_breeding(),
                 design_ten_minutes=design_ten_minutes(), design_repeat=design_repeat(),
                 design_screening=design_screening(),
-                design_ten_minutes_screening=design_ten_minutes_screening())
+                design_ten_minutes_screening=design_ten_minutes_screening(), restitution=restitution())
     places = {**PLACES, **RECORD_PLACES, **REPRODUCE_PLACES}
     if "--reproduce" in sys.argv[1:]:
         made["reproduce"] = reproduce_table(exe, work, "liggghts")
