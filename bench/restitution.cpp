@@ -1,7 +1,8 @@
 // The restitution of refsim's two elastic-plastic laws against Thornton (1997)'s closed form: a
 // sphere of radius 2 mm striking a wall of its own material head on, p_y = 1.6 Y, each law at
 // granstack's automatic time step (thornton t_c / 100, thornton_ning t_c / 1000, t_c Hertz's
-// contact time at the speed), for the materials table's yielding materials at 0.5, 1 and 2 m/s;
+// contact time at the speed), for the materials table's yielding materials, annealed and
+// hardened, at 0.5, 1 and 2 m/s;
 // and thornton_ning's first-order error in dt (an impact that never yields, e - 1 at t_c / 100 and
 // t_c / 1000). refsim runs thornton_ning by LIGGGHTS's rules, bit for bit with LIGGGHTS 3.8
 // (tests/data/twobody). Writes the record as JSON on stdout: bench/results/restitution-DATE.json,
@@ -53,7 +54,7 @@ refsim::Parameters law(const model::Material& m, model::NormalModel normal, doub
 int main() {
   const auto library = model::MaterialLibrary::builtin();
   std::vector<std::string> rows;
-  for (const char* name : {"steel", "aluminium", "brass", "nylon", "teflon"}) {
+  for (const char* name : {"steel", "aluminium", "brass", "nylon", "teflon", "steel_4340", "aluminium_7075", "brass_h04"}) {
     const auto& m = library.at(name);
     const auto c = model::sphere_wall(m, kRadius, m);
     const double v_y = model::thornton_yield_velocity(c, kFactor * *m.yield_strength);

@@ -53,7 +53,7 @@ const BadCase kBadCases[] = {
     {"top_radius", [](StackSpec& s) { s.blocks = 12; }, "bottom_radius", "the top spheres would be 2.048 m"},
     {"ratio_zero", [](StackSpec& s) { s.radius_ratio = 0; }, "radius_ratio", "whole number"},
     {"too_many_spheres", [](StackSpec& s) { s.blocks = 16; s.top_columns = 64; s.bottom_radius = 1e-6; }, "blocks", "more than"},
-    {"unknown_material", [](StackSpec& s) { s.materials = {"unobtainium"}; }, "materials", "unknown material 'unobtainium' (known: aluminium, brass"},
+    {"unknown_material", [](StackSpec& s) { s.materials = {"unobtainium"}; }, "materials", "unknown material 'unobtainium' (known: aluminium, aluminium_7075, brass"},
     {"material_count", [](StackSpec& s) { s.materials = {"steel", "teflon"}; }, "materials", "one per block"},
     {"restitution_zero", [](StackSpec& s) { s.restitution.value = 0.0; }, "restitution", "(0.05, 1]"},
     {"restitution_above_one", [](StackSpec& s) { s.restitution.value = 1.2; }, "restitution", "(0.05, 1]"},
