@@ -277,8 +277,9 @@ void read_measures(const toml::table* t, Space& s, std::vector<std::string>& pro
   }
 }
 
-// [scenarios]: lists of striker speeds and striker radius ratios (their product), and how each
-// objective is taken over them.
+// [scenarios]: lists of striker speeds, striker radius ratios, impact offsets and an
+// elastic-plastic law's yield pressure factors (their product), and how each objective is taken
+// over them.
 void read_scenarios(const toml::table* t, const toml::table* fixed, Space& s, std::vector<std::string>& problems) {
   if (t == nullptr) return;
   std::vector<double> speeds{s.fixed.striker_speed}, ratios{s.fixed.striker_radius_ratio},
@@ -320,12 +321,23 @@ void read_scenarios(const toml::table* t, const toml::table* fixed, Space& s, st
   for (const double k : offsets) {
     if (k != std::floor(k)) problems.push_back(fmt::format("[scenarios] impact_offset: {} is not a whole number", k));
   }
+  // How hard the contacts yield: a search robust to where between first yield and full
+  // plasticity the material's p_y lies (the worst over them, as over the speeds).
+  std::vector<double> factors;  // none: the fixed spec's
+  list("yield_pressure_factor", model::kMinYieldPressureFactor, model::kMaxYieldPressureFactor, factors);
+  if (!factors.empty() && !model::normal_law(s.fixed.normal_model).needs_yield) {
+    problems.push_back(fmt::format("[scenarios] yield_pressure_factor: applies to the elastic-plastic laws ([fixed] "
+                                   "normal_model = 'thornton' or 'thornton_ning'; this space's is {})",
+                                   model::to_string(s.fixed.normal_model)));
+  }
   for (const auto& [k, v] : *t) {
     const std::string key(k.str());
-    if (key == "striker_speed" || key == "striker_radius_ratio" || key == "impact_offset") continue;
+    if (key == "striker_speed" || key == "striker_radius_ratio" || key == "impact_offset" || key == "yield_pressure_factor") {
+      continue;
+    }
     if (key != "aggregate") {
-      problems.push_back(fmt::format("[scenarios] {}: unknown; striker_speed, striker_radius_ratio, impact_offset (lists) "
-                                     "and aggregate", key));
+      problems.push_back(fmt::format("[scenarios] {}: unknown; striker_speed, striker_radius_ratio, impact_offset, "
+                                     "yield_pressure_factor (lists) and aggregate", key));
       continue;
     }
     const auto parse = [&](const toml::node& n, const std::string& what) -> std::optional<Aggregate> {
@@ -350,13 +362,18 @@ void read_scenarios(const toml::table* t, const toml::table* fixed, Space& s, st
       for (const auto& name : run_measure_names()) s.aggregate[name] = *a;
     }
   }
+  std::vector<std::optional<double>> yields(factors.begin(), factors.end());
+  if (yields.empty()) yields.emplace_back();
   for (const double v : speeds) {
     for (const double r : ratios) {
       for (const double k : offsets) {
-        const int off = static_cast<int>(k);
-        s.scenarios.push_back({fmt::format("{:g} m/s, striker {:g} R_1{}", v, r,
-                                           off == 0 ? "" : fmt::format(", {} diameter{} off centre", off, std::abs(off) == 1 ? "" : "s")),
-                               v, r, off});
+        for (const auto& f : yields) {
+          const int off = static_cast<int>(k);
+          s.scenarios.push_back({fmt::format("{:g} m/s, striker {:g} R_1{}{}", v, r,
+                                             off == 0 ? "" : fmt::format(", {} diameter{} off centre", off, std::abs(off) == 1 ? "" : "s"),
+                                             f ? fmt::format(", p_y {:g} Y", *f) : ""),
+                                 v, r, off, f});
+        }
       }
     }
   }
@@ -713,6 +730,7 @@ model::StackSpec Scenario::applied_to(model::StackSpec spec) const {
   spec.striker_speed = striker_speed;
   spec.striker_radius_ratio = striker_radius_ratio;
   spec.impact_offset = impact_offset;
+  if (yield_pressure_factor) spec.yield_pressure_factor = *yield_pressure_factor;
   return spec;
 }
 
@@ -757,7 +775,9 @@ std::string Space::digest() const {
   for (const auto& [name, bound] : constraints.max_measures) j["constraints"]["max_" + name] = bound;
   for (const auto& sc : scenarios) {
     auto one = nlohmann::json::array({sc.striker_speed, sc.striker_radius_ratio});
-    if (sc.impact_offset != 0) one.push_back(sc.impact_offset);  // a space without offsets keeps its key
+    // A space without offsets or yield factors keeps its key.
+    if (sc.impact_offset != 0 || sc.yield_pressure_factor) one.push_back(sc.impact_offset);
+    if (sc.yield_pressure_factor) one.push_back(*sc.yield_pressure_factor);
     j["scenarios"].push_back(one);
   }
   for (const auto& [name, a] : aggregate) j["aggregate"][name] = std::string(to_string(a));
@@ -856,7 +876,7 @@ Geometry measure(const Space& space, const model::StackSpec& spec) {
   // ... and what `generate` refuses of its run (the striker's Hertz overlap, dt, the step count),
   // in every scenario: the design could not be confirmed on LIGGGHTS, so the search may not rank it.
   for (const auto& sc : space.scenarios.empty() ? std::vector<Scenario>{{"", spec.striker_speed, spec.striker_radius_ratio,
-                                                                         spec.impact_offset}}
+                                                                         spec.impact_offset, std::nullopt}}
                                                 : space.scenarios) {
     const auto scenario = sc.applied_to(spec);
     auto issues = model::validate(scenario);  // an off-centre blow's striker may reach a side wall

@@ -1821,6 +1821,38 @@ TEST(Scenarios, AnOffCentreBlowIsAScenarioAndItsMirrorImageGivesTheSame) {
   EXPECT_EQ(e.scenarios[2].spec.impact_offset, 1);
 }
 
+// The yield pressure factor as a scenario axis (#67.2): with Thornton's law, a design judged at
+// first yield (1.6 Y) and fully plastic (3 Y), the worst of the two its measure. A higher p_y
+// yields less and dissipates less: the stack passes on more of the blow, the wall's peak force
+// differs by more than 1 %.
+TEST(Scenarios, TheYieldPressureFactorIsAScenarioAxis) {
+  auto text = kSmallSpace;
+  text.replace(text.find("top_radius = 2e-3"), 17, "top_radius = 2e-3\nnormal_model = \"thornton\"");
+  text += "[scenarios]\nyield_pressure_factor = [1.6, 3.0]\n";
+  const auto space = design::parse_space(text, "yield.toml");
+  ASSERT_EQ(space.scenarios.size(), 2u);
+  EXPECT_EQ(space.scenarios[1].label, "1 m/s, striker 1 R_1, p_y 3 Y");
+  const auto e = design::evaluate_design(space, space.decode({2, 0, 1, 0, 2, 3}));  // steel over Teflon, 2 and 3 rows
+  ASSERT_TRUE(e.feasible) << e.violations;
+  ASSERT_EQ(e.scenarios.size(), 2u);
+  EXPECT_EQ(e.scenarios[0].spec.yield_pressure_factor, 1.6);
+  EXPECT_EQ(e.scenarios[1].spec.yield_pressure_factor, 3.0);
+  const double onset = e.scenarios[0].measures.at("peak_wall_force"), plastic = e.scenarios[1].measures.at("peak_wall_force");
+  std::printf("peak wall force %.6g N at 1.6 Y, %.6g N at 3 Y\n", onset, plastic);
+  EXPECT_GT(std::fabs(onset - plastic) / std::max(onset, plastic), 1e-2);
+  EXPECT_EQ(e.measures.at("peak_wall_force"), std::max(onset, plastic));
+  // Refused: on an elastic law, beside [fixed]'s own, outside 1.5..3.
+  EXPECT_NE(problems_of(kSmallSpace + "[scenarios]\nyield_pressure_factor = [1.6, 3.0]\n")
+                .find("yield_pressure_factor: applies to the elastic-plastic laws"),
+            std::string::npos);
+  auto fixed = text;
+  fixed.replace(fixed.find("top_radius = 2e-3"), 17, "top_radius = 2e-3\nyield_pressure_factor = 2.0");
+  EXPECT_NE(problems_of(fixed).find("[fixed] yield_pressure_factor: [scenarios] lists it"), std::string::npos);
+  auto high = text;
+  high.replace(high.find("[1.6, 3.0]"), 10, "[1.6, 4.0]");
+  EXPECT_NE(problems_of(high).find("4 is not a number from 1.5 to 3"), std::string::npos);
+}
+
 TEST(Scenarios, BadScenarioListsAreRefused) {
   const auto with = [](const std::string& extra) { return problems_of(kSmallSpace + extra); };
   EXPECT_NE(with("[scenarios]\nstriker_speed = []\n").find("striker_speed: a non-empty list"), std::string::npos);

@@ -47,6 +47,9 @@ struct Scenario {
   double striker_speed = 1.0;      // m/s
   double striker_radius_ratio = 1.0;
   int impact_offset = 0;           // top-sphere diameters along +x (model::StackSpec::impact_offset)
+  // An elastic-plastic law's p_y / Y (model::StackSpec::yield_pressure_factor: 1.6 first yield to
+  // about 3 fully plastic), where the scenarios vary it; none: the fixed spec's.
+  std::optional<double> yield_pressure_factor;
   model::StackSpec applied_to(model::StackSpec spec) const;
 };
 // [confirm] (or confirm's --geometry and --sides): a physical variant of each confirmed design that
