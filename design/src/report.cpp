@@ -141,9 +141,10 @@ std::string run_line(const Space& space, const Snapshot& s) {
   std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
   int last = -1;
   for (const auto& g : gens) last = std::max(last, g.index);
-  return fmt::format("granstack {} ({}), {}. NSGA-II, {}, population {}, generations 0 to {}, seed{} {}; {} distinct designs "
-                     "evaluated in situ on refsim ({:.1f} s of refsim in all). Space digest {}.",
-                     granstack::version(), granstack::git_commit(), date, to_string(space.search.schedule), space.search.population,
+  return fmt::format("granstack {} ({}), {}. {} (pagmo2), {}, population {}, generations 0 to {}, seed{} {}; {} distinct "
+                     "designs evaluated in situ on refsim ({:.1f} s of refsim in all). Space digest {}.",
+                     granstack::version(), granstack::git_commit(), date, to_string(space.search.algorithm),
+                     to_string(space.search.schedule), space.search.population,
                      last, space.search.seeds.size() > 1 ? "s" : "", fmt::join(space.search.seeds, ", "), s.all.size(), seconds,
                      space.digest().substr(0, 12));
 }
@@ -155,7 +156,7 @@ postproc::Table space_table(const Space& space) {
   t.rows.push_back({"radius ratio (per interface)", fmt::format("{}", fmt::join(space.radius_ratios, ", "))});
   t.rows.push_back({"rows (per block)", fmt::format("{} to {}", space.min_rows, space.max_rows)});
   t.rows.push_back({"footprint", fmt::format("{} top columns of radius {:.4g} m", space.fixed.top_columns, space.top_radius)});
-  t.rows.push_back({"striker", fmt::format("{} m/s", space.fixed.striker_speed)});
+  if (space.scenarios.empty()) t.rows.push_back({"striker", fmt::format("{} m/s", space.fixed.striker_speed)});
   t.rows.push_back({"bottom", std::string(model::to_string(space.fixed.bottom))});
   t.rows.push_back({"sides", space.fixed.sides == model::Boundary::wall
                                  ? "rigid side walls beside the stack (confined: a design space's default)"
@@ -177,14 +178,28 @@ postproc::Table space_table(const Space& space) {
   return t;
 }
 
-postproc::Table front_table(const Space& space, const std::vector<Evaluation>& front) {
+// The spec files of the front's `rank`th design after `generation` (write_front_specs): the run the
+// store measured, or with scenarios each one that decided an objective, with the scenario's place.
+std::vector<std::pair<std::string, std::optional<std::size_t>>> front_files(const Space& space, const Evaluation& e,
+                                                                            int generation, std::size_t rank) {
+  if (e.scenarios.empty()) return {{front_file_name(generation, rank, e.digest), std::nullopt}};
+  std::vector<std::pair<std::string, std::optional<std::size_t>>> files;
+  for (const auto& [k, decides] : deciding_scenarios(space, e)) {
+    files.emplace_back(front_file_name(generation, rank, e.digest, static_cast<int>(k) + 1), k);
+  }
+  return files;
+}
+
+postproc::Table front_table(const Space& space, const std::vector<Evaluation>& front, int generation) {
   postproc::Table t{"The Pareto front: no other evaluated design is better in every objective", {"#", "design", "spheres"}, {}};
   for (const auto& h : measure_headers(space)) t.header.push_back(h);
-  t.header.push_back("spec file");
+  t.header.push_back("spec files");
   for (std::size_t i = 0; i < front.size(); ++i) {
     std::vector<std::string> row{std::to_string(i + 1), front[i].description, std::to_string(front[i].spheres)};
     for (auto& c : measure_cells(space, front[i])) row.push_back(std::move(c));
-    row.push_back(fmt::format("front/{:02}_{}.toml", i + 1, front[i].digest.substr(0, 8)));
+    std::vector<std::string> names;
+    for (const auto& [name, scenario] : front_files(space, front[i], generation, i + 1)) names.push_back("front/" + name);
+    row.push_back(fmt::format("{}", fmt::join(names, ", ")));
     t.rows.push_back(std::move(row));
   }
   return t;
@@ -261,7 +276,12 @@ postproc::Table study_table(const Space& space, const Snapshot& s, const std::ve
   for (const auto& [name, e] : s.studies) {
     std::vector<std::string> row{name, e.description, e.feasible ? "yes" : "no: " + e.violations};
     for (auto& c : measure_cells(space, e)) row.push_back(std::move(c));
-    row.push_back(versus_front(space, e, front));
+    // Against a baseline outside the constraints (a censored blow's measures are not final) the
+    // factors are said to be so.
+    const auto versus = versus_front(space, e, front);
+    row.push_back(e.feasible || versus == "-" ? versus
+                                              : fmt::format("{} (against a baseline outside the constraints: {})", versus,
+                                                            e.violations.substr(0, e.violations.find(':'))));
     t.rows.push_back(std::move(row));
   }
   return t;
@@ -466,14 +486,16 @@ void write_front_specs(const Space& space, const std::vector<Evaluation>& front,
   for (std::size_t i = 0; i < front.size(); ++i) {
     const auto& e = front[i];
     const auto head = fmt::format("front design {} after generation {} ({})", i + 1, generation, e.description);
-    if (e.scenarios.empty()) {
-      write(dir / "front" / front_file_name(generation, i + 1, e.digest), head + ", the run it was measured by", e.spec);
-      continue;
-    }
-    for (const auto& [k, decides] : deciding_scenarios(space, e)) {
-      const auto& sc = e.scenarios[k];
-      write(dir / "front" / front_file_name(generation, i + 1, e.digest, static_cast<int>(k) + 1),
-            fmt::format("{}, its scenario {} ({}), which decided {}", head, k + 1, sc.label, fmt::join(decides, ", ")),
+    const auto deciding = deciding_scenarios(space, e);
+    for (const auto& [name, k] : front_files(space, e, generation, i + 1)) {
+      if (!k) {
+        write(dir / "front" / name, head + ", the run it was measured by", e.spec);
+        continue;
+      }
+      const auto& sc = e.scenarios[*k];
+      write(dir / "front" / name,
+            fmt::format("{}, its scenario {} ({}), which decided {}", head, *k + 1, sc.label,
+                        fmt::join(deciding.at(*k), ", ")),
             sc.spec);
     }
   }
@@ -573,7 +595,9 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   d.push_back(space_table(space));
   d.push_back(postproc::Heading{2, "The front", "front"});
   if (const auto confining = confining_text(space, s); !confining.empty()) d.push_back(postproc::Paragraph{confining});
-  d.push_back(front_table(space, front));
+  int generation = 0;
+  for (const auto& g : s.generations) generation = std::max(generation, g.index);
+  d.push_back(front_table(space, front, generation));
   d.push_back(postproc::Paragraph{yield_text(front, s.all)});
   if (!space.scenarios.empty()) d.push_back(scenario_table(space, front));
   d.push_back(postproc::Heading{2, "The study's designs", "study"});
@@ -614,8 +638,6 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
     d.push_back(postproc::Heading{2, "Confirmed on LIGGGHTS", "confirmed"});
     d.push_back(confirmations_table(s));
   }
-  int generation = 0;
-  for (const auto& g : s.generations) generation = std::max(generation, g.index);
   write_front_specs(space, front, generation, dir);
   formats::write_file_atomically(dir / "design.md", postproc::markdown(d));
   formats::write_file_atomically(dir / "design.html", postproc::html(d, dir, "granstack design"));

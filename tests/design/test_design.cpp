@@ -34,6 +34,7 @@
 #include <map>
 #include <mutex>
 #include <set>
+#include <regex>
 #include <sstream>
 #include <thread>
 
@@ -483,6 +484,39 @@ TEST(Store, KeepsEvaluationsAndRefusesAnotherSpacesStore) {
   }
   const auto report = design::write_report(space, design::Store::open_existing(path), dir / "report");
   EXPECT_NE(test::read_bytes(report).find("were measured by granstack's measure rules 1"), std::string::npos);
+}
+
+// The report is the run's own (#67.5): its header names the space's algorithm, its front table
+// the spec files written beside it (with scenarios, one per deciding scenario), no stale striker
+// row stands above the scenarios, and a factor against a study design outside the constraints
+// says so.
+TEST(Report, TheHeaderFilesAndScenarioRowsAreTheRunsOwn) {
+  const auto dir = work_dir();
+  const auto text = kSmallSpace + "algorithm = \"sms-emoa\"\n[scenarios]\nstriker_speed = [0.5, 1.0]\n"
+                                  "[constraints]\nmax_spheres = 31\n";
+  auto space = design::parse_space(text, "small.toml");
+  space.search.generations = 0;  // the initial population: a front to report
+  auto store = design::Store::open((dir / "s.sqlite").string(), space.digest(), text);
+  design::run_search(space, store, {});
+  const auto report = design::write_report(space, design::Store::open_existing((dir / "s.sqlite").string()), dir / "report");
+  const auto md = test::read_bytes(report.parent_path() / "design.md");
+  EXPECT_NE(md.find(". sms-emoa (pagmo2), "), std::string::npos);
+  EXPECT_EQ(md.find("NSGA-II"), std::string::npos);
+  EXPECT_EQ(md.find("| striker | 1 m/s |"), std::string::npos);  // the fixed speed, which no scenario runs
+  const std::regex file(R"(front/(g\d{3}_\d{2}_[0-9a-f]{8}_s\d+\.toml))");
+  int named = 0;
+  for (auto it = std::sregex_iterator(md.begin(), md.end(), file); it != std::sregex_iterator(); ++it, ++named) {
+    EXPECT_TRUE(fs::exists(dir / "report" / "front" / (*it)[1].str())) << (*it)[1].str();
+  }
+  EXPECT_GT(named, 0);
+  int against_infeasible = 0;
+  std::istringstream lines(md);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find("| no: ") == std::string::npos || line.find("times less") == std::string::npos) continue;
+    ++against_infeasible;
+    EXPECT_NE(line.find("(against a baseline outside the constraints: "), std::string::npos) << line;
+  }
+  EXPECT_GT(against_infeasible, 0);
 }
 
 // Seeded: the same space gives the same generations; a search stopped after generation 1 and
