@@ -102,7 +102,7 @@ Record parse_record(const toml::table& t, const std::string& where, const std::v
   return r;
 }
 
-const std::vector<std::string> kClaimFields{"quantity", "band", "paper", "scope"};
+const std::vector<std::string> kClaimFields{"statement", "quantity", "band", "paper", "scope"};
 const std::vector<std::string> kScopes{"paper", "granstack", "model check", "arithmetic"};
 
 // The problems of one record against the current values (unrecorded_changes).
@@ -211,7 +211,8 @@ Experiment parse_experiment(const toml::table& t) {
 }  // namespace
 
 std::map<std::string, std::string> recorded_fields(const Claim& c) {
-  return {{"quantity", c.quantity},
+  return {{"statement", c.statement},
+          {"quantity", c.quantity},
           {"band", fmt::format("[{:g}, {:g}]", c.low, c.high)},
           {"paper", c.paper ? fmt::format("{:g}", *c.paper) : "none"},
           {"scope", c.scope}};

@@ -113,10 +113,10 @@ Table summary_table(const StudyResult& r) {
   return t;
 }
 
-// Every change to a reading, band, paper value, scope, geometry or physics of the experiments that ran.
+// Every change to a statement, reading, band, paper value, scope, geometry or physics of the experiments that ran.
 Table record_table(const StudyResult& r) {
-  Table t{"The record: every change to a claim's reading, band, paper value or scope, or to an experiment's geometry or "
-          "physics, "
+  Table t{"The record: every change to a claim's statement, reading, band, paper value or scope, or to an experiment's "
+          "geometry or physics, "
           "since the catalogue first fixed it (study/data/catalogue.toml)",
           {"date", "commit", "claim or experiment", "field", "before", "after", "with results known", "why"}, {}};
   auto add = [&](const std::string& who, const Record& rec) {
@@ -147,13 +147,25 @@ bool changed_with_results(const Record& r) {
                      [](const Change& x) { return x.results_known && x.before != "not recorded"; });
 }
 
+// Whether the geometry or physics of the stacks `e`'s claims read was changed with results in view:
+// its own, or, for an experiment with no case of its own (eq45 reads Fig. 2's stack), those of the
+// experiments it needs.
+bool stacks_changed_with_results(const StudyResult& r, const Experiment& e) {
+  if (!e.cases.empty()) return changed_with_results(e.record);
+  return std::any_of(e.needs.begin(), e.needs.end(), [&](const std::string& name) {
+    return std::any_of(r.experiments.begin(), r.experiments.end(), [&](const ExperimentResult& other) {
+      return other.experiment->name == name && stacks_changed_with_results(r, *other.experiment);
+    });
+  });
+}
+
 // What the record says in a sentence, computed from it: how many verdicts were settled with
-// results in view, by a change to the claim itself or to its experiment's geometry or physics.
+// results in view, by a change to the claim itself or to the geometry or physics it reads.
 std::string record_note(const StudyResult& r) {
   int claims = 0, changed = 0;
   std::vector<std::string> own, by_experiment, at_first;
   for (const auto& e : r.experiments) {
-    const bool experiment_known = changed_with_results(e.experiment->record);
+    const bool experiment_known = stacks_changed_with_results(r, *e.experiment);
     for (const auto& c : e.experiment->claims) {
       ++claims;
       if (!c.record.changes.empty()) ++changed;
@@ -170,12 +182,12 @@ std::string record_note(const StudyResult& r) {
     return ids.empty() ? std::string("none") : fmt::format("{}", fmt::join(ids, ", "));
   };
   return fmt::format(
-      "The record. Each claim's reading, band, paper value and scope, and each experiment's geometry and physics, is "
+      "The record. Each claim's statement, reading, band, paper value and scope, and each experiment's geometry and physics, is "
       "fixed in the catalogue with the date it was first fixed; every change since is recorded with its date, its "
       "commit, the values before and after and why, and a test fails when a change has no record or, made after its "
       "claim first ran, does not say its results were known. Of the {} claims here, {} verdicts were settled with "
-      "results in view: {} by a change to the claim itself ({}), {} by a change to its experiment's geometry or "
-      "physics alone ({}), and {} fixed first in the commit that first reported their results ({}); those are not "
+      "results in view: {} by a change to the claim itself ({}), {} by a change to the geometry or physics of its "
+      "experiment's stack, or of the stack it reads, alone ({}), and {} fixed first in the commit that first reported their results ({}); those are not "
       "predictions made before the run. {} claims changed in all since they were first fixed; the table below says what "
       "each change was.",
       claims, own.size() + by_experiment.size() + at_first.size(), own.size(), list(own), by_experiment.size(),

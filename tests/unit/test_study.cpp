@@ -171,7 +171,7 @@ analysis = "fig3"
   }
 }
 
-// The catalogue's record: every claim's reading, band, paper value and scope, and every
+// The catalogue's record: every claim's statement, reading, band, paper value and scope, and every
 // experiment's geometry, is what its first fixed values and its recorded changes give.
 TEST(Catalogue, EveryChangeToAReadingBandPaperValueOrGeometryIsRecorded) {
   for (const auto& e : builtin_catalogue().experiments) {
@@ -207,7 +207,7 @@ analysis = "fig3"
 // mechanisms experiment's) says so in its record, as a yes or no; text there is refused by name.
 TEST(Catalogue, AFirstFixingMadeWithTheResultsInViewIsRecordedAsSuch) {
   const auto parse = [&](const std::string& known) {
-    const auto fixed = fmt::format(R"({{ date = "2026-01-01", commit = "abcdef0", {}quantity = "q", band = "[0, 1]", paper = "none" }})", known);
+    const auto fixed = fmt::format(R"({{ date = "2026-01-01", commit = "abcdef0", {}statement = "s", quantity = "q", band = "[0, 1]", paper = "none" }})", known);
     return parse_catalogue(one_claim_catalogue("", "[0, 1]", fixed), "t").experiments.front();
   };
   EXPECT_FALSE(parse("").claims.front().record.fixed_with_results);
@@ -228,7 +228,7 @@ TEST(Catalogue, AChangeWithoutARecordOrWithAWrongBeforeIsFound) {
   [experiment.cases.a]
   blocks = 1
 )",
-      "[0, 2]", R"({ date = "2026-01-01", quantity = "q", band = "[0, 1]", paper = "none" })");
+      "[0, 2]", R"({ date = "2026-01-01", statement = "s", quantity = "q", band = "[0, 1]", paper = "none" })");
   // The band moved from [0, 1] to [0, 2] with no record.
   auto problems = unrecorded_changes(parse_catalogue(head, "t").experiments.front());
   ASSERT_EQ(problems.size(), 1u) << fmt::format("{}", fmt::join(problems, "\n"));
@@ -258,6 +258,14 @@ TEST(Catalogue, AChangeWithoutARecordOrWithAWrongBeforeIsFound) {
   EXPECT_NE(problems[0].find("claim x.1: its change of band on 2026-01-02 came after it was first fixed and run "
                              "(2026-01-01): say results_known = true"),
             std::string::npos)
+      << problems[0];
+  // A statement rewritten with no record (mechanisms.3's was, #68.2) is found too.
+  auto reworded = head + change;
+  reworded.replace(reworded.find("BEFORE"), 6, "[0, 1]");
+  reworded.replace(reworded.find("statement = \"s\"\n"), 16, "statement = \"said otherwise\"\n");
+  problems = unrecorded_changes(parse_catalogue(reworded, "t").experiments.front());
+  ASSERT_EQ(problems.size(), 1u) << fmt::format("{}", fmt::join(problems, "\n"));
+  EXPECT_NE(problems[0].find("claim x.1: its statement is \"said otherwise\" but its record gives \"s\""), std::string::npos)
       << problems[0];
   problems = with("[0, 3]");
   ASSERT_EQ(problems.size(), 1u);
