@@ -33,7 +33,7 @@ std::vector<Curve> sphere_curves(const postproc::CaseReduction& r) {
 
 // The readings of "block k's peak over the top block's": name, and what it reads.
 const std::pair<const char*, const char*> kReadings[] = {
-    {"sphere", "middle-row sphere of the impact path, its peak (the caption's)"},
+    {"sphere", "middle-row sphere of the impact path, its peak (granstack's reading of the caption)"},
     {"sphere_leading", "middle-row sphere, its leading wave"},
     {"whole_block", "whole block, peak over the run (reduce's peak/top)"},
     {"per_column", "whole block per column: its peak over its columns, over the top block's"},

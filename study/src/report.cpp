@@ -82,14 +82,23 @@ std::string statement_text(const ExperimentResult& e, const Claim& c) {
 std::string blow_text(const CaseRecord& c) {
   if (!c.reduction) return "-";
   if (c.reduction->blow_end_time) return fmt::format("ended at {:.4g} s", *c.reduction->blow_end_time);
-  return "NOT ENDED: " + c.reduction->blow_not_ended.substr(0, 100);
+  return "NOT ENDED: " + c.reduction->blow_not_ended;
 }
 
-// The cases of an experiment whose blow had not ended when their run did.
-std::vector<std::string> unended_cases(const ExperimentResult& e) {
-  std::vector<std::string> out;
+// The cases of an experiment whose blow had not ended when their run did, of those `claim` reads:
+// the cases its primary reading names (v_ratio.steel_rho4 reads steel_rho4), or every case where
+// it names none; `named`: whether it named any.
+std::vector<std::string> unended_cases(const ExperimentResult& e, const Claim& claim, bool& named) {
+  std::vector<std::string> parts, out;
+  for (std::size_t at = 0, dot = 0; dot != std::string::npos; at = dot + 1) {
+    dot = claim.quantity.find('.', at);
+    parts.push_back(claim.quantity.substr(at, dot == std::string::npos ? std::string::npos : dot - at));
+  }
+  named = std::any_of(e.cases.begin(), e.cases.end(),
+                      [&](const CaseRecord& c) { return std::find(parts.begin(), parts.end(), c.name) != parts.end(); });
   for (const auto& c : e.cases) {
-    if (c.reduction && !c.reduction->blow_end_time) out.push_back(c.name);
+    const bool read = !named || std::find(parts.begin(), parts.end(), c.name) != parts.end();
+    if (read && c.reduction && !c.reduction->blow_end_time) out.push_back(c.name);
   }
   return out;
 }
@@ -101,11 +110,13 @@ Table summary_table(const StudyResult& r) {
           "beyond the band's nearer edge, a different percentage)",
           {"claim", "whose", "the statement", "paper", "granstack", "from the paper", "band", "verdict", "expected"}, {}, {7}};
   for (const auto& e : r.experiments) {
-    const auto unended = unended_cases(e);
-    const auto caveat = unended.empty() ? std::string()
-                                        : fmt::format(" [its experiment holds {} case{} whose blow had not ended: {}]",
-                                                      unended.size(), unended.size() == 1 ? "" : "s", fmt::join(unended, ", "));
     for (const auto& v : e.verdicts) {
+      bool named = false;
+      const auto unended = unended_cases(e, *v.claim, named);
+      const auto caveat = unended.empty() ? std::string()
+                                          : fmt::format(" [{} {} case{} whose blow had not ended: {}]",
+                                                        named ? "it reads" : "its experiment holds", unended.size(),
+                                                        unended.size() == 1 ? "" : "s", fmt::join(unended, ", "));
       t.rows.push_back({v.claim->id, whose(*v.claim), statement_text(e, *v.claim) + caveat, value_text(v.claim->paper),
                         value_text(v.value), from_paper_text(v), band_text(*v.claim), verdict_text(v), v.claim->expect});
     }
@@ -368,7 +379,12 @@ std::vector<Block> document(const StudyResult& r) {
     }
     for (const auto& t : e.tables) d.push_back(t);
     for (const auto& f : e.figures) d.push_back(f);
-    d.push_back(case_table(e, r.validated));
+    if (!e.cases.empty()) {
+      d.push_back(case_table(e, r.validated));
+    } else if (!x.needs.empty()) {
+      d.push_back(Paragraph{fmt::format("It runs no case of its own: it reads the cases of {} (their tables are there).",
+                                        fmt::join(x.needs, ", "))});
+    }
   }
   return d;
 }
