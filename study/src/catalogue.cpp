@@ -155,6 +155,7 @@ Claim parse_claim(const toml::table& t, const std::string& experiment, std::size
   }
   c.quantity = quantity->as_string()->get();
   c.sensitivity = strings(t.get("sensitivity"), where + ".sensitivity");
+  c.context = strings(t.get("context"), where + ".context");
   if (t.contains("paper")) c.paper = number(t.get("paper"), where + ".paper");
   const auto* band = t.get_as<toml::array>("band");
   if (band == nullptr || band->size() != 2) throw CatalogueError(where + ": 'band' is [low, high]");

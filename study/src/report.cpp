@@ -86,21 +86,39 @@ std::string blow_text(const CaseRecord& c) {
 }
 
 // The cases of an experiment whose blow had not ended when their run did, of those `claim` reads:
-// the cases its primary reading names (v_ratio.steel_rho4 reads steel_rho4), or every case where
-// it names none; `named`: whether it named any.
+// the cases its primary reading names (v_ratio.steel_rho4 reads steel_rho4,
+// sideways_cut_run.free.cols4.mu0.1 reads free_cols4_mu0.1: the name among its parts, '.' and '_'
+// alike), or every case where it names none; `named`: whether it named any.
 std::vector<std::string> unended_cases(const ExperimentResult& e, const Claim& claim, bool& named) {
-  std::vector<std::string> parts, out;
-  for (std::size_t at = 0, dot = 0; dot != std::string::npos; at = dot + 1) {
-    dot = claim.quantity.find('.', at);
-    parts.push_back(claim.quantity.substr(at, dot == std::string::npos ? std::string::npos : dot - at));
-  }
-  named = std::any_of(e.cases.begin(), e.cases.end(),
-                      [&](const CaseRecord& c) { return std::find(parts.begin(), parts.end(), c.name) != parts.end(); });
+  const auto parts = [](std::string s) {
+    std::replace(s.begin(), s.end(), '.', '_');
+    return "_" + s + "_";
+  };
+  const auto quantity = parts(claim.quantity);
+  const auto reads = [&](const CaseRecord& c) { return quantity.find(parts(c.name)) != std::string::npos; };
+  named = std::any_of(e.cases.begin(), e.cases.end(), reads);
+  std::vector<std::string> out;
   for (const auto& c : e.cases) {
-    const bool read = !named || std::find(parts.begin(), parts.end(), c.name) != parts.end();
-    if (read && c.reduction && !c.reduction->blow_end_time) out.push_back(c.name);
+    if ((!named || reads(c)) && c.reduction && !c.reduction->blow_end_time) out.push_back(c.name);
   }
   return out;
+}
+
+// The summary's statement of a verdict: the statement with what its analysis adds, the cases it
+// reads whose blow had not ended, and the readings of the same quantity that would turn it.
+std::string summary_text(const ExperimentResult& e, const Verdict& v) {
+  bool named = false;
+  const auto unended = unended_cases(e, *v.claim, named);
+  auto text = statement_text(e, *v.claim);
+  if (!unended.empty()) {
+    text += fmt::format(" [{} {} case{} whose blow had not ended: {}]", named ? "it reads" : "its experiment holds",
+                        unended.size(), unended.size() == 1 ? "" : "s", fmt::join(unended, ", "));
+  }
+  if (const auto other = v.other_side(); !other.empty()) {
+    text += fmt::format(" [{} at this reading only: {} at {}]", v.verdict, v.verdict == "within" ? "outside" : "within",
+                        fmt::join(other, ", "));
+  }
+  return text;
 }
 
 Table summary_table(const StudyResult& r) {
@@ -111,13 +129,7 @@ Table summary_table(const StudyResult& r) {
           {"claim", "whose", "the statement", "paper", "granstack", "from the paper", "band", "verdict", "expected"}, {}, {7}};
   for (const auto& e : r.experiments) {
     for (const auto& v : e.verdicts) {
-      bool named = false;
-      const auto unended = unended_cases(e, *v.claim, named);
-      const auto caveat = unended.empty() ? std::string()
-                                          : fmt::format(" [{} {} case{} whose blow had not ended: {}]",
-                                                        named ? "it reads" : "its experiment holds", unended.size(),
-                                                        unended.size() == 1 ? "" : "s", fmt::join(unended, ", "));
-      t.rows.push_back({v.claim->id, whose(*v.claim), statement_text(e, *v.claim) + caveat, value_text(v.claim->paper),
+      t.rows.push_back({v.claim->id, whose(*v.claim), summary_text(e, v), value_text(v.claim->paper),
                         value_text(v.value), from_paper_text(v), band_text(*v.claim), verdict_text(v), v.claim->expect});
     }
   }
@@ -213,6 +225,9 @@ Table claim_table(const ExperimentResult& e) {
     for (const auto& [q, x] : v.sensitivity) {
       const auto where = !x ? "not measured" : (*x >= v.claim->low && *x <= v.claim->high) ? "in the band" : "not in the band";
       t.rows.push_back({v.claim->id, q, value_text(x), band_text(*v.claim), fmt::format("sensitivity: {}", where)});
+    }
+    for (const auto& [q, x] : v.context) {
+      t.rows.push_back({v.claim->id, q, value_text(x), "-", "context: another quantity, not judged against the band"});
     }
   }
   return t;
@@ -409,13 +424,15 @@ nlohmann::json report_json(const StudyResult& r) {
     for (const auto& v : e.verdicts) {
       json sensitivity = json::object();
       for (const auto& [q, x] : v.sensitivity) sensitivity[q] = optional_json(x);
+      json context = json::object();
+      for (const auto& [q, x] : v.context) context[q] = optional_json(x);
       claims.push_back({{"id", v.claim->id}, {"statement", v.claim->statement}, {"paper", optional_json(v.claim->paper)},
                         {"band", {v.claim->low, v.claim->high}}, {"band_reason", v.claim->band_reason},
                         {"expect", v.claim->expect}, {"quantity", v.claim->quantity}, {"value", optional_json(v.value)},
                         {"error", optional_json(v.error)}, {"from_paper", optional_json(v.from_paper)},
                         {"sigmas", optional_json(v.sigmas)}, {"verdict", v.verdict}, {"off", v.off},
-                        {"sensitivity", sensitivity}, {"scope", v.claim->scope}, {"scope_reason", v.claim->scope_reason},
-                        {"summary", statement_text(e, *v.claim)}, {"record", record_json(v.claim->record)}});
+                        {"sensitivity", sensitivity}, {"context", context}, {"other_side", v.other_side()}, {"scope", v.claim->scope}, {"scope_reason", v.claim->scope_reason},
+                        {"summary", summary_text(e, v)}, {"record", record_json(v.claim->record)}});
     }
     for (const auto& [k, x] : e.values) values[k] = std::isfinite(x) ? json(x) : json(nullptr);
     for (const auto& c : e.cases) {

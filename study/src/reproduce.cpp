@@ -43,10 +43,21 @@ std::optional<double> measured(const std::map<std::string, double>& values, cons
 }
 }  // namespace
 
+std::vector<std::string> Verdict::other_side() const {
+  std::vector<std::string> out;
+  if (!value) return out;
+  const auto in = [&](double x) { return x >= claim->low && x <= claim->high; };
+  for (const auto& [q, x] : sensitivity) {
+    if (x && in(*x) != in(*value)) out.push_back(fmt::format("{} = {:.4g}", q, *x));
+  }
+  return out;
+}
+
 Verdict judge(const Claim& claim, const std::map<std::string, double>& values, const std::map<std::string, double>& errors) {
   Verdict v;
   v.claim = &claim;
   for (const auto& q : claim.sensitivity) v.sensitivity.emplace_back(q, measured(values, q));
+  for (const auto& q : claim.context) v.context.emplace_back(q, measured(values, q));
   v.value = measured(values, claim.quantity);
   if (!v.value) {
     v.verdict = "not measured";

@@ -139,6 +139,29 @@ TEST(Reproduce, TheRecordFollowsTheStackAClaimReadsAndItsStatement) {
   EXPECT_NE(md.find("| mechanisms.3 | statement | the two mechanisms together decimate more than either alone"), std::string::npos);
 }
 
+// A pass that holds only at the reading chosen is visible in the summary (#68.4): fig4.2 at Fig. 2's
+// 24 rows but not at 8, fig4.3 likewise; and a reading of another quantity (a pulse count beside a
+// ratio) is shown as context, never judged against the claim's band. On refsim (seconds): --quick
+// runs no 8-row case.
+TEST(Reproduce, APassThatHoldsOnlyAtTheChosenReadingIsMarked) {
+  const auto d = work() / "readings";
+  fs::remove_all(d);
+  const auto r = granstack({"reproduce", "--engine", "refsim", "-j", "2", "-o", d.string(), "fig4", "eq3"});
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto md = read_bytes(d / "report.md");
+  const auto row = [&](const std::string& id) {
+    const auto at = md.find("| " + id + " |");
+    return at == std::string::npos ? std::string() : md.substr(at, md.find('\n', at) - at);
+  };
+  EXPECT_NE(row("fig4.2").find("[within at this reading only: outside at pulses.rows8.teflon_over_fig2 = 0.75]"),
+            std::string::npos) << row("fig4.2");
+  EXPECT_NE(row("fig4.3").find("within at this reading only: outside at "), std::string::npos) << row("fig4.3");
+  EXPECT_NE(row("fig4.3").find("sphere.rows8.b2_over_fig2 = 0.57"), std::string::npos) << row("fig4.3");
+  EXPECT_EQ(row("eq3.1").find("at this reading only"), std::string::npos);
+  EXPECT_NE(md.find("| fig4.2 | pulses.fig2_b2 | 3 | - | context: another quantity, not judged against the band |"),
+            std::string::npos);
+}
+
 // The numbers in a note, each with how many digits follow its decimal point.
 // In a value's name, a number may follow a letter (scan.e0.85.final): `in_name`.
 std::vector<std::pair<double, int>> numbers_in(const std::string& text, bool in_name = false) {

@@ -36,7 +36,8 @@ struct Claim {
   std::string statement;
   std::string quantity;                 // the primary reading, by the analysis's name: fixed before
                                        // the run, the one the verdict is about
-  std::vector<std::string> sensitivity; // other readings, shown beside it, never a pass
+  std::vector<std::string> sensitivity; // other readings of the same quantity, shown beside it, never a pass
+  std::vector<std::string> context;     // readings of other quantities shown beside it, never judged against its band
   std::optional<double> paper;         // the value the paper states, if any
   double low = 0.0, high = 0.0;        // the acceptance band
   std::string band_reason;

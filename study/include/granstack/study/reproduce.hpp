@@ -28,6 +28,10 @@ struct Verdict {
   std::optional<double> from_paper;  // (value - paper) / |paper|, where the paper states a value
   std::optional<double> sigmas;      // (value - paper) / error, where the value has a standard error
   std::vector<std::pair<std::string, std::optional<double>>> sensitivity;  // quantity, value
+  std::vector<std::pair<std::string, std::optional<double>>> context;      // other quantities, not judged
+  // The sensitivity readings that fall on the other side of the band from the primary one: a
+  // verdict that holds only at the reading chosen.
+  std::vector<std::string> other_side() const;
 };
 
 // One case of an experiment as it ran.
