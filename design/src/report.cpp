@@ -467,6 +467,7 @@ json report_json(const Space& space, const Snapshot& s, const std::vector<Evalua
   return j;
 }
 
+
 // front/gGGG_NN_DIGEST.toml: the front after generation GGG (the last any run has finished).
 void write_front_specs(const Space& space, const std::vector<Evaluation>& front, int generation, const fs::path& dir) {
   fs::create_directories(dir / "front");
@@ -574,6 +575,11 @@ std::string status_text(const Space& space, const Store& store) {
     out += fmt::format("  {:>2}. {}  ({})\n", i + 1, front[i].description, fmt::join(values, ", "));
   }
   return out;
+}
+
+std::string front_file_name(int generation, std::size_t rank, const std::string& digest, int scenario) {
+  return fmt::format("g{:03}_{:02}_{}{}.toml", generation, rank, digest.substr(0, 8),
+                     scenario > 0 ? fmt::format("_s{}", scenario) : "");
 }
 
 fs::path write_report(const Space& space, const Store& store, const fs::path& dir, int jobs) {

@@ -133,13 +133,14 @@ YieldContacts yield_contacts(const Stack& stack) {
   }
   c.walls = stack.walls();
   if (stack.has_walls()) c.wall_material = lib.at(spec.effective_wall_material());
-  c.hertz = normal_law(spec.contact_model().normal).hertzian;
+  c.normal = spec.contact_model().normal;
   return c;
 }
 
 YieldMeter::YieldMeter(const YieldContacts& contacts) : radius_(contacts.radius), walls_(contacts.walls) {
-  if (!contacts.hertz) {
-    why_not_ = "the normal contacts are linear springs (normal_model = hooke), which have no Hertz pressure";
+  if (const auto& law = normal_law(contacts.normal); !law.hertzian) {
+    why_not_ = fmt::format("the normal contacts follow {}'s law (normal_model = {}), which has no Hertz pressure", law.name,
+                           to_string(contacts.normal));
   }
   const auto& types = contacts.type_materials;
   ntypes_ = types.size();

@@ -167,7 +167,7 @@ model::YieldPeak bounce_yield(const model::Material& ball, const model::Material
   p.walls = {{2, 0.0, 2}};
   System s({sphere(1, ball, r, {0, 0, r}, {0, 0, -v})}, p);
   s.setup();
-  model::YieldMeter meter(model::YieldContacts{{ball, wall}, {1}, {r}, {{"wall_bottom", 2, 0.0}}, wall, true});
+  model::YieldMeter meter(model::YieldContacts{{ball, wall}, {1}, {r}, {{"wall_bottom", 2, 0.0}}, wall, model::NormalModel::hertz});
   for (long k = 1; k <= 3000; ++k) {
     s.step();
     const auto x = s.x(0);
@@ -495,9 +495,10 @@ TEST(Kernels, EveryVectorInstructionSetGivesExactlyTheReferenceResult) {
 // The laws the vector pair kernels do not run, on a torque_free table (no friction, no damping):
 // Thornton's in lanes (VectorKernels::thornton) and Hooke's on the reference kernel with still
 // blocks kept (::still_reference), the particles on the vector kernels. Every instruction set
-// gives the reference's bits on one or two threads, stepping or advancing, and for Thornton the
-// same contact energies (the work banked as contacts open): at 20 m/s on a free bottom and on a
-// wall, in both sphere orders, the contacts yield, unload, open and survive rebuilds.
+// gives the reference's bits for Thornton (on one thread stepping, on two advancing), with the
+// same contact energies (the work banked as contacts open), and the best and the portable scalar
+// set for Hooke: at 20 m/s on a free bottom and on a wall, in both sphere orders, the contacts
+// yield, unload, open and survive rebuilds.
 TEST(Kernels, ThorntonAndHookeGiveTheReferenceBitsOnEveryInstructionSet) {
   const auto targets = refsim::vector_kernels();
   for (const auto normal : {model::NormalModel::thornton, model::NormalModel::hooke}) {
@@ -521,16 +522,15 @@ TEST(Kernels, ThorntonAndHookeGiveTheReferenceBitsOnEveryInstructionSet) {
         for (const double w : energies.dissipated) banked += w;
         EXPECT_GT(banked, 0.0) << what;  // contacts yielded
       }
+      const bool thornton = normal == model::NormalModel::thornton;
       for (const auto& target : targets) {
-        for (const int threads : {1, 2}) {
-          for (const bool advance : {false, true}) {
-            const auto run = run_kernel(c, target, threads, advance);
-            EXPECT_EQ(run->kernel(), normal == model::NormalModel::thornton ? target : target + System::kReferencePairs)
-                << what;
-            expect_same(*run, *reference);
-            const auto e = run->contact_energies();
-            EXPECT_TRUE(e.elastic == energies.elastic && e.dissipated == energies.dissipated) << what << ", " << target;
-          }
+        if (!thornton && target != targets.front() && target != targets.back()) continue;
+        for (const auto& [threads, advance] : {std::pair{1, false}, {2, true}}) {
+          const auto run = run_kernel(c, target, threads, advance);
+          EXPECT_EQ(run->kernel(), thornton ? target : target + System::kReferencePairs) << what;
+          expect_same(*run, *reference);
+          const auto e = run->contact_energies();
+          EXPECT_TRUE(e.elastic == energies.elastic && e.dissipated == energies.dissipated) << what << ", " << target;
         }
       }
     }

@@ -4,8 +4,6 @@
 // the same axes, and the front's best confirmed on LIGGGHTS.
 #include <granstack/design/search.hpp>
 
-#include <fmt/format.h>
-
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
@@ -42,10 +40,7 @@ class ConfirmRunFailed : public std::runtime_error {
 // front/gGGG_NN_DIGEST8.toml, the run the store measured (to its blow's end); with scenarios, one
 // file per scenario that decided an objective, front/gGGG_NN_DIGEST8_sK.toml (K: the scenario's
 // place in the space, from 1).
-inline std::string front_file_name(int generation, std::size_t rank, const std::string& digest, int scenario = 0) {
-  return fmt::format("g{:03}_{:02}_{}{}.toml", generation, rank, digest.substr(0, 8),
-                     scenario > 0 ? fmt::format("_s{}", scenario) : "");
-}
+std::string front_file_name(int generation, std::size_t rank, const std::string& digest, int scenario = 0);
 
 // A design as a spec file `granstack generate --config` takes.
 std::string spec_toml(const model::StackSpec& spec);

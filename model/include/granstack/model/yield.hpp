@@ -71,7 +71,7 @@ struct YieldContacts {
   std::vector<double> radius;    // m
   std::vector<Wall> walls;
   std::optional<Material> wall_material;
-  bool hertz = true;
+  NormalModel normal = NormalModel::hertz;  // the meter judges a Hertzian law's pressure (NormalLaw::hertzian)
 };
 YieldContacts yield_contacts(const Stack& stack);
 
