@@ -118,16 +118,23 @@ TEST(Reproduce, TheReportSaysWhichBlowsEndedAndCountsTheRecord) {
   EXPECT_EQ(md.find("this version"), std::string::npos);
 }
 
+// `granstack reproduce` of `experiments` on refsim (seconds) into work()/name: its report.md.
+std::string refsim_report(const std::string& name, const std::vector<std::string>& experiments) {
+  const auto d = work() / name;
+  fs::remove_all(d);
+  std::vector<std::string> args{"reproduce", "--engine", "refsim", "-j", "2", "-o", d.string()};
+  args.insert(args.end(), experiments.begin(), experiments.end());
+  const auto r = granstack(args);
+  EXPECT_EQ(r.code, 0) << r.output;
+  return fs::exists(d / "report.md") ? read_bytes(d / "report.md") : std::string();
+}
+
 // The referee's fourth round (#68.2): eq45 has no stack of its own and reads Fig. 2's, whose
 // height changed from 8 to 24 rows with results known: its claims that no change of their own
 // settled count with that change; and a statement rewritten with results known (mechanisms.3's,
 // friction.3's) is in the record, counting as a change to the claim itself. On refsim (seconds).
 TEST(Reproduce, TheRecordFollowsTheStackAClaimReadsAndItsStatement) {
-  const auto d = work() / "record";
-  fs::remove_all(d);
-  const auto r = granstack({"reproduce", "--engine", "refsim", "-j", "2", "-o", d.string(), "eq45", "mechanisms"});
-  ASSERT_EQ(r.code, 0) << r.output;
-  const auto md = read_bytes(d / "report.md");
+  const auto md = refsim_report("record", {"eq45", "mechanisms"});
   const std::regex stack(R"(by a change to the geometry or physics of its experiment's stack, or of the stack it reads, alone \(([^)]*)\))");
   std::smatch m;
   ASSERT_TRUE(std::regex_search(md, m, stack)) << "no computed headline";
@@ -144,11 +151,7 @@ TEST(Reproduce, TheRecordFollowsTheStackAClaimReadsAndItsStatement) {
 // ratio) is shown as context, never judged against the claim's band. On refsim (seconds): --quick
 // runs no 8-row case.
 TEST(Reproduce, APassThatHoldsOnlyAtTheChosenReadingIsMarked) {
-  const auto d = work() / "readings";
-  fs::remove_all(d);
-  const auto r = granstack({"reproduce", "--engine", "refsim", "-j", "2", "-o", d.string(), "fig4", "eq3"});
-  ASSERT_EQ(r.code, 0) << r.output;
-  const auto md = read_bytes(d / "report.md");
+  const auto md = refsim_report("readings", {"fig4", "eq3"});
   const auto row = [&](const std::string& id) {
     const auto at = md.find("| " + id + " |");
     return at == std::string::npos ? std::string() : md.substr(at, md.find('\n', at) - at);

@@ -57,6 +57,12 @@ fs::path work_dir() {
 const std::string kSmallSpace = test::read_bytes(fs::path(GRANSTACK_TEST_DATA) / "design" / "small_space.toml");
 
 design::Space small_space() { return design::parse_space(kSmallSpace, "small.toml"); }
+// kSmallSpace with `fixed` (lines) added to its [fixed] table and `tail` after it.
+std::string small_space_fixed(const std::string& fixed, const std::string& tail) {
+  auto text = kSmallSpace;
+  text.replace(text.find("top_radius = 2e-3"), 17, "top_radius = 2e-3\n" + fixed);
+  return text + tail;
+}
 
 // The small space with a free bottom and the output fraction, over one or two blocks: a space
 // that varies the bottom radius with a measure of the outgoing layer (refused since #32).
@@ -1834,10 +1840,8 @@ TEST(Scenarios, EachBlowIsRunAndTheWorstOrMeanIsTaken) {
 // wall force and crush to round-off (measured: equal to the bit; held to 1e-9). The
 // central blow is another blow: its force differs by more than 1 %.
 TEST(Scenarios, AnOffCentreBlowIsAScenarioAndItsMirrorImageGivesTheSame) {
-  auto text = kSmallSpace;
-  text.replace(text.find("top_radius = 2e-3"), 17, "top_radius = 2e-3\ntop_columns = 4");
-  text += "[scenarios]\nimpact_offset = [-1, 0, 1]\n";
-  const auto space = design::parse_space(text, "offsets.toml");
+  const auto space = design::parse_space(small_space_fixed("top_columns = 4", "[scenarios]\nimpact_offset = [-1, 0, 1]\n"),
+                                         "offsets.toml");
   ASSERT_EQ(space.scenarios.size(), 3u);
   EXPECT_EQ(space.scenarios[0].label, "1 m/s, striker 1 R_1, -1 diameter off centre");
   const auto e = design::evaluate_design(space, space.decode({2, 0, 1, 0, 2, 3}));  // steel over Teflon, 2 and 3 rows
@@ -1860,9 +1864,7 @@ TEST(Scenarios, AnOffCentreBlowIsAScenarioAndItsMirrorImageGivesTheSame) {
 // yields less and dissipates less: the stack passes on more of the blow, the wall's peak force
 // differs by more than 1 %.
 TEST(Scenarios, TheYieldPressureFactorIsAScenarioAxis) {
-  auto text = kSmallSpace;
-  text.replace(text.find("top_radius = 2e-3"), 17, "top_radius = 2e-3\nnormal_model = \"thornton\"");
-  text += "[scenarios]\nyield_pressure_factor = [1.6, 3.0]\n";
+  const auto text = small_space_fixed("normal_model = \"thornton\"", "[scenarios]\nyield_pressure_factor = [1.6, 3.0]\n");
   const auto space = design::parse_space(text, "yield.toml");
   ASSERT_EQ(space.scenarios.size(), 2u);
   EXPECT_EQ(space.scenarios[1].label, "1 m/s, striker 1 R_1, p_y 3 Y");
@@ -1879,8 +1881,8 @@ TEST(Scenarios, TheYieldPressureFactorIsAScenarioAxis) {
   EXPECT_NE(problems_of(kSmallSpace + "[scenarios]\nyield_pressure_factor = [1.6, 3.0]\n")
                 .find("yield_pressure_factor: applies to the elastic-plastic laws"),
             std::string::npos);
-  auto fixed = text;
-  fixed.replace(fixed.find("top_radius = 2e-3"), 17, "top_radius = 2e-3\nyield_pressure_factor = 2.0");
+  const auto fixed = small_space_fixed("normal_model = \"thornton\"\nyield_pressure_factor = 2.0",
+                                      "[scenarios]\nyield_pressure_factor = [1.6, 3.0]\n");
   EXPECT_NE(problems_of(fixed).find("[fixed] yield_pressure_factor: [scenarios] lists it"), std::string::npos);
   auto high = text;
   high.replace(high.find("[1.6, 3.0]"), 10, "[1.6, 4.0]");
