@@ -150,19 +150,28 @@ postproc::Figure force_figure(const std::vector<Rerun>& shown, const fs::path& d
 }
 
 // Where the energy is when each run ends, over E_in: the striker, each block, the part of the
-// blocks' that moves sideways, and the rest (elastic energy in the contacts, less what damping and
-// friction took); and the striker's and (free bottom) the output sphere's speed then, over the
-// striker's speed at impact.
+// blocks' that moves sideways, where the contact law yields the work it dissipated (each block's
+// and in all), and the rest (elastic energy in the contacts, less what damping and friction took);
+// and the striker's and (free bottom) the output sphere's speed then, over the striker's speed at
+// impact.
 postproc::Table energy_table(const std::vector<Rerun>& shown, bool wall) {
   std::size_t blocks = 0;
-  for (const auto& x : shown) blocks = std::max(blocks, x.r.end_block_ke.size());
+  bool yields = false;
+  for (const auto& x : shown) {
+    blocks = std::max(blocks, x.r.end_block_ke.size());
+    yields = yields || !x.r.end_block_dissipated.empty();
+  }
   postproc::Table t{"Where the energy is when the blow has ended, over E_in; and how fast the striker comes back up "
                     "(and, with a free bottom, the output sphere leaves), over the striker's speed",
                     {"design", "ended at (s)", "striker"},
                     {}};
   for (std::size_t k = 0; k < blocks; ++k) t.header.push_back(fmt::format("block {}", k + 1));
   t.header.push_back("of the blocks', sideways");
-  t.header.push_back("the rest (contacts, dissipated)");
+  if (yields) {
+    t.header.push_back("dissipated by yield, per block from the top");
+    t.header.push_back("dissipated by yield, in all");
+  }
+  t.header.push_back(yields ? "the rest (contacts)" : "the rest (contacts, dissipated)");
   t.header.push_back("v_striker up / v_0");
   if (!wall) t.header.push_back("v_out / v_0");
   for (const auto& x : shown) {
@@ -175,6 +184,13 @@ postproc::Table energy_table(const std::vector<Rerun>& shown, bool wall) {
       if (k < r.end_block_ke.size()) sum += r.end_block_ke[k];
     }
     row.push_back(fmt::format("{:.3g}", r.end_sideways_ke / r.e_in));
+    if (yields) {
+      std::vector<std::string> per_block;
+      for (const double w : r.end_block_dissipated) per_block.push_back(fmt::format("{:.3g}", w / r.e_in));
+      row.push_back(per_block.empty() ? "-" : fmt::format("{}", fmt::join(per_block, ", ")));
+      row.push_back(per_block.empty() ? "-" : fmt::format("{:.3g}", r.end_dissipated / r.e_in));
+      sum += r.end_dissipated;
+    }
     row.push_back(fmt::format("{:.3g}", 1.0 - sum / r.e_in));
     row.push_back(fmt::format("{:.3g}", r.end_striker_vz / x.striker_speed));
     if (!wall) row.push_back(fmt::format("{:.3g}", r.end_output_speed / x.striker_speed));

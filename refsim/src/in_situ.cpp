@@ -82,6 +82,15 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
         r.end_sideways_ke += 0.5 * system.mass(i) * (v[0] * v[0] + v[1] * v[1]);
       }
     }
+    const auto contacts = system.contact_energies();
+    r.end_block_dissipated.assign(contacts.dissipated.empty() ? 0 : stack.blocks().size(), 0.0);
+    r.end_dissipated = 0.0;
+    if (contacts.dissipated.empty()) return;
+    for (const auto& sphere : stack.spheres()) {
+      const double w = contacts.dissipated[static_cast<std::size_t>(sphere.id - 1)];
+      r.end_dissipated += w;
+      if (sphere.block > 0 && !stack.is_matrix(sphere)) r.end_block_dissipated[static_cast<std::size_t>(sphere.block - 1)] += w;
+    }
   };
   model::CrushMeter crush(stack);
   detail::FramePressures pressures(stack);

@@ -179,6 +179,35 @@ double yield_ratio_by_definition(const fs::path& case_dir, const model::Stack& s
 
 }  // namespace
 
+// Where the contacts yield (Thornton), the in-situ run gives the work they dissipated, in all and
+// per block, as reduce reads it from the same case's series: the same sums in the same order, to
+// the bit; the blocks' shares and the strikers' add up to it.
+TEST(InSitu, AThorntonRunsDissipatedWorkIsReducesReading) {
+  const auto dir = work_dir();
+  model::StackSpec spec;
+  spec.blocks = 2;
+  spec.block_rows = {3, 3};
+  spec.materials = {"steel", "teflon"};
+  spec.normal_model = model::NormalModel::thornton;
+  spec.bottom = model::Boundary::wall;
+  generator::GenerateOptions o;
+  o.output = dir / "thornton";
+  generator::generate({{"thornton", spec}}, o);
+  runner::RunOptions ro;
+  ro.engine = runner::Engine::refsim;
+  ASSERT_EQ(runner::run_cases({o.output.string()}, ro).at(0).status, runner::RunStatus::done);
+  const auto r = postproc::reduce_case(o.output.string());
+  const auto stack = model::Stack::build(spec);
+  const auto e = refsim::run_in_situ(stack, refsim::particles_from(generator::data_file(stack, "thornton")));
+  ASSERT_TRUE(r.plastic_work_fraction.has_value());
+  ASSERT_EQ(e.end_block_dissipated.size(), 2u);
+  EXPECT_GT(e.end_dissipated, 0.0);
+  EXPECT_EQ(e.end_dissipated / e.e_in, *r.plastic_work_fraction);
+  for (std::size_t k = 0; k < 2; ++k) EXPECT_EQ(e.end_block_dissipated[k] / e.e_in, r.block_plastic_work_fraction.at(k)) << k;
+  EXPECT_NEAR(e.end_block_dissipated[0] + e.end_block_dissipated[1] + *r.striker_plastic_work_fraction * e.e_in,
+              e.end_dissipated, 1e-12 * e.end_dissipated);
+}
+
 // The in-situ evaluation is reduce's reading of the same case run on refsim, without a file:
 // the output fraction (free bottom: the output sphere's energy in the last dump frame) and the
 // bottom wall's peak force (the series' column) to round-off. Mixed materials, per-interface

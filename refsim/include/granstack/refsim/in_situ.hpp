@@ -101,6 +101,11 @@ struct InSituResult {
   double end_striker_ke = 0.0;
   std::vector<double> end_block_ke;
   double end_sideways_ke = 0.0;
+  // Where the law keeps each contact's energy (refsim's thornton: System::contact_energies), at that
+  // frame, J: the work the contacts have dissipated, each block's share (half of a pair contact's
+  // to each sphere, all of a wall contact's) and in all; empty and 0 otherwise.
+  std::vector<double> end_block_dissipated;
+  double end_dissipated = 0.0;
   // And how fast the first striker moves back up and the output sphere moves, at that frame (m/s):
   // a stack that throws the striker back, or kicks its output sphere off faster than it was struck.
   double end_striker_vz = 0.0;
