@@ -179,13 +179,18 @@ postproc::Table space_table(const Space& space) {
 }
 
 // The spec files of the front's `rank`th design after `generation` (write_front_specs): the run the
-// store measured, or with scenarios each one that decided an objective, with the scenario's place.
-std::vector<std::pair<std::string, std::optional<std::size_t>>> front_files(const Space& space, const Evaluation& e,
-                                                                            int generation, std::size_t rank) {
-  if (e.scenarios.empty()) return {{front_file_name(generation, rank, e.digest), std::nullopt}};
-  std::vector<std::pair<std::string, std::optional<std::size_t>>> files;
-  for (const auto& [k, decides] : deciding_scenarios(space, e)) {
-    files.emplace_back(front_file_name(generation, rank, e.digest, static_cast<int>(k) + 1), k);
+// store measured, or with scenarios each one that decided an objective, with the scenario's place
+// and the objectives it decided.
+struct FrontFile {
+  std::string name;
+  std::optional<std::size_t> scenario;
+  std::vector<std::string> decides;
+};
+std::vector<FrontFile> front_files(const Space& space, const Evaluation& e, int generation, std::size_t rank) {
+  if (e.scenarios.empty()) return {{front_file_name(generation, rank, e.digest), std::nullopt, {}}};
+  std::vector<FrontFile> files;
+  for (auto& [k, decides] : deciding_scenarios(space, e)) {
+    files.push_back({front_file_name(generation, rank, e.digest, static_cast<int>(k) + 1), k, std::move(decides)});
   }
   return files;
 }
@@ -198,7 +203,7 @@ postproc::Table front_table(const Space& space, const std::vector<Evaluation>& f
     std::vector<std::string> row{std::to_string(i + 1), front[i].description, std::to_string(front[i].spheres)};
     for (auto& c : measure_cells(space, front[i])) row.push_back(std::move(c));
     std::vector<std::string> names;
-    for (const auto& [name, scenario] : front_files(space, front[i], generation, i + 1)) names.push_back("front/" + name);
+    for (const auto& f : front_files(space, front[i], generation, i + 1)) names.push_back("front/" + f.name);
     row.push_back(fmt::format("{}", fmt::join(names, ", ")));
     t.rows.push_back(std::move(row));
   }
@@ -487,16 +492,15 @@ void write_front_specs(const Space& space, const std::vector<Evaluation>& front,
   for (std::size_t i = 0; i < front.size(); ++i) {
     const auto& e = front[i];
     const auto head = fmt::format("front design {} after generation {} ({})", i + 1, generation, e.description);
-    const auto deciding = deciding_scenarios(space, e);
-    for (const auto& [name, k] : front_files(space, e, generation, i + 1)) {
-      if (!k) {
-        write(dir / "front" / name, head + ", the run it was measured by", e.spec);
+    for (const auto& f : front_files(space, e, generation, i + 1)) {
+      if (!f.scenario) {
+        write(dir / "front" / f.name, head + ", the run it was measured by", e.spec);
         continue;
       }
-      const auto& sc = e.scenarios[*k];
-      write(dir / "front" / name,
-            fmt::format("{}, its scenario {} ({}), which decided {}", head, *k + 1, sc.label,
-                        fmt::join(deciding.at(*k), ", ")),
+      const auto& sc = e.scenarios[*f.scenario];
+      write(dir / "front" / f.name,
+            fmt::format("{}, its scenario {} ({}), which decided {}", head, *f.scenario + 1, sc.label,
+                        fmt::join(f.decides, ", ")),
             sc.spec);
     }
   }

@@ -1906,6 +1906,12 @@ TEST(Scenarios, TheYieldPressureFactorIsAScenarioAxis) {
   std::printf("peak wall force %.6g N at 1.6 Y, %.6g N at 3 Y\n", onset, plastic);
   EXPECT_GT(std::fabs(onset - plastic) / std::max(onset, plastic), 1e-2);
   EXPECT_EQ(e.measures.at("peak_wall_force"), std::max(onset, plastic));
+  // The design how-to quotes this run, beside the same design elastic (Hertz) at 1 m/s.
+  const auto elastic = design::evaluate_design(small_space(), small_space().decode({2, 0, 1, 0, 2, 3}));
+  const auto howto = test::read_bytes(fs::path(GRANSTACK_TEST_DATA) / ".." / ".." / "docs" / "how-to" / "design.md");
+  EXPECT_NE(howto.find(fmt::format("takes {:.3g} N at 1.6 Y and {:.3g} N at 3 Y, against {:.3g} N elastic", onset, plastic,
+                                   elastic.measures.at("peak_wall_force"))),
+            std::string::npos);
   // Refused: on an elastic law, beside [fixed]'s own, outside 1.5..3.
   EXPECT_NE(problems_of(kSmallSpace + "[scenarios]\nyield_pressure_factor = [1.6, 3.0]\n")
                 .find("yield_pressure_factor: applies to the elastic-plastic laws"),
