@@ -626,6 +626,7 @@ json waves_json(const std::vector<BlockWaves>& waves) {
                    {"middle_peak_ke_J", w.middle_peak_ke},
                    {"middle_leading_ke_J", w.middle_leading_ke},
                    {"rows_timed", w.rows_used},
+                   {"rows_entrance", w.rows_entrance},
                    {"leading_speed", opt(w.speed)},
                    {"peak_force", w.peak_force},
                    {"nesterenko_speed", opt(w.nesterenko_speed)},

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 namespace granstack::postproc {
 
@@ -147,6 +148,48 @@ void WaveTracker::middle_sphere(BlockWaves& w, const formats::Series& series, in
   }
 }
 
+std::string leading_pulse_rule() {
+  return fmt::format("the leading pulse: each interior row's first speed maximum reaching {:g} of the row's largest "
+                     "speed, the rows below the entrance (the rows above the deepest one reached no later than a "
+                     "shallower row), least squares",
+                     kLeadingPulseFraction);
+}
+
+// The leading pulse's arrival at each interior row of column `c` (the first and last rows are the
+// interfaces): the row's first speed maximum reaching kLeadingPulseFraction of its largest speed.
+// The rows above the deepest one whose pulse arrives no later than a shallower row's are
+// entrance rows (the block above sets them moving together, out of depth order): left out.
+WaveTracker::Arrivals WaveTracker::leading_pulse_arrivals(const Column& c, double diameter, long frames) {
+  Arrivals out;
+  std::vector<std::size_t> rows;
+  std::vector<double> times;
+  std::vector<const Maximum*> maxima;
+  for (std::size_t r = 1; r + 1 < c.ids.size() && frames >= 3; ++r) {
+    const auto& row = c.rows[r];
+    if (row.top <= 0.0) continue;
+    const auto first = std::find_if(row.records.begin(), row.records.end(),
+                                    [&](const Maximum& m) { return m.speed >= kLeadingPulseFraction * row.top; });
+    if (first == row.records.end()) continue;
+    rows.push_back(r);
+    times.push_back(first->time);
+    maxima.push_back(&*first);
+  }
+  // The first row in depth order: it and every deeper row arrive after every shallower row.
+  std::size_t start = 0;
+  double latest = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    if (times[i] <= latest) start = i + 1;
+    latest = std::max(latest, times[i]);
+  }
+  out.entrance = start > 0 ? static_cast<int>(rows[start - 1]) : 0;
+  for (std::size_t i = start; i < rows.size(); ++i) {
+    out.depth.push_back(diameter * static_cast<double>(rows[i]));
+    out.arrival.push_back(times[i]);
+    if (rows[i] == c.ids.size() / 2) out.middle_overlaps = &maxima[i]->overlaps;
+  }
+  return out;
+}
+
 std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const {
   const auto& stack = stack_;
   const double dt = dt_;
@@ -183,22 +226,11 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
     const auto& c = columns[static_cast<std::size_t>(b.index - 1)];
     const auto& mat = lib.at(b.material);
     const double diameter = 2.0 * b.radius;
-    // Arrival of the leading maximum at each row: the first local maximum of the sphere's
-    // speed reaching half its largest speed. The first and last rows (the interfaces) are left out.
-    std::vector<double> depth, arrival;
-    const std::vector<double>* middle_overlaps = nullptr;
-    for (std::size_t r = 1; r + 1 < c.ids.size() && frames_ >= 3; ++r) {
-      const auto& row = c.rows[r];
-      if (row.top <= 0.0) continue;
-      for (const auto& m : row.records) {
-        if (m.speed >= 0.5 * row.top) {
-          depth.push_back(diameter * static_cast<double>(r));
-          arrival.push_back(m.time);
-          if (r == c.ids.size() / 2) middle_overlaps = &m.overlaps;
-          break;
-        }
-      }
-    }
+    const auto timed = leading_pulse_arrivals(c, diameter, frames_);
+    const auto& depth = timed.depth;
+    const auto& arrival = timed.arrival;
+    w.rows_entrance = timed.entrance;
+    const std::vector<double>* middle_overlaps = timed.middle_overlaps;
     w.rows_used = static_cast<int>(depth.size());
     if (depth.size() >= 3) {
       // depth = speed t + offset, by least squares.
@@ -216,8 +248,12 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
       } catch (const std::invalid_argument&) {  // every row timed at the same instant
       }
     }
-    if (!w.speed) {
-      w.note = fmt::format("the leading maximum was timed at {} rows (3 needed, and a wave moving down): dump more "
+    if (!w.speed && timed.entrance > 0 && depth.size() < 3) {
+      w.note = fmt::format("the whole block is entrance: the leading pulse reaches its rows out of depth order (the block "
+                           "above sets it moving as a whole), {} row(s) in order below them (3 needed)",
+                           depth.size());
+    } else if (!w.speed) {
+      w.note = fmt::format("the leading pulse was timed at {} rows (3 needed, and a wave moving down): dump more "
                            "often (--dump-every) or use more rows",
                            depth.size());
     }
@@ -246,19 +282,18 @@ std::vector<BlockWaves> WaveTracker::finish(const formats::Series& series) const
       }
     }
     w.maximum_speed = w.speed;
-    // A leading maximum far from Nesterenko's speed is no solitary wave (a block loaded too
-    // slowly, e.g. steel below a soft block): no speed is given for it.
+    // A leading pulse far from Nesterenko's speed is no solitary wave: no speed is given for it.
     if (w.speed && w.nesterenko_speed) {
       const double ratio = *w.speed / *w.nesterenko_speed;
       if (ratio < kSolitaryWaveBand[0] || ratio > kSolitaryWaveBand[1]) {
-        w.note = fmt::format("no solitary wave forms: the leading maximum moves down at {:.4g} m/s, {:.2f} of "
+        w.note = fmt::format("no solitary wave forms: the leading pulse moves down at {:.4g} m/s, {:.2f} of "
                              "Nesterenko's speed for its peak force (a solitary wave keeps within {:g} to {:g})",
                              *w.speed, ratio, kSolitaryWaveBand[0], kSolitaryWaveBand[1]);
         w.speed.reset();
         w.no_solitary_wave = true;
       }
     }
-    // Width when the leading maximum is at the middle row: RMS width of the column's overlaps,
+    // Width when the leading pulse is at the middle row: RMS width of the column's overlaps,
     // as the support of the cos^4 profile with the same RMS width (sigma = 0.1414482 L).
     if (middle_overlaps != nullptr && !middle_overlaps->empty()) {
       double w0 = 0, w1 = 0, w2 = 0;

@@ -400,7 +400,7 @@ void scan_plot(const AnalysisInput& in, ExperimentResult& out) {
 
 namespace {
 
-// The lowest steel block's leading maximum against the Teflon block's and against Nesterenko's
+// The lowest steel block's leading pulse against the Teflon block's and against Nesterenko's
 // speed, as values speed{PREFIX}.b3_over_b2 and speed_over_nesterenko{PREFIX}.b3.
 void sandwich_speeds(const postproc::CaseReduction& r, const std::string& prefix, ExperimentResult& out) {
   const auto& teflon = r.waves.at(1);
@@ -428,12 +428,16 @@ void sandwich(const AnalysisInput& in, ExperimentResult& out) {
   }
   sandwich_speeds(*r, "", out);
   if (r8 != nullptr) sandwich_speeds(*r8, ".rows8", out);
-  Table w{"The leading maximum in each block of the sandwich", {"block", "material", "speed (m/s)", "Nesterenko (m/s)", "ratio", "pulses", "note"}, {}};
+  Table w{"The leading pulse in each block of the sandwich, timed below the block's entrance (its rows reached out of "
+          "depth order)",
+          {"block", "material", "speed (m/s)", "Nesterenko (m/s)", "ratio", "rows timed", "entrance rows", "pulses", "note"},
+          {}};
   for (const auto& b : r->waves) {
     std::optional<double> ratio;
     if (b.maximum_speed && b.nesterenko_speed) ratio = *b.maximum_speed / *b.nesterenko_speed;
     w.rows.push_back({std::to_string(b.block), r->spec.block_material(b.block), num(b.maximum_speed), num(b.nesterenko_speed),
-                      num(ratio), std::to_string(b.pulses), b.note});
+                      num(ratio), std::to_string(b.rows_used), b.rows_entrance > 0 ? fmt::format("1-{}", b.rows_entrance) : "none",
+                      std::to_string(b.pulses), b.note});
   }
   out.tables.push_back(w);
   const auto note = hypotheses(in, out);

@@ -1,4 +1,5 @@
 #include <granstack/generator/spec_input.hpp>
+#include <granstack/postproc/waves.hpp>
 #include <granstack/study/catalogue.hpp>
 
 #include <fmt/format.h>
@@ -102,7 +103,7 @@ Record parse_record(const toml::table& t, const std::string& where, const std::v
   return r;
 }
 
-const std::vector<std::string> kClaimFields{"statement", "quantity", "band", "paper", "scope"};
+const std::vector<std::string> kClaimFields{"statement", "quantity", "band", "paper", "scope", "timing"};
 const std::vector<std::string> kScopes{"paper", "granstack", "model check", "arithmetic"};
 
 // The problems of one record against the current values (unrecorded_changes).
@@ -123,8 +124,9 @@ void check_record(const Record& r, const std::map<std::string, std::string>& now
   for (const auto& [field, current] : now) {
     const auto it = r.fixed.find(field);
     // Fields recorded since the record began start as "not recorded" (a change records their value).
-    std::string v = it != r.fixed.end() ? it->second : field == "scope" ? "paper" : field == "physics" ? "not recorded" : "";
-    if (it == r.fixed.end() && field != "scope" && field != "physics") {
+    const bool later_field = field == "physics" || field == "timing";
+    std::string v = it != r.fixed.end() ? it->second : field == "scope" ? "paper" : later_field ? "not recorded" : "";
+    if (it == r.fixed.end() && field != "scope" && !later_field) {
       out.push_back(fmt::format("{}: its record's fixed values lack '{}'", who, field));
       continue;
     }
@@ -211,12 +213,16 @@ Experiment parse_experiment(const toml::table& t) {
 
 }  // namespace
 
+bool reads_wave_timing(std::string_view quantity) { return quantity.substr(0, 5) == "speed"; }
+
 std::map<std::string, std::string> recorded_fields(const Claim& c) {
-  return {{"statement", c.statement},
-          {"quantity", c.quantity},
-          {"band", fmt::format("[{:g}, {:g}]", c.low, c.high)},
-          {"paper", c.paper ? fmt::format("{:g}", *c.paper) : "none"},
-          {"scope", c.scope}};
+  std::map<std::string, std::string> out{{"statement", c.statement},
+                                         {"quantity", c.quantity},
+                                         {"band", fmt::format("[{:g}, {:g}]", c.low, c.high)},
+                                         {"paper", c.paper ? fmt::format("{:g}", *c.paper) : "none"},
+                                         {"scope", c.scope}};
+  if (reads_wave_timing(c.quantity)) out["timing"] = postproc::leading_pulse_rule();
+  return out;
 }
 
 std::string geometry_text(const model::StackSpec& s) {

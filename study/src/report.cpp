@@ -205,7 +205,7 @@ std::string record_note(const StudyResult& r) {
     return ids.empty() ? std::string("none") : fmt::format("{}", fmt::join(ids, ", "));
   };
   return fmt::format(
-      "The record. Each claim's statement, reading, band, paper value and scope, and each experiment's geometry and physics, is "
+      "The record. Each claim's statement, reading, band, paper value and scope (and a wave speed's timing rule), and each experiment's geometry and physics, is "
       "fixed in the catalogue with the date it was first fixed; every change since is recorded with its date, its "
       "commit, the values before and after and why, and a test fails when a change has no record or, made after its "
       "claim first ran, does not say its results were known. Of the {} claims here, {} verdicts were settled with "

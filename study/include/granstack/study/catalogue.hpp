@@ -12,9 +12,11 @@
 
 namespace granstack::study {
 
-// One entry of the catalogue's record: a change to a claim's reading ("quantity"), "band", "paper"
-// value or "scope", or to an experiment's "geometry" (its main case's, geometry_text), with the
-// values before and after (as recorded_fields and geometry_text write them) and why.
+// One entry of the catalogue's record: a change to a claim's "statement", reading ("quantity"),
+// "band", "paper" value, "scope" or, for a wave speed, the rule that times the wave ("timing",
+// postproc::leading_pulse_rule), or to an experiment's "geometry" or "physics" (its main case's,
+// geometry_text and physics_text), with the values before and after (as recorded_fields and
+// geometry_text write them) and why.
 struct Change {
   std::string date, commit, field, before, after, why;
   bool results_known = false;  // made when the run's values for the old reading were known
@@ -50,8 +52,12 @@ struct Claim {
   Record record;
 };
 
-// The claim's recorded fields as the record writes them: quantity, band "[low, high]", paper
-// ("none" when it states none) and scope.
+// Whether a claim's quantity is a wave speed read by postproc's timing rule (speed.*,
+// speed_ratio.*, speed_over_nesterenko.*).
+bool reads_wave_timing(std::string_view quantity);
+
+// The claim's recorded fields as the record writes them: statement, quantity, band "[low, high]",
+// paper ("none" when it states none), scope, and for a wave speed the timing rule.
 std::map<std::string, std::string> recorded_fields(const Claim& c);
 
 struct CaseEntry {
