@@ -49,6 +49,24 @@ std::pair<double, double> action_window(const std::vector<Curve>& curves, double
   return {std::max(0.0, first - margin), last + margin};
 }
 
+std::pair<double, double> settle_window(const std::vector<Curve>& curves, double start_level, double tolerance) {
+  double first = INFINITY, last = 0.0;
+  for (const auto& c : curves) {
+    const double top = c.max();
+    if (!(top > 0.0) || c.y.empty()) continue;
+    for (std::size_t i = 0; i < c.y.size(); ++i) {
+      if (c.y[i] > start_level * top) first = std::min(first, c.t[i]);
+      if (std::fabs(c.y[i] - c.y.back()) > tolerance * top) last = std::max(last, c.t[i]);
+    }
+  }
+  if (!(first < last)) return {0.0, 0.0};
+  const double margin = 0.08 * (last - first);
+  return {std::max(0.0, first - margin), last + margin};
+}
+
+// An inset magnifies the lower blocks only where they stay below this fraction of the scale.
+constexpr double kInsetBelow = 0.3;
+
 Figure energy_plot(const EnergyPlot& p, const std::string& dir, const std::string& gnuplot) {
   fmt::memory_buffer data;
   auto out = std::back_inserter(data);
@@ -57,14 +75,17 @@ Figure energy_plot(const EnergyPlot& p, const std::string& dir, const std::strin
   const auto [t0, t1] = p.window ? *p.window : action_window(p.curves, 0.01, 0.2);
   auto [i0, i1] = action_window(lower_curves, 0.01, 0.2);
   if (p.window) i1 = t1;
-  double lower = 0.0;
+  double lower = 0.0, lower_blocks = 0.0;  // the inset's largest value; its blocks' alone
   for (int k = 0; k < nb; ++k) {
     const auto& c = p.curves[static_cast<std::size_t>(k)];
     fmt::format_to(out, "# block {}: time (µs), E_k / {:.6g} J\n", k + 1, p.scale);
     const std::size_t stride = std::max<std::size_t>(1, c.t.size() / 4000);
     for (std::size_t i = 0; i < c.t.size(); i += stride) {
       const double v = c.y[i] / p.scale;
-      if (k + 1 >= p.inset_from) lower = std::max(lower, v);
+      if (k + 1 >= p.inset_from) {
+        lower = std::max(lower, v);
+        lower_blocks = std::max(lower_blocks, v);
+      }
       fmt::format_to(out, "{:.6g} {:.6g}\n", c.t[i] * 1e6, v);
     }
     fmt::format_to(out, "\n\n");
@@ -92,6 +113,15 @@ Figure energy_plot(const EnergyPlot& p, const std::string& dir, const std::strin
     lower = std::max(lower, value);
     references += fmt::format(", {:.6g} with lines dashtype {} linewidth 1.5 linecolor rgb 'black' title {} noenhanced", value,
                               i + 2, gp_quote(label));
+  }
+  // Without an inset (the lower blocks as large as the scale): the curves on [0, 1.1], the key below.
+  if (lower_blocks >= kInsetBelow) {
+    const auto body = fmt::format(
+        "set title {} noenhanced\nset xlabel 'time t (µs)'\nset ylabel {} noenhanced\nset grid\n"
+        "set key below maxrows 1 box\nset bmargin 6\nset yrange [0:1.1]\nset ytics 0, 0.2, 1.0\nset xrange [{:.6g}:{:.6g}]\n"
+        "plot for [k=1:{}] '{}.dat' index (k-1) using 1:2 with lines linewidth 2 linecolor k title sprintf('block %d', k){}{}\n",
+        gp_quote(p.title), gp_quote(p.ylabel), t0 * 1e6, t1 * 1e6, nb, p.name, compared, references);
+    return render(dir, p.name, fmt::to_string(data), body, gnuplot, p.caption);
   }
   // Fixed margins, so the inset sits in the empty band above the curves (the y axis reaches 1.75,
   // the curves 1): it covers no curve, and the key sits at the top left, beside it.
@@ -131,9 +161,15 @@ Figure decay_figure(const std::map<double, std::vector<std::pair<int, double>>, 
       hi = std::max(hi, nb);
     }
     fmt::format_to(out, "\n\n");
-    plots += fmt::format("{}'decay.dat' index {} using 1:2 with points pointtype 7 pointsize 1.6 linecolor {} title 'e = {}', \\\n"
-                         "     exp(-({:.6g}/{})*x) with lines dashtype 2 linecolor {} notitle",
-                         plots.empty() ? "" : ", \\\n     ", index, index + 1, e, alpha, e, index + 1);
+    // Each e its own marker, the first (the largest e) an open ring around the others: nearly equal
+    // outputs (e = 1 and 0.99) would otherwise hide one under the other.
+    static constexpr int kPointTypes[] = {6, 7, 9, 13, 5, 11};
+    static constexpr double kPointSizes[] = {2.6, 1.4, 1.4, 1.6, 1.2, 1.4};
+    const auto style = static_cast<std::size_t>(index) % std::size(kPointTypes);
+    plots += fmt::format("{}'decay.dat' index {} using 1:2 with points pointtype {} pointsize {:g} linewidth 2 linecolor {} "
+                         "title 'e = {}', \\\n     exp(-({:.6g}/{})*x) with lines dashtype 2 linecolor {} notitle",
+                         plots.empty() ? "" : ", \\\n     ", index, kPointTypes[style], kPointSizes[style], index + 1, e, alpha,
+                         e, index + 1);
     // The paper's own law for this e, exp(-(alpha_paper / e) N_B), dotted in the same colour (e = 1's
     // is drawn with the paper's points below).
     if (e != 1.0) {
@@ -179,12 +215,12 @@ Figure bar_figure(const std::vector<BarGroup>& groups, const std::vector<std::st
     plots += fmt::format("{}'{}.dat' using {}{} title '{}' noenhanced", s == 0 ? "" : ", ", name, s + 2, s == 0 ? ":xtic(1)" : "",
                          series[s]);
   }
+  // The reference values as dashed lines named in the key (a label on the plot would need room
+  // beside the bars or stand over them).
   std::string references;
   for (std::size_t i = 0; i < style.references.size(); ++i) {
     const auto& [label, value] = style.references[i];
-    references += fmt::format("set arrow {} from graph 0, first {:.6g} to graph 1, first {:.6g} nohead dashtype 2 linecolor {}\n"
-                              "set label {} '{}' at graph 0.99, first {:.6g} right offset 0, 0.6 textcolor lt {} noenhanced\n",
-                              i + 1, 100.0 * value, 100.0 * value, i + 1, i + 1, label, 100.0 * value, i + 1);
+    plots += fmt::format(", {:.6g} with lines dashtype 2 linewidth 1.5 linecolor {} title '{}' noenhanced", 100.0 * value, i + 1, label);
   }
   for (std::size_t i = 0; i < style.bands.size(); ++i) {
     const auto& [low, high] = style.bands[i];
@@ -195,9 +231,9 @@ Figure bar_figure(const std::vector<BarGroup>& groups, const std::vector<std::st
   const auto body = fmt::format(
       "set title '{}' noenhanced\nset ylabel '{} (%)' noenhanced\nset yrange [0:100]\nset grid ytics\n"
       "set style data histogram\nset style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"
-      "set boxwidth 0.9\nset xtics noenhanced\nset key top left\nset bmargin 5\n"
-      "# Room on the right for the reference lines' labels.\nset xrange [-0.6:{:.1f}]\n{}plot {}\n",
-      style.title, style.ylabel, static_cast<double>(groups.size()) + 1.2, references, plots);
+      "set boxwidth 0.9\nset xtics noenhanced\nset key below maxcols 3 box\nset bmargin 9\n"
+      "set xrange [-0.6:{:.1f}]\n{}plot {}\n",
+      style.title, style.ylabel, static_cast<double>(groups.size()) - 0.4, references, plots);
   return render(dir, name, fmt::to_string(data), body, gnuplot, style.caption);
 }
 
@@ -224,9 +260,18 @@ Figure output_figure(const postproc::CaseReduction& r, const Curve& output, cons
   std::string materials;
   for (int k = 1; k <= r.spec.blocks; ++k) materials += fmt::format("{}{}", k > 1 ? "/" : "", r.spec.block_material(k));
   const double readout = f.readout_time * 1e6;
-  std::string marks = fmt::format(
-      "set arrow 100 from {0:.6g}, graph 0 to {0:.6g}, graph 1 nohead dashtype 2 linecolor rgb 'gray40'\n"
-      "set label 100 '2 arrivals' at {0:.6g}, graph 0.05 offset 0.5, 0 textcolor rgb 'gray40' front\n", readout);
+  // The fixed read-out time, where a curve reaches it; after every run had stopped, it is said, not drawn.
+  double data_end = output.t.empty() ? 0.0 : output.t.back();
+  for (const auto& [title, c] : f.damped) data_end = std::max(data_end, c.t.empty() ? 0.0 : c.t.back());
+  const bool readout_in_data = readout <= data_end * 1e6;
+  std::string marks =
+      readout_in_data
+          ? fmt::format("set arrow 100 from {0:.6g}, graph 0 to {0:.6g}, graph 1 nohead dashtype 2 linecolor rgb 'gray40'\n"
+                        "set label 100 '2 arrivals' at {0:.6g}, graph 0.05 offset 0.5, 0 textcolor rgb 'gray40' front\n",
+                        readout)
+          : fmt::format("set label 100 '2 arrivals ({:.0f} µs) come after every run had stopped' at graph 0.98, graph 0.05 "
+                        "right textcolor rgb 'gray40' front\n",
+                        readout);
   if (r.blow_end_time) {
     marks += fmt::format("set arrow 102 from {0:.6g}, graph 0 to {0:.6g}, graph 1 nohead dashtype 3 linecolor rgb 'gray20'\n"
                          "set label 102 'blow ended (e = 1)' at {0:.6g}, graph 0.12 right offset -0.5, 0 textcolor rgb 'gray20' front\n",
@@ -235,11 +280,12 @@ Figure output_figure(const postproc::CaseReduction& r, const Curve& output, cons
   marks += fmt::format("set arrow 101 from graph 0, first {0:.6g} to graph 1, first {0:.6g} nohead dashtype 2 linewidth 1.5 "
                        "linecolor rgb 'black'\nset label 101 'paper: {1}' at graph 0.98, first {0:.6g} right offset 0, 0.6 front\n",
                        f.paper, fmt::format("{:g} %", 100.0 * f.paper));
-  const double t_end = 1.1 * std::max(t_last * 1e6, readout);
+  const double t_end = 1.1 * std::max(t_last * 1e6, readout_in_data ? readout : 0.0);
   const double y_top = 1.25 * std::max(y_max, f.paper);
+  // The key below the plot: inside, it would cover a curve (they run the plot's width).
   const auto body = fmt::format(
       "set title 'Output sphere, {}' noenhanced\nset xlabel 'time t (µs)'\nset ylabel 'E_k / E_{{in}}'\n"
-      "set grid\nset key top left box opaque\n"
+      "set grid\nset key below maxcols 2 box\nset bmargin 8\n"
       "set xrange [0:{:.6g}]\nset yrange [0:{:.6g}]\n{}plot {}\n",
       materials, t_end, y_top, marks, plots);
   return render(dir, name, fmt::to_string(data), body, gnuplot, caption);
@@ -345,6 +391,35 @@ std::string view_script(const View& v, int index, const std::string& name, doubl
 constexpr const char* kDrawingStyle =
     "set size ratio -1\nunset key\nset style fill transparent solid 0.6 border lc rgb 'black'\n";
 
+// The colours' meanings beside a stack's panels (right of screen 0.69): the striker, the blocks'
+// materials, the marks (5: a block's middle-row sphere of the impact path, 6: the output sphere).
+std::string drawing_legend(const model::Stack& stack, const std::vector<DrawingMark>& marks) {
+  std::vector<std::pair<int, std::string>> rows{{1, "the striker"}};
+  std::vector<std::string> seen;
+  for (const auto& b : stack.blocks()) {
+    if (std::find(seen.begin(), seen.end(), b.material) != seen.end()) continue;
+    seen.push_back(b.material);
+    rows.emplace_back(b.material == "steel" ? 2 : b.material == "teflon" ? 3 : 4, b.material + " spheres");
+  }
+  const auto marked = [&](int colour) {
+    return std::any_of(marks.begin(), marks.end(), [&](const DrawingMark& m) { return m.colour == colour; });
+  };
+  if (marked(5)) rows.emplace_back(5, "middle-row sphere (impact path)");
+  if (marked(6)) rows.emplace_back(6, "the output sphere");
+  const char* colours[] = {"", "red", "gray50", "orange", "skyblue", "blue", "web-green"};
+  std::string out;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const double y = 0.85 - 0.06 * static_cast<double>(i);
+    out += fmt::format("set object {} circle at screen 0.705, screen {:.3f} size screen 0.012 fillcolor rgb '{}' "
+                       "fillstyle transparent solid 0.6 border lc rgb 'black' front\n"
+                       "set label {} {} at screen 0.725, screen {:.3f} left front noenhanced\n",
+                       100 + i, y, colours[rows[i].first], 100 + i, gp_quote(rows[i].second), y);
+  }
+  // Drawn with an empty plot, so the objects and labels appear once.
+  return out + "unset title\nunset xlabel\nunset ylabel\nunset border\nunset tics\nset lmargin at screen 0.69\n"
+               "set rmargin at screen 0.99\nset xrange [0:1]\nset yrange [0:1]\nplot NaN notitle\n";
+}
+
 }  // namespace
 
 Figure stack_drawing(const model::Stack& stack, const std::string& dir, const std::string& name, const std::string& gnuplot,
@@ -355,11 +430,22 @@ Figure stack_drawing(const model::Stack& stack, const std::string& dir, const st
   add_view(stack, false, true, marks, std::nullopt, side, data);
   std::string plots = view_script(side, 0, name);
   std::string layout = "set multiplot\n";
+  const int nb = stack.spec().blocks;
   if (stack.container()) {
     View across{"the container seen along x (every sphere)", "y"};
     add_view(stack, true, false, marks, std::nullopt, across, data);
     layout = "set multiplot layout 1, 2\n";
     plots += view_script(across, 1, name);
+  } else if (nb >= 2) {
+    // A stack is tall and narrow, its lowest spheres small: beside it, its lowest blocks magnified
+    // (the output sphere's mark among them), each panel on its own scale.
+    const int from = std::max(2, nb - 1);
+    const auto& upper = stack.block(from);
+    const double top = upper.bottom_row_z + 2.0 * upper.radius * (upper.rows - 1) + 0.5 * upper.radius;
+    View low{from == nb ? fmt::format("block {}, magnified", nb) : fmt::format("blocks {} and {}, magnified", from, nb), "x"};
+    add_view(stack, false, true, marks, std::pair{-INFINITY, top}, low, data);
+    plots = "set lmargin at screen 0.09\nset rmargin at screen 0.30\n" + plots +
+            "set lmargin at screen 0.36\nset rmargin at screen 0.68\n" + view_script(low, 1, name) + drawing_legend(stack, marks);
   }
   const auto body = fmt::format("set ylabel 'z (mm)'\n{}{}{}{}unset multiplot\n", kDrawingStyle, kPalette, layout, plots);
   return render(dir, name, fmt::to_string(data), body, gnuplot, caption);

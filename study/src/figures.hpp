@@ -21,7 +21,8 @@ struct EnergyPlot {
   std::string name, title, ylabel, caption;
   std::vector<Curve> curves;  // top block first; each with its own times
   double scale = 1.0;         // the curves are plotted divided by it
-  int inset_from = 2;         // block number
+  int inset_from = 2;         // block number; no inset where those blocks reach 0.3 of the scale
+                              // or more (it would magnify nothing)
   std::vector<std::pair<std::string, double>> references;  // (label, value over scale), dashed in the inset
   // The time axis, s (the main panel's; the inset's starts where the lower blocks move): by
   // default action_window of the curves.
@@ -36,6 +37,10 @@ Figure energy_plot(const EnergyPlot& p, const std::string& dir, const std::strin
 // `start_level` of its own largest value to the last time any exceeds `end_level` of it (a
 // plateau of departing spheres is no action), with a margin of 8 % of that stretch either side.
 std::pair<double, double> action_window(const std::vector<Curve>& curves, double start_level, double end_level);
+
+// The same for curves that settle at a plateau (a block's energy after the pulse has left): to
+// the last time any curve lies further than `tolerance` of its largest value from its final one.
+std::pair<double, double> settle_window(const std::vector<Curve>& curves, double start_level, double tolerance);
 
 // A string as gnuplot reads it, in single quotes (a quote inside doubled).
 std::string gp_quote(const std::string& text);
