@@ -284,7 +284,8 @@ EngineResult run_program(const formats::Case& c, const RunOptions& o, const Prog
     signal_text.clear();
     Tail tail(dir / files.screen);
     for (;;) {
-      if (const auto end = os::poll(child)) {
+      // Up to 0.1 s between looks at the screen file, ending as the program does.
+      if (const auto end = os::poll_for(child, 0.1)) {
         exit_code = end->code;
         if (end->signal != 0) signal_text = fmt::format("killed by signal {}", end->signal);
         break;
@@ -301,7 +302,6 @@ EngineResult run_program(const formats::Case& c, const RunOptions& o, const Prog
         on_started();
       }
       if (auto step = scanner.last_step()) on_step(*step);
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
     tail.flush(scanner);
     if (!result.started && !scanner.version().empty()) {

@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -392,6 +393,8 @@ std::vector<RunOutcome> run_cases(const std::vector<std::string>& case_dirs, con
   std::vector<RunOutcome> outcomes(case_dirs.size());
   Monitor monitor(static_cast<int>(case_dirs.size()));
   std::atomic<bool> all_done{false};
+  std::mutex reporter_mutex;
+  std::condition_variable reporter_wake;
   std::mutex done_mutex;
   const int jobs = std::max(1, std::min<int>(options.jobs, static_cast<int>(case_dirs.size())));
   RunOptions each = options;
@@ -417,14 +420,20 @@ std::vector<RunOutcome> run_cases(const std::vector<std::string>& case_dirs, con
   std::thread reporter;
   if (options.on_progress) {
     reporter = std::thread([&] {
+      std::unique_lock lock(reporter_mutex);
       while (!all_done) {
         options.on_progress(monitor.snapshot());
-        for (int i = 0; i < 5 && !all_done; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        reporter_wake.wait_for(lock, std::chrono::milliseconds(500), [&] { return all_done.load(); });
       }
     });
   }
+  // The reporter is woken at once: the last case's end is the command's.
   const auto stop_reporter = [&] {
-    all_done = true;
+    {
+      const std::lock_guard lock(reporter_mutex);
+      all_done = true;
+    }
+    reporter_wake.notify_all();
     if (reporter.joinable()) reporter.join();
   };
   try {

@@ -52,6 +52,9 @@ struct Exit {
 Exit wait(const Child& child);
 // The child's end if it has ended, else nullopt.
 std::optional<Exit> poll(const Child& child);
+// The same after waiting up to `seconds` for it to end: the wait ends as the child does (or on a
+// signal), so a caller polling in a loop adds no latency to the child's end.
+std::optional<Exit> poll_for(const Child& child, double seconds);
 
 // Runs argv to completion (start + wait); output as in StartOptions. With `seconds` > 0 it
 // waits at most that long; a program still running then, or when granstack is asked to stop
