@@ -10,14 +10,12 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
-#include <toml++/toml.h>
 
 #include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <regex>
 #include <set>
-#include <sstream>
 
 namespace granstack::design {
 
@@ -487,7 +485,7 @@ void write_front_specs(const Space& space, const std::vector<Evaluation>& front,
   const auto write = [&](const fs::path& path, const std::string& what, const model::StackSpec& run) {
     formats::write_file_atomically(path, fmt::format("# granstack design: {}; run it with\n#   granstack generate --config {} "
                                                      "-o CASE && granstack run CASE && granstack reduce CASE\n{}",
-                                                     what, path.filename().string(), spec_toml(run)));
+                                                     what, path.filename().string(), model::spec_toml(run)));
   };
   for (std::size_t i = 0; i < front.size(); ++i) {
     const auto& e = front[i];
@@ -506,46 +504,7 @@ void write_front_specs(const Space& space, const std::vector<Evaluation>& front,
   }
 }
 
-// A JSON value as a TOML node (the manifest's spec JSON has the spec file's shapes).
-std::unique_ptr<toml::node> toml_of(const json& v) {
-  if (v.is_boolean()) return std::make_unique<toml::value<bool>>(v.get<bool>());
-  if (v.is_number_integer()) return std::make_unique<toml::value<std::int64_t>>(v.get<std::int64_t>());
-  if (v.is_number()) return std::make_unique<toml::value<double>>(v.get<double>());
-  if (v.is_string()) return std::make_unique<toml::value<std::string>>(v.get<std::string>());
-  if (v.is_array()) {
-    auto a = std::make_unique<toml::array>();
-    for (const auto& e : v) {
-      if (auto n = toml_of(e)) a->push_back(std::move(*n));
-    }
-    return a;
-  }
-  if (v.is_object()) {
-    auto t = std::make_unique<toml::table>();
-    for (const auto& [k, e] : v.items()) {
-      if (auto n = toml_of(e)) t->insert(k, std::move(*n));
-    }
-    return t;
-  }
-  return nullptr;  // null: the field keeps its default
-}
-
 }  // namespace
-
-std::string spec_toml(const model::StackSpec& spec) {
-  auto j = model::spec_json(spec);
-  // The manifest keeps a field's default beside the one that replaces it (rows beside
-  // block_rows); a spec file may give only one of them.
-  for (const auto& f : model::spec_fields()) {
-    if (!f.conflicts_with.empty() && j.contains(f.name)) j.erase(f.conflicts_with);
-  }
-  // The space fixes the wall's material (the study's steel) for every design; a design without a
-  // wall leaves it out (generate refuses a wall's material where there is none).
-  if (!spec.has_walls()) j.erase("wall_material");
-  const auto t = toml_of(j);
-  std::ostringstream os;
-  os << *t->as_table() << "\n";
-  return os.str();
-}
 
 std::string status_text(const Space& space, const Store& store) {
   const auto all = store.evaluations();

@@ -24,6 +24,12 @@ namespace {
 constexpr int kZstdLevel = 1;
 }  // namespace
 
+// The text of a share of a frame's atoms' lines; fmt's buffer grows without filling what it adds.
+struct DumpWriter::TextPiece {
+  std::size_t first_atom = 0;
+  fmt::memory_buffer text;
+};
+
 DumpWriter::DumpWriter(const std::string& path, bool binary, bool compressed)
     : path_(path), binary_(binary), file_(nullptr, &std::fclose), zstd_(nullptr, &ZSTD_freeCCtx) {
   if (compressed && binary) {

@@ -3,12 +3,15 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
+#include <toml++/toml.h>
 
 #include <algorithm>
 #include <charconv>
 #include <cstdlib>
 #include <cmath>
+#include <memory>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 
 namespace granstack::model {
@@ -819,6 +822,49 @@ json spec_json(const StackSpec& spec) {
   json j = json::object();
   for (const auto& f : spec_fields()) f.save(spec, j);
   return j;
+}
+
+namespace {
+
+// A JSON value as a TOML node (the manifest's spec JSON has the spec file's shapes).
+std::unique_ptr<toml::node> toml_of(const json& v) {
+  if (v.is_boolean()) return std::make_unique<toml::value<bool>>(v.get<bool>());
+  if (v.is_number_integer()) return std::make_unique<toml::value<std::int64_t>>(v.get<std::int64_t>());
+  if (v.is_number()) return std::make_unique<toml::value<double>>(v.get<double>());
+  if (v.is_string()) return std::make_unique<toml::value<std::string>>(v.get<std::string>());
+  if (v.is_array()) {
+    auto a = std::make_unique<toml::array>();
+    for (const auto& e : v) {
+      if (auto n = toml_of(e)) a->push_back(std::move(*n));
+    }
+    return a;
+  }
+  if (v.is_object()) {
+    auto t = std::make_unique<toml::table>();
+    for (const auto& [k, e] : v.items()) {
+      if (auto n = toml_of(e)) t->insert(k, std::move(*n));
+    }
+    return t;
+  }
+  return nullptr;  // null: the field keeps its default
+}
+
+}  // namespace
+
+std::string spec_toml(const model::StackSpec& spec) {
+  auto j = spec_json(spec);
+  // The manifest keeps a field's default beside the one that replaces it (rows beside
+  // block_rows); a spec file may give only one of them.
+  for (const auto& f : spec_fields()) {
+    if (!f.conflicts_with.empty() && j.contains(f.name)) j.erase(f.conflicts_with);
+  }
+  // The space fixes the wall's material (the study's steel) for every design; a design without a
+  // wall leaves it out (generate refuses a wall's material where there is none).
+  if (!spec.has_walls()) j.erase("wall_material");
+  const auto t = toml_of(j);
+  std::ostringstream os;
+  os << *t->as_table() << "\n";
+  return os.str();
 }
 
 StackSpec spec_from_json_fields(const json& j) {

@@ -476,7 +476,7 @@ TEST(Space, AFrontDesignsSpecFileIsTheSameDesign) {
   const auto space = small_space();
   auto spec = space.decode({2, 1, 0, 0, 3, 1});
   spec.restitution.set("steel", "teflon", 0.8);
-  const auto text = design::spec_toml(spec);
+  const auto text = model::spec_toml(spec);
   const auto back = generator::build_sweep(generator::parse_spec_toml(text, "front.toml")).base;
   EXPECT_EQ(design::spec_digest(back), design::spec_digest(spec)) << text;
 }

@@ -42,7 +42,4 @@ class ConfirmRunFailed : public std::runtime_error {
 // place in the space, from 1).
 std::string front_file_name(int generation, std::size_t rank, const std::string& digest, int scenario = 0);
 
-// A design as a spec file `granstack generate --config` takes.
-std::string spec_toml(const model::StackSpec& spec);
-
 }  // namespace granstack::design

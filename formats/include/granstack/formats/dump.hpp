@@ -7,7 +7,6 @@
 #include <granstack/formats/line_reader.hpp>
 #include <granstack/formats/repeated_tokens.hpp>
 
-#include <fmt/format.h>
 
 #include <array>
 #include <cstdint>
@@ -220,10 +219,7 @@ class DumpWriter {
   std::string buffer_;
   // The text of the atoms' lines of a frame, in pieces (one per share that formatted it), the
   // first atom of each; written one after the other.
-  struct TextPiece {
-    std::size_t first_atom = 0;
-    fmt::memory_buffer text;
-  };
+  struct TextPiece;  // dump_writer.cpp
   // This frame's and the frame before's text, each value's length (at most 25 characters), and
   // the frame before's values (allocated unwritten, so that the shares first touch their parts).
   std::vector<TextPiece> pieces_, previous_pieces_;

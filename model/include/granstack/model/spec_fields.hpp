@@ -65,6 +65,9 @@ std::string unknown_field_hint(std::string_view name);
 
 // The spec as a manifest writes it, and back (throws std::invalid_argument naming the field).
 nlohmann::json spec_json(const StackSpec& spec);
+
+// The same spec as a spec file `granstack generate --config` takes (TOML).
+std::string spec_toml(const StackSpec& spec);
 StackSpec spec_from_json_fields(const nlohmann::json& j);
 
 // The reference table of the fields (markdown), as docs/reference/spec.md shows it.
