@@ -50,7 +50,7 @@ RECORDS = {
     # doc_tables.py --write --reproduce: the study on LAMMPS against LIGGGHTS (report.json's "against")
     "engines_study": "bench/results/engines-study-2026-11-28.json",
     # GRANSTACK=build/ci/app/granstack OUT=... bash bench/reproduce.sh 3, on the 2-core machine
-    "reproduce": "bench/results/reproduce-2026-11-28.json",
+    "reproduce": "bench/results/reproduce-2026-12-06.json",
     # OUT=... bench/design_front.sh, on the 2-core machine (the example's confined front, #47 item 9)
     "design_front": "bench/results/design-front-2026-11-28.json",
     # bench/oversubscription.sh 3, on the 2-core machine
@@ -892,23 +892,34 @@ def reproduce_record():
 def reproduce_cost():
     """The study's size and time, said once and made from bench/reproduce.sh's record."""
     r, m = reproduce_record(), statistics.median
-    return (f"The study's {r['cases']} cases reproduce in about {m(r['seconds']['reproduce']):.0f} s on 2 cores "
-            f"(`granstack reproduce -j 2`, every experiment from scratch; LIGGGHTS alone on the same cases takes "
-            f"{m(r['seconds']['baseline_run']):.0f} s of it; medians of {r['repeats']} runs by `bench/reproduce.sh`, "
-            f"`{RECORDS['reproduce']}`).\n")
+    wall, cpu = r["seconds"], r["cpu_seconds"]
+    return (f"The study's {r['cases']} cases reproduce in about {m(wall['reproduce']):.0f} s on 2 cores "
+            f"(`granstack reproduce -j 2`, every experiment from scratch; bare LIGGGHTS on the same cases, two at a "
+            f"time, takes {m(wall['bare_liggghts']):.0f} s: reproduce is {m(wall['reproduce']) / m(wall['bare_liggghts']):.2f} "
+            f"times it in wall time, {m(cpu['reproduce']) / m(cpu['bare_liggghts']):.2f} in CPU time; medians of "
+            f"{r['repeats']} runs by `bench/reproduce.sh`, `{RECORDS['reproduce']}`).\n")
 
 
 def reproduce_speed():
-    """Every reproduce the benchmark times, medians (min..max) of its alternating runs."""
+    """Every reproduce the benchmark times and its two baselines, wall and CPU time, medians (min..max) of its
+    alternating runs, and the ratios the targets are stated in."""
     r, m = reproduce_record(), statistics.median
+    wall, cpu = r["seconds"], r["cpu_seconds"]
     runs = [("`reproduce`, every experiment", "reproduce"), ("`reproduce --validate`", "validate"),
-            ("`reproduce --quick`", "quick"), ("LIGGGHTS alone on the same cases (`run -j 2`)", "baseline_run")]
-    rows = [f"| run ({r['cases']} cases, -j 2, from scratch) | median | min..max |", "|---|---|---|"]
+            ("`reproduce --quick`", "quick"), ("`granstack run -j 2 --force` on the same cases", "baseline_run"),
+            ("bare LIGGGHTS on the same cases, two at a time", "bare_liggghts")]
+    rows = [f"| run ({r['cases']} cases, -j 2, from scratch) | wall, median | min..max | CPU, median | min..max |",
+            "|---|---|---|---|---|"]
     for label, key in runs:
-        xs = r["seconds"][key]
-        rows.append(f"| {label} | {m(xs):.1f} s | {min(xs):.1f}..{max(xs):.1f} s |")
-    ratio = m(r["seconds"]["reproduce"]) / m(r["seconds"]["baseline_run"])
-    return "\n".join(rows) + f"\n\nreduce, analysis and report add {100 * (ratio - 1):.0f} % to LIGGGHTS's own time.\n"
+        w, c = wall[key], cpu[key]
+        rows.append(f"| {label} | {m(w):.1f} s | {min(w):.1f}..{max(w):.1f} s | {m(c):.1f} s | {min(c):.1f}..{max(c):.1f} s |")
+    ratio = lambda a, b, t: m(t[a]) / m(t[b])
+    text = (f"\n\n`reproduce` over bare LIGGGHTS: {ratio('reproduce', 'bare_liggghts', wall):.3f} in wall time, "
+            f"{ratio('reproduce', 'bare_liggghts', cpu):.3f} in CPU time (target 1.10 in CPU time); over `granstack run`: "
+            f"{ratio('reproduce', 'baseline_run', wall):.3f} and {ratio('reproduce', 'baseline_run', cpu):.3f}. "
+            f"`granstack run` over bare LIGGGHTS: {ratio('baseline_run', 'bare_liggghts', wall):.3f} in wall time, "
+            f"{ratio('baseline_run', 'bare_liggghts', cpu):.3f} in CPU time (target 1.03).\n")
+    return "\n".join(rows) + text
 
 
 def number(v):
