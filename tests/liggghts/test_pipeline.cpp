@@ -575,6 +575,18 @@ TEST(Physics, AContainersMatrixTakesEnergyConservedAndShared) {
   EXPECT_GT(r.matrix_final_fraction, 0.01);
 }
 
+// Generates, runs on refsim and reduces a case named `name` in the test's folder.
+postproc::CaseReduction run_refsim(const std::string& name, const model::StackSpec& s) {
+  generator::GenerateOptions o;
+  o.output = work_dir() / name;
+  o.force = true;
+  generator::generate({{name, s}}, o);
+  runner::RunOptions ro;
+  ro.engine = runner::Engine::refsim;
+  EXPECT_EQ(runner::run_cases({o.output.string()}, ro).at(0).status, runner::RunStatus::done);
+  return postproc::reduce_case(o.output.string());
+}
+
 // The steel/Teflon/steel sandwich (refsim, quick): its output sphere is kicked until about 1.8
 // estimated arrivals, so the automatic duration leaves too little room and reduce says so; with
 // a longer run it does not. Its bottom steel block of 8 rows is all entrance (the Teflon block
@@ -583,16 +595,6 @@ TEST(Physics, AContainersMatrixTakesEnergyConservedAndShared) {
 TEST(Physics, SandwichRunsLongEnoughForItsLateKicksAndItsBottomBlockIsAllEntrance) {
   auto spec = blocks(3);
   spec.materials = {"steel", "teflon", "steel"};
-  auto run_refsim = [&](const std::string& name, const model::StackSpec& s) {
-    generator::GenerateOptions o;
-    o.output = work_dir() / name;
-    o.force = true;
-    generator::generate({{name, s}}, o);
-    runner::RunOptions ro;
-    ro.engine = runner::Engine::refsim;
-    EXPECT_EQ(runner::run_cases({o.output.string()}, ro).at(0).status, runner::RunStatus::done);
-    return postproc::reduce_case(o.output.string());
-  };
   // The old rule, 2 arrivals, ends the run just after the last kick: reduce warns.
   auto short_spec = spec;
   short_spec.duration = model::kDurationPerArrival * model::resolve(model::Stack::build(spec)).arrival_estimate;
@@ -627,16 +629,6 @@ TEST(Physics, SandwichRunsLongEnoughForItsLateKicksAndItsBottomBlockIsAllEntranc
 // half-of-largest rule over every row read 1.216). The all-steel control has no entrance rows and
 // keeps its speeds (1.002 and 1.005 in blocks 2 and 3, as before).
 TEST(Physics, TheLowestSteelBlockOfTheSandwichCarriesASolitaryWaveBelowItsEntrance) {
-  auto run_refsim = [&](const std::string& name, const model::StackSpec& s) {
-    generator::GenerateOptions o;
-    o.output = work_dir() / name;
-    o.force = true;
-    generator::generate({{name, s}}, o);
-    runner::RunOptions ro;
-    ro.engine = runner::Engine::refsim;
-    EXPECT_EQ(runner::run_cases({o.output.string()}, ro).at(0).status, runner::RunStatus::done);
-    return postproc::reduce_case(o.output.string());
-  };
   auto spec = blocks(3);
   spec.rows = 24;
   spec.dump_format = model::DumpFormat::binary;
@@ -663,14 +655,7 @@ TEST(Physics, TheLowestSteelBlockOfTheSandwichCarriesASolitaryWaveBelowItsEntran
 TEST(Physics, ATeflonBlockUnderSteelCarriesATrainOfPulses) {
   auto spec = blocks(2);
   spec.materials = {"steel", "teflon"};
-  generator::GenerateOptions o;
-  o.output = work_dir() / "steel_on_teflon";
-  o.force = true;
-  generator::generate({{"steel_on_teflon", spec}}, o);
-  runner::RunOptions ro;
-  ro.engine = runner::Engine::refsim;
-  ASSERT_EQ(runner::run_cases({o.output.string()}, ro).at(0).status, runner::RunStatus::done);
-  const auto r = postproc::reduce_case(o.output.string());
+  const auto r = run_refsim("steel_on_teflon", spec);
   ASSERT_EQ(r.waves.size(), 2u);
   EXPECT_EQ(r.waves[0].pulses, 1);  // one solitary wave crosses the steel block's middle row
   EXPECT_EQ(r.waves[1].peaks, 0);
