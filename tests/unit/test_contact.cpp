@@ -61,6 +61,41 @@ TEST(Contact, HertzTimeCoefficientIsTheCollisionIntegral) {
   EXPECT_NE(hertz_time_coefficient(), 2.9432);             // not the truncated constant
 }
 
+// Every normal law's largest overlap and contact time (what the automatic time step is built on)
+// are those of a head-on impact integrated here with its own elastic force: m* x'' = -F(x) from
+// x = 0 at speed v, velocity Verlet at 2e5 steps per contact, the return through x = 0 found by
+// linear interpolation. Measured: 3.1e-11 at most (the integration's own error, second order in its
+// step); bound 1e-9. A new row is checked with no new test.
+TEST(ContactModels, EveryNormalLawsOverlapAndContactTimeAreItsOwnForceIntegrated) {
+  const auto pair = sphere_sphere(steel(), 1e-3, steel(), 1e-3);
+  for (std::size_t row = 0; row < kNormalModelCount; ++row) {
+    ContactModel m;
+    m.normal = static_cast<NormalModel>(row);
+    m.characteristic_velocity = 1.0;
+    const auto& law = normal_law(m.normal);
+    for (const double v : {0.1, 1.0, 5.0}) {
+      SCOPED_TRACE(std::string(to_string(m.normal)) + " at " + std::to_string(v) + " m/s");
+      const double expected_time = law.contact_time(m, pair, v), expected_overlap = law.max_overlap(m, pair, v);
+      ASSERT_TRUE(expected_time > 0.0 && expected_overlap > 0.0);
+      const double dt = expected_time / 2e5;
+      double x = 0.0, u = v, t = 0.0, deepest = 0.0;
+      double a = 0.0;  // F(0) = 0
+      while (x >= 0.0 && t < 2.0 * expected_time) {
+        const double x_before = x;
+        u += 0.5 * dt * a;
+        x += dt * u;
+        a = -law.force(m, pair, std::max(x, 0.0)) / pair.m_star;
+        u += 0.5 * dt * a;
+        t += dt;
+        deepest = std::max(deepest, x);
+        if (x < 0.0) t -= dt * x / (x - x_before);  // back to where it crossed zero
+      }
+      EXPECT_NEAR(deepest / expected_overlap, 1.0, 1e-9);
+      EXPECT_NEAR(t / expected_time, 1.0, 1e-9);
+    }
+  }
+}
+
 TEST(Contact, RestitutionBetaFollowsTheLiggghtsFormula) {
   EXPECT_EQ(restitution_beta(1.0), 0.0);
   EXPECT_NEAR(restitution_beta(0.9), std::log(0.9) / std::sqrt(std::log(0.9) * std::log(0.9) + M_PI * M_PI), 1e-16);
