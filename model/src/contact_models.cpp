@@ -14,7 +14,7 @@ namespace granstack::model {
 namespace {
 
 // In each enum's order (the normal models' rows are their laws', contact.cpp).
-constexpr std::array<SubModelInfo, 3> kTangential{{
+constexpr std::array<SubModelInfo, kTangentialModelCount> kTangential{{
     {"history", "history (a spring limited by Coulomb)", "", "", "", "mindlin"},
     {"no_history", "no_history (viscous)", "`no_history`: viscous, capped at `mu F_n`; no tangential force at all at e = 1",
      "tangential_model = 'no_history' is not mapped onto LAMMPS (its linear_nohistory damps with a constant, "
@@ -27,7 +27,7 @@ constexpr std::array<SubModelInfo, 3> kTangential{{
      "validate --engines lammps,refsim), or use tangential_model = 'history'",
      "mindlin_rescale"},
 }};
-constexpr std::array<SubModelInfo, 3> kRolling{{
+constexpr std::array<SubModelInfo, kRollingModelCount> kRolling{{
     {"off", "off", "", ""},
     {"epsd2", "epsd2 (an elastic-plastic torque spring)", "`epsd2`: a torque spring capped at `mu_r R* F_n`",
      "rolling_model = 'epsd2' has no counterpart in this LAMMPS (its rolling sds is a spring without LIGGGHTS's "

@@ -81,7 +81,9 @@ double rayleigh_time(const Material& m, double radius);
 enum class NormalModel { hertz, hooke, thornton, thornton_ning };
 inline constexpr std::size_t kNormalModelCount = 4;  // the rows of every table by NormalModel
 enum class TangentialModel { history, no_history, mindlin_rescale };
+inline constexpr std::size_t kTangentialModelCount = 3;  // the rows of contact_models.cpp's table
 enum class RollingModel { off, epsd2, cdt };
+inline constexpr std::size_t kRollingModelCount = 3;
 
 // A sub-model as the spec, the decks and the reference name it: one row of contact_models.cpp's
 // table per model, in the enum's order (a new model is a row there).
