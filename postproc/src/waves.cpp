@@ -161,31 +161,27 @@ std::string leading_pulse_rule() {
 // entrance rows (the block above sets them moving together, out of depth order): left out.
 WaveTracker::Arrivals WaveTracker::leading_pulse_arrivals(const Column& c, double diameter, long frames) {
   Arrivals out;
-  std::vector<std::size_t> rows;
-  std::vector<double> times;
-  std::vector<const Maximum*> maxima;
+  std::vector<std::pair<std::size_t, const Maximum*>> timed;  // (row, its leading pulse)
   for (std::size_t r = 1; r + 1 < c.ids.size() && frames >= 3; ++r) {
     const auto& row = c.rows[r];
     if (row.top <= 0.0) continue;
     const auto first = std::find_if(row.records.begin(), row.records.end(),
                                     [&](const Maximum& m) { return m.speed >= kLeadingPulseFraction * row.top; });
-    if (first == row.records.end()) continue;
-    rows.push_back(r);
-    times.push_back(first->time);
-    maxima.push_back(&*first);
+    if (first != row.records.end()) timed.emplace_back(r, &*first);
   }
   // The first row in depth order: it and every deeper row arrive after every shallower row.
   std::size_t start = 0;
   double latest = -std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < times.size(); ++i) {
-    if (times[i] <= latest) start = i + 1;
-    latest = std::max(latest, times[i]);
+  for (std::size_t i = 0; i < timed.size(); ++i) {
+    if (timed[i].second->time <= latest) start = i + 1;
+    latest = std::max(latest, timed[i].second->time);
   }
-  out.entrance = start > 0 ? static_cast<int>(rows[start - 1]) : 0;
-  for (std::size_t i = start; i < rows.size(); ++i) {
-    out.depth.push_back(diameter * static_cast<double>(rows[i]));
-    out.arrival.push_back(times[i]);
-    if (rows[i] == c.ids.size() / 2) out.middle_overlaps = &maxima[i]->overlaps;
+  out.entrance = start > 0 ? static_cast<int>(timed[start - 1].first) : 0;
+  for (std::size_t i = start; i < timed.size(); ++i) {
+    const auto& [r, pulse] = timed[i];
+    out.depth.push_back(diameter * static_cast<double>(r));
+    out.arrival.push_back(pulse->time);
+    if (r == c.ids.size() / 2) out.middle_overlaps = &pulse->overlaps;
   }
   return out;
 }

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace granstack::study {
@@ -34,34 +35,33 @@ std::string gp_quote(const std::string& text) {
   return out + "'";
 }
 
-std::pair<double, double> action_window(const std::vector<Curve>& curves, double start_level, double end_level) {
+namespace {
+// From the first time any curve exceeds `start_level` of its largest value to the last sample a
+// curve's `active(curve, i, top)` holds at, with a margin of 8 % of that stretch either side.
+template <typename Active>
+std::pair<double, double> window(const std::vector<Curve>& curves, double start_level, Active active) {
   double first = INFINITY, last = 0.0;
   for (const auto& c : curves) {
     const double top = c.max();
     if (!(top > 0.0)) continue;
     for (std::size_t i = 0; i < c.y.size(); ++i) {
       if (c.y[i] > start_level * top) first = std::min(first, c.t[i]);
-      if (c.y[i] > end_level * top) last = std::max(last, c.t[i]);
+      if (active(c, i, top)) last = std::max(last, c.t[i]);
     }
   }
   if (!(first < last)) return {0.0, 0.0};
   const double margin = 0.08 * (last - first);
   return {std::max(0.0, first - margin), last + margin};
 }
+}  // namespace
+
+std::pair<double, double> action_window(const std::vector<Curve>& curves, double start_level, double end_level) {
+  return window(curves, start_level, [&](const Curve& c, std::size_t i, double top) { return c.y[i] > end_level * top; });
+}
 
 std::pair<double, double> settle_window(const std::vector<Curve>& curves, double start_level, double tolerance) {
-  double first = INFINITY, last = 0.0;
-  for (const auto& c : curves) {
-    const double top = c.max();
-    if (!(top > 0.0) || c.y.empty()) continue;
-    for (std::size_t i = 0; i < c.y.size(); ++i) {
-      if (c.y[i] > start_level * top) first = std::min(first, c.t[i]);
-      if (std::fabs(c.y[i] - c.y.back()) > tolerance * top) last = std::max(last, c.t[i]);
-    }
-  }
-  if (!(first < last)) return {0.0, 0.0};
-  const double margin = 0.08 * (last - first);
-  return {std::max(0.0, first - margin), last + margin};
+  return window(curves, start_level,
+                [&](const Curve& c, std::size_t i, double top) { return std::fabs(c.y[i] - c.y.back()) > tolerance * top; });
 }
 
 // An inset magnifies the lower blocks only where they stay below this fraction of the scale.
@@ -341,9 +341,17 @@ struct View {
   double lo = INFINITY, hi = -INFINITY, bottom = INFINITY, top = -INFINITY;
 };
 
-// The palette's colours: 1 striker, 2 steel, 3 Teflon, 4 other materials, then the marks.
-constexpr const char* kPalette = "set palette defined (1 'red', 2 'gray50', 3 'orange', 4 'skyblue', 5 'blue', 6 'web-green')\n"
-                                 "set cbrange [1:6]\nunset colorbox\n";
+// The drawings' colours by number: 1 striker, 2 steel, 3 Teflon, 4 other materials, then the marks
+// (5: a block's middle-row sphere of the impact path, 6: the output sphere).
+constexpr std::array<const char*, 7> kColours{"", "red", "gray50", "orange", "skyblue", "blue", "web-green"};
+
+std::string palette() {
+  std::string entries;
+  for (std::size_t k = 1; k < kColours.size(); ++k) entries += fmt::format("{}{} '{}'", k > 1 ? ", " : "", k, kColours[k]);
+  return fmt::format("set palette defined ({})\nset cbrange [1:{}]\nunset colorbox\n", entries, kColours.size() - 1);
+}
+
+int material_colour(const std::string& material) { return material == "steel" ? 2 : material == "teflon" ? 3 : 4; }
 
 // `materials`: the stack's type_materials().
 int sphere_colour(const model::Stack& stack, const std::vector<std::string>& materials, const model::Sphere& s,
@@ -352,8 +360,7 @@ int sphere_colour(const model::Stack& stack, const std::vector<std::string>& mat
     if (m.id == s.id) return m.colour;
   }
   if (s.id <= stack.strikers()) return 1;
-  const auto& material = materials.at(static_cast<std::size_t>(s.atom_type - 1));
-  return material == "steel" ? 2 : material == "teflon" ? 3 : 4;
+  return material_colour(materials.at(static_cast<std::size_t>(s.atom_type - 1)));
 }
 
 // The spheres of one view; `z_window` (m) keeps those whose centres lie in it.
@@ -399,21 +406,20 @@ std::string drawing_legend(const model::Stack& stack, const std::vector<DrawingM
   for (const auto& b : stack.blocks()) {
     if (std::find(seen.begin(), seen.end(), b.material) != seen.end()) continue;
     seen.push_back(b.material);
-    rows.emplace_back(b.material == "steel" ? 2 : b.material == "teflon" ? 3 : 4, b.material + " spheres");
+    rows.emplace_back(material_colour(b.material), b.material + " spheres");
   }
   const auto marked = [&](int colour) {
     return std::any_of(marks.begin(), marks.end(), [&](const DrawingMark& m) { return m.colour == colour; });
   };
   if (marked(5)) rows.emplace_back(5, "middle-row sphere (impact path)");
   if (marked(6)) rows.emplace_back(6, "the output sphere");
-  const char* colours[] = {"", "red", "gray50", "orange", "skyblue", "blue", "web-green"};
   std::string out;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const double y = 0.85 - 0.06 * static_cast<double>(i);
     out += fmt::format("set object {} circle at screen 0.705, screen {:.3f} size screen 0.012 fillcolor rgb '{}' "
                        "fillstyle transparent solid 0.6 border lc rgb 'black' front\n"
                        "set label {} {} at screen 0.725, screen {:.3f} left front noenhanced\n",
-                       100 + i, y, colours[rows[i].first], 100 + i, gp_quote(rows[i].second), y);
+                       100 + i, y, kColours.at(static_cast<std::size_t>(rows[i].first)), 100 + i, gp_quote(rows[i].second), y);
   }
   // Drawn with an empty plot, so the objects and labels appear once.
   return out + "unset title\nunset xlabel\nunset ylabel\nunset border\nunset tics\nset lmargin at screen 0.69\n"
@@ -447,7 +453,7 @@ Figure stack_drawing(const model::Stack& stack, const std::string& dir, const st
     plots = "set lmargin at screen 0.09\nset rmargin at screen 0.30\n" + plots +
             "set lmargin at screen 0.36\nset rmargin at screen 0.68\n" + view_script(low, 1, name) + drawing_legend(stack, marks);
   }
-  const auto body = fmt::format("set ylabel 'z (mm)'\n{}{}{}{}unset multiplot\n", kDrawingStyle, kPalette, layout, plots);
+  const auto body = fmt::format("set ylabel 'z (mm)'\n{}{}{}{}unset multiplot\n", kDrawingStyle, palette(), layout, plots);
   return render(dir, name, fmt::to_string(data), body, gnuplot, caption);
 }
 
@@ -465,7 +471,7 @@ Figure panels_drawing(const std::vector<DrawingPanel>& panels, const std::string
   std::string plots;
   for (std::size_t i = 0; i < views.size(); ++i) plots += view_script(views[i], static_cast<int>(i), name, span);
   const auto body = fmt::format("set ylabel 'z (mm)'\n{}{}set multiplot layout 1, {}\n{}unset multiplot\n", kDrawingStyle,
-                                kPalette, panels.size(), plots);
+                                palette(), panels.size(), plots);
   return render(dir, name, fmt::to_string(data), body, gnuplot, caption);
 }
 

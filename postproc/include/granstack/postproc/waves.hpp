@@ -72,8 +72,9 @@ std::vector<BlockWaves> analyse_waves(const std::string& case_dir);
 
 // The same, fed one frame at a time, so reduce reads the dump once. Memory does not grow with
 // the number of frames: of each row's speed curve it keeps the running maximum and the local
-// maxima that are higher than every earlier one (only those can be the first to reach half the
-// final maximum), with the column's overlaps at each of the middle row's.
+// maxima that are higher than every earlier one (only those can be the first to reach a fraction
+// of the final maximum, kLeadingPulseFraction), with the column's overlaps at each of the middle
+// row's.
 class WaveTracker {
  public:
   WaveTracker(const model::Stack& stack, double dt);
