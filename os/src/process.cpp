@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <thread>
+#include <vector>
 #include <cerrno>
 #include <csignal>
 #include <cstdlib>
@@ -17,6 +18,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/syscall.h>
+#include <pthread.h>
 #include <sched.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
@@ -35,35 +37,67 @@ bool executable_file(const std::string& path) {
   return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(path.c_str(), X_OK) == 0;
 }
 
-// What the child does between fork and exec: only async-signal-safe calls (the parent has
-// threads). Reports a failure to the parent through `report` (close-on-exec) and exits 127.
-[[noreturn]] void become(char* const* argv, char* const* envp, const char* cwd, const char* output, pid_t parent,
-                         int report, int confinement) {
+// What the child does between its start and exec. It shares the parent's memory (CLONE_VM, the
+// starting thread stopped until exec: CLONE_VFORK), so it may only make system calls: no
+// allocation, no lock, nothing a signal handler of the parent's could see half done (the parent
+// blocks every signal around the start; the child sets the ones granstack handles back to their
+// default before it unblocks them). Reports a failure to the parent through `report`
+// (close-on-exec) and exits 127.
+struct Becoming {
+  char* const* argv;
+  char* const* envp;
+  const char* cwd;
+  const char* output;
+  pid_t parent;
+  int report;
+  int confinement;
+  const sigset_t* mask;  // the mask the program starts with: none blocked
+};
+
+int become(void* arg) {
+  const auto& b = *static_cast<const Becoming*>(arg);
   auto fail = [&](int stage) {
     const int e[2] = {stage, errno};
-    [[maybe_unused]] const auto n = ::write(report, e, sizeof e);
+    [[maybe_unused]] const auto n = ::write(b.report, e, sizeof e);
     ::_exit(127);
   };
   // SIGKILL when the starting thread ends; if the parent died before this took effect, go now.
   if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0) fail(0);
-  if (::getppid() != parent) ::_exit(127);
+  if (::getppid() != b.parent) ::_exit(127);
   ::setpgid(0, 0);
   // Signals granstack ignores or handles must reach the program in their default state.
   struct sigaction dfl {};
   dfl.sa_handler = SIG_DFL;
   for (const int s : {SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGQUIT}) ::sigaction(s, &dfl, nullptr);
-  sigset_t none;
-  sigemptyset(&none);
-  ::sigprocmask(SIG_SETMASK, &none, nullptr);
-  if (cwd[0] != '\0' && ::chdir(cwd) != 0) fail(1);
+  ::sigprocmask(SIG_SETMASK, b.mask, nullptr);
+  if (b.cwd[0] != '\0' && ::chdir(b.cwd) != 0) fail(1);
   const int in = ::open("/dev/null", O_RDONLY);
   if (in < 0 || ::dup2(in, STDIN_FILENO) < 0) fail(2);
-  const int out = output[0] != '\0' ? ::open(output, O_WRONLY | O_CREAT | O_TRUNC, 0644) : ::open("/dev/null", O_WRONLY);
+  const int out = b.output[0] != '\0' ? ::open(b.output, O_WRONLY | O_CREAT | O_TRUNC, 0644) : ::open("/dev/null", O_WRONLY);
   if (out < 0 || ::dup2(out, STDOUT_FILENO) < 0 || ::dup2(out, STDERR_FILENO) < 0) fail(2);
-  if (confinement >= 0 && !detail::apply_write_confinement(confinement)) fail(4);
-  ::execve(argv[0], argv, envp);
+  if (b.confinement >= 0 && !detail::apply_write_confinement(b.confinement)) fail(4);
+  ::execve(b.argv[0], b.argv, b.envp);
   fail(3);
-  ::_exit(127);
+  return 127;
+}
+
+// Starts `become` as a new process sharing this one's memory until it executes: unlike fork, no
+// page table is copied and no page of a large parent (reproduce's reductions beside its runs) is
+// made copy-on-write, to fault again on the parent's next write.
+pid_t start_process(Becoming& b) {
+  constexpr std::size_t kStack = std::size_t{64} << 10;
+  std::vector<char> stack(kStack);
+  sigset_t all, old;
+  sigfillset(&all);
+  ::pthread_sigmask(SIG_SETMASK, &all, &old);
+  sigset_t none;
+  sigemptyset(&none);
+  b.mask = &none;
+  const pid_t pid = ::clone(become, stack.data() + stack.size(), CLONE_VM | CLONE_VFORK | SIGCHLD, &b);
+  const int saved = errno;
+  ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
+  errno = saved;
+  return pid;
 }
 }  // namespace
 
@@ -96,7 +130,7 @@ Child start(const std::vector<std::string>& argv, const StartOptions& options) {
                               argv[0].find('/') == std::string::npos ? " on PATH" : "");
     return child;
   }
-  // Everything the child needs is built before fork: it may not allocate.
+  // Everything the child needs is built before it starts: it may not allocate.
   std::vector<std::string> args = argv;
   args[0] = fs::absolute(*program).string();  // the child changes directory before exec
   std::vector<char*> arg_ptrs;
@@ -127,9 +161,8 @@ Child start(const std::vector<std::string>& argv, const StartOptions& options) {
     return child;
   }
   const int confinement = options.writable.empty() ? -1 : detail::write_confinement(options.writable);
-  const pid_t parent = ::getpid();
-  const pid_t pid = ::fork();
-  if (pid == 0) become(arg_ptrs.data(), env.data(), cwd.c_str(), output.c_str(), parent, report[1], confinement);
+  Becoming b{arg_ptrs.data(), env.data(), cwd.c_str(), output.c_str(), ::getpid(), report[1], confinement, nullptr};
+  const pid_t pid = start_process(b);
   ::close(report[1]);
   if (confinement >= 0) ::close(confinement);
   if (pid < 0) {

@@ -1,7 +1,7 @@
 #pragma once
 // Landlock (Linux 5.13 and later): a process, and all it starts, that may write only beneath
-// chosen folders; reading stays free. The rules are made before fork (they allocate); the child
-// applies them between fork and exec with two system calls.
+// chosen folders; reading stays free. The rules are made before the child starts (they
+// allocate); the child applies them before it executes, with two system calls.
 #include <filesystem>
 #include <vector>
 
