@@ -1,5 +1,5 @@
 #pragma once
-// Pieces of an input deck that LIGGGHTS's and LAMMPS's decks share (case_writer.cpp), in the
+// Pieces of an input deck that LIGGGHTS's and LAMMPS's decks share (deck_parts.cpp), in the
 // words of each program (DeckDialect).
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>

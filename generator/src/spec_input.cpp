@@ -6,7 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <toml++/toml.h>
+#include <granstack/model/toml_input.hpp>
 
 namespace granstack::generator {
 
@@ -44,28 +44,18 @@ bool scalar_text(const toml::node& node, std::string& out) {
   return true;
 }
 
-std::string where(const toml::node& node) {
-  const auto& src = node.source();
-  return fmt::format("line {}", src.begin.line);
-}
 
 }  // namespace
 
 RawSpec parse_spec_toml(std::string_view text, const std::string& source) {
-  toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    throw std::runtime_error(fmt::format("{}:{}:{}: TOML syntax error: {}", source, e.source().begin.line,
-                                         e.source().begin.column, e.description()));
-  }
+  const auto root = model::parse_toml(text, source);
   RawSpec raw;
   std::vector<SpecIssue> issues;
   for (const auto& [key_, node] : root) {
     const std::string key(key_.str());
     const auto* field = model::find_spec_field(key);
     if (field == nullptr) {
-      issues.push_back({key, fmt::format("unknown field in {} ({}); {}", source, where(node),
+      issues.push_back({key, fmt::format("unknown field in {} ({}); {}", source, model::toml_line(node),
                                          model::unknown_field_hint(key))});
       continue;
     }

@@ -1,11 +1,10 @@
 #pragma once
-// Writes case directories: the LIGGGHTS data file, the input deck and the manifest.
+// Writes case directories: the LIGGGHTS data file, the input deck (decks.hpp) and the manifest.
 #include <granstack/formats/data_file.hpp>
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/ownership.hpp>
+#include <granstack/generator/decks.hpp>
 #include <granstack/generator/spec_input.hpp>
-#include <granstack/generator/template.hpp>
-#include <granstack/model/lammps.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
 
@@ -36,26 +35,8 @@ using formats::RefusedError;
 
 // The names of everything the generated deck writes and the columns of each file.
 formats::CaseFiles case_files(const model::Stack& stack);
-// The variables the deck template is rendered with.
-TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& res, const formats::CaseFiles& files,
-                            const std::string& case_name);
+// The LIGGGHTS data file of a case (atom_style granular): every sphere, its type, radius, density and velocity.
 formats::DataFile data_file(const model::Stack& stack, const std::string& case_name);
-// The deck granstack's own template gives for a case, from its manifest alone (with the
-// granstack version and commit the manifest records). generate writes exactly this unless
-// given --template; refsim runs only cases whose deck is this, so the two engines cannot be
-// handed different physics.
-std::string default_deck(const formats::Manifest& manifest);
-// Whether the deck in `case_dir` is exactly default_deck(manifest).
-bool has_default_deck(const std::string& case_dir, const formats::Manifest& manifest);
-// The LAMMPS deck of a case (`granstack run --engine lammps` writes it as in.lammps): `tmpl`
-// (default_lammps_template(), templates/in.lammps.tmpl, or a user's; `source` names it in
-// errors) rendered for the case's stack, resolution and files, its contacts mapped as
-// model/lammps.hpp says for a LAMMPS of the family `rules`. The caller checks
-// model::lammps_unmappable first.
-std::string_view default_lammps_template();
-std::string lammps_deck(const model::Stack& stack, const model::Resolution& res, const formats::CaseFiles& files,
-                        const std::string& case_name, std::string_view tmpl, std::string_view source,
-                        const model::LammpsRules& rules);
 nlohmann::json derived_json(const model::Stack& stack, const model::Resolution& res);
 nlohmann::json layout_json(const model::Stack& stack);
 

@@ -1,0 +1,136 @@
+// Pieces of an input deck that LIGGGHTS's and LAMMPS's decks share (deck_parts.hpp): the series
+// groups, the run that stops at the blow's end, the processor grid.
+#include "deck_parts.hpp"
+
+#include <granstack/model/protection.hpp>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+namespace granstack::generator {
+
+// The deck's selection of a series group: by atom type, or by id (a range where consecutive).
+std::string group_command(const model::SeriesGroup& g) {
+  if (g.atom_type != 0) return fmt::format("group           {} type {}\n", g.name, g.atom_type);
+  const bool consecutive = g.ids.back() - g.ids.front() + 1 == static_cast<int>(g.ids.size());
+  if (g.ids.size() == 1) return fmt::format("group           {} id {}\n", g.name, g.ids.front());
+  if (consecutive) return fmt::format("group           {} id <> {} {}\n", g.name, g.ids.front(), g.ids.back());
+  return fmt::format("group           {} id {}\n", g.name, fmt::join(g.ids, " "));
+}
+
+namespace {
+// Atom-style variables and a compute `gs_<name>_aim`: whether any other sphere is on course to hit
+// sphere `id` (model::threatened, in its arithmetic: d and u the other's position and velocity
+// less the sphere's), and, when `touch`, `gs_<name>_touch`: whether any touches it.
+std::string on_course_lines(std::string_view name, int id, double radius, const DeckDialect& dialect, bool touch) {
+  std::string out = fmt::format(
+      "variable        gs_{0}_dx atom x-x[{1}]\nvariable        gs_{0}_dy atom y-y[{1}]\nvariable        gs_{0}_dz atom z-z[{1}]\n"
+      "variable        gs_{0}_ux atom vx-vx[{1}]\nvariable        gs_{0}_uy atom vy-vy[{1}]\nvariable        gs_{0}_uz atom vz-vz[{1}]\n"
+      "variable        gs_{0}_dd atom v_gs_{0}_dx*v_gs_{0}_dx+v_gs_{0}_dy*v_gs_{0}_dy+v_gs_{0}_dz*v_gs_{0}_dz\n"
+      "variable        gs_{0}_du atom v_gs_{0}_dx*v_gs_{0}_ux+v_gs_{0}_dy*v_gs_{0}_uy+v_gs_{0}_dz*v_gs_{0}_uz\n"
+      "variable        gs_{0}_uu atom v_gs_{0}_ux*v_gs_{0}_ux+v_gs_{0}_uy*v_gs_{0}_uy+v_gs_{0}_uz*v_gs_{0}_uz\n"
+      "# (uu==0) keeps the program from dividing by 0 where du = 0 already rules the sphere out.\n"
+      "variable        gs_{0}_aim atom (id!={1})*(v_gs_{0}_du<0)*(v_gs_{0}_dd-v_gs_{0}_du*v_gs_{0}_du/(v_gs_{0}_uu+(v_gs_{0}_uu==0))<({4}+{2})*({4}+{2}))\n"
+      "compute         gs_{0}_aim all reduce{3} max v_gs_{0}_aim\n",
+      name, id, radius, dialect.reduce_options, dialect.radius);
+  if (touch) {
+    out += fmt::format(
+        "variable        gs_{0}_touch atom (id!={1})*(v_gs_{0}_dd<({4}+{2})*({4}+{2}))\n"
+        "compute         gs_{0}_touch all reduce{3} max v_gs_{0}_touch\n",
+        name, id, radius, dialect.reduce_options, dialect.radius);
+  }
+  return out;
+}
+
+// Each striker still coming (model::striker_coming): on course to hit a sphere, or, against a
+// wall, moving down over the footprint; `gs_coming` counts them. `computes` gains the computes read.
+std::string striker_lines(const model::Stack& stack, const DeckDialect& dialect, std::vector<std::string>& computes) {
+  std::string out;
+  std::string coming = "0";
+  const bool wall = stack.spec().bottom == model::Boundary::wall;
+  for (int k = 1; k <= stack.strikers(); ++k) {
+    const auto name = fmt::format("s{}", k);
+    out += on_course_lines(name, k, stack.spheres()[static_cast<std::size_t>(k - 1)].radius, dialect, false);
+    computes.push_back(fmt::format("c_gs_{}_aim", name));
+    coming += fmt::format("+c_gs_{}_aim", name);
+    if (wall) coming += fmt::format("+(vz[{0}]<0)*(abs(x[{0}])<={1})*(abs(y[{0}])<={2})", k, stack.half_width(), stack.half_depth());
+  }
+  return out + fmt::format("variable        gs_coming equal {}\n", coming);
+}
+}  // namespace
+
+// The run of a case that stops at the blow's end (model::BlowEnd, docs/physics.md section 7):
+// one dump interval at a time (`pre no`: one run's trajectory, bit for bit), the frame judged after
+// each by what refsim judges, in the same arithmetic (over the footprint, momentum summed in atom
+// order; the output sphere's neighbours and their straight-line courses; the strikers' courses),
+// and the run ended at the frame where the condition has held for the hold, at most res.steps (the cap).
+std::string blow_end_run(const model::Stack& stack, const model::Resolution& res, const DeckDialect& dialect) {
+  std::vector<std::string> computes;
+  std::string judge = striker_lines(stack, dialect, computes);
+  if (stack.spec().bottom == model::Boundary::wall) {
+    const auto over = fmt::format("(abs(x)<={})*(abs(y)<={})", stack.half_width(), stack.half_depth());
+    judge += fmt::format(
+        "variable        gs_pz atom mass*vz*{0}\n"
+        "variable        gs_press atom {0}*(z-{2}<0)\n"
+        "compute         gs_pz all reduce{1} sum v_gs_pz\n"
+        "compute         gs_press all reduce{1} max v_gs_press\n"
+        "variable        gs_holds equal (v_gs_coming==0)&&(c_gs_pz>=0)&&(c_gs_press==0)\n",
+        over, dialect.reduce_options, dialect.radius);
+    computes.insert(computes.begin(), {"c_gs_pz", "c_gs_press"});
+  } else {
+    const int o = stack.output_sphere_id();
+    judge += on_course_lines("o", o, stack.spheres()[static_cast<std::size_t>(o - 1)].radius, dialect, true);
+    judge += "variable        gs_holds equal (v_gs_coming==0)&&(c_gs_o_touch==0)&&(c_gs_o_aim==0)\n";
+    computes.insert(computes.begin(), {"c_gs_o_touch", "c_gs_o_aim"});
+  }
+  judge = dialect.radius_setup + judge;
+  if (dialect.judge_in_thermo) {
+    judge += fmt::format("thermo_style    custom step atoms ke c_gs_erot cpu {}\n"
+                         "thermo_modify   lost error norm no format float %.15g\n",
+                         fmt::join(computes, " "));
+  }
+  model::BlowEnd start(stack, res);
+  model::judge_start(start, stack);
+  // After each interval (the judge's computes are brought up to date at the end of every run, so
+  // the deck reads them between runs; `run ... every` would also change when LIGGGHTS tallies
+  // energies, and with it the last bit of some torques): whether the condition holds, the first
+  // frame of its current run (-1: none), whether it has held for the hold, whether the cap is ahead.
+  const auto judge_frame = fmt::format(
+      "variable        gs_h equal $(v_gs_holds)\n"
+      "variable        gs_since equal $(v_gs_h*((v_gs_since>=0)*v_gs_since+(v_gs_since<0)*step)-(1-v_gs_h))\n"
+      "variable        gs_ended equal $(v_gs_since>=0&&step-v_gs_since>={})\n"
+      "variable        gs_more equal $(step<{})\n",
+      model::blow_end_hold_steps(res), res.steps);
+  return fmt::format(
+      "# The run stops at the dump frame where the blow has ended (docs/physics.md section 7), at most\n"
+      "# {0} steps: it holds once {1}.\n"
+      "# Frame 0, judged by granstack from the stack as generated (LIGGGHTS reads its computes\n"
+      "# between runs only after a run of at least one step): the condition {5} there.\n"
+      "{2}variable        gs_since equal {6}\n"
+      "label           gs_frame\n"
+      "run             {4} pre no post no\n"
+      "{3}"
+      "if              \"${{gs_ended}} == 0 && ${{gs_more}} == 1\" then \"jump SELF gs_frame\"\n"
+      "print           \"granstack: the run ended at step $(step), the blow ${{gs_ended}} (1: ended)\"",
+      res.steps, start.rule(), judge, judge_frame, res.dump_every, start.holding_since() ? "holds" : "does not hold",
+      start.holding_since() ? 0 : -1);
+}
+
+// The processor grid: `granstack run --np N` chooses one for the stack and passes it with -var
+// (runner/decomposition.hpp); the defaults are for a run by hand, where LIGGGHTS factors the
+// ranks over the free directions.
+std::string processors_lines(const model::Stack& stack, std::string_view program) {
+  const bool strip = !stack.three_d() && !stack.container();
+  return fmt::format(
+      "# MPI ranks: `granstack run --np N` passes the processor grid it chose for this stack\n"
+      "# (-var gs_ranks_x X -var gs_ranks_y Y -var gs_ranks_z Z; run.json's \"decomposition\" gives its loads). Run by\n"
+      "# hand, {} chooses: {}.\n"
+      "variable        gs_ranks_x index *\n"
+      "variable        gs_ranks_y index {}\n"
+      "variable        gs_ranks_z index {}\n"
+      "processors      ${{gs_ranks_x}} ${{gs_ranks_y}} ${{gs_ranks_z}}",
+      program, strip ? "the strip is one sphere thick in y, so x and z are split" : "x and y are split, never z",
+      strip ? "1" : "*", strip ? "*" : "1");
+}
+
+}  // namespace granstack::generator
