@@ -13,7 +13,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
-#include <toml++/toml.h>
+#include <granstack/model/toml_input.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -142,13 +142,6 @@ void read_vary(const toml::table* vary, Space& s, std::vector<std::string>& prob
   }
 }
 
-// A value as the file wrote it (for messages).
-std::string toml_text(const toml::node& v) {
-  std::ostringstream out;
-  out << toml::toml_formatter{v};
-  return out.str();
-}
-
 std::vector<std::string> objective_names() {
   std::vector<std::string> names;
   for (const auto& o : objective_table()) names.emplace_back(o.name);
@@ -163,7 +156,7 @@ void read_objectives(const toml::table& root, Space& s, std::vector<std::string>
                            ? fmt::format("objectives is missing: a list of two or more of {}", joined(objective_names()))
                            : fmt::format("objectives = {}: a list of two or more of {}, e.g. objectives = [\"{}\", "
                                          "\"areal_mass\"]",
-                                         toml_text(*given), joined(objective_names()),
+                                         model::toml_text(*given), joined(objective_names()),
                                          given->value<std::string>().value_or("peak_wall_force")));
     return;
   }
@@ -823,12 +816,7 @@ void check_shock_resolved(const Space& s, std::vector<std::string>& problems) {
 }  // namespace
 
 Space parse_space(std::string_view text, const std::string& source, bool stored, bool free_sides_by_default) {
-  toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    throw std::runtime_error(fmt::format("{}:{}:{}: {}", source, e.source().begin.line, e.source().begin.column, e.description()));
-  }
+  const auto root = model::parse_toml(text, source);
   std::vector<std::string> problems;
   for (const auto& [k, v] : root) {
     const std::string key(k.str());

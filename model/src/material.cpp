@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 
 #include <stdexcept>
-#include <toml++/toml.h>
+#include <granstack/model/toml_input.hpp>
 
 namespace granstack::embedded {
 std::string_view materials_toml();
@@ -24,12 +24,7 @@ double require_number(const toml::table& table, std::string_view material, std::
 }  // namespace
 
 std::vector<Material> parse_material_table(std::string_view toml_text, std::string_view source_name) {
-  toml::table root;
-  try {
-    root = toml::parse(toml_text, source_name);
-  } catch (const toml::parse_error& e) {
-    throw std::invalid_argument(fmt::format("{}: {}", source_name, e.description()));
-  }
+  const auto root = parse_toml<std::invalid_argument>(toml_text, source_name);
   std::vector<Material> out;
   for (const auto& [key, node] : root) {
     const auto* table = node.as_table();

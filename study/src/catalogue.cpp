@@ -3,7 +3,7 @@
 #include <granstack/study/catalogue.hpp>
 
 #include <fmt/format.h>
-#include <toml++/toml.h>
+#include <granstack/model/toml_input.hpp>
 
 #include <algorithm>
 #include <sstream>
@@ -292,13 +292,7 @@ std::vector<std::string> Catalogue::names() const {
 }
 
 Catalogue parse_catalogue(std::string_view toml_text, const std::string& source) {
-  toml::table root;
-  try {
-    root = toml::parse(toml_text, source);
-  } catch (const toml::parse_error& e) {
-    throw CatalogueError(fmt::format("{}:{}:{}: {}", source, e.source().begin.line, e.source().begin.column,
-                                     e.description()));
-  }
+  const auto root = model::parse_toml<CatalogueError>(toml_text, source);
   Catalogue c;
   const auto* list = root.get_as<toml::array>("experiment");
   if (list == nullptr) throw CatalogueError(source + ": no [[experiment]]");
