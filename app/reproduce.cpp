@@ -98,8 +98,8 @@ Command add_reproduce(CLI::App& app) {
   cmd->add_option("-o,--output", o.output, "The reproduction's directory (its cases are reused on a rerun)")
       ->check(output_directory())->required();
   cmd->add_option("-j,--jobs", o.jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
-  cmd->add_option("--engine", o.engine, "liggghts, refsim or lammps (the spec mapped onto LAMMPS's granular models) [the engine the directory's "
-                  "cases ran on; liggghts for a new reproduction]")->check(CLI::IsMember(runner::engine_names()));
+  add_engine_option(cmd, "--engine", o.engine,
+                    "by default the engine the directory's cases ran on, liggghts for a new reproduction");
   cmd->add_flag("--validate", o.validate, "Also run every case with the other engine and report the agreement");
   auto* quick = cmd->add_flag("--quick", o.quick, "The small subset CI runs (the experiments marked quick)");
   cmd->add_flag("--full", o.full,

@@ -35,7 +35,7 @@ struct RunFlags {
   std::string liggghts = "liggghts";
   std::string lammps = "lmp";
   std::string lammps_template;
-  std::string contact_rules;
+  std::string contact_rules = "liggghts";
 };
 
 // The status line (on a terminal) and a line per case as it ends, flushed, so a log followed
@@ -93,15 +93,6 @@ void warn_if_oversubscribed(const runner::RunOptions& o, int cases) {
                      "are many times slower; lower -j or {}\n",
              std::min(o.jobs, std::max(cases, 1)), each, refsim ? "threads" : "MPI ranks", wanted, cpus,
              refsim ? "--threads" : "--np");
-}
-
-// --engine's help, from the engines' table: "liggghts (the real DEM code), refsim (...) or lammps (...)".
-std::string engine_help() {
-  std::vector<std::string> parts;
-  for (const auto& row : runner::engine_table()) parts.push_back(fmt::format("{} ({})", row.name, row.help));
-  const auto last = parts.back();
-  parts.pop_back();
-  return fmt::format("{} or {}", fmt::join(parts, ", "), last);
 }
 
 // --kernel's values: auto, reference and the vector instruction sets this CPU runs.
@@ -174,32 +165,35 @@ Command add_run(CLI::App& app) {
   auto f = std::make_shared<RunFlags>();
   auto* cmd = app.add_subcommand("run", "Run LIGGGHTS (or refsim, or LAMMPS) on case directories (or sweep directories)");
   cmd->add_option("cases", f->cases, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
-  cmd->add_option("--engine", f->engine, fmt::format("{} [liggghts]", engine_help()))->check(CLI::IsMember(runner::engine_names()));
-  cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
+  add_engine_option(cmd, "--engine", f->engine);
+  cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time")->check(CLI::Range(1, 256))->capture_default_str();
   cmd->add_flag("--force", f->force, "Run cases again even if they finished");
   auto* mpi = cmd->add_option_group("MPI", "For --engine liggghts and lammps");
-  mpi->add_option("--np", f->ranks, "MPI ranks per case (mpirun when > 1) [1]")->check(CLI::Range(1, 4096));
+  mpi->add_option("--np", f->ranks, "MPI ranks per case (mpirun when > 1)")->check(CLI::Range(1, 4096))->capture_default_str();
   auto* liggghts = cmd->add_option_group("liggghts", "For --engine liggghts");
-  liggghts->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
+  liggghts->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable (a name is looked up on PATH)")->capture_default_str();
   liggghts->add_option("--grid", f->grid,
                        "LIGGGHTS's MPI processor grid, ranks along x,y,z (product --np), e.g. 4,4,1; by default the grid "
                        "whose busiest rank holds the fewest spheres, owned and ghost (run.json's \"decomposition\")");
   auto* refsim = cmd->add_option_group("refsim", "For --engine refsim");
   refsim->add_option("--threads", f->threads,
                      "Threads per case (results do not depend on it; where a CPU is left over, refsim writes its outputs "
-                     "on one more) [1]")
-      ->check(CLI::Range(1, 256));
+                     "on one more)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
   refsim->add_option("--kernel", f->kernel,
                      fmt::format("refsim's kernels: auto (the best vector instruction set this CPU runs), reference "
-                                 "(scalar) or one of this CPU's: {}; all give the same bits [auto]",
+                                 "(scalar) or one of this CPU's: {}; all give the same bits",
                                  fmt::join(refsim::vector_kernels(), ", ")))
-      ->check(CLI::IsMember(kernel_choices()));
+      ->check(CLI::IsMember(kernel_choices()))
+      ->capture_default_str();
   refsim->add_option("--contact-rules", f->contact_rules,
                      "liggghts (the case's deck, LIGGGHTS's contact law to the bit) or lammps (the same spec as LAMMPS "
-                     "runs it: docs/explanation/lammps.md) [liggghts]")
-      ->check(CLI::IsMember({"liggghts", "lammps"}));
+                     "runs it: docs/explanation/lammps.md)")
+      ->check(CLI::IsMember({"liggghts", "lammps"}))
+      ->capture_default_str();
   auto* lammps = cmd->add_option_group("lammps", "For --engine lammps");
-  lammps->add_option("--lammps", f->lammps, "The LAMMPS executable [lmp, on PATH]");
+  lammps->add_option("--lammps", f->lammps, "The LAMMPS executable (a name is looked up on PATH)")->capture_default_str();
   lammps->add_option("--lammps-template", f->lammps_template,
                      "A template of yours for the LAMMPS deck instead of templates/in.lammps.tmpl")
       ->check(CLI::ExistingFile);

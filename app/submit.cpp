@@ -85,7 +85,7 @@ Command add_submit(CLI::App& app) {
   auto& o = f->options;
   auto* cmd = app.add_subcommand("submit", "Submit the cases not yet done as SLURM job arrays");
   cmd->add_option("cases", f->targets, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
-  cmd->add_option("--engine", o.engine, "liggghts, refsim or lammps (lmp on the nodes' PATH) [liggghts]")->check(CLI::IsMember(runner::engine_names()));
+  add_engine_option(cmd, "--engine", o.engine, "LIGGGHTS and LAMMPS on the nodes' PATH (liggghts, lmp)");
   cmd->add_option("--np", o.ranks, "MPI ranks per case (the task's --ntasks) [1]")->check(CLI::Range(1, 4096));
   cmd->add_option("--nodes", o.nodes,
                   "Nodes per task (sbatch --nodes) for a case bigger than one node: its --np ranks spread over them, "

@@ -140,10 +140,7 @@ Command add_validate(CLI::App& app) {
   cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
   cmd->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
   cmd->add_option("--lammps", f->lammps, "The LAMMPS executable [lmp, on PATH]");
-  cmd->add_option("--engines", f->engines, "The two engines compared, of liggghts, refsim and lammps [liggghts,refsim]")
-      ->delimiter(',')
-      ->expected(2)
-      ->check(CLI::IsMember(runner::engine_names()));
+  add_engine_option(cmd, "--engines", f->engines, "the two compared, separated by a comma")->delimiter(',')->expected(2);
   return {cmd, [f, cmd] {
     if (const auto why = other_engines_option(*cmd, f->engines); !why.empty()) {
       fmt::print(stderr, "error: {}\n", why);

@@ -8,15 +8,35 @@
 
 namespace granstack::runner {
 
+namespace {
+// Each engine's contact rules: LIGGGHTS's and LAMMPS's their own (the model's rows say what each
+// lacks); refsim LIGGGHTS's, whose frame also runs refsim's own Thornton, or LAMMPS's.
+std::string_view liggghts_refuses(const model::ContactModel& m, bool) { return model::liggghts_refusal(m); }
+std::string_view lammps_refuses(const model::ContactModel& m, bool) { return model::lammps_refusal(m); }
+std::string_view refsim_refuses(const model::ContactModel& m, bool lammps_rules) {
+  return lammps_rules ? model::lammps_refusal(m) : model::refsim_liggghts_refusal(m);
+}
+}  // namespace
+
 const std::vector<EngineRow>& engine_table() {
   static const std::vector<EngineRow> table{
-      {Engine::liggghts, "liggghts", "the real DEM code", {"--liggghts", "--np", "--grid"}, make_liggghts_engine},
+      {Engine::liggghts, "liggghts", "the real DEM code", {"--liggghts", "--np", "--grid"}, make_liggghts_engine,
+       liggghts_refuses},
       {Engine::refsim, "refsim", "the in-house reference integrator", {"--threads", "--kernel", "--contact-rules"},
-       make_refsim_engine},
+       make_refsim_engine, refsim_refuses},
       {Engine::lammps, "lammps", "LAMMPS's GRANULAR package, the case's contacts mapped onto its models",
-       {"--lammps", "--lammps-template", "--np"}, make_lammps_engine},
+       {"--lammps", "--lammps-template", "--np"}, make_lammps_engine, lammps_refuses},
   };
   return table;
+}
+
+std::string engine_list() {
+  const auto& names = engine_names();
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  }
+  return out;
 }
 
 const EngineRow& engine_row(Engine e) {
@@ -60,13 +80,11 @@ Engine parse_engine(const std::string& name) {
   for (const auto& row : engine_table()) {
     if (row.name == name) return row.engine;
   }
-  throw std::invalid_argument("'" + name + "' is no engine; engines: liggghts, refsim, lammps");
+  throw std::invalid_argument("'" + name + "' is no engine: give " + engine_list());
 }
 
 std::string_view model_refusal(Engine e, const model::ContactModel& m, bool lammps_rules) {
-  const bool lammps = e == Engine::lammps || (e == Engine::refsim && lammps_rules);
-  if (lammps) return model::lammps_refusal(m);
-  return e == Engine::refsim ? model::refsim_liggghts_refusal(m) : model::liggghts_refusal(m);
+  return engine_row(e).refusal(m, lammps_rules);
 }
 
 }  // namespace granstack::runner

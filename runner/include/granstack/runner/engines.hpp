@@ -23,17 +23,21 @@ struct EngineRow {
   // engines share, as --np, is in each of their rows).
   std::vector<std::string> options;
   std::unique_ptr<CaseEngine> (*make)();  // its factory
+  // What of a contact model it cannot run on any machine, by the contact rules it runs (its own;
+  // refsim LIGGGHTS's, or LAMMPS's with `lammps_rules`), or "".
+  std::string_view (*refusal)(const model::ContactModel& m, bool lammps_rules);
 };
 
 // Every engine, in the order --engine's help lists them.
 const std::vector<EngineRow>& engine_table();
+// Their names as a sentence lists them: "liggghts, refsim or lammps".
+std::string engine_list();
 const EngineRow& engine_row(Engine e);
 // The engines whose own `option` is (empty: every engine takes it).
 std::vector<std::string> engines_owning(const std::string& option);
 // Every option some engine owns.
 std::vector<std::string> engine_options();
-// What engine `e` cannot run of a contact model on any machine (the model's own refusal: LAMMPS's
-// mapping's, or LIGGGHTS's, which refsim runs unless `lammps_rules`), or "".
+// What engine `e` cannot run of a contact model on any machine (its row's refusal), or "".
 std::string_view model_refusal(Engine e, const model::ContactModel& m, bool lammps_rules = false);
 
 }  // namespace granstack::runner
