@@ -50,7 +50,7 @@ RECORDS = {
     # doc_tables.py --write --reproduce: the study on LAMMPS against LIGGGHTS (report.json's "against")
     "engines_study": "bench/results/engines-study-2026-11-28.json",
     # GRANSTACK=build/ci/app/granstack OUT=... bash bench/reproduce.sh 3, on the 2-core machine
-    "reproduce": "bench/results/reproduce-2026-12-06.json",
+    "reproduce": "bench/results/reproduce-2026-12-07.json",
     # OUT=... bench/design_front.sh, on the 2-core machine (the example's confined front, #47 item 9)
     "design_front": "bench/results/design-front-2026-11-28.json",
     # bench/oversubscription.sh 3, on the 2-core machine
@@ -908,6 +908,8 @@ def reproduce_speed():
     runs = [("`reproduce`, every experiment", "reproduce"), ("`reproduce --validate`", "validate"),
             ("`reproduce --quick`", "quick"), ("`granstack run -j 2 --force` on the same cases", "baseline_run"),
             ("bare LIGGGHTS on the same cases, two at a time", "bare_liggghts")]
+    if "reproduce_base" in wall:
+        runs.append((f"`reproduce` of the build before, {r['base']}", "reproduce_base"))
     rows = [f"| run ({r['cases']} cases, -j 2, from scratch) | wall, median | min..max | CPU, median | min..max |",
             "|---|---|---|---|---|"]
     for label, key in runs:
@@ -918,8 +920,19 @@ def reproduce_speed():
             f"{ratio('reproduce', 'bare_liggghts', cpu):.3f} in CPU time (target 1.10 in CPU time); over `granstack run`: "
             f"{ratio('reproduce', 'baseline_run', wall):.3f} and {ratio('reproduce', 'baseline_run', cpu):.3f}. "
             f"`granstack run` over bare LIGGGHTS: {ratio('baseline_run', 'bare_liggghts', wall):.3f} in wall time, "
-            f"{ratio('baseline_run', 'bare_liggghts', cpu):.3f} in CPU time (target 1.03).\n")
-    return "\n".join(rows) + text
+            f"{ratio('baseline_run', 'bare_liggghts', cpu):.3f} in CPU time (target 1.03).")
+    if "reproduce_base" in wall:
+        text += (f" The build before over bare LIGGGHTS: {ratio('reproduce_base', 'bare_liggghts', wall):.3f} in wall time, "
+                 f"{ratio('reproduce_base', 'bare_liggghts', cpu):.3f} in CPU time.")
+    own = r.get("own_cpu_seconds", {})
+    if own:
+        # granstack's own process against the programs it started, in the same minutes: free of the drift between
+        # rounds that the ratios to bare LIGGGHTS carry.
+        share = lambda k: f"{m(own[k]):.1f} s of {m(cpu[k]):.1f} s ({100 * m([o / c for o, c in zip(own[k], cpu[k])]):.1f} %)"
+        text += (f"\n\ngranstack's own process (every thread, not the programs it starts), medians: `reproduce` "
+                 f"{share('reproduce')}, `granstack run` {share('baseline_run')}"
+                 + (f", the build before's `reproduce` {share('reproduce_base')}" if "reproduce_base" in own else "") + ".")
+    return "\n".join(rows) + text + "\n"
 
 
 def number(v):
