@@ -10,8 +10,8 @@
 # user + system of every process each one started (getrusage of the children).
 # Usage: bench/reproduce.sh [REPEATS]   (about twelve minutes with 3; OUT=FILE.json keeps the
 # record, from which the docs' "N cases, about T s on 2 cores" is made: scripts/doc_tables.py).
-# GRANSTACK_BASE=PROGRAM adds another build's reproduce to the rounds (a change's before and after
-# in the same run); RUNS="reproduce baseline_run bare_liggghts" times only those. Each granstack
+# GRANSTACK_BASE=PROGRAM adds another build's reproduce and run to the rounds (a change's before and
+# after in the same run); RUNS="reproduce baseline_run bare_liggghts" times only those. Each granstack
 # command's own CPU time (its process, not LIGGGHTS) is kept beside its total.
 set -euo pipefail
 repeats=${1:-3}
@@ -75,6 +75,7 @@ runs = {"reproduce": command(gs, "reproduce", "-o", f"{work}/all", "-j", "2", "-
 base = os.environ["BASE"]
 if base:
     runs["reproduce_base"] = command(base, "reproduce", "-o", f"{work}/all", "-j", "2", "--force")
+    runs["baseline_run_base"] = command(base, "run", "-j", "2", "--force", *cases)
 if os.environ["RUNS"]:
     runs = {k: fn for k, fn in runs.items() if k in os.environ["RUNS"].split()}
 wall = {k: [] for k in runs}
@@ -94,12 +95,12 @@ print(f"{repeats} alternating runs each, -j 2, from scratch (median, min..max): 
 for k, label in [("reproduce", f"reproduce, every experiment ({n} cases)"), ("validate", "reproduce --validate"),
                  ("quick", "reproduce --quick"), ("baseline_run", f"granstack run -j 2 on the same {n} cases"),
                  ("bare_liggghts", "bare LIGGGHTS on the same cases, 2 at a time"),
-                 ("reproduce_base", f"reproduce of {base}")]:
+                 ("reproduce_base", f"reproduce of {base}"), ("baseline_run_base", f"run of {base}")]:
     if k not in runs:
         continue
     print(f"{label:48s} {f(wall[k])}   CPU {f(cpus[k])}")
 for a, b in [("reproduce", "bare_liggghts"), ("reproduce", "baseline_run"), ("baseline_run", "bare_liggghts"),
-             ("reproduce_base", "bare_liggghts"), ("reproduce", "reproduce_base")]:
+             ("reproduce_base", "bare_liggghts"), ("reproduce", "reproduce_base"), ("baseline_run", "baseline_run_base")]:
     if a not in runs or b not in runs:
         continue
     print(f"{a} / {b}: wall {m(wall[a]) / m(wall[b]):.3f}, CPU {m(cpus[a]) / m(cpus[b]):.3f}")

@@ -1,9 +1,29 @@
 #include <granstack/formats/line_reader.hpp>
 #include <granstack/formats/log.hpp>
 
-#include <regex>
-
 namespace granstack::formats {
+
+namespace {
+// "Loop time of SECONDS on PROCS procs[ (R MPI x T OpenMP)] for STEPS steps with ATOMS atoms[, finish
+// time ...]" (finish.cpp); a blow-end run prints one per dump interval.
+std::optional<LoopTime> loop_line(std::string_view line) {
+  std::vector<std::string_view> w;
+  split_words(line, w);
+  if (w.size() < 13 || w[4] != "on" || w[6].substr(0, 5) != "procs") return std::nullopt;
+  LoopTime t;
+  long procs = 0;
+  if (!parse_double(w[3], t.seconds) || !parse_long(w[5], procs)) return std::nullopt;
+  t.procs = static_cast<int>(procs);
+  // The last "for N steps with M atoms" (LIGGGHTS goes on: "atoms, finish time ...").
+  for (std::size_t k = w.size() - 6;; --k) {
+    if (w[k] == "for" && w[k + 2] == "steps" && w[k + 3] == "with" && w[k + 5].substr(0, 5) == "atoms" &&
+        parse_long(w[k + 1], t.steps) && parse_long(w[k + 4], t.atoms)) {
+      return t;
+    }
+    if (k == 7) return std::nullopt;
+  }
+}
+}  // namespace
 
 void LogScanner::add_text(std::string_view text) {
   while (!text.empty()) {
@@ -49,16 +69,14 @@ void LogScanner::add_line(std::string_view line) {
   // time" line still names the steps asked for.
   if (line.substr(0, 21) == "SIGINT/SIGTERM caught") stopped_by_signal_ = true;
 
-  static const std::regex loop_re(R"(^Loop time of (\S+) on (\d+) procs.* for (\d+) steps with (\d+) atoms)");
   if (line.substr(0, 13) == "Loop time of ") {
-    std::match_results<std::string_view::const_iterator> m;
-    if (std::regex_search(line.begin(), line.end(), m, loop_re)) {
-      LoopTime t = loop_.value_or(LoopTime{});
-      t.seconds += std::stod(m[1].str());
-      t.procs = std::stoi(m[2].str());
-      t.steps += std::stol(m[3].str());
-      t.atoms = std::stol(m[4].str());
-      loop_ = t;
+    if (const auto t = loop_line(line)) {
+      LoopTime sum = loop_.value_or(LoopTime{});
+      sum.seconds += t->seconds;
+      sum.procs = t->procs;
+      sum.steps += t->steps;
+      sum.atoms = t->atoms;
+      loop_ = sum;
     }
     in_thermo_ = false;
     return;
