@@ -88,21 +88,13 @@ inline std::string other_engines_option(const CLI::App& cmd, const std::vector<s
   return "";
 }
 
-// --engine's help, from the engines' table: "liggghts (the real DEM code), refsim (...) or lammps (...)".
-inline std::string engine_help() {
-  std::vector<std::string> parts;
-  for (const auto& row : runner::engine_table()) parts.push_back(fmt::format("{} ({})", row.name, row.help));
-  const auto last = parts.back();
-  parts.pop_back();
-  return fmt::format("{} or {}", fmt::join(parts, ", "), last);
-}
-
 // An option naming engines (--engine, validate's --engines), bound to the table: its help the
 // table's (then `note`), its values the table's names, refused with the names listed; the default
 // the value `engine` holds, printed by CLI11 (none where it is empty: `note` says what then).
 template <typename T>
 CLI::Option* add_engine_option(CLI::App* cmd, const std::string& flag, T& engine, const std::string& note = "") {
-  auto* option = cmd->add_option(flag, engine, note.empty() ? engine_help() : engine_help() + "; " + note)
+  const auto help = runner::engine_list(true);
+  auto* option = cmd->add_option(flag, engine, note.empty() ? help : help + "; " + note)
                      ->check(CLI::IsMember(runner::engine_names()));
   if constexpr (std::is_same_v<T, std::string>) {
     if (!engine.empty()) option->capture_default_str();

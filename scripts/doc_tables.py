@@ -931,7 +931,9 @@ def reproduce_speed():
         share = lambda k: f"{m(own[k]):.1f} s of {m(cpu[k]):.1f} s ({100 * m([o / c for o, c in zip(own[k], cpu[k])]):.1f} %)"
         text += (f"\n\ngranstack's own process (every thread, not the programs it starts), medians: `reproduce` "
                  f"{share('reproduce')}, `granstack run` {share('baseline_run')}"
-                 + (f", the build before's `reproduce` {share('reproduce_base')}" if "reproduce_base" in own else "") + ".")
+                 + (f", the build before's `reproduce` {share('reproduce_base')}" if "reproduce_base" in own else "")
+                 + f". `granstack run`'s own process alone is {100 * m(own['baseline_run']) / m(cpu['bare_liggghts']):.1f} % of "
+                 f"bare LIGGGHTS's CPU time (the target for `run` in all: 3 %).")
     return "\n".join(rows) + text + "\n"
 
 

@@ -30,11 +30,12 @@ const std::vector<EngineRow>& engine_table() {
   return table;
 }
 
-std::string engine_list() {
-  const auto& names = engine_names();
+std::string engine_list(bool with_help) {
+  const auto& table = engine_table();
   std::string out;
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    out += (i == 0 ? "" : i + 1 == table.size() ? " or " : ", ") + table[i].name;
+    if (with_help) out += " (" + table[i].help + ")";
   }
   return out;
 }

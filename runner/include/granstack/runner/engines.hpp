@@ -30,8 +30,9 @@ struct EngineRow {
 
 // Every engine, in the order --engine's help lists them.
 const std::vector<EngineRow>& engine_table();
-// Their names as a sentence lists them: "liggghts, refsim or lammps".
-std::string engine_list();
+// Their names as a sentence lists them: "liggghts, refsim or lammps"; `with_help`, each followed by
+// what it is (--engine's help): "liggghts (the real DEM code), refsim (...) or lammps (...)".
+std::string engine_list(bool with_help = false);
 const EngineRow& engine_row(Engine e);
 // The engines whose own `option` is (empty: every engine takes it).
 std::vector<std::string> engines_owning(const std::string& option);
