@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <map>
 #include <optional>
 
 namespace granstack::formats {
@@ -70,6 +71,13 @@ std::vector<std::vector<std::string>> if_branches(const std::vector<std::string>
   return branches;
 }
 
+// A line of an input file, named in a message only when one is written.
+struct Place {
+  const std::string& file;
+  long line;
+  std::string where() const { return fmt::format("{}:{}", file, line); }
+};
+
 class Follower {
  public:
   Follower(fs::path dir, std::string_view log) : dir_(std::move(dir)), log_(log_lines(log)) {}
@@ -82,12 +90,11 @@ class Follower {
         files_.pop_back();
         continue;
       }
-      const auto line = f.lines[f.next++];
       if (label_) {  // a jump's search: the program reads on, echoing nothing, to the label
-        const auto words = script_words(without_comment(line.text));
-        if (words && words->size() >= 2 && (*words)[0] == "label" && (*words)[1] == *label_) label_.reset();
+        find_label(f);
         continue;
       }
+      const auto& line = f.lines[f.next++];
       execute(line.text, f.name, line.line, false, false);
     }
     out_.complete = out_.stopped.empty();
@@ -104,11 +111,31 @@ class Follower {
     std::string name;
     std::vector<ScriptLine> lines;
     std::size_t next = 0;
+    // Where each label a search from the file's top found stands: a blow-end deck jumps back to
+    // its label once per dump interval, and the search reads the same lines each time.
+    std::map<std::string, std::size_t, std::less<>> labels;
   };
+
+  // Reads on from f's next line to the line `label <label_>`, as the program's search does.
+  // Every search begins at the top of the file jumped to (it may read on into the file that
+  // included it, where what it finds is not remembered).
+  void find_label(Open& f) {
+    const bool in_jumped_file = label_file_ < files_.size() && &f == &files_[label_file_];
+    if (const auto it = f.labels.find(*label_); f.next == 0 && in_jumped_file && it != f.labels.end()) {
+      f.next = it->second + 1;
+      label_.reset();
+      return;
+    }
+    const auto& line = f.lines[f.next++];
+    const auto words = script_words(without_comment(line.text));
+    if (!words || words->size() < 2 || (*words)[0] != "label" || (*words)[1] != *label_) return;
+    if (in_jumped_file) f.labels.emplace(*label_, f.next - 1);
+    label_.reset();
+  }
 
   bool open(const std::string& name) {
     try {
-      files_.push_back({name, script_lines(read_file(dir_ / name)), 0});
+      files_.push_back({name, script_lines(read_file(dir_ / name)), 0, {}});
       out_.files.push_back(name);
       return true;
     } catch (const std::exception& e) {
@@ -133,10 +160,10 @@ class Follower {
 
   // The line as it ran, from its echo and the echoes of its substitutions; nullopt when the log
   // does not hold them (the reason is set).
-  std::optional<std::string> read_echo(const std::string& raw, const std::string& where, bool strict) {
-    const auto echo = find_echo(raw, strict);
+  std::optional<std::string> read_echo(const std::string& raw, std::size_t echo, const Place& place) {
     if (echo == std::string_view::npos) {
-      stop(fmt::format("the log ends before {} ('{}'): the run stopped there, or the log is another run's", where, raw),
+      stop(fmt::format("the log ends before {} ('{}'): the run stopped there, or the log is another run's", place.where(),
+                       raw),
            false);
       return std::nullopt;
     }
@@ -144,14 +171,15 @@ class Follower {
     const auto text = without_comment(raw);
     const auto ends = substitution_ends(text);
     if (!ends) {
-      stop(fmt::format("{}: a substitution in '{}' is not closed", where, raw), false);
+      stop(fmt::format("{}: a substitution in '{}' is not closed", place.where(), raw), false);
       return std::nullopt;
     }
     std::string ran(text);
     const auto head = text.substr(0, text.find('$'));
     for (const auto end : *ends) {
       if (at_ >= log_.size() || !ends_with(log_[at_], text.substr(end)) || log_[at_].substr(0, head.size()) != head) {
-        stop(fmt::format("{}: the log does not echo the substitutions of '{}' as the program makes them", where, raw),
+        stop(fmt::format("{}: the log does not echo the substitutions of '{}' as the program makes them", place.where(),
+                         raw),
              true);
         return std::nullopt;
       }
@@ -161,25 +189,25 @@ class Follower {
   }
 
   void execute(const std::string& raw, const std::string& file, long line, bool strict, bool in_if) {
-    const auto where = fmt::format("{}:{}", file, line);
-    const auto log_line = static_cast<long>(find_echo(raw, strict)) + 1;
-    const auto ran = read_echo(raw, where, strict);
+    const Place place{file, line};
+    const auto echo = find_echo(raw, strict);
+    const auto log_line = static_cast<long>(echo) + 1;
+    auto ran = read_echo(raw, echo, place);
     if (!ran) return;
-    const auto words = script_words(*ran);
+    auto words = script_words(*ran);
     if (!words) {
-      stop(fmt::format("{}: '{}' has a quote that is not closed, or not followed by a blank", where, *ran), false);
+      stop(fmt::format("{}: '{}' has a quote that is not closed, or not followed by a blank", place.where(), *ran), false);
       return;
     }
     if (words->empty()) return;
-    out_.commands.push_back({file, line, *ran, *words, log_line, in_if});
-    dispatch(*words, file, line);
+    out_.commands.push_back({file, line, std::move(*ran), std::move(*words), log_line, in_if});
+    dispatch(out_.commands.back().words, file, line);
   }
 
   void dispatch(const std::vector<std::string>& words, const std::string& file, long line) {
     const auto& c = words[0];
-    const auto where = fmt::format("{}:{}", file, line);
     if (const auto why = unfollowable_command(words); !why.empty()) {
-      stop(fmt::format("{}: '{}' cannot be followed: {}", where, joined(words), why), true);
+      stop(fmt::format("{}: '{}' cannot be followed: {}", Place{file, line}.where(), joined(words), why), true);
     } else if (c == "include" && words.size() == 2) {
       open(words[1]);
     } else if (c == "jump" && words.size() >= 2) {
@@ -198,7 +226,10 @@ class Follower {
       files_.pop_back();
       open(words[1]);
     }
-    if (words.size() >= 3) label_ = words[2];
+    if (words.size() >= 3) {
+      label_ = words[2];
+      label_file_ = files_.size() - 1;
+    }
   }
 
   // The text of the line the program reads next when no command of an if runs.
@@ -211,8 +242,8 @@ class Follower {
 
   // An if's branch that ran is the one whose first command the log echoes next, right after the
   // if (nothing is printed between); none ran when it echoes the line after the if.
+  // (`words` is the if's command in out_.commands: read before the branch's commands are added.)
   void follow_if(const std::vector<std::string>& words, const std::string& file, long line) {
-    const auto where = fmt::format("{}:{}", file, line);
     const auto branches = if_branches(words);
     const std::vector<std::string>* taken = nullptr;
     int matches = 0;
@@ -225,7 +256,7 @@ class Follower {
     const auto after = next_line_text();
     if (taken != nullptr && (matches > 1 || (after && *after == (*taken)[0]))) {
       stop(fmt::format("{}: the log cannot tell which commands of the if ran ('{}' begins more than one way on)",
-                       where, (*taken)[0]),
+                       Place{file, line}.where(), (*taken)[0]),
            true);
       return;
     }
@@ -240,6 +271,7 @@ class Follower {
   std::size_t at_ = 0;
   std::vector<Open> files_;
   std::optional<std::string> label_;
+  std::size_t label_file_ = 0;  // files_'s index of the file the search began in
   ExecutedScript out_;
 };
 

@@ -8,7 +8,7 @@
 #include <chrono>
 #include <cstring>
 #include <fstream>
-#include <sstream>
+#include <memory>
 #include <stdexcept>
 #include <sys/stat.h>
 
@@ -87,11 +87,21 @@ void require_regular_file(const std::string& path) {
 
 std::string read_file(const std::filesystem::path& path) {
   require_regular_file(path.string());
-  std::ifstream in(path, std::ios::binary);
+  std::unique_ptr<std::FILE, decltype(&std::fclose)> in(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!in) throw IoError(fmt::format("{}: cannot open: {}", path.string(), std::strerror(errno)));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  // One read of the size the file has now (a log of a blow-end run is megabytes), then on until
+  // its end, should it have grown.
+  struct stat st {};
+  std::string text(::fstat(fileno(in.get()), &st) == 0 && st.st_size > 0 ? static_cast<std::size_t>(st.st_size) + 1 : 4096,
+                   '\0');
+  std::size_t got = 0;
+  for (std::size_t n; (n = std::fread(text.data() + got, 1, text.size() - got, in.get())) > 0;) {
+    got += n;
+    if (got == text.size()) text.resize(2 * text.size());
+  }
+  if (std::ferror(in.get()) != 0) throw IoError(fmt::format("{}: cannot read: {}", path.string(), std::strerror(errno)));
+  text.resize(got);
+  return text;
 }
 
 std::string utc_timestamp() {

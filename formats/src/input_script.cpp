@@ -92,6 +92,7 @@ std::optional<std::vector<std::size_t>> substitution_ends(std::string_view line)
 // Input::nextword().
 std::optional<std::vector<std::string>> script_words(std::string_view line) {
   std::vector<std::string> words;
+  words.reserve(8);  // a deck's commands are mostly this short: one allocation, not four
   std::size_t at = 0;
   for (;;) {
     while (at < line.size() && blank(line[at])) ++at;

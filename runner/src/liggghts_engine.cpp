@@ -115,18 +115,26 @@ std::vector<std::string> mpi_environment(const std::string& tmpdir, int ranks) {
 class Tail {
  public:
   explicit Tail(fs::path path) : path_(std::move(path)) {}
+  Tail(const Tail&) = delete;
+  Tail& operator=(const Tail&) = delete;
+  ~Tail() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  // What the program wrote since the last look, line by line (the file kept open once it exists;
+  // a blow-end run writes megabytes, a few hundred lines between two looks).
   void poll(formats::LogScanner& scanner) {
-    std::ifstream in(path_, std::ios::binary);
-    if (!in) return;
-    in.seekg(static_cast<std::streamoff>(offset_));
-    std::string chunk((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    offset_ += chunk.size();
-    partial_ += chunk;
-    std::size_t nl;
-    while ((nl = partial_.find('\n')) != std::string::npos) {
-      scanner.add_line(std::string_view(partial_).substr(0, nl));
-      partial_.erase(0, nl + 1);
+    if (fd_ < 0) fd_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd_ < 0) return;
+    char piece[1 << 16];
+    for (ssize_t n; (n = ::pread(fd_, piece, sizeof piece, static_cast<off_t>(offset_))) > 0;) {
+      offset_ += static_cast<std::size_t>(n);
+      partial_.append(piece, static_cast<std::size_t>(n));
     }
+    std::size_t from = 0;
+    for (std::size_t nl; (nl = partial_.find('\n', from)) != std::string::npos; from = nl + 1) {
+      scanner.add_line(std::string_view(partial_).substr(from, nl - from));
+    }
+    partial_.erase(0, from);
   }
   void flush(formats::LogScanner& scanner) {
     poll(scanner);
@@ -136,6 +144,7 @@ class Tail {
 
  private:
   fs::path path_;
+  int fd_ = -1;
   std::size_t offset_ = 0;
   std::string partial_;
 };

@@ -114,6 +114,33 @@ TEST_F(Follow, SubstitutionsIfsIncludesAndJumpsAreFollowed) {
   EXPECT_EQ(s.commands[1].log_line, 4);
 }
 
+// A loop back to a label, as a blow-end deck makes one per dump interval: every search begins at
+// the top of the file, so the first of two labels of one name is the one found, each time.
+TEST_F(Follow, ALoopBackToALabelFindsTheFirstSuchLabelEachTime) {
+  file("in.deck",
+       "variable i equal 0\n"
+       "label again\n"
+       "variable i equal $(v_i+1)\n"
+       "if \"${i} < 3\" then \"jump SELF again\"\n"
+       "jump SELF later\n"
+       "label again\n"
+       "label later\n"
+       "print \"end\"\n");
+  std::string log = "variable i equal 0\nlabel again\n";
+  for (int i = 1; i <= 3; ++i) {
+    log += fmt::format("variable i equal $(v_i+1)\nvariable i equal {}\nif \"${{i}} < 3\" then \"jump SELF again\"\n", i);
+    log += i < 3 ? "jump SELF again\n" : "jump SELF later\nprint \"end\"\nend\n";
+  }
+  const auto s = follow(log);
+  EXPECT_TRUE(s.complete) << s.stopped;
+  ASSERT_EQ(s.commands.size(), 12U);
+  EXPECT_EQ(s.commands[8].text, "variable i equal 3");
+  EXPECT_EQ(s.commands[8].where(), "in.deck:3");
+  EXPECT_EQ(s.commands[8].log_line, 11);
+  EXPECT_EQ(s.commands[11].text, "print \"end\"");
+  EXPECT_EQ(s.commands[11].where(), "in.deck:8");
+}
+
 TEST_F(Follow, WhatCannotBeFollowedOrWasNotRunIsSaid) {
   file("in.deck", "variable n loop 2\nlabel l\nnext n\njump SELF l\nrun 1\n");
   auto s = follow("variable n loop 2\nlabel l\nnext n\n");
