@@ -7,6 +7,13 @@ namespace {
 // The blanks Input::nextword() skips (strspn with " \t\n\v\f\r"): the C locale's isspace, tested
 // inline (the log of a blow-end run repeats its loop's lines once per dump interval).
 bool blank(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r'; }
+
+// The runs of non-blanks in `line`: the words it has when no quote holds a blank.
+std::size_t blank_separated(std::string_view line) {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < line.size(); ++i) n += !blank(line[i]) && (i == 0 || blank(line[i - 1]));
+  return n;
+}
 }  // namespace
 
 // As Input::file() reads: a physical line ending in '&' (after its trailing blanks) continues
@@ -92,7 +99,7 @@ std::optional<std::vector<std::size_t>> substitution_ends(std::string_view line)
 // Input::nextword().
 std::optional<std::vector<std::string>> script_words(std::string_view line) {
   std::vector<std::string> words;
-  words.reserve(8);  // a deck's commands are mostly this short: one allocation, not four
+  words.reserve(blank_separated(line));  // one allocation of the size kept (a run's commands are all kept)
   std::size_t at = 0;
   for (;;) {
     while (at < line.size() && blank(line[at])) ++at;
