@@ -12,8 +12,13 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <map>
+#include <mutex>
+#include <optional>
 #include <memory>
 #include <stdexcept>
+#include <sys/stat.h>
+#include <time.h>
 
 namespace granstack::formats {
 
@@ -105,10 +110,66 @@ std::string Xxh128::hex() const {
   return lower_hex(canonical.digest, sizeof canonical.digest);
 }
 
+namespace {
+
+// What identifies a file's content without reading it, as far as this process can tell: the same
+// inode, size, modification and change time. Any write, truncation or replacement changes the
+// change time (which no user can set), but to the kernel's coarse clock: a digest is remembered
+// only of a file last changed kMemoSettled before its reading ended, so that a later change cannot
+// share its change time.
+struct FileState {
+  dev_t dev = 0;
+  ino_t ino = 0;
+  off_t size = 0;
+  timespec mtime{}, ctime{};
+  bool operator==(const FileState& o) const {
+    return dev == o.dev && ino == o.ino && size == o.size && mtime.tv_sec == o.mtime.tv_sec &&
+           mtime.tv_nsec == o.mtime.tv_nsec && ctime.tv_sec == o.ctime.tv_sec && ctime.tv_nsec == o.ctime.tv_nsec;
+  }
+};
+
+constexpr long kMemoSettledNs = 100'000'000;
+
+std::optional<FileState> file_state(const std::filesystem::path& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return std::nullopt;
+  return FileState{st.st_dev, st.st_ino, st.st_size, st.st_mtim, st.st_ctim};
+}
+
+long long ns(const timespec& t) { return static_cast<long long>(t.tv_sec) * 1'000'000'000LL + t.tv_nsec; }
+
+// The digests this process took of files (a run digests its outputs, and reproduce's reduce checks
+// them seconds later: read once, not twice).
+struct Memo {
+  std::mutex mutex;
+  std::map<std::string, std::pair<FileState, std::string>> digests;
+};
+Memo& memo() {
+  static Memo m;
+  return m;
+}
+
+}  // namespace
+
 std::string xxh128_content(const std::filesystem::path& path) {
+  const auto key = std::filesystem::absolute(path).lexically_normal().string();
+  const auto before = file_state(path);
+  if (before) {
+    const std::lock_guard lock(memo().mutex);
+    const auto it = memo().digests.find(key);
+    if (it != memo().digests.end() && it->second.first == *before) return it->second.second;
+  }
   Xxh128 digest;
   for_content_pieces(path, [&](const char* bytes, std::size_t n) { digest.update(bytes, n); });
-  return digest.hex();
+  auto hex = digest.hex();
+  timespec now{};
+  ::clock_gettime(CLOCK_REALTIME, &now);
+  const auto after = file_state(path);
+  if (before && after && *after == *before && ns(now) - ns(after->ctime) > kMemoSettledNs) {
+    const std::lock_guard lock(memo().mutex);
+    memo().digests[key] = {*after, hex};
+  }
+  return hex;
 }
 
 std::string sha256_content(const std::filesystem::path& path) {

@@ -24,6 +24,8 @@
 #include <fstream>
 #include <functional>
 #include <thread>
+#include <fcntl.h>
+#include <sys/stat.h>
 
 #include "../support/read_both_ways.hpp"
 
@@ -597,6 +599,39 @@ TEST_F(BatchTest, BinaryBatchesHoldAFewFramesAndTheSameValues) {
   }
   EXPECT_EQ(frames, 38u);
   EXPECT_NE(error.find("the run was cut short"), std::string::npos) << error;
+}
+
+// xxh128_content remembers what it read (a run digests its outputs and reproduce's reduce checks
+// them seconds later), but never past a change: the same size and modification time with other
+// bytes, a file renamed over it, or a change right after a reading (within the kernel clock's tick)
+// each give the new content's digest.
+TEST_F(BatchTest, AFileDigestedBeforeIsReadAgainOnceItChanges) {
+  const auto of = [](const std::string& bytes) {
+    formats::Xxh128 h;
+    h.update(bytes.data(), bytes.size());
+    return h.hex();
+  };
+  const auto overwrite = [](const std::string& path, const std::string& bytes) {
+    struct stat before {};
+    ASSERT_EQ(::stat(path.c_str(), &before), 0);
+    std::fstream(path, std::ios::in | std::ios::out | std::ios::binary) << bytes;
+    const timespec times[2] = {before.st_atim, before.st_mtim};
+    ASSERT_EQ(::utimensat(AT_FDCWD, path.c_str(), times, 0), 0);  // the size and mtime it had
+  };
+  const std::string a(8192, 'a'), b(8192, 'b'), c(8192, 'c');
+  const auto path = write("settled.bin", a);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_EQ(formats::xxh128_content(path), of(a));
+  EXPECT_EQ(formats::xxh128_content(path), of(a));
+  overwrite(path, b);
+  EXPECT_EQ(formats::xxh128_content(path), of(b));
+  const auto other = write("other.bin", c);
+  fs::rename(other, path);
+  EXPECT_EQ(formats::xxh128_content(path), of(c));
+  const auto fresh = write("fresh.bin", a);
+  EXPECT_EQ(formats::xxh128_content(fresh), of(a));
+  overwrite(fresh, b);
+  EXPECT_EQ(formats::xxh128_content(fresh), of(b));
 }
 
 // A plain text dump cut into pieces is digested from the pieces as they are settled, in order:
