@@ -50,7 +50,9 @@ RECORDS = {
     # doc_tables.py --write --reproduce: the study on LAMMPS against LIGGGHTS (report.json's "against")
     "engines_study": "bench/results/engines-study-2026-11-28.json",
     # GRANSTACK=build/ci/app/granstack OUT=... bash bench/reproduce.sh 3, on the 2-core machine
-    "reproduce": "bench/results/reproduce-2026-12-07.json",
+    "reproduce": "bench/results/reproduce-2026-12-07b.json",
+    # GRANSTACK=build/ci/app/granstack CASES=<a reproduce -o folder> OUT=... bash bench/run_overhead.sh 3, 2-core machine
+    "run_overhead": "bench/results/run-overhead-2026-12-07.json",
     # OUT=... bench/design_front.sh, on the 2-core machine (the example's confined front, #47 item 9)
     "design_front": "bench/results/design-front-2026-11-28.json",
     # bench/oversubscription.sh 3, on the 2-core machine
@@ -94,6 +96,7 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "engines_agreement": ["docs/explanation/lammps.md"], "engines_speed": ["docs/explanation/lammps.md"],
                  "reproduce_cost": ["README.md", "docs/index.md", "docs/tutorials/reproduce.md"],
                  "reproduce_speed": ["docs/explanation/performance.md"],
+                 "run_overhead": ["docs/explanation/performance.md"],
                  "design_front": ["docs/how-to/design.md"], "design_sides": ["docs/how-to/design.md"],
                  "design_yield": ["docs/how-to/design.md"], "design_example_cost": ["docs/explanation/performance.md"],
                  "oversubscription": ["docs/reference/commands.md"],
@@ -937,6 +940,26 @@ def reproduce_speed():
     return "\n".join(rows) + text + "\n"
 
 
+def run_overhead():
+    """What `granstack run` adds to LIGGGHTS in CPU time, case by case: each case run bare and by
+    `granstack run` one right after the other (bench/run_overhead.sh's record)."""
+    r, m = json.loads((ROOT / RECORDS["run_overhead"]).read_text()), statistics.median
+    rounds = r["rounds"]
+    rows = ["| round | bare LIGGGHTS, CPU | `granstack run`, CPU | its own process | run / bare |", "|---|---|---|---|---|"]
+    for i, x in enumerate(rounds, 1):
+        rows.append(f"| {i} | {x['bare']:.1f} s | {x['run']:.1f} s | {x['own']:.2f} s | {x['run'] / x['bare']:.4f} |")
+    ratio = [x["run"] / x["bare"] for x in rounds]
+    own = [100 * x["own"] / x["bare"] for x in rounds]
+    starts = [100 * r["cases"] * x["start"] / x["bare"] for x in rounds]
+    programs = [(x["run"] - x["own"]) / x["bare"] for x in rounds]
+    return ("\n".join(rows) + f"\n\nThe {r['cases']} cases, each run bare and by `granstack run --force` one right after the "
+            f"other, two such pairs at a time, {r['repeats']} rounds: `granstack run` over bare LIGGGHTS "
+            f"{m(ratio):.3f} in CPU time ({min(ratio):.3f}..{max(ratio):.3f}; the target 1.03). granstack's own process is "
+            f"{m(own):.1f} % of bare LIGGGHTS's time, {m(starts):.1f} % of it the {r['cases']} starts of granstack this "
+            f"measure makes (`granstack run -j 2 CASES...` starts once); the programs it starts take "
+            f"{m(programs):.3f} times bare LIGGGHTS's time.\n")
+
+
 def number(v):
     return "-" if v is None else f"{v:.4g}"
 
@@ -990,7 +1013,7 @@ def main():
                 refsim_outside_loop=refsim_outside_loop(),
                 large_nest=large_nest(), copies=copies(), design_speedup=design_speedup(), design_cores=design_cores(),
                 design_cores_summary=design_cores_summary(), engines_agreement=engines_agreement(),
-                engines_speed=engines_speed(), reproduce_cost=reproduce_cost(), reproduce_speed=reproduce_speed(),
+                engines_speed=engines_speed(), reproduce_cost=reproduce_cost(), reproduce_speed=reproduce_speed(), run_overhead=run_overhead(),
                 design_front=design_front(), design_sides=design_sides(), design_yield=design_yield(),
                 design_example_cost=design_example_cost(), oversubscription=oversubscription(),
                 extension_counts=extension_counts(), reduce_speed=reduce_speed(), design_budget=design_budget(), design_shortcuts=design_shortcuts(),
