@@ -104,6 +104,17 @@ CLI::Option* add_engine_option(CLI::App* cmd, const std::string& flag, T& engine
   return option;
 }
 
+// The option naming an engine's program (its row's `program`: --liggghts, --lammps), bound to
+// `path`, whose value CLI11 prints as the default; `note` follows the help.
+inline CLI::Option* add_program_option(CLI::App* cmd, runner::Engine e, std::string& path, const std::string& note = "") {
+  const auto& program = runner::engine_row(e).program;
+  auto help = fmt::format("The {} executable (a name is looked up on PATH)", program.what);
+  return cmd->add_option(program.flag, path, note.empty() ? help : help + "; " + note)->capture_default_str();
+}
+
+// An engine's program by default (its row's): the value a command's --liggghts or --lammps starts with.
+inline std::string default_program(runner::Engine e) { return runner::engine_row(e).program.name; }
+
 // A subcommand: its parser and what runs it once the command line is parsed.
 struct Command {
   CLI::App* parser = nullptr;

@@ -39,7 +39,7 @@ struct DesignFlags {
   double time_limit = 0.0;
   int top = 3;
   bool no_report = false;
-  std::string liggghts;  // confirm: the LIGGGHTS executable ("" for the one on PATH)
+  std::string liggghts = default_program(runner::Engine::liggghts);  // confirm: the LIGGGHTS executable
   std::string geometry, sides;  // confirm: the physical variant, over the space's [confirm]
 };
 
@@ -297,7 +297,9 @@ Command add_design(CLI::App& app) {
   run->add_option("--partition", b.submit.partition, "--slurm: the partition [the site's default]");
   run->add_option("--account", b.submit.account, "--slurm: the account [the site's default]");
   run->add_option("--time", b.submit.time, "--slurm: wall time per task, HH:MM:SS [estimated]");
-  run->add_option("--cases-per-task", b.submit.cases_per_task, "--slurm: designs each task runs [1]")->check(CLI::Range(1, 1000000));
+  run->add_option("--cases-per-task", b.submit.cases_per_task, "--slurm: designs each task runs")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
   run->add_option("--max-parallel", b.submit.max_parallel, "--slurm: tasks at once [no limit]")->check(CLI::Range(1, 1000000));
   run->add_option("--poll", b.poll_seconds, "--slurm: seconds between looks at the queue [5]")->check(finite_range(0.05, 3600.0));
   run->add_option("--attempts", b.attempts, "--slurm: submissions of a design before the search stops [3]")->check(CLI::Range(1, 100));
@@ -310,7 +312,7 @@ Command add_design(CLI::App& app) {
   auto* conf = cmd->add_subcommand("confirm", "Run the front's best designs on LIGGGHTS and refsim and compare (validate)");
   conf->add_option("dir", f->dir, "Design directory")->required()->check(CLI::ExistingDirectory);
   conf->add_option("--top", f->top, "How many of the front's designs, best first objective first")->check(CLI::Range(1, 100));
-  conf->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
+  add_program_option(conf, runner::Engine::liggghts, f->liggghts);
   conf->add_option("--geometry", f->geometry, "Also run each design as this body on LIGGGHTS: nested3d (the strip's blocks as a 3D nest) [the space's [confirm]]")
       ->check(CLI::IsMember({"nested3d"}));
   conf->add_option("--sides", f->sides, "... and with these sides: wall | free [the space's [confirm]]")->check(CLI::IsMember({"wall", "free"}));

@@ -97,7 +97,7 @@ Command add_reproduce(CLI::App& app) {
   cmd->footer([] { return fmt::format("Experiments: {}", fmt::join(study::builtin_catalogue().names(), ", ")); });
   cmd->add_option("-o,--output", o.output, "The reproduction's directory (its cases are reused on a rerun)")
       ->check(output_directory())->required();
-  cmd->add_option("-j,--jobs", o.jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
+  cmd->add_option("-j,--jobs", o.jobs, "Cases run at the same time")->check(CLI::Range(1, 256))->capture_default_str();
   add_engine_option(cmd, "--engine", o.engine,
                     "by default the engine the directory's cases ran on, liggghts for a new reproduction");
   cmd->add_flag("--validate", o.validate, "Also run every case with the other engine and report the agreement");
@@ -106,8 +106,8 @@ Command add_reproduce(CLI::App& app) {
                 "Also the longer runs: the convergence study of the block height and the material sensitivity runs")
       ->excludes(quick);
   cmd->add_flag("--force", o.force, "Generate and run every case again");
-  cmd->add_option("--liggghts", o.liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
-  cmd->add_option("--lammps", o.lammps, "The LAMMPS executable, for --engine lammps [lmp, on PATH]");
+  add_program_option(cmd, runner::Engine::liggghts, o.liggghts);
+  add_program_option(cmd, runner::Engine::lammps, o.lammps, "for --engine lammps");
   cmd->add_option("--against", o.against,
                   "Another engine's reproduction (its directory) to set this one beside: the report says which "
                   "statements change between the engines, by how much, and why")

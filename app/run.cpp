@@ -32,8 +32,8 @@ struct RunFlags {
   int threads = 1;
   std::string kernel = "auto";
   bool force = false;
-  std::string liggghts = "liggghts";
-  std::string lammps = "lmp";
+  std::string liggghts = default_program(runner::Engine::liggghts);
+  std::string lammps = default_program(runner::Engine::lammps);
   std::string lammps_template;
   std::string contact_rules = "liggghts";
 };
@@ -171,7 +171,7 @@ Command add_run(CLI::App& app) {
   auto* mpi = cmd->add_option_group("MPI", "For --engine liggghts and lammps");
   mpi->add_option("--np", f->ranks, "MPI ranks per case (mpirun when > 1)")->check(CLI::Range(1, 4096))->capture_default_str();
   auto* liggghts = cmd->add_option_group("liggghts", "For --engine liggghts");
-  liggghts->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable (a name is looked up on PATH)")->capture_default_str();
+  add_program_option(liggghts, runner::Engine::liggghts, f->liggghts);
   liggghts->add_option("--grid", f->grid,
                        "LIGGGHTS's MPI processor grid, ranks along x,y,z (product --np), e.g. 4,4,1; by default the grid "
                        "whose busiest rank holds the fewest spheres, owned and ghost (run.json's \"decomposition\")");
@@ -193,7 +193,7 @@ Command add_run(CLI::App& app) {
       ->check(CLI::IsMember({"liggghts", "lammps"}))
       ->capture_default_str();
   auto* lammps = cmd->add_option_group("lammps", "For --engine lammps");
-  lammps->add_option("--lammps", f->lammps, "The LAMMPS executable (a name is looked up on PATH)")->capture_default_str();
+  add_program_option(lammps, runner::Engine::lammps, f->lammps);
   lammps->add_option("--lammps-template", f->lammps_template,
                      "A template of yours for the LAMMPS deck instead of templates/in.lammps.tmpl")
       ->check(CLI::ExistingFile);

@@ -86,13 +86,14 @@ Command add_submit(CLI::App& app) {
   auto* cmd = app.add_subcommand("submit", "Submit the cases not yet done as SLURM job arrays");
   cmd->add_option("cases", f->targets, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
   add_engine_option(cmd, "--engine", o.engine, "LIGGGHTS and LAMMPS on the nodes' PATH (liggghts, lmp)");
-  cmd->add_option("--np", o.ranks, "MPI ranks per case (the task's --ntasks) [1]")->check(CLI::Range(1, 4096));
+  cmd->add_option("--np", o.ranks, "MPI ranks per case (the task's --ntasks)")->check(CLI::Range(1, 4096))->capture_default_str();
   cmd->add_option("--nodes", o.nodes,
                   "Nodes per task (sbatch --nodes) for a case bigger than one node: its --np ranks spread over them, "
                   "started by mpirun inside the allocation [as SLURM places them]")
       ->check(CLI::Range(1, 4096));
-  cmd->add_option("--cases-per-task", o.cases_per_task, "Cases each array task runs, one after the other [1]")
-      ->check(CLI::Range(1, 1000000));
+  cmd->add_option("--cases-per-task", o.cases_per_task, "Cases each array task runs, one after the other")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
   cmd->add_option("--max-parallel", o.max_parallel, "At most this many tasks at once (the array's %K) [no limit]")
       ->check(CLI::Range(1, 1000000));
   cmd->add_option("--partition", o.partition, "SLURM partition [the site's default]");

@@ -30,8 +30,8 @@ struct ValidateFlags {
   std::vector<std::string> cases;
   double tolerance = postproc::kDefaultTolerance;
   int jobs = 1;
-  std::string liggghts = "liggghts";
-  std::string lammps = "lmp";
+  std::string liggghts = default_program(runner::Engine::liggghts);
+  std::string lammps = default_program(runner::Engine::lammps);
   std::vector<std::string> engines{"liggghts", "refsim"};
 };
 
@@ -137,9 +137,9 @@ Command add_validate(CLI::App& app) {
                                      text);
           },
           "TOLERANCE"));
-  cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time [1]")->check(CLI::Range(1, 256));
-  cmd->add_option("--liggghts", f->liggghts, "The LIGGGHTS executable [liggghts, on PATH]");
-  cmd->add_option("--lammps", f->lammps, "The LAMMPS executable [lmp, on PATH]");
+  cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time")->check(CLI::Range(1, 256))->capture_default_str();
+  add_program_option(cmd, runner::Engine::liggghts, f->liggghts);
+  add_program_option(cmd, runner::Engine::lammps, f->lammps);
   add_engine_option(cmd, "--engines", f->engines, "the two compared, separated by a comma")->delimiter(',')->expected(2);
   return {cmd, [f, cmd] {
     if (const auto why = other_engines_option(*cmd, f->engines); !why.empty()) {

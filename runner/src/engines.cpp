@@ -20,12 +20,12 @@ std::string_view refsim_refuses(const model::ContactModel& m, bool lammps_rules)
 
 const std::vector<EngineRow>& engine_table() {
   static const std::vector<EngineRow> table{
-      {Engine::liggghts, "liggghts", "the real DEM code", {"--liggghts", "--np", "--grid"}, make_liggghts_engine,
-       liggghts_refuses},
-      {Engine::refsim, "refsim", "the in-house reference integrator", {"--threads", "--kernel", "--contact-rules"},
+      {Engine::liggghts, "liggghts", "the real DEM code", {"--liggghts", "--np", "--grid"},
+       {"--liggghts", "liggghts", "LIGGGHTS"}, make_liggghts_engine, liggghts_refuses},
+      {Engine::refsim, "refsim", "the in-house reference integrator", {"--threads", "--kernel", "--contact-rules"}, {},
        make_refsim_engine, refsim_refuses},
       {Engine::lammps, "lammps", "LAMMPS's GRANULAR package, the case's contacts mapped onto its models",
-       {"--lammps", "--lammps-template", "--np"}, make_lammps_engine, lammps_refuses},
+       {"--lammps", "--lammps-template", "--np"}, {"--lammps", "lmp", "LAMMPS"}, make_lammps_engine, lammps_refuses},
   };
   return table;
 }

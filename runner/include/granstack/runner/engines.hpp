@@ -22,6 +22,11 @@ struct EngineRow {
   // The command-line options that are its own, in every command that has them (an option several
   // engines share, as --np, is in each of their rows).
   std::vector<std::string> options;
+  // The program it runs, where it runs one (LIGGGHTS, LAMMPS; refsim runs in granstack's process):
+  // the option naming its executable, the name looked up on PATH by default, what it is.
+  struct Program {
+    std::string flag, name, what;
+  } program;
   std::unique_ptr<CaseEngine> (*make)();  // its factory
   // What of a contact model it cannot run on any machine, by the contact rules it runs (its own;
   // refsim LIGGGHTS's, or LAMMPS's with `lammps_rules`), or "".
