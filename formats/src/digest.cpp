@@ -115,7 +115,7 @@ namespace {
 // What identifies a file's content without reading it, as far as this process can tell: the same
 // inode, size, modification and change time. Any write, truncation or replacement changes the
 // change time (which no user can set), but to the kernel's coarse clock: a digest is remembered
-// only of a file last changed kMemoSettled before its reading ended, so that a later change cannot
+// only of a file last changed kMemoSettledNs before its reading ended, so that a later change cannot
 // share its change time.
 struct FileState {
   dev_t dev = 0;
