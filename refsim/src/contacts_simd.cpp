@@ -525,7 +525,8 @@ HWY_INLINE V thornton_force(const ThorntonLanes& l, V d, V dmax, M touching) {
 
 // pair_force (contacts.cpp) with thornton_normal on kN pairs from q of a torque_free table: the
 // flags, the largest overlap (history slot `slot`), the force kept, and a contact that opens
-// forgotten (its work banked first, lane by lane: a contact opens rarely).
+// forgotten (its work banked first, lane by lane: a contact opens rarely; a padding lane, record 0,
+// repeats a pair of its block and is flagged as it is, but has no law and banks nothing).
 HWY_INLINE void thornton_lanes(PairTable& t, const ContactStep& s, std::size_t q, std::size_t slot) {
   const Found f = find(t, s, q);
   const V cdf = broadcast(s.contact_distance_factor);
@@ -534,7 +535,9 @@ HWY_INLINE void thornton_lanes(PairTable& t, const ContactStep& s, std::size_t q
   if (!none(close)) {
     const unsigned forget = bits(close);
     for (std::size_t k = 0; k < kN; ++k) {
-      if ((forget >> k & 1U) != 0 && t.touching[q + k] != 0 && s.banked != nullptr) bank_opened(t, s.banked, q + k);
+      if ((forget >> k & 1U) != 0 && t.touching[q + k] != 0 && t.record[q + k] != 0 && s.banked != nullptr) {
+        bank_opened(t, s.banked, q + k);
+      }
     }
     for (auto& h : t.history) hn::BlendedStore(zero, close, D(), &h[q]);
   }

@@ -5,6 +5,7 @@
 // x = V_y / V; below V_y the contact stays elastic and e = 1; the kinetic energy lost is the
 // plastic work of the law at the largest overlap (model::thornton_state), and the work the run
 // reports its contacts dissipated (System::contact_energies, banked when the contact opened).
+#include <granstack/generator/case_writer.hpp>
 #include <granstack/model/contact.hpp>
 #include <granstack/model/yield.hpp>
 #include <granstack/refsim/case_run.hpp>
@@ -15,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -236,5 +238,37 @@ TEST(ThorntonNing, ReturnsLessThanThorntonsLaw) {
                 ning / thornton);
     EXPECT_LT(ning / thornton, 0.97) << v;
     EXPECT_GT(ning / thornton, std::sqrt(5.0 / 6.0)) << v;
+  }
+}
+
+// Thornton's pairs run in vector lanes; a block of lanes is padded with copies of one of its pairs
+// (record 0, no law). Such a copy is flagged touching as its pair is, and when its pair opened the
+// lane banked the work of a law of zeros, NaN, into the sphere's dissipated work: the series
+// carried -nan from then on. Four steel blocks at 0.5 m/s on a wall (241 spheres) met it at step
+// 72,160. The work each kernel banks is the reference's, bit for bit, and finite.
+TEST(ThorntonLanes, APaddingLaneBanksNothingWhenItsPairOpens) {
+  model::StackSpec spec;
+  spec.blocks = 4;
+  spec.bottom_radius = 1e-3;
+  spec.bottom = spec.sides = model::Boundary::wall;
+  spec.striker_speed = 0.5;
+  spec.normal_model = model::NormalModel::thornton;
+  const auto stack = model::Stack::build(spec);
+  const auto particles = refsim::particles_from(generator::data_file(stack, "lanes"));
+  constexpr long kSteps = 80000;
+  std::vector<std::vector<double>> banked;
+  for (const std::string kernel : {"reference", "auto"}) {
+    auto p = refsim::case_parameters(stack);
+    p.kernel = kernel;
+    System s(particles, p);
+    s.setup();
+    for (long k = 0; k < kSteps; ++k) s.step();
+    banked.push_back(s.contact_energies().dissipated);
+    std::printf("%s kernels: dissipated work after %ld steps %.17g J\n", s.kernel().c_str(), kSteps,
+                std::accumulate(banked.back().begin(), banked.back().end(), 0.0));
+  }
+  for (std::size_t i = 0; i < banked[0].size(); ++i) {
+    ASSERT_TRUE(std::isfinite(banked[1][i])) << "sphere " << i + 1;
+    ASSERT_EQ(banked[1][i], banked[0][i]) << "sphere " << i + 1;
   }
 }
