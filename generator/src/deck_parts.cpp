@@ -69,13 +69,18 @@ std::string blow_end_run(const model::Stack& stack, const model::Resolution& res
   std::string judge = striker_lines(stack, dialect, computes);
   if (stack.spec().bottom == model::Boundary::wall) {
     const auto over = fmt::format("(abs(x)<={})*(abs(y)<={})", stack.half_width(), stack.half_depth());
+    // Under an elastic-plastic law, whether the wall carries a force: its force on each sphere, as
+    // store_force keeps it (the series' column sums it), each >= 0.
+    const auto press = model::blow_end_reads_wall_force(stack.spec())
+                           ? fmt::format("f_force_{}[3]>0", model::kBottomWallName)
+                           : fmt::format("{}*(z-{}<0)", over, dialect.radius);
     judge += fmt::format(
         "variable        gs_pz atom mass*vz*{0}\n"
-        "variable        gs_press atom {0}*(z-{2}<0)\n"
+        "variable        gs_press atom {2}\n"
         "compute         gs_pz all reduce{1} sum v_gs_pz\n"
         "compute         gs_press all reduce{1} max v_gs_press\n"
         "variable        gs_holds equal (v_gs_coming==0)&&(c_gs_pz>=0)&&(c_gs_press==0)\n",
-        over, dialect.reduce_options, dialect.radius);
+        over, dialect.reduce_options, press);
     computes.insert(computes.begin(), {"c_gs_pz", "c_gs_press"});
   } else {
     const int o = stack.output_sphere_id();

@@ -1,5 +1,7 @@
 #include <granstack/model/protection.hpp>
 
+#include <granstack/model/contact.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -50,8 +52,13 @@ CrushMeter::CrushMeter(const Stack& stack)
   largest_.penetration = seat_depth_;
 }
 
+bool blow_end_reads_wall_force(const StackSpec& spec) {
+  return spec.bottom == Boundary::wall && normal_law(spec.normal_model).path_dependent;
+}
+
 BlowEnd::BlowEnd(const Stack& stack, const Resolution& res)
-    : wall_(stack.spec().bottom == Boundary::wall), gravity_(stack.spec().gravity > 0.0) {
+    : wall_(stack.spec().bottom == Boundary::wall), wall_force_(blow_end_reads_wall_force(stack.spec())),
+      gravity_(stack.spec().gravity > 0.0) {
   hold_steps_ = blow_end_hold_steps(res);
 }
 
@@ -101,10 +108,12 @@ void BlowEnd::frame(long step, const OverFootprint& over, bool output_free, bool
 std::string BlowEnd::rule() const {
   if (gravity_) return "none with gravity (the stack comes to rest on its support)";
   return fmt::format("{}, held for {} steps",
-                     wall_ ? "the momentum over the footprint no longer downward, no sphere there pressing the wall, and "
-                             "the striker neither moving down over the footprint nor on course to hit a sphere"
-                           : "the output sphere touching no other sphere and none on course to hit it, nor the striker "
-                             "on course to hit a sphere",
+                     wall_ ? fmt::format("the momentum over the footprint no longer downward, {}, and the striker "
+                                         "neither moving down over the footprint nor on course to hit a sphere",
+                                         wall_force_ ? "the wall carrying no force (a yielded contact keeps its dent)"
+                                                     : "no sphere there pressing the wall")
+                           : std::string("the output sphere touching no other sphere and none on course to hit it, "
+                                         "nor the striker on course to hit a sphere"),
                      hold_steps_);
 }
 
@@ -116,9 +125,10 @@ std::string BlowEnd::why_not_ended() const {
                        wall_ ? "moving down over the footprint, or " : "");
   }
   if (wall_) {
-    return fmt::format("at step {} the momentum over the footprint was {:.3g} kg m/s and {} the wall{}", last_step_,
-                       last_momentum_, last_on_wall_ ? "spheres still pressed" : "no sphere pressed",
-                       since_ ? fmt::format(", clear since step {}", *since_) : "");
+    const char* wall = wall_force_ ? (last_on_wall_ ? "the wall still carried a force" : "the wall carried no force")
+                                   : (last_on_wall_ ? "spheres still pressed the wall" : "no sphere pressed the wall");
+    return fmt::format("at step {} the momentum over the footprint was {:.3g} kg m/s and {}{}", last_step_,
+                       last_momentum_, wall, since_ ? fmt::format(", clear since step {}", *since_) : "");
   }
   if (!last_free_) return fmt::format("at step {} the output sphere still touched another sphere", last_step_);
   if (last_threatened_) {

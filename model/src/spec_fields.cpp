@@ -576,8 +576,8 @@ std::vector<SpecField> resolution_rows() {
       "stop", &StackSpec::stop, parse_stop_rule, [](StopRule r) { return to_string(r); }, "'duration' or 'blow_end'",
       "duration", "How the run ends: duration | blow_end (at the blow's end, at most cap_durations)");
   stop.doc = "`blow_end`: both engines stop at the dump frame where the blow has ended (against a bottom wall the "
-             "momentum over the footprint no longer downward and no sphere pressing the wall; with a free bottom "
-             "the output sphere free and none on course to hit it; in both no striker on course to hit a sphere nor, "
+             "momentum over the footprint no longer downward and no sphere pressing the wall, under an elastic-plastic "
+             "law the wall carrying no force; with a free bottom the output sphere free and none on course to hit it; in both no striker on course to hit a sphere nor, "
              "over a wall, moving down over the footprint; held for one estimated arrival, two with a soft "
              "cavity; docs/physics.md section 7). A blow not ended by the cap is censored: reduce says why";
   stop.in_every_manifest = false;

@@ -7,6 +7,7 @@
 #include <granstack/formats/manifest.hpp>
 #include <granstack/formats/run_digests.hpp>
 #include <granstack/formats/series.hpp>
+#include <granstack/model/contact.hpp>
 #include <granstack/model/protection.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/os/case_lock.hpp>
@@ -274,6 +275,27 @@ std::optional<SeriesContactEnergy> contact_energy_at(long step, const formats::S
   if (i >= series.rows.size()) return std::nullopt;
   const auto& row = series.rows[i];
   return SeriesContactEnergy{SeriesColumns::at(row, c.contact_elastic), SeriesColumns::at(row, c.contact_dissipated)};
+}
+
+// What is over the footprint at frame `e` as the blow's end reads it: under an elastic-plastic law
+// against a wall, whether the wall carries a force is the series' at the frame's step
+// (model::blow_end_reads_wall_force; the resolution puts a sample on every frame; none at step 0,
+// where nothing has touched the wall yet), not the overlaps.
+model::OverFootprint judged_over(const FrameEnergy& e, const formats::Series& series, const SeriesColumns& c,
+                                 long series_every, const model::StackSpec& spec, const std::string& path) {
+  auto over = e.over_footprint;
+  if (!model::blow_end_reads_wall_force(spec) || e.step == 0) {
+    if (model::blow_end_reads_wall_force(spec)) over.pressing = false;
+    return over;
+  }
+  const auto i = static_cast<std::size_t>(e.step / series_every) - 1;
+  if (c.wall_force < 0 || e.step % series_every != 0 || i >= series.rows.size()) {
+    throw formats::FormatError(path, 0, fmt::format("no sample of the wall's force at step {} (a dump frame's), where the "
+                                                    "blow's end reads it under {}: the series is not the run's",
+                                                    e.step, model::to_string(spec.normal_model)));
+  }
+  over.pressing = SeriesColumns::at(series.rows[i], c.wall_force) > 0.0;
+  return over;
 }
 
 // Energy: without gravity, kinetic plus elastic energy never exceeds E_in (damping, friction and
@@ -544,7 +566,8 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     track_peaks(e, stack, static_cast<double>(e.step) * res.dt, r);
     crush.add(e.crush);
     yield.add(e.yield);
-    blow.frame(e.step, e.over_footprint, e.output_free, e.output_threatened, e.striker_coming);
+    blow.frame(e.step, judged_over(e, series, *series_cols, res.series_every, spec, series_path), e.output_free,
+               e.output_threatened, e.striker_coming);
     waves.add(e.step, fr.wave_samples);
     tables.append(fr.rows);
     if (fr.separated) r.output_separated = *fr.separated;

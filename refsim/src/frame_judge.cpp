@@ -1,5 +1,7 @@
 #include "frame_judge.hpp"
 
+#include <granstack/refsim/case_run.hpp>
+
 #include <algorithm>
 #include <array>
 
@@ -45,10 +47,11 @@ void FramePressures::add(const System& s) {
 void judge_blow_end(model::BlowEnd& blow, const model::Stack& stack, const System& s) {
   const bool coming = model::striker_coming(stack, s.size(), state(s));
   if (stack.spec().bottom == model::Boundary::wall) {
-    const auto over = model::over_footprint(stack, s.size(), [&](std::size_t i) {
+    auto over = model::over_footprint(stack, s.size(), [&](std::size_t i) {
       const auto x = s.x(i);
       return std::array<double, 6>{x[0], x[1], x[2], s.radius(i), s.mass(i), s.v(i)[2]};
     });
+    if (model::blow_end_reads_wall_force(stack.spec())) over.pressing = bottom_wall_force(s) > 0.0;
     blow.frame(s.step_count(), over, false, false, coming);
     return;
   }

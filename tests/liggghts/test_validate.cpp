@@ -2,6 +2,7 @@
 // refsim run of one case: it agrees to round-off, and every way a run can be incomplete or
 // different is a disagreement, named, never skipped.
 #include <granstack/formats/case.hpp>
+#include <granstack/formats/dump.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/run_digests.hpp>
 #include <granstack/generator/case_writer.hpp>
@@ -387,10 +388,50 @@ TEST(StopAtBlowEndCheck, ARunThatStopsElsewhereIsSaidAndItsBlowIsNotTakenAsEnded
   EXPECT_NE(skipping.message.find("the deck never ran 'compute gs_pz"), std::string::npos) << skipping.message;
 }
 
+// Two steel blocks that yield (LIGGGHTS's thornton_ning) struck at 1 m/s, between side walls over a
+// wall: the run ends its blow though spheres of the bottom row still overlap the wall at that frame
+// (their dents: the wall carries no force on them), where an overlap kept every yielding stack's
+// blow open to its cap (model::blow_end_reads_wall_force).
+model::StackSpec yielding_on_wall_spec() {
+  auto s = blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::wall);
+  s.bottom_radius = 2e-3;
+  s.sides = model::Boundary::wall;  // confined, as a design space's stacks are
+  s.normal_model = model::NormalModel::thornton_ning;
+  return s;
+}
+
+// How many spheres overlap the bottom wall (z < r) in a case's last dump frame.
+int overlapping_wall_at_end(const fs::path& dir) {
+  const auto c = formats::Case::open(dir.string());
+  formats::TextDumpReader reader(c.path(c.files().dump).string());
+  formats::DumpFrame f, last;
+  while (reader.next(f)) last = f;
+  const int z = last.column("z"), r = last.column("radius");
+  int n = 0;
+  for (long i = 0; i < last.atoms; ++i) n += last.at(i, z) < last.at(i, r) ? 1 : 0;
+  return n;
+}
+
+TEST(StopAtBlowEndYield, AYieldedStackRestingDentedOnTheWallHasEndedItsBlow) {
+  const auto root = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / "blow_end_dented");
+  fs::remove_all(root);
+  run_both_engines(root, yielding_on_wall_spec());
+  if (HasFatalFailure()) return;
+  const auto res = model::resolve(model::Stack::build(yielding_on_wall_spec()));
+  EXPECT_EQ(steps_run(root / "liggghts"), steps_run(root / "refsim"));
+  EXPECT_LT(steps_run(root / "liggghts"), res.steps);
+  for (const auto* engine : {"liggghts", "refsim"}) {
+    const int dented = overlapping_wall_at_end(root / engine);
+    std::printf("%s: %d spheres overlap the wall at the blow's end (step %ld)\n", engine, dented, steps_run(root / engine));
+    EXPECT_GT(dented, 0) << engine;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Cases, StopAtBlowEnd,
     ::testing::Values(
         BlowEndCase{"wall", blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::wall), true},
+        BlowEndCase{"yielding_wall", yielding_on_wall_spec(), true},
         BlowEndCase{"free", blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::free_surface), true},
         // A soft cavity over a wall (the hold is two arrivals).
         BlowEndCase{"sandwich_wall", blow_end_spec(3, {8, 8, 8}, {"steel", "teflon", "steel"}, model::Boundary::wall), true},

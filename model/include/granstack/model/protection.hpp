@@ -136,6 +136,15 @@ bool striker_coming(const Stack& stack, std::size_t n, const Sphere& sphere) {
 // it overlaps it, so the wall pushes on it (at zero overlap, resting, it does not).
 inline bool presses_bottom_wall(double z, double r) { return z - r < 0.0; }
 
+// Whether the blow's end reads the bottom wall's force instead of the overlaps over the footprint:
+// under an elastic-plastic law (a path-dependent one) a contact that has yielded carries no force
+// below its residual overlap (the dent it keeps), so a stack come to rest on the wall overlaps it
+// for good while the wall carries nothing, and an overlap would keep every such blow open to its
+// cap. There "spheres press the wall" is "the wall carries a force": the sum of its normal forces
+// on every sphere (each >= 0, no law here pulls), what a load cell under the wall reads, which the
+// run's series records (kBottomWallForceColumn) and both engines hold per sphere.
+bool blow_end_reads_wall_force(const StackSpec& spec);
+
 // What the protected object (the bottom wall under the footprint, |x| <= half_width and
 // |y| <= half_depth) still has coming at one frame: the momentum along z of the spheres over it
 // (summed in id order) and whether any of them presses the wall. A sphere that has flown off
@@ -161,7 +170,8 @@ OverFootprint over_footprint(const Stack& stack, std::size_t n, const Sphere& sp
 // When the blow has ended for what a run measures (docs/physics.md section 7), judged at the
 // dump's frames, the same in both engines:
 // - against a bottom wall (the protected object): the momentum along z of the spheres over the
-//   footprint (over_footprint) is no longer downward and none of them presses the wall;
+//   footprint (over_footprint) is no longer downward and none of them presses the wall (under an
+//   elastic-plastic law: the wall carries no force, blow_end_reads_wall_force);
 // - with a free bottom: the output sphere touches no sphere (its energy cannot change) and no
 //   sphere is on course to hit it (on_collision_course, every other sphere taken in a straight
 //   line from where it is, however far: a horizon as short as the hold let a sphere of the stack
@@ -194,7 +204,7 @@ class BlowEnd {
   std::string why_not_ended() const;
 
  private:
-  bool wall_ = false, gravity_ = false;
+  bool wall_ = false, wall_force_ = false, gravity_ = false;
   long hold_steps_ = 0;
   std::optional<long> since_;     // the first frame of the condition's current run
   std::optional<long> ended_at_;
