@@ -235,13 +235,27 @@ int confirm(const DesignFlags& f) {
                dir.string());
     return kCaseFailed;
   }
-  int disagreements = 0;
+  int disagreements = 0, not_run = 0;
   for (const auto& c : results) {
+    if (!c.not_run.empty()) {
+      fmt::print("{}  {}\n", c.digest.substr(0, 12), c.verdict);
+      ++not_run;
+      continue;
+    }
     const double longer = c.longer_difference.value_or(0.0);
-    fmt::print("{}  {}  objectives: LIGGGHTS against in situ {:.3g}; whole runs: largest difference {:.3g}: {}; run twice "
+    fmt::print("{}  {}  objectives: LIGGGHTS against {} {:.3g}; whole runs: largest difference {:.3g}: {}; run twice "
                "as long on LIGGGHTS, the objectives change by {:.3g}: {}\n",
-               c.digest.substr(0, 12), c.case_dir, c.objective_difference, c.largest_difference, c.verdict, longer,
+               c.digest.substr(0, 12), c.case_dir, c.law.empty() ? "in situ" : "refsim under " + c.law,
+               c.objective_difference, c.largest_difference, c.verdict, longer,
                longer <= design::kFinalTolerance ? "final" : "NOT FINAL");
+    if (!c.law.empty()) {
+      std::string spread;
+      for (const auto& [name, value] : c.law_spread) {
+        spread += fmt::format("{} {} {:+.1f} %", spread.empty() ? "" : ",", name, 100.0 * value);
+      }
+      fmt::print("{}  {} against the search's {} (model form, not a disagreement):{}\n", c.digest.substr(0, 12), c.law,
+                 model::to_string(space.fixed.normal_model), spread);
+    }
     disagreements += c.verdict != "agree";
     if (!c.variant.empty()) {
       std::string measures;
@@ -257,6 +271,11 @@ int confirm(const DesignFlags& f) {
   }
   fmt::print("confirm: its cases take {:.3g} MB in {}\n", static_cast<double>(bytes) / 1e6, (dir / "confirm").string());
   if (!print_report(space, store, dir, f.jobs)) return kCaseFailed;
+  if (not_run == static_cast<int>(results.size())) {
+    fmt::print(stderr, "error: none of the front's {} design{} could run on LIGGGHTS (above: why): nothing was confirmed\n",
+               results.size(), results.size() == 1 ? "" : "s");
+    return kCaseFailed;
+  }
   return disagreements > 0 ? kDisagree : kOk;
 }
 

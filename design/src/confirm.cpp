@@ -6,6 +6,7 @@
 #include <granstack/formats/case.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/resolution.hpp>
+#include <granstack/model/yield.hpp>
 #include <granstack/postproc/compare.hpp>
 #include <granstack/postproc/reduce.hpp>
 #include <granstack/runner/runner.hpp>
@@ -90,7 +91,7 @@ std::string confirm_plan(const Space& space, const std::vector<Evaluation>& fron
   };
   for (const auto& e : front) {
     for (const auto& [spec, measures] : confirm_runs(e)) {
-      add(spec, 4.0);  // two engines, and LIGGGHTS twice as long
+      add(model::liggghts_counterpart(spec), 4.0);  // two engines, and LIGGGHTS twice as long
       runs += 3;
     }
     if (!space.confirm_variant.empty()) {
@@ -103,6 +104,54 @@ std::string confirm_plan(const Space& space, const std::vector<Evaluation>& fron
                      front.size(), front.size() == 1 ? "" : "s", cases, cases == 1 ? "" : "s", runs, bytes / 1e6);
 }
 
+// A case of one of a design's runs, as confirm runs it on LIGGGHTS: its spec (the search's, or the
+// same stack under LIGGGHTS's nearest law, model::liggghts_counterpart) and the store's measures.
+struct Entry {
+  std::size_t design;
+  std::map<std::string, double> measures;
+  model::StackSpec spec;
+  std::string dir;
+  bool counterpart;  // LIGGGHTS runs another law than the search's
+};
+
+// Writes design `i`'s cases (DIGEST12, or DIGEST12_sK per scenario) into `dir` as LIGGGHTS runs them
+// and adds them to `entries`: "", or why generate refused them for LIGGGHTS (nothing of them kept).
+std::string write_cases(const Evaluation& e, std::size_t i, const fs::path& dir, std::vector<Entry>& entries) {
+  const auto runs = confirm_runs(e);
+  std::vector<Entry> mine;
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const auto name = e.digest.substr(0, 12) + (runs.size() > 1 ? fmt::format("_s{}", k + 1) : "");
+    generator::GenerateOptions o;
+    o.output = dir / name;
+    o.force = true;  // replaces only a case granstack made
+    const auto spec = model::liggghts_counterpart(runs[k].first);
+    try {
+      generator::generate({{name, binary_dumps(spec)}}, o);
+    } catch (const std::invalid_argument& refused) {  // the deck's: LIGGGHTS cannot take this stack under its law
+      for (const auto& m : mine) fs::remove_all(m.dir);
+      return refused.what();
+    }
+    mine.push_back({i, runs[k].second, spec, o.output.string(), spec.normal_model != runs[k].first.normal_model});
+  }
+  entries.insert(entries.end(), mine.begin(), mine.end());
+  return "";
+}
+
+// Each objective's spread between LIGGGHTS's law and the search's: LIGGGHTS's measures of the
+// design's runs (`liggghts`, one per scenario) aggregated as the space aggregates them, over the
+// store's, less 1.
+std::map<std::string, double> law_spread(const Space& space, const Evaluation& e,
+                                         const std::vector<std::map<std::string, double>>& liggghts) {
+  std::map<std::string, double> out;
+  const auto theirs = aggregated(space, liggghts);
+  for (const auto o : space.objectives) {
+    const auto it = theirs.find(std::string(o->name));
+    const auto mine = objective_value(e, o);
+    if (o->from_run != nullptr && it != theirs.end() && mine && *mine != 0.0) out[it->first] = it->second / *mine - 1.0;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<Confirmation> confirm_front(const Space& space, Store& store, const fs::path& dir, int top,
@@ -111,27 +160,11 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
                                         const std::function<void(const std::string&)>& on_plan) {
   auto front = pareto_front(space, store.evaluations());
   if (front.size() > static_cast<std::size_t>(top)) front.resize(static_cast<std::size_t>(top));
-  // A case per design and scenario (DIGEST12, or DIGEST12_sK), each the run the store measured.
-  struct Entry {
-    std::size_t design;
-    std::map<std::string, double> measures;
-    model::StackSpec spec;
-    std::string dir;
-  };
   std::vector<Entry> entries;
+  std::vector<std::string> not_run(front.size());
+  for (std::size_t i = 0; i < front.size(); ++i) not_run[i] = write_cases(front[i], i, dir, entries);
   std::vector<std::string> dirs;
-  for (std::size_t i = 0; i < front.size(); ++i) {
-    const auto runs = confirm_runs(front[i]);
-    for (std::size_t k = 0; k < runs.size(); ++k) {
-      const auto name = front[i].digest.substr(0, 12) + (runs.size() > 1 ? fmt::format("_s{}", k + 1) : "");
-      generator::GenerateOptions o;
-      o.output = dir / name;
-      o.force = true;  // replaces only a case granstack made
-      generator::generate({{name, binary_dumps(runs[k].first)}}, o);
-      entries.push_back({i, runs[k].second, runs[k].first, o.output.string()});
-      dirs.push_back(o.output.string());
-    }
-  }
+  for (const auto& en : entries) dirs.push_back(en.dir);
   if (on_plan) on_plan(confirm_plan(space, front, entries.size()));
   runner::RunOptions ro;
   if (!liggghts_exe.empty()) ro.liggghts = liggghts_exe;
@@ -176,10 +209,11 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
   if (!variant.empty()) {
     std::vector<std::string> variant_dirs;
     for (std::size_t i = 0; i < front.size(); ++i) {
+      if (!not_run[i].empty()) continue;
       generator::GenerateOptions o;
       o.output = dir / (front[i].digest.substr(0, 12) + variant.suffix());
       o.force = true;
-      variant_runs[i] = {o.output.string(), variant_run(space, worst_run(front[i]))};
+      variant_runs[i] = {o.output.string(), variant_run(space, model::liggghts_counterpart(worst_run(front[i])))};
       generator::generate({{o.output.filename().string(), binary_dumps(variant_runs[i].second)}}, o);
       variant_dirs.push_back(o.output.string());
     }
@@ -190,9 +224,19 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
   }
   // Per design: the worst of its scenarios' comparisons, and the largest LIGGGHTS values.
   std::vector<Confirmation> out;
+  postproc::ReduceOptions quiet;
+  quiet.write_files = false;
   for (std::size_t i = 0; i < front.size(); ++i) {
-    Confirmation c{front[i].digest, "", 0.0, std::nullopt, 0.0, 0.0, "", std::nullopt, "", {}, ""};
+    Confirmation c{front[i].digest, "", 0.0, std::nullopt, 0.0, 0.0, "", std::nullopt, "", {}, "", "", {}, std::nullopt,
+                   not_run[i]};
+    if (!not_run[i].empty()) {
+      c.verdict = "not run on LIGGGHTS: " + not_run[i];
+      out.push_back(c);
+      store.put_confirmation(c);
+      continue;
+    }
     std::vector<std::string> disagreements;
+    std::vector<std::map<std::string, double>> liggghts_measures;
     for (std::size_t n = 0; n < entries.size(); ++n) {
       const auto& en = entries[n];
       if (en.design != i) continue;
@@ -201,18 +245,28 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
       if (const auto why = compared.disagreement(postproc::kDefaultTolerance); !why.empty()) {
         disagreements.push_back(fs::path(en.dir).filename().string() + ": " + why);
       }
-      postproc::ReduceOptions quiet;
-      quiet.write_files = false;
       const auto r = postproc::reduce_case(liggghts, quiet);
+      liggghts_measures.push_back(run_measures(space, outcome_of(r, en.spec)));
+      // What LIGGGHTS is held to: the store's objectives, or, under another law than the
+      // search's, refsim's run of the same case.
+      const auto reference = en.counterpart ? run_measures(space, outcome_of(postproc::reduce_case(refsim, quiet), en.spec))
+                                            : en.measures;
+      if (en.counterpart) {
+        c.law = model::to_string(en.spec.normal_model);
+        if (const auto y = model::yield_pressure_departure(model::Stack::build(en.spec))) {
+          c.law_yield = c.law_yield ? std::pair{std::min(c.law_yield->first, y->first), std::max(c.law_yield->second, y->second)} : *y;
+        }
+      }
       if (c.case_dir.empty()) c.case_dir = en.dir;
       c.liggghts_output_fraction = std::max(c.liggghts_output_fraction, r.output_fraction);
       if (r.peak_wall_force) c.liggghts_peak_wall_force = std::max(c.liggghts_peak_wall_force.value_or(0.0), *r.peak_wall_force);
       c.largest_difference = std::max(c.largest_difference, compared.worst());
-      c.objective_difference = std::max(c.objective_difference, objective_difference(space, en.spec, en.measures, r));
+      c.objective_difference = std::max(c.objective_difference, objective_difference(space, en.spec, reference, r));
       const auto longer = postproc::reduce_case(en.dir + "_x2", quiet);
       c.longer_difference = std::max(c.longer_difference.value_or(0.0),
-                                     objective_difference(space, longer_specs[n], en.measures, longer));
+                                     objective_difference(space, longer_specs[n], reference, longer));
     }
+    if (!c.law.empty()) c.law_spread = law_spread(space, front[i], liggghts_measures);
     // One tolerance, one verdict: the objectives and the whole runs, frame by frame, to the same
     // stopping frame (validate's), whatever the objectives say.
     if (c.objective_difference > postproc::kDefaultTolerance) {
@@ -221,8 +275,6 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
     }
     c.verdict = disagreements.empty() ? "agree" : fmt::format("DISAGREE: {}", fmt::join(disagreements, "; "));
     if (!variant.empty()) {
-      postproc::ReduceOptions quiet;
-      quiet.write_files = false;
       const auto& [vdir, vspec] = variant_runs[i];
       const auto outcome = outcome_of(postproc::reduce_case(vdir, quiet), vspec);
       c.variant = variant.label();

@@ -128,16 +128,15 @@ std::string not_final(const Space& space, const model::StackSpec& ran, const Out
                            "run", o.output_last_change_time, model::kLastChangeFraction);
 }
 
-namespace {
-// Each run measure over the scenarios' runs, as the space aggregates it.
-std::map<std::string, double> aggregated(const Space& space, const std::vector<ScenarioRun>& runs) {
+std::map<std::string, double> aggregated(const Space& space, const std::vector<std::map<std::string, double>>& runs) {
   std::map<std::string, double> out;
-  for (const auto& [name, first] : runs.front().measures) {
+  if (runs.empty()) return out;
+  for (const auto& [name, first] : runs.front()) {
     double worst = first, sum = 0.0;
     bool everywhere = true;
     for (const auto& r : runs) {
-      const auto it = r.measures.find(name);
-      if (it == r.measures.end()) {
+      const auto it = r.find(name);
+      if (it == r.end()) {
         everywhere = false;
         break;
       }
@@ -147,6 +146,13 @@ std::map<std::string, double> aggregated(const Space& space, const std::vector<S
     if (everywhere) out[name] = space.aggregate_of(name) == Aggregate::mean ? sum / static_cast<double>(runs.size()) : worst;
   }
   return out;
+}
+
+namespace {
+std::map<std::string, double> aggregated(const Space& space, const std::vector<ScenarioRun>& runs) {
+  std::vector<std::map<std::string, double>> measures;
+  for (const auto& r : runs) measures.push_back(r.measures);
+  return aggregated(space, measures);
 }
 
 void add_violation(Evaluation& e, const std::string& why) {

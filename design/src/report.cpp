@@ -377,20 +377,84 @@ std::string confining_text(const Space& space, const Snapshot& s) {
                      parts.empty() ? "no run measure to compare" : fmt::format("{}", fmt::join(parts, "; ")));
 }
 
+// Each objective's spread between LIGGGHTS's law and the search's (Confirmation::law_spread), or "-".
+std::string law_text(const Confirmation& c) {
+  if (c.law.empty()) return "-";
+  std::vector<std::string> parts;
+  for (const auto& [name, spread] : c.law_spread) parts.push_back(fmt::format("{} {:+.1f} %", name, 100.0 * spread));
+  return fmt::format("{}: {}{}", c.law, fmt::join(parts, ", "),
+                     c.law_yield ? fmt::format("; its contacts yield at {:.2g} to {:.2g} times their materials' pressure",
+                                               c.law_yield->first, c.law_yield->second)
+                                 : "");
+}
+
 postproc::Table confirmations_table(const Snapshot& s) {
   postproc::Table t{"The front's best re-run on LIGGGHTS (granstack design confirm)",
                     {"design", "layers", "case", "LIGGGHTS output fraction", "LIGGGHTS peak wall force (N)",
-                     "objectives: LIGGGHTS against in situ", "whole runs: validate's largest difference", "verdict",
-                     "objectives: LIGGGHTS twice as long against in situ", "final", "a body it stands for: measures (the strip's)"}, {}};
+                     "objectives: LIGGGHTS against in situ (another law: against refsim under it)",
+                     "whole runs: validate's largest difference", "verdict",
+                     "objectives: LIGGGHTS twice as long against in situ", "final",
+                     "LIGGGHTS's law where the search's has no counterpart there: each objective against the search's",
+                     "a body it stands for: measures (the strip's)"}, {}};
   for (const auto& c : s.confirmations) {
     const auto e = std::find_if(s.all.begin(), s.all.end(), [&](const auto& x) { return x.digest == c.digest; });
-    t.rows.push_back({c.digest.substr(0, 12), e != s.all.end() ? e->description : "?", c.case_dir, fmt::format("{:.6g}", c.liggghts_output_fraction),
+    const auto layers = e != s.all.end() ? e->description : "?";
+    if (!c.not_run.empty()) {
+      t.rows.push_back({c.digest.substr(0, 12), layers, "-", "-", "-", "-", "-", c.verdict, "-", "-", "-", "-"});
+      continue;
+    }
+    t.rows.push_back({c.digest.substr(0, 12), layers, c.case_dir, fmt::format("{:.6g}", c.liggghts_output_fraction),
                       value_text(c.liggghts_peak_wall_force), fmt::format("{:.3g}", c.objective_difference),
                       fmt::format("{:.3g}", c.largest_difference), c.verdict, value_text(c.longer_difference),
                       !c.longer_difference ? "-" : *c.longer_difference <= kFinalTolerance ? "final" : "NOT FINAL",
-                      variant_text(c, e != s.all.end() ? &*e : nullptr)});
+                      law_text(c), variant_text(c, e != s.all.end() ? &*e : nullptr)});
   }
   return t;
+}
+
+// Where LIGGGHTS ran another law than the search's: each objective's spread between the two laws
+// over the confirmed designs, as a model-form uncertainty; and the designs LIGGGHTS could not take.
+std::string law_spread_text(const Space& space, const Snapshot& s) {
+  std::map<std::string, std::pair<double, double>> range;  // objective: the least and largest spread
+  std::optional<std::pair<double, double>> yield;  // the contacts' yield pressures over their materials'
+  std::string law;
+  int designs = 0, not_run = 0;
+  for (const auto& c : s.confirmations) {
+    not_run += c.not_run.empty() ? 0 : 1;
+    if (c.law.empty()) continue;
+    law = c.law;
+    ++designs;
+    if (c.law_yield) {
+      yield = yield ? std::pair{std::min(yield->first, c.law_yield->first), std::max(yield->second, c.law_yield->second)}
+                    : *c.law_yield;
+    }
+    for (const auto& [name, spread] : c.law_spread) {
+      const auto it = range.try_emplace(name, spread, spread).first;
+      it->second = {std::min(it->second.first, spread), std::max(it->second.second, spread)};
+    }
+  }
+  if (designs == 0 && not_run == 0) return "";
+  std::vector<std::string> parts;
+  for (const auto& [name, r] : range) parts.push_back(fmt::format("{} {:+.1f} % to {:+.1f} %", name, 100.0 * r.first, 100.0 * r.second));
+  const auto searched = model::to_string(space.fixed.normal_model);
+  std::string out =
+      designs == 0 ? ""
+                   : fmt::format("LIGGGHTS 3.8 has no {0} law: its runs of the front's {1} confirmed design{2} are under {3}, "
+                                 "its nearest (docs/physics.md section 7), against refsim under {3} for the verdict; "
+                                 "the two laws' spread on the objectives, {3} over {0}: {4}. It is a model-form "
+                                 "uncertainty, what two elastic-plastic laws say, not a disagreement of the engines{5}.",
+                                 searched, designs, designs == 1 ? "" : "s", law, fmt::join(parts, "; "),
+                                 yield ? fmt::format(", and it holds more than the laws' unloading: under {} these "
+                                                     "designs' contacts yield at {:.2g} to {:.2g} times their "
+                                                     "materials' pressure (one yield radius for every contact; "
+                                                     "`granstack generate` prints each kind's)",
+                                                     law, yield->first, yield->second)
+                                       : "");
+  if (not_run > 0) {
+    out += fmt::format("{}{} design{} could not run on LIGGGHTS (the table says why).", out.empty() ? "" : " ", not_run,
+                       not_run == 1 ? "" : "s");
+  }
+  return out;
 }
 
 // Whether each seed's run has stopped improving, by the rule stated.
@@ -464,7 +528,9 @@ json report_json(const Space& space, const Snapshot& s, const std::vector<Evalua
                                   {"liggghts_peak_wall_force", c.liggghts_peak_wall_force ? json(*c.liggghts_peak_wall_force) : json(nullptr)},
                                   {"largest_difference", c.largest_difference}, {"objective_difference", c.objective_difference},
                                   {"verdict", c.verdict},
-                                  {"longer_difference", c.longer_difference ? json(*c.longer_difference) : json(nullptr)}});
+                                  {"longer_difference", c.longer_difference ? json(*c.longer_difference) : json(nullptr)},
+                                  {"law", c.law.empty() ? json(nullptr) : json(c.law)}, {"law_spread", c.law_spread},
+                                  {"not_run", c.not_run.empty() ? json(nullptr) : json(c.not_run)}});
   }
   j["evaluations"] = s.all.size();
   return j;
@@ -605,6 +671,7 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   }
   if (!s.confirmations.empty()) {
     d.push_back(postproc::Heading{2, "Confirmed on LIGGGHTS", "confirmed"});
+    if (const auto text = law_spread_text(space, s); !text.empty()) d.push_back(postproc::Paragraph{text});
     d.push_back(confirmations_table(s));
   }
   write_front_specs(space, front, generation, dir);

@@ -230,6 +230,9 @@ Store Store::open(const std::string& path, const std::string& space_digest, cons
   if (const auto c = s.columns("confirmations"); std::find(c.begin(), c.end(), "variant") == c.end()) {
     s.exec("ALTER TABLE confirmations ADD COLUMN variant TEXT NOT NULL DEFAULT '{}'");
   }
+  if (const auto c = s.columns("confirmations"); std::find(c.begin(), c.end(), "law") == c.end()) {
+    s.exec("ALTER TABLE confirmations ADD COLUMN law TEXT NOT NULL DEFAULT '{}'");
+  }
   if (const auto c = s.columns("generations"); std::find(c.begin(), c.end(), "run") == c.end()) s.exec(kRunsMigration);
   s.find_measures();
   if (const auto d = s.meta("space_digest")) {
@@ -449,14 +452,19 @@ std::vector<std::string> Store::joins(int run) const {
 void Store::put_confirmation(const Confirmation& c) {
   const std::lock_guard<std::mutex> lock(*mutex_);
   Statement q(db_, "INSERT OR REPLACE INTO confirmations (digest, case_dir, liggghts_output_fraction, liggghts_peak_wall_force, "
-                   "largest_difference, objective_difference, verdict, longer_difference, variant) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)");
+                   "largest_difference, objective_difference, verdict, longer_difference, variant, law) VALUES (?, ?, ?, ?, ?, ?, "
+                   "?, ?, ?, ?)");
   const nlohmann::json variant = c.variant.empty() ? nlohmann::json::object()
                                                    : nlohmann::json{{"label", c.variant},
                                                                     {"measures", c.variant_measures},
                                                                     {"not_final", c.variant_not_final}};
   q.bind(1, c.digest).bind(2, c.case_dir).bind(3, c.liggghts_output_fraction).bind(4, c.liggghts_peak_wall_force);
   q.bind(5, c.largest_difference).bind(6, c.objective_difference).bind(7, c.verdict).bind(8, c.longer_difference);
-  q.bind(9, variant.dump()).step();
+  nlohmann::json law = nlohmann::json::object();
+  if (!c.law.empty()) law = {{"law", c.law}, {"spread", c.law_spread}};
+  if (c.law_yield) law["yield_range"] = {c.law_yield->first, c.law_yield->second};
+  if (!c.not_run.empty()) law["not_run"] = c.not_run;
+  q.bind(9, variant.dump()).bind(10, law.dump()).step();
 }
 
 std::vector<Confirmation> Store::confirmations() const {
@@ -464,17 +472,28 @@ std::vector<Confirmation> Store::confirmations() const {
   const auto present = columns("confirmations");
   const bool longer = std::find(present.begin(), present.end(), "longer_difference") != present.end();
   const bool variant = std::find(present.begin(), present.end(), "variant") != present.end();
+  const bool law = std::find(present.begin(), present.end(), "law") != present.end();
   Statement q(db_, fmt::format("SELECT digest, case_dir, liggghts_output_fraction, liggghts_peak_wall_force, largest_difference, "
-                               "objective_difference, verdict, {}, {} FROM confirmations",
-                               longer ? "longer_difference" : "NULL", variant ? "variant" : "'{}'"));
+                               "objective_difference, verdict, {}, {}, {} FROM confirmations",
+                               longer ? "longer_difference" : "NULL", variant ? "variant" : "'{}'", law ? "law" : "'{}'"));
   std::vector<Confirmation> out;
   while (q.step()) {
-    out.push_back({q.text(0), q.text(1), q.real(2), q.maybe(3), q.real(4), q.real(5), q.text(6), q.maybe(7), "", {}, ""});
+    out.push_back({q.text(0), q.text(1), q.real(2), q.maybe(3), q.real(4), q.real(5), q.text(6), q.maybe(7), "", {}, "",
+                   "", {}, std::nullopt, ""});
     const auto v = nlohmann::json::parse(q.text(8), nullptr, false);
     if (v.is_object() && v.contains("label")) {
       out.back().variant = v.value("label", "");
       out.back().variant_measures = v.value("measures", std::map<std::string, double>{});
       out.back().variant_not_final = v.value("not_final", "");
+    }
+    const auto l = nlohmann::json::parse(q.text(9), nullptr, false);
+    if (l.is_object()) {
+      out.back().law = l.value("law", "");
+      out.back().law_spread = l.value("spread", std::map<std::string, double>{});
+      out.back().not_run = l.value("not_run", "");
+      if (const auto y = l.find("yield_range"); y != l.end() && y->is_array() && y->size() == 2) {
+        out.back().law_yield = std::pair{(*y)[0].get<double>(), (*y)[1].get<double>()};
+      }
     }
   }
   return out;

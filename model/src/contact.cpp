@@ -124,11 +124,14 @@ constexpr SubModelInfo kThorntonNingInfo{
 
 // In NormalModel's order: one row per model, the table as long as the enum.
 constexpr auto kNormalLaws = std::to_array<NormalLaw>({
-    {kHertzInfo, "Hertz", false, true, false, false, false, false, 100.0, hertz_force, hertz_energy, hertz_overlap, hertz_time},
-    {kHookeInfo, "Hooke", true, false, false, false, false, false, 100.0, hooke_force, hooke_energy, hooke_overlap, hooke_time},
-    {kThorntonInfo, "Thornton", false, true, true, true, true, true, 100.0, hertz_force, no_energy, hertz_overlap, hertz_time},
-    {kThorntonNingInfo, "LIGGGHTS's thornton_ning", false, true, true, true, true, false, 1000.0, hertz_force, no_energy,
+    {kHertzInfo, "Hertz", false, true, false, false, false, false, 100.0, NormalModel::hertz, hertz_force, hertz_energy,
      hertz_overlap, hertz_time},
+    {kHookeInfo, "Hooke", true, false, false, false, false, false, 100.0, NormalModel::hooke, hooke_force, hooke_energy,
+     hooke_overlap, hooke_time},
+    {kThorntonInfo, "Thornton", false, true, true, true, true, true, 100.0, NormalModel::thornton_ning, hertz_force,
+     no_energy, hertz_overlap, hertz_time},
+    {kThorntonNingInfo, "LIGGGHTS's thornton_ning", false, true, true, true, true, false, 1000.0,
+     NormalModel::thornton_ning, hertz_force, no_energy, hertz_overlap, hertz_time},
 });
 static_assert(kNormalLaws.size() == kNormalModelCount, "one row per NormalModel");
 }  // namespace

@@ -137,6 +137,17 @@ ContactModel StackSpec::contact_model() const {
           yield_pressure_factor};
 }
 
+StackSpec liggghts_counterpart(const StackSpec& spec) {
+  const auto law = normal_law(spec.normal_model).on_liggghts;
+  if (law == spec.normal_model) return spec;
+  auto out = spec;
+  out.normal_model = law;
+  out.dt.reset();
+  out.dump_every.reset();
+  out.series_every.reset();
+  return out;
+}
+
 int StackSpec::measured_panel() const {
   if (geometry != Geometry::panels) return 1;
   return impact_panel > 0 ? impact_panel : (panels + 1) / 2;

@@ -109,6 +109,17 @@ YieldRadiusPlan thornton_ning_plan(const Stack& stack) {
   return plan;
 }
 
+std::optional<std::pair<double, double>> yield_pressure_departure(const Stack& stack) {
+  if (stack.spec().normal_model != NormalModel::thornton_ning) return std::nullopt;
+  std::optional<std::pair<double, double>> out;
+  for (const auto& k : thornton_ning_plan(stack).kinds) {
+    if (!(k.intended > 0.0)) continue;
+    const double r = k.effective / k.intended;
+    out = out ? std::pair{std::min(out->first, r), std::max(out->second, r)} : std::pair{r, r};
+  }
+  return out;
+}
+
 namespace {
 // The constants of a contact of materials a and b: Y*, the first-yield pressure (0: none) and
 // (2 Y* / (pi p_y))^2.

@@ -1363,6 +1363,55 @@ TEST(DesignCli, TheFrontsBestIsConfirmedOnLiggghts) {
   EXPECT_NE(md.find("Where the energy is when the blow has ended"), std::string::npos);
 }
 
+// A front searched under Thornton's law (#67 item 1), which LIGGGHTS 3.8 lacks: confirm runs each
+// design under thornton_ning, its nearest, on LIGGGHTS and on refsim, and judges the engines by
+// each other (validate's verdict, and the objectives to 0 measured), not by the search's law; the
+// two laws' spread on each objective is reported as a model-form uncertainty, with how far
+// thornton_ning's one yield radius moves the contacts' yield pressures from their materials'.
+TEST(DesignCli, AThorntonFrontIsConfirmedOnLiggghtsUnderThorntonNing) {
+  const auto dir = work_dir();
+  std::ofstream(dir / "thornton.toml") << small_space_fixed("normal_model = \"thornton\"", "");
+  ASSERT_EQ(program({"design", "run", (dir / "thornton.toml").string(), "-o", (dir / "search").string(), "-j", "2"},
+                    dir / "run.log").code, 0);
+  const auto r = program({"design", "confirm", (dir / "search").string(), "--top", "1"}, dir / "confirm.log");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("thornton_ning against the search's thornton (model form, not a disagreement)"), std::string::npos)
+      << r.output;
+  const auto store = design::Store::open_existing((dir / "search" / "design.sqlite").string());
+  const auto confirmed = store.confirmations();
+  ASSERT_EQ(confirmed.size(), 1u);
+  for (const auto& c : confirmed) {
+    EXPECT_EQ(c.law, "thornton_ning");
+    EXPECT_EQ(c.not_run, "");
+    EXPECT_EQ(c.verdict, "agree");
+    EXPECT_EQ(c.objective_difference, 0.0);  // LIGGGHTS against refsim, both under thornton_ning
+    EXPECT_LE(c.largest_difference, 1e-7);
+    ASSERT_TRUE(c.longer_difference);
+    EXPECT_LE(*c.longer_difference, design::kFinalTolerance);
+    EXPECT_EQ(formats::Case::open(c.case_dir).spec().normal_model, model::NormalModel::thornton_ning);
+    for (const char* o : {"peak_wall_force", "crush"}) {
+      ASSERT_EQ(c.law_spread.count(o), 1u) << o;
+      std::printf("%s: %s %+.1f %% under thornton_ning\n", c.digest.substr(0, 12).c_str(), o, 100.0 * c.law_spread.at(o));
+      EXPECT_GT(std::fabs(c.law_spread.at(o)), 1e-3) << o << ": the two laws differ";
+    }
+    // Steel over Teflon: the one yield radius is block 1's (steel), and Teflon's contacts yield
+    // below their own pressure.
+    ASSERT_TRUE(c.law_yield);
+    EXPECT_LT(c.law_yield->first, 1.0);
+  }
+  const auto md = test::read_bytes(dir / "search" / "report" / "design.md");
+  EXPECT_NE(md.find("LIGGGHTS 3.8 has no thornton law: its runs of the front's 1 confirmed design are under thornton_ning"),
+            std::string::npos) << md;
+  EXPECT_NE(md.find("It is a model-form uncertainty"), std::string::npos);
+  // The design how-to quotes this run.
+  const auto& c = confirmed.front();
+  const auto howto = test::read_bytes(fs::path(GRANSTACK_TEST_DATA) / ".." / ".." / "docs" / "how-to" / "design.md");
+  EXPECT_NE(howto.find(fmt::format("takes a peak\nwall force {:+.1f} % and crushes {:+.1f} % under thornton_ning, and its contacts yield at {:.2g} to\n{:.2g} times",
+                                   100.0 * c.law_spread.at("peak_wall_force"), 100.0 * c.law_spread.at("crush"),
+                                   c.law_yield->first, c.law_yield->second)),
+            std::string::npos);
+}
+
 // The physical variant (#32.5): confirm also runs each confirmed design as the body the strip
 // stands for, here its blocks as a 3D nest, on LIGGGHTS to the blow's end, and reports its
 // measures beside the strip's. A variant that is the designs themselves is refused. (The space's

@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <functional>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -88,6 +89,9 @@ Evaluation measured(const Space& space, const model::StackSpec& spec);
 std::optional<model::StackSpec> extended(const model::StackSpec& design, const model::StackSpec& ran, const Outcome& o);
 // The specs a design runs: one per scenario (the design itself when the space has none).
 std::vector<model::StackSpec> scenario_specs(const Space& space, const model::StackSpec& design);
+// Each run measure over a design's scenarios (`runs`, each run's measures), as the space aggregates
+// it (the worst, or the mean); a measure some run lacks is left out.
+std::map<std::string, double> aggregated(const Space& space, const std::vector<std::map<std::string, double>>& runs);
 // Why the outcome `o` of the run `ran` is not final ("" when it is).
 std::string not_final(const Space& space, const model::StackSpec& ran, const Outcome& o);
 // The evaluation of `e` (measured) from the runs of its scenario_specs (each its spec as run, or

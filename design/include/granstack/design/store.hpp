@@ -80,6 +80,20 @@ struct Confirmation {
   std::string variant;
   std::map<std::string, double> variant_measures;
   std::string variant_not_final;
+  // Where LIGGGHTS lacks the search's normal law (Thornton 1997's), the law it ran instead
+  // (model::liggghts_counterpart: thornton_ning), and each objective's spread between the two laws,
+  // LIGGGHTS's over the search's less 1, aggregated over the scenarios as the space aggregates
+  // them: a model-form uncertainty, not a disagreement (the verdict then compares LIGGGHTS with
+  // refsim, both under LIGGGHTS's law). "" and none where LIGGGHTS ran the search's law.
+  std::string law;
+  std::map<std::string, double> law_spread;
+  // Under that law, the least and largest of the design's contacts' yield pressure over their
+  // materials' (model::yield_pressure_departure: thornton_ning's one yield radius), part of the
+  // spread; none where every contact yields at its materials'.
+  std::optional<std::pair<double, double>> law_yield;
+  // Why the design was not run on LIGGGHTS ("" when it was): generate refused its cases there
+  // (thornton_ning gives every contact one yield radius, which some stacks cannot take).
+  std::string not_run;
 };
 inline constexpr double kFinalTolerance = 1e-2;
 

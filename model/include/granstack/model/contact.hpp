@@ -166,6 +166,10 @@ struct NormalLaw {
   // each step; 1000 for thornton_ning, whose incremental force is first order in dt (an elastic
   // impact gains e - 1 = 1.4 dt / t_c: 0.15 % at t_c / 1000, physics.md section 7).
   double steps_per_contact;
+  // The law LIGGGHTS runs for it where a run is confirmed on LIGGGHTS (design confirm): itself, or
+  // the nearest LIGGGHTS 3.8 has where it has none (Thornton 1997's: thornton_ning, physics.md
+  // section 7 says how they differ).
+  NormalModel on_liggghts;
   double (*force)(const ContactModel& m, const ContactPair& c, double overlap);
   double (*energy)(const ContactModel& m, const ContactPair& c, double overlap);
   double (*max_overlap)(const ContactModel& m, const ContactPair& c, double relative_speed);

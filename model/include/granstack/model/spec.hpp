@@ -162,6 +162,12 @@ struct StackSpec {
   bool operator==(const StackSpec&) const = default;
 };
 
+// What LIGGGHTS runs for `spec` where a run is confirmed on it (design confirm): the spec itself, or
+// the same stack under the nearest normal law LIGGGHTS has (NormalLaw::on_liggghts: Thornton
+// 1997's law as thornton_ning, the same yield pressure factor), its time step and its dump and
+// series cadences that law's own (automatic: thornton_ning needs ten times Hertz's steps).
+StackSpec liggghts_counterpart(const StackSpec& spec);
+
 // One problem with a spec: the field (as named in spec files and flags) and what is wrong,
 // including the allowed range.
 struct SpecIssue {

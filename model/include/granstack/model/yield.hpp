@@ -48,6 +48,11 @@ struct YieldRadiusPlan {
   std::string order_dependent;         // accepted by the spec: which type depends on LIGGGHTS's atom order, or ""
 };
 YieldRadiusPlan thornton_ning_plan(const Stack& stack);
+// Under the stack's law, the least and largest of its kinds of contact's yield pressure over the one
+// their materials give (the plan's effective over intended, for the kinds with one): thornton_ning's
+// one yield radius sets every kind's but block 1's own; none under any other law, whose contacts
+// each yield at their materials' pressure.
+std::optional<std::pair<double, double>> yield_pressure_departure(const Stack& stack);
 
 // The largest contact pressure over first yield seen: its ratio p0 / p_y, p0, the frame's step and
 // the contact (sphere ids; id_b = 0 for a wall, named by `wall`).
