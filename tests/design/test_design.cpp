@@ -1164,10 +1164,12 @@ test::ProgramResult program(const std::vector<std::string>& args, const fs::path
 }
 
 // The small space's search (2 generations) into DIR/search (each test process its own: ctest
-// runs the tests side by side).
+// runs the tests side by side), on one job: the same designs every time, so the numbers the
+// docs quote from it are the run's wherever it runs (on two, the order designs end in shapes
+// the search).
 fs::path searched_dir(const fs::path& dir) {
   std::ofstream(dir / "small.toml") << kSmallSpace;
-  const auto r = program({"design", "run", (dir / "small.toml").string(), "-o", (dir / "search").string(), "-j", "2"}, dir / "run.log");
+  const auto r = program({"design", "run", (dir / "small.toml").string(), "-o", (dir / "search").string(), "-j", "1"}, dir / "run.log");
   EXPECT_EQ(r.code, 0) << r.output;
   return dir / "search";
 }
@@ -1371,7 +1373,7 @@ TEST(DesignCli, TheFrontsBestIsConfirmedOnLiggghts) {
 TEST(DesignCli, AThorntonFrontIsConfirmedOnLiggghtsUnderThorntonNing) {
   const auto dir = work_dir();
   std::ofstream(dir / "thornton.toml") << small_space_fixed("normal_model = \"thornton\"", "");
-  ASSERT_EQ(program({"design", "run", (dir / "thornton.toml").string(), "-o", (dir / "search").string(), "-j", "2"},
+  ASSERT_EQ(program({"design", "run", (dir / "thornton.toml").string(), "-o", (dir / "search").string(), "-j", "1"},
                     dir / "run.log").code, 0);
   const auto r = program({"design", "confirm", (dir / "search").string(), "--top", "1"}, dir / "confirm.log");
   ASSERT_EQ(r.code, 0) << r.output;
@@ -1427,7 +1429,7 @@ TEST(DesignCli, ConfirmAlsoRunsTheFrontAsA3DNestOnLiggghts) {
   EXPECT_NE(same.output.find("[confirm] sides: the designs have these sides already"), std::string::npos) << same.output;
   EXPECT_FALSE(fs::exists(dir / "same"));
   std::ofstream(dir / "small.toml") << free_text << "[confirm]\ngeometry = \"nested3d\"\n";
-  ASSERT_EQ(program({"design", "run", (dir / "small.toml").string(), "-o", (dir / "search").string(), "-j", "2"}, dir / "run.log").code, 0);
+  ASSERT_EQ(program({"design", "run", (dir / "small.toml").string(), "-o", (dir / "search").string(), "-j", "1"}, dir / "run.log").code, 0);
   const auto r = program({"design", "confirm", (dir / "search").string(), "--top", "1"}, dir / "confirm.log");
   ASSERT_EQ(r.code, 0) << r.output;
   const auto store = design::Store::open_existing((dir / "search" / "design.sqlite").string());
@@ -2091,7 +2093,7 @@ TEST(DesignCli, AFreeSpacesReportSaysWhatConfiningChanges) {
   auto free_text = kSmallSpace;
   free_text.replace(free_text.find("[fixed]\n"), 8, "[fixed]\nsides = \"free\"\n");
   std::ofstream(dir / "free.toml") << free_text;
-  ASSERT_EQ(program({"design", "run", (dir / "free.toml").string(), "-o", (dir / "search").string(), "-j", "2"}, dir / "run.log").code, 0);
+  ASSERT_EQ(program({"design", "run", (dir / "free.toml").string(), "-o", (dir / "search").string(), "-j", "1"}, dir / "run.log").code, 0);
   auto md = test::read_bytes(dir / "search" / "report" / "design.md");
   EXPECT_NE(md.find("Nothing here says yet what confining changes"), std::string::npos);
   // At 1 m/s every design presses a contact beyond first yield, and the report says so.
@@ -2130,18 +2132,24 @@ TEST(DesignCli, AFreeSpacesReportSaysWhatConfiningChanges) {
 // search this is with free sides). Struck at 1 cm/s instead, with max_yield_ratio = 1:
 // the steel-topped designs still yield (the ratio falls only as v^(2/5)), the Teflon-topped ones
 // do not; only elastic designs are feasible, and the report says every front design stays below
-// first yield, with the share of all designs that do not, counted from the store.
+// first yield, with the share of all designs that do not, counted from the store. The search runs
+// on one job: on two, which designs it visits depends on which finishes first, and some
+// (Teflon over Teflon, 3 rows each) rattle on past the cap at 1 cm/s, censored, so infeasible
+// below first yield.
 TEST(DesignCli, AYieldBoundKeepsTheFrontElasticAndTheReportSaysWhichDesignsYield) {
   const auto dir = work_dir();
   const auto search = [&](const std::string& name, const std::string& text) {
     std::ofstream(dir / (name + ".toml")) << text;
-    EXPECT_EQ(program({"design", "run", (dir / (name + ".toml")).string(), "-o", (dir / name).string(), "-j", "2"},
+    EXPECT_EQ(program({"design", "run", (dir / (name + ".toml")).string(), "-o", (dir / name).string(), "-j", "1"},
                       dir / (name + ".log")).code, 0);
     const auto store = design::Store::open_existing((dir / name / "design.sqlite").string());
     return std::pair{store.evaluations(), test::read_bytes(dir / name / "report" / "design.md")};
   };
   auto slow_text = kSmallSpace;
   slow_text.replace(slow_text.find("[fixed]\n"), 8, "[fixed]\nstriker_speed = 0.01\n");
+  // Four generations (40 of the 42 designs): on seed 7's first two, every Teflon-topped design
+  // the search meets below first yield is censored.
+  slow_text.replace(slow_text.find("generations = 2"), 15, "generations = 4");
   slow_text += "[constraints]\nmax_yield_ratio = 1.0\n";
   const auto [slow, slow_md] = search("slow", slow_text);
   long judged = 0, yielding = 0, feasible = 0;
@@ -2150,7 +2158,10 @@ TEST(DesignCli, AYieldBoundKeepsTheFrontElasticAndTheReportSaysWhichDesignsYield
     ++judged;
     yielding += r > 1.0 ? 1 : 0;
     feasible += e.feasible ? 1 : 0;
-    EXPECT_EQ(e.feasible, r <= 1.0) << e.description << ": " << r;
+    EXPECT_EQ(e.violations.find("yield_ratio") != std::string::npos, r > 1.0) << e.description << ": " << r;
+    if (r <= 1.0 && !e.feasible) {
+      EXPECT_NE(e.violations.find("censored"), std::string::npos) << e.violations;
+    }
   }
   std::printf("at 1 cm/s: %ld of %ld designs beyond first yield, %ld feasible\n", yielding, judged, feasible);
   EXPECT_GT(yielding, 0);
@@ -2171,7 +2182,7 @@ TEST(DesignCli, AYieldBoundKeepsTheFrontElasticAndTheReportSaysWhichDesignsYield
 TEST(DesignCli, TheFrontsFilesGiveTheFrontsNumbers) {
   const auto dir = work_dir();
   const auto example = fs::path(GRANSTACK_TEST_DATA) / ".." / ".." / "examples" / "design" / "least_wall_force.toml";
-  ASSERT_EQ(program({"design", "run", example.string(), "-o", (dir / "search").string(), "-j", "2", "--max-designs", "10"},
+  ASSERT_EQ(program({"design", "run", example.string(), "-o", (dir / "search").string(), "-j", "1", "--max-designs", "10"},
                     dir / "run.log").code, 0);
   const auto store = design::Store::open_existing((dir / "search" / "design.sqlite").string());
   const auto space = design::stored_space(store, example.string());
