@@ -8,6 +8,9 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh --tests
 bash scripts/build.sh ci
 log=build/ci/ctest-output.log
+# The ci preset runs three tests at a time: about a quarter of the suite's test time is tests
+# waiting on LIGGGHTS, SLURM or a program they started, and on 2 cores three at a time take 13 %
+# less wall time than two, four no less than three (bench/results/ctest-jobs-2026-12-07.md).
 set +e
 ctest --preset ci 2>&1 | tee "$log"
 rc=${PIPESTATUS[0]}
