@@ -173,6 +173,13 @@ int run_design(const DesignFlags& f) {
     return kBadInput;
   }
   design::evaluate_study_designs(space, store, f.jobs);
+  if (design::yields(space)) {
+    line.clear();
+    fmt::print(stderr, "beside the elastic model: the front's and the study's designs under Hertz's law, e = 1 ...\n");
+    const int twins = design::evaluate_elastic_twins(space, store, f.jobs);
+    fmt::print(stderr, "beside the elastic model: {} elastic twin{} run ({} stored)\n", twins, twins == 1 ? "" : "s",
+               store.elastic_twins().size());
+  }
   const auto gens = store.generations();
   const bool beyond = !gens.empty() && r.ended == "generations" && gens.back().index > space.search.generations;
   fmt::print("{}: {}; {} ({} designs run this time{}; the store holds {} distinct designs)\n", dir.string(),

@@ -67,8 +67,6 @@ std::string hypervolume_spread(const std::vector<RunSummary>& runs) {
                      *std::min_element(v.begin(), v.end()), *std::max_element(v.begin(), v.end()), v.size());
 }
 
-std::string value_text(std::optional<double> v) { return v ? fmt::format("{:.4g}", *v) : "-"; }
-
 std::vector<std::string> objective_cells(const Space& space, const Evaluation& e) {
   std::vector<std::string> cells;
   for (const auto o : space.objectives) cells.push_back(value_text(objective_value(e, o)));
@@ -210,7 +208,7 @@ postproc::Table front_table(const Space& space, const std::vector<Evaluation>& f
 
 // Where the front's designs leave the elastic model (docs/physics.md section 7): the designs whose
 // largest contact pressure passes first yield, and the share of all evaluated designs that do.
-std::string yield_text(const std::vector<Evaluation>& front, const std::vector<Evaluation>& all) {
+std::string yield_text(const Space& space, const std::vector<Evaluation>& front, const std::vector<Evaluation>& all) {
   const auto yield = find_objective("yield_ratio");
   std::vector<std::string> beyond;
   double largest = 0.0;
@@ -235,6 +233,14 @@ std::string yield_text(const std::vector<Evaluation>& front, const std::vector<E
   }
   const auto share = fmt::format("{} of the {} designs judged ({:.0f} %) press a contact beyond first yield.", yielding,
                                  measured, 100.0 * static_cast<double>(yielding) / static_cast<double>(measured));
+  if (yields(space)) {  // the contacts yield in the model: the ratio says how far past first yield, not a model's limit
+    return fmt::format("First yield: {} of the front's {} designs press a contact beyond it{}{}. Under {} the contacts "
+                       "yield there, dissipate and keep a dent, as the material does (docs/physics.md section 7): the "
+                       "ratio (the Hertz pressure of the largest overlap over first yield's) says how far into the "
+                       "plastic range, not where the model stops holding. {}",
+                       beyond.size(), front.size(), beyond.empty() ? "" : ": ", fmt::join(beyond, ", "),
+                       model::to_string(space.fixed.normal_model), share);
+  }
   if (beyond.empty()) {
     return fmt::format("First yield: every front design stays below it (largest yield_ratio {:.3g}): its contacts are "
                        "elastic, as the model has them. {}", largest, share);
@@ -532,6 +538,10 @@ json report_json(const Space& space, const Snapshot& s, const std::vector<Evalua
                                   {"law", c.law.empty() ? json(nullptr) : json(c.law)}, {"law_spread", c.law_spread},
                                   {"not_run", c.not_run.empty() ? json(nullptr) : json(c.not_run)}});
   }
+  if (!s.twins.empty()) {  // beside the elastic model: each design's elastic twin, by the design's digest
+    j["elastic_twins"] = json::object();
+    for (const auto& [digest, twin] : s.twins) j["elastic_twins"][digest] = evaluation_json(elastic_reference(space), twin);
+  }
   j["evaluations"] = s.all.size();
   return j;
 }
@@ -633,10 +643,11 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   int generation = 0;
   for (const auto& g : s.generations) generation = std::max(generation, g.index);
   d.push_back(front_table(space, front, generation));
-  d.push_back(postproc::Paragraph{yield_text(front, s.all)});
+  d.push_back(postproc::Paragraph{yield_text(space, front, s.all)});
   if (!space.scenarios.empty()) d.push_back(scenario_table(space, front));
   d.push_back(postproc::Heading{2, "The study's designs", "study"});
   d.push_back(study_table(space, s, front));
+  for (auto& b : elastic_blocks(space, s, front)) d.push_back(std::move(b));
   d.push_back(postproc::Heading{2, "Figures", "figures"});
   const bool any_feasible = std::any_of(s.all.begin(), s.all.end(), [](const auto& e) { return e.feasible; });
   if (!any_feasible) {  // nothing to draw (a search stopped before its first design finished)

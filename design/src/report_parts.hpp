@@ -9,6 +9,8 @@
 #include <granstack/postproc/document.hpp>
 #include <granstack/refsim/in_situ.hpp>
 
+#include <fmt/format.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -33,6 +35,9 @@ std::vector<RunSummary> summarise_runs(const Space& space, const Store& store, c
                                        const std::vector<Generation>& generations);
 
 struct Snapshot;  // below: the store read once
+
+// A measure in a report's table: four digits, or "-" where there is none.
+inline std::string value_text(std::optional<double> v) { return v ? fmt::format("{:.4g}", *v) : "-"; }
 
 // The run of a design the figures and confirm show: its own (no scenarios), else its scenario
 // with the largest peak wall force.
@@ -106,12 +111,13 @@ std::vector<postproc::Figure> convergence_figures(const std::vector<Progress>& p
 // each run's spending and progress (budget.cpp), computed once for the report and its JSON.
 struct Snapshot {
   Snapshot(const Space& space, const Store& store)
-      : all(store.evaluations()), studies(store.study_designs()), generations(store.generations()),
+      : all(store.evaluations()), studies(store.study_designs()), twins(store.elastic_twins()), generations(store.generations()),
         confirmations(store.confirmations()), box(stored_normalisation(store)),
         runs(summarise_runs(space, store, all, generations)), budgets(run_budgets(space, store, all)),
         progress(box ? run_progress(space, store, all, *box) : std::vector<Progress>{}) {}
   std::vector<Evaluation> all;
   std::vector<std::pair<std::string, Evaluation>> studies;
+  std::map<std::string, Evaluation> twins;  // elastic twins by design digest (a space that yields)
   std::vector<Generation> generations;
   std::vector<Confirmation> confirmations;
   std::optional<Normalisation> box;
@@ -119,5 +125,11 @@ struct Snapshot {
   std::vector<RunBudget> budgets;
   std::vector<Progress> progress;  // none without the normalised box
 };
+
+// The report's section beside the elastic model (elastic.cpp), for a space whose contacts yield
+// and whose store holds elastic twins: the front's designs and the study's under both laws, which
+// design leads under each, the rank correlation of the two orders, the factors against the
+// study's designs. Empty otherwise.
+std::vector<postproc::Block> elastic_blocks(const Space& space, const Snapshot& s, const std::vector<Evaluation>& front);
 
 }  // namespace granstack::design::report_parts

@@ -20,6 +20,7 @@ CREATE TABLE IF NOT EXISTS evaluations (
   spheres INTEGER NOT NULL, feasible INTEGER NOT NULL, violations TEXT NOT NULL, areal_mass REAL NOT NULL, height REAL NOT NULL,
   seconds REAL NOT NULL, searched INTEGER NOT NULL, output_separated INTEGER NOT NULL, created TEXT NOT NULL DEFAULT (datetime('now')));
 CREATE TABLE IF NOT EXISTS study_designs (name TEXT PRIMARY KEY, digest TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS elastic_twins (digest TEXT PRIMARY KEY, twin TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS generations (
   run INTEGER NOT NULL DEFAULT 0, generation INTEGER NOT NULL, population TEXT NOT NULL, digests TEXT NOT NULL,
   hypervolume REAL NOT NULL, evaluations INTEGER NOT NULL, finished TEXT NOT NULL DEFAULT (datetime('now')),
@@ -383,6 +384,24 @@ void Store::put_study_design(const std::string& name, const std::string& digest)
   const std::lock_guard<std::mutex> lock(*mutex_);
   Statement q(db_, "INSERT OR REPLACE INTO study_designs (name, digest) VALUES (?, ?)");
   q.bind(1, name).bind(2, digest).step();
+}
+
+std::map<std::string, Evaluation> Store::elastic_twins() const {
+  const std::lock_guard<std::mutex> lock(*mutex_);
+  Statement q(db_, fmt::format("SELECT t.digest, {} FROM elastic_twins t JOIN evaluations e ON e.digest = t.twin",
+                               prefixed_columns("e.", measures_, has_scenarios_, has_shortcuts_)));
+  std::map<std::string, Evaluation> out;
+  while (q.step()) out.emplace(q.text(0), evaluation_from(q, measures_, 1));
+  return out;
+}
+
+void Store::put_elastic_twin(const std::string& digest, const Evaluation& twin) {
+  auto e = twin;
+  e.searched = false;
+  put(e);
+  const std::lock_guard<std::mutex> lock(*mutex_);
+  Statement q(db_, "INSERT OR REPLACE INTO elastic_twins (digest, twin) VALUES (?, ?)");
+  q.bind(1, digest).bind(2, twin.digest).step();
 }
 
 void Store::put_generation(const Generation& g) {

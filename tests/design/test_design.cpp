@@ -1414,6 +1414,90 @@ TEST(DesignCli, AThorntonFrontIsConfirmedOnLiggghtsUnderThorntonNing) {
             std::string::npos);
 }
 
+// A search whose contacts yield stands beside the elastic model (#67 item 1): each front design
+// and study design runs again under Hertz's law with e = 1, in the same scenarios, and the report
+// says which design leads under each law, how the two order the front (Spearman's rho) and the
+// factors against the study's designs under each. Yield caps a contact's pressure: every front
+// design takes a larger peak wall force elastic. A resumed search runs no twin twice.
+TEST(DesignCli, AYieldingSearchStandsBesideTheElasticModel) {
+  const auto dir = work_dir();
+  const auto text = small_space_fixed("normal_model = \"thornton\"", "");
+  std::ofstream(dir / "thornton.toml") << text;
+  const std::vector<std::string> run{"design", "run", (dir / "thornton.toml").string(), "-o", (dir / "search").string(), "-j", "1"};
+  const auto r = program(run, dir / "run.log");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto space = design::parse_space(text, "thornton.toml");
+  const auto store = design::Store::open_existing((dir / "search" / "design.sqlite").string());
+  const auto front = design::pareto_front(space, store.evaluations());
+  const auto twins = store.elastic_twins();
+  ASSERT_GE(front.size(), 3u);
+  std::vector<double> law, elastic;
+  for (const auto& e : front) {
+    ASSERT_EQ(twins.count(e.digest), 1u) << e.description;
+    const auto& t = twins.at(e.digest);
+    EXPECT_EQ(t.spec.normal_model, model::NormalModel::hertz);
+    EXPECT_EQ(t.spec.materials, e.spec.materials);
+    EXPECT_EQ(t.spec.block_rows, e.spec.block_rows);
+    EXPECT_GT(t.measures.at("peak_wall_force"), e.measures.at("peak_wall_force")) << e.description;
+    law.push_back(e.measures.at("peak_wall_force"));
+    elastic.push_back(t.measures.at("peak_wall_force"));
+  }
+  for (const auto& [name, e] : store.study_designs()) EXPECT_EQ(twins.count(e.digest), 1u) << name;
+  // A twin run again gives the store's measures, bit for bit.
+  const auto again = design::evaluate_design(design::elastic_reference(space), design::elastic_twin(front.front().spec), true);
+  EXPECT_EQ(again.measures, twins.at(front.front().digest).measures);
+  // Spearman's rho by its formula for untied ranks, 1 - 6 sum d^2 / (n (n^2 - 1)).
+  const auto rank = [](const std::vector<double>& v) {
+    std::vector<double> out(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      out[i] = 1.0 + static_cast<double>(std::count_if(v.begin(), v.end(), [&](double x) { return x < v[i]; }));
+    }
+    return out;
+  };
+  const auto ra = rank(law), rb = rank(elastic);
+  ASSERT_EQ(std::set<double>(ra.begin(), ra.end()).size(), ra.size());  // no ties
+  double d2 = 0.0;
+  for (std::size_t i = 0; i < ra.size(); ++i) d2 += (ra[i] - rb[i]) * (ra[i] - rb[i]);
+  const double n = static_cast<double>(ra.size());
+  const double rho = 1.0 - 6.0 * d2 / (n * (n * n - 1.0));
+  const auto lead = static_cast<std::size_t>(std::min_element(elastic.begin(), elastic.end()) - elastic.begin());
+  const auto md = test::read_bytes(dir / "search" / "report" / "design.md");
+  EXPECT_NE(md.find(fmt::format("peak_wall_force {:.2f}", rho)), std::string::npos) << rho << "\n" << md;
+  EXPECT_NE(md.find(fmt::format("Least peak_wall_force: front design #1 ({}) under thornton, #{} ({}) elastic",
+                                front.front().description, lead + 1, front[lead].description)),
+            std::string::npos);
+  // The sandwich beside the front's best at its mass or lighter, under each law.
+  const auto studies = store.study_designs();
+  const auto& sandwich = studies.at(2).second;
+  const design::Evaluation* best = nullptr;
+  for (const auto& f : front) {
+    if (f.areal_mass <= sandwich.areal_mass && (best == nullptr || f.measures.at("peak_wall_force") < best->measures.at("peak_wall_force"))) best = &f;
+  }
+  ASSERT_NE(best, nullptr);
+  const double f_law = sandwich.measures.at("peak_wall_force") / best->measures.at("peak_wall_force");
+  const double f_elastic = twins.at(sandwich.digest).measures.at("peak_wall_force") / twins.at(best->digest).measures.at("peak_wall_force");
+  EXPECT_NE(md.find(fmt::format("the sandwich (steel / Teflon / steel) takes {:.3g} times the peak_wall_force of {} under "
+                                "thornton, {:.3g} times elastic", f_law, best->description, f_elastic)),
+            std::string::npos);
+  std::printf("rho %.3f; the sandwich against %s: %.3g under thornton, %.3g elastic\n", rho, best->description.c_str(), f_law, f_elastic);
+  EXPECT_NE(md.find("Under thornton the contacts yield there"), std::string::npos);
+  EXPECT_EQ(md.find("the elastic result is a model"), std::string::npos);
+  const auto resumed = program(run, dir / "again.log");
+  ASSERT_EQ(resumed.code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("beside the elastic model: 0 elastic twins run"), std::string::npos) << resumed.output;
+  // The design how-to quotes this run.
+  const auto howto = test::read_bytes(fs::path(GRANSTACK_TEST_DATA) / ".." / ".." / "docs" / "how-to" / "design.md");
+  EXPECT_NE(howto.find(fmt::format("Spearman's rho {:.2f}", rho)), std::string::npos);
+  std::vector<double> ratio;
+  for (std::size_t i = 0; i < law.size(); ++i) ratio.push_back(elastic[i] / law[i]);
+  EXPECT_NE(howto.find(fmt::format("every front design takes {:.2g} to {:.2g} times the peak wall force elastic",
+                                   *std::min_element(ratio.begin(), ratio.end()), *std::max_element(ratio.begin(), ratio.end()))),
+            std::string::npos);
+  EXPECT_NE(howto.find(fmt::format("takes {:.3g} times the peak wall force of the\nfront's best at its mass under thornton "
+                                   "and {:.3g} times elastic", f_law, f_elastic)),
+            std::string::npos);
+}
+
 // The physical variant (#32.5): confirm also runs each confirmed design as the body the strip
 // stands for, here its blocks as a 3D nest, on LIGGGHTS to the blow's end, and reports its
 // measures beside the strip's. A variant that is the designs themselves is refused. (The space's

@@ -186,6 +186,18 @@ Space stored_space(const Store& store, const std::string& source);
 // The study's designs (study_designs) evaluated at the space's footprint and stored by name,
 // `jobs` at a time; run even where they break the space's constraints (they are marked so).
 void evaluate_study_designs(const Space& space, Store& store, int jobs = 1);
+
+// The elastic model beside a space whose contacts yield (thornton, thornton_ning): what the study
+// and an elastic search take, Hertz's law with e = 1. yields: the space's law yields.
+// elastic_twin: a design's stack under it (the rest of its spec as it is). elastic_reference: the
+// space under it, its yield-pressure scenarios one blow each (they are the same blow elastic).
+bool yields(const Space& space);
+model::StackSpec elastic_twin(model::StackSpec spec);
+Space elastic_reference(const Space& space);
+// Where the space yields: the elastic twins of the front's designs and of the study's that the
+// store lacks, each run in every scenario of the elastic reference, `jobs` at a time, and stored
+// (Store::elastic_twins); returns how many ran. 0 where the space does not yield.
+int evaluate_elastic_twins(const Space& space, Store& store, int jobs = 1);
 // The probes that fix the normalised box before a search: the study's designs (by name) and the
 // space's lightest and heaviest designs (Space::extreme_designs; no name) that lie within its
 // known constraints.

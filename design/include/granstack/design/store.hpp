@@ -132,6 +132,10 @@ class Store {
   // The study's designs placed beside the front (search.hpp, study_designs), by name.
   std::vector<std::pair<std::string, Evaluation>> study_designs() const;
   void put_study_design(const std::string& name, const std::string& digest);
+  // A design's elastic twin (search.hpp, evaluate_elastic_twins): the same stack under Hertz's
+  // elastic law, stored as not searched; by the design's digest.
+  std::map<std::string, Evaluation> elastic_twins() const;
+  void put_elastic_twin(const std::string& digest, const Evaluation& twin);
 
   void put_generation(const Generation& g);
   std::optional<Generation> last_generation(int run = 0) const;
