@@ -2257,6 +2257,36 @@ TEST(DesignCli, AYieldBoundKeepsTheFrontElasticAndTheReportSaysWhichDesignsYield
             std::string::npos) << slow_md;
 }
 
+// The shipped yielding protector (#67 item 1): Thornton's contacts, each blow struck at first
+// yield's p_y and at full plasticity's, ranked on the CFC 1000 force with the raw peak reported,
+// and every design set beside its elastic twin. Its probes alone (the study's designs and the
+// space's extremes): each takes a larger raw peak force elastic, yield capping its contacts.
+TEST(DesignCli, TheYieldingExampleStandsBesideTheElasticModel) {
+  const auto dir = work_dir();
+  const auto example = fs::path(GRANSTACK_TEST_DATA) / ".." / ".." / "examples" / "design" / "yielding_protector.toml";
+  const auto r = program({"design", "run", example.string(), "-o", (dir / "search").string(), "-j", "1", "--max-designs", "2"},
+                         dir / "run.log");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto space = design::parse_space(test::read_bytes(example), "yielding_protector.toml");
+  EXPECT_EQ(space.fixed.normal_model, model::NormalModel::thornton);
+  ASSERT_EQ(space.objectives.front(), design::find_objective("filtered_wall_force"));
+  const auto md = test::read_bytes(dir / "search" / "report" / "design.md");
+  EXPECT_NE(md.find("| filtered_wall_force (N) |"), std::string::npos);
+  EXPECT_NE(md.find("| peak_wall_force (N, reported) |"), std::string::npos);
+  EXPECT_NE(md.find("2 m/s, striker 1 R_1, p_y 3 Y"), std::string::npos);
+  EXPECT_NE(md.find("## Beside the elastic model"), std::string::npos);
+  const auto store = design::Store::open_existing((dir / "search" / "design.sqlite").string());
+  const auto twins = store.elastic_twins();
+  const auto studies = store.study_designs();
+  ASSERT_EQ(studies.size(), 3u);
+  for (const auto& [name, e] : studies) {
+    ASSERT_EQ(twins.count(e.digest), 1u) << name;
+    const auto& t = twins.at(e.digest);
+    EXPECT_EQ(t.scenarios.size(), 3u) << name << ": one elastic blow per speed";
+    EXPECT_GT(t.measures.at("peak_wall_force"), e.measures.at("peak_wall_force")) << name;
+  }
+}
+
 // The front's spec files give the front's numbers (#47 item 6): on the shipped example (a short
 // search), each front design has a file per scenario that decided an objective (the 2 m/s blow,
 // the worst, for both run objectives here), carrying that scenario's striker and the stop at the
