@@ -55,6 +55,8 @@ RECORDS = {
     "run_overhead": "bench/results/run-overhead-2026-12-07.json",
     # OUT=... bench/design_front.sh, on the 2-core machine (the example's confined front, #47 item 9)
     "design_front": "bench/results/design-front-2026-11-28.json",
+    # OUT=... GENERATIONS=6 bench/design_yield_front.sh, on the 2-core machine (the yielding example, #67 item 1)
+    "design_yield_front": "bench/results/design-yield-front-2026-12-07.json",
     # bench/oversubscription.sh 3, on the 2-core machine
     "oversubscription": "bench/results/oversubscription-2026-11-28.json",
     # scripts/extension_counts.py, from the commits it names (git history)
@@ -99,6 +101,7 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "run_overhead": ["docs/explanation/performance.md"],
                  "design_front": ["docs/how-to/design.md"], "design_sides": ["docs/how-to/design.md"],
                  "design_yield": ["docs/how-to/design.md"], "design_example_cost": ["docs/explanation/performance.md"],
+                 "design_yield_front": ["docs/how-to/design.md"],
                  "oversubscription": ["docs/reference/commands.md"],
                  "extension_counts": ["docs/developer/extending.md"],
                  "reduce_speed": ["docs/explanation/performance.md"],
@@ -420,6 +423,27 @@ def design_yield():
     y = record("design_front")["yield"]
     return (f"{y['beyond_first_yield']} of the {y['judged']} designs the search ran press a contact beyond first yield "
             f"(yield ratios {y['smallest_ratio']:.3g} to {y['largest_ratio']:.3g}).\n")
+
+
+def design_yield_front():
+    """The yielding example's front (bench/design_yield_front.sh): each front design's objectives under
+    Thornton's law (the worst of its six blows) beside its elastic twin's, then the study's designs,
+    and the report's paragraphs beside the elastic model."""
+    r = record("design_yield_front")
+    rows = ["| # | design | CFC 1000 force (N) | elastic (N) | wall impulse (N s) | elastic (N s) | areal mass (kg/m^2) | "
+            "raw peak force (N) | crush (m) |", "|---|---|---|---|---|---|---|---|---|"]
+    def row(name, e):
+        o, t = e["objectives"], e["elastic"]["objectives"]
+        mine = " (censored)" if "censored" in e["violations"] else ""
+        censored = " (censored)" if "censored" in e["elastic"]["violations"] else ""
+        rows.append(f"| {name} | {e['description']} | {g4(o['filtered_wall_force'])}{mine} | {g4(t['filtered_wall_force'])}{censored} | "
+                    f"{g4(o['wall_impulse'])}{mine} | {g4(t['wall_impulse'])}{censored} | {g4(o['areal_mass'])} | "
+                    f"{g4(e['measures'].get('peak_wall_force'))} | {g4(e['measures'].get('crush'))} |")
+    for i, e in enumerate(r["front"], 1):
+        row(str(i), e)
+    for s in r["study"]:
+        row(s["name"], s)
+    return "\n".join(rows) + "\n\n" + "\n\n".join(p.strip() for p in r["beside_elastic"]) + "\n"
 
 
 def design_example_cost():
@@ -1015,6 +1039,7 @@ def main():
                 design_cores_summary=design_cores_summary(), engines_agreement=engines_agreement(),
                 engines_speed=engines_speed(), reproduce_cost=reproduce_cost(), reproduce_speed=reproduce_speed(), run_overhead=run_overhead(),
                 design_front=design_front(), design_sides=design_sides(), design_yield=design_yield(),
+                design_yield_front=design_yield_front(),
                 design_example_cost=design_example_cost(), oversubscription=oversubscription(),
                 extension_counts=extension_counts(), reduce_speed=reduce_speed(), design_budget=design_budget(), design_shortcuts=design_shortcuts(),
                 design_population=design_population(), design_breeding=design_breeding(),
