@@ -71,12 +71,6 @@ namespace {
 // Fig. 3's outputs: e -> (N_B, E_out/E_in), e from 1 down.
 using OutputsByE = std::map<double, std::vector<std::pair<int, double>>, std::greater<>>;
 
-std::string with_error(const ExperimentResult& out, const std::string& key) {
-  const auto er = out.errors.find(key);
-  const double v = out.values.at(key);
-  return er == out.errors.end() ? num(v) : fmt::format("{:.4f} +- {:.4f}", v, er->second);
-}
-
 Table output_table(const OutputsByE& by_e) {
   Table t{"Output fraction E_out/E_in (the output sphere after it left the free bottom), 8 rows", {"N_B"}, {}};
   std::map<int, std::vector<std::string>> rows;
@@ -403,7 +397,8 @@ Analysis find_analysis(const std::string& name) {
   static const std::map<std::string, Analysis> all{{"fig2", fig2},         {"fig3", fig3},       {"scale", scale},
                                                     {"friction", friction}, {"fig4", fig4},       {"sandwich", sandwich},
                                                     {"container", container}, {"eq3", eq3},   {"eq45", eq45},
-                                                    {"rows", rows},         {"mechanisms", mechanisms}};
+                                                    {"rows", rows},         {"mechanisms", mechanisms},
+                                                    {"plasticity", plasticity}};
   const auto it = all.find(name);
   return it == all.end() ? nullptr : it->second;
 }

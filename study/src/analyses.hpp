@@ -49,6 +49,8 @@ void eq3(const AnalysisInput& in, ExperimentResult& out);
 void eq45(const AnalysisInput& in, ExperimentResult& out);
 void rows(const AnalysisInput& in, ExperimentResult& out);
 void mechanisms(const AnalysisInput& in, ExperimentResult& out);
+// Beyond the paper: Fig. 3's decay when the contacts yield (analyses_plasticity.cpp).
+void plasticity(const AnalysisInput& in, ExperimentResult& out);
 
 // The output of the main case of a Teflon experiment (fig4, sandwich) read every way, the
 // restitution scan of its Teflon contacts and the material sensitivity runs.

@@ -48,8 +48,16 @@ void add_cases(const std::string& name, toml::table spec, const std::string& whe
   bool quick = true, full = false;
   if (const auto* q = spec.get_as<bool>("quick")) quick = q->get();
   if (const auto* f = spec.get_as<bool>("full")) full = f->get();
+  std::string engine;
+  if (const auto* en = spec.get("engine")) {
+    if (en->value<std::string>() != "refsim") {
+      throw CatalogueError(where + ": engine = \"refsim\" (a case that runs on refsim whatever the reproduction's engine), or none");
+    }
+    engine = "refsim";
+  }
   spec.erase("quick");
   spec.erase("full");
+  spec.erase("engine");
   std::ostringstream os;
   os << spec;
   try {
@@ -57,7 +65,7 @@ void add_cases(const std::string& name, toml::table spec, const std::string& whe
     for (auto& c : generator::expand(sweep)) {
       const bool single = sweep.axes.empty();
       std::string case_name = single ? name : name == "sweep" ? c.name : name + "_" + c.name;
-      out.push_back({std::move(case_name), std::move(c.spec), quick, full});
+      out.push_back({std::move(case_name), std::move(c.spec), quick, full, engine});
     }
   } catch (const model::SpecError& e) {
     throw CatalogueError(fmt::format("{}: {}", where, e.what()));
@@ -188,6 +196,7 @@ Experiment parse_experiment(const toml::table& t) {
   e.needs = strings(t.get("needs"), where + ".needs");
   if (const auto* q = t.get_as<bool>("quick")) e.quick = q->get();
   if (const auto* f = t.get_as<bool>("full")) e.full = f->get();
+  if (const auto* b = t.get_as<bool>("beyond")) e.beyond = b->get();
   if (const auto* cases = t.get_as<toml::table>("cases")) {
     for (const auto& [key, node] : *cases) {
       const auto* spec = node.as_table();

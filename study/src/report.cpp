@@ -332,6 +332,8 @@ Table against_table(const EngineComparison& c) {
   return t;
 }
 
+void experiment_blocks(const ExperimentResult& e, const StudyResult& r, int level, std::vector<Block>& d);
+
 std::vector<Block> document(const StudyResult& r) {
   std::vector<Block> d;
   d.push_back(Heading{1, "Reproducing the study with granstack", "top"});
@@ -380,28 +382,42 @@ std::vector<Block> document(const StudyResult& r) {
   d.push_back(Paragraph{parameter_note(r)});
   d.push_back(parameter_table(r));
   for (const auto& e : r.experiments) {
-    const auto& x = *e.experiment;
-    d.push_back(Heading{2, fmt::format("{}: {} ({})", x.name, x.title, x.source), x.name});
-    if (!x.explanation.empty()) d.push_back(Paragraph{x.explanation});
-    if (!e.verdicts.empty()) d.push_back(claim_table(e));
-    for (const auto& v : e.verdicts) {
-      d.push_back(Paragraph{fmt::format("{}: band {} because {}.", v.claim->id, band_text(*v.claim), v.claim->band_reason)});
-    }
-    for (const auto& n : e.notes) d.push_back(Paragraph{n});
-    for (const auto& c : e.cases) {
-      if (!c.reduction) continue;
-      for (const auto& w : c.reduction->warnings) d.push_back(Paragraph{fmt::format("Warning from reduce, {}/{}: {}", x.name, c.name, w)});
-    }
-    for (const auto& t : e.tables) d.push_back(t);
-    for (const auto& f : e.figures) d.push_back(f);
-    if (!e.cases.empty()) {
-      d.push_back(case_table(e, r.validated));
-    } else if (!x.needs.empty()) {
-      d.push_back(Paragraph{fmt::format("It runs no case of its own: it reads the cases of {} (their tables are there).",
-                                        fmt::join(x.needs, ", "))});
+    if (!e.experiment->beyond) experiment_blocks(e, r, 2, d);
+  }
+  if (std::any_of(r.experiments.begin(), r.experiments.end(), [](const auto& e) { return e.experiment->beyond; })) {
+    d.push_back(Heading{2, "Beyond the paper", "beyond"});
+    d.push_back(Paragraph{"What the paper did not ask, measured with the same stacks: no claim of the paper's is judged "
+                          "here, and nothing here enters the summary, the verdicts or the record's count of them."});
+    for (const auto& e : r.experiments) {
+      if (e.experiment->beyond) experiment_blocks(e, r, 3, d);
     }
   }
   return d;
+}
+
+// One experiment's section at heading `level`: its explanation, verdicts, notes, tables, figures
+// and cases.
+void experiment_blocks(const ExperimentResult& e, const StudyResult& r, int level, std::vector<Block>& d) {
+  const auto& x = *e.experiment;
+  d.push_back(Heading{level, fmt::format("{}: {} ({})", x.name, x.title, x.source), x.name});
+  if (!x.explanation.empty()) d.push_back(Paragraph{x.explanation});
+  if (!e.verdicts.empty()) d.push_back(claim_table(e));
+  for (const auto& v : e.verdicts) {
+    d.push_back(Paragraph{fmt::format("{}: band {} because {}.", v.claim->id, band_text(*v.claim), v.claim->band_reason)});
+  }
+  for (const auto& n : e.notes) d.push_back(Paragraph{n});
+  for (const auto& c : e.cases) {
+    if (!c.reduction) continue;
+    for (const auto& w : c.reduction->warnings) d.push_back(Paragraph{fmt::format("Warning from reduce, {}/{}: {}", x.name, c.name, w)});
+  }
+  for (const auto& t : e.tables) d.push_back(t);
+  for (const auto& f : e.figures) d.push_back(f);
+  if (!e.cases.empty()) {
+    d.push_back(case_table(e, r.validated));
+  } else if (!x.needs.empty()) {
+    d.push_back(Paragraph{fmt::format("It runs no case of its own: it reads the cases of {} (their tables are there).",
+                                      fmt::join(x.needs, ", "))});
+  }
 }
 
 nlohmann::json record_json(const Record& r) {
@@ -446,6 +462,7 @@ nlohmann::json report_json(const StudyResult& r) {
     json figures = json::array();
     for (const auto& f : e.figures) figures.push_back({{"file", f.file}, {"caption", f.caption}});
     experiments.push_back({{"name", e.experiment->name}, {"title", e.experiment->title}, {"source", e.experiment->source},
+                           {"beyond", e.experiment->beyond},
                            {"record", record_json(e.experiment->record)},
                            {"claims", claims}, {"values", values}, {"cases", cases}, {"figures", figures}, {"notes", e.notes}});
   }

@@ -199,7 +199,6 @@ std::string choose_engine(const ReproduceOptions& o, const std::vector<CaseRecor
   return o.engine;
 }
 
-// Runs every case with the chosen engine; the records get their status.
 // Reduces each case as its run ends, on a thread of its own beside the runs: reduce's time goes into
 // the cores the runs leave idle (LIGGGHTS's start-up and writing), not after the last run. One
 // frame thread per case, so that it takes one core from the runs at most. reduce_all reduces what
@@ -260,14 +259,17 @@ class OverlappedReduce {
   std::thread thread_;  // last: it starts once the members it uses are made
 };
 
-void run_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, StudyResult& result, OverlappedReduce& reducer) {
+// Runs `records` (all of one engine: the reproduction's, or the one their catalogue entries pin).
+void run_on(std::vector<CaseRecord*>& records, const std::string& engine, const ReproduceOptions& o, StudyResult& result,
+            OverlappedReduce& reducer) {
+  if (records.empty()) return;
   std::vector<std::string> dirs;
   std::map<std::string, CaseRecord*> by_dir;
   for (auto* r : records) {
     dirs.push_back(r->dir);
     by_dir[r->dir] = r;
   }
-  auto ro = run_options(o, runner::parse_engine(o.engine), "run");
+  auto ro = run_options(o, runner::parse_engine(engine), "run");
   ro.on_case_done = [&o, &by_dir, &reducer](const runner::RunOutcome& r) {
     if (r.status == runner::RunStatus::done) {
       if (const auto it = by_dir.find(r.case_dir); it != by_dir.end()) reducer.add(it->second);
@@ -277,7 +279,6 @@ void run_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, Study
     if (r.status == runner::RunStatus::failed) o.on_event(fmt::format("FAILED   {}  {}", r.case_dir, r.message));
   };
   const auto outcomes = runner::run_cases(dirs, ro);
-  reducer.finish();
   for (std::size_t i = 0; i < outcomes.size(); ++i) {
     auto& rec = *records[i];
     rec.status = status_name(outcomes[i].status);
@@ -294,6 +295,15 @@ void run_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, Study
       ++result.interrupted_cases;
     }
   }
+}
+
+// Runs every case on its engine: the reproduction's, and refsim for the cases the catalogue pins
+// to it; the records get their status.
+void run_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, StudyResult& result, OverlappedReduce& reducer) {
+  std::map<std::string, std::vector<CaseRecord*>> by_engine;
+  for (auto* r : records) by_engine[r->pinned.empty() ? o.engine : r->pinned].push_back(r);
+  for (auto& [engine, group] : by_engine) run_on(group, engine, o, result, reducer);
+  reducer.finish();
 }
 
 void reduce_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, StudyResult& result, const OverlappedReduce& done) {
@@ -327,7 +337,7 @@ void validate_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o) 
   std::vector<std::string> dirs;
   std::vector<CaseRecord*> compared;
   for (auto* rec : records) {
-    if (!rec->reduction) continue;
+    if (!rec->reduction || !rec->pinned.empty()) continue;  // a pinned case has no other engine to meet
     dirs.push_back(rec->dir);
     compared.push_back(rec);
   }
@@ -388,6 +398,7 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& option
       record.name = c.name;
       record.dir = (root / e->name / c.name).string();
       record.status = "not run";
+      record.pinned = c.engine;
       er.cases.push_back(std::move(record));
       by_cost.emplace_back(expected_cost(c.spec), nullptr);
       entries.push_back(&c);
@@ -395,11 +406,14 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& option
     for (std::size_t i = 0; i < er.cases.size(); ++i) by_cost[by_cost.size() - er.cases.size() + i].second = &er.cases[i];
   }
   // The engine is chosen before any case is made or changed: a refusal leaves the directory as it was.
-  std::vector<CaseRecord*> in_order;
+  std::vector<CaseRecord*> in_order, unpinned;
   for (auto& er : result.experiments) {
-    for (auto& rec : er.cases) in_order.push_back(&rec);
+    for (auto& rec : er.cases) {
+      in_order.push_back(&rec);
+      if (rec.pinned.empty()) unpinned.push_back(&rec);
+    }
   }
-  o.engine = result.engine = choose_engine(o, in_order);
+  o.engine = result.engine = choose_engine(o, unpinned);
   if (o.refuse_engine_options) {
     std::vector<std::string> running{o.engine};
     if (o.validate) running.push_back(runner::to_string(runner::other_engine(runner::parse_engine(o.engine))));

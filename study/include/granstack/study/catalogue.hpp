@@ -65,6 +65,9 @@ struct CaseEntry {
   model::StackSpec spec;
   bool quick = true;     // part of --quick when its experiment is
   bool full = false;     // run only with --full (the longer convergence and sensitivity runs)
+  // "refsim": the case runs on refsim whatever the reproduction's engine (a contact law only
+  // refsim has: Thornton's, which LIGGGHTS 3.8 and LAMMPS lack); "": on the reproduction's.
+  std::string engine;
 };
 
 struct Experiment {
@@ -73,6 +76,9 @@ struct Experiment {
   std::vector<std::string> needs;  // experiments whose cases this one's analysis reads
   bool quick = false;
   bool full = false;               // run only with --full, or when named
+  // Beyond the paper: no claim of the paper's; measured and reported in a section of its own,
+  // apart from the paper's claims and their verdicts.
+  bool beyond = false;
   std::vector<CaseEntry> cases;
   std::vector<Claim> claims;
   Record record;  // of "geometry", the main case's geometry_text

@@ -39,6 +39,7 @@ struct CaseRecord {
   std::string name, dir;
   std::string status;                     // done, failed, interrupted, not run
   std::string engine;                     // what its run.json names (formats::run_engine); "" when not run
+  std::string pinned;                     // the catalogue's engine for it (CaseEntry::engine): "" the reproduction's
   std::string run_sha256;                 // of its run.json when done: what a later --against checks
   double wall_seconds = 0.0;              // of this invocation's run (0 when reused)
   std::optional<double> validate_worst;   // with --validate: refsim against LIGGGHTS, worst relative difference
