@@ -121,10 +121,9 @@ Resolution resolve(const Stack& stack) {
     const double per_contact = std::floor(r.wall_contact_time / (kSeriesPerWallContact * r.dt));
     if (!spec.series_every) r.series_every = std::min(r.series_every, static_cast<int>(std::clamp(per_contact, 1.0, 1e9)));
   }
-  // Where the blow's end reads the wall's force (blow_end_reads_wall_force), reduce reads it from
-  // the series at every dump frame: the samples fall on every frame (the largest divisor of the
-  // dump's cadence at most the series' own).
-  if (blow_end_reads_wall_force(spec) && !spec.series_every) {
+  // Where the series is read at every dump frame (series_on_every_frame), the samples fall on every
+  // frame (the largest divisor of the dump's cadence at most the series' own).
+  if (series_on_every_frame(spec) && !spec.series_every) {
     while (r.dump_every % r.series_every != 0) --r.series_every;
   }
   r.thermo_every = cadence(r.steps, kAutoThermoLines);
@@ -141,6 +140,10 @@ Resolution resolve(const Stack& stack) {
 namespace {
 const char* law_name(const StackSpec& spec) { return normal_law(spec.normal_model).name; }
 }  // namespace
+
+bool series_on_every_frame(const StackSpec& spec) {
+  return blow_end_reads_wall_force(spec) || (spec.stop == StopRule::blow_end && normal_law(spec.normal_model).series_energy);
+}
 
 std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& r) {
   std::vector<SpecIssue> issues;
@@ -195,11 +198,14 @@ std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& r)
                                                    "a higher speed",
                                                    spec.striker_speed, overlap / top.radius, kMinOverlapPerRadius)});
   }
-  if (blow_end_reads_wall_force(spec) && r.dump_every % r.series_every != 0) {
-    issues.push_back({"series_every", fmt::format("{} steps does not divide the dump's {}: under {} the blow's end reads "
-                                                  "the wall's force from the series at every dump frame; give a divisor "
+  if (series_on_every_frame(spec) && r.dump_every % r.series_every != 0) {
+    issues.push_back({"series_every", fmt::format("{} steps does not divide the dump's {}: under {} {}; give a divisor "
                                                   "of it, or 'auto'",
-                                                  r.series_every, r.dump_every, law_name(spec))});
+                                                  r.series_every, r.dump_every, law_name(spec),
+                                                  blow_end_reads_wall_force(spec)
+                                                      ? "the blow's end reads the wall's force from the series at every dump frame"
+                                                      : "reduce reads the work the contacts dissipated from the series at "
+                                                        "the frame where the blow ends, which may be any frame")});
   }
   if (spec.dump_every && *spec.dump_every > r.steps) {
     issues.push_back({"dump_every", fmt::format("{} steps is more than the run's {} steps: the dump would hold its first "

@@ -614,6 +614,9 @@ std::vector<SpecField> resolution_rows() {
       check_range(i, "series_every", *s.series_every >= 1, fmt::format("{} must be >= 1 step", *s.series_every));
     }
   };
+  series_every.doc = "over a bottom wall under an elastic-plastic law, and under thornton run to the blow's end, a "
+                     "divisor of dump_every (given or automatic), so that a sample falls on every dump frame: the blow's "
+                     "end reads the wall's force there, or reduce the work the contacts dissipated at the frame it ends on";
   rows.push_back(std::move(series_every));
 
   auto files = choice_row(

@@ -1,12 +1,14 @@
-// Beyond the paper (#67 item 6): Fig. 3's decay with depth when the contacts yield. Thornton's law
-// on refsim for an annealed and a hardened steel at three speeds, beside the elastic stacks; each
-// block's share of E_in dissipated by yield; and one block under LIGGGHTS's thornton_ning.
+// Beyond the paper (#67 item 6): the study when the contacts yield. Thornton's law on refsim for an
+// annealed and a hardened steel at three speeds, beside the elastic stacks: Fig. 3's decay with
+// depth and each block's share of E_in dissipated by yield, the Teflon sandwich against three
+// steel blocks, the friction study's stack; and one block under LIGGGHTS's thornton_ning.
 #include "analyses.hpp"
 #include "analysis_text.hpp"
 
 #include <granstack/postproc/fit.hpp>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -114,6 +116,65 @@ void check_row(const AnalysisInput& in, const Grade& g, double speed, Experiment
   t.rows.push_back(std::move(row));
 }
 
+// The sandwich (steel / Teflon / steel, at Fig. 3's 8 rows) against three steel blocks of the same
+// height, elastic and yielding, and where E_in goes in the sandwich: the paper's "less than three
+// steel blocks" asked again of stacks that yield.
+Table sandwich_table(const AnalysisInput& in, ExperimentResult& out) {
+  Table t{"The sandwich (steel / Teflon / steel, 8 rows) against three steel blocks of the same height: the output "
+          "when the blow has ended, over E_in, and the share of E_in each of the sandwich's blocks dissipates by yield",
+          {"stack", "v (m/s)", "sandwich", "three steel blocks", "sandwich / three steel", "yield: block 1 (steel)",
+           "block 2 (Teflon)", "block 3 (steel)", "striker"},
+          {}};
+  const auto row = [&](const std::string& label, const std::string& key, const std::string& sandwich, const std::string& steel3,
+                       std::optional<double> v) {
+    const auto name = [&](const std::string& prefix) { return v ? fmt::format("{}_v{:g}", prefix, *v) : prefix; };
+    const auto* a = in.own(name(sandwich));
+    const auto* b = in.own(name(steel3));
+    std::vector<std::string> cells{label, v ? fmt::format("{:g}", *v) : "any"};
+    if (a == nullptr || b == nullptr || !(b->output_fraction > 0.0)) {
+      cells.resize(t.header.size(), "-");
+      t.rows.push_back(std::move(cells));
+      return;
+    }
+    out.values["sandwich." + key] = a->output_fraction;
+    out.values["steel3." + key] = b->output_fraction;
+    out.values["sandwich_over_steel3." + key] = a->output_fraction / b->output_fraction;
+    cells.insert(cells.end(), {pct(a->output_fraction), pct(b->output_fraction), num(a->output_fraction / b->output_fraction)});
+    for (std::size_t k = 0; k < 3; ++k) {
+      const bool has = k < a->block_plastic_work_fraction.size();
+      if (has) out.values[fmt::format("dissipated.sandwich.{}.b{}", key, k + 1)] = a->block_plastic_work_fraction[k];
+      cells.push_back(has ? pct(a->block_plastic_work_fraction[k]) : "-");
+    }
+    cells.push_back(a->striker_plastic_work_fraction ? pct(*a->striker_plastic_work_fraction) : "-");
+    t.rows.push_back(std::move(cells));
+  };
+  row("elastic (Hertz, e = 1)", "elastic", "sandwich_elastic", "steel3_elastic", std::nullopt);
+  for (const double v : kSpeeds) row(kGrades[0].label, fmt::format("steel.v{:g}", v), "sandwich", "steel3", v);
+  for (const double v : kSpeeds) row(kGrades[1].label, fmt::format("steel_4340.v{:g}", v), "sandwich_4340", "steel3_4340", v);
+  return t;
+}
+
+// Two steel blocks with Coulomb friction (the friction study's stack, 2 top columns) at 1 m/s:
+// the output over E_in against mu, elastic and yielding.
+Table friction_table(const AnalysisInput& in, ExperimentResult& out) {
+  constexpr double kFrictions[] = {0.0, 0.1, 0.25};
+  Table t{"Two blocks with Coulomb friction at 1 m/s (the friction study's stack, 2 top columns): the output when the "
+          "blow has ended, over E_in, against mu",
+          {"stack", "mu = 0", "mu = 0.1", "mu = 0.25"}, {}};
+  const std::pair<const char*, const char*> series[] = {
+      {"friction_elastic", "steel, elastic (Hertz, e = 1)"}, {"friction", kGrades[0].label}, {"friction_4340", kGrades[1].label}};
+  for (const auto& [prefix, label] : series) {
+    std::vector<std::string> cells{label};
+    for (const double mu : kFrictions) {
+      const auto* r = in.own(fmt::format("{}_mu{:g}", prefix, mu));
+      if (r != nullptr) out.values[fmt::format("output.{}.mu{:g}", prefix, mu)] = r->output_fraction;
+      cells.push_back(r == nullptr ? "-" : pct(r->output_fraction));
+    }
+    t.rows.push_back(std::move(cells));
+  }
+  return t;
+}
+
 std::string range_text(const std::vector<double>& v, double scale = 1.0) {
   if (v.empty()) return "-";
   const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
@@ -177,6 +238,24 @@ void plasticity(const AnalysisInput& in, ExperimentResult& out) {
     for (const double v : kSpeeds) dissipation_row(in, g, v, out, where);
   }
   out.tables.push_back(std::move(where));
+
+  out.tables.push_back(sandwich_table(in, out));
+  if (const auto elastic = out.values.find("sandwich_over_steel3.elastic"); elastic != out.values.end()) {
+    std::vector<std::string> parts;
+    for (const auto& g : kGrades) {
+      std::vector<double> r;
+      for (const double v : kSpeeds) {
+        if (const auto it = out.values.find(fmt::format("sandwich_over_steel3.{}.v{:g}", g.cases, v)); it != out.values.end()) {
+          r.push_back(it->second);
+        }
+      }
+      if (!r.empty()) parts.push_back(fmt::format("{} {}", g.cases, range_text(r)));
+    }
+    out.notes.push_back(fmt::format("The sandwich passes on {:.3g} times what three steel blocks of its height do "
+                                    "elastic; yielding, {} times (over the three speeds).",
+                                    elastic->second, fmt::join(parts, ", ")));
+  }
+  out.tables.push_back(friction_table(in, out));
 
   Table check{"One block under LIGGGHTS's thornton_ning (the reproduction's engine) against Thornton's law (refsim): "
               "the same yield pressures, another unloading",

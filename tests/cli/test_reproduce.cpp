@@ -251,7 +251,8 @@ TEST(Reproduce, TheNumbersObeyPhysicsComputedHere) {
 // every speed; at 0.1 m/s the hardened grade stays below first yield, dissipates nothing and gives
 // the elastic outputs (measured: 3e-3 apart at most); there one block under thornton_ning gives
 // Thornton's output to 1 % (measured 0.6 %: thornton_ning's step, t_c / 1000, first order in dt).
-// No claim of the paper's is judged, and the section stands apart from the summary.
+// The sandwich and the friction study's stack run the same way. No claim of the paper's is judged,
+// and the section stands apart from the summary.
 TEST(Reproduce, TheStudyUnderPlasticityRunsThorntonOnRefsimBesideTheReproductionsEngine) {
   const auto d = work() / "plasticity";
   fs::remove_all(d);
@@ -292,6 +293,20 @@ TEST(Reproduce, TheStudyUnderPlasticityRunsThorntonOnRefsimBesideTheReproduction
     EXPECT_NEAR(hard / elastic, 1.0, 1e-2) << nb;
   }
   EXPECT_NEAR(value("ning_over_thornton.steel_4340.v0.1"), 0.0, 1e-2);
+  // The sandwich: elastic, less than three steel blocks (the paper's claim); yielding, every
+  // block's dissipated work is read where the blow ended, and with the output stays within E_in.
+  EXPECT_LT(value("sandwich_over_steel3.elastic"), 1.0);
+  for (const std::string grade : {"steel", "steel_4340"}) {
+    for (const char* speed : {"0.1", "1", "2"}) {
+      const auto key = grade + ".v" + speed;
+      double yield = 0.0;
+      for (int b = 1; b <= 3; ++b) yield += value("dissipated.sandwich." + key + ".b" + std::to_string(b));
+      EXPECT_LE(yield + value("sandwich." + key), 1.0) << key;
+    }
+  }
+  for (const char* series : {"friction_elastic", "friction", "friction_4340"}) {
+    for (const char* mu : {"0", "0.1", "0.25"}) EXPECT_GT(value(std::string("output.") + series + ".mu" + mu), 0.0) << series << mu;
+  }
   const auto md = read_bytes(d / "report.md");
   EXPECT_LT(md.find("## Beyond the paper"), md.find("### plasticity: Decimation when the contacts yield"));
   EXPECT_NE(md.find("Under yield each block still passes on a share of what reaches it"), std::string::npos);

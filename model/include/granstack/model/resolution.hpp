@@ -99,6 +99,11 @@ bool has_soft_cavity(const Stack& stack);
 // What is physically or numerically out of bounds in a resolved case (see the guards above), as
 // spec issues naming the field and the bound; empty when the case is sound.
 std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& res);
+// Whether the in-situ series samples every dump frame: where the blow's end reads the wall's force
+// (blow_end_reads_wall_force), and in a run to the blow's end whose series carries its contacts'
+// energies (NormalLaw::series_energy), where reduce reads the work dissipated at the frame the
+// blow ends on.
+bool series_on_every_frame(const StackSpec& spec);
 
 // What a case will cost: its size, its outputs, and the time LIGGGHTS needs on one core at
 // kLiggghtsParticleStepsPerSecond, the slowest loop rate measured on the project's 2-core machine
