@@ -252,6 +252,25 @@ std::string yield_text(const Space& space, const std::vector<Evaluation>& front,
                      beyond.size() > 1 ? "s" : "", fmt::join(beyond, ", "), beyond.size() > 1 ? "" : "es", share);
 }
 
+// What the protected mass is (a division of the wall's force, the wall rigid) and how it compares
+// with the front's stacks: M over each one's mass, a stack's mass being its areal mass over the
+// space's one footprint.
+std::string protected_mass_text(const Space& space, const std::vector<Evaluation>& front) {
+  if (space.protected_mass <= 0.0 || front.empty()) return "";
+  const double footprint = model::Stack::build(front.front().spec).footprint_area();
+  double lo = HUGE_VAL, hi = 0.0;
+  for (const auto& e : front) {
+    const double ratio = space.protected_mass / (e.areal_mass * footprint);
+    lo = std::min(lo, ratio);
+    hi = std::max(hi, ratio);
+  }
+  return fmt::format("The protected object: protected_acceleration and srs_peak divide the wall's force by M = {:g} kg, "
+                     "the wall rigid: M is not moved by the blow. M is {:.3g} to {:.3g} times the mass of the front's "
+                     "stacks over the footprint; where it is not many times a stack's, the object would move under the "
+                     "blow, and the rigid wall overstates what it feels.",
+                     space.protected_mass, lo, hi);
+}
+
 // Each front design's run objectives in each scenario: the spread its aggregate hides.
 postproc::Table scenario_table(const Space& space, const std::vector<Evaluation>& front) {
   postproc::Table t{"The front's designs in each scenario", {"#", "scenario"}, {}};
@@ -644,6 +663,7 @@ fs::path write_report(const Space& space, const Store& store, const fs::path& di
   for (const auto& g : s.generations) generation = std::max(generation, g.index);
   d.push_back(front_table(space, front, generation));
   d.push_back(postproc::Paragraph{yield_text(space, front, s.all)});
+  if (const auto m = protected_mass_text(space, front); !m.empty()) d.push_back(postproc::Paragraph{m});
   if (!space.scenarios.empty()) d.push_back(scenario_table(space, front));
   d.push_back(postproc::Heading{2, "The study's designs", "study"});
   d.push_back(study_table(space, s, front));

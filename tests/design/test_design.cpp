@@ -2279,6 +2279,17 @@ TEST(DesignCli, TheYieldingExampleStandsBesideTheElasticModel) {
   const auto twins = store.elastic_twins();
   const auto studies = store.study_designs();
   ASSERT_EQ(studies.size(), 3u);
+  // The protected mass set against the front's stacks (#67 item 4: the report states M over the
+  // stack's mass): each stack's mass from its spheres, over the same footprint.
+  const auto front = design::pareto_front(space, store.evaluations());
+  ASSERT_FALSE(front.empty());
+  double lo = HUGE_VAL, hi = 0.0;
+  for (const auto& e : front) {
+    const auto stack = model::Stack::build(e.spec);
+    lo = std::min(lo, space.protected_mass / stack.lattice_mass());
+    hi = std::max(hi, space.protected_mass / stack.lattice_mass());
+  }
+  EXPECT_NE(md.find(fmt::format("M is {:.3g} to {:.3g} times the mass of the front's stacks", lo, hi)), std::string::npos) << md;
   for (const auto& [name, e] : studies) {
     ASSERT_EQ(twins.count(e.digest), 1u) << name;
     const auto& t = twins.at(e.digest);
