@@ -2033,6 +2033,32 @@ TEST(Scenarios, AnOffCentreBlowIsAScenarioAndItsMirrorImageGivesTheSame) {
 // first yield (1.6 Y) and fully plastic (3 Y), the worst of the two its measure. A higher p_y
 // yields less and dissipates less: the stack passes on more of the blow, the wall's peak force
 // differs by more than 1 %.
+// The elastic reference of a yielding space (#67 item 1): Hertz with e = 1, its scenarios that differ
+// only in the yield pressure one blow each (elastic, they are the same run), its other settings
+// the space's. An elastic space has none to be set beside.
+TEST(Scenarios, AYieldingSpacesElasticReferenceMergesItsYieldPressures) {
+  const auto text = small_space_fixed("normal_model = \"thornton\"\nfriction = 0.1",
+                                      "[scenarios]\nstriker_speed = [0.5, 1.0]\nyield_pressure_factor = [1.6, 3.0]\n");
+  const auto space = design::parse_space(text, "yield.toml");
+  ASSERT_EQ(space.scenarios.size(), 4u);
+  ASSERT_TRUE(design::yields(space));
+  const auto elastic = design::elastic_reference(space);
+  EXPECT_FALSE(design::yields(elastic));
+  ASSERT_EQ(elastic.scenarios.size(), 2u);
+  EXPECT_EQ(elastic.scenarios[0].label, "0.5 m/s, striker 1 R_1");
+  EXPECT_EQ(elastic.scenarios[1].label, "1 m/s, striker 1 R_1");
+  EXPECT_FALSE(elastic.scenarios[0].yield_pressure_factor);
+  EXPECT_EQ(elastic.fixed.normal_model, model::NormalModel::hertz);
+  EXPECT_EQ(elastic.fixed.restitution.value, 1.0);
+  EXPECT_EQ(elastic.fixed.friction.value, 0.1);  // only the normal law changes
+  EXPECT_EQ(elastic.objectives, space.objectives);
+  EXPECT_FALSE(design::yields(small_space()));
+  const auto dir = work_dir();
+  auto store = design::Store::open((dir / "s.sqlite").string(), small_space().digest(), kSmallSpace);
+  EXPECT_EQ(design::evaluate_elastic_twins(small_space(), store, 1), 0);
+  EXPECT_TRUE(store.elastic_twins().empty());
+}
+
 TEST(Scenarios, TheYieldPressureFactorIsAScenarioAxis) {
   const auto text = small_space_fixed("normal_model = \"thornton\"", "[scenarios]\nyield_pressure_factor = [1.6, 3.0]\n");
   const auto space = design::parse_space(text, "yield.toml");
