@@ -101,7 +101,7 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "run_overhead": ["docs/explanation/performance.md"],
                  "design_front": ["docs/how-to/design.md"], "design_sides": ["docs/how-to/design.md"],
                  "design_yield": ["docs/how-to/design.md"], "design_example_cost": ["docs/explanation/performance.md"],
-                 "design_yield_front": ["docs/how-to/design.md"],
+                 "design_yield_front": ["docs/how-to/design.md"], "design_yield_cost": ["docs/explanation/performance.md"],
                  "oversubscription": ["docs/reference/commands.md"],
                  "extension_counts": ["docs/developer/extending.md"],
                  "reduce_speed": ["docs/explanation/performance.md"],
@@ -453,6 +453,17 @@ def design_example_cost():
             f"| `design run` of the example, {r['evaluations']} distinct designs, 3 blows each (generational) | "
             f"{r['search_seconds']:.0f} s |\n"
             f"| `design confirm --top 2 --sides free` (LIGGGHTS, each also as the free strip) | {r['confirm_seconds']:.0f} s |\n")
+
+
+def design_yield_cost():
+    """What the yielding example's search costs on 2 cores, its elastic twins included
+    (bench/design_yield_front.sh)."""
+    r = record("design_yield_front")
+    twins = len(r["front"]) + len(r["study"])
+    return (f"| what | wall time, {r['cores']} cores |\n|---|---|\n"
+            f"| `design run` of the yielding example, {r['evaluations']} distinct designs, 6 blows each (3 speeds, 2 yield "
+            f"pressures; generational, {r['command'].split('GENERATIONS=')[1].split()[0]} generations), and {twins} "
+            f"elastic twins, 3 blows each | {r['search_seconds']:.0f} s |\n")
 
 
 def design_budget():
@@ -1039,7 +1050,7 @@ def main():
                 design_cores_summary=design_cores_summary(), engines_agreement=engines_agreement(),
                 engines_speed=engines_speed(), reproduce_cost=reproduce_cost(), reproduce_speed=reproduce_speed(), run_overhead=run_overhead(),
                 design_front=design_front(), design_sides=design_sides(), design_yield=design_yield(),
-                design_yield_front=design_yield_front(),
+                design_yield_front=design_yield_front(), design_yield_cost=design_yield_cost(),
                 design_example_cost=design_example_cost(), oversubscription=oversubscription(),
                 extension_counts=extension_counts(), reduce_speed=reduce_speed(), design_budget=design_budget(), design_shortcuts=design_shortcuts(),
                 design_population=design_population(), design_breeding=design_breeding(),
