@@ -388,6 +388,7 @@ void Store::put_study_design(const std::string& name, const std::string& digest)
 
 std::map<std::string, Evaluation> Store::elastic_twins() const {
   const std::lock_guard<std::mutex> lock(*mutex_);
+  if (columns("elastic_twins").empty()) return {};  // a store from before twins, read as it is
   Statement q(db_, fmt::format("SELECT t.digest, {} FROM elastic_twins t JOIN evaluations e ON e.digest = t.twin",
                                prefixed_columns("e.", measures_, has_scenarios_, has_shortcuts_)));
   std::map<std::string, Evaluation> out;

@@ -1485,6 +1485,15 @@ TEST(DesignCli, AYieldingSearchStandsBesideTheElasticModel) {
   const auto resumed = program(run, dir / "again.log");
   ASSERT_EQ(resumed.code, 0) << resumed.output;
   EXPECT_NE(resumed.output.find("beside the elastic model: 0 elastic twins run"), std::string::npos) << resumed.output;
+  // A store from before the twins (no elastic_twins table) reads as having none.
+  const auto python = os::find_program("python3");
+  ASSERT_TRUE(python) << "python3 is not installed";
+  const auto dropped = test::run_program({*python, "-c", "import sqlite3, sys; c = sqlite3.connect(sys.argv[1]); "
+                                          "c.execute('drop table elastic_twins'); c.commit()",
+                                          (dir / "search" / "design.sqlite").string()},
+                                         dir / "python.log");
+  ASSERT_EQ(dropped.code, 0) << dropped.output;
+  EXPECT_TRUE(design::Store::open_existing((dir / "search" / "design.sqlite").string()).elastic_twins().empty());
   // The design how-to quotes this run.
   const auto howto = test::read_bytes(fs::path(GRANSTACK_TEST_DATA) / ".." / ".." / "docs" / "how-to" / "design.md");
   EXPECT_NE(howto.find(fmt::format("Spearman's rho {:.2f}", rho)), std::string::npos);
