@@ -172,13 +172,21 @@ int run_design(const DesignFlags& f) {
                store_made_now ? "; nothing was kept" : "");
     return kBadInput;
   }
-  design::evaluate_study_designs(space, store, f.jobs);
-  if (design::yields(space)) {
+  try {
+    design::evaluate_study_designs(space, store, f.jobs);
+    if (design::yields(space)) {
+      line.clear();
+      fmt::print(stderr, "beside the elastic model: the front's and the study's designs under Hertz's law, e = 1 ...\n");
+      const int twins = design::evaluate_elastic_twins(space, store, f.jobs);
+      fmt::print(stderr, "beside the elastic model: {} elastic twin{} run ({} stored)\n", twins, twins == 1 ? "" : "s",
+                 store.elastic_twins().size());
+    }
+  } catch (const refsim::InSituStopped&) {  // a signal: what finished is stored, the rest runs on a rerun
     line.clear();
-    fmt::print(stderr, "beside the elastic model: the front's and the study's designs under Hertz's law, e = 1 ...\n");
-    const int twins = design::evaluate_elastic_twins(space, store, f.jobs);
-    fmt::print(stderr, "beside the elastic model: {} elastic twin{} run ({} stored)\n", twins, twins == 1 ? "" : "s",
-               store.elastic_twins().size());
+    fmt::print(stderr, "design run: stopped by signal {} while running the study's designs or the elastic twins; the "
+                       "store keeps the search and what finished: 'granstack design run {} -o {}' runs the rest\n",
+               os::interrupt_signal(), f.space_file, dir.string());
+    return kCaseFailed;  // the caller's exit code says the signal (130, 143)
   }
   const auto gens = store.generations();
   const bool beyond = !gens.empty() && r.ended == "generations" && gens.back().index > space.search.generations;
