@@ -4,6 +4,7 @@
 // steel blocks, the friction study's stack; and one block under LIGGGHTS's thornton_ning.
 #include "analyses.hpp"
 #include "analysis_text.hpp"
+#include "figures.hpp"
 
 #include <granstack/postproc/fit.hpp>
 
@@ -22,8 +23,10 @@ constexpr double kSpeeds[] = {0.1, 1.0, 2.0};       // m/s
 struct Grade {
   const char* cases;  // the catalogue's case prefix
   const char* label;
+  const char* figure;  // its name in a figure's key
 };
-constexpr Grade kGrades[] = {{"steel", "steel (AISI 304 annealed)"}, {"steel_4340", "steel_4340 (AISI 4340 quenched and tempered)"}};
+constexpr Grade kGrades[] = {{"steel", "steel (AISI 304 annealed)", "AISI 304 annealed"},
+                             {"steel_4340", "steel_4340 (AISI 4340 quenched and tempered)", "AISI 4340 quenched and tempered"}};
 
 std::string case_name(const std::string& prefix, int blocks, std::optional<double> speed) {
   return speed ? fmt::format("{}_nb{}_v{:g}", prefix, blocks, *speed) : fmt::format("{}_nb{}", prefix, blocks);
@@ -45,7 +48,8 @@ struct Unended {
 };
 
 void decay_row(const AnalysisInput& in, const std::string& prefix, std::optional<double> speed, const std::string& label,
-               const std::string& key, ExperimentResult& out, Table& t, std::vector<double>& ratios, Unended& unended) {
+               const std::string& figure_label, const std::string& key, ExperimentResult& out, Table& t,
+               std::vector<double>& ratios, Unended& unended, std::vector<DecaySeries>& figure) {
   std::vector<int> nbs;
   std::vector<double> fs;
   std::vector<std::string> row{label, speed ? fmt::format("{:g}", *speed) : "any"};
@@ -68,6 +72,9 @@ void decay_row(const AnalysisInput& in, const std::string& prefix, std::optional
     return;
   }
   const auto fit = postproc::fit_decay(nbs, fs);
+  DecaySeries series{speed ? fmt::format("{}, {:g} m/s", figure_label, *speed) : figure_label, {}, fit.alpha, fit.prefactor};
+  for (std::size_t i = 0; i < nbs.size(); ++i) series.points.emplace_back(nbs[i], fs[i]);
+  figure.push_back(std::move(series));
   out.values["alpha." + key + ".origin"] = fit.alpha_origin;
   out.values["alpha." + key + ".free"] = fit.alpha;
   if (fit.alpha_origin_error) out.errors["alpha." + key + ".origin"] = *fit.alpha_origin_error;
@@ -215,11 +222,13 @@ void plasticity(const AnalysisInput& in, ExperimentResult& out) {
               {}};
   std::vector<double> elastic_ratios, yielding_ratios, alphas, free_alphas, prefactors;
   Unended unended;
-  decay_row(in, "elastic", std::nullopt, "steel, elastic (Hertz, e = 1)", "elastic", out, decay, elastic_ratios, unended);
+  std::vector<DecaySeries> figure;
+  decay_row(in, "elastic", std::nullopt, "steel, elastic (Hertz, e = 1)", "elastic (Hertz, e = 1), any speed", "elastic", out,
+            decay, elastic_ratios, unended, figure);
   for (const auto& g : kGrades) {
     for (const double v : kSpeeds) {
       const auto key = fmt::format("{}.v{:g}", g.cases, v);
-      decay_row(in, g.cases, v, g.label, key, out, decay, yielding_ratios, unended);
+      decay_row(in, g.cases, v, g.label, g.figure, key, out, decay, yielding_ratios, unended, figure);
       if (const auto a = out.values.find("alpha." + key + ".origin"); a != out.values.end()) alphas.push_back(a->second);
       if (const auto a = out.values.find("alpha." + key + ".free"); a != out.values.end()) free_alphas.push_back(a->second);
       const auto* one = in.own(case_name(g.cases, 1, v));
@@ -230,6 +239,13 @@ void plasticity(const AnalysisInput& in, ExperimentResult& out) {
     }
   }
   out.tables.push_back(std::move(decay));
+  if (!figure.empty()) {
+    out.figures.push_back(decay_series_figure(figure, "plasticity_decay",
+                                              "Output against depth under Thornton's law (annealed AISI 304 and AISI 4340 at "
+                                              "0.1, 1 and 2 m/s) beside the elastic stacks, each with A exp(-alpha N_B) "
+                                              "fitted (dashed)",
+                                              in.figures_dir, in.gnuplot));
+  }
 
   Table where{"Where E_in goes in four blocks when the blow has ended: each block's share dissipated by yield (top "
               "first; half of a contact's work to each of its spheres), the striker's, all of it, and the output",

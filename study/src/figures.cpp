@@ -199,6 +199,37 @@ Figure decay_figure(const std::map<double, std::vector<std::pair<int, double>>, 
                             "the paper's law with its alpha = {:g} for each e (dotted)", alpha_paper));
 }
 
+Figure decay_series_figure(const std::vector<DecaySeries>& series, const std::string& name, const std::string& caption,
+                           const std::string& dir, const std::string& gnuplot) {
+  fmt::memory_buffer data;
+  auto out = std::back_inserter(data);
+  std::string plots;
+  int hi = 1;
+  static constexpr int kPointTypes[] = {6, 7, 9, 13, 5, 11, 4};
+  // Drawn last first: the first series (the reference) on top, an open ring around what it equals.
+  for (std::size_t k = series.size(); k-- > 0;) {
+    const auto& s = series[k];
+    fmt::format_to(out, "# {}: N_B, E_out/E_in\n", s.title);
+    for (const auto& [nb, f] : s.points) {
+      fmt::format_to(out, "{} {:.10g}\n", nb, f);
+      hi = std::max(hi, nb);
+    }
+    fmt::format_to(out, "\n\n");
+    plots += fmt::format("{}'{}.dat' index {} using 1:2 with points pointtype {} pointsize {:g} linewidth 2 linecolor {} "
+                         "title {}, \\\n     {:.6g}*exp(-{:.6g}*x) with lines dashtype 2 linecolor {} notitle",
+                         plots.empty() ? "" : ", \\\n     ", name, series.size() - 1 - k,
+                         kPointTypes[k % std::size(kPointTypes)], k == 0 ? 2.8 : 1.6, k + 1, gp_quote(s.title), s.prefactor,
+                         s.alpha, k + 1);
+  }
+  const auto body = fmt::format(
+      "set title 'Output against depth; dashed: A exp(-α N_B) fitted to each'\n"
+      "set xlabel 'number of blocks N_B'\nset ylabel 'E_{{out}} / E_{{in}}'\n"
+      "set logscale y\nset format y '10^{{%L}}'\nset grid\nset key below maxcols 2\nset xrange [0.7:{}]\nset xtics 1\n"
+      "set samples 200\nplot {}\n",
+      hi + 0.3, plots);
+  return render(dir, name, fmt::to_string(data), body, gnuplot, caption);
+}
+
 Figure bar_figure(const std::vector<BarGroup>& groups, const std::vector<std::string>& series, const BarStyle& style,
                   const std::string& dir, const std::string& gnuplot) {
   const auto& name = style.name;

@@ -50,6 +50,16 @@ Figure decay_figure(const std::map<double, std::vector<std::pair<int, double>>, 
                     const std::vector<std::pair<int, double>>& paper, double alpha_paper, const std::string& dir,
                     const std::string& gnuplot);
 
+// Output against depth for named series (beyond the paper: elastic and yielding stacks), each with
+// its fit A exp(-alpha N_B) (free prefactor) dashed in its colour, on a log axis.
+struct DecaySeries {
+  std::string title;
+  std::vector<std::pair<int, double>> points;  // N_B, E_out / E_in
+  double alpha = 0.0, prefactor = 1.0;
+};
+Figure decay_series_figure(const std::vector<DecaySeries>& series, const std::string& name, const std::string& caption,
+                           const std::string& dir, const std::string& gnuplot);
+
 struct BarGroup {
   std::string label;
   std::vector<double> values;  // one per series

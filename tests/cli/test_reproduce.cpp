@@ -307,6 +307,19 @@ TEST(Reproduce, TheStudyUnderPlasticityRunsThorntonOnRefsimBesideTheReproduction
   for (const char* series : {"friction_elastic", "friction", "friction_4340"}) {
     for (const char* mu : {"0", "0.1", "0.25"}) EXPECT_GT(value(std::string("output.") + series + ".mu" + mu), 0.0) << series << mu;
   }
+  // The decay figure draws the table's outputs: the elastic series' four points, to the digits written.
+  const auto dat = read_bytes(d / "figures" / "plasticity_decay.dat");
+  EXPECT_TRUE(fs::is_regular_file(d / "figures" / "plasticity_decay.svg"));
+  const auto elastic_at = dat.find("# elastic (Hertz, e = 1), any speed");
+  ASSERT_NE(elastic_at, std::string::npos) << dat;
+  std::istringstream elastic_points(dat.substr(dat.find('\n', elastic_at) + 1));
+  for (int nb = 1; nb <= 4; ++nb) {
+    int n = 0;
+    double f = 0.0;
+    ASSERT_TRUE(elastic_points >> n >> f);
+    EXPECT_EQ(n, nb);
+    EXPECT_NEAR(f / value(fmt_key_of("elastic", nb)), 1.0, 1e-9) << nb;
+  }
   const auto md = read_bytes(d / "report.md");
   EXPECT_LT(md.find("## Beyond the paper"), md.find("### plasticity: Decimation when the contacts yield"));
   EXPECT_NE(md.find("Under yield each block still passes on a share of what reaches it"), std::string::npos);
