@@ -8,6 +8,7 @@
 #include <granstack/model/resolution.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/postproc/compare.hpp>
+#include <granstack/runner/engines.hpp>
 #include <granstack/runner/runner.hpp>
 #include <granstack/study/report.hpp>
 #include <granstack/study/engines.hpp>
@@ -114,14 +115,15 @@ void ensure_case(const fs::path& dir, const CaseEntry& entry, bool force, const 
   generator::generate({{entry.name, entry.spec}}, g);
 }
 
-runner::RunOptions run_options(const ReproduceOptions& o, runner::Engine engine, const std::string& stage) {
+// `pinned`: the cases run on the engine their catalogue entries name, by its own rules.
+runner::RunOptions run_options(const ReproduceOptions& o, runner::Engine engine, const std::string& stage, bool pinned = false) {
   runner::RunOptions r;
   r.engine = engine;
   r.jobs = o.jobs;
   r.liggghts = o.liggghts;
   r.lammps = o.lammps;
   // refsim checking LAMMPS runs LAMMPS's contact rules (the same spec as LAMMPS runs it).
-  r.lammps_rules = engine == runner::Engine::refsim && runner::parse_engine(o.engine) == runner::Engine::lammps;
+  r.lammps_rules = !pinned && engine == runner::Engine::refsim && runner::parse_engine(o.engine) == runner::Engine::lammps;
   if (o.on_progress) {
     r.on_progress = [&o, stage](const runner::ProgressSnapshot& s) {
       std::string line = fmt::format("{}: {}/{} cases finished", stage, s.finished, s.total);
@@ -259,17 +261,18 @@ class OverlappedReduce {
   std::thread thread_;  // last: it starts once the members it uses are made
 };
 
-// Runs `records` (all of one engine: the reproduction's, or the one their catalogue entries pin).
-void run_on(std::vector<CaseRecord*>& records, const std::string& engine, const ReproduceOptions& o, StudyResult& result,
+// Runs `records` on the reproduction's engine, or (`pinned`) on the one their catalogue entries name.
+void run_on(std::vector<CaseRecord*>& records, const std::string& pinned, const ReproduceOptions& o, StudyResult& result,
             OverlappedReduce& reducer) {
   if (records.empty()) return;
+  const auto& engine = pinned.empty() ? o.engine : pinned;
   std::vector<std::string> dirs;
   std::map<std::string, CaseRecord*> by_dir;
   for (auto* r : records) {
     dirs.push_back(r->dir);
     by_dir[r->dir] = r;
   }
-  auto ro = run_options(o, runner::parse_engine(engine), "run");
+  auto ro = run_options(o, runner::parse_engine(engine), "run", !pinned.empty());
   ro.on_case_done = [&o, &by_dir, &reducer](const runner::RunOutcome& r) {
     if (r.status == runner::RunStatus::done) {
       if (const auto it = by_dir.find(r.case_dir); it != by_dir.end()) reducer.add(it->second);
@@ -300,9 +303,9 @@ void run_on(std::vector<CaseRecord*>& records, const std::string& engine, const 
 // Runs every case on its engine: the reproduction's, and refsim for the cases the catalogue pins
 // to it; the records get their status.
 void run_all(std::vector<CaseRecord*>& records, const ReproduceOptions& o, StudyResult& result, OverlappedReduce& reducer) {
-  std::map<std::string, std::vector<CaseRecord*>> by_engine;
-  for (auto* r : records) by_engine[r->pinned.empty() ? o.engine : r->pinned].push_back(r);
-  for (auto& [engine, group] : by_engine) run_on(group, engine, o, result, reducer);
+  std::map<std::string, std::vector<CaseRecord*>> by_pin;
+  for (auto* r : records) by_pin[r->pinned].push_back(r);
+  for (auto& [pinned, group] : by_pin) run_on(group, pinned, o, result, reducer);
   reducer.finish();
 }
 
@@ -371,6 +374,16 @@ void analyse(ExperimentResult& e, const std::map<std::string, const CaseRecord*>
   for (const auto& c : e.experiment->claims) e.verdicts.push_back(judge(c, e.values, e.errors));
 }
 
+// Whether `rec` is a case of an experiment beyond the paper.
+bool beyond_paper(const StudyResult& r, const CaseRecord* rec) {
+  for (const auto& e : r.experiments) {
+    for (const auto& c : e.cases) {
+      if (&c == rec) return e.experiment->beyond;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& options) {
@@ -424,10 +437,25 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& option
                                    o.against, o.engine));
   }
   prepare_directory(root);
-  for (std::size_t i = 0; i < in_order.size(); ++i) ensure_case(in_order[i]->dir, *entries[i], o.force, o);
+  // Beyond the paper, a case whose contact model the reproduction's engine lacks (thornton_ning on
+  // LAMMPS) is not run, and says why: nothing is judged there, and the rest of its experiment stands.
+  std::set<const CaseRecord*> refused;
+  for (std::size_t i = 0; i < in_order.size(); ++i) {
+    const auto why = in_order[i]->pinned.empty() && beyond_paper(result, in_order[i])
+                         ? runner::model_refusal(runner::parse_engine(o.engine), entries[i]->spec.contact_model())
+                         : std::string_view();
+    if (why.empty()) {
+      ensure_case(in_order[i]->dir, *entries[i], o.force, o);
+      continue;
+    }
+    in_order[i]->problem = fmt::format("not run on {}: {}", o.engine, why);
+    refused.insert(in_order[i]);
+  }
   std::stable_sort(by_cost.begin(), by_cost.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   std::vector<CaseRecord*> records;
-  for (const auto& [cost, rec] : by_cost) records.push_back(rec);
+  for (const auto& [cost, rec] : by_cost) {
+    if (refused.count(rec) == 0) records.push_back(rec);
+  }
   OverlappedReduce reducer;
   run_all(records, o, result, reducer);
   reduce_all(records, o, result, reducer);

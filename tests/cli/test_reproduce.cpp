@@ -320,6 +320,26 @@ TEST(Reproduce, TheStudyUnderPlasticityRunsThorntonOnRefsimBesideTheReproduction
     EXPECT_EQ(n, nb);
     EXPECT_NEAR(f / value(fmt_key_of("elastic", nb)), 1.0, 1e-9) << nb;
   }
+  // On LAMMPS, which has no elastic-plastic law: the thornton_ning check is not run and says why,
+  // nothing fails, and the pinned cases run on refsim by its own rules, to the same bits.
+  const auto l = work() / "plasticity_lammps";
+  fs::remove_all(l);
+  const auto on_lammps = granstack({"reproduce", "-j", "2", "--engine", "lammps", "-o", l.string(), "plasticity"});
+  ASSERT_EQ(on_lammps.code, 0) << on_lammps.output;
+  const auto lrep = nlohmann::json::parse(read_bytes(l / "report.json"));
+  const auto& le = experiment(lrep, "plasticity");
+  for (const auto& c : le.at("cases")) {
+    const auto name = c.at("name").get<std::string>();
+    if (name.rfind("ning", 0) == 0) {
+      EXPECT_EQ(c.at("status"), "not run") << name;
+      EXPECT_NE(c.at("problem").get<std::string>().find("not run on lammps: normal_model = 'thornton_ning'"), std::string::npos) << name;
+    } else {
+      EXPECT_EQ(c.at("engine"), "refsim") << name;
+    }
+  }
+  for (const char* key : {"output.steel.v1.nb4", "dissipated.steel_4340.v2", "sandwich.steel.v1", "output.friction.mu0.25"}) {
+    EXPECT_EQ(le.at("values").at(key).get<double>(), value(key)) << key;
+  }
   const auto md = read_bytes(d / "report.md");
   EXPECT_LT(md.find("## Beyond the paper"), md.find("### plasticity: Decimation when the contacts yield"));
   EXPECT_NE(md.find("Under yield each block still passes on a share of what reaches it"), std::string::npos);
