@@ -264,12 +264,8 @@ int confirm(const DesignFlags& f) {
                c.objective_difference, c.largest_difference, c.verdict, longer,
                longer <= design::kFinalTolerance ? "final" : "NOT FINAL");
     if (!c.law.empty()) {
-      std::string spread;
-      for (const auto& [name, value] : c.law_spread) {
-        spread += fmt::format("{} {} {:+.1f} %", spread.empty() ? "" : ",", name, 100.0 * value);
-      }
-      fmt::print("{}  {} against the search's {} (model form, not a disagreement):{}\n", c.digest.substr(0, 12), c.law,
-                 model::to_string(space.fixed.normal_model), spread);
+      fmt::print("{}  {} against the search's {} (model form, not a disagreement): {}\n", c.digest.substr(0, 12), c.law,
+                 model::to_string(space.fixed.normal_model), design::spread_text(c));
     }
     disagreements += c.verdict != "agree";
     if (!c.variant.empty()) {

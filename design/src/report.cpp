@@ -405,9 +405,7 @@ std::string confining_text(const Space& space, const Snapshot& s) {
 // Each objective's spread between LIGGGHTS's law and the search's (Confirmation::law_spread), or "-".
 std::string law_text(const Confirmation& c) {
   if (c.law.empty()) return "-";
-  std::vector<std::string> parts;
-  for (const auto& [name, spread] : c.law_spread) parts.push_back(fmt::format("{} {:+.1f} %", name, 100.0 * spread));
-  return fmt::format("{}: {}{}", c.law, fmt::join(parts, ", "),
+  return fmt::format("{}: {}{}", c.law, spread_text(c),
                      c.law_yield ? fmt::format("; its contacts yield at {:.2g} to {:.2g} times their materials' pressure",
                                                c.law_yield->first, c.law_yield->second)
                                  : "");
@@ -559,7 +557,8 @@ json report_json(const Space& space, const Snapshot& s, const std::vector<Evalua
   }
   if (!s.twins.empty()) {  // beside the elastic model: each design's elastic twin, by the design's digest
     j["elastic_twins"] = json::object();
-    for (const auto& [digest, twin] : s.twins) j["elastic_twins"][digest] = evaluation_json(elastic_reference(space), twin);
+    const auto elastic = elastic_reference(space);
+    for (const auto& [digest, twin] : s.twins) j["elastic_twins"][digest] = evaluation_json(elastic, twin);
   }
   j["evaluations"] = s.all.size();
   return j;
@@ -638,6 +637,12 @@ std::string status_text(const Space& space, const Store& store) {
 std::string front_file_name(int generation, std::size_t rank, const std::string& digest, int scenario) {
   return fmt::format("g{:03}_{:02}_{}{}.toml", generation, rank, digest.substr(0, 8),
                      scenario > 0 ? fmt::format("_s{}", scenario) : "");
+}
+
+std::string spread_text(const Confirmation& c) {
+  std::vector<std::string> parts;
+  for (const auto& [name, spread] : c.law_spread) parts.push_back(fmt::format("{} {:+.1f} %", name, 100.0 * spread));
+  return fmt::format("{}", fmt::join(parts, ", "));
 }
 
 fs::path write_report(const Space& space, const Store& store, const fs::path& dir, int jobs) {

@@ -374,16 +374,6 @@ void analyse(ExperimentResult& e, const std::map<std::string, const CaseRecord*>
   for (const auto& c : e.experiment->claims) e.verdicts.push_back(judge(c, e.values, e.errors));
 }
 
-// Whether `rec` is a case of an experiment beyond the paper.
-bool beyond_paper(const StudyResult& r, const CaseRecord* rec) {
-  for (const auto& e : r.experiments) {
-    for (const auto& c : e.cases) {
-      if (&c == rec) return e.experiment->beyond;
-    }
-  }
-  return false;
-}
-
 }  // namespace
 
 StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& options) {
@@ -401,6 +391,7 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& option
 
   std::vector<std::pair<double, CaseRecord*>> by_cost;
   std::vector<const CaseEntry*> entries;  // each case's catalogue entry, in the experiments' order
+  std::vector<bool> beyond;               // and whether its experiment is beyond the paper
   result.experiments.reserve(selected.size());
   for (const auto* e : selected) {
     auto& er = result.experiments.emplace_back();
@@ -415,6 +406,7 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& option
       er.cases.push_back(std::move(record));
       by_cost.emplace_back(expected_cost(c.spec), nullptr);
       entries.push_back(&c);
+      beyond.push_back(e->beyond);
     }
     for (std::size_t i = 0; i < er.cases.size(); ++i) by_cost[by_cost.size() - er.cases.size() + i].second = &er.cases[i];
   }
@@ -441,7 +433,7 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& option
   // LAMMPS) is not run, and says why: nothing is judged there, and the rest of its experiment stands.
   std::set<const CaseRecord*> refused;
   for (std::size_t i = 0; i < in_order.size(); ++i) {
-    const auto why = in_order[i]->pinned.empty() && beyond_paper(result, in_order[i])
+    const auto why = in_order[i]->pinned.empty() && beyond[i]
                          ? runner::model_refusal(runner::parse_engine(o.engine), entries[i]->spec.contact_model())
                          : std::string_view();
     if (why.empty()) {

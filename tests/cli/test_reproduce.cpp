@@ -249,7 +249,7 @@ TEST(Reproduce, TheNumbersObeyPhysicsComputedHere) {
 // physics: each series decays with depth; yield takes a share of E_in that with the output stays
 // within E_in and grows with the speed; the annealed steel passes on less than the hardened grade at
 // every speed; at 0.1 m/s the hardened grade stays below first yield, dissipates nothing and gives
-// the elastic outputs (measured: 3e-3 apart at most); there one block under thornton_ning gives
+// the elastic outputs (measured: 1.3e-3 apart at most); there one block under thornton_ning gives
 // Thornton's output to 1 % (measured 0.6 %: thornton_ning's step, t_c / 1000, first order in dt).
 // The sandwich and the friction study's stack run the same way. No claim of the paper's is judged,
 // and the section stands apart from the summary.
