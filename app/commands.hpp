@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -90,13 +91,31 @@ inline std::string other_engines_option(const CLI::App& cmd, const std::vector<s
 
 // An option naming engines (--engine, validate's --engines), bound to the table: its help the
 // table's (then `note`), its values the table's names, refused with the names listed; the default
-// the value `engine` holds, printed by CLI11 (none where it is empty: `note` says what then).
+// the value `engine` holds, printed by CLI11 (none where it is empty: `note` says what then). Bound
+// to runner::Engine, a name becomes its row's engine (CLI11's CheckedTransformer would also take an
+// enumerator's number, "--engine 1"); bound to text, the name is kept.
 template <typename T>
 CLI::Option* add_engine_option(CLI::App* cmd, const std::string& flag, T& engine, const std::string& note = "") {
+  constexpr bool to_engine = std::is_same_v<T, runner::Engine> || std::is_same_v<T, std::vector<runner::Engine>>;
   const auto help = runner::engine_list(true);
-  auto* option = cmd->add_option(flag, engine, note.empty() ? help : help + "; " + note)
-                     ->check(CLI::IsMember(runner::engine_names()));
-  if constexpr (std::is_same_v<T, std::string>) {
+  const CLI::Validator names(
+      [](std::string& text) {
+        for (const auto& row : runner::engine_table()) {
+          if (row.name != text) continue;
+          if constexpr (to_engine) text = std::to_string(static_cast<int>(row.engine));
+          return std::string();
+        }
+        return fmt::format("'{}' is no engine: give {}", text, runner::engine_list());
+      },
+      fmt::format("{{{}}}", fmt::join(runner::engine_names(), ",")));
+  auto* option = cmd->add_option(flag, engine, note.empty() ? help : help + "; " + note)->transform(names)->type_name("TEXT");
+  if constexpr (std::is_same_v<T, runner::Engine>) {
+    option->default_str(runner::to_string(engine));
+  } else if constexpr (std::is_same_v<T, std::vector<runner::Engine>>) {
+    std::vector<std::string> defaults;
+    for (const auto e : engine) defaults.push_back(runner::to_string(e));
+    option->default_str(fmt::format("{}", fmt::join(defaults, ",")));
+  } else if constexpr (std::is_same_v<T, std::string>) {
     if (!engine.empty()) option->capture_default_str();
   } else {
     option->default_str(fmt::format("{}", fmt::join(engine, ",")));
@@ -112,8 +131,16 @@ inline CLI::Option* add_program_option(CLI::App* cmd, runner::Engine e, std::str
   return cmd->add_option(program.flag, path, note.empty() ? help : help + "; " + note)->capture_default_str();
 }
 
-// An engine's program by default (its row's): the value a command's --liggghts or --lammps starts with.
-inline std::string default_program(runner::Engine e) { return runner::engine_row(e).program.name; }
+// The option naming each engine's program that runs one (--liggghts, --lammps), in the table's
+// order, bound to `programs[engine]`, which starts as the row's default; `note(row)` follows each
+// help ("" for none).
+inline void add_program_options(CLI::App* cmd, std::map<runner::Engine, std::string>& programs,
+                                const std::function<std::string(const runner::EngineRow&)>& note = {}) {
+  for (const auto& row : runner::engine_table()) {
+    if (row.program.flag.empty()) continue;
+    add_program_option(cmd, row.engine, programs[row.engine] = row.program.name, note ? note(row) : "");
+  }
+}
 
 // A subcommand: its parser and what runs it once the command line is parsed.
 struct Command {

@@ -39,7 +39,7 @@ struct DesignFlags {
   double time_limit = 0.0;
   int top = 3;
   bool no_report = false;
-  std::string liggghts = default_program(runner::Engine::liggghts);  // confirm: the LIGGGHTS executable
+  std::string liggghts = runner::engine_row(runner::Engine::liggghts).program.name;  // confirm: the LIGGGHTS executable
   std::string geometry, sides;  // confirm: the physical variant, over the space's [confirm]
 };
 

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <mutex>
 
@@ -19,6 +20,7 @@ namespace {
 
 struct ReproduceFlags {
   study::ReproduceOptions options;
+  std::map<runner::Engine, std::string> programs;  // each engine's program option (its row's)
 };
 
 int reproduce(ReproduceFlags& f) {
@@ -106,8 +108,9 @@ Command add_reproduce(CLI::App& app) {
                 "Also the longer runs: the convergence study of the block height and the material sensitivity runs")
       ->excludes(quick);
   cmd->add_flag("--force", o.force, "Generate and run every case again");
-  add_program_option(cmd, runner::Engine::liggghts, o.liggghts);
-  add_program_option(cmd, runner::Engine::lammps, o.lammps, "for --engine lammps");
+  add_program_options(cmd, f->programs, [](const runner::EngineRow& row) {
+    return row.engine == runner::RunOptions{}.engine ? "" : "for --engine " + row.name;  // but the default's
+  });
   cmd->add_option("--against", o.against,
                   "Another engine's reproduction (its directory) to set this one beside: the report says which "
                   "statements change between the engines, by how much, and why")
@@ -118,6 +121,7 @@ Command add_reproduce(CLI::App& app) {
     f->options.refuse_engine_options = [cmd](const std::vector<std::string>& running) {
       return other_engines_option(*cmd, running);
     };
+    for (const auto& [engine, program] : f->programs) f->options.programs[runner::to_string(engine)] = program;
     return reproduce(*f);
   }};
 }

@@ -11,6 +11,7 @@
 #include <granstack/os/case_lock.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/postproc/compare.hpp>
+#include <granstack/runner/engine_options.hpp>
 #include <granstack/runner/engines.hpp>
 #include <granstack/runner/runner.hpp>
 
@@ -19,6 +20,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <optional>
 
@@ -30,9 +32,8 @@ struct ValidateFlags {
   std::vector<std::string> cases;
   double tolerance = postproc::kDefaultTolerance;
   int jobs = 1;
-  std::string liggghts = default_program(runner::Engine::liggghts);
-  std::string lammps = default_program(runner::Engine::lammps);
-  std::vector<std::string> engines{"liggghts", "refsim"};
+  std::map<runner::Engine, std::string> programs;  // each engine's program option (its row's)
+  std::vector<runner::Engine> engines{runner::Engine::liggghts, runner::Engine::refsim};
 };
 
 // Runs the two engines on copies of each case (CASE/validate/ENGINE), each case locked for the
@@ -43,7 +44,7 @@ int validate(const ValidateFlags& f) {
                        "liggghts,lammps\n");
     return kBadInput;
   }
-  const std::array engines{runner::parse_engine(f.engines[0]), runner::parse_engine(f.engines[1])};
+  const std::array engines{f.engines[0], f.engines[1]};
   // refsim beside LAMMPS runs LAMMPS's rules; beside LIGGGHTS, LIGGGHTS's.
   const bool lammps_rules = std::find(engines.begin(), engines.end(), runner::Engine::lammps) != engines.end();
   const auto dirs = formats::expand_case_dirs(f.cases);
@@ -83,11 +84,10 @@ int validate(const ValidateFlags& f) {
   }
   runner::RunOptions o;
   o.jobs = f.jobs;
-  o.liggghts = f.liggghts;
-  o.lammps = f.lammps;
+  o.programs = f.programs;
   StatusLine status;
   int rc = kOk;
-  o.lammps_rules = lammps_rules;
+  o.own<runner::RefsimOptions>().lammps_rules = lammps_rules;
   for (const auto engine : engines) {
     const auto what = "validate: " + runner::to_string(engine) + " runs";
     o.on_progress = [&status, what](const runner::ProgressSnapshot& s) { status.count(what, s.finished, s.total); };
@@ -110,7 +110,7 @@ int validate(const ValidateFlags& f) {
   if (rc != kOk) return rc;
   for (const auto& d : dirs) {
     const auto c = postproc::compare_runs(runner::copy_dir(d, engines[0]), runner::copy_dir(d, engines[1]));
-    fmt::print("{}", postproc::format_comparison(c, f.engines[0], f.engines[1], f.tolerance));
+    fmt::print("{}", postproc::format_comparison(c, runner::to_string(engines[0]), runner::to_string(engines[1]), f.tolerance));
     if (!c.disagreement(f.tolerance).empty()) rc = kDisagree;
   }
   return rc;
@@ -138,11 +138,11 @@ Command add_validate(CLI::App& app) {
           },
           "TOLERANCE"));
   cmd->add_option("-j,--jobs", f->jobs, "Cases run at the same time")->check(CLI::Range(1, 256))->capture_default_str();
-  add_program_option(cmd, runner::Engine::liggghts, f->liggghts);
-  add_program_option(cmd, runner::Engine::lammps, f->lammps);
+  add_program_options(cmd, f->programs);
   add_engine_option(cmd, "--engines", f->engines, "the two compared, separated by a comma")->delimiter(',')->expected(2);
   return {cmd, [f, cmd] {
-    if (const auto why = other_engines_option(*cmd, f->engines); !why.empty()) {
+    if (const auto why = other_engines_option(*cmd, {runner::to_string(f->engines[0]), runner::to_string(f->engines[1])});
+        !why.empty()) {
       fmt::print(stderr, "error: {}\n", why);
       return kBadInput;
     }

@@ -167,7 +167,7 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
   for (const auto& en : entries) dirs.push_back(en.dir);
   if (on_plan) on_plan(confirm_plan(space, front, entries.size()));
   runner::RunOptions ro;
-  if (!liggghts_exe.empty()) ro.liggghts = liggghts_exe;
+  if (!liggghts_exe.empty()) ro.programs[runner::Engine::liggghts] = liggghts_exe;
   const auto check = [](const std::vector<runner::RunOutcome>& outcomes) {
     for (const auto& r : outcomes) {
       if (r.status == runner::RunStatus::failed) throw ConfirmRunFailed(fmt::format("{}: {}", r.case_dir, r.message));

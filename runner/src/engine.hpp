@@ -1,8 +1,10 @@
 #pragma once
 // The engines granstack runs a case on, behind one interface: run_one (runner.cpp) does the
 // rest (the lock, the earlier outputs, run.json) the same for all. LIGGGHTS's is
-// liggghts_engine.cpp, refsim's refsim_engine.cpp, LAMMPS's lammps_engine.cpp; another engine is
-// one more such file, its enumerator in Engine (runner.hpp) and its row in engines.cpp.
+// liggghts_engine.cpp, refsim's refsim_engine.cpp, LAMMPS's lammps_engine.cpp, each with its row
+// (engines.hpp: its factory, its options' group, its refusals); another engine is one more such
+// file, its row listed in engines.cpp (with an enumerator in Engine, runner.hpp) or added by
+// add_engine() from the file itself.
 #include <granstack/formats/case.hpp>
 #include <granstack/runner/engines.hpp>
 #include <granstack/runner/runner.hpp>
@@ -47,9 +49,10 @@ class CaseEngine {
   }
 };
 
-std::unique_ptr<CaseEngine> make_liggghts_engine();
-std::unique_ptr<CaseEngine> make_refsim_engine();
-std::unique_ptr<CaseEngine> make_lammps_engine();
+// The built-in engines' rows, each defined in its engine's file.
+EngineRow liggghts_row();
+EngineRow refsim_row();
+EngineRow lammps_row();
 inline std::unique_ptr<CaseEngine> make_engine(Engine e) { return engine_row(e).make(); }
 
 }  // namespace granstack::runner

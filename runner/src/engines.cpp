@@ -9,25 +9,34 @@
 namespace granstack::runner {
 
 namespace {
-// Each engine's contact rules: LIGGGHTS's and LAMMPS's their own (the model's rows say what each
-// lacks); refsim LIGGGHTS's, whose frame also runs refsim's own Thornton, or LAMMPS's.
-std::string_view liggghts_refuses(const model::ContactModel& m, bool) { return model::liggghts_refusal(m); }
-std::string_view lammps_refuses(const model::ContactModel& m, bool) { return model::lammps_refusal(m); }
-std::string_view refsim_refuses(const model::ContactModel& m, bool lammps_rules) {
-  return lammps_rules ? model::lammps_refusal(m) : model::refsim_liggghts_refusal(m);
+// The table, in --engine's order: each engine's row is in its own file.
+std::vector<EngineRow>& rows() {
+  static std::vector<EngineRow> table = [] {
+    std::vector<EngineRow> t;
+    t.push_back(liggghts_row());
+    t.push_back(refsim_row());
+    t.push_back(lammps_row());
+    return t;
+  }();
+  return table;
 }
 }  // namespace
 
-const std::vector<EngineRow>& engine_table() {
-  static const std::vector<EngineRow> table{
-      {Engine::liggghts, "liggghts", "the real DEM code", {"--liggghts", "--np", "--grid"},
-       {"--liggghts", "liggghts", "LIGGGHTS"}, make_liggghts_engine, liggghts_refuses},
-      {Engine::refsim, "refsim", "the in-house reference integrator", {"--threads", "--kernel", "--contact-rules"}, {},
-       make_refsim_engine, refsim_refuses},
-      {Engine::lammps, "lammps", "LAMMPS's GRANULAR package, the case's contacts mapped onto its models",
-       {"--lammps", "--lammps-template", "--np"}, {"--lammps", "lmp", "LAMMPS"}, make_lammps_engine, lammps_refuses},
-  };
-  return table;
+const std::vector<EngineRow>& engine_table() { return rows(); }
+
+Engine add_engine(EngineRow row) {
+  auto& table = rows();
+  row.engine = static_cast<Engine>(table.size());
+  for (const auto& r : table) {
+    if (r.name == row.name || r.engine == row.engine) throw std::logic_error("engine '" + row.name + "' added twice");
+  }
+  table.push_back(std::move(row));
+  return table.back().engine;
+}
+
+std::string RunOptions::program(Engine e) const {
+  const auto it = programs.find(e);
+  return it != programs.end() ? it->second : engine_row(e).program.name;
 }
 
 std::string engine_list(bool with_help) {
@@ -66,12 +75,9 @@ std::vector<std::string> engine_options() {
   return out;
 }
 
-const std::vector<std::string>& engine_names() {
-  static const std::vector<std::string> names = [] {
-    std::vector<std::string> n;
-    for (const auto& row : engine_table()) n.push_back(row.name);
-    return n;
-  }();
+std::vector<std::string> engine_names() {
+  std::vector<std::string> names;
+  for (const auto& row : engine_table()) names.push_back(row.name);
   return names;
 }
 

@@ -11,7 +11,9 @@
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/lammps.hpp>
 #include <granstack/os/process.hpp>
+#include <granstack/runner/engine_options.hpp>
 
+#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -139,11 +141,11 @@ struct DeckRefused : std::runtime_error {
 };
 
 std::string render_deck(const formats::Case& c, const RunOptions& o, const model::LammpsRules& rules) {
-  if (o.lammps_template.empty()) return reference_deck(c, rules);
-  auto deck = generator::lammps_deck(c.stack(), c.resolution(), c.files(), c.name(),
-                                     formats::read_file(o.lammps_template), o.lammps_template, rules);
+  const auto& tmpl = o.own<LammpsOptions>().deck_template;
+  if (tmpl.empty()) return reference_deck(c, rules);
+  auto deck = generator::lammps_deck(c.stack(), c.resolution(), c.files(), c.name(), formats::read_file(tmpl), tmpl, rules);
   const auto name = lammps_files(c.files()).deck;
-  if (const auto why = deck_refusal(c, deck, name, o.lammps_template, reference_deck(c, rules)); !why.empty()) {
+  if (const auto why = deck_refusal(c, deck, name, tmpl, reference_deck(c, rules)); !why.empty()) {
     throw DeckRefused(why);
   }
   return deck;
@@ -191,10 +193,11 @@ class Lammps final : public CaseEngine {
   formats::CaseFiles files(const formats::Case& c) const override { return lammps_files(c.files()); }
 
   std::string unavailable(const formats::Case& c, const RunOptions& o) const override {
-    if (auto why = program_unavailable("LAMMPS", o.lammps, "--lammps", "lammps", o); !why.empty()) return why;
-    const auto program = *os::find_program(o.lammps);
+    const auto lammps = o.program(Engine::lammps);
+    if (auto why = program_unavailable("LAMMPS", lammps, "--lammps", "lammps", o); !why.empty()) return why;
+    const auto program = *os::find_program(lammps);
     std::string why;
-    const auto* rules = rules_of(program, o.lammps, why);
+    const auto* rules = rules_of(program, lammps, why);
     if (rules == nullptr) return why;
     if (why = model::lammps_unmappable(c.spec(), *rules); !why.empty()) return "LAMMPS: " + why;
     try {
@@ -212,7 +215,8 @@ class Lammps final : public CaseEngine {
     const auto files = lammps_files(c.files());
     EngineResult result;
     std::string why;
-    const auto* rules = rules_of(*os::find_program(o.lammps), o.lammps, why);  // unavailable() found them
+    const auto lammps = o.program(Engine::lammps);
+    const auto* rules = rules_of(*os::find_program(lammps), lammps, why);  // unavailable() found them
     if (rules == nullptr) {
       result.error = why;
       return result;
@@ -223,7 +227,7 @@ class Lammps final : public CaseEngine {
       result.error = fmt::format("LAMMPS: {} could not be written: {}", files.deck, e.what());
       return result;
     }
-    result = run_program(c, o, {"LAMMPS", o.lammps, files, "lammps_version", {}, reference_deck(c, *rules), kOwnTemplate},
+    result = run_program(c, o, {"LAMMPS", lammps, files, "lammps_version", {}, reference_deck(c, *rules), kOwnTemplate},
                          on_step, on_started);
     if (result.error.empty() && !result.interrupted) {
       try {
@@ -234,13 +238,33 @@ class Lammps final : public CaseEngine {
     }
     result.record["lammps_deck"] = files.deck;
     result.record["lammps_rules"] = rules->name;
-    result.record["lammps_template"] = o.lammps_template.empty() ? kOwnTemplate : o.lammps_template;
+    const auto& tmpl = o.own<LammpsOptions>().deck_template;
+    result.record["lammps_template"] = tmpl.empty() ? kOwnTemplate : tmpl;
     return result;
   }
 };
 
+void add_lammps_options(CLI::App& group, RunOptions& o) {
+  group.add_option("--lammps-template", o.own<LammpsOptions>().deck_template,
+                   "A template of yours for the LAMMPS deck instead of templates/in.lammps.tmpl")
+      ->check(CLI::ExistingFile);
+}
+
+std::string_view lammps_refuses(const model::ContactModel& m, bool) { return model::lammps_refusal(m); }
+
 }  // namespace
 
-std::unique_ptr<CaseEngine> make_lammps_engine() { return std::make_unique<Lammps>(); }
+EngineRow lammps_row() {
+  return {Engine::lammps,
+          "lammps",
+          "LAMMPS's GRANULAR package, the case's contacts mapped onto its models",
+          {"--lammps", "--lammps-template", "--np"},
+          {"--lammps", "lmp", "LAMMPS"},
+          [] { return std::unique_ptr<CaseEngine>(std::make_unique<Lammps>()); },
+          lammps_refuses,
+          add_lammps_options,
+          nullptr,
+          mpi_cpus};
+}
 
 }  // namespace granstack::runner

@@ -5,6 +5,7 @@
 #include "program.hpp"
 
 #include <granstack/runner/decomposition.hpp>
+#include <granstack/runner/engine_options.hpp>
 
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/log.hpp>
@@ -13,8 +14,10 @@
 #include <granstack/os/interrupt.hpp>
 #include <granstack/os/process.hpp>
 
+#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <array>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -255,7 +258,7 @@ EngineResult run_program(const formats::Case& c, const RunOptions& o, const Prog
   argv.insert(argv.end(), {fs::absolute(*liggghts).string(), "-in", files.deck, "-log", files.log});
   std::optional<Decomposition> decomposition;
   if (o.ranks > 1) {
-    decomposition = o.grid[0] > 0 ? predict_decomposition(c, o.grid) : choose_decomposition(c, o.ranks);
+    decomposition = program.grid[0] > 0 ? predict_decomposition(c, program.grid) : choose_decomposition(c, o.ranks);
     for (std::size_t d = 0; d < 3; ++d) {
       argv.insert(argv.end(), {"-var", std::string("gs_ranks_") + "xyz"[d], std::to_string(decomposition->grid[d])});
     }
@@ -415,7 +418,8 @@ class Liggghts final : public CaseEngine {
     if (const auto why = model_refusal(Engine::liggghts, c.spec().contact_model()); !why.empty()) {
       return "LIGGGHTS: " + std::string(why);
     }
-    if (const auto why = program_unavailable("LIGGGHTS", o.liggghts, "--liggghts", "liggghts", o); !why.empty()) {
+    if (const auto why = program_unavailable("LIGGGHTS", o.program(Engine::liggghts), "--liggghts", "liggghts", o);
+        !why.empty()) {
       return why;
     }
     const auto deck = c.files().deck;
@@ -425,15 +429,68 @@ class Liggghts final : public CaseEngine {
   EngineResult run(const formats::Case& c, const RunOptions& o, const std::function<void(long)>& on_step,
                    const std::function<void()>& on_started) const override {
     return run_program(c, o,
-                       {"LIGGGHTS", o.liggghts, c.files(), "liggghts_version", {}, generator::default_deck(c.manifest()),
-                        "templates/in.granstack.tmpl"},
+                       {"LIGGGHTS", o.program(Engine::liggghts), c.files(), "liggghts_version", {},
+                        generator::default_deck(c.manifest()), "templates/in.granstack.tmpl", o.own<LiggghtsOptions>().grid},
                        on_step, on_started);
   }
   void tidy(const fs::path& dir, fs::file_time_type since) const override { remove_forced_restarts(dir, since); }
 };
 
+// "4,4,1" or "4x4x1": ranks along x, y and z.
+std::optional<std::array<int, 3>> parse_grid(const std::string& text) {
+  std::array<int, 3> g{};
+  std::size_t at = 0;
+  for (std::size_t d = 0; d < 3; ++d) {
+    std::size_t used = 0;
+    try {
+      g[d] = std::stoi(text.substr(at), &used);
+    } catch (const std::exception&) {
+      return std::nullopt;
+    }
+    at += used;
+    if (g[d] < 1 || (d < 2 && (at >= text.size() || (text[at] != ',' && text[at] != 'x')))) return std::nullopt;
+    ++at;
+  }
+  if (at != text.size() + 1) return std::nullopt;
+  return g;
+}
+
+void add_liggghts_options(CLI::App& group, RunOptions& o) {
+  group.add_option("--grid", o.own<LiggghtsOptions>().grid_text,
+                   "LIGGGHTS's MPI processor grid, ranks along x,y,z (product --np), e.g. 4,4,1; by default the grid "
+                   "whose busiest rank holds the fewest spheres, owned and ghost (run.json's \"decomposition\")");
+}
+
+std::string check_liggghts_options(RunOptions& o) {
+  auto& own = o.own<LiggghtsOptions>();
+  if (own.grid_text.empty()) return "";
+  const auto grid = parse_grid(own.grid_text);
+  if (!grid || (*grid)[0] * (*grid)[1] * (*grid)[2] != o.ranks) {
+    return fmt::format("--grid {}: give three whole numbers of ranks along x, y and z whose product is --np ({}), e.g. "
+                       "--grid 4,4,1 with --np 16",
+                       own.grid_text, o.ranks);
+  }
+  own.grid = *grid;
+  return "";
+}
+
+std::string_view liggghts_refuses(const model::ContactModel& m, bool) { return model::liggghts_refusal(m); }
+
 }  // namespace
 
-std::unique_ptr<CaseEngine> make_liggghts_engine() { return std::make_unique<Liggghts>(); }
+EngineRow::Cpus mpi_cpus(const RunOptions& o) { return {o.ranks, "MPI ranks", "--np"}; }
+
+EngineRow liggghts_row() {
+  return {Engine::liggghts,
+          "liggghts",
+          "the real DEM code",
+          {"--liggghts", "--np", "--grid"},
+          {"--liggghts", "liggghts", "LIGGGHTS"},
+          [] { return std::unique_ptr<CaseEngine>(std::make_unique<Liggghts>()); },
+          liggghts_refuses,
+          add_liggghts_options,
+          check_liggghts_options,
+          mpi_cpus};
+}
 
 }  // namespace granstack::runner

@@ -1,6 +1,7 @@
 // refsim behind the engine interface: granstack's reference integrator, in this process.
 #include "engine.hpp"
 
+#include <granstack/runner/engine_options.hpp>
 #include <granstack/runner/engines.hpp>
 
 #include <granstack/generator/case_writer.hpp>
@@ -9,8 +10,11 @@
 #include <granstack/os/interrupt.hpp>
 #include <granstack/os/process.hpp>
 #include <granstack/refsim/case_run.hpp>
+#include <granstack/refsim/system.hpp>
 
+#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 
@@ -40,13 +44,14 @@ std::string refsim_unavailable(const fs::path& dir, const formats::Manifest& man
 EngineResult run_refsim(const fs::path& dir, const RunOptions& o,
                         const std::function<void(long)>& on_step, const std::function<void()>& on_started) {
   EngineResult result;
+  const auto& own = o.own<RefsimOptions>();
   try {
     refsim::RunOptions ro;
-    ro.threads = o.threads;
-    ro.kernel = o.kernel;
-    ro.lammps_rules = o.lammps_rules;
+    ro.threads = own.threads;
+    ro.kernel = own.kernel;
+    ro.lammps_rules = own.lammps_rules;
     // The outputs on a thread of their own where a CPU is left over by every case's threads.
-    ro.write_behind = os::usable_cpus() >= (o.threads + 1) * std::max(1, o.jobs);
+    ro.write_behind = os::usable_cpus() >= (own.threads + 1) * std::max(1, o.jobs);
     ro.on_progress = [&](long step, long) {
       if (!result.started) {
         result.started = true;
@@ -61,9 +66,9 @@ EngineResult run_refsim(const fs::path& dir, const RunOptions& o,
     result.particle_steps_per_second = stats.particle_steps_per_second;
     result.record["steps"] = stats.steps;
     result.record["atoms"] = stats.atoms;
-    result.record["threads"] = o.threads;
+    result.record["threads"] = own.threads;
     result.record["kernel"] = stats.kernel;
-    result.record["contact_rules"] = o.lammps_rules ? "lammps" : "liggghts";
+    result.record["contact_rules"] = own.lammps_rules ? "lammps" : "liggghts";
     result.record["write_behind"] = stats.write_behind;
     result.record["neighbor_builds"] = stats.neighbor_builds;
     result.record["outside_loop_seconds"] = {{"read", stats.read_seconds},
@@ -83,7 +88,7 @@ class Refsim final : public CaseEngine {
  public:
   std::string lock_holder() const override { return "granstack run --engine refsim"; }
   std::string unavailable(const formats::Case& c, const RunOptions& o) const override {
-    if (o.lammps_rules) {
+    if (o.own<RefsimOptions>().lammps_rules) {
       // refsim's LAMMPS rules are those of the LAMMPS this machine has (contact_models/choice.hpp).
       if (const auto why = model::lammps_contact_unmappable(c.spec(), model::lammps_rules_run_here()); !why.empty()) {
         return "refsim --contact-rules lammps: " + why;
@@ -99,8 +104,54 @@ class Refsim final : public CaseEngine {
   }
 };
 
+// --kernel's values: auto, reference and the vector instruction sets this CPU runs.
+std::vector<std::string> kernel_choices() {
+  std::vector<std::string> choices{"auto", "reference"};
+  for (const auto& k : refsim::vector_kernels()) choices.push_back(k);
+  return choices;
+}
+
+void add_refsim_options(CLI::App& group, RunOptions& o) {
+  auto& own = o.own<RefsimOptions>();
+  group.add_option("--threads", own.threads,
+                   "Threads per case (results do not depend on it; where a CPU is left over, refsim writes its outputs "
+                   "on one more)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  group.add_option("--kernel", own.kernel,
+                   fmt::format("refsim's kernels: auto (the best vector instruction set this CPU runs), reference "
+                               "(scalar) or one of this CPU's: {}; all give the same bits",
+                               fmt::join(refsim::vector_kernels(), ", ")))
+      ->check(CLI::IsMember(kernel_choices()))
+      ->capture_default_str();
+  group.add_option_function<std::string>(
+           "--contact-rules", [&own](const std::string& rules) { own.lammps_rules = rules == "lammps"; },
+           "liggghts (the case's deck, LIGGGHTS's contact law to the bit) or lammps (the same spec as LAMMPS runs it: "
+           "docs/explanation/lammps.md)")
+      ->check(CLI::IsMember({"liggghts", "lammps"}))
+      ->default_str("liggghts");
+}
+
+// refsim's contact rules are LIGGGHTS's, whose frame also runs refsim's own Thornton, or LAMMPS's.
+std::string_view refsim_refuses(const model::ContactModel& m, bool lammps_rules) {
+  return lammps_rules ? model::lammps_refusal(m) : model::refsim_liggghts_refusal(m);
+}
+
+EngineRow::Cpus refsim_cpus(const RunOptions& o) { return {o.own<RefsimOptions>().threads, "threads", "--threads"}; }
+
 }  // namespace
 
-std::unique_ptr<CaseEngine> make_refsim_engine() { return std::make_unique<Refsim>(); }
+EngineRow refsim_row() {
+  return {Engine::refsim,
+          "refsim",
+          "the in-house reference integrator",
+          {"--threads", "--kernel", "--contact-rules"},
+          {},
+          [] { return std::unique_ptr<CaseEngine>(std::make_unique<Refsim>()); },
+          refsim_refuses,
+          add_refsim_options,
+          nullptr,
+          refsim_cpus};
+}
 
 }  // namespace granstack::runner

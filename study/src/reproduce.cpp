@@ -8,6 +8,7 @@
 #include <granstack/model/resolution.hpp>
 #include <granstack/os/interrupt.hpp>
 #include <granstack/postproc/compare.hpp>
+#include <granstack/runner/engine_options.hpp>
 #include <granstack/runner/engines.hpp>
 #include <granstack/runner/runner.hpp>
 #include <granstack/study/report.hpp>
@@ -120,10 +121,10 @@ runner::RunOptions run_options(const ReproduceOptions& o, runner::Engine engine,
   runner::RunOptions r;
   r.engine = engine;
   r.jobs = o.jobs;
-  r.liggghts = o.liggghts;
-  r.lammps = o.lammps;
+  for (const auto& [name, program] : o.programs) r.programs[runner::parse_engine(name)] = program;
   // refsim checking LAMMPS runs LAMMPS's contact rules (the same spec as LAMMPS runs it).
-  r.lammps_rules = !pinned && engine == runner::Engine::refsim && runner::parse_engine(o.engine) == runner::Engine::lammps;
+  r.own<runner::RefsimOptions>().lammps_rules =
+      !pinned && engine == runner::Engine::refsim && runner::parse_engine(o.engine) == runner::Engine::lammps;
   if (o.on_progress) {
     r.on_progress = [&o, stage](const runner::ProgressSnapshot& s) {
       std::string line = fmt::format("{}: {}/{} cases finished", stage, s.finished, s.total);

@@ -8,6 +8,7 @@
 #include <granstack/postproc/reduce.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
+#include <granstack/runner/engine_options.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include "../support/scratch.hpp"
@@ -51,11 +52,11 @@ Runs run_all(const std::string& name, const model::StackSpec& spec) {
   g.output = dir;
   generator::generate({{name, spec}}, g);
   runner::RunOptions o;
-  o.lammps_rules = true;
+  o.own<runner::RefsimOptions>().lammps_rules = true;
   auto outcomes = runner::run_copies({dir.string()}, runner::Engine::refsim, o);
   EXPECT_EQ(outcomes.front().status, runner::RunStatus::done) << outcomes.front().message;
   fs::rename(dir / "validate" / "refsim", dir / "refsim_lammps");
-  o.lammps_rules = false;
+  o.own<runner::RefsimOptions>().lammps_rules = false;
   for (const auto engine : {runner::Engine::liggghts, runner::Engine::lammps, runner::Engine::refsim}) {
     outcomes = runner::run_copies({dir.string()}, engine, o);
     EXPECT_EQ(outcomes.front().status, runner::RunStatus::done) << runner::to_string(engine) << ": " << outcomes.front().message;
@@ -181,7 +182,7 @@ TEST(Lammps, MindlinRescaleAgreesWithRefsimByLammpsRules) {
   g.output = dir;
   generator::generate({{"rescale", spec}}, g);
   runner::RunOptions o;
-  o.lammps_rules = true;
+  o.own<runner::RefsimOptions>().lammps_rules = true;
   for (const auto engine : {runner::Engine::refsim, runner::Engine::lammps}) {
     const auto outcomes = runner::run_copies({dir.string()}, engine, o);
     EXPECT_EQ(outcomes.front().status, runner::RunStatus::done) << runner::to_string(engine) << ": " << outcomes.front().message;

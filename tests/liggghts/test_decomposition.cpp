@@ -5,6 +5,7 @@
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/stack.hpp>
 #include <granstack/runner/decomposition.hpp>
+#include <granstack/runner/engine_options.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include "../support/scratch.hpp"
@@ -54,7 +55,7 @@ model::StackSpec few_steps(model::StackSpec s) {
 nlohmann::json run_decomposed(const std::string& dir, int ranks, std::array<int, 3> grid = {0, 0, 0}) {
   runner::RunOptions o;
   o.ranks = ranks;
-  o.grid = grid;
+  o.own<runner::LiggghtsOptions>().grid = grid;
   o.force = true;
   const auto outcome = runner::run_cases({dir}, o).at(0);
   EXPECT_EQ(outcome.status, runner::RunStatus::done) << outcome.message;

@@ -828,7 +828,7 @@ TEST(Runner, FailuresCarryLiggghtsOwnErrorLineAndAreNeverTakenForDone) {
   EXPECT_THROW(postproc::reduce_case(dir), std::runtime_error);
 
   runner::RunOptions missing;
-  missing.liggghts = "no-such-liggghts-binary";
+  missing.programs[runner::Engine::liggghts] = "no-such-liggghts-binary";
   const auto not_found = runner::run_cases({dir}, missing).at(0);
   EXPECT_EQ(not_found.status, runner::RunStatus::failed);
   EXPECT_NE(not_found.message.find("scripts/setup.sh"), std::string::npos) << not_found.message;

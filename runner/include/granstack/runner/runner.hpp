@@ -1,10 +1,13 @@
 #pragma once
 // Runs LIGGGHTS on generated case directories, several at once, with a progress display,
 // failure detection and a run record (run.json) in each case directory.
+#include <any>
 #include <array>
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
+#include <typeindex>
 #include <vector>
 
 namespace granstack::runner {
@@ -30,7 +33,7 @@ enum class Engine {
 };
 
 // The engines' names, as flags, run.json and folder names spell them (engines.hpp's table).
-const std::vector<std::string>& engine_names();
+std::vector<std::string> engine_names();
 std::string to_string(Engine e);
 // The engine a name (one of engine_names()) stands for; std::invalid_argument for another.
 Engine parse_engine(const std::string& name);
@@ -50,27 +53,43 @@ struct RunOutcome {
   double particle_steps_per_second = 0.0;
 };
 
+// What every engine's runs share; each engine's own options are a struct of its own
+// (engine_options.hpp for the built-in ones), kept here by type: `own<RefsimOptions>().threads = 4`.
+// A struct no one set reads as its defaults.
 struct RunOptions {
   Engine engine = Engine::liggghts;
   int jobs = 1;           // cases run at the same time
-  int ranks = 1;          // MPI ranks per case (mpirun when > 1; LIGGGHTS and LAMMPS)
-  // The MPI processor grid (ranks along x, y, z); all zero: chosen for each case's stack
-  // (choose_decomposition in decomposition.hpp).
-  std::array<int, 3> grid{0, 0, 0};
-  int threads = 1;        // threads per case (refsim only)
-  // refsim by LAMMPS's contact rules instead of LIGGGHTS's (refsim::Parameters::lammps_rules): the
-  // model a case has on LAMMPS, for a cross-check with it.
-  bool lammps_rules = false;
-  std::string kernel = "auto";  // refsim's kernels: auto, reference or a vector instruction set (refsim::vector_kernels())
-  bool force = false;     // rerun cases that finished
-  std::string liggghts = "liggghts";
-  std::string lammps = "lmp";
-  std::string lammps_template;  // a template of the user's for the LAMMPS deck; "": templates/in.lammps.tmpl
+  // The engines that run a program (LIGGGHTS, LAMMPS): MPI ranks per case (mpirun when > 1) and
+  // mpirun itself.
+  int ranks = 1;
   std::string mpirun = "mpirun";
+  // Each engine's program, by engine (its row's `program`: --liggghts, --lammps); absent: the
+  // row's name on PATH (program()).
+  std::map<Engine, std::string> programs;
+  bool force = false;     // rerun cases that finished
   // Called about twice a second while cases run, and once at the end.
   std::function<void(const ProgressSnapshot&)> on_progress;
   // Called as each case ends (done, skipped, failed, interrupted), one call at a time.
   std::function<void(const RunOutcome&)> on_case_done;
+
+  // Engine `e`'s program as given, else its row's default.
+  std::string program(Engine e) const;
+  // An engine's own options (made with their defaults at first use).
+  template <class T>
+  T& own() {
+    auto& slot = own_[std::type_index(typeid(T))];
+    if (!slot.has_value()) slot = T{};
+    return std::any_cast<T&>(slot);
+  }
+  template <class T>
+  const T& own() const {
+    static const T defaults{};
+    const auto it = own_.find(std::type_index(typeid(T)));
+    return it == own_.end() ? defaults : std::any_cast<const T&>(it->second);
+  }
+
+ private:
+  std::map<std::type_index, std::any> own_;
 };
 
 // Runs every case (already expanded from sweep directories), each under its case lock (a case

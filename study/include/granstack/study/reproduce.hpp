@@ -73,8 +73,9 @@ struct ReproduceOptions {
   // run.json), LIGGGHTS for a new reproduction. Cases run on another engine are refused without force.
   std::string engine;
   int jobs = 1;
-  std::string liggghts = "liggghts";
-  std::string lammps = "lmp";
+  // Each engine's program by the engine's name (its row's option: --liggghts, --lammps); absent:
+  // the row's name on PATH.
+  std::map<std::string, std::string> programs;
   std::string against;                     // another engine's reproduction to set this one beside ("": none)
   std::string gnuplot = "gnuplot";
   // Why the options given are for engines that will not run, once the engine is chosen (`running`:
