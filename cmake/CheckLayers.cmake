@@ -44,14 +44,12 @@ function(granstack_check_links links)
   endif()
 endfunction()
 
-# Every granstack library and the program: the granstack libraries they link, public or private.
+# Every granstack library and the program's commands (granstack_app, app/): the granstack libraries
+# they link, public or private.
 function(granstack_check_layers)
   set(links "")
   foreach(name os model formats generator refsim postproc runner cluster study design app)
     set(target granstack_${name})
-    if(name STREQUAL "app")
-      set(target granstack)
-    endif()
     foreach(property LINK_LIBRARIES INTERFACE_LINK_LIBRARIES)
       get_target_property(deps ${target} ${property})
       foreach(dep IN LISTS deps)
