@@ -60,7 +60,7 @@ RECORDS = {
     # bench/oversubscription.sh 3, on the 2-core machine
     "oversubscription": "bench/results/oversubscription-2026-11-28.json",
     # scripts/extension_counts.py, from the commits it names (git history)
-    "extension_counts": "bench/results/extension-counts-2026-12-06.json",
+    "extension_counts": "bench/results/extension-counts-2026-12-07.json",
     # OUT=... bench/design_budget.sh, on the 2-core machine, idle (#50)
     "design_budget": "bench/results/design-budget-2026-11-28.json",
     # GRANSTACK=build/ci/app/granstack GRANSTACK_BASE=(the build before) OUT=... bench/reduce_vs_wc.sh 15 2, 2-core machine (#46)
@@ -862,7 +862,8 @@ def extension_counts():
             "|---|---|---|---|---|---|"]
     for r in record("extension_counts")["extensions"]:
         folders = ", ".join(f"{n} in `{d}/`" for d, n in r["by_folder"].items())
-        rows.append(f"| {r['extension']} | {', '.join(r['commits'])} | {r['library_files']} ({folders}) | "
+        files = f"{r['library_files']} ({folders})" if folders else str(r["library_files"])
+        rows.append(f"| {r['extension']} | {', '.join(r['commits'])} | {files} | "
                     f"{r['test_files']} | {r['templates']} | {r['other_files']} |")
     return "\n".join(rows) + "\n"
 

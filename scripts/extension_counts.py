@@ -22,6 +22,8 @@ EXTENSIONS = [
      ["1698a67"]),
     ("two elastic-plastic normal models with per-contact history (thornton, thornton_ning), with the generic "
      "history store and the one table of laws they were the first to use", ["d413c65", "48a949c"]),
+    ("a fourth engine with an option of its own (a stand-in in the tests: refsim's integrator under another name), "
+     "its row added from its own file", ["051ff28"]),
 ]
 LIBRARIES = {"app", "cluster", "design", "formats", "generator", "model", "os", "postproc", "refsim", "runner",
              "study"}
