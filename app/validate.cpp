@@ -40,8 +40,9 @@ struct ValidateFlags {
 // whole comparison, and compares them.
 int validate(const ValidateFlags& f) {
   if (f.engines.size() != 2 || f.engines[0] == f.engines[1]) {
-    fmt::print(stderr, "error: --engines takes two different engines of liggghts, refsim and lammps, e.g. --engines "
-                       "liggghts,lammps\n");
+    const auto names = runner::engine_names();
+    fmt::print(stderr, "error: --engines takes two different engines of {}, e.g. --engines {},{}\n", runner::engine_list(),
+               names.front(), names.back());
     return kBadInput;
   }
   const std::array engines{f.engines[0], f.engines[1]};
