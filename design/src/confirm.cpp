@@ -81,7 +81,10 @@ std::vector<std::pair<model::StackSpec, std::map<std::string, double>>> confirm_
 
 // What confirm will run and the most it can write (each run to its cap, binary dumps): LIGGGHTS
 // and refsim of every scenario's case, LIGGGHTS again at up to twice that length, and the variant.
-std::string confirm_plan(const Space& space, const std::vector<Evaluation>& front, std::size_t cases) {
+// What confirm will run for the front's designs that LIGGGHTS can take (`not_run[i]` empty) and
+// the most it can write.
+std::string confirm_plan(const Space& space, const std::vector<Evaluation>& front, const std::vector<std::string>& not_run,
+                         std::size_t cases) {
   double bytes = 0.0;
   long runs = 0;
   const auto add = [&](const model::StackSpec& spec, double times) {
@@ -89,19 +92,26 @@ std::string confirm_plan(const Space& space, const std::vector<Evaluation>& fron
     const auto cost = model::estimate_cost(stack, model::resolve(stack));
     bytes += times * (cost.dump_bytes + cost.series_bytes);
   };
-  for (const auto& e : front) {
-    for (const auto& [spec, measures] : confirm_runs(e)) {
+  std::size_t refused = 0;
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    if (!not_run[i].empty()) {
+      ++refused;
+      continue;
+    }
+    for (const auto& [spec, measures] : confirm_runs(front[i])) {
       add(model::liggghts_counterpart(spec), 4.0);  // two engines, and LIGGGHTS twice as long
       runs += 3;
     }
     if (!space.confirm_variant.empty()) {
-      add(variant_run(space, worst_run(e)), 1.0);
+      add(variant_run(space, worst_run(front[i])), 1.0);
       ++runs;
     }
   }
-  return fmt::format("confirm: {} front design{}, {} case{}, {} runs; at most {:.0f} MB of dumps and series (binary, each "
-                     "run to its cap at most)",
-                     front.size(), front.size() == 1 ? "" : "s", cases, cases == 1 ? "" : "s", runs, bytes / 1e6);
+  return fmt::format("confirm: {} front design{}{}, {} case{}, {} runs; at most {:.0f} MB of dumps and series (binary, "
+                     "each run to its cap at most)",
+                     front.size(), front.size() == 1 ? "" : "s",
+                     refused > 0 ? fmt::format(" ({} not run on LIGGGHTS: below, why)", refused) : "", cases,
+                     cases == 1 ? "" : "s", runs, bytes / 1e6);
 }
 
 // A case of one of a design's runs, as confirm runs it on LIGGGHTS: its spec (the search's, or the
@@ -165,7 +175,7 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
   for (std::size_t i = 0; i < front.size(); ++i) not_run[i] = write_cases(front[i], i, dir, entries);
   std::vector<std::string> dirs;
   for (const auto& en : entries) dirs.push_back(en.dir);
-  if (on_plan) on_plan(confirm_plan(space, front, entries.size()));
+  if (on_plan) on_plan(confirm_plan(space, front, not_run, entries.size()));
   runner::RunOptions ro;
   if (!liggghts_exe.empty()) ro.programs[runner::Engine::liggghts] = liggghts_exe;
   const auto check = [](const std::vector<runner::RunOutcome>& outcomes) {

@@ -1414,6 +1414,59 @@ TEST(DesignCli, AThorntonFrontIsConfirmedOnLiggghtsUnderThorntonNing) {
             std::string::npos);
 }
 
+// A front design LIGGGHTS cannot take under thornton_ning is not run, and says why: thornton_ning
+// gives every contact block 1's yield radius a_y = pi R* p_y / (2 E*), which LIGGGHTS sets per
+// atom type as a fraction of its radius (coefficientYieldRatio, 0..1). A stiff-yielding polymer
+// (E 1 GPa, Y 200 MPa, p_y = 1.6 Y) over its own spheres a third the size: a_y = 0.915 mm, above
+// the lower block's 0.667 mm. confirm plans no run for it, writes no case, exits 1 (nothing was
+// confirmed), and the store and report keep the refusal.
+TEST(DesignCli, AFrontDesignThorntonNingCannotTakeIsNotRunAndSaysWhy) {
+  const auto dir = work_dir();
+  std::ofstream(dir / "space.toml") << R"(objectives = ["peak_wall_force", "crush", "areal_mass"]
+[fixed]
+top_radius = 2e-3
+bottom = "wall"
+normal_model = "thornton"
+[fixed.custom_materials.strong_polymer]
+density = 1200
+youngs_modulus = 1e9
+poisson_ratio = 0.3
+yield_strength = 200e6
+[vary]
+blocks = [2, 2]
+materials = ["strong_polymer"]
+radius_ratio = [3]
+rows = [1, 1]
+[search]
+population = 8
+generations = 1
+seed = 7
+)";
+  ASSERT_EQ(program({"design", "run", (dir / "space.toml").string(), "-o", (dir / "search").string(), "-j", "1"},
+                    dir / "run.log").code, 0);
+  const auto r = program({"design", "confirm", (dir / "search").string(), "--top", "1"}, dir / "confirm.log");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("confirm: 1 front design (1 not run on LIGGGHTS: below, why), 0 cases, 0 runs; at most 0 MB"),
+            std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("none of the front's 1 design could run on LIGGGHTS"), std::string::npos) << r.output;
+  // a_y from Hertz's contact of two 2 mm spheres at p_y = 1.6 Y, against the lower block's radius.
+  const double r_star = 1e-3, e_star = 1e9 / (2.0 * (1.0 - 0.3 * 0.3)), p_y = 1.6 * 200e6;
+  const double a_y = std::numbers::pi * r_star * p_y / (2.0 * e_star), lower = 2e-3 / 3.0;
+  const auto store = design::Store::open_existing((dir / "search" / "design.sqlite").string());
+  const auto confirmed = store.confirmations();
+  ASSERT_EQ(confirmed.size(), 1u);
+  const auto& c = confirmed.front();
+  EXPECT_NE(c.not_run.find(fmt::format("the yield radius a_y = {:.4g} m of block 1's contacts exceeds the radius {:g} m of "
+                                       "atom type 2 (strong_polymer): its coefficientYieldRatio would be {:.4g}",
+                                       a_y, lower, a_y / lower)),
+            std::string::npos)
+      << c.not_run;
+  EXPECT_EQ(c.verdict, "not run on LIGGGHTS: " + c.not_run);
+  EXPECT_FALSE(fs::exists(dir / "search" / "confirm" / c.digest.substr(0, 12)));
+  const auto md = test::read_bytes(dir / "search" / "report" / "design.md");
+  EXPECT_NE(md.find("1 design could not run on LIGGGHTS (the table says why)."), std::string::npos) << md;
+}
+
 // A search whose contacts yield stands beside the elastic model (#67 item 1): each front design
 // and study design runs again under Hertz's law with e = 1, in the same scenarios, and the report
 // says which design leads under each law, how the two order the front (Spearman's rho) and the
