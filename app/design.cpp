@@ -233,7 +233,8 @@ int confirm(const DesignFlags& f) {
           line.clear();
           fmt::print("{}\n", plan);
           std::fflush(stdout);
-        });
+        },
+        f.jobs);
   } catch (const design::ConfirmRunFailed& e) {  // a run that failed: exit 1, as run's
     line.clear();
     fmt::print(stderr, "error: {}\n", e.what());
@@ -342,6 +343,10 @@ Command add_design(CLI::App& app) {
   auto* conf = cmd->add_subcommand("confirm", "Run the front's best designs on LIGGGHTS and refsim and compare (validate)");
   conf->add_option("dir", f->dir, "Design directory")->required()->check(CLI::ExistingDirectory);
   conf->add_option("--top", f->top, "How many of the front's designs, best first objective first")->check(CLI::Range(1, 100));
+  conf->add_option("-j,--jobs", f->jobs,
+                   "Runs at once (each LIGGGHTS on one rank, each refsim on one thread), and the report's designs after")
+      ->check(CLI::Range(1, 1024))
+      ->capture_default_str();
   add_program_option(conf, runner::Engine::liggghts, f->liggghts);
   conf->add_option("--geometry", f->geometry, "Also run each design as this body on LIGGGHTS: nested3d (the strip's blocks as a 3D nest) [the space's [confirm]]")
       ->check(CLI::IsMember({"nested3d"}));

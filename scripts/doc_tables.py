@@ -55,8 +55,8 @@ RECORDS = {
     "run_overhead": "bench/results/run-overhead-2026-12-07.json",
     # OUT=... bench/design_front.sh, on the 2-core machine (the example's confined front, #47 item 9)
     "design_front": "bench/results/design-front-2026-11-28.json",
-    # OUT=... GENERATIONS=6 bench/design_yield_front.sh, on the 2-core machine (the yielding example, #67 item 1)
-    "design_yield_front": "bench/results/design-yield-front-2026-12-07.json",
+    # OUT=... GENERATIONS=30 CONFIRM=2 bench/design_yield_front.sh, on the 2-core machine (the yielding example, #67 item 1)
+    "design_yield_front": "bench/results/design-yield-front-2026-12-07b.json",
     # bench/oversubscription.sh 3, on the 2-core machine
     "oversubscription": "bench/results/oversubscription-2026-11-28.json",
     # scripts/extension_counts.py, from the commits it names (git history)
@@ -430,27 +430,48 @@ def design_yield_front():
     Thornton's law (the worst of its six blows) beside its elastic twin's, then the study's designs,
     and the report's paragraphs beside the elastic model."""
     r = record("design_yield_front")
+    confirmed = {c["digest"]: c for c in r.get("confirmations", [])}
     rows = ["| # | design | CFC 1000 force (N) | elastic (N) | wall impulse (N s) | elastic (N s) | areal mass (kg/m^2) | "
-            "raw peak force (N) | crush (m) |", "|---|---|---|---|---|---|---|---|---|"]
+            "raw peak force (N) | crush (m) | on LIGGGHTS |", "|---|---|---|---|---|---|---|---|---|---|"]
     def row(name, e):
         o, t = e["objectives"], e["elastic"]["objectives"]
         mine = " (censored)" if "censored" in e["violations"] else ""
         censored = " (censored)" if "censored" in e["elastic"]["violations"] else ""
         rows.append(f"| {name} | {e['description']} | {g4(o['filtered_wall_force'])}{mine} | {g4(t['filtered_wall_force'])}{censored} | "
                     f"{g4(o['wall_impulse'])}{mine} | {g4(t['wall_impulse'])}{censored} | {g4(o['areal_mass'])} | "
-                    f"{g4(e['measures'].get('peak_wall_force'))} | {g4(e['measures'].get('crush'))} |")
+                    f"{g4(e['measures'].get('peak_wall_force'))} | {g4(e['measures'].get('crush'))} | "
+                    f"{law_confirmation(confirmed.get(e.get('digest')))} |")
     for i, e in enumerate(r["front"], 1):
         row(str(i), e)
     for s in r["study"]:
         row(s["name"], s)
-    return "\n".join(rows) + "\n\n" + "\n\n".join(p.strip() for p in r["beside_elastic"]) + "\n"
+    head = (f"{generations_of(r)} generations, {r['evaluations']} distinct designs of six blows each, "
+            f"{len(r['front'])} on the front:\n\n")
+    return head + "\n".join(rows) + "\n\n" + "\n\n".join(p.strip() for p in r["beside_elastic"]) + "\n"
+
+
+def law_confirmation(c):
+    """A confirmation of a design searched under a law LIGGGHTS lacks: its engines' verdict under
+    the law LIGGGHTS ran, and that law's spread from the search's on each objective."""
+    if c is None:
+        return "-"
+    if c.get("not_run"):
+        return "not run: " + c["not_run"]
+    spread = ", ".join(f"{name} {100 * v:+.1f} %" for name, v in sorted(c["law_spread"].items()))
+    law = f"; {c['law']} against the search's law: {spread}" if c.get("law") else ""
+    return f"{verdict(c)} (objectives {c['objective_difference']:.1g} apart){law}"
+
+
+def generations_of(r):
+    """The generations a design_yield_front record searched, as its command gave them."""
+    return int(r["command"].split("GENERATIONS=")[1].split()[0])
 
 
 def design_example_cost():
     """What the example's search and its confirmation cost on 2 cores (bench/design_front.sh)."""
     r = record("design_front")
     return (f"| what | wall time, {r['cores']} cores |\n|---|---|\n"
-            f"| `design run` of the example, {r['evaluations']} distinct designs, 3 blows each (generational) | "
+            f"| `design run` of the elastic example, {r['evaluations']} distinct designs, 3 blows each (generational) | "
             f"{r['search_seconds']:.0f} s |\n"
             f"| `design confirm --top 2 --sides free` (LIGGGHTS, each also as the free strip) | {r['confirm_seconds']:.0f} s |\n")
 
@@ -462,8 +483,11 @@ def design_yield_cost():
     twins = len(r["front"]) + len(r["study"])
     return (f"| what | wall time, {r['cores']} cores |\n|---|---|\n"
             f"| `design run` of the yielding example, {r['evaluations']} distinct designs, 6 blows each (3 speeds, 2 yield "
-            f"pressures; generational, {r['command'].split('GENERATIONS=')[1].split()[0]} generations), and {twins} "
-            f"elastic twins, 3 blows each | {r['search_seconds']:.0f} s |\n")
+            f"pressures; generational, {generations_of(r)} generations), and {twins} "
+            f"elastic twins, 3 blows each | {r['search_seconds']:.0f} s |\n"
+            + (f"| `design confirm --top {len(r['confirmations'])}`, one run at a time (LIGGGHTS under thornton_ning, each of "
+               f"the six blows, refsim beside it, then LIGGGHTS twice as long) | {r['confirm_seconds']:.0f} s |\n"
+               if r.get("confirmations") else ""))
 
 
 def design_budget():

@@ -167,7 +167,7 @@ std::map<std::string, double> law_spread(const Space& space, const Evaluation& e
 std::vector<Confirmation> confirm_front(const Space& space, Store& store, const fs::path& dir, int top,
                                         const std::function<void(const std::string&)>& on_progress,
                                         const std::string& liggghts_exe,
-                                        const std::function<void(const std::string&)>& on_plan) {
+                                        const std::function<void(const std::string&)>& on_plan, int jobs) {
   auto front = pareto_front(space, store.evaluations());
   if (front.size() > static_cast<std::size_t>(top)) front.resize(static_cast<std::size_t>(top));
   std::vector<Entry> entries;
@@ -177,6 +177,7 @@ std::vector<Confirmation> confirm_front(const Space& space, Store& store, const 
   for (const auto& en : entries) dirs.push_back(en.dir);
   if (on_plan) on_plan(confirm_plan(space, front, not_run, entries.size()));
   runner::RunOptions ro;
+  ro.jobs = jobs;
   if (!liggghts_exe.empty()) ro.programs[runner::Engine::liggghts] = liggghts_exe;
   const auto check = [](const std::vector<runner::RunOutcome>& outcomes) {
     for (const auto& r : outcomes) {

@@ -9,13 +9,14 @@
 namespace granstack::runner {
 
 namespace {
-// The table, in --engine's order: each engine's row is in its own file.
+// The table, in --engine's order: each engine's row is in its own file, row i being enumerator i
+// (add_engine gives the next one).
 std::vector<EngineRow>& rows() {
   static std::vector<EngineRow> table = [] {
-    std::vector<EngineRow> t;
-    t.push_back(liggghts_row());
-    t.push_back(refsim_row());
-    t.push_back(lammps_row());
+    std::vector<EngineRow> t{liggghts_row(), refsim_row(), lammps_row()};
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      if (t[i].engine != static_cast<Engine>(i)) throw std::logic_error("engine '" + t[i].name + "' out of its enumerator's place");
+    }
     return t;
   }();
   return table;

@@ -29,11 +29,12 @@ std::filesystem::path write_report(const Space& space, const Store& store, const
 // copies), reduced and compared; stored and returned. A run that fails throws ConfirmRunFailed.
 // A design agrees when its objectives and its whole runs (the same stopping frame, every frame
 // within validate's tolerance) do; otherwise its verdict says what differs. `on_plan` is told,
-// before anything runs, how many runs confirm makes and the most they can write.
+// before anything runs, how many runs confirm makes and the most they can write. `jobs` runs go at
+// once (each LIGGGHTS on one rank, each refsim on one thread).
 std::vector<Confirmation> confirm_front(const Space& space, Store& store, const std::filesystem::path& dir, int top,
                                         const std::function<void(const std::string&)>& on_progress = {},
                                         const std::string& liggghts_exe = "",
-                                        const std::function<void(const std::string&)>& on_plan = {});
+                                        const std::function<void(const std::string&)>& on_plan = {}, int jobs = 1);
 
 class ConfirmRunFailed : public std::runtime_error {
  public:
