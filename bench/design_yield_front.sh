@@ -3,7 +3,7 @@
 # examples/design/yielding_protector.toml (Thornton's contacts, each blow at p_y = 1.6 Y and 3 Y),
 # searched with the generational schedule (which repeats bit for bit) for GENERATIONS generations
 # on 2 cores, with each front design and study design beside its elastic twin (Hertz, e = 1); then
-# the front's first CONFIRM designs confirmed on LIGGGHTS, which runs thornton_ning (Thornton's law
+# the front's first CONFIRM designs confirmed on LIGGGHTS (two runs at a time), which runs thornton_ning (Thornton's law
 # it lacks), beside refsim under the same law, with the two laws' spread on each objective.
 # Writes the record scripts/doc_tables.py makes the how-to's table and text from (OUT, JSON).
 # Usage: OUT=bench/results/design-yield-front-DATE.json [GENERATIONS=6] [CONFIRM=2] bench/design_yield_front.sh
@@ -20,7 +20,7 @@ t0=$(date +%s.%N)
 t1=$(date +%s.%N)
 confirm=${CONFIRM:-2}
 # confirm exits 1 when the engines disagree: the record says so, the script goes on.
-[ "$confirm" -gt 0 ] && { "$gs" design confirm "$work/search" --top "$confirm" > "$work/confirm.txt" 2>&1 || true; }
+[ "$confirm" -gt 0 ] && { "$gs" design confirm "$work/search" --top "$confirm" -j 2 > "$work/confirm.txt" 2>&1 || true; }
 t2=$(date +%s.%N)
 python3 - "$work" "$t0" "$t1" "$t2" "$("$gs" --version)" "$(nproc)" "$generations" "$confirm" > "$OUT" <<'PY'
 import json, sqlite3, sys

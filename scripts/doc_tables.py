@@ -56,7 +56,7 @@ RECORDS = {
     # OUT=... bench/design_front.sh, on the 2-core machine (the example's confined front, #47 item 9)
     "design_front": "bench/results/design-front-2026-11-28.json",
     # OUT=... GENERATIONS=30 CONFIRM=2 bench/design_yield_front.sh, on the 2-core machine (the yielding example, #67 item 1)
-    "design_yield_front": "bench/results/design-yield-front-2026-12-07b.json",
+    "design_yield_front": "bench/results/design-yield-front-2026-12-07c.json",
     # bench/oversubscription.sh 3, on the 2-core machine
     "oversubscription": "bench/results/oversubscription-2026-11-28.json",
     # scripts/extension_counts.py, from the commits it names (git history)
@@ -485,7 +485,7 @@ def design_yield_cost():
             f"| `design run` of the yielding example, {r['evaluations']} distinct designs, 6 blows each (3 speeds, 2 yield "
             f"pressures; generational, {generations_of(r)} generations), and {twins} "
             f"elastic twins, 3 blows each | {r['search_seconds']:.0f} s |\n"
-            + (f"| `design confirm --top {len(r['confirmations'])}`, one run at a time (LIGGGHTS under thornton_ning, each of "
+            + (f"| `design confirm --top {len(r['confirmations'])} -j 2` (LIGGGHTS under thornton_ning, each of "
                f"the six blows, refsim beside it, then LIGGGHTS twice as long) | {r['confirm_seconds']:.0f} s |\n"
                if r.get("confirmations") else ""))
 
