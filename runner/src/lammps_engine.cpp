@@ -51,7 +51,7 @@ LammpsProgram probe(const std::string& program) {
   os::StartOptions start;
   start.output = help;
   const auto seconds = os::probe_seconds();
-  const auto exit = os::run({program, "-h"}, start, nullptr, seconds);
+  const auto exit = run_with_private_mpi_dir({program, "-h"}, start, seconds);
   LammpsProgram p;
   if (exit.timed_out || exit.stopped) {
     p.failure = exit.stopped ? "was stopped with granstack, asked to stop"

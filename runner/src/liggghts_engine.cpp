@@ -480,6 +480,12 @@ std::string_view liggghts_refuses(const model::ContactModel& m, bool) { return m
 
 EngineRow::Cpus mpi_cpus(const RunOptions& o) { return {o.ranks, "MPI ranks", "--np"}; }
 
+os::Exit run_with_private_mpi_dir(const std::vector<std::string>& argv, os::StartOptions start, double seconds) {
+  const PrivateTmpDir tmpdir;
+  start.extra_environment = mpi_environment(tmpdir.path(), 1);
+  return os::run(argv, start, nullptr, seconds);
+}
+
 EngineRow liggghts_row() {
   return {Engine::liggghts,
           "liggghts",
