@@ -15,6 +15,7 @@ counts take minutes (bench/decomposition.sh with OUT set makes them anew).
 usage: doc_tables.py --write|--check [--reproduce] GRANSTACK WORKDIR
 """
 import json
+import os
 import pathlib
 import re
 import shutil
@@ -203,7 +204,9 @@ def printouts(exe, work):
     out["blow_end_generate"] = fenced("$ granstack generate -o runs/wall_end --bottom wall --stop blow_end\n" + generated +
                                       "$ granstack run runs/wall_end && granstack reduce runs/wall_end")
     printed(exe, cwd, "generate", "-o", "runs/hand")
-    subprocess.run(["liggghts", "-in", "in.stack"], cwd=cwd / "runs/hand", capture_output=True, check=True)
+    with tempfile.TemporaryDirectory() as session:  # Open MPI's session files apart (granstack's os/mpi_session.hpp)
+        env = {"OMPI_MCA_orte_tmpdir_base": session, "OMPI_MCA_ess_singleton_isolated": "1", **os.environ}
+        subprocess.run(["liggghts", "-in", "in.stack"], cwd=cwd / "runs/hand", capture_output=True, check=True, env=env)
     out["adopt_output"] = fenced("$ cd runs/hand && liggghts -in in.stack && cd ../..\n$ granstack adopt runs/hand\n" +
                                  printed(exe, cwd, "adopt", "runs/hand"))
     template = (ROOT / "templates/in.granstack.tmpl").read_text().replace("{{run}}", "fix visc all viscous 0.001\n{{run}}")

@@ -10,6 +10,7 @@
 #include <granstack/formats/files.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/lammps.hpp>
+#include <granstack/os/mpi_session.hpp>
 #include <granstack/os/process.hpp>
 #include <granstack/runner/engine_options.hpp>
 
@@ -51,7 +52,7 @@ LammpsProgram probe(const std::string& program) {
   os::StartOptions start;
   start.output = help;
   const auto seconds = os::probe_seconds();
-  const auto exit = run_with_private_mpi_dir({program, "-h"}, start, seconds);
+  const auto exit = os::run_open_mpi_program({program, "-h"}, start, nullptr, seconds);
   LammpsProgram p;
   if (exit.timed_out || exit.stopped) {
     p.failure = exit.stopped ? "was stopped with granstack, asked to stop"

@@ -12,6 +12,7 @@
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/runner/engines.hpp>
 #include <granstack/os/interrupt.hpp>
+#include <granstack/os/mpi_session.hpp>
 #include <granstack/os/process.hpp>
 
 #include <CLI/CLI.hpp>
@@ -20,12 +21,9 @@
 #include <array>
 #include <chrono>
 #include <cstdlib>
-#include <fstream>
 #include <optional>
 #include <thread>
 #include <fcntl.h>
-#include <sys/file.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 namespace granstack::runner {
@@ -38,81 +36,6 @@ namespace {
 
 // How long (in 50 ms steps) a LIGGGHTS that quit of a signal waits for granstack's own.
 constexpr int kSignalGraceSteps = 20;
-
-// A private directory for Open MPI's session files, removed with everything in it at the end.
-// Open MPI processes started at the same time share /tmp/ompi.HOST.UID by default, and one that
-// ends can remove it while another is still creating its own part: the second then fails in
-// orte_init and exits with code 1 before LIGGGHTS prints anything (open-mpi/ompi#3818). A
-// directory per run removes the race.
-//
-// A granstack killed outright (SIGKILL, a batch system's time limit) cannot remove its directory;
-// the next one does. While a directory is in use its granstack holds a lock on it (flock, which the
-// kernel drops however the holder ends; LIGGGHTS, which gets SIGKILL when granstack ends, does not
-// inherit it), and a marker file inside says granstack made it. A directory with the marker, of
-// this user, that nobody holds is left over, and removed; any other is left alone.
-class PrivateTmpDir {
- public:
-  static constexpr const char* kPrefix = "granstack-mpi-";
-  static constexpr const char* kMarker = "made-by-granstack";
-
-  PrivateTmpDir() {
-    std::error_code ec;
-    const auto base = fs::temp_directory_path(ec);
-    if (ec) return;
-    remove_left_over(base);
-    auto pattern = (base / (std::string(kPrefix) + "XXXXXX")).string();
-    if (::mkdtemp(pattern.data()) == nullptr) return;
-    fd_ = ::open(pattern.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC | O_NOFOLLOW);
-    // The lock before the marker: a directory with the marker is either held or left over.
-    if (fd_ < 0 || ::flock(fd_, LOCK_EX) != 0 || !std::ofstream(fs::path(pattern) / kMarker)) {
-      fs::remove_all(pattern, ec);
-      return;
-    }
-    path_ = pattern;
-  }
-  ~PrivateTmpDir() {
-    std::error_code ec;
-    if (!path_.empty()) fs::remove_all(path_, ec);
-    if (fd_ >= 0) ::close(fd_);
-  }
-  PrivateTmpDir(const PrivateTmpDir&) = delete;
-  PrivateTmpDir& operator=(const PrivateTmpDir&) = delete;
-  const std::string& path() const { return path_; }
-
- private:
-  // Removes the directories in `base` that a granstack of this user made and no granstack holds.
-  static void remove_left_over(const fs::path& base) {
-    std::error_code ec;
-    for (fs::directory_iterator it(base, ec), end; !ec && it != end; it.increment(ec)) {
-      const auto& dir = it->path();
-      struct stat st {};
-      if (dir.filename().string().rfind(kPrefix, 0) != 0 || ::lstat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) ||
-          st.st_uid != ::geteuid()) {
-        continue;
-      }
-      const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC | O_NOFOLLOW);
-      if (fd < 0) continue;
-      std::error_code gone;
-      if (::flock(fd, LOCK_EX | LOCK_NB) == 0 && fs::is_regular_file(dir / kMarker, gone)) fs::remove_all(dir, gone);
-      ::close(fd);
-    }
-  }
-
-  std::string path_;
-  int fd_ = -1;
-};
-
-// Environment added for one LIGGGHTS start; a variable the user has set is left as it is.
-std::vector<std::string> mpi_environment(const std::string& tmpdir, int ranks) {
-  std::vector<std::string> env;
-  const auto add = [&](const char* name, const std::string& value) {
-    if (std::getenv(name) == nullptr && !value.empty()) env.push_back(std::string(name) + "=" + value);
-  };
-  add("OMPI_MCA_orte_tmpdir_base", tmpdir);
-  // A single rank started without mpirun need not launch Open MPI's daemon (0.1 s per start).
-  if (ranks == 1) add("OMPI_MCA_ess_singleton_isolated", "1");
-  return env;
-}
 
 // Reads what the process has appended to its output since the last call.
 class Tail {
@@ -185,7 +108,7 @@ std::string program_unavailable(const std::string& name, const std::string& exec
   }
   std::error_code ec;
   const auto tmp = fs::temp_directory_path(ec);
-  if (ec || PrivateTmpDir().path().empty()) {
+  if (ec || os::MpiSessionDir().path().empty()) {
     const char* env = std::getenv("TMPDIR");
     return fmt::format("no private directory can be made for Open MPI's session files in {}{}: set TMPDIR to a "
                        "writable directory",
@@ -279,11 +202,11 @@ EngineResult run_program(const formats::Case& c, const RunOptions& o, const Prog
   constexpr int kStarts = 3;
   int starts = 0;
   for (; starts < kStarts; ++starts) {
-    const PrivateTmpDir tmpdir;
+    const os::MpiSessionDir tmpdir;
     os::StartOptions start;
     start.cwd = fs::absolute(dir);
     start.output = fs::absolute(dir / files.screen);
-    start.extra_environment = mpi_environment(tmpdir.path(), o.ranks);
+    start.extra_environment = os::mpi_environment(tmpdir.path(), o.ranks);
     start.writable = writable_folders(dir, files, tmpdir.path());
     const auto child = os::start(argv, start);
     if (child.pid < 0) {
@@ -479,12 +402,6 @@ std::string_view liggghts_refuses(const model::ContactModel& m, bool) { return m
 }  // namespace
 
 EngineRow::Cpus mpi_cpus(const RunOptions& o) { return {o.ranks, "MPI ranks", "--np"}; }
-
-os::Exit run_with_private_mpi_dir(const std::vector<std::string>& argv, os::StartOptions start, double seconds) {
-  const PrivateTmpDir tmpdir;
-  start.extra_environment = mpi_environment(tmpdir.path(), 1);
-  return os::run(argv, start, nullptr, seconds);
-}
 
 EngineRow liggghts_row() {
   return {Engine::liggghts,

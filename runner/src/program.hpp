@@ -31,11 +31,6 @@ struct Program {
 std::string program_unavailable(const std::string& name, const std::string& executable, const std::string& flag,
                                 const std::string& package, const RunOptions& o);
 
-// Runs `argv`, one process started without mpirun (`lmp -h`), as run_program starts a program:
-// with a private directory for Open MPI's session files (an Open MPI process started beside
-// another can fail in orte_init, exit code 1, when they share one: open-mpi/ompi#3818).
-os::Exit run_with_private_mpi_dir(const std::vector<std::string>& argv, os::StartOptions start, double seconds);
-
 // The CPUs a case takes on a program run through MPI: its ranks (--np).
 EngineRow::Cpus mpi_cpus(const RunOptions& o);
 

@@ -4,6 +4,8 @@
 // on the real programs, and fails on the commit before.
 #include "../support/granstack_test.hpp"
 
+#include <granstack/os/mpi_session.hpp>
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -160,7 +162,7 @@ TEST_F(WhatRan, ADeckRunByHandIsAdoptedAndReducesAsGranstacksRun) {
   os::StartOptions o;
   o.cwd = path("hand");
   o.output = path("hand") / "screen.txt";
-  ASSERT_TRUE(os::run({"liggghts", "-in", "in.stack"}, o).ok());
+  ASSERT_TRUE(os::run_open_mpi_program({"liggghts", "-in", "in.stack"}, o).ok());
   auto r = granstack({"reduce", path("hand").string()});
   EXPECT_NE(r.code, 0);
   expect_contains(r, "the case has not been run by granstack, but its log.liggghts says LIGGGHTS ran its deck");

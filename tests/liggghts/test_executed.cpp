@@ -3,6 +3,7 @@
 // followed through its log (formats/executed.hpp) to the commands as they ran.
 #include <granstack/formats/executed.hpp>
 #include <granstack/formats/files.hpp>
+#include <granstack/os/mpi_session.hpp>
 #include <granstack/os/process.hpp>
 
 #include "../support/scratch.hpp"
@@ -71,7 +72,7 @@ void follow_with(const std::string& program) {
   os::StartOptions o;
   o.cwd = dir;
   o.output = dir / "screen.txt";
-  ASSERT_TRUE(os::run({program, "-in", "in.deck", "-log", "log.txt"}, o).ok()) << formats::read_file(dir / "screen.txt");
+  ASSERT_TRUE(os::run_open_mpi_program({program, "-in", "in.deck", "-log", "log.txt"}, o).ok()) << formats::read_file(dir / "screen.txt");
   const auto ran = formats::follow_log(dir, "in.deck", formats::read_file(dir / "log.txt"));
   EXPECT_TRUE(ran.complete) << ran.stopped;
   std::vector<std::string> texts;

@@ -6,6 +6,7 @@
 #include <granstack/generator/template.hpp>
 #include <granstack/model/contact.hpp>
 #include <granstack/model/material.hpp>
+#include <granstack/os/mpi_session.hpp>
 #include <granstack/os/process.hpp>
 #include <granstack/refsim/case_run.hpp>
 
@@ -153,7 +154,7 @@ std::string run_liggghts(const TwoBodyCase& c, const fs::path& dir, double skin)
   start.cwd = dir;
   start.output = dir / "screen.txt";
   std::string error;
-  EXPECT_TRUE(os::run({"liggghts", "-in", "in.twobody", "-log", "log.liggghts"}, start, &error).ok())
+  EXPECT_TRUE(os::run_open_mpi_program({"liggghts", "-in", "in.twobody", "-log", "log.liggghts"}, start, &error).ok())
       << error << formats::read_file(dir / "screen.txt");
   return (dir / "dump.txt").string();
 }
