@@ -61,9 +61,11 @@ std::string striker_lines(const model::Stack& stack, const DeckDialect& dialect,
 
 // The run of a case that stops at the blow's end (model::BlowEnd, docs/physics.md section 7):
 // one dump interval at a time (`pre no`: one run's trajectory, bit for bit), the frame judged after
-// each by what refsim judges, in the same arithmetic (over the footprint, momentum summed in atom
-// order; the output sphere's neighbours and their straight-line courses; the strikers' courses),
-// and the run ended at the frame where the condition has held for the hold, at most res.steps (the cap).
+// each by what refsim judges for the run's stop, in the same arithmetic (over the footprint,
+// momentum summed in atom order; the output sphere's neighbours and their straight-line courses;
+// every sphere's course to a striker), and the run stopped at the frame where that condition has
+// held for the hold (model::BlowEnd::stop_at), at most res.steps (the cap). The blow's end itself,
+// which leaves out the courses other spheres block, reduce judges from the dump: it is pairwise.
 std::string blow_end_run(const model::Stack& stack, const model::Resolution& res, const DeckDialect& dialect) {
   std::vector<std::string> computes;
   std::string judge = striker_lines(stack, dialect, computes);
@@ -109,6 +111,7 @@ std::string blow_end_run(const model::Stack& stack, const model::Resolution& res
   return fmt::format(
       "# The run stops at the dump frame where the blow has ended (docs/physics.md section 7), at most\n"
       "# {0} steps: it holds once {1}.\n"
+      "# (Courses to a striker that other spheres block count here; reduce leaves them out of the blow's end.)\n"
       "# Frame 0, judged by granstack from the stack as generated (LIGGGHTS reads its computes\n"
       "# between runs only after a run of at least one step): the condition {5} there.\n"
       "{2}variable        gs_since equal {6}\n"
@@ -116,9 +119,9 @@ std::string blow_end_run(const model::Stack& stack, const model::Resolution& res
       "run             {4} pre no post no\n"
       "{3}"
       "if              \"${{gs_ended}} == 0 && ${{gs_more}} == 1\" then \"jump SELF gs_frame\"\n"
-      "print           \"granstack: the run ended at step $(step), the blow ${{gs_ended}} (1: ended)\"",
-      res.steps, start.rule(), judge, judge_frame, res.dump_every, start.holding_since() ? "holds" : "does not hold",
-      start.holding_since() ? 0 : -1);
+      "print           \"granstack: the run stopped at step $(step), its condition ${{gs_ended}} (1: held; 0: the cap)\"",
+      res.steps, start.stop_rule(), judge, judge_frame, res.dump_every,
+      start.stop_holding_since() ? "holds" : "does not hold", start.stop_holding_since() ? 0 : -1);
 }
 
 // The processor grid: `granstack run --np N` chooses one for the stack and passes it with -var

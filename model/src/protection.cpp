@@ -69,7 +69,7 @@ void judge_start(BlowEnd& blow, const Stack& stack) {
     const auto& s = spheres[i];
     return std::array<double, 7>{s.x, s.y, s.z, 0.0, 0.0, vz(s), s.radius};
   };
-  const bool coming = striker_coming(stack, spheres.size(), state);
+  const auto coming = striker_course(stack, spheres.size(), state);
   if (stack.spec().bottom == Boundary::wall) {
     blow.frame(0, over_footprint(stack, spheres.size(), [&](std::size_t i) {
       const auto& s = spheres[i];
@@ -87,55 +87,82 @@ long blow_end_hold_steps(const Resolution& res) {
   return std::max<long>(1, static_cast<long>(std::ceil(arrivals * res.arrival_estimate / res.dt)));
 }
 
-void BlowEnd::frame(long step, const OverFootprint& over, bool output_free, bool output_threatened, bool striker_coming) {
+void BlowEnd::Hold::frame(long step, bool holds, long hold_steps) {
+  if (!holds) {
+    since.reset();
+    at.reset();
+    return;
+  }
+  if (!since) since = step;
+  if (!at && step - *since >= hold_steps) at = step;
+}
+
+void BlowEnd::frame(long step, const OverFootprint& over, bool output_free, bool output_threatened, StrikerCourse striker) {
   last_step_ = step;
   last_momentum_ = over.momentum_z;
   last_on_wall_ = over.pressing;
   last_free_ = output_free;
   last_threatened_ = output_threatened;
-  last_striker_coming_ = striker_coming;
-  if (ended_at_ || gravity_) return;
-  const bool holds =
-      !striker_coming && (wall_ ? over.momentum_z >= 0.0 && !over.pressing : output_free && !output_threatened);
-  if (!holds) {
-    since_.reset();
-    return;
+  last_striker_coming_ = striker.clear;
+  if (gravity_) return;
+  const bool rest = wall_ ? over.momentum_z >= 0.0 && !over.pressing : output_free && !output_threatened;
+  if (!stop_.at) stop_.frame(step, rest && !striker.coming, hold_steps_);  // the run stops once
+  const auto ended = end_.at;
+  end_.frame(step, rest && !striker.clear, hold_steps_);
+  if (ended && !end_.at) {
+    taken_back_ = ended;
+    taken_back_by_ = step;
   }
-  if (!since_) since_ = step;
-  if (step - *since_ >= hold_steps_) ended_at_ = step;
+}
+
+std::string BlowEnd::condition(bool clear_courses) const {
+  const char* course = clear_courses ? "on a course to hit a sphere that no other sphere blocks" : "on course to hit a sphere";
+  return wall_ ? fmt::format("the momentum over the footprint no longer downward, {}, and the striker neither moving "
+                             "down over the footprint nor {}",
+                             wall_force_ ? "the wall carrying no force (a yielded contact keeps its dent)"
+                                         : "no sphere there pressing the wall",
+                             course)
+               : fmt::format("the output sphere touching no other sphere and none on course to hit it, nor the striker {}",
+                             course);
 }
 
 std::string BlowEnd::rule() const {
   if (gravity_) return "none with gravity (the stack comes to rest on its support)";
-  return fmt::format("{}, held for {} steps",
-                     wall_ ? fmt::format("the momentum over the footprint no longer downward, {}, and the striker "
-                                         "neither moving down over the footprint nor on course to hit a sphere",
-                                         wall_force_ ? "the wall carrying no force (a yielded contact keeps its dent)"
-                                                     : "no sphere there pressing the wall")
-                           : std::string("the output sphere touching no other sphere and none on course to hit it, "
-                                         "nor the striker on course to hit a sphere"),
-                     hold_steps_);
+  return fmt::format("{}, held for {} steps", condition(true), hold_steps_);
+}
+
+std::string BlowEnd::stop_rule() const {
+  if (gravity_) return "none with gravity (the stack comes to rest on its support)";
+  return fmt::format("{}, held for {} steps", condition(false), hold_steps_);
 }
 
 std::string BlowEnd::why_not_ended() const {
-  if (ended_at_) return "";
+  if (end_.at) return "";
   if (gravity_) return "gravity: the stack comes to rest on its support, so the blow has no end to stop at";
+  const auto taken_back = taken_back_ ? fmt::format(" (it seemed to end at step {}, until step {} showed otherwise)",
+                                                    *taken_back_, taken_back_by_)
+                                      : std::string();
+  return why_open() + taken_back;
+}
+
+std::string BlowEnd::why_open() const {
   if (last_striker_coming_) {
-    return fmt::format("at step {} the striker was still coming ({}on course to hit a sphere)", last_step_,
-                       wall_ ? "moving down over the footprint, or " : "");
+    return fmt::format("at step {} the striker was still coming ({}on a course to hit a sphere that no other sphere "
+                       "blocks)",
+                       last_step_, wall_ ? "moving down over the footprint, or " : "");
   }
   if (wall_) {
     const char* wall = wall_force_ ? (last_on_wall_ ? "the wall still carried a force" : "the wall carried no force")
                                    : (last_on_wall_ ? "spheres still pressed the wall" : "no sphere pressed the wall");
     return fmt::format("at step {} the momentum over the footprint was {:.3g} kg m/s and {}{}", last_step_,
-                       last_momentum_, wall, since_ ? fmt::format(", clear since step {}", *since_) : "");
+                       last_momentum_, wall, end_.since ? fmt::format(", clear since step {}", *end_.since) : "");
   }
   if (!last_free_) return fmt::format("at step {} the output sphere still touched another sphere", last_step_);
   if (last_threatened_) {
     return fmt::format("at step {} the output sphere was free but another sphere was on course to hit it", last_step_);
   }
   return fmt::format("at step {} the output sphere had been free and unthreatened since step {}, short of the {}-step hold",
-                     last_step_, since_.value_or(last_step_), hold_steps_);
+                     last_step_, end_.since.value_or(last_step_), hold_steps_);
 }
 
 long blow_end_cap_steps(const Resolution& res, double cap_durations) {

@@ -579,7 +579,9 @@ std::vector<SpecField> resolution_rows() {
              "momentum over the footprint no longer downward and no sphere pressing the wall, under an elastic-plastic "
              "law the wall carrying no force; with a free bottom the output sphere free and none on course to hit it; in both no striker on course to hit a sphere nor, "
              "over a wall, moving down over the footprint; held for one estimated arrival, two with a soft "
-             "cavity; docs/physics.md section 7). A blow not ended by the cap is censored: reduce says why";
+             "cavity; docs/physics.md section 7). The stop counts every course to a striker; the blow's end reduce reports "
+             "leaves out courses that run into other spheres first, and can come earlier. A blow not ended by the cap is "
+             "censored: reduce says why";
   stop.in_every_manifest = false;
   const auto save_stop = stop.save;  // written where it is not the default, so older manifests stay as they were
   stop.save = [save_stop](const StackSpec& s, json& j) {

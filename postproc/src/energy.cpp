@@ -301,7 +301,7 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
     return std::array<double, 7>{x_[i], y_[i], z_[i], vx_[i], vy_[i], vz_[i], c.radius[i]};
   };
   e.output_threatened = stack.spec().bottom != model::Boundary::wall && model::threatened(n, out_index, state);
-  e.striker_coming = model::striker_coming(stack, n, state);
+  e.striker = model::striker_course(stack, n, state);
   e.crush = c.crush.at(state);
   if (judged) c.yield.walls(yield, x_, y_, z_);
   e.yield = c.yield.peak(f.step, yield);

@@ -220,24 +220,23 @@ void require_frame_matches_series(const FrameEnergy& e, const formats::Series& s
 }
 
 
-// A case that stops at the blow's end (StopRule::blow_end) ran to the frame where its blow ended,
-// as judged here from its dump, or to its cap with the blow not ended (censored). The deck is
-// checked against the manifest before this, so another end means the engine judged a frame
-// otherwise than reduce does (a momentum within round-off of zero, summed in another order on
-// several MPI ranks): said, and the measures read as reduce judges the blow (blow_end_time).
+// A case that stops at the blow's end (StopRule::blow_end) ran to the frame where its run stops
+// (model::BlowEnd::stop_at), as judged here from its dump, or to its cap. The deck is checked
+// against the manifest before this, so another stop means the engine judged a frame otherwise than
+// reduce does (a momentum within round-off of zero, summed in another order on several MPI ranks):
+// said, and the measures read as reduce judges the blow (blow_end_time).
 void warn_unless_stopped_at_blow_end(const model::BlowEnd& blow, long last_step, const model::Resolution& res,
                                      CaseReduction& r) {
-  const auto at = blow.ended_at();
+  const auto at = blow.stop_at();
   if (at && *at == last_step) return;
   if (!at && last_step == res.steps) return;
   r.warnings.push_back(
-      at ? fmt::format("the run went on to step {}, past the frame where reduce judges its blow ended (step {}): the "
-                       "engine judged the frames otherwise than reduce does; the measures are final",
+      at ? fmt::format("the run went on to step {}, past the frame where reduce judges it should have stopped (step "
+                       "{}): the engine judged the frames otherwise than reduce does",
                        last_step, *at)
-         : fmt::format("the run stopped at step {}, before its cap of {} steps, where reduce judges its blow had not "
-                       "ended ({}): the engine judged the frames otherwise than reduce does; the measures may not be "
-                       "final",
-                       last_step, res.steps, blow.why_not_ended()));
+         : fmt::format("the run stopped at step {}, before its cap of {} steps, where reduce finds that its condition "
+                       "to stop ({}) had not held: the engine judged the frames otherwise than reduce does",
+                       last_step, res.steps, blow.stop_rule()));
 }
 
 void warn_if_energy_still_arriving(const formats::Series& series, const SeriesColumns& c, const model::Resolution& res,
@@ -567,7 +566,7 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     crush.add(e.crush);
     yield.add(e.yield);
     blow.frame(e.step, judged_over(e, series, *series_cols, res.series_every, spec, series_path), e.output_free,
-               e.output_threatened, e.striker_coming);
+               e.output_threatened, e.striker);
     waves.add(e.step, fr.wave_samples);
     tables.append(fr.rows);
     if (fr.separated) r.output_separated = *fr.separated;
@@ -611,7 +610,10 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
   } else {
     r.yield_not_judged = yield.why_not_judged();
   }
-  if (const auto at = blow.ended_at()) r.blow_end_time = static_cast<double>(*at) * res.dt;
+  if (const auto at = blow.ended_at()) {
+    r.blow_end_time = static_cast<double>(*at) * res.dt;
+    r.frames_after_blow_end = (last_step - *at) / res.dump_every;
+  }
   r.blow_not_ended = blow.why_not_ended();
   take_series();  // a dump of no frames
   const SeriesColumns& cols = *series_cols;

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <set>
@@ -39,6 +40,24 @@ json waves_json(const std::vector<BlockWaves>& waves) {
                    {"note", w.note}});
   }
   return out;
+}
+
+// What the run shows past its blow's end (a run stops only where courses to a striker through
+// other spheres are gone too): the frames that held the end, the wall's largest force there.
+template <class Out>
+void after_blow_end(Out out, const CaseReduction& r) {
+  fmt::format_to(out, "the run went on to t = {:.4g} s (its stop waits on courses to the striker that run through other "
+                      "spheres too): the blow's end held at each of the {} frames after it",
+                 r.final_time, r.frames_after_blow_end);
+  // The series' samples at or after the end (sample k is at (k + 1) intervals).
+  const auto from = r.wall_force_interval > 0.0
+                        ? static_cast<std::size_t>(std::max(0.0, std::ceil(*r.blow_end_time / r.wall_force_interval - 1.0 - 1e-9)))
+                        : r.wall_force.size();
+  if (from < r.wall_force.size()) {
+    fmt::format_to(out, ", the wall carrying at most {:.3g} N", *std::max_element(r.wall_force.begin() + static_cast<long>(from),
+                                                                                  r.wall_force.end()));
+  }
+  fmt::format_to(out, "\n");
 }
 }  // namespace
 
@@ -218,6 +237,7 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
     fmt::format_to(out, "output fraction: {:.6g} ({})\n", r.output_fraction, r.output_definition);
     if (r.blow_end_time) {
       fmt::format_to(out, "the blow ended at t = {:.4g} s (model::BlowEnd): the measures are final\n", *r.blow_end_time);
+      if (r.frames_after_blow_end > 0 && r.spec.stop == model::StopRule::blow_end) after_blow_end(out, r);
     } else {
       fmt::format_to(out, "the blow had not ended by the run's end: {}{}\n", r.blow_not_ended,
                      r.spec.gravity > 0.0 ? ""

@@ -399,13 +399,13 @@ RunStats run_case(const std::string& case_dir, const RunOptions& options) {
   };
 
   // A case that stops at the blow's end judges it at every dump frame (as the deck does in
-  // LIGGGHTS) and stops at the frame where it ended; res.steps is then the cap.
+  // LIGGGHTS) and stops where the deck stops (model::BlowEnd::stop_at); res.steps is then the cap.
   model::BlowEnd blow(stack, res);
   const auto frame = [&] {
     write_frame();
     if (!res.stops_at_blow_end) return false;
     detail::judge_blow_end(blow, stack, system);
-    return blow.ended_at().has_value();
+    return blow.stop_at().has_value();
   };
   system.setup();
   bool ended = frame();

@@ -45,7 +45,7 @@ void FramePressures::add(const System& s) {
 }
 
 void judge_blow_end(model::BlowEnd& blow, const model::Stack& stack, const System& s) {
-  const bool coming = model::striker_coming(stack, s.size(), state(s));
+  const auto coming = model::striker_course(stack, s.size(), state(s));
   if (stack.spec().bottom == model::Boundary::wall) {
     auto over = model::over_footprint(stack, s.size(), [&](std::size_t i) {
       const auto x = s.x(i);

@@ -104,9 +104,9 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
       if (next_frame > system.step_count()) system.advance(next_frame - system.step_count());
       crush.add(detail::crush_at(crush, system));
       pressures.add(system);
-      const bool ended = blow.ended_at().has_value();
+      const bool stopped = blow.stop_at().has_value();
       detail::judge_blow_end(blow, stack, system);
-      if (stops && !ended && blow.ended_at()) end = next_frame;
+      if (stops && !stopped && blow.stop_at()) end = next_frame;
       if (abandon && !blow.ended_at() && earliest_end(blow, next_frame, res.dump_every) > end) {  // it cannot end by the cap
         r.abandoned_at = next_frame;
         end = next_frame;

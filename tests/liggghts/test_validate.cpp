@@ -262,6 +262,9 @@ struct BlowEndCase {
   const char* name;
   model::StackSpec spec;
   bool ends;  // before the cap
+  // The blow ends before the run stops: a course to the striker through other spheres (which the
+  // blow's end leaves out, the run's stop not) outlasts it (model::BlowEnd).
+  bool ends_before_stop = false;
 };
 
 model::StackSpec blow_end_spec(int blocks, std::vector<int> rows, std::vector<std::string> materials, model::Boundary bottom,
@@ -302,7 +305,13 @@ TEST_P(StopAtBlowEnd, BothEnginesStopAtTheFrameWhereTheBlowEndedAndTheDeckChange
     for (const auto& w : r.warnings) EXPECT_EQ(w.find("otherwise than reduce does"), std::string::npos) << engine << ": " << w;
     if (param.ends) {
       ASSERT_TRUE(r.blow_end_time) << engine << ": " << r.blow_not_ended;
-      EXPECT_EQ(*r.blow_end_time, static_cast<double>(steps) * res.dt) << engine;
+      if (param.ends_before_stop) {
+        EXPECT_LT(*r.blow_end_time, static_cast<double>(steps) * res.dt) << engine;
+        EXPECT_EQ(r.frames_after_blow_end, (steps - std::llround(*r.blow_end_time / res.dt)) / res.dump_every) << engine;
+        std::printf("%s: the blow ended at step %ld\n", engine, std::lround(*r.blow_end_time / res.dt));
+      } else {
+        EXPECT_EQ(*r.blow_end_time, static_cast<double>(steps) * res.dt) << engine;
+      }
       EXPECT_LT(steps, res.steps) << engine;
     } else {
       EXPECT_FALSE(r.blow_end_time) << engine;
@@ -433,8 +442,10 @@ INSTANTIATE_TEST_SUITE_P(
         BlowEndCase{"wall", blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::wall), true},
         BlowEndCase{"yielding_wall", yielding_on_wall_spec(), true},
         BlowEndCase{"free", blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::free_surface), true},
-        // A soft cavity over a wall (the hold is two arrivals).
-        BlowEndCase{"sandwich_wall", blow_end_spec(3, {8, 8, 8}, {"steel", "teflon", "steel"}, model::Boundary::wall), true},
+        // A soft cavity over a wall (the hold is two arrivals). Its blow ends 1,680 steps (0.1 ms)
+        // before the run stops: a course to the striker through other spheres holds the stop back.
+        BlowEndCase{"sandwich_wall", blow_end_spec(3, {8, 8, 8}, {"steel", "teflon", "steel"}, model::Boundary::wall), true,
+                    true},
         // An off-centre blow over a wall: the striker one top-sphere diameter right of the centre.
         BlowEndCase{"off_centre_wall",
                     [] {

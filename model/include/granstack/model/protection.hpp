@@ -89,6 +89,17 @@ inline bool on_collision_course(double dx, double dy, double dz, double ux, doub
   const double uu = ux * ux + uy * uy + uz * uz;
   return dx * dx + dy * dy + dz * dz - du * du / uu < r_sum * r_sum;
 }
+// When two spheres on a collision course (on_collision_course, the same arguments) first touch,
+// in straight lines from now: 0 when they touch already, the smaller root of |d + u t| = r_sum
+// otherwise; none when they are not on course.
+inline std::optional<double> first_contact_time(double dx, double dy, double dz, double ux, double uy, double uz,
+                                                double r_sum) {
+  if (!on_collision_course(dx, dy, dz, ux, uy, uz, r_sum)) return std::nullopt;
+  const double dd = dx * dx + dy * dy + dz * dz, rr = r_sum * r_sum;
+  if (dd < rr) return 0.0;
+  const double du = dx * ux + dy * uy + dz * uz, uu = ux * ux + uy * uy + uz * uz;
+  return (-du - std::sqrt(std::max(0.0, du * du - uu * (dd - rr)))) / uu;
+}
 // Sphere `out` of n against every other, in id order: whether it touches none (spheres_touch) and
 // whether any is on course to hit it (on_collision_course), each taken as the other's centre and
 // velocity less out's. `sphere(i)` for i in 0..n-1 gives {x, y, z, vx, vy, vz, radius}: refsim's
@@ -114,22 +125,65 @@ bool threatened(std::size_t n, std::size_t out, const Sphere& sphere) {
   });
 }
 
-// Whether a striker (ids 1..stack.strikers(), the first spheres of `sphere`) still has a blow to
-// give: on course to hit another sphere (threatened, from the striker's side), or, against a
-// bottom wall, over the footprint and moving down, toward the stack and the protected object under
-// it (a striker that turned back, or flew off beside the footprint, gives the protected object no
-// more). With a free bottom the stack drifts down after the blow and the striker with it: there
-// only a course to a sphere counts. `sphere(i)` as for touches_nothing.
+// Whether sphere `j`'s straight course hits sphere `target` before any other sphere of the n:
+// on course to it (first_contact_time), and no other sphere touched first (a tie is the target's).
+// A sphere whose course to the target runs into other spheres first is not coming: its straight
+// line ends at the first of them (a sphere rattling between its neighbours deep in a stack, on a
+// course to a striker 0.1 m above, never gets there). `sphere(i)` as for touches_nothing; the
+// others are tried outward from j (its neighbours first, in the generator's order), which changes
+// only how soon a blocked course is found.
 template <class Sphere>
-bool striker_coming(const Stack& stack, std::size_t n, const Sphere& sphere) {
+bool clear_course(std::size_t n, std::size_t j, std::size_t target, const Sphere& sphere) {
+  const auto a = sphere(j);
+  const auto time_to = [&](std::size_t m) {
+    const auto b = sphere(m);
+    return first_contact_time(b[0] - a[0], b[1] - a[1], b[2] - a[2], b[3] - a[3], b[4] - a[4], b[5] - a[5], a[6] + b[6]);
+  };
+  const auto t = time_to(target);
+  if (!t) return false;
+  for (std::size_t step = 1; step < n; ++step) {
+    for (const std::size_t m : {j + step, j - step}) {  // j - step wraps past 0 to a value >= n
+      if (m >= n || m == target) continue;
+      if (const auto tm = time_to(m); tm && *tm < *t) return false;
+    }
+  }
+  return true;
+}
+
+// Whether a striker (ids 1..stack.strikers(), the first spheres of `sphere`) still has a blow to
+// give: against a bottom wall, one over the footprint and moving down, toward the stack and the
+// protected object under it (a striker that turned back, or flew off beside the footprint, gives
+// the protected object no more); or another sphere on course to hit one. With a free bottom the
+// stack drifts down after the blow and the striker with it: there only a course counts. Two readings:
+// - `coming`: every course (threatened: each other sphere taken in a straight line however far):
+//   what a run stops on (BlowEnd::stop_at), in the arithmetic a LIGGGHTS or LAMMPS deck computes
+//   with atom-style variables, sphere by sphere against the striker;
+// - `clear`: the same with only the courses no other sphere blocks (clear_course): what the blow's
+//   end reads (BlowEnd::ended_at). A deck cannot judge it (it is pairwise); refsim and reduce judge
+//   it at the same frames from the same numbers.
+struct StrikerCourse {
+  bool coming = false;
+  bool clear = false;
+};
+template <class Sphere>
+StrikerCourse striker_course(const Stack& stack, std::size_t n, const Sphere& sphere) {
   const bool wall = stack.spec().bottom == Boundary::wall;
   const double hw = stack.half_width(), hd = stack.half_depth();
+  StrikerCourse c;
   for (std::size_t k = 0; k < static_cast<std::size_t>(stack.strikers()) && k < n; ++k) {
     const auto s = sphere(k);
-    if (wall && s[5] < 0.0 && std::fabs(s[0]) <= hw && std::fabs(s[1]) <= hd) return true;
-    if (threatened(n, k, sphere)) return true;
+    if (wall && s[5] < 0.0 && std::fabs(s[0]) <= hw && std::fabs(s[1]) <= hd) return {true, true};
+    for (std::size_t j = 0; j < n; ++j) {
+      if (j == k) continue;
+      const auto o = sphere(j);
+      if (!on_collision_course(o[0] - s[0], o[1] - s[1], o[2] - s[2], o[3] - s[3], o[4] - s[4], o[5] - s[5], s[6] + o[6])) {
+        continue;
+      }
+      c.coming = true;
+      if (clear_course(n, j, k, sphere)) return {true, true};
+    }
   }
-  return false;
+  return c;
 }
 
 // Whether a sphere at height z of radius r presses the bottom wall (the plane z = 0, Stack::walls):
@@ -176,12 +230,22 @@ OverFootprint over_footprint(const Stack& stack, std::size_t n, const Sphere& sp
 //   sphere is on course to hit it (on_collision_course, every other sphere taken in a straight
 //   line from where it is, however far: a horizon as short as the hold let a sphere of the stack
 //   that followed the output sphere hit it again, 45 % more energy, after the blow's end);
-// and, in both, no striker still coming (striker_coming: a striker the stack's spheres moving up
+// and, in both, no striker still coming (striker_course: a striker the stack's spheres moving up
 // hid from the momentum's sum went on into the stack after its blow had been called over);
 // held at every frame for kBlowEndHoldArrivals estimated arrivals of the pulse (the time a pulse
 // still inside the stack needs to reach the bottom; twice that with a soft cavity, whose bursts
 // come up to 0.8 arrivals apart), so a pulse still on its way cannot be missed. With gravity the
 // stack comes to rest on the wall, so the blow has no such end: never ended.
+//
+// The run stops (stop_at) where the same condition, with every course to a striker counted
+// (StrikerCourse::coming), has held for the hold: what LIGGGHTS's and LAMMPS's decks judge, so
+// that every engine stops at the same frame. The blow's end (ended_at) counts only the clear
+// courses (StrikerCourse::clear): a sphere rattling between its neighbours in a lossless box, on
+// a course to a striker far above that runs through the stack, kept a blow open to any cap while
+// the wall carried nothing and the striker flew on untouched. It comes no later than the stop, and
+// the frames between show whether it was right: a frame after the blow's end where its condition
+// fails (the striker struck again, the wall loaded again) takes the end back, and the blow is
+// judged on from there.
 inline constexpr double kBlowEndHoldArrivals = 1.0;
 // A run that stops at the blow's end runs at most kBlowEndCapDurations automatic durations by
 // default (spec.hpp; a design space may set its own, [measures] cap_durations).
@@ -191,23 +255,36 @@ class BlowEnd {
   BlowEnd(const Stack& stack, const Resolution& res);
   // One dump frame: its step, what is over the footprint (momentum along z, up positive; whether a
   // sphere presses the wall), whether the output sphere touches no other sphere, whether another
-  // is on course to hit it, and whether a striker is still coming (striker_coming).
-  void frame(long step, const OverFootprint& over, bool output_free, bool output_threatened, bool striker_coming);
+  // is on course to hit it, and what the strikers have coming (striker_course).
+  void frame(long step, const OverFootprint& over, bool output_free, bool output_threatened, StrikerCourse striker);
   // The step at which the blow ended (the frame at which its condition had held for the hold), or
-  // none yet.
-  std::optional<long> ended_at() const { return ended_at_; }
+  // none yet (or taken back by a later frame).
+  std::optional<long> ended_at() const { return end_.at; }
   // The first frame of the condition's current run of frames, or none (it does not hold now).
-  std::optional<long> holding_since() const { return since_; }
+  std::optional<long> holding_since() const { return end_.since; }
+  // The step at which the run stops (every course counted; the decks' judgement), or none yet.
+  std::optional<long> stop_at() const { return stop_.at; }
+  std::optional<long> stop_holding_since() const { return stop_.since; }
   long hold_steps() const { return hold_steps_; }
-  // The rule in words, and why the blow has not ended (for a censored measure).
+  // The rules in words (the blow's end; the run's stop), and why the blow has not ended (for a
+  // censored measure).
   std::string rule() const;
+  std::string stop_rule() const;
   std::string why_not_ended() const;
 
  private:
+  // One condition's run of frames: its first frame, and the frame where it had held for the hold.
+  struct Hold {
+    std::optional<long> since, at;
+    void frame(long step, bool holds, long hold_steps);
+  };
+  std::string condition(bool clear_courses) const;
+  std::string why_open() const;  // why_not_ended's reading of the last frame
   bool wall_ = false, wall_force_ = false, gravity_ = false;
   long hold_steps_ = 0;
-  std::optional<long> since_;     // the first frame of the condition's current run
-  std::optional<long> ended_at_;
+  Hold end_, stop_;
+  std::optional<long> taken_back_;  // the end a later frame took back, and that frame
+  long taken_back_by_ = 0;
   long last_step_ = 0;
   double last_momentum_ = 0.0;
   bool last_on_wall_ = false, last_free_ = false;

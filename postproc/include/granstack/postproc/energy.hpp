@@ -34,7 +34,7 @@ struct FrameEnergy {
   model::OverFootprint over_footprint;
   bool output_free = false;
   bool output_threatened = false;  // another sphere on course to hit it (model::on_collision_course)
-  bool striker_coming = false;      // model::striker_coming
+  model::StrikerCourse striker;     // model::striker_course
   double output_sphere_ke = 0.0;
   double bottom_row_ke = 0.0;
   double bottom_row_max_ke = 0.0;  // the most energetic sphere of the bottom row

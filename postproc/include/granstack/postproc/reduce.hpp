@@ -79,6 +79,10 @@ struct CaseReduction {
   // held for an estimated arrival of the pulse), or none within the run, and why not.
   std::optional<double> blow_end_time;  // s
   std::string blow_not_ended;
+  // The dump frames after the blow's end, each of which held its condition (or the end would have
+  // been taken back): a run stops only where every course to a striker is gone, those that run
+  // through other spheres too (model::BlowEnd::stop_at), so it can go on past the blow's end.
+  long frames_after_blow_end = 0;
   // The whole stack's momentum along z at the last frame over the striker's at the start, m v
   // (up positive: above 0 the bottom wall has stopped the blow and thrown the stack back).
   double final_momentum_ratio = 0.0;
