@@ -1883,6 +1883,36 @@ TEST(BlowEnd, ACourseIsClearWhenNoOtherSphereIsHitFirst) {
   EXPECT_TRUE(model::clear_course(3, 2, 0, at));
 }
 
+// The frames after a blow's end test it again (model::BlowEnd): the end stands while its condition
+// holds, a frame that fails it (here the wall loaded again) takes it back and says so, and the
+// blow is judged on from there. The run's stop, every course to the striker counted, waits for a
+// frame with none: a course through other spheres holds it back and not the blow's end.
+TEST(BlowEnd, AFrameAfterTheEndThatFailsItTakesTheEndBack) {
+  const auto stack = model::Stack::build(sandwich_on_wall());
+  model::BlowEnd blow(stack, model::resolve(stack));
+  const long hold = blow.hold_steps(), every = 100;
+  const model::OverFootprint clear{0.0, false}, loaded{-1e-3, true};
+  const model::StrikerCourse blocked{true, false}, gone{false, false};
+  long step = 0;
+  for (; step < hold + every; step += every) blow.frame(step, clear, false, false, blocked);
+  ASSERT_TRUE(blow.ended_at());
+  EXPECT_EQ(*blow.ended_at(), (hold + every - 1) / every * every);
+  EXPECT_FALSE(blow.stop_at());  // a course through other spheres: the run goes on
+  const long ended = *blow.ended_at();
+  blow.frame(step, clear, false, false, gone);
+  EXPECT_EQ(blow.ended_at(), ended);
+  step += every;
+  blow.frame(step, loaded, false, false, gone);
+  EXPECT_FALSE(blow.ended_at());
+  EXPECT_NE(blow.why_not_ended().find(fmt::format("it seemed to end at step {}, until step {} showed otherwise", ended, step)),
+            std::string::npos)
+      << blow.why_not_ended();
+  const long again = step + every;
+  for (step = again; step < again + hold + every; step += every) blow.frame(step, clear, false, false, gone);
+  EXPECT_EQ(blow.ended_at(), blow.stop_at());
+  EXPECT_GE(*blow.ended_at(), again + hold);
+}
+
 // A blow whose striker has flown clear ends though spheres deep in the stack rattle on courses to it
 // that run through other spheres (#67 item 5). Cold-worked brass over annealed brass, ratio 3,
 // rows 6 and 7, on the wall between side walls (Thornton's law, p_y 1.6 Y), struck at 2 m/s: a
@@ -2710,3 +2740,4 @@ TEST(Shortcuts, TheFrontWithShortcutsIsTheFrontWithout) {
                 schedule, fronts[true].size(), runs[true], settled[true], runs[false]);
   }
 }
+
