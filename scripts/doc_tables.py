@@ -57,7 +57,7 @@ RECORDS = {
     # OUT=... bench/design_front.sh, on the 2-core machine (the example's confined front, #47 item 9)
     "design_front": "bench/results/design-front-2026-11-28.json",
     # OUT=... GENERATIONS=30 CONFIRM=2 bench/design_yield_front.sh, on the 2-core machine (the yielding example, #67 item 1)
-    "design_yield_front": "bench/results/design-yield-front-2026-12-07c.json",
+    "design_yield_front": "bench/results/design-yield-front-2026-12-07d.json",
     # bench/oversubscription.sh 3, on the 2-core machine
     "oversubscription": "bench/results/oversubscription-2026-11-28.json",
     # scripts/extension_counts.py, from the commits it names (git history)

@@ -103,7 +103,7 @@ void BlowEnd::frame(long step, const OverFootprint& over, bool output_free, bool
   last_on_wall_ = over.pressing;
   last_free_ = output_free;
   last_threatened_ = output_threatened;
-  last_striker_coming_ = striker.clear;
+  last_striker_ = striker;
   if (gravity_) return;
   const bool rest = wall_ ? over.momentum_z >= 0.0 && !over.pressing : output_free && !output_threatened;
   if (!stop_.at) stop_.frame(step, rest && !striker.coming, hold_steps_);  // the run stops once
@@ -146,10 +146,12 @@ std::string BlowEnd::why_not_ended() const {
 }
 
 std::string BlowEnd::why_open() const {
-  if (last_striker_coming_) {
-    return fmt::format("at step {} the striker was still coming ({}on a course to hit a sphere that no other sphere "
-                       "blocks)",
-                       last_step_, wall_ ? "moving down over the footprint, or " : "");
+  if (last_striker_.clear) {
+    return last_striker_.moving_down
+               ? fmt::format("at step {} the striker was still coming (moving down over the footprint)", last_step_)
+               : fmt::format("at step {} the striker was still coming (sphere {} on a course to hit it {:.3g} s later, no "
+                             "other sphere in the way)",
+                             last_step_, last_striker_.sphere + 1, last_striker_.meets_in);
   }
   if (wall_) {
     const char* wall = wall_force_ ? (last_on_wall_ ? "the wall still carried a force" : "the wall carried no force")

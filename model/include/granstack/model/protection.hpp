@@ -164,6 +164,11 @@ bool clear_course(std::size_t n, std::size_t j, std::size_t target, const Sphere
 struct StrikerCourse {
   bool coming = false;
   bool clear = false;
+  // What made `clear`: a striker moving down over the footprint, or the first sphere found on a
+  // clear course (its index, id - 1) and when it would meet its striker (s, straight lines).
+  bool moving_down = false;
+  std::size_t sphere = 0;
+  double meets_in = 0.0;
 };
 template <class Sphere>
 StrikerCourse striker_course(const Stack& stack, std::size_t n, const Sphere& sphere) {
@@ -172,15 +177,14 @@ StrikerCourse striker_course(const Stack& stack, std::size_t n, const Sphere& sp
   StrikerCourse c;
   for (std::size_t k = 0; k < static_cast<std::size_t>(stack.strikers()) && k < n; ++k) {
     const auto s = sphere(k);
-    if (wall && s[5] < 0.0 && std::fabs(s[0]) <= hw && std::fabs(s[1]) <= hd) return {true, true};
+    if (wall && s[5] < 0.0 && std::fabs(s[0]) <= hw && std::fabs(s[1]) <= hd) return {true, true, true};
     for (std::size_t j = 0; j < n; ++j) {
       if (j == k) continue;
       const auto o = sphere(j);
-      if (!on_collision_course(o[0] - s[0], o[1] - s[1], o[2] - s[2], o[3] - s[3], o[4] - s[4], o[5] - s[5], s[6] + o[6])) {
-        continue;
-      }
+      const auto t = first_contact_time(o[0] - s[0], o[1] - s[1], o[2] - s[2], o[3] - s[3], o[4] - s[4], o[5] - s[5], s[6] + o[6]);
+      if (!t) continue;
       c.coming = true;
-      if (clear_course(n, j, k, sphere)) return {true, true};
+      if (clear_course(n, j, k, sphere)) return {true, true, false, j, *t};
     }
   }
   return c;
@@ -289,7 +293,7 @@ class BlowEnd {
   double last_momentum_ = 0.0;
   bool last_on_wall_ = false, last_free_ = false;
   bool last_threatened_ = false;
-  bool last_striker_coming_ = false;
+  StrikerCourse last_striker_;
 };
 
 // Gives `blow` frame 0, read from the stack as generated (every sphere at rest but the strikers,
