@@ -149,9 +149,10 @@ std::string BlowEnd::why_open() const {
   if (last_striker_.clear) {
     return last_striker_.moving_down
                ? fmt::format("at step {} the striker was still coming (moving down over the footprint)", last_step_)
-               : fmt::format("at step {} the striker was still coming (sphere {} on a course to hit it {:.3g} s later, no "
-                             "other sphere in the way)",
-                             last_step_, last_striker_.sphere + 1, last_striker_.meets_in);
+               : fmt::format("at step {} the striker was still coming (sphere {} {}, no other sphere in the way)", last_step_,
+                             last_striker_.sphere + 1,
+                             last_striker_.meets_in > 0.0 ? fmt::format("on a course to hit it {:.3g} s later", last_striker_.meets_in)
+                                                          : std::string("touching it and closing"));
   }
   if (wall_) {
     const char* wall = wall_force_ ? (last_on_wall_ ? "the wall still carried a force" : "the wall carried no force")
