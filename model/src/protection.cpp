@@ -126,14 +126,9 @@ std::string BlowEnd::condition(bool clear_courses) const {
                              course);
 }
 
-std::string BlowEnd::rule() const {
+std::string BlowEnd::rule_of(bool clear_courses) const {
   if (gravity_) return "none with gravity (the stack comes to rest on its support)";
-  return fmt::format("{}, held for {} steps", condition(true), hold_steps_);
-}
-
-std::string BlowEnd::stop_rule() const {
-  if (gravity_) return "none with gravity (the stack comes to rest on its support)";
-  return fmt::format("{}, held for {} steps", condition(false), hold_steps_);
+  return fmt::format("{}, held for {} steps", condition(clear_courses), hold_steps_);
 }
 
 std::string BlowEnd::why_not_ended() const {

@@ -272,8 +272,8 @@ class BlowEnd {
   long hold_steps() const { return hold_steps_; }
   // The rules in words (the blow's end; the run's stop), and why the blow has not ended (for a
   // censored measure).
-  std::string rule() const;
-  std::string stop_rule() const;
+  std::string rule() const { return rule_of(true); }
+  std::string stop_rule() const { return rule_of(false); }
   std::string why_not_ended() const;
 
  private:
@@ -283,6 +283,7 @@ class BlowEnd {
     void frame(long step, bool holds, long hold_steps);
   };
   std::string condition(bool clear_courses) const;
+  std::string rule_of(bool clear_courses) const;
   std::string why_open() const;  // why_not_ended's reading of the last frame
   bool wall_ = false, wall_force_ = false, gravity_ = false;
   long hold_steps_ = 0;
