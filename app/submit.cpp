@@ -2,6 +2,7 @@
 #include "commands.hpp"
 
 #include <granstack/cluster/slurm.hpp>
+#include <granstack/runner/engines.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include <fmt/format.h>
@@ -22,7 +23,17 @@ struct SubmitFlags {
   bool cases_per_task_given = false;
 };
 
-int submit(SubmitFlags& f) {
+// What the nodes' PATH must hold for the engines that run a program, from the engines' rows:
+// "programs on the nodes' PATH: liggghts (LIGGGHTS), lmp (LAMMPS)".
+std::string programs_on_path() {
+  std::vector<std::string> programs;
+  for (const auto& row : runner::engine_table()) {
+    if (!row.program.name.empty()) programs.push_back(fmt::format("{} ({})", row.program.name, row.program.what));
+  }
+  return fmt::format("programs on the nodes' PATH: {}", fmt::join(programs, ", "));
+}
+
+int submit(SubmitFlags& f, const CLI::App& cmd) {
   auto& o = f.options;
   o.granstack = std::filesystem::read_symlink("/proc/self/exe").string();
   o.cases_per_task_given = f.cases_per_task_given;
@@ -31,16 +42,10 @@ int submit(SubmitFlags& f) {
                o.nodes, o.ranks);
     return kBadInput;
   }
-  if (o.nodes > 1 && o.engine == "refsim") {
-    fmt::print(stderr, "error: --nodes {}: refsim runs in one process on one node; use --nodes with --engine liggghts "
-                       "or lammps\n",
-               o.nodes);
-    return kBadInput;
-  }
-  if (o.ranks > 1 && o.engine == "refsim") {  // its tasks would ask SLURM for ranks refsim never uses
-    fmt::print(stderr, "error: --np {}: refsim runs in one process and takes no MPI ranks; use --np with --engine "
-                       "liggghts or lammps\n",
-               o.ranks);
+  // --np and --nodes are the options of the engines that run an MPI program (their rows'): an
+  // engine in granstack's own process would have its tasks ask SLURM for ranks it never uses.
+  if (const auto why = other_engines_option(cmd, {o.engine}); !why.empty()) {
+    fmt::print(stderr, "error: {}\n", why);
     return kBadInput;
   }
   cluster::Submission s;
@@ -85,7 +90,7 @@ Command add_submit(CLI::App& app) {
   auto& o = f->options;
   auto* cmd = app.add_subcommand("submit", "Submit the cases not yet done as SLURM job arrays");
   cmd->add_option("cases", f->targets, "Case or sweep directories")->required()->check(CLI::ExistingDirectory);
-  add_engine_option(cmd, "--engine", o.engine, "LIGGGHTS and LAMMPS on the nodes' PATH (liggghts, lmp)");
+  add_engine_option(cmd, "--engine", o.engine, programs_on_path());
   cmd->add_option("--np", o.ranks, "MPI ranks per case (the task's --ntasks)")->check(CLI::Range(1, 4096))->capture_default_str();
   cmd->add_option("--nodes", o.nodes,
                   "Nodes per task (sbatch --nodes) for a case bigger than one node: its --np ranks spread over them, "
@@ -127,7 +132,7 @@ Command add_submit(CLI::App& app) {
   cmd->add_flag("--force", o.force, "Submit every case, done or not");
   return {cmd, [f, cmd] {
             f->cases_per_task_given = cmd->count("--cases-per-task") > 0;
-            return submit(*f);
+            return submit(*f, *cmd);
           }};
 }
 

@@ -259,7 +259,7 @@ EngineRow lammps_row() {
   return {Engine::lammps,
           "lammps",
           "LAMMPS's GRANULAR package, the case's contacts mapped onto its models",
-          {"--lammps", "--lammps-template", "--np"},
+          {"--lammps", "--lammps-template", "--np", "--nodes"},
           {"--lammps", "lmp", "LAMMPS"},
           [] { return std::unique_ptr<CaseEngine>(std::make_unique<Lammps>()); },
           lammps_refuses,

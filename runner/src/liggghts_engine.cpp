@@ -407,7 +407,7 @@ EngineRow liggghts_row() {
   return {Engine::liggghts,
           "liggghts",
           "the real DEM code",
-          {"--liggghts", "--np", "--grid"},
+          {"--liggghts", "--np", "--grid", "--nodes"},
           {"--liggghts", "liggghts", "LIGGGHTS"},
           [] { return std::unique_ptr<CaseEngine>(std::make_unique<Liggghts>()); },
           liggghts_refuses,

@@ -180,7 +180,7 @@ std::string choose_engine(const ReproduceOptions& o, const std::vector<CaseRecor
   const auto found = engines_of(records);
   const auto& names = runner::engine_names();
   if (o.engine.empty()) {
-    if (found.empty()) return "liggghts";
+    if (found.empty()) return runner::to_string(runner::RunOptions{}.engine);
     if (found.size() == 1 && std::find(names.begin(), names.end(), found.begin()->first) != names.end()) {
       return found.begin()->first;
     }

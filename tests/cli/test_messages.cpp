@@ -141,12 +141,16 @@ TEST_F(Messages, AFrameAppendedToADumpIsSaidToBeAppended) {
   expect_contains(r, "more were added to its dump");
 }
 
-// N11: submit asks SLURM for no ranks refsim would not use.
+// N11: submit asks SLURM for no ranks or nodes refsim would not use (--np and --nodes are the
+// options of the engines that run an MPI program).
 TEST_F(Messages, SubmitOfRefsimOnRanksIsRefused) {
   const auto c = ran("c");
   const auto r = granstack({"submit", "--engine", "refsim", "--np", "4", "--dry-run", c.string()});
   EXPECT_EQ(r.code, 2) << r.output;
-  expect_contains(r, "--np 4: refsim runs in one process and takes no MPI ranks");
+  expect_contains(r, "--np is for liggghts or lammps and none runs here (refsim)");
+  const auto nodes = granstack({"submit", "--engine", "refsim", "--nodes", "2", "--np", "2", "--dry-run", c.string()});
+  EXPECT_EQ(nodes.code, 2) << nodes.output;
+  expect_contains(nodes, "is for liggghts or lammps and none runs here (refsim)");
 }
 
 // M18: an interrupted validate says it was stopped, before comparing.

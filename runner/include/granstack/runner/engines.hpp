@@ -25,7 +25,7 @@ struct EngineRow {
   std::string name;   // as flags, run.json and folder names spell it
   std::string help;   // what it is, in --engine's help
   // The command-line options that are its own, in every command that has them (an option several
-  // engines share, as --np, is in each of their rows).
+  // engines share, as --np, is in each of their rows; submit's --nodes is an MPI program's).
   std::vector<std::string> options;
   // The program it runs, where it runs one (LIGGGHTS, LAMMPS; refsim runs in granstack's process):
   // the option naming its executable, the name looked up on PATH by default, what it is.
