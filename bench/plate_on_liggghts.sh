@@ -30,9 +30,11 @@ endloop
 endfacet
 endsolid plate
 EOF
-# deck ID WHAT MOVES MESH_VELOCITY MOUNT_K: MOVES 0 holds the plate still (a rigid wall).
+# deck ID WHAT MOVES PLATE_FORCE MESH_VELOCITY MOUNT_K: MOVES 0 holds the plate still (a rigid
+# wall). PLATE_FORCE: what pushes the body (-c_fwb: the wall's force on the spheres as store_force
+# keeps it this step; f_plate[3]: the stress fix's total).
 deck() {
-  local what=$2 moves=$3 velocity=$4 k=$5
+  local what=$2 moves=$3 force=$4 velocity=$5 k=$6
   cat > "in.$1" <<EOF
 atom_style granular
 atom_modify map array sort 0 0.0
@@ -60,11 +62,12 @@ group body id 2
 velocity ball set 0 0 -1
 fix integr all nve/sphere
 fix plate all mesh/surface/stress file plate.stl type 2
-fix wall all wall/gran model hertz tangential history mesh n_meshes 1 meshes plate
+fix wall all wall/gran model hertz tangential history mesh n_meshes 1 meshes plate store_force yes
+compute fwb all reduce sum f_force_wall[3]
 timestep 1e-8
 variable zero equal 0
 variable vb equal ${velocity}
-variable fm equal f_plate[3]-${k}*(z[2]+0.04)
+variable fm equal ${force}-${k}*(z[2]+0.04)
 EOF
   if [ "$moves" = 1 ]; then
     echo "fix mv all move/mesh mesh plate linear/variable v_zero v_zero v_vb" >> "in.$1"
@@ -82,7 +85,8 @@ EOF
   liggghts -in "in.$1" -log "log.$1" > "screen.$1" || { tail -n 3 "screen.$1" >&2; exit 1; }
   awk -v name="$what" '/^result/ {printf "%-44s sphere %s m/s, plate %s m/s, energy after/before %s\n", name, $2, $3, $4}' "screen.$1"
 }
-deck held "plate held (a rigid wall)" 0 "0" 0
-deck free_vz "free plate, mesh at the body's vz" 1 "vz[2]" 0
-deck free "free plate, mesh at vz + dt fz / M" 1 "vz[2]+dt*fz[2]/mass[2]" 0
-deck spring "on a spring (1e6 N/m), vz + dt fz / M" 1 "vz[2]+dt*fz[2]/mass[2]" 1e6
+deck held "plate held (a rigid wall)" 0 0 "0" 0
+deck free "free plate" 1 -c_fwb "vz[2]" 0
+deck spring "on a spring (1e6 N/m)" 1 -c_fwb "vz[2]" 1e6
+deck lag "free, pushed by f_plate[3]" 1 "f_plate[3]" "vz[2]" 0
+deck lag_fix "free, by f_plate[3], mesh at vz + dt fz / M" 1 "f_plate[3]" "vz[2]+dt*fz[2]/mass[2]" 0
