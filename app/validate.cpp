@@ -70,7 +70,7 @@ int validate(const ValidateFlags& f) {
     }
     // A contact model one of the engines lacks: refused before anything is copied.
     for (const auto engine : engines) {
-      if (const auto why = runner::model_refusal(engine, c.spec().contact_model(), lammps_rules); !why.empty()) {
+      if (const auto why = runner::case_refusal(engine, c.spec(), lammps_rules); !why.empty()) {
         fmt::print(stderr, "error: {}: {} cannot run it: {}\n", d, runner::to_string(engine), why);
         return kCaseFailed;
       }

@@ -45,7 +45,7 @@ std::vector<std::string> pending_cases(const std::vector<std::string>& targets, 
   const auto dirs = formats::expand_case_dirs(targets);
   std::vector<model::Cost> cost(dirs.size());
   std::vector<char> pending(dirs.size(), 0);
-  std::vector<std::string_view> refused(dirs.size());
+  std::vector<std::string> refused(dirs.size());
   const auto engine = runner::parse_engine(o.engine);
   os::for_shares(dirs.size(), os::usable_cpus(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
@@ -53,7 +53,7 @@ std::vector<std::string> pending_cases(const std::vector<std::string>& targets, 
       cost[i] = case_cost(c);
       pending[i] = o.force || !c.run_record().done();
       // The tasks run refsim by LIGGGHTS's rules.
-      refused[i] = runner::model_refusal(engine, c.spec().contact_model());
+      refused[i] = runner::case_refusal(engine, c.spec());
     }
   });
   std::vector<std::string> out;

@@ -28,12 +28,13 @@ void check_rendered_files(const std::string& case_dir, const Manifest& manifest)
 }
 
 namespace {
-// The contact model words of a pair_style or wall/gran line (from `first` up to 'primitive' or
-// the end) against the manifest's: a deck edited to another model would be labelled wrongly.
+// The contact model words of a pair_style or wall/gran line (from `first` up to 'primitive', 'mesh'
+// or the end) against the manifest's: a deck edited to another model would be labelled wrongly.
 void check_contact_model(const std::vector<std::string_view>& words, std::size_t first, const std::string& expected,
                          const std::string& path, long line) {
   std::string found;
-  for (std::size_t k = first; k < words.size() && words[k] != "primitive" && words[k].front() != '#'; ++k) {
+  for (std::size_t k = first; k < words.size() && words[k] != "primitive" && words[k] != "mesh" && words[k].front() != '#';
+       ++k) {
     if (!found.empty()) found += ' ';
     found += words[k];
   }

@@ -42,6 +42,7 @@ formats::CaseFiles case_files(const model::Stack& stack) {
   }
   for (auto& c : model::series_contact_columns(stack)) f.series_columns.push_back(std::move(c));
   if (spec.bottom == model::Boundary::wall) f.series_columns.push_back(model::kBottomWallForceColumn);
+  if (spec.has_plate()) f.series_columns.insert(f.series_columns.end(), model::kPlateColumns.begin(), model::kPlateColumns.end());
   return f;
 }
 

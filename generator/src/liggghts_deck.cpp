@@ -124,6 +124,15 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
   std::string walls;
   const std::string wall_fix = fmt::format("all wall/gran {} primitive type", model::liggghts_model_words(model));
   for (const auto& w : stack.walls()) {
+    if (w.name == model::kBottomWallName && spec.has_plate()) {
+      // The plate runs on refsim (runner::case_refusal); a deck run by hand stops at the wall.
+      walls += fmt::format("# LIGGGHTS cannot run this case: the bottom wall is a protected plate on a mount (plate_mass), "
+                           "which runs on refsim;\n# this deck has no plate, and LIGGGHTS stops at the next line "
+                           "(a mesh wall on a mesh it does not define).\n"
+                           "fix             {} all wall/gran {} mesh n_meshes 1 meshes plate store_force yes\n",
+                           w.name, model::liggghts_model_words(model));
+      continue;
+    }
     // The bottom wall keeps each sphere's force from it, for the series' wall force.
     walls += fmt::format("fix             {} {} {} {}plane {}{}\n", w.name, wall_fix, stack.wall_type(), "xyz"[w.axis],
                          w.position, w.name == model::kBottomWallName ? " store_force yes" : "");

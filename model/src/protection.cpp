@@ -53,7 +53,7 @@ CrushMeter::CrushMeter(const Stack& stack)
 }
 
 bool blow_end_reads_wall_force(const StackSpec& spec) {
-  return spec.bottom == Boundary::wall && normal_law(spec.normal_model).path_dependent;
+  return spec.bottom == Boundary::wall && (normal_law(spec.normal_model).path_dependent || spec.has_plate());
 }
 
 BlowEnd::BlowEnd(const Stack& stack, const Resolution& res)

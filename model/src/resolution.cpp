@@ -142,7 +142,8 @@ const char* law_name(const StackSpec& spec) { return normal_law(spec.normal_mode
 }  // namespace
 
 bool series_on_every_frame(const StackSpec& spec) {
-  return blow_end_reads_wall_force(spec) || (spec.stop == StopRule::blow_end && normal_law(spec.normal_model).series_energy);
+  return blow_end_reads_wall_force(spec) || (spec.stop == StopRule::blow_end && normal_law(spec.normal_model).series_energy) ||
+         spec.has_plate();
 }
 
 std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& r) {

@@ -210,7 +210,8 @@ bool PairTable::everywhere(double v) const {
 bool only_the_law_dissipates(const StackSpec& s) {
   // A rolling model dissipates (epsd2's torque spring also stores energy that no dump shows).
   const bool rolling = s.rolling_model != RollingModel::off && !s.rolling_friction.everywhere(0.0);
-  return s.restitution.everywhere(1.0) && s.friction.everywhere(0.0) && s.gravity == 0.0 && !rolling;
+  return s.restitution.everywhere(1.0) && s.friction.everywhere(0.0) && s.gravity == 0.0 && !rolling &&
+         s.mount_damping == 0.0;  // a plate's dashpot dissipates too
 }
 
 bool is_conservative(const StackSpec& s) { return only_the_law_dissipates(s) && !normal_law(s.normal_model).dissipative; }
@@ -365,6 +366,28 @@ void validate_contact_model(const StackSpec& s, Bad&& bad) {
 }
 }  // namespace
 
+namespace {
+// The protected plate: under a bottom wall, without gravity (its rest on the mount under the stack's
+// weight is not set up), its mount given only with it.
+template <typename Bad>
+void validate_plate(const StackSpec& s, Bad& bad) {
+  if (!s.has_plate()) {
+    if (s.mount_stiffness != 0.0 || s.mount_damping != 0.0) {
+      bad(s.mount_stiffness != 0.0 ? "mount_stiffness" : "mount_damping",
+          "mounts the protected plate: give it with plate_mass > 0 (and bottom = 'wall')");
+    }
+    return;
+  }
+  if (s.bottom != Boundary::wall) {
+    bad("plate_mass", "is the mass of the bottom wall, a plate the stack strikes: give it with bottom = 'wall'");
+  }
+  if (s.gravity > 0.0) {
+    bad("plate_mass", "with gravity the stack and the plate would first settle on the mount, which granstack does not "
+                      "set up: use gravity 0 with a plate, or a rigid wall (plate_mass 0)");
+  }
+}
+}  // namespace
+
 std::vector<SpecIssue> validate(const StackSpec& s) {
   std::vector<SpecIssue> issues;
   auto bad = [&](std::string field, std::string message) { issues.push_back({std::move(field), std::move(message)}); };
@@ -490,6 +513,7 @@ std::vector<SpecIssue> validate(const StackSpec& s) {
     bad("stop", "with gravity the stack comes to rest on its support, so the blow has no end to stop at: use stop = "
                 "'duration' (the default), or gravity 0");
   }
+  validate_plate(s, bad);
   if (s.stop == StopRule::duration && s.cap_durations != kBlowEndCapDurations) {
     bad("cap_durations", "caps a run that stops at the blow's end: give it with stop = 'blow_end'");
   }

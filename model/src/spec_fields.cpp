@@ -444,6 +444,35 @@ std::vector<SpecField> contact_rows() {
   return rows;
 }
 
+// The protected plate under the stack and its mount (StackSpec::plate_mass): written where a plate
+// is given, so older manifests and every rigid wall's stay as they were.
+void add_plate_rows(std::vector<SpecField>& rows) {
+  const auto plate_row = [](std::string name, double StackSpec::*member, std::string help, std::string short_key,
+                            std::string unit) {
+    auto f = number_row(name, member, "0", std::move(help), std::move(short_key));
+    f.in_every_manifest = false;
+    f.save = [name, member](const StackSpec& s, json& j) {
+      if (s.has_plate()) j[name] = s.*member;
+    };
+    f.check = [name, member, unit](const StackSpec& s, Issues& i) {
+      check_range(i, name, within(s.*member, 0.0, kMaxPlateValue),
+                  fmt::format("{} must be in [0, {:g}] ({})", s.*member, kMaxPlateValue, unit));
+    };
+    return f;
+  };
+  auto mass = plate_row("plate_mass", &StackSpec::plate_mass,
+                        "With bottom = wall: the protected plate's mass, kg, which the stack strikes and which moves "
+                        "on its mount; 0: a rigid wall",
+                        "pm", "kg; 0 is the rigid wall");
+  mass.doc = "the plate moves along z only, its contacts those of the wall's material; its displacement, velocity and "
+             "acceleration are the series' last columns (plate_z, plate_vz, plate_az). Runs on refsim";
+  rows.push_back(std::move(mass));
+  rows.push_back(plate_row("mount_stiffness", &StackSpec::mount_stiffness,
+                           "With plate_mass: the mount's stiffness to the ground, N/m; 0: a free plate", "", "N/m"));
+  rows.push_back(plate_row("mount_damping", &StackSpec::mount_damping,
+                           "With plate_mass: the mount's damping, N s/m (a dashpot beside the spring)", "", "N s/m"));
+}
+
 std::vector<SpecField> striker_and_boundary_rows() {
   std::vector<SpecField> rows;
   auto speed = number_row("striker_speed", &StackSpec::striker_speed, "1", "Striker speed, m/s, along -z", "v");
@@ -494,6 +523,7 @@ std::vector<SpecField> striker_and_boundary_rows() {
   rows.push_back(boundary("bottom", &StackSpec::bottom, "Bottom boundary: free | wall"));
   rows.push_back(boundary("sides", &StackSpec::sides, "Side boundaries: free | wall"));
   rows.push_back(text_row("wall_material", &StackSpec::wall_material, "the bottom block's", "Material of the walls"));
+  add_plate_rows(rows);
 
   auto gravity = number_row("gravity", &StackSpec::gravity, "0",
                             "Gravity along -z, m/s^2, 0..1000; true or the bare flag: standard gravity, 9.80665");

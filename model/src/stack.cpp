@@ -255,7 +255,7 @@ std::vector<int> Stack::bottom_row_ids() const {
 
 std::vector<Wall> Stack::walls() const {
   std::vector<Wall> w;
-  if (spec_.bottom == Boundary::wall) w.push_back({kBottomWallName, 2, 0.0});
+  if (spec_.bottom == Boundary::wall) w.push_back({kBottomWallName, 2, 0.0, spec_.has_plate()});
   if (spec_.sides == Boundary::wall) {
     w.push_back({"wall_left", 0, -half_width()});
     w.push_back({"wall_right", 0, half_width()});

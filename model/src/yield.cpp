@@ -203,14 +203,14 @@ void YieldMeter::pair(YieldFrame& f, std::size_t i, std::size_t j, double overla
 }
 
 void YieldMeter::walls(YieldFrame& f, const std::vector<double>& x, const std::vector<double>& y,
-                       const std::vector<double>& z) const {
+                       const std::vector<double>& z, double plate_z) const {
   if (wall_.empty()) return;
   for (std::size_t i = 0; i < radius_.size(); ++i) {
     const auto& c = wall_[static_cast<std::size_t>(type_[i])];
     if (c.yield == 0.0) continue;
     const std::array<double, 3> centre{x[i], y[i], z[i]};
     for (const auto& w : walls_) {
-      const double overlap = w.overlap(centre, radius_[i]);
+      const double overlap = w.overlap(centre, radius_[i], plate_z);
       if (overlap > 0.0) offer(f, c.scale2 * overlap * inverse_radius_[i], c, static_cast<int>(i) + 1, 0, &w);  // R* = R_i
     }
   }
@@ -229,7 +229,8 @@ YieldPeak YieldMeter::peak(long step, const YieldFrame& f) const {
 }
 
 YieldPeak YieldMeter::at(long step, const std::vector<double>& x, const std::vector<double>& y,
-                         const std::vector<double>& z, const std::vector<std::pair<std::size_t, std::size_t>>& pairs) const {
+                         const std::vector<double>& z, const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                         double plate_z) const {
   YieldFrame f;
   if (!judged()) return peak(step, f);
   for (const auto& [i, j] : pairs) {
@@ -238,7 +239,7 @@ YieldPeak YieldMeter::at(long step, const std::vector<double>& x, const std::vec
     const double d2 = dx * dx + dy * dy + dz * dz;
     if (d2 < sum * sum) pair(f, i, j, sum - std::sqrt(d2));
   }
-  walls(f, x, y, z);
+  walls(f, x, y, z, plate_z);
   return peak(step, f);
 }
 

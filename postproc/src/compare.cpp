@@ -50,7 +50,7 @@ namespace {
 
 // The physical scale of each quantity, the floor of its relative differences.
 struct Scales {
-  double radius, mass, speed, spin, force, torque, energy;
+  double radius, mass, speed, spin, force, torque, energy, plate_mass;
   explicit Scales(const model::Stack& stack) {
     const auto& spec = stack.spec();
     const auto& top = stack.block(1);
@@ -67,6 +67,18 @@ struct Scales {
     force = model::elastic_normal_force(spec.contact_model(), c, d);
     torque = force * radius;
     energy = stack.incident_energy();
+    plate_mass = spec.plate_mass;
+  }
+  // Floor and unit of a series column: the energies by E_in, the wall's force by the impact's, the
+  // plate's displacement by a radius, its velocity by the striker's, its acceleration by the
+  // impact's force over its mass.
+  std::pair<double, const char*> of_series(const std::string& column) const {
+    const auto unit = model::series_column_unit(column);
+    if (unit == "N") return {force, "N"};
+    if (unit == "m") return {radius, "m"};
+    if (unit == "m/s") return {speed, "m/s"};
+    if (unit == "m/s^2") return {force / plate_mass, "m/s^2"};
+    return {energy, "J"};
   }
   // Floor and unit of a dump column.
   std::pair<double, const char*> of(const std::string& column) const {
@@ -176,8 +188,8 @@ void compare_series(const std::string& dir_a, const formats::Manifest& ma, const
   }
   const Scales scales(stack);
   for (std::size_t j = 1; j < sa.columns.size(); ++j) {
-    const bool force = sa.columns[j] == model::kBottomWallForceColumn;
-    c.series.push_back({sa.columns[j], force ? "N" : "J", force ? scales.force : scales.energy});
+    const auto [floor, unit] = scales.of_series(sa.columns[j]);
+    c.series.push_back({sa.columns[j], unit, floor});
   }
   for (std::size_t i = 0; i < sa.rows.size(); ++i) {
     const auto& a = sa.rows[i];

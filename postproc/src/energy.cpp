@@ -145,12 +145,13 @@ class ContactEnergy {
   }
 
   // Against every wall of the stack (a wall has R* = R_i), the sphere's centre at (x, y, z).
-  double walls(const model::Sphere& s, const std::array<double, 3>& centre) const {
+  // Over a protected plate, the bottom wall displaced by `plate_z`.
+  double walls(const model::Sphere& s, const std::array<double, 3>& centre, double plate_z) const {
     if (wall_y_star_.empty() || !overlap_energy_) return 0.0;
     const model::ContactPair c{wall_y_star_[type(s)], 0.0, s.radius, mass(s)};  // a wall: R* = R_i, m* = m_i
     double energy = 0.0;
     for (const auto& w : walls_) {
-      const double overlap = w.overlap(centre, s.radius);
+      const double overlap = w.overlap(centre, s.radius, plate_z);
       if (overlap > 0.0) energy += model::elastic_energy(model_, c, overlap);
     }
     return energy;
@@ -203,8 +204,9 @@ FrameAnalyser::FrameAnalyser(const model::Stack& stack, const std::string& path)
 
 FrameAnalyser::~FrameAnalyser() = default;
 
-void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
+void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e, double plate_z, double plate_vz) {
   view_.bind(f);
+  plate_z_ = plate_z;
   const auto& v = view_;
   const auto& c = *constants_;
   const auto& stack = stack_;
@@ -302,17 +304,17 @@ void FrameAnalyser::analyse(const formats::DumpFrame& f, FrameEnergy& e) {
   };
   e.output_threatened = stack.spec().bottom != model::Boundary::wall && model::threatened(n, out_index, state);
   e.striker = model::striker_course(stack, n, state);
-  e.crush = c.crush.at(state);
-  if (judged) c.yield.walls(yield, x_, y_, z_);
+  e.crush = c.crush.at(state, plate_z);
+  if (judged) c.yield.walls(yield, x_, y_, z_, plate_z);
   e.yield = c.yield.peak(f.step, yield);
   e.over_footprint = {};
   if (stack.spec().bottom == model::Boundary::wall) {
-    e.over_footprint = model::over_footprint(stack, n, [&](std::size_t i) {
-      return std::array<double, 6>{x_[i], y_[i], z_[i], r_[i], m_[i], vz_[i]};
-    });
+    e.over_footprint = model::over_footprint(
+        stack, n, [&](std::size_t i) { return std::array<double, 6>{x_[i], y_[i], z_[i], r_[i], m_[i], vz_[i]}; },
+        plate_vz);
   }
   if (stack.has_walls()) {
-    for (std::size_t i = 0; i < n; ++i) e.elastic += c.contacts.walls(spheres[i], {x_[i], y_[i], z_[i]});
+    for (std::size_t i = 0; i < n; ++i) e.elastic += c.contacts.walls(spheres[i], {x_[i], y_[i], z_[i]}, plate_z);
   }
 }
 
@@ -325,7 +327,7 @@ bool FrameAnalyser::has_separated(const formats::DumpFrame& f, int id) const {
   const auto& me = stack_.sphere(id);
   const long row = v.row(id);
   const double x = f.at(row, v.c_x_), y = f.at(row, v.c_y_), z = f.at(row, v.c_z_);
-  double energy = contacts.walls(me, {x, y, z});
+  double energy = contacts.walls(me, {x, y, z}, plate_z_);
   for (const auto& s : stack_.spheres()) {
     if (s.id == id) continue;
     const long r = v.row(s.id);

@@ -24,6 +24,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -82,6 +83,7 @@ struct SeriesColumns {
   int striker_t = -1, striker_r = -1, out_t = -1, out_r = -1;
   int bottom_t = -1, bottom_r = -1;  // the bottom row's, where the deck writes them
   int wall_force = -1;  // the bottom wall's force (model::kBottomWallForceColumn), when the deck writes it
+  int plate_z = -1, plate_vz = -1;  // the protected plate's displacement and velocity (model::kPlateColumns)
   // The contacts' elastic energy and dissipated work, each block's and the strikers' share of it
   // (model::series_contact_columns), where the law has its run report them.
   int contact_elastic = -1, contact_dissipated = -1, striker_dissipated = -1;
@@ -115,6 +117,10 @@ SeriesColumns series_columns(const formats::Series& series, const std::string& p
   c.out_t = find("ke_trans_output_sphere");
   c.out_r = find("ke_rot_output_sphere");
   c.wall_force = series.column(model::kBottomWallForceColumn);
+  if (stack.spec().has_plate()) {
+    c.plate_z = find(model::kPlateColumns[0]);
+    c.plate_vz = find(model::kPlateColumns[1]);
+  }
   c.bottom_t = series.column("ke_trans_bottom_row");
   c.bottom_r = series.column("ke_rot_bottom_row");
   if (!model::series_contact_columns(stack).empty()) {
@@ -173,7 +179,7 @@ void require_series_physical(const formats::Series& series, const std::string& p
   const double limit = available * (1.0 + kEnergyBalanceBound);
   for (std::size_t i = 0; i < series.rows.size(); ++i) {
     for (std::size_t j = 1; j < series.columns.size(); ++j) {
-      if (series.columns[j] == model::kBottomWallForceColumn) continue;  // a force, of either sign
+      if (model::series_column_unit(series.columns[j]) != "J") continue;  // a force or the plate's motion, of either sign
       const double v = series.rows[i][j];
       if (v < 0.0 || v > limit) {
         throw formats::FormatError(path, 0, fmt::format("{:.6g} J in column '{}' at step {}: a kinetic energy lies in "
@@ -276,6 +282,21 @@ std::optional<SeriesContactEnergy> contact_energy_at(long step, const formats::S
   return SeriesContactEnergy{SeriesColumns::at(row, c.contact_elastic), SeriesColumns::at(row, c.contact_dissipated)};
 }
 
+// The protected plate's displacement and velocity at `step` (a frame's), from the series' sample
+// there: {0, 0} at the start, where it rests, and without a plate (the series samples every frame
+// of a case with one).
+std::array<double, 2> plate_at(long step, const formats::Series& series, const std::optional<SeriesColumns>& c,
+                               long series_every, const model::StackSpec& spec, const std::string& path) {
+  if (!spec.has_plate() || step == 0) return {0.0, 0.0};
+  const auto i = static_cast<std::size_t>(step / series_every) - 1;
+  if (!c || step % series_every != 0 || i >= series.rows.size()) {
+    throw formats::FormatError(path, 0, fmt::format("no sample of the protected plate at step {} (a dump frame's), where "
+                                                    "the frame is judged against it: the series is not the run's", step));
+  }
+  const auto& row = series.rows[i];
+  return {SeriesColumns::at(row, c->plate_z), SeriesColumns::at(row, c->plate_vz)};
+}
+
 // What is over the footprint at frame `e` as the blow's end reads it: under an elastic-plastic law
 // against a wall, whether the wall carries a force is the series' at the frame's step
 // (model::blow_end_reads_wall_force; the resolution puts a sample on every frame; none at step 0,
@@ -306,11 +327,11 @@ model::OverFootprint judged_over(const FrameEnergy& e, const formats::Series& se
 // 2.2e-3 of E_in (steel on Teflon; 9.4e-5 on the default stack, 4.3e-4 with walls), against
 // 9.7e-5 and 3.8e-6 at the automatic dt (t_c/100); a broken integration gives orders of
 // magnitude more.
-void require_energy_balance(const FrameEnergy& e, const std::optional<SeriesContactEnergy>& contact,
+void require_energy_balance(const FrameEnergy& e, const std::optional<SeriesContactEnergy>& contact, double plate,
                             const model::StackSpec& spec, CaseReduction& r, const std::string& dump_path) {
   if (spec.gravity != 0.0) return;  // gravity's potential energy is not counted
   const bool conservative = model::is_conservative(spec) || (contact && model::only_the_law_dissipates(spec));
-  const double held = e.kinetic + (contact ? contact->elastic + contact->dissipated : e.elastic);
+  const double held = e.kinetic + (contact ? contact->elastic + contact->dissipated : e.elastic) + plate;
   const double error = (held - r.e_in) / r.e_in;
   if (conservative) r.energy_drift = std::max(r.energy_drift.value_or(0.0), std::fabs(error));
   if (error > kEnergyBalanceBound || (conservative && -error > kEnergyBalanceBound)) {
@@ -324,7 +345,9 @@ void require_energy_balance(const FrameEnergy& e, const std::optional<SeriesCont
         "{}: at step {} the kinetic plus elastic energy{} is {:.6g} J against E_in = {:.6g} J ({:+.3g} of E_in; at "
         "most {:g} allowed{}): the integration is broken (a time step too long for the contacts?) or the dump is "
         "not this case's; no result is taken from it",
-        dump_path, e.step, contact ? " plus the contacts' dissipated work" : "", held, r.e_in, error,
+        dump_path, e.step,
+        std::string(contact ? " plus the contacts' dissipated work" : "") + (spec.has_plate() ? " plus the plate's" : ""),
+        held, r.e_in, error,
         kEnergyBalanceBound, why));
   }
 }
@@ -531,8 +554,12 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
     std::optional<bool> separated;  // for the last frame of a batch
   };
   const double e_in = r.e_in;
+  // Over a protected plate, each frame is analysed where the plate stood then (the series' sample
+  // at its step): the series is taken before any frame, and read alone by the threads.
+  if (spec.has_plate()) take_series();
   auto analyse = [&](FrameAnalyser& a, const formats::DumpFrame& frame, FrameResult& fr, bool last_of_batch) {
-    a.analyse(frame, fr.e);
+    const auto plate = plate_at(frame.step, series, series_cols, res.series_every, spec, series_path);
+    a.analyse(frame, fr.e, plate[0], plate[1]);
     wave_sampler.sample(frame, a.view(), fr.wave_samples);
     fr.separated.reset();
     if (last_of_batch) fr.separated = a.has_separated(frame, stack.output_sphere_id());
@@ -560,7 +587,9 @@ CaseReduction reduce_case(const std::string& case_dir, const ReduceOptions& opti
                                                            "steps): frames are missing or out of order",
                                                            r.frames + 1, e.step, r.frames * res.dump_every, res.dump_every));
     }
-    require_energy_balance(e, contact_energy_at(e.step, series, *series_cols, res.series_every), spec, r, dump_path);
+    const auto plate = plate_at(e.step, series, series_cols, res.series_every, spec, series_path);
+    require_energy_balance(e, contact_energy_at(e.step, series, *series_cols, res.series_every),
+                           model::plate_energy(spec, plate[0], plate[1]), spec, r, dump_path);
     require_frame_matches_series(e, series, *series_cols, res.series_every, series_path, r.e_in);
     track_peaks(e, stack, static_cast<double>(e.step) * res.dt, r);
     crush.add(e.crush);

@@ -88,6 +88,7 @@ Parameters case_parameters(const model::Stack& stack) {
     if (w.name == model::kBottomWallName) p.stored_wall = static_cast<int>(p.walls.size());
     p.walls.push_back({w.axis, w.position, stack.wall_type()});
   }
+  if (spec.has_plate()) p.plate = {p.stored_wall, spec.plate_mass, spec.mount_stiffness, spec.mount_damping};
   // fix gravity ... vector 0 0 -1: acceleration = magnitude * unit vector.
   if (spec.gravity > 0.0) p.gravity = {spec.gravity * 0.0, spec.gravity * 0.0, spec.gravity * -1.0};
   return p;
@@ -117,11 +118,7 @@ std::vector<Particle> particles_from(const formats::DataFile& data) {
   return out;
 }
 
-double bottom_wall_force(const System& s) {
-  double sum = 0.0;  // compute reduce sum: from 0, atom by atom in id order
-  for (std::size_t i = 0; i < s.size(); ++i) sum += s.stored_wall_force(i)[2];
-  return sum;
-}
+double bottom_wall_force(const System& s) { return s.stored_wall_total(); }
 
 namespace {
 
@@ -152,8 +149,11 @@ class SeriesWriter {
     }
     contact_energy_ = !model::series_contact_columns(stack).empty();
     if (!contact_energy_) dissipated_groups_.clear();
-    wall_force_ = !columns.empty() && columns.back() == model::kBottomWallForceColumn;
-    per_line_ = 1 + 2 * groups_.size() + (contact_energy_ ? 2 + dissipated_groups_.size() : 0) + (wall_force_ ? 1 : 0);
+    wall_force_ = std::find(columns.begin(), columns.end(), model::kBottomWallForceColumn) != columns.end();
+    plate_ = stack.spec().has_plate();
+    plate_mass_ = stack.spec().plate_mass;
+    per_line_ = 1 + 2 * groups_.size() + (contact_energy_ ? 2 + dissipated_groups_.size() : 0) + (wall_force_ ? 1 : 0) +
+                (plate_ ? model::kPlateColumns.size() : 0);
     if (columns.size() != per_line_) {
       throw std::runtime_error("refsim: the manifest's series columns are not this granstack's: generate the case again");
     }
@@ -176,6 +176,11 @@ class SeriesWriter {
     }
     if (contact_energy_) contact_energy(s, batch);
     if (wall_force_) batch.push_back(bottom_wall_force(s));
+    if (plate_) {  // kPlateColumns' order
+      batch.push_back(s.plate_displacement());
+      batch.push_back(s.plate_velocity());
+      batch.push_back(s.plate_force() / plate_mass_);
+    }
   }
 
   // The lines of samples taken by sample().
@@ -221,7 +226,9 @@ class SeriesWriter {
   std::vector<std::vector<Run>> groups_;  // each group's runs of consecutive particles
   std::vector<std::size_t> dissipated_groups_;  // the groups whose dissipated work is a column: blocks, strikers
   bool contact_energy_ = false;           // the contacts' energy columns follow the groups'
-  bool wall_force_ = false;               // the last column is the bottom wall's force
+  bool wall_force_ = false;               // a column is the bottom wall's force
+  bool plate_ = false;                    // the plate's columns end the line (model::kPlateColumns)
+  double plate_mass_ = 0.0;
   std::size_t per_line_ = 0;
   std::string line_;
 };

@@ -27,7 +27,7 @@ double momentum_z(const System& s) {
   return p;
 }
 
-model::Crush crush_at(const model::CrushMeter& meter, const System& s) { return meter.at(state(s)); }
+model::Crush crush_at(const model::CrushMeter& meter, const System& s) { return meter.at(state(s), s.plate_displacement()); }
 
 void FramePressures::add(const System& s) {
   if (!meter_.judged()) return;
@@ -41,16 +41,19 @@ void FramePressures::add(const System& s) {
     y_[i] = x[1];
     z_[i] = x[2];
   }
-  meter_.add(meter_.at(s.step_count(), x_, y_, z_, candidates_.pairs(x_, y_, z_)));
+  meter_.add(meter_.at(s.step_count(), x_, y_, z_, candidates_.pairs(x_, y_, z_), s.plate_displacement()));
 }
 
 void judge_blow_end(model::BlowEnd& blow, const model::Stack& stack, const System& s) {
   const auto coming = model::striker_course(stack, s.size(), state(s));
   if (stack.spec().bottom == model::Boundary::wall) {
-    auto over = model::over_footprint(stack, s.size(), [&](std::size_t i) {
-      const auto x = s.x(i);
-      return std::array<double, 6>{x[0], x[1], x[2], s.radius(i), s.mass(i), s.v(i)[2]};
-    });
+    auto over = model::over_footprint(
+        stack, s.size(),
+        [&](std::size_t i) {
+          const auto x = s.x(i);
+          return std::array<double, 6>{x[0], x[1], x[2], s.radius(i), s.mass(i), s.v(i)[2]};
+        },
+        s.plate_velocity());
     if (model::blow_end_reads_wall_force(stack.spec())) over.pressing = bottom_wall_force(s) > 0.0;
     blow.frame(s.step_count(), over, false, false, coming);
     return;

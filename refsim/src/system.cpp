@@ -1,5 +1,7 @@
 #include <granstack/refsim/system.hpp>
 
+#include <granstack/model/plate.hpp>
+
 #include <granstack/refsim/neighbors.hpp>
 
 #include "contacts.hpp"
@@ -67,6 +69,14 @@ System::System(std::vector<Particle> particles, Parameters params)
   }
   wall_history_.assign(detail::history_layout(pairs_->sub_models).size * n_ * p_.walls.size(), 0.0);
   wall_store_.assign(p_.stored_wall >= 0 ? 3 * n_ : 0, 0.0);
+  if (p_.plate.wall >= 0) {
+    if (p_.plate.wall != p_.stored_wall || p_.walls[static_cast<std::size_t>(p_.plate.wall)].axis != 2) {
+      throw std::invalid_argument("refsim: the plate must be the stored wall, normal to z");
+    }
+    if (!(p_.plate.mass > 0.0) || !(p_.plate.stiffness >= 0.0) || !(p_.plate.damping >= 0.0)) {
+      throw std::invalid_argument("refsim: a plate needs a positive mass and a mount of stiffness and damping >= 0");
+    }
+  }
   if (detail::has_contact_energy(pairs_->sub_models)) banked_.assign(n_, 0.0);
   wall_touched_.assign(n_ * p_.walls.size(), 0);
   external_ = !p_.walls.empty() || p_.gravity[0] != 0.0 || p_.gravity[1] != 0.0 || p_.gravity[2] != 0.0;
@@ -260,11 +270,34 @@ void System::compute_forces(bool update_history, bool kick, bool drift) {
       contacts(tile_first_[t], tile_first_[t + 1]);
       sum_forces(t * kTile, std::min(n_, (t + 1) * kTile), update_history, kick, drift);
     }
-    return;
+  } else {
+    for_shares(pairs.padded(), contacts, detail::kPairBlock);
+    for_shares(
+        n_, [&](std::size_t begin, std::size_t end) { sum_forces(begin, end, update_history, kick, drift); },
+        detail::kLanes);
   }
-  for_shares(pairs.padded(), contacts, detail::kPairBlock);
-  for_shares(
-      n_, [&](std::size_t begin, std::size_t end) { sum_forces(begin, end, update_history, kick, drift); }, detail::kLanes);
+  if (p_.plate.wall >= 0) plate_after_forces(kick, drift);
+}
+
+double System::stored_wall_total() const {
+  double sum = 0.0;  // compute reduce sum: from 0, atom by atom in id order
+  for (std::size_t i = 0; i < n_; ++i) sum += wall_store_.empty() ? 0.0 : wall_store_[3 * i + 2];
+  return sum;
+}
+
+// The plate as fix nve/sphere moves an atom of its mass (dtf / m, then x += dt v), pushed by the
+// addforce of the deck's formula (model::plate_force) once every particle's wall force is known.
+void System::plate_after_forces(bool kick, bool drift) {
+  plate_f_ = model::plate_force(stored_wall_total(), plate_z_, plate_v_, p_.plate.stiffness, p_.plate.damping);
+  if (kick) plate_v_ += (0.5 * p_.dt * 1.0) / p_.plate.mass * plate_f_;
+  if (drift) plate_first_half();
+}
+
+void System::plate_first_half() {
+  plate_v_ += (0.5 * p_.dt * 1.0) / p_.plate.mass * plate_f_;
+  plate_z_ += p_.dt * plate_v_;
+  const double moved = plate_z_ - plate_z_at_build_, half = 0.5 * p_.skin;
+  if (moved * moved > half * half) moved_.store(true, std::memory_order_relaxed);
 }
 
 void System::setup() { compute_forces(false, false, false); }
@@ -305,6 +338,7 @@ void System::advance(long steps) {
             }
           },
           detail::kLanes);
+      if (p_.plate.wall >= 0) plate_first_half();
     }
     if (moved_.load(std::memory_order_relaxed)) build_pairs();
     drifted_ = k + 1 < steps;

@@ -19,8 +19,12 @@ namespace granstack::refsim {
 void System::wall_force(std::size_t i, std::size_t wi, bool update_history) {
   const Wall& wall = p_.walls[wi];
   const detail::SubModels& rules = pairs_->sub_models;
-  const Vec3 v = this->v(i), w = omega(i);
-  const detail::WallPoint point = detail::wall_point(rules.frame, wall.axis, wall.position,
+  Vec3 v = this->v(i);
+  const Vec3 w = omega(i);
+  // Against the plate, the sphere's velocity relative to it (the mesh's node velocity, which
+  // LIGGGHTS subtracts from the sphere's).
+  if (static_cast<int>(wi) == p_.plate.wall) v[2] = v[2] - plate_v_;
+  const detail::WallPoint point = detail::wall_point(rules.frame, wall.axis, wall_position(wi),
                                                      x_[static_cast<std::size_t>(wall.axis) * stride_ + i], radius_[i],
                                                      mass_[i], v.data(), w.data());
   const std::size_t slots = detail::history_layout(rules).size;
@@ -72,8 +76,7 @@ void System::find_wall_candidates() {
     const double* pos = x_.data() + static_cast<std::size_t>(p_.walls[w].axis) * stride_;
     for (std::size_t i = 0; i < n_; ++i) {
       // Within a skin: twice the half skin a particle may move, for a margin far above rounding.
-      if (wall_touched_[w * n_ + i] != 0 ||
-          detail::liggghts_wall_gap(p_.walls[w].position, pos[i], radius_[i]) <= p_.skin) {
+      if (wall_touched_[w * n_ + i] != 0 || detail::liggghts_wall_gap(wall_position(w), pos[i], radius_[i]) <= p_.skin) {
         wall_near_[w].push_back(static_cast<std::uint32_t>(i));
       }
     }
@@ -91,7 +94,7 @@ void System::external_forces(std::size_t begin, std::size_t end, bool update_his
     const auto& near = wall_near_[w];
     auto k = std::lower_bound(near.begin(), near.end(), static_cast<std::uint32_t>(begin));
     for (; k != near.end() && *k < end; ++k) {
-      if (wall_touched_[w * n_ + *k] != 0 || detail::wall_touches(frame, wall.position, pos[*k], radius_[*k])) {
+      if (wall_touched_[w * n_ + *k] != 0 || detail::wall_touches(frame, wall_position(w), pos[*k], radius_[*k])) {
         wall_force(*k, w, update_history);
       }
     }

@@ -95,4 +95,15 @@ std::string_view model_refusal(Engine e, const model::ContactModel& m, bool lamm
   return engine_row(e).refusal(m, lammps_rules);
 }
 
+std::string case_refusal(Engine e, const model::StackSpec& s, bool lammps_rules) {
+  if (const auto why = model_refusal(e, s.contact_model(), lammps_rules); !why.empty()) return std::string(why);
+  if (!s.has_plate() || engine_row(e).carries_plate) return "";
+  std::string carriers;
+  for (const auto& row : engine_table()) {
+    if (row.carries_plate) carriers += (carriers.empty() ? "" : " or ") + row.name;
+  }
+  return "plate_mass: a protected plate on a mount runs on " + carriers + " (--engine " +
+         carriers.substr(0, carriers.find(' ')) + "); this engine's deck has a rigid bottom wall only";
+}
+
 }  // namespace granstack::runner

@@ -194,6 +194,7 @@ class Lammps final : public CaseEngine {
   formats::CaseFiles files(const formats::Case& c) const override { return lammps_files(c.files()); }
 
   std::string unavailable(const formats::Case& c, const RunOptions& o) const override {
+    if (c.spec().has_plate()) return "LAMMPS: " + case_refusal(Engine::lammps, c.spec());
     const auto lammps = o.program(Engine::lammps);
     if (auto why = program_unavailable("LAMMPS", lammps, "--lammps", "lammps", o); !why.empty()) return why;
     const auto program = *os::find_program(lammps);

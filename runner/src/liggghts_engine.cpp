@@ -338,7 +338,7 @@ class Liggghts final : public CaseEngine {
  public:
   std::string lock_holder() const override { return "granstack run"; }
   std::string unavailable(const formats::Case& c, const RunOptions& o) const override {
-    if (const auto why = model_refusal(Engine::liggghts, c.spec().contact_model()); !why.empty()) {
+    if (const auto why = case_refusal(Engine::liggghts, c.spec()); !why.empty()) {
       return "LIGGGHTS: " + std::string(why);
     }
     if (const auto why = program_unavailable("LIGGGHTS", o.program(Engine::liggghts), "--liggghts", "liggghts", o);

@@ -151,7 +151,8 @@ EngineRow refsim_row() {
           refsim_refuses,
           add_refsim_options,
           nullptr,
-          refsim_cpus};
+          refsim_cpus,
+          true};
 }
 
 }  // namespace granstack::runner

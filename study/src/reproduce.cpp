@@ -435,8 +435,8 @@ StudyResult reproduce(const Catalogue& catalogue, const ReproduceOptions& option
   std::set<const CaseRecord*> refused;
   for (std::size_t i = 0; i < in_order.size(); ++i) {
     const auto why = in_order[i]->pinned.empty() && beyond[i]
-                         ? runner::model_refusal(runner::parse_engine(o.engine), entries[i]->spec.contact_model())
-                         : std::string_view();
+                         ? runner::case_refusal(runner::parse_engine(o.engine), entries[i]->spec)
+                         : std::string();
     if (why.empty()) {
       ensure_case(in_order[i]->dir, *entries[i], o.force, o);
       continue;

@@ -5,10 +5,14 @@
 #include "../support/granstack_test.hpp"
 
 #include <fmt/format.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <sstream>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -387,6 +391,50 @@ TEST_F(Answers, ThorntonRunsOnRefsimAndTheEnginesThatLackItRefuseIt) {
   expect_contains(r, "  block 1 - block 2      p_y ");
   EXPECT_NE(read_bytes(n / "in.stack").find("coefficientYieldRatio peratomtype"), std::string::npos);
   EXPECT_EQ(granstack({"run", "--engine", "lammps", n.string()}).code, 1);
+}
+
+// A protected plate on a mount (refsim): reduce judges every frame where the plate stood then. The
+// elastic stack and the sprung plate keep E_in (the balance counts the plate's kinetic and spring
+// energy, else it fails at 1 % as the plate takes its share), the blow ends (the wall carries no
+// force and nothing over the footprint closes on the plate), and a plate a billion times the
+// stack's mass reads as the rigid wall: the same measures to 1e-9.
+TEST_F(Answers, AStackOnAPlateIsReducedWhereThePlateStood) {
+  const std::vector<std::string> stack{"--blocks", "2", "--rows", "4", "--bottom", "wall", "--stop", "blow_end"};
+  const auto make = [&](const std::string& name, std::vector<std::string> extra) {
+    std::vector<std::string> args{"generate", "-o", path(name).string()};
+    args.insert(args.end(), stack.begin(), stack.end());
+    args.insert(args.end(), extra.begin(), extra.end());
+    ASSERT_EQ(granstack(args).code, 0);
+    ASSERT_EQ(granstack({"run", "--engine", "refsim", path(name).string()}).code, 0);
+  };
+  make("sprung", {"--plate-mass", "0.01", "--mount-stiffness", "1e5"});
+  const auto sprung = summary(path("sprung").string());
+  ASSERT_TRUE(sprung.at("energy_drift").is_number());
+  EXPECT_LT(sprung.at("energy_drift").get<double>(), 1e-3);
+  EXPECT_TRUE(sprung.at("blow_end_time").is_number()) << sprung.dump(2);
+  // The series' plate_z column (its header: "# step ... plate_z plate_vz plate_az"), read as text.
+  std::istringstream lines(read_bytes(path("sprung") / "ke_series.txt"));
+  std::string line;
+  std::getline(lines, line);
+  std::istringstream header(line.substr(2));
+  std::vector<std::string> columns{std::istream_iterator<std::string>(header), std::istream_iterator<std::string>()};
+  const auto column = static_cast<std::size_t>(std::find(columns.begin(), columns.end(), "plate_z") - columns.begin());
+  ASSERT_LT(column, columns.size());
+  double lowest = 0.0;
+  while (std::getline(lines, line)) {
+    std::istringstream row(line);
+    const std::vector<double> values{std::istream_iterator<double>(row), std::istream_iterator<double>()};
+    ASSERT_EQ(values.size(), columns.size());
+    lowest = std::min(lowest, values[column]);
+  }
+  EXPECT_LT(lowest, -1e-7) << "the plate gave way";
+  make("rigid", {});
+  make("heavy", {"--plate-mass", "1e9"});
+  const auto rigid = summary(path("rigid").string()), heavy = summary(path("heavy").string());
+  for (const char* key : {"output_fraction", "peak_wall_force", "crush_m", "blow_end_time"}) {
+    ASSERT_TRUE(rigid.at(key).is_number()) << key;
+    EXPECT_NEAR(heavy.at(key).get<double>(), rigid.at(key).get<double>(), 1e-9 * rigid.at(key).get<double>()) << key;
+  }
 }
 
 // thornton_ning yields at r_i * ratio[type_i] of LIGGGHTS's atom i: a container's matrix type has

@@ -153,6 +153,24 @@ TEST_F(Messages, SubmitOfRefsimOnRanksIsRefused) {
   expect_contains(nodes, "is for liggghts or lammps and none runs here (refsim)");
 }
 
+// A protected plate on a mount runs on refsim; LIGGGHTS and LAMMPS, whose decks have a rigid wall,
+// refuse it in run and validate before touching anything, naming the engine that carries it.
+TEST_F(Messages, APlateCaseIsRefusedWhereTheEngineHasNoPlate) {
+  ASSERT_EQ(granstack({"generate", "-o", "p", "--blocks", "1", "--rows", "2", "--bottom", "wall", "--plate-mass", "0.01"}).code, 0);
+  for (const auto& engine : {"liggghts", "lammps"}) {
+    const auto r = granstack({"run", "--engine", engine, "p"});
+    EXPECT_EQ(r.code, 1) << r.output;
+    expect_contains(r, "plate_mass: a protected plate on a mount runs on refsim (--engine refsim)");
+  }
+  const auto v = granstack({"validate", "p"});
+  EXPECT_NE(v.code, 0) << v.output;
+  expect_contains(v, "liggghts cannot run it: plate_mass");
+  EXPECT_FALSE(fs::exists(path("p") / "validate"));
+  EXPECT_FALSE(fs::exists(path("p") / "run.json"));
+  const auto refsim = granstack({"run", "--engine", "refsim", "p"});
+  EXPECT_EQ(refsim.code, 0) << refsim.output;
+}
+
 // M18: an interrupted validate says it was stopped, before comparing.
 TEST_F(Messages, AnInterruptedValidateSaysSo) {
   ASSERT_EQ(granstack({"generate", "-o", "big", "--blocks", "4", "--rows", "16"}).code, 0);

@@ -103,6 +103,16 @@ const BadCase kBadCases[] = {
      "normal_model = hooke only"},
     {"characteristic_velocity_slow", [](StackSpec& s) { s.normal_model = model::NormalModel::hooke; s.characteristic_velocity = 1e-3; },
      "characteristic_velocity", "at least 0.01 m/s"},
+    {"plate_without_wall", [](StackSpec& s) { s.plate_mass = 0.01; }, "plate_mass", "give it with bottom = 'wall'"},
+    {"plate_negative", [](StackSpec& s) { s.bottom = model::Boundary::wall; s.plate_mass = -1.0; }, "plate_mass",
+     "in [0, 1e+12] (kg; 0 is the rigid wall)"},
+    {"plate_nan", [](StackSpec& s) { s.bottom = model::Boundary::wall; s.plate_mass = std::nan(""); }, "plate_mass", "in [0, 1e+12]"},
+    {"mount_without_plate", [](StackSpec& s) { s.bottom = model::Boundary::wall; s.mount_stiffness = 1e6; }, "mount_stiffness",
+     "give it with plate_mass > 0"},
+    {"mount_damping_negative", [](StackSpec& s) { s.bottom = model::Boundary::wall; s.plate_mass = 1.0; s.mount_damping = -1.0; },
+     "mount_damping", "in [0, 1e+12] (N s/m)"},
+    {"plate_with_gravity", [](StackSpec& s) { s.bottom = model::Boundary::wall; s.plate_mass = 1.0; s.gravity = 9.8; }, "plate_mass",
+     "use gravity 0 with a plate"},
 };
 
 INSTANTIATE_TEST_SUITE_P(Fields, SpecValidation, ::testing::ValuesIn(kBadCases),

@@ -4,6 +4,7 @@
 // the footprint's size, the same for every design of a space. Each measure is one function here,
 // fed the same samples by refsim's in-situ run and by reduce of a LIGGGHTS or refsim case, so the
 // two engines give the same number from the same run.
+#include <granstack/model/plate.hpp>
 #include <granstack/model/resolution.hpp>
 #include <granstack/model/stack.hpp>
 
@@ -16,6 +17,12 @@
 #include <vector>
 
 namespace granstack::model {
+
+// The protected plate's mechanical energy, J: its kinetic energy and its mount spring's, at
+// displacement z (m) and velocity vz (m/s); 0 for a rigid wall.
+inline double plate_energy(const StackSpec& s, double z, double vz) {
+  return s.has_plate() ? 0.5 * s.plate_mass * vz * vz + 0.5 * s.mount_stiffness * z * z : 0.0;
+}
 
 // The largest impulse (N s) the wall takes in a window of `window` seconds: the peak over the
 // samples' times t of the integral of F from t to t + window, F linear between its samples. `force` holds the
@@ -46,16 +53,17 @@ class CrushMeter {
  public:
   explicit CrushMeter(const Stack& stack);
   // One frame's crush and penetration; `sphere(i)` for i in 0..n-1 (id order) gives at least
-  // {x, y, z} of sphere i + 1 (the positions are read alone).
+  // {x, y, z} of sphere i + 1 (the positions are read alone). Over a protected plate displaced by
+  // `plate_z`, heights count from the plate: the crush is how much closer to it a layer came.
   template <class Sphere>
-  Crush at(const Sphere& sphere) const {
+  Crush at(const Sphere& sphere, double plate_z = 0.0) const {
     Crush c;
     for (std::size_t k = 0; k < stack_.size(); ++k) {
       const auto s = sphere(stack_[k]);
-      if (std::fabs(s[0]) <= half_width_ && std::fabs(s[1]) <= half_depth_) c.crush = std::max(c.crush, z0_[k] - s[2]);
+      if (std::fabs(s[0]) <= half_width_ && std::fabs(s[1]) <= half_depth_) c.crush = std::max(c.crush, z0_[k] - (s[2] - plate_z));
     }
     for (std::size_t k = 0; k < striker_radius_.size(); ++k) {
-      c.penetration = std::max(c.penetration, surface_z_ - (sphere(k)[2] - striker_radius_[k]));
+      c.penetration = std::max(c.penetration, surface_z_ - ((sphere(k)[2] - plate_z) - striker_radius_[k]));
     }
     return c;
   }
@@ -200,7 +208,8 @@ inline bool presses_bottom_wall(double z, double r) { return z - r < 0.0; }
 // for good while the wall carries nothing, and an overlap would keep every such blow open to its
 // cap. There "spheres press the wall" is "the wall carries a force": the sum of its normal forces
 // on every sphere (each >= 0, no law here pulls), what a load cell under the wall reads, which the
-// run's series records (kBottomWallForceColumn) and both engines hold per sphere.
+// run's series records (kBottomWallForceColumn) and both engines hold per sphere. The same over a
+// protected plate, which moves: whether the wall carries a force is the plate's load.
 bool blow_end_reads_wall_force(const StackSpec& spec);
 
 // What the protected object (the bottom wall under the footprint, |x| <= half_width and
@@ -211,15 +220,16 @@ struct OverFootprint {
   double momentum_z = 0.0;
   bool pressing = false;
 };
-// `sphere(i)` for i in 0..n-1 (id order) gives {x, y, z, radius, mass, vz}.
+// `sphere(i)` for i in 0..n-1 (id order) gives {x, y, z, radius, mass, vz}. Over a protected plate
+// moving at `plate_vz`, the momentum is the spheres' relative to it: what still comes toward it.
 template <class Sphere>
-OverFootprint over_footprint(const Stack& stack, std::size_t n, const Sphere& sphere) {
+OverFootprint over_footprint(const Stack& stack, std::size_t n, const Sphere& sphere, double plate_vz = 0.0) {
   OverFootprint f;
   const double hw = stack.half_width(), hd = stack.half_depth();
   for (std::size_t i = 0; i < n; ++i) {
     const auto [x, y, z, r, m, vz] = sphere(i);
     if (std::fabs(x) > hw || std::fabs(y) > hd) continue;
-    f.momentum_z += m * vz;
+    f.momentum_z += m * (vz - plate_vz);  // m * vz to the bit where it is 0
     f.pressing = f.pressing || presses_bottom_wall(z, r);
   }
   return f;

@@ -102,7 +102,7 @@ std::vector<SpecIssue> check_resolution(const Stack& stack, const Resolution& re
 // Whether the in-situ series samples every dump frame: where the blow's end reads the wall's force
 // (blow_end_reads_wall_force), and in a run to the blow's end whose series carries its contacts'
 // energies (NormalLaw::series_energy), where reduce reads the work dissipated at the frame the
-// blow ends on.
+// blow ends on; and with a protected plate, whose energy reduce counts at every frame.
 bool series_on_every_frame(const StackSpec& spec);
 
 // What a case will cost: its size, its outputs, and the time LIGGGHTS needs on one core at

@@ -111,6 +111,12 @@ struct StackSpec {
   Boundary bottom = Boundary::free_surface;
   Boundary sides = Boundary::free_surface;
   std::string wall_material;                   // empty: the bottom block's material
+  // The protected object (docs/physics.md section 7): with a bottom wall, a plate of plate_mass
+  // (kg) that the stack strikes, moving along z on a mount to the ground of mount_stiffness (N/m)
+  // and mount_damping (N s/m); 0: the rigid wall, a plate of infinite mass.
+  double plate_mass = 0.0;
+  double mount_stiffness = 0.0;
+  double mount_damping = 0.0;
   double gravity = 0.0;                        // m/s^2 along -z; 0 = off
   std::optional<double> dt;                    // s; nullopt = automatic rule
   std::optional<double> duration;              // s; nullopt = automatic rule
@@ -149,6 +155,8 @@ struct StackSpec {
   const std::string& effective_wall_material() const;
   // Whether the stack has a wall: a bottom or side wall, or a container's rigid separators.
   bool has_walls() const;
+  // Whether the bottom wall is a plate of finite mass on a mount (plate_mass > 0).
+  bool has_plate() const { return plate_mass > 0.0; }
   // The striker's material name (striker_material, or the top block's).
   const std::string& effective_striker_material() const;
   // The matrix's material name (matrix_material, or teflon).
@@ -196,6 +204,9 @@ void require_valid(const StackSpec& spec);
 inline constexpr double kMinRadius = 1e-7, kMaxRadius = 1.0;
 // gravity up to 1000 m/s^2 (about 100 g, the top of geotechnical centrifuges);
 inline constexpr double kMaxGravity = 1000.0;
+// a protected plate's mass (kg), its mount's stiffness (N/m) and damping (N s/m) up to 1e12, far
+// beyond a rigid wall's behaviour for any stack the radii allow;
+inline constexpr double kMaxPlateValue = 1e12;
 // Coulomb friction up to 10 (real materials stay below about 1.5; above, every contact sticks);
 inline constexpr double kMaxFriction = 10.0;
 // rolling friction up to 1 (the torque cap mu_r R* |F_n| is then the contact's whole lever);

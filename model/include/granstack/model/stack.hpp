@@ -28,6 +28,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace granstack::model {
@@ -63,11 +64,15 @@ struct Sphere {
 struct Wall {
   std::string name;  // the deck's fix id: wall_bottom, wall_left, wall_right (3D: wall_front, wall_back)
   int axis = 2;
-  double position = 0.0;
+  double position = 0.0;  // where it stands at the start
+  // The bottom wall that is the protected plate (StackSpec::plate_mass): it moves with it.
+  bool plate = false;
+  // Where it stands with the plate displaced by `plate_z` from its start.
+  double at(double plate_z) const { return plate ? position + plate_z : position; }
   // How far a sphere of radius r centred at c reaches into the wall (LIGGGHTS's wall/gran test:
   // the centre's distance to the plane below r); > 0 only when it touches.
-  double overlap(const std::array<double, 3>& c, double r) const {
-    return r - std::fabs(c[static_cast<std::size_t>(axis)] - position);
+  double overlap(const std::array<double, 3>& c, double r, double plate_z = 0.0) const {
+    return r - std::fabs(c[static_cast<std::size_t>(axis)] - at(plate_z));
   }
 };
 
@@ -222,6 +227,19 @@ std::vector<SeriesGroup> series_groups(const Stack& stack);
 // order (compute reduce sum); refsim does the same.
 inline constexpr const char* kBottomWallForceColumn = "fz_wall_bottom";
 inline constexpr const char* kBottomWallName = "wall_bottom";
+// With a protected plate (StackSpec::plate_mass), the series' last columns after the wall's force:
+// the plate's displacement from where it stood at the start (m, along +z), its velocity (m/s) and
+// its acceleration (m/s^2: the force on it over its mass), at each sample.
+inline constexpr std::array<const char*, 3> kPlateColumns{"plate_z", "plate_vz", "plate_az"};
+// The unit of a series column after the step, by its name: "N" for the wall's force, the plate's
+// "m", "m/s" and "m/s^2", "J" for every energy (the groups' and the contacts').
+inline std::string_view series_column_unit(std::string_view column) {
+  if (column == kBottomWallForceColumn) return "N";
+  if (column == kPlateColumns[0]) return "m";
+  if (column == kPlateColumns[1]) return "m/s";
+  if (column == kPlateColumns[2]) return "m/s^2";
+  return "J";
+}
 // Where the case's law has its run report its contacts' energy (NormalLaw::series_energy), the
 // series' columns after the groups' kinetic energies and before the wall's force: the elastic
 // energy in all contacts, the work all have dissipated, then the share of it of each block's

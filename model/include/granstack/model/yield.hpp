@@ -104,14 +104,15 @@ class YieldMeter {
   // One frame at `step`: every overlapping pair among `pairs` (indices id - 1, ContactCandidates's)
   // and every sphere pressing a wall, positions x, y, z by index. The largest ratio; on a tie the
   // first pair in (sphere, sphere) order, spheres before walls, so the answer does not depend on
-  // the pairs' order.
+  // the pairs' order. Over a protected plate, the bottom wall displaced by `plate_z`.
   YieldPeak at(long step, const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z,
-               const std::vector<std::pair<std::size_t, std::size_t>>& pairs) const;
+               const std::vector<std::pair<std::size_t, std::size_t>>& pairs, double plate_z = 0.0) const;
   // at() in parts, for a caller that finds the overlaps itself (reduce, beside the elastic
   // energy): the contact of spheres i < j (indices) at overlap d > 0, each sphere against the
   // walls, and the frame's peak. Given the same contacts in the same order, the same answer.
   void pair(YieldFrame& f, std::size_t i, std::size_t j, double overlap) const;
-  void walls(YieldFrame& f, const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z) const;
+  void walls(YieldFrame& f, const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z,
+             double plate_z = 0.0) const;
   YieldPeak peak(long step, const YieldFrame& f) const;
   // The largest over the frames given (the earlier frame on a tie).
   void add(const YieldPeak& frame);

@@ -79,8 +79,9 @@ class FrameAnalyser {
   FrameAnalyser(const FrameAnalyser&) = delete;
   FrameAnalyser& operator=(const FrameAnalyser&) = delete;
   ~FrameAnalyser();
-  // Binds the frame (checking its ids; FormatError otherwise) and fills `e`, reusing its storage.
-  void analyse(const formats::DumpFrame& frame, FrameEnergy& e);
+  // Binds the frame (checking its ids; FormatError otherwise) and fills `e`, reusing its storage;
+  // over a protected plate, displaced by `plate_z` and moving at `plate_vz` at the frame's step.
+  void analyse(const formats::DumpFrame& frame, FrameEnergy& e, double plate_z = 0.0, double plate_vz = 0.0);
   // The view of the frame last analysed.
   const FrameView& view() const { return view_; }
   // Whether sphere `id` has separated in the frame last analysed: the elastic energy left in its
@@ -95,6 +96,7 @@ class FrameAnalyser {
   model::ContactCandidates candidates_;
   std::unique_ptr<Constants> constants_;
   std::vector<double> x_, y_, z_, vx_, vy_, vz_, m_, r_;  // as the frame has them
+  double plate_z_ = 0.0;  // the protected plate's displacement at that frame
 };
 
 // A sphere has separated (FrameAnalyser::has_separated) when the elastic energy left in its

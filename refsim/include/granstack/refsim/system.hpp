@@ -37,6 +37,15 @@ struct Wall {
   int type = 0;
 };
 
+// A wall that is a plate of finite mass on a mount (model::StackSpec::plate_mass), moving along
+// its wall's axis: pushed by the force the particles take from it (the stored wall's, summed as
+// System::stored_wall_total does) and by its mount (model::plate_force), integrated as fix
+// nve/sphere integrates an atom of its mass; its particles' contacts see its velocity.
+struct Plate {
+  int wall = -1;  // into Parameters::walls, the stored wall; -1: none
+  double mass = 0.0, stiffness = 0.0, damping = 0.0;
+};
+
 struct Parameters {
   double dt = 0.0;
   double skin = 0.0;                     // neighbour skin, m
@@ -56,6 +65,7 @@ struct Parameters {
   // The wall (index into walls) whose force on each particle is kept, as fix wall/gran's
   // store_force yes keeps it (System::stored_wall_force); -1: none.
   int stored_wall = -1;
+  Plate plate;
   bool tangential_damping = true;
   // LAMMPS's rules instead of LIGGGHTS's for the same spec (model/lammps.hpp; the sub-models they
   // choose, refsim/src/contact_models/choice.hpp): LAMMPS's frame, hertz/material with tsuji damping
@@ -114,6 +124,14 @@ class System {
   Vec3 stored_wall_force(std::size_t i) const {
     return {wall_store_[3 * i], wall_store_[3 * i + 1], wall_store_[3 * i + 2]};
   }
+  // The stored wall's force on every particle along its axis, summed from 0 in particle order (as
+  // the deck's compute reduce sum takes it): the load the wall carries, its push on the particles.
+  double stored_wall_total() const;
+  // Parameters::plate's state after the last step: its displacement from where its wall stood at
+  // the start (m, along the wall's axis), its velocity (m/s) and the force on it (N); 0 without one.
+  double plate_displacement() const { return plate_z_; }
+  double plate_velocity() const { return plate_v_; }
+  double plate_force() const { return plate_f_; }
   // The kinetic energies of particles [begin, end), translational and rotational, as the
   // in-situ series reports them (0.5 m |v|^2 and 0.5 I |w|^2 with I = 0.4 m r^2, fix
   // nve/sphere's solid spheres). Each sum is taken in eight partial sums (particle begin + k
@@ -206,6 +224,16 @@ class System {
   // between builds (the rebuild test), so no other can reach the wall until the next one.
   std::vector<std::vector<std::uint32_t>> wall_near_;
   void find_wall_candidates();
+  // Where wall w stands now: its position, moved by the plate's displacement where it is the plate.
+  double wall_position(std::size_t w) const {
+    return static_cast<int>(w) == p_.plate.wall ? p_.walls[w].position + plate_z_ : p_.walls[w].position;
+  }
+  // The plate's force after the particles' sums, its second half kick (kick) and the next step's
+  // first half (drift); plate_first_half alone where the particles take theirs apart.
+  void plate_after_forces(bool kick, bool drift);
+  void plate_first_half();
+  double plate_z_ = 0.0, plate_v_ = 0.0, plate_f_ = 0.0;
+  double plate_z_at_build_ = 0.0;     // its displacement at the last neighbour build
   bool external_ = false;             // walls or gravity
   bool negative_zero_spin_ = false;   // an angular velocity component starts at -0
   std::string kernel_;

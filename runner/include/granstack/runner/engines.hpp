@@ -5,6 +5,7 @@
 // runner/src/engine.hpp, with its options struct and group) and its row: in engine_table()
 // (runner/src/engines.cpp) with an enumerator, or added from its own file by add_engine().
 #include <granstack/model/contact.hpp>
+#include <granstack/model/spec.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include <memory>
@@ -49,6 +50,9 @@ struct EngineRow {
     std::string unit, flag;  // "MPI ranks", "--np"
   };
   Cpus (*cpus)(const RunOptions& o) = nullptr;
+  // Whether it carries a protected plate on a mount under the stack (model::StackSpec::plate_mass);
+  // an engine that does not refuses such a case (case_refusal).
+  bool carries_plate = false;
 };
 
 // Every engine, in the order --engine's help lists them.
@@ -66,5 +70,8 @@ std::vector<std::string> engines_owning(const std::string& option);
 std::vector<std::string> engine_options();
 // What engine `e` cannot run of a contact model on any machine (its row's refusal), or "".
 std::string_view model_refusal(Engine e, const model::ContactModel& m, bool lammps_rules = false);
+// What engine `e` cannot run of a case's spec: its contact model (model_refusal), or a protected
+// plate where its row does not carry one; "" where it can run it.
+std::string case_refusal(Engine e, const model::StackSpec& s, bool lammps_rules = false);
 
 }  // namespace granstack::runner
