@@ -35,23 +35,37 @@ std::optional<double> filtered_wall_force(const Outcome& o, const Space& s) {
   if (!f) return std::nullopt;
   return f->empty() ? 0.0 : *std::max_element(f->begin(), f->end());
 }
-// The peak acceleration of the protected mass, as an accelerometer on it reads it: the filtered
-// force over M (the wall holds still in the run: M much heavier than the stack).
-std::optional<double> protected_acceleration(const Outcome& o, const Space& s) {
-  const auto f = filtered_force(o, s);
-  if (!f || s.protected_mass <= 0.0) return std::nullopt;
-  double peak = 0.0;
-  for (const double v : *f) peak = std::max(peak, std::fabs(v));
-  return peak / s.protected_mass;
-}
-// The shock response spectrum of the protected mass's acceleration F / M as the run gives it (a
-// causal input: the phaseless filter's output starts before the blow).
-std::optional<double> srs_peak(const Outcome& o, const Space& s) {
-  if (!o.peak_wall_force || s.protected_mass <= 0.0 || s.srs_high <= 0.0) return std::nullopt;
-  if (!model::unresolved("", s.srs_high, o.wall_force_interval).empty()) return std::nullopt;
+// The protected object's acceleration at the series' samples: over a protected plate in the
+// dynamics (StackSpec::plate_mass) the plate's own; over a rigid wall the wall's force over the
+// space's protected_mass M (the wall holds still in the run: M much heavier than the stack). None
+// where neither is given.
+std::optional<std::vector<double>> protected_acceleration_series(const Outcome& o, const Space& s) {
+  if (!o.peak_wall_force) return std::nullopt;
+  if (!o.plate_acceleration.empty()) return o.plate_acceleration;
+  if (s.protected_mass <= 0.0) return std::nullopt;
   auto a = o.wall_force;
   for (double& v : a) v /= s.protected_mass;
-  return model::shock_response_peak(a, o.wall_force_interval, s.srs_low, s.srs_high, s.srs_damping).acceleration;
+  return a;
+}
+// The peak acceleration of the protected object, as an accelerometer on it reads it: through the
+// space's channel filter (over a rigid wall the filtered force over M, the filter being linear).
+std::optional<double> protected_acceleration(const Outcome& o, const Space& s) {
+  const bool plate = !o.plate_acceleration.empty();
+  if (!plate && s.protected_mass <= 0.0) return std::nullopt;
+  if (!o.peak_wall_force || s.cfc == 0) return std::nullopt;
+  if (!model::unresolved("", model::channel_design_frequency(s.cfc), o.wall_force_interval).empty()) return std::nullopt;
+  double peak = 0.0;
+  const auto& series = plate ? o.plate_acceleration : o.wall_force;
+  for (const double v : model::channel_filter(series, o.wall_force_interval, s.cfc).values) peak = std::max(peak, std::fabs(v));
+  return plate ? peak : peak / s.protected_mass;
+}
+// The shock response spectrum of the protected object's acceleration as the run gives it (a
+// causal input: the phaseless filter's output starts before the blow).
+std::optional<double> srs_peak(const Outcome& o, const Space& s) {
+  const auto a = protected_acceleration_series(o, s);
+  if (!a || s.srs_high <= 0.0) return std::nullopt;
+  if (!model::unresolved("", s.srs_high, o.wall_force_interval).empty()) return std::nullopt;
+  return model::shock_response_peak(*a, o.wall_force_interval, s.srs_low, s.srs_high, s.srs_damping).acceleration;
 }
 double areal_mass(const Evaluation& e) { return e.areal_mass; }
 double height(const Evaluation& e) { return e.height; }
@@ -95,13 +109,15 @@ const std::vector<ObjectiveDef> kTable{
      "Butterworth, 3 dB down at 5/3 cfc Hz): the peak a load cell under the stack would report",
      Needs::wall, true, false, filtered_wall_force, nullptr},
     {"protected_acceleration", "m/s^2",
-     "max over t of |F_cfc(t)| / M: the peak acceleration of a protected mass M = [measures] protected_mass (kg) rigidly "
-     "mounted on the wall, through the same filter (the wall holds still in the run: M much heavier than the stack)",
+     "max over t of |a_cfc(t)|: the peak acceleration of the protected object through the same filter; over a "
+     "protected plate in the run (plate_mass, on its mount) the plate's own, over a rigid wall F(t) / M for a mass M = "
+     "[measures] protected_mass (kg) rigidly mounted on it (the wall holds still in the run: M much heavier than the "
+     "stack)",
      Needs::wall, true, false, protected_acceleration, nullptr},
     {"srs_peak", "m/s^2",
      "the largest value over [measures] srs_band (Hz, 12 natural frequencies an octave) of the maximax shock response "
-     "spectrum of F(t) / M (unfiltered: the oscillator is the filter, and a phaseless filter's output starts before the "
-     "blow), damping ratio [measures] srs_damping (0.05 unless set): the most a component of any "
+     "spectrum of the protected object's acceleration (the plate's, or F(t) / M over a rigid wall; unfiltered: the "
+     "oscillator is the filter, and a phaseless filter's output starts before the blow), damping ratio [measures] srs_damping (0.05 unless set): the most a component of any "
      "natural frequency in the band, mounted on the protected mass, would feel",
      Needs::wall, true, false, srs_peak, nullptr},
     {"areal_mass", "kg/m^2", "the lattice's mass over its footprint (Stack::areal_mass: in the strip one top-sphere diameter deep)",

@@ -256,13 +256,21 @@ std::string yield_text(const Space& space, const std::vector<Evaluation>& front,
 // with the front's stacks: M over each one's mass, a stack's mass being its areal mass over the
 // space's one footprint.
 std::string protected_mass_text(const Space& space, const std::vector<Evaluation>& front) {
-  if (space.protected_mass <= 0.0 || front.empty()) return "";
+  const bool plate = space.fixed.has_plate();
+  const double mass = plate ? space.fixed.plate_mass : space.protected_mass;
+  if (mass <= 0.0 || front.empty()) return "";
   const double footprint = model::Stack::build(front.front().spec).footprint_area();
   double lo = HUGE_VAL, hi = 0.0;
   for (const auto& e : front) {
-    const double ratio = space.protected_mass / (e.areal_mass * footprint);
+    const double ratio = mass / (e.areal_mass * footprint);
     lo = std::min(lo, ratio);
     hi = std::max(hi, ratio);
+  }
+  if (plate) {
+    return fmt::format("The protected object: a plate of M = {:g} kg that the stack strikes, in the run, on a mount of "
+                       "stiffness {:g} N/m and damping {:g} N s/m; protected_acceleration and srs_peak read its own "
+                       "acceleration. M is {:.3g} to {:.3g} times the mass of the front's stacks over the footprint.",
+                       mass, space.fixed.mount_stiffness, space.fixed.mount_damping, lo, hi);
   }
   return fmt::format("The protected object: protected_acceleration and srs_peak divide the wall's force by M = {:g} kg, "
                      "the wall rigid: M is not moved by the blow. M is {:.3g} to {:.3g} times the mass of the front's "

@@ -219,9 +219,17 @@ void require_shock_settings(Space& s, const std::set<std::string>& given, std::v
                                      "600 or 1000)", m));
     }
   }
+  // Over a protected plate in the run the measures read its own acceleration: the plate is the
+  // protected object, and a second mass beside it would say something else.
+  if (s.fixed.has_plate() && s.protected_mass > 0.0) {
+    problems.push_back(fmt::format("[measures] protected_mass: the protected object is the plate of [fixed] plate_mass "
+                                   "({:g} kg), whose own acceleration the measures read; leave protected_mass out",
+                                   s.fixed.plate_mass));
+  }
   for (const char* m : {"protected_acceleration", "srs_peak"}) {
-    if (named(m) && missing("protected_mass", s.protected_mass <= 0.0)) {
-      problems.push_back(fmt::format("{} needs [measures] protected_mass (kg)", m));
+    if (named(m) && !s.fixed.has_plate() && missing("protected_mass", s.protected_mass <= 0.0)) {
+      problems.push_back(fmt::format("{} needs [measures] protected_mass (kg), or a protected plate in the run ([fixed] "
+                                     "bottom = \"wall\" with plate_mass)", m));
     }
   }
   if (named("srs_peak") && missing("srs_band", s.srs_high <= 0.0)) {

@@ -83,7 +83,7 @@ struct SeriesColumns {
   int striker_t = -1, striker_r = -1, out_t = -1, out_r = -1;
   int bottom_t = -1, bottom_r = -1;  // the bottom row's, where the deck writes them
   int wall_force = -1;  // the bottom wall's force (model::kBottomWallForceColumn), when the deck writes it
-  int plate_z = -1, plate_vz = -1;  // the protected plate's displacement and velocity (model::kPlateColumns)
+  int plate_z = -1, plate_vz = -1, plate_az = -1;  // the protected plate's motion (model::kPlateColumns)
   // The contacts' elastic energy and dissipated work, each block's and the strikers' share of it
   // (model::series_contact_columns), where the law has its run report them.
   int contact_elastic = -1, contact_dissipated = -1, striker_dissipated = -1;
@@ -120,6 +120,7 @@ SeriesColumns series_columns(const formats::Series& series, const std::string& p
   if (stack.spec().has_plate()) {
     c.plate_z = find(model::kPlateColumns[0]);
     c.plate_vz = find(model::kPlateColumns[1]);
+    c.plate_az = find(model::kPlateColumns[2]);
   }
   c.bottom_t = series.column("ke_trans_bottom_row");
   c.bottom_r = series.column("ke_rot_bottom_row");
@@ -426,6 +427,7 @@ void series_peaks(const formats::Series& series, const SeriesColumns& cols, doub
       if (ke > p.peak_ke) p = {k + 1, ke, t, 0.0};
     }
     r.output_peak_fraction = std::max(r.output_peak_fraction, cols.output_ke(row) / r.e_in);
+    if (cols.plate_az >= 0) r.plate_acceleration.push_back(SeriesColumns::at(row, cols.plate_az));
     if (cols.wall_force >= 0) {
       const double f = SeriesColumns::at(row, cols.wall_force);
       r.wall_force.push_back(f);

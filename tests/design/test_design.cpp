@@ -1115,6 +1115,13 @@ TEST(Space, TheStoreKeyChangesWithEverySpecField) {
       {"bottom", {{{"bottom", {"free"}}}, {{"bottom", {"wall"}}}}},
       {"sides", {{{"sides", {"free"}}}, {{"sides", {"wall"}}}}},
       {"wall_material", {{{"bottom", {"wall"}}, {"wall_material", {"steel"}}}, {{"bottom", {"wall"}}, {"wall_material", {"brass"}}}}},
+      {"plate_mass", {{{"bottom", {"wall"}}, {"plate_mass", {"0.1"}}}, {{"bottom", {"wall"}}, {"plate_mass", {"0.2"}}}}},
+      {"mount_stiffness",
+       {{{"bottom", {"wall"}}, {"plate_mass", {"0.1"}}, {"mount_stiffness", {"1e4"}}},
+        {{"bottom", {"wall"}}, {"plate_mass", {"0.1"}}, {"mount_stiffness", {"2e4"}}}}},
+      {"mount_damping",
+       {{{"bottom", {"wall"}}, {"plate_mass", {"0.1"}}, {"mount_damping", {"1"}}},
+        {{"bottom", {"wall"}}, {"plate_mass", {"0.1"}}, {"mount_damping", {"2"}}}}},
       {"gravity", {{{"gravity", {"0"}}}, {{"gravity", {"9.81"}}}}},
       {"dt", {{{"dt", {"1e-8"}}}, {{"dt", {"2e-8"}}}}},
       {"duration", {{{"duration", {"1e-4"}}}, {{"duration", {"2e-4"}}}}},
@@ -2045,6 +2052,42 @@ TEST(Crush, TheStacksCrushIsNotTheStrikersIndentation) {
                                      "and {:.0f} um", 1e6 * (r["steel"].penetration - seat), same, 1e6 * r["steel"].crush,
                                      1e6 * r["teflon"].crush)),
             std::string::npos);
+}
+
+// A protected plate in the run (#67 item 4): the measures read the plate's own acceleration. On a
+// free plate (no mount) that is the spheres' push over its mass, so through the same filter it is
+// the filtered wall force over M, to round-off (Newton's second law; the filter is linear); on a
+// spring the mount pulls the plate back up and the reading differs. A space that gives a plate and
+// a protected_mass beside it is refused, naming the plate.
+TEST(Protection, APlateInTheRunIsTheProtectedObject) {
+  model::StackSpec spec;
+  spec.blocks = 1;
+  spec.block_rows = {2};
+  spec.bottom_radius = 4e-3;
+  spec.bottom = spec.sides = model::Boundary::wall;
+  spec.wall_material = "steel";
+  spec.plate_mass = 2.0;
+  const auto measures = [&](const model::StackSpec& s) {
+    const auto run = in_situ(s, true);
+    EXPECT_TRUE(run.blow_end_time) << run.blow_not_ended;
+    design::Outcome o;
+    design::take_shared(o, run);
+    EXPECT_EQ(o.plate_acceleration.size(), o.wall_force.size());
+    const auto space = design::parse_space(small_space_fixed("plate_mass = 2.0\n", "[measures]\ncfc = 1000\n"),
+                                           "plate.toml");
+    return design::run_measures(space, o);
+  };
+  const auto free = measures(spec);
+  EXPECT_GT(free.at("protected_acceleration"), 0.0);
+  EXPECT_NEAR(free.at("protected_acceleration"), free.at("filtered_wall_force") / 2.0,
+              1e-12 * free.at("filtered_wall_force"));
+  auto sprung = spec;
+  sprung.mount_stiffness = 1e8;
+  const auto held = measures(sprung);
+  EXPECT_GT(std::fabs(held.at("protected_acceleration") / (held.at("filtered_wall_force") / 2.0) - 1.0), 1e-3);
+  const auto both = problems_of(small_space_fixed("plate_mass = 2.0\n", "[measures]\nprotected_mass = 1.0\n"));
+  EXPECT_NE(both.find("[measures] protected_mass: the protected object is the plate of [fixed] plate_mass (2 kg)"),
+            std::string::npos) << both;
 }
 
 // What the protected object feels (#47 item 5), each measure checked against the physics it must

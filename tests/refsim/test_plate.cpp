@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -75,6 +76,8 @@ TEST(Plate, AFreePlateTakesTheElasticCollisionsVelocities) {
   const double m = Blow(1.0, 0.0, 0.0).m;
   Blow b(2.0 * m, 0.0, 0.0);
   b.until_apart();
+  std::printf("free plate: the sphere %+.3g off v/3, the plate %+.3g off -2v/3 (m/s)\n", b.system.v(0)[2] - 1.0 / 3.0,
+              b.system.plate_velocity() + 2.0 / 3.0);
   EXPECT_NEAR(b.system.v(0)[2], 1.0 / 3.0, 1e-8);
   EXPECT_NEAR(b.system.plate_velocity(), -2.0 / 3.0, 1e-8);
   EXPECT_NEAR(b.m * b.system.v(0)[2] + 2.0 * m * b.system.plate_velocity(), -b.m * b.v, 1e-12 * b.m * b.v);
@@ -90,6 +93,7 @@ TEST(Plate, OnASpringTheSpherePlateAndSpringKeepTheEnergy) {
   b.system_mass = 2.0 * m;
   const double e_in = 0.5 * b.m * b.v * b.v;
   b.until_apart();
+  std::printf("sprung plate: energy after / before 1 %+.3g\n", b.energy(1e6) / e_in - 1.0);
   EXPECT_NEAR(b.energy(1e6) / e_in, 1.0, 1e-7);
   EXPECT_LT(0.5 * b.m * b.system.v(0)[2] * b.system.v(0)[2], 0.99 * e_in);
 }
@@ -106,6 +110,7 @@ TEST(Plate, ADashpotTakesTheWorkItDoes) {
   double work = 0.0;
   b.until_apart([&] { work += c * b.system.plate_velocity() * b.system.plate_velocity() * b.dt; });
   const double lost = e_in - b.energy(1e6);
+  std::printf("dashpot: %.3g of E_in lost, over the sum of c v^2 dt 1 %+.3g\n", lost / e_in, lost / work - 1.0);
   EXPECT_GT(lost, 0.1 * e_in);
   EXPECT_NEAR(lost / work, 1.0, 1e-3);
 }

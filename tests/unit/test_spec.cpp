@@ -367,6 +367,9 @@ impact_offset = -1
 bottom = "wall"
 sides = "free"
 wall_material = "steel"
+plate_mass = 0.5
+mount_stiffness = 1e4
+mount_damping = 2
 gravity = 0
 dt = 1e-8
 duration = 1e-4
@@ -410,6 +413,9 @@ deck_additions = ["fix viscous", "displace_atoms"]
   EXPECT_EQ(*spec.characteristic_velocity, 2.0);
   EXPECT_EQ(spec.rolling_friction.get("steel", "steel"), 0.05);
   EXPECT_EQ(spec.impact_offset, -1);
+  EXPECT_EQ(spec.plate_mass, 0.5);
+  EXPECT_EQ(spec.mount_stiffness, 1e4);
+  EXPECT_EQ(spec.mount_damping, 2.0);
   EXPECT_EQ(spec.deck_additions, (std::vector<std::string>{"fix viscous", "displace_atoms"}));
   auto nested = generator::build_sweep(generator::parse_spec_toml("radius_ratio = 3\nstacking = \"nested\"\n", "t")).base;
   EXPECT_EQ(nested.stacking, model::Stacking::nested);

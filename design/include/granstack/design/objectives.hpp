@@ -30,6 +30,7 @@ struct Outcome {
   double run_time = 0.0;                 // s
   double seconds = 0.0;
   std::vector<double> wall_force;        // N, at every series sample, wall_force_interval apart
+  std::vector<double> plate_acceleration;  // m/s^2, the protected plate's at the same samples; empty: a rigid wall
   double wall_force_interval = 0.0;      // s
   double crush = 0.0;                    // m, model::CrushMeter over the dump's frames
   double penetration = 0.0;              // m, the same
@@ -51,6 +52,7 @@ void take_shared(Outcome& o, const Run& r) {
   o.peak_wall_force_time = r.peak_wall_force_time;
   o.final_momentum_ratio = r.final_momentum_ratio;
   o.wall_force = r.wall_force;
+  o.plate_acceleration = r.plate_acceleration;
   o.wall_force_interval = r.wall_force_interval;
   o.crush = r.crush;
   o.penetration = r.penetration;

@@ -59,6 +59,9 @@ struct CaseReduction {
   // after the start: what model::peak_window_impulse reads (the design's wall_impulse).
   std::vector<double> wall_force;
   double wall_force_interval = 0.0;
+  // Over a protected plate (StackSpec::plate_mass), its acceleration at the same samples, m/s^2
+  // (the series' plate_az); empty over a rigid wall.
+  std::vector<double> plate_acceleration;
   // The stack's crush (its top surface's largest travel toward the wall over the footprint) and
   // the striker's penetration below the stack's initial top surface, the largest over the dump
   // frames (model::CrushMeter), m.

@@ -75,6 +75,7 @@ struct InSituResult {
   // The bottom wall's force at every series sample (every series_every steps from series_every
   // on, wall_force_interval apart): what model::peak_window_impulse reads, as reduce does.
   std::vector<double> wall_force;
+  std::vector<double> plate_acceleration;  // over a protected plate, at the same samples (m/s^2)
   double wall_force_interval = 0.0;         // s
   // model::CrushMeter over the dump's frames (step 0 to the last, every dump_every), as reduce:
   // the stack's crush and the striker's penetration below its initial top surface.
