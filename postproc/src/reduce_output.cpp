@@ -10,7 +10,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <set>
+#include <utility>
 
 namespace granstack::postproc {
 
@@ -18,6 +20,15 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
+// The protected plate's largest acceleration, either way, m/s^2, and when (s): none without a plate.
+std::optional<std::pair<double, double>> peak_plate_acceleration(const CaseReduction& r) {
+  std::optional<std::pair<double, double>> peak;
+  for (std::size_t i = 0; i < r.plate_acceleration.size(); ++i) {
+    const double a = std::fabs(r.plate_acceleration[i]);
+    if (!peak || a > peak->first) peak = {{a, static_cast<double>(i + 1) * r.wall_force_interval}};
+  }
+  return peak;
+}
 json waves_json(const std::vector<BlockWaves>& waves) {
   auto opt = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
   json out = json::array();
@@ -120,6 +131,7 @@ json to_json(const CaseReduction& r) {
           {"output_fraction_bottom_row_max", r.output_fraction_bottom_row_max},
           {"peak_wall_force", r.peak_wall_force ? nlohmann::json(*r.peak_wall_force) : nlohmann::json(nullptr)},
           {"peak_wall_force_time", r.peak_wall_force ? nlohmann::json(r.peak_wall_force_time) : nlohmann::json(nullptr)},
+          {"peak_plate_acceleration", peak_plate_acceleration(r) ? nlohmann::json(peak_plate_acceleration(r)->first) : nlohmann::json(nullptr)},
           {"final_momentum_ratio", r.final_momentum_ratio},
           {"crush_m", r.crush},
           {"penetration_m", r.penetration},
@@ -247,6 +259,10 @@ std::string format_table(const std::vector<CaseReduction>& rs) {
     }
     if (r.peak_wall_force) {
       fmt::format_to(out, "peak bottom-wall force: {:.6g} N at t = {:.4g} s\n", *r.peak_wall_force, r.peak_wall_force_time);
+    }
+    if (const auto a = peak_plate_acceleration(r)) {
+      fmt::format_to(out, "the protected plate ({:g} kg): peak acceleration {:.6g} m/s^2 at t = {:.4g} s (unfiltered, at the "
+                     "series' samples)\n", r.spec.plate_mass, a->first, a->second);
     }
     if (r.spec.bottom == model::Boundary::wall) {
       fmt::format_to(out, "crush (the stack's loss of height): {:.6g} m; penetration (the striker below the initial top "

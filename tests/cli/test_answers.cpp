@@ -435,6 +435,13 @@ TEST_F(Answers, AStackOnAPlateIsReducedWhereThePlateStood) {
     ASSERT_TRUE(rigid.at(key).is_number()) << key;
     EXPECT_NEAR(heavy.at(key).get<double>(), rigid.at(key).get<double>(), 1e-9 * rigid.at(key).get<double>()) << key;
   }
+  // A free plate's acceleration is the spheres' push over its mass (Newton), at every sample: its
+  // peak is the peak wall force over M, to round-off; a rigid wall has none.
+  EXPECT_TRUE(rigid.at("peak_plate_acceleration").is_null());
+  const double force = heavy.at("peak_wall_force").get<double>();
+  EXPECT_NEAR(heavy.at("peak_plate_acceleration").get<double>(), force / 1e9, 1e-12 * force / 1e9);
+  EXPECT_GT(sprung.at("peak_plate_acceleration").get<double>(), 0.0);
+  expect_contains(granstack({"reduce", path("sprung").string()}), "the protected plate (0.01 kg): peak acceleration ");
 }
 
 // thornton_ning yields at r_i * ratio[type_i] of LIGGGHTS's atom i: a container's matrix type has
