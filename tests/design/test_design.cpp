@@ -2054,18 +2054,24 @@ TEST(Crush, TheStacksCrushIsNotTheStrikersIndentation) {
             std::string::npos);
 }
 
-// A protected plate in the run (#67 item 4): the measures read the plate's own acceleration. On a
-// free plate (no mount) that is the spheres' push over its mass, so through the same filter it is
-// the filtered wall force over M, to round-off (Newton's second law; the filter is linear); on a
-// spring the mount pulls the plate back up and the reading differs. A space that gives a plate and
-// a protected_mass beside it is refused, naming the plate.
-TEST(Protection, APlateInTheRunIsTheProtectedObject) {
+// The protection tests' stack: two rows of 8 mm steel spheres on a steel wall, confined.
+model::StackSpec two_rows_on_a_steel_wall() {
   model::StackSpec spec;
   spec.blocks = 1;
   spec.block_rows = {2};
   spec.bottom_radius = 4e-3;
   spec.bottom = spec.sides = model::Boundary::wall;
   spec.wall_material = "steel";
+  return spec;
+}
+
+// A protected plate in the run (#67 item 4): the measures read the plate's own acceleration. On a
+// free plate (no mount) that is the spheres' push over its mass, so through the same filter it is
+// the filtered wall force over M, to round-off (Newton's second law; the filter is linear); on a
+// spring the mount pulls the plate back up and the reading differs. A space that gives a plate and
+// a protected_mass beside it is refused, naming the plate.
+TEST(Protection, APlateInTheRunIsTheProtectedObject) {
+  auto spec = two_rows_on_a_steel_wall();
   spec.plate_mass = 2.0;
   const auto measures = [&](const model::StackSpec& s) {
     const auto run = in_situ(s, true);
@@ -2104,12 +2110,7 @@ TEST(Protection, APlateInTheRunIsTheProtectedObject) {
 //   held to 1e-3.
 // A space that names these measures without their settings is refused, naming the setting.
 TEST(Protection, WhatTheProtectedObjectFeelsObeysItsClosedForms) {
-  model::StackSpec spec;
-  spec.blocks = 1;
-  spec.block_rows = {2};
-  spec.bottom_radius = 4e-3;
-  spec.bottom = spec.sides = model::Boundary::wall;
-  spec.wall_material = "steel";
+  const auto spec = two_rows_on_a_steel_wall();
   const auto run = in_situ(spec, true);
   ASSERT_TRUE(run.blow_end_time) << run.blow_not_ended;
   design::Outcome o;
