@@ -9,6 +9,7 @@
 #include <granstack/model/yield.hpp>
 #include <granstack/postproc/compare.hpp>
 #include <granstack/postproc/reduce.hpp>
+#include <granstack/runner/engines.hpp>
 #include <granstack/runner/runner.hpp>
 
 #include <granstack/os/interrupt.hpp>
@@ -135,6 +136,10 @@ std::string write_cases(const Evaluation& e, std::size_t i, const fs::path& dir,
     o.output = dir / name;
     o.force = true;  // replaces only a case granstack made
     const auto spec = model::liggghts_counterpart(runs[k].first);
+    if (auto why = runner::case_refusal(runner::Engine::liggghts, spec); !why.empty()) {  // a plate on a mount
+      for (const auto& m : mine) fs::remove_all(m.dir);
+      return why;
+    }
     try {
       generator::generate({{name, binary_dumps(spec)}}, o);
     } catch (const std::invalid_argument& refused) {  // the deck's: LIGGGHTS cannot take this stack under its law
