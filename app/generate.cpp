@@ -7,6 +7,7 @@
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/generator/spec_input.hpp>
 #include <granstack/model/spec_fields.hpp>
+#include <granstack/model/protection.hpp>
 #include <granstack/model/stack.hpp>
 #include <granstack/model/yield.hpp>
 
@@ -68,6 +69,18 @@ std::string flag_help(const model::SpecField& f) {
 }
 
 // thornton_ning's one yield radius, and the yield pressure each kind of contact has at it.
+// The protected plate as a user weighs it: its mass against the stack's, and its mount's frequency
+// and damping ratio (the plate alone on it).
+void print_plate(const model::StackSpec& spec) {
+  const auto m = model::plate_mount(model::Stack::build(spec));
+  fmt::print("protected plate: {:g} kg, {:.3g} times the stack's mass; ", spec.plate_mass, m.mass_ratio);
+  if (m.damping_ratio) {
+    fmt::print("on its mount {:.4g} Hz, damping ratio {:.3g} (the plate alone)\n", m.natural_frequency, *m.damping_ratio);
+  } else {
+    fmt::print("free (no mount)\n");
+  }
+}
+
 void print_yield_plan(const model::YieldRadiusPlan& plan, const model::StackSpec& spec) {
   fmt::print("thornton_ning: one yield radius a_y = {:.4g} m for every contact ({}), at {} Y of "
              "{}; each kind of contact's yield pressure at it:\n",
@@ -110,6 +123,7 @@ int generate(CLI::App& cmd, const GenerateFlags& g, const std::vector<std::strin
                  total.steps, d.duration);
     }
   }
+  if (!result.sweep && cases.front().spec.has_plate()) print_plate(cases.front().spec);
   if (!result.sweep && cases.front().spec.normal_model == model::NormalModel::thornton_ning) {
     print_yield_plan(model::thornton_ning_plan(model::Stack::build(cases.front().spec)), cases.front().spec);
   }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -50,6 +51,18 @@ CrushMeter::CrushMeter(const Stack& stack)
   for (int id = 1; id <= stack.strikers(); ++id) striker_radius_.push_back(spheres[static_cast<std::size_t>(id - 1)].radius);
   seat_depth_ = at([&](std::size_t i) { return std::array<double, 3>{spheres[i].x, spheres[i].y, spheres[i].z}; }).penetration;
   largest_.penetration = seat_depth_;
+}
+
+PlateMount plate_mount(const Stack& stack) {
+  const auto& s = stack.spec();
+  PlateMount m;
+  if (!s.has_plate()) return m;
+  m.mass_ratio = s.plate_mass / stack.lattice_mass();
+  if (s.mount_stiffness > 0.0) {
+    m.natural_frequency = std::sqrt(s.mount_stiffness / s.plate_mass) / (2.0 * std::numbers::pi);
+    m.damping_ratio = s.mount_damping / (2.0 * std::sqrt(s.mount_stiffness * s.plate_mass));
+  }
+  return m;
 }
 
 bool blow_end_reads_wall_force(const StackSpec& spec) {

@@ -408,6 +408,11 @@ TEST_F(Answers, AStackOnAPlateIsReducedWhereThePlateStood) {
     ASSERT_EQ(granstack({"run", "--engine", "refsim", path(name).string()}).code, 0);
   };
   make("sprung", {"--plate-mass", "0.01", "--mount-stiffness", "1e5"});
+  // generate weighs the plate: sqrt(1e5 / 0.01) / (2 pi) = 503.29 Hz, damping ratio 2 / (2 sqrt(1e5 x 0.01)) = 0.0316.
+  const auto said = granstack({"generate", "-o", path("said").string(), "--bottom", "wall", "--plate-mass", "0.01",
+                               "--mount-stiffness", "1e5", "--mount-damping", "2"});
+  expect_contains(said, "protected plate: 0.01 kg, ");
+  expect_contains(said, "on its mount 503.3 Hz, damping ratio 0.0316 (the plate alone)");
   const auto sprung = summary(path("sprung").string());
   ASSERT_TRUE(sprung.at("energy_drift").is_number());
   EXPECT_LT(sprung.at("energy_drift").get<double>(), 1e-3);

@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
 using namespace granstack;
@@ -96,6 +97,35 @@ TEST(Plate, OnASpringTheSpherePlateAndSpringKeepTheEnergy) {
   std::printf("sprung plate: energy after / before 1 %+.3g\n", b.energy(1e6) / e_in - 1.0);
   EXPECT_NEAR(b.energy(1e6) / e_in, 1.0, 1e-7);
   EXPECT_LT(0.5 * b.m * b.system.v(0)[2] * b.system.v(0)[2], 0.99 * e_in);
+}
+
+// Once the sphere has left it, a sprung plate swings freely at its mount's natural frequency,
+// model::plate_mount's sqrt(k / M) / (2 pi): the period between upward zero crossings of its
+// displacement (each placed by linear interpolation between steps) over five swings, to 1e-7
+// (velocity Verlet's frequency error (omega dt)^2 / 24 is a few 1e-9 at the tens of thousands of
+// steps a period takes here; the crossings' interpolation adds less).
+TEST(Plate, ASprungPlateSwingsAtItsMountsNaturalFrequency) {
+  const double m = Blow(1.0, 0.0, 0.0).m;
+  const double k = 1e6;
+  Blow b(2.0 * m, k, 0.0);
+  b.until_apart();
+  std::vector<double> crossings;
+  double z = b.system.plate_displacement();
+  for (long step = 0; crossings.size() < 6 && step < 400000; ++step) {
+    b.system.step();
+    const double next = b.system.plate_displacement();
+    if (z < 0.0 && next >= 0.0) crossings.push_back(static_cast<double>(step) + z / (z - next));
+    z = next;
+  }
+  ASSERT_EQ(crossings.size(), 6u);
+  const double period = (crossings.back() - crossings.front()) / 5.0 * b.dt;
+  model::StackSpec spec;
+  spec.bottom = model::Boundary::wall;
+  spec.plate_mass = 2.0 * m;
+  spec.mount_stiffness = k;
+  const double expected = 1.0 / model::plate_mount(model::Stack::build(spec)).natural_frequency;
+  std::printf("sprung plate: period %.9g s, closed form %.9g s (1 %+.2g)\n", period, expected, period / expected - 1.0);
+  EXPECT_NEAR(period / expected, 1.0, 1e-7);
 }
 
 // A dashpot takes c v^2 per second: the energy lost over the blow is the sum of c v^2 dt over its

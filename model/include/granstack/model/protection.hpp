@@ -24,6 +24,16 @@ inline double plate_energy(const StackSpec& s, double z, double vz) {
   return s.has_plate() ? 0.5 * s.plate_mass * vz * vz + 0.5 * s.mount_stiffness * z * z : 0.0;
 }
 
+// The protected plate on its mount, as a single-degree-of-freedom system (the plate alone): its
+// natural frequency sqrt(k / M) / (2 pi), Hz (0 on a free plate), its damping ratio
+// c / (2 sqrt(k M)) (none on a free plate), and its mass over the stack's (Stack::lattice_mass).
+struct PlateMount {
+  double natural_frequency = 0.0;
+  std::optional<double> damping_ratio;
+  double mass_ratio = 0.0;
+};
+PlateMount plate_mount(const Stack& stack);
+
 // The largest impulse (N s) the wall takes in a window of `window` seconds: the peak over the
 // samples' times t of the integral of F from t to t + window, F linear between its samples. `force` holds the
 // wall's force every `interval` seconds (the series' samples, from one interval after the start).
