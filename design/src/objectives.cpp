@@ -23,13 +23,15 @@ std::optional<double> wall_impulse(const Outcome& o, const Space& s) {
 std::optional<double> crush(const Outcome& o, const Space&) { return o.crush; }
 std::optional<double> penetration(const Outcome& o, const Space&) { return o.penetration; }
 std::optional<double> yield_ratio(const Outcome& o, const Space&) { return o.yield_ratio; }
-// The wall's force through the space's channel filter, or none without one, or where the series
-// does not resolve the filter's design frequency (shock_measures_unresolved says so).
-std::optional<std::vector<double>> filtered_force(const Outcome& o, const Space& s) {
+// A series at the wall force's samples through the space's channel filter, or none without one,
+// or where the series does not resolve the filter's design frequency (shock_measures_unresolved
+// says so).
+std::optional<std::vector<double>> filtered(const std::vector<double>& series, const Outcome& o, const Space& s) {
   if (!o.peak_wall_force || s.cfc == 0) return std::nullopt;
   if (!model::unresolved("", model::channel_design_frequency(s.cfc), o.wall_force_interval).empty()) return std::nullopt;
-  return model::channel_filter(o.wall_force, o.wall_force_interval, s.cfc).values;
+  return model::channel_filter(series, o.wall_force_interval, s.cfc).values;
 }
+std::optional<std::vector<double>> filtered_force(const Outcome& o, const Space& s) { return filtered(o.wall_force, o, s); }
 std::optional<double> filtered_wall_force(const Outcome& o, const Space& s) {
   const auto f = filtered_force(o, s);
   if (!f) return std::nullopt;
@@ -52,11 +54,10 @@ std::optional<std::vector<double>> protected_acceleration_series(const Outcome& 
 std::optional<double> protected_acceleration(const Outcome& o, const Space& s) {
   const bool plate = !o.plate_acceleration.empty();
   if (!plate && s.protected_mass <= 0.0) return std::nullopt;
-  if (!o.peak_wall_force || s.cfc == 0) return std::nullopt;
-  if (!model::unresolved("", model::channel_design_frequency(s.cfc), o.wall_force_interval).empty()) return std::nullopt;
+  const auto f = filtered(plate ? o.plate_acceleration : o.wall_force, o, s);
+  if (!f) return std::nullopt;
   double peak = 0.0;
-  const auto& series = plate ? o.plate_acceleration : o.wall_force;
-  for (const double v : model::channel_filter(series, o.wall_force_interval, s.cfc).values) peak = std::max(peak, std::fabs(v));
+  for (const double v : *f) peak = std::max(peak, std::fabs(v));
   return plate ? peak : peak / s.protected_mass;
 }
 // The shock response spectrum of the protected object's acceleration as the run gives it (a
@@ -117,8 +118,9 @@ const std::vector<ObjectiveDef> kTable{
     {"srs_peak", "m/s^2",
      "the largest value over [measures] srs_band (Hz, 12 natural frequencies an octave) of the maximax shock response "
      "spectrum of the protected object's acceleration (the plate's, or F(t) / M over a rigid wall; unfiltered: the "
-     "oscillator is the filter, and a phaseless filter's output starts before the blow), damping ratio [measures] srs_damping (0.05 unless set): the most a component of any "
-     "natural frequency in the band, mounted on the protected mass, would feel",
+     "oscillator is the filter, and a phaseless filter's output starts before the blow), damping ratio [measures] "
+     "srs_damping (0.05 unless set): the most a component of any natural frequency in the band, mounted on the "
+     "protected mass, would feel",
      Needs::wall, true, false, srs_peak, nullptr},
     {"areal_mass", "kg/m^2", "the lattice's mass over its footprint (Stack::areal_mass: in the strip one top-sphere diameter deep)",
      Needs::any, false, false, nullptr, areal_mass},

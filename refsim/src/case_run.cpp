@@ -151,7 +151,6 @@ class SeriesWriter {
     if (!contact_energy_) dissipated_groups_.clear();
     wall_force_ = std::find(columns.begin(), columns.end(), model::kBottomWallForceColumn) != columns.end();
     plate_ = stack.spec().has_plate();
-    plate_mass_ = stack.spec().plate_mass;
     per_line_ = 1 + 2 * groups_.size() + (contact_energy_ ? 2 + dissipated_groups_.size() : 0) + (wall_force_ ? 1 : 0) +
                 (plate_ ? model::kPlateColumns.size() : 0);
     if (columns.size() != per_line_) {
@@ -179,7 +178,7 @@ class SeriesWriter {
     if (plate_) {  // kPlateColumns' order
       batch.push_back(s.plate_displacement());
       batch.push_back(s.plate_velocity());
-      batch.push_back(s.plate_force() / plate_mass_);
+      batch.push_back(s.plate_acceleration());
     }
   }
 
@@ -228,7 +227,6 @@ class SeriesWriter {
   bool contact_energy_ = false;           // the contacts' energy columns follow the groups'
   bool wall_force_ = false;               // a column is the bottom wall's force
   bool plate_ = false;                    // the plate's columns end the line (model::kPlateColumns)
-  double plate_mass_ = 0.0;
   std::size_t per_line_ = 0;
   std::string line_;
 };

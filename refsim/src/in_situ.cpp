@@ -135,7 +135,7 @@ InSituResult run_in_situ(const model::Stack& stack, std::vector<Particle> partic
     if (wall) {
       const double f = bottom_wall_force(system);
       r.wall_force.push_back(f);
-      if (stack.spec().has_plate()) r.plate_acceleration.push_back(system.plate_force() / stack.spec().plate_mass);
+      if (stack.spec().has_plate()) r.plate_acceleration.push_back(system.plate_acceleration());
       if (!r.peak_wall_force || f > *r.peak_wall_force) {
         r.peak_wall_force = f;
         r.peak_wall_force_time = static_cast<double>(step) * res.dt;

@@ -132,6 +132,7 @@ class System {
   double plate_displacement() const { return plate_z_; }
   double plate_velocity() const { return plate_v_; }
   double plate_force() const { return plate_f_; }
+  double plate_acceleration() const { return p_.plate.wall >= 0 ? plate_f_ / p_.plate.mass : 0.0; }  // m/s^2
   // The kinetic energies of particles [begin, end), translational and rotational, as the
   // in-situ series reports them (0.5 m |v|^2 and 0.5 I |w|^2 with I = 0.4 m r^2, fix
   // nve/sphere's solid spheres). Each sum is taken in eight partial sums (particle begin + k
