@@ -70,26 +70,10 @@ bool same_words(const Words& a, const Words& b) {
 struct Reference {
   std::map<std::string, std::vector<Words>> held;                      // by command, those that name nothing
   std::map<std::pair<std::string, std::string>, std::vector<Words>> named;  // (fix|compute|dump|group, name)
+  // The deck's own prints to a file (a protected plate's mesh), by the file: a file the run reads.
+  std::map<std::string, std::vector<Words>> prints;
   Words run;
 };
-
-Reference read_reference(std::string_view text) {
-  Reference r;
-  for (const auto& line : script_lines(text)) {
-    const auto words = script_words(without_comment(line.text));
-    if (!words || words->empty()) continue;
-    const auto& c = (*words)[0];
-    const auto acts = acts_on().find(c);
-    if (acts != acts_on().end() && words->size() >= 2) {
-      r.named[{acts->second, (*words)[1]}].push_back(*words);
-    } else if (c == "run") {
-      r.run = *words;
-    } else if (harmless().count(c) == 0) {
-      r.held[c].push_back(*words);
-    }
-  }
-  return r;
-}
 
 // The files a command writes (as it names them), for the commands that write files.
 std::vector<std::string> written_files(const Words& w) {
@@ -112,6 +96,26 @@ std::vector<std::string> written_files(const Words& w) {
     }
   }
   return files;
+}
+
+Reference read_reference(std::string_view text) {
+  Reference r;
+  for (const auto& line : script_lines(text)) {
+    const auto words = script_words(without_comment(line.text));
+    if (!words || words->empty()) continue;
+    const auto& c = (*words)[0];
+    const auto acts = acts_on().find(c);
+    if (acts != acts_on().end() && words->size() >= 2) {
+      r.named[{acts->second, (*words)[1]}].push_back(*words);
+    } else if (c == "run") {
+      r.run = *words;
+    } else if (c == "print") {
+      for (const auto& file : written_files(*words)) r.prints[file].push_back(*words);
+    } else if (harmless().count(c) == 0) {
+      r.held[c].push_back(*words);
+    }
+  }
+  return r;
 }
 
 class Judge {
@@ -138,6 +142,7 @@ class Judge {
       return;
     }
     writes(w, text, where);
+    if (c == "print") printed(w, text, where);
     if (c == "run") {
       if (!same_words(w, r_.run)) {
         problem(where, fmt::format("'{}' is not the case's run ('{}')", text, joined(r_.run)), kPlaceholders);
@@ -198,6 +203,20 @@ class Judge {
             fmt::format("{}; give a {} of your own another name", kPlaceholders, what));
   }
 
+  // A print to a file the deck's own prints write (the plate's mesh, which the run then reads):
+  // one of those lines.
+  void printed(const Words& w, const std::string& text, const std::string& where) {
+    for (const auto& file : written_files(w)) {
+      const auto own = r_.prints.find(file);
+      if (own == r_.prints.end()) continue;
+      if (std::none_of(own->second.begin(), own->second.end(), [&](const Words& r) { return same_words(w, r); })) {
+        problem(where, fmt::format("'{}' writes {}, which granstack's deck writes itself (and reads back) with other lines",
+                                   text, file),
+                fmt::format("{}; write your own file under another name", kPlaceholders));
+      }
+    }
+  }
+
   void addition(const Words& w, const std::string& text, const std::string& where) {
     const auto kind = command_kind(w);
     if (additions_.count(kind) != 0) {
@@ -256,6 +275,11 @@ class Judge {
     }
     for (const auto& [name, list] : r_.named) {
       if (std::none_of(list.begin(), list.end(), ran_one)) say(list.front());
+    }
+    for (const auto& [file, list] : r_.prints) {
+      for (const auto& r : list) {
+        if (!ran_one(r)) say(r);
+      }
     }
   }
 

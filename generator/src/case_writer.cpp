@@ -208,6 +208,14 @@ GenerateResult generate(const std::vector<CaseSpec>& cases, const GenerateOption
                                                    "of the cap: end the template with {{{{run}}}}, or use stop = 'duration'",
                                                    tmpl_name, res.steps)}});
     }
+    if (c.spec.has_plate() && options.deck_template_path &&
+        !(uses_placeholder(tmpl, "plate") && uses_placeholder(tmpl, "particles"))) {
+      throw model::SpecError({{"plate_mass", fmt::format("{} lacks {{{{plate}}}} (after fix nve/sphere: the plate's motion) or "
+                                                         "{{{{particles}}}} (the dump's group, without the plate's body), "
+                                                         "so its deck would hold the plate still or dump its body: add both, "
+                                                         "as templates/in.granstack.tmpl has them",
+                                                         tmpl_name)}});
+    }
     const auto cost = model::estimate_cost(stack, res);
     if (const auto why = model::why_large(cost); !why.empty() && !options.allow_large) {
       const auto capped = res.stops_at_blow_end

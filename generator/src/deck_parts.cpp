@@ -22,7 +22,8 @@ namespace {
 // Atom-style variables and a compute `gs_<name>_aim`: whether any other sphere is on course to hit
 // sphere `id` (model::threatened, in its arithmetic: d and u the other's position and velocity
 // less the sphere's), and, when `touch`, `gs_<name>_touch`: whether any touches it.
-std::string on_course_lines(std::string_view name, int id, double radius, const DeckDialect& dialect, bool touch) {
+std::string on_course_lines(std::string_view name, int id, double radius, const DeckDialect& dialect, bool touch,
+                            std::string_view particles) {
   std::string out = fmt::format(
       "variable        gs_{0}_dx atom x-x[{1}]\nvariable        gs_{0}_dy atom y-y[{1}]\nvariable        gs_{0}_dz atom z-z[{1}]\n"
       "variable        gs_{0}_ux atom vx-vx[{1}]\nvariable        gs_{0}_uy atom vy-vy[{1}]\nvariable        gs_{0}_uz atom vz-vz[{1}]\n"
@@ -31,26 +32,27 @@ std::string on_course_lines(std::string_view name, int id, double radius, const 
       "variable        gs_{0}_uu atom v_gs_{0}_ux*v_gs_{0}_ux+v_gs_{0}_uy*v_gs_{0}_uy+v_gs_{0}_uz*v_gs_{0}_uz\n"
       "# (uu==0) keeps the program from dividing by 0 where du = 0 already rules the sphere out.\n"
       "variable        gs_{0}_aim atom (id!={1})*(v_gs_{0}_du<0)*(v_gs_{0}_dd-v_gs_{0}_du*v_gs_{0}_du/(v_gs_{0}_uu+(v_gs_{0}_uu==0))<({4}+{2})*({4}+{2}))\n"
-      "compute         gs_{0}_aim all reduce{3} max v_gs_{0}_aim\n",
-      name, id, radius, dialect.reduce_options, dialect.radius);
+      "compute         gs_{0}_aim {5} reduce{3} max v_gs_{0}_aim\n",
+      name, id, radius, dialect.reduce_options, dialect.radius, particles);
   if (touch) {
     out += fmt::format(
         "variable        gs_{0}_touch atom (id!={1})*(v_gs_{0}_dd<({4}+{2})*({4}+{2}))\n"
-        "compute         gs_{0}_touch all reduce{3} max v_gs_{0}_touch\n",
-        name, id, radius, dialect.reduce_options, dialect.radius);
+        "compute         gs_{0}_touch {5} reduce{3} max v_gs_{0}_touch\n",
+        name, id, radius, dialect.reduce_options, dialect.radius, particles);
   }
   return out;
 }
 
 // Each striker still coming (model::striker_coming): on course to hit a sphere, or, against a
 // wall, moving down over the footprint; `gs_coming` counts them. `computes` gains the computes read.
-std::string striker_lines(const model::Stack& stack, const DeckDialect& dialect, std::vector<std::string>& computes) {
+std::string striker_lines(const model::Stack& stack, const DeckDialect& dialect, std::vector<std::string>& computes,
+                          std::string_view particles) {
   std::string out;
   std::string coming = "0";
   const bool wall = stack.spec().bottom == model::Boundary::wall;
   for (int k = 1; k <= stack.strikers(); ++k) {
     const auto name = fmt::format("s{}", k);
-    out += on_course_lines(name, k, stack.spheres()[static_cast<std::size_t>(k - 1)].radius, dialect, false);
+    out += on_course_lines(name, k, stack.spheres()[static_cast<std::size_t>(k - 1)].radius, dialect, false, particles);
     computes.push_back(fmt::format("c_gs_{}_aim", name));
     coming += fmt::format("+c_gs_{}_aim", name);
     if (wall) coming += fmt::format("+(vz[{0}]<0)*(abs(x[{0}])<={1})*(abs(y[{0}])<={2})", k, stack.half_width(), stack.half_depth());
@@ -66,9 +68,10 @@ std::string striker_lines(const model::Stack& stack, const DeckDialect& dialect,
 // every sphere's course to a striker), and the run stopped at the frame where that condition has
 // held for the hold (model::BlowEnd::stop_at), at most res.steps (the cap). The blow's end itself,
 // which leaves out the courses other spheres block, reduce judges from the dump: it is pairwise.
-std::string blow_end_run(const model::Stack& stack, const model::Resolution& res, const DeckDialect& dialect) {
+std::string blow_end_run(const model::Stack& stack, const model::Resolution& res, const DeckDialect& dialect,
+                         std::string_view particles) {
   std::vector<std::string> computes;
-  std::string judge = striker_lines(stack, dialect, computes);
+  std::string judge = striker_lines(stack, dialect, computes, particles);
   if (stack.spec().bottom == model::Boundary::wall) {
     const auto over = fmt::format("(abs(x)<={})*(abs(y)<={})", stack.half_width(), stack.half_depth());
     // Under an elastic-plastic law, whether the wall carries a force: its force on each sphere, as
@@ -76,17 +79,19 @@ std::string blow_end_run(const model::Stack& stack, const model::Resolution& res
     const auto press = model::blow_end_reads_wall_force(stack.spec())
                            ? fmt::format("f_force_{}[3]>0", model::kBottomWallName)
                            : fmt::format("{}*(z-{}<0)", over, dialect.radius);
+    // On a plate, the momentum relative to it (model::over_footprint): what still comes toward it.
+    const auto vz = stack.spec().has_plate() ? fmt::format("(vz-vz[{}])", model::plate_body(stack).id) : std::string("vz");
     judge += fmt::format(
-        "variable        gs_pz atom mass*vz*{0}\n"
+        "variable        gs_pz atom mass*{4}*{0}\n"
         "variable        gs_press atom {2}\n"
-        "compute         gs_pz all reduce{1} sum v_gs_pz\n"
-        "compute         gs_press all reduce{1} max v_gs_press\n"
+        "compute         gs_pz {3} reduce{1} sum v_gs_pz\n"
+        "compute         gs_press {3} reduce{1} max v_gs_press\n"
         "variable        gs_holds equal (v_gs_coming==0)&&(c_gs_pz>=0)&&(c_gs_press==0)\n",
-        over, dialect.reduce_options, press);
+        over, dialect.reduce_options, press, particles, vz);
     computes.insert(computes.begin(), {"c_gs_pz", "c_gs_press"});
   } else {
     const int o = stack.output_sphere_id();
-    judge += on_course_lines("o", o, stack.spheres()[static_cast<std::size_t>(o - 1)].radius, dialect, true);
+    judge += on_course_lines("o", o, stack.spheres()[static_cast<std::size_t>(o - 1)].radius, dialect, true, particles);
     judge += "variable        gs_holds equal (v_gs_coming==0)&&(c_gs_o_touch==0)&&(c_gs_o_aim==0)\n";
     computes.insert(computes.begin(), {"c_gs_o_touch", "c_gs_o_aim"});
   }

@@ -25,8 +25,10 @@ inline constexpr DeckDialect kLammpsDialect{"c_gs_r", "compute         gs_r all 
 // The deck's `group` line of a series group.
 std::string group_command(const model::SeriesGroup& g);
 
-// The deck's run of a case that stops at the blow's end, one dump interval at a time.
-std::string blow_end_run(const model::Stack& stack, const model::Resolution& res, const DeckDialect& dialect);
+// The deck's run of a case that stops at the blow's end, one dump interval at a time, judged over
+// the group `particles` (the spheres: "all" but where a plate's body is an atom too).
+std::string blow_end_run(const model::Stack& stack, const model::Resolution& res, const DeckDialect& dialect,
+                         std::string_view particles = "all");
 
 // The deck's processor grid: -var gs_ranks_x/y/z from `granstack run --np N`, or the program's own.
 // `program` names the engine that chooses when the deck is run by hand ("LIGGGHTS", "LAMMPS").

@@ -5,6 +5,7 @@
 #include <granstack/formats/files.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/model/contact.hpp>
+#include <granstack/model/protection.hpp>
 #include <granstack/model/version.hpp>
 #include <granstack/model/yield.hpp>
 
@@ -16,6 +17,9 @@ namespace granstack::generator {
 namespace fs = std::filesystem;
 
 namespace {
+
+constexpr const char* kPlateMesh = "plate.stl";      // written by the deck's print lines
+constexpr const char* kPlateMountFix = "plate_mount";  // the addforce that pushes the plate's body
 
 // thornton_ning's properties (normal_model_thornton_ning.h): the yield ratios that give every
 // contact one yield radius (model::thornton_ning_plan, refused where none do), no surface energy,
@@ -65,6 +69,54 @@ std::string contact_model_fixes(const model::Stack& stack, const std::vector<std
                        types.size(), matrix);
   }
   return out;
+}
+
+// The protected plate's mesh, body and wall (model::plate_body): the mesh written to plate.stl by
+// the deck itself (so that the deck holds all of it), the body created after the data file's
+// spheres, the wall acting on the spheres alone.
+std::string plate_wall(const model::Stack& stack, const std::string& model_words) {
+  const auto b = model::plate_body(stack);
+  const auto& spec = stack.spec();
+  std::string out = fmt::format(
+      "# The protected plate (plate_mass {} kg on a mount of {} N/m and {} N s/m, docs/physics.md section 7): a\n"
+      "# mesh of one triangle at z = 0 that moves with its body, atom {}, of the plate's mass, {} m under it,\n"
+      "# which fix nve/sphere integrates as every sphere; the wall's force on the spheres and the mount push it\n"
+      "# (fix {}, after the integrator). The body is in no group of the spheres', the dump's or the blow's end's.\n",
+      spec.plate_mass, spec.mount_stiffness, spec.mount_damping, b.id, -b.start[2], kPlateMountFix);
+  const auto line = [&](std::string_view text, bool first) {
+    out += fmt::format("print           \"{}\" {} {} screen no\n", text, first ? "file" : "append", kPlateMesh);
+  };
+  line("solid plate", true);
+  line("facet normal 0 0 1", false);
+  line("outer loop", false);
+  for (const auto& v : b.mesh) line(fmt::format("vertex {} {} {}", v[0], v[1], v[2]), false);
+  for (const auto* end : {"endloop", "endfacet", "endsolid plate"}) line(end, false);
+  out += fmt::format(
+      "create_atoms    {0} single {1} {2} {3} units box\n"
+      "set             atom {4} diameter {5}\n"
+      "set             atom {4} mass {6}\n"
+      "group           plate_body id {4}\n"
+      "group           spheres subtract all plate_body\n"
+      "fix             plate all mesh/surface file {7} type {0}\n"
+      "fix             {8} spheres wall/gran {9} mesh n_meshes 1 meshes plate store_force yes\n",
+      b.type, b.start[0], b.start[1], b.start[2], b.id, 2.0 * b.radius, b.mass, kPlateMesh, model::kBottomWallName,
+      model_words);
+  return out;
+}
+
+// The plate's motion, after the integrator (which moves its body first): the mesh at the body's
+// velocity, the body pushed by model::plate_force (z: the body's travel from its start).
+std::string plate_motion(const model::Stack& stack) {
+  if (!stack.spec().has_plate()) return "# no protected plate (plate_mass): the bottom wall, if any, stands still";
+  const auto b = model::plate_body(stack);
+  const auto& spec = stack.spec();
+  return fmt::format(
+      "variable        gs_plate_still equal 0\n"
+      "variable        gs_plate_vz equal vz[{0}]\n"
+      "variable        gs_plate_force equal -c_fwb-{1}*(z[{0}]+{2})-{3}*vz[{0}]\n"
+      "fix             plate_motion all move/mesh mesh plate linear/variable v_gs_plate_still v_gs_plate_still v_gs_plate_vz\n"
+      "fix             {4} plate_body addforce 0 0 v_gs_plate_force",
+      b.id, spec.mount_stiffness, -b.start[2], spec.mount_damping, kPlateMountFix);
 }
 
 }  // namespace
@@ -125,12 +177,7 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
   const std::string wall_fix = fmt::format("all wall/gran {} primitive type", model::liggghts_model_words(model));
   for (const auto& w : stack.walls()) {
     if (w.name == model::kBottomWallName && spec.has_plate()) {
-      // The plate runs on refsim (runner::case_refusal); a deck run by hand stops at the wall.
-      walls += fmt::format("# LIGGGHTS cannot run this case: the bottom wall is a protected plate on a mount (plate_mass), "
-                           "which runs on refsim;\n# this deck has no plate, and LIGGGHTS stops at the next line "
-                           "(a mesh wall on a mesh it does not define).\n"
-                           "fix             {} all wall/gran {} mesh n_meshes 1 meshes plate store_force yes\n",
-                           w.name, model::liggghts_model_words(model));
+      walls += plate_wall(stack, model::liggghts_model_words(model));
       continue;
     }
     // The bottom wall keeps each sphere's force from it, for the series' wall force.
@@ -138,13 +185,15 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
                          w.position, w.name == model::kBottomWallName ? " store_force yes" : "");
   }
   v["walls"] = walls.empty() ? "# free bottom and free sides: no walls" : walls.substr(0, walls.size() - 1);
+  v["plate"] = plate_motion(stack);
+  v["particles"] = spec.has_plate() ? "spheres" : "all";
   v["gravity"] = spec.gravity > 0.0 ? fmt::format("fix             gravity all gravity {} vector 0 0 -1", spec.gravity)
                                     : std::string("# no gravity");
   v["processors"] = processors_lines(stack, "LIGGGHTS");
   v["contact_distance_factor"] = fmt::format("{}", model::kContactDistanceFactor);
   v["dt"] = fmt::format("{}", res.dt);
   v["steps"] = std::to_string(res.steps);
-  v["run"] = res.stops_at_blow_end ? blow_end_run(stack, res, kLiggghtsDialect) : fmt::format("run             {}", res.steps);
+  v["run"] = res.stops_at_blow_end ? blow_end_run(stack, res, kLiggghtsDialect, v["particles"]) : fmt::format("run             {}", res.steps);
   v["thermo_every"] = std::to_string(res.thermo_every);
   v["dump_every"] = std::to_string(res.dump_every);
   v["dump_file"] = files.dump;
@@ -179,6 +228,10 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
   if (spec.bottom == model::Boundary::wall) {
     computes += fmt::format("compute         fwb all reduce sum f_force_{}[3]\n", model::kBottomWallName);
     values += " $(c_fwb)";
+  }
+  if (spec.has_plate()) {  // model::kPlateColumns: the body's travel, velocity and acceleration
+    const auto b = model::plate_body(stack);
+    values += fmt::format(" $(z[{0}]+{1}) $(vz[{0}]) $(fz[{0}]/mass[{0}])", b.id, -b.start[2]);
   }
   v["energy_series"] = fmt::format(
       "{}fix             energy all print {} \"$(step){}\" file {} screen no title \"# {}\"", computes,

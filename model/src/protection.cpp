@@ -65,6 +65,25 @@ PlateMount plate_mount(const Stack& stack) {
   return m;
 }
 
+PlateBody plate_body(const Stack& stack) {
+  PlateBody b;
+  if (!stack.spec().has_plate()) return b;
+  const auto& spheres = stack.spheres();
+  double smallest = spheres.front().radius;
+  for (const auto& s : spheres) smallest = std::min(smallest, s.radius);
+  const double r1 = stack.block(1).radius;
+  b.id = static_cast<int>(spheres.size()) + 1;
+  b.type = stack.wall_type();
+  b.start = {0.0, 0.0, -0.75 * r1};
+  b.radius = 0.25 * smallest;
+  b.mass = stack.spec().plate_mass;
+  const double margin = std::max(stack.top_z(), stack.half_width());
+  const double a = stack.half_width() + margin, d = stack.half_depth() + margin;
+  // Centroid (0, 0); at y = d its half width is 2a (4d - d) / 6d = a: the rectangle a x d is inside.
+  b.mesh = {{{-2.0 * a, -2.0 * d, 0.0}, {2.0 * a, -2.0 * d, 0.0}, {0.0, 4.0 * d, 0.0}}};
+  return b;
+}
+
 bool blow_end_reads_wall_force(const StackSpec& spec) {
   return spec.bottom == Boundary::wall && (normal_law(spec.normal_model).path_dependent || spec.has_plate());
 }

@@ -88,7 +88,9 @@ Parameters case_parameters(const model::Stack& stack) {
     if (w.name == model::kBottomWallName) p.stored_wall = static_cast<int>(p.walls.size());
     p.walls.push_back({w.axis, w.position, stack.wall_type()});
   }
-  if (spec.has_plate()) p.plate = {p.stored_wall, spec.plate_mass, spec.mount_stiffness, spec.mount_damping};
+  if (spec.has_plate()) {
+    p.plate = {p.stored_wall, spec.plate_mass, spec.mount_stiffness, spec.mount_damping, model::plate_body(stack).start[2]};
+  }
   // fix gravity ... vector 0 0 -1: acceleration = magnitude * unit vector.
   if (spec.gravity > 0.0) p.gravity = {spec.gravity * 0.0, spec.gravity * 0.0, spec.gravity * -1.0};
   return p;

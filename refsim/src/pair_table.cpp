@@ -223,7 +223,7 @@ void System::build_pairs() {
     sum_plan_->build(contribution_offsets_, contributions_, side_j, shares);
   }
   x_at_build_ = x_;
-  plate_z_at_build_ = plate_z_;
+  plate_body_at_build_ = plate_body_;
   find_wall_candidates();
   ++builds_;
 }

@@ -76,6 +76,8 @@ System::System(std::vector<Particle> particles, Parameters params)
     if (!(p_.plate.mass > 0.0) || !(p_.plate.stiffness >= 0.0) || !(p_.plate.damping >= 0.0)) {
       throw std::invalid_argument("refsim: a plate needs a positive mass and a mount of stiffness and damping >= 0");
     }
+    plate_body_ = p_.plate.body_start;
+    plate_body_at_build_ = plate_body_;
   }
   if (detail::has_contact_energy(pairs_->sub_models)) banked_.assign(n_, 0.0);
   wall_touched_.assign(n_ * p_.walls.size(), 0);
@@ -288,15 +290,19 @@ double System::stored_wall_total() const {
 // The plate as fix nve/sphere moves an atom of its mass (dtf / m, then x += dt v), pushed by the
 // addforce of the deck's formula (model::plate_force) once every particle's wall force is known.
 void System::plate_after_forces(bool kick, bool drift) {
-  plate_f_ = model::plate_force(stored_wall_total(), plate_z_, plate_v_, p_.plate.stiffness, p_.plate.damping);
+  plate_f_ = model::plate_force(stored_wall_total(), plate_body_ - p_.plate.body_start, plate_v_, p_.plate.stiffness,
+                                p_.plate.damping);
   if (kick) plate_v_ += (0.5 * p_.dt * 1.0) / p_.plate.mass * plate_f_;
   if (drift) plate_first_half();
 }
 
 void System::plate_first_half() {
   plate_v_ += (0.5 * p_.dt * 1.0) / p_.plate.mass * plate_f_;
-  plate_z_ += p_.dt * plate_v_;
-  const double moved = plate_z_ - plate_z_at_build_, half = 0.5 * p_.skin;
+  plate_z_ += p_.dt * plate_v_;      // fix move/mesh: the mesh's travel, v dt summed
+  plate_body_ += p_.dt * plate_v_;   // fix nve/sphere: the body's x += dt v
+  // A neighbour build when the body has moved half the skin (the mesh, moving with it, asks for
+  // one a step later, which that build has already made).
+  const double moved = plate_body_ - plate_body_at_build_, half = 0.5 * p_.skin;
   if (moved * moved > half * half) moved_.store(true, std::memory_order_relaxed);
 }
 

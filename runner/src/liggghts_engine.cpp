@@ -413,7 +413,8 @@ EngineRow liggghts_row() {
           liggghts_refuses,
           add_liggghts_options,
           check_liggghts_options,
-          mpi_cpus};
+          mpi_cpus,
+          true};  // the plate as a mesh moved with an atom of its mass (model::plate_body)
 }
 
 }  // namespace granstack::runner

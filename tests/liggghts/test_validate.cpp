@@ -5,6 +5,7 @@
 #include <granstack/formats/dump.hpp>
 #include <granstack/formats/files.hpp>
 #include <granstack/formats/run_digests.hpp>
+#include <granstack/formats/series.hpp>
 #include <granstack/generator/case_writer.hpp>
 #include <granstack/generator/spec_input.hpp>
 #include <granstack/postproc/compare.hpp>
@@ -222,6 +223,74 @@ INSTANTIATE_TEST_SUITE_P(
     [](const auto& param_info) { return std::string(param_info.param.name); });
 
 }  // namespace
+
+// The protected plate on LIGGGHTS (a mesh moved with an atom of its mass, model::plate_body) and
+// on refsim: a damped, frictional stack between side walls on a plate 3.7 times its mass, on a
+// spring and dashpot, runs alike to round-off, the plate's columns too (their gaps printed), and
+// the plate moves (more than a micrometre, against the spheres' overlaps of about 0.1 um).
+TEST(ValidatePlate, APlateOnItsMountRunsAlikeOnLiggghtsAndRefsim) {
+  const auto root = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / "validate_plate");
+  fs::remove_all(root);
+  model::StackSpec spec;
+  spec.blocks = 2;
+  spec.rows = 4;
+  spec.restitution.value = 0.9;
+  spec.friction.value = 0.25;
+  spec.bottom = model::Boundary::wall;
+  spec.sides = model::Boundary::wall;
+  spec.plate_mass = 0.01;
+  spec.mount_stiffness = 2e5;
+  spec.mount_damping = 5.0;
+  run_both_engines(root, spec);
+  if (HasFatalFailure()) return;
+  const auto c = postproc::compare_runs((root / "liggghts").string(), (root / "refsim").string());
+  EXPECT_TRUE(c.mismatches.empty()) << c.mismatches.front();
+  EXPECT_LE(c.worst(), postproc::kDefaultTolerance) << c.largest().quantity;
+  int plate_columns = 0;
+  for (const auto& q : c.series) {
+    if (q.quantity.rfind("plate_", 0) != 0) continue;
+    ++plate_columns;
+    std::printf("%s: largest difference %.3g over %ld values\n", q.quantity.c_str(), q.relative, q.values);
+  }
+  EXPECT_EQ(plate_columns, 3);
+  const auto dir = root / "liggghts";
+  const auto series = formats::read_series((dir / formats::Case::open(dir.string()).files().series).string());
+  const int z = series.column("plate_z");
+  ASSERT_GE(z, 0);
+  double lowest = 0.0;
+  for (const auto& row : series.rows) lowest = std::min(lowest, row[static_cast<std::size_t>(z)]);
+  EXPECT_LT(lowest, -1e-6);
+}
+
+// A plate a billion times the stack's mass is the rigid wall on LIGGGHTS too: its mesh, moved by
+// the body's nanometres, gives the primitive wall's answers to 1e-9.
+TEST(ValidatePlate, OnLiggghtsAPlateFarHeavierThanTheStackIsTheRigidWall) {
+  const auto root = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / "validate_heavy_plate");
+  fs::remove_all(root);
+  model::StackSpec wall;
+  wall.blocks = 2;
+  wall.rows = 4;
+  wall.bottom = model::Boundary::wall;
+  auto plate = wall;
+  plate.plate_mass = 1e9;
+  postproc::ReduceOptions quiet;
+  quiet.write_files = false;
+  std::vector<postproc::CaseReduction> r;
+  for (const auto& [name, spec] : {std::pair{"wall", wall}, std::pair{"plate", plate}}) {
+    generator::GenerateOptions o;
+    o.output = root / name;
+    generator::generate({{name, spec}}, o);
+    ASSERT_EQ(runner::run_cases({o.output.string()}, runner::RunOptions{}).front().status, runner::RunStatus::done);
+    r.push_back(postproc::reduce_case(o.output.string(), quiet));
+  }
+  const auto gap = [](double a, double b) { return std::abs(a - b) / std::max(std::abs(a), std::abs(b)); };
+  std::printf("heavy plate against the rigid wall on LIGGGHTS: output fraction %.3g, peak force %.3g, crush %.3g apart\n",
+              gap(r[0].output_fraction, r[1].output_fraction), gap(*r[0].peak_wall_force, *r[1].peak_wall_force),
+              gap(r[0].crush, r[1].crush));
+  EXPECT_LT(gap(r[0].output_fraction, r[1].output_fraction), 1e-9);
+  EXPECT_LT(gap(*r[0].peak_wall_force, *r[1].peak_wall_force), 1e-9);
+  EXPECT_LT(gap(r[0].crush, r[1].crush), 1e-9);
+}
 
 // Per-pair restitution and friction reach LIGGGHTS's deck: steel over brass with the steel-brass
 // pair's coefficients far from the diagonal's (e 0.5 against 0.95, mu 0.6 against 0.1), so a
@@ -468,6 +537,16 @@ INSTANTIATE_TEST_SUITE_P(
                     true},
         BlowEndCase{"nest_wall", blow_end_spec(2, {3, 3}, {"steel"}, model::Boundary::wall, model::kBlowEndCapDurations,
                                                model::Geometry::nested3d),
+                    true},
+        // On a sprung plate (twice the stack's mass, its mount at about 560 Hz): the decks' judge
+        // takes the momentum relative to the plate and leaves the plate's body out.
+        BlowEndCase{"sprung_plate",
+                    [] {
+                      auto s = blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::wall);
+                      s.plate_mass = 0.02;
+                      s.mount_stiffness = 1e5;
+                      return s;
+                    }(),
                     true},
         // Steel on Teflon with a free bottom, capped at 2 automatic durations: a sphere is still on
         // course to hit the output sphere at the cap (measured with refsim).

@@ -291,4 +291,33 @@ TEST_F(Rules, ADecksLiteralLinesAreHeldBeforeItRuns) {
   EXPECT_EQ(literal("units si\n"), "");
 }
 
+// A protected plate's deck writes its mesh with print lines and reads it back: those lines are the
+// plate, held like a fix. Another vertex (the plate tilted by 0.1 mm) or a print of the user's over
+// the mesh is named; a mesh never written is missing; prints to other files stay the user's.
+TEST_F(Rules, APlatesMeshIsHeldLikeItsFixes) {
+  model::StackSpec spec;
+  spec.blocks = 1;
+  spec.bottom = model::Boundary::wall;
+  spec.plate_mass = 0.01;
+  spec.mount_stiffness = 1e5;
+  make(spec);
+  EXPECT_TRUE(executed(reference_).ok()) << problems(executed(reference_));
+  const auto at = reference_.find("\"vertex 0 ");
+  ASSERT_NE(at, std::string::npos) << reference_;
+  const auto end = reference_.find(" 0\"", at + 9);
+  const auto vertex = reference_.substr(at, end + 3 - at);
+  auto tilted = vertex;
+  tilted.replace(tilted.size() - 3, 3, " 0.0001\"");
+  auto v = executed(edited(vertex, tilted));
+  EXPECT_NE(problems(v).find("writes plate.stl, which granstack's deck writes itself (and reads back) with other lines"),
+            std::string::npos)
+      << problems(v);
+  EXPECT_NE(problems(v).find(fmt::format("the deck never ran 'print {}", vertex.substr(1, vertex.size() - 2))), std::string::npos)
+      << problems(v);
+  const auto integr = std::string("fix             integr all nve/sphere");
+  v = executed(edited(integr, integr + "\nprint \"solid x\" append plate.stl"));
+  EXPECT_NE(problems(v).find("'print solid x append plate.stl' writes plate.stl"), std::string::npos) << problems(v);
+  EXPECT_TRUE(executed(edited(integr, integr + "\nprint \"a note\" file notes.txt")).ok());
+}
+
 }  // namespace

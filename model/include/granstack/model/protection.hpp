@@ -9,6 +9,7 @@
 #include <granstack/model/stack.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <optional>
@@ -33,6 +34,26 @@ struct PlateMount {
   double mass_ratio = 0.0;
 };
 PlateMount plate_mount(const Stack& stack);
+
+// The protected plate as LIGGGHTS carries it (its primitive walls move only as prescribed): a mesh
+// of one triangle in the bottom wall's plane (z = 0), moved by fix move/mesh at the velocity of the
+// plate's body, an atom of the plate's mass under it that fix nve/sphere integrates as it does every
+// sphere and fix addforce pushes with model::plate_force. The triangle is anticlockwise seen from
+// above (its normal +z), its centroid at the footprint's centre and its edges a margin (the stack's
+// height and width) beyond the footprint, so that every sphere meets its face and none an edge; the
+// body lies 3/4 R_1 under the plate, on the footprint's axis and inside the data file's box (its
+// z from -R_1), with a quarter of the smallest radius, out of the reach (skin included) of the
+// plate and of every sphere. refsim follows the body's arithmetic: the mount's spring reads its z
+// less its start, as the deck writes it (bench/plate_on_liggghts.sh measured the route).
+struct PlateBody {
+  int id = 0;    // after every sphere's
+  int type = 0;  // the wall's
+  std::array<double, 3> start{};
+  double radius = 0.0;  // m
+  double mass = 0.0;    // kg: StackSpec::plate_mass
+  std::array<std::array<double, 3>, 3> mesh{};  // the triangle's vertices, m
+};
+PlateBody plate_body(const Stack& stack);
 
 // The largest impulse (N s) the wall takes in a window of `window` seconds: the peak over the
 // samples' times t of the integral of F from t to t + window, F linear between its samples. `force` holds the

@@ -40,10 +40,14 @@ struct Wall {
 // A wall that is a plate of finite mass on a mount (model::StackSpec::plate_mass), moving along
 // its wall's axis: pushed by the force the particles take from it (the stored wall's, summed as
 // System::stored_wall_total does) and by its mount (model::plate_force), integrated as fix
-// nve/sphere integrates an atom of its mass; its particles' contacts see its velocity.
+// nve/sphere integrates an atom of its mass; its particles' contacts see its velocity. LIGGGHTS's
+// deck moves a mesh with such an atom, its body (model::plate_body), whose own position the
+// mount's spring reads: refsim keeps both, the wall's travel (the mesh's, summed from 0) and the
+// body's position (from `body_start`), each in its engine's arithmetic.
 struct Plate {
   int wall = -1;  // into Parameters::walls, the stored wall; -1: none
   double mass = 0.0, stiffness = 0.0, damping = 0.0;
+  double body_start = 0.0;  // m, along the wall's axis
 };
 
 struct Parameters {
@@ -128,8 +132,9 @@ class System {
   // the deck's compute reduce sum takes it): the load the wall carries, its push on the particles.
   double stored_wall_total() const;
   // Parameters::plate's state after the last step: its displacement from where its wall stood at
-  // the start (m, along the wall's axis), its velocity (m/s) and the force on it (N); 0 without one.
-  double plate_displacement() const { return plate_z_; }
+  // the start (m, along the wall's axis: its body's travel, as the deck's series writes it), its
+  // velocity (m/s) and the force on it (N); 0 without one.
+  double plate_displacement() const { return plate_body_ - p_.plate.body_start; }
   double plate_velocity() const { return plate_v_; }
   double plate_force() const { return plate_f_; }
   double plate_acceleration() const { return p_.plate.wall >= 0 ? plate_f_ / p_.plate.mass : 0.0; }  // m/s^2
@@ -234,7 +239,8 @@ class System {
   void plate_after_forces(bool kick, bool drift);
   void plate_first_half();
   double plate_z_ = 0.0, plate_v_ = 0.0, plate_f_ = 0.0;
-  double plate_z_at_build_ = 0.0;     // its displacement at the last neighbour build
+  double plate_body_ = 0.0;           // its body's position (Plate::body_start at the start)
+  double plate_body_at_build_ = 0.0;  // and at the last neighbour build
   bool external_ = false;             // walls or gravity
   bool negative_zero_spin_ = false;   // an angular velocity component starts at -0
   std::string kernel_;
