@@ -465,7 +465,8 @@ void add_plate_rows(std::vector<SpecField>& rows) {
                         "on its mount; 0: a rigid wall",
                         "pm", "kg; 0 is the rigid wall");
   mass.doc = "the plate moves along z only, its contacts those of the wall's material; its displacement, velocity and "
-             "acceleration are the series' last columns (plate_z, plate_vz, plate_az). Runs on refsim";
+             "acceleration are the series' last columns (plate_z, plate_vz, plate_az). Runs on refsim and LIGGGHTS "
+             "(a mesh moved with an atom of the plate's mass), not on LAMMPS";
   rows.push_back(std::move(mass));
   rows.push_back(plate_row("mount_stiffness", &StackSpec::mount_stiffness,
                            "With plate_mass: the mount's stiffness to the ground, N/m; 0: a free plate", "", "N/m"));

@@ -157,6 +157,39 @@ TEST_F(CaseWriter, ABadTemplateWritesNothing) {
   fs::remove(tmpl);
 }
 
+// A template of the user's without the plate's placeholders would hold a protected plate still (no
+// {{plate}}: its motion) or dump its body with the spheres (no {{particles}}): refused, naming
+// both, with nothing written; granstack's own template has both.
+TEST_F(CaseWriter, APlateNeedsATemplateThatMovesItAndLeavesItsBodyOutOfTheDump) {
+  auto own = std::string(generator::default_deck_template());
+  ASSERT_NE(own.find("{{plate}}"), std::string::npos);
+  const auto at = own.find("{{particles}}");
+  ASSERT_NE(at, std::string::npos);
+  own.replace(at, 13, "all");
+  const auto tmpl = fs::temp_directory_path() / ("granstack_plate_" + std::to_string(::getpid()) + ".tmpl");
+  std::ofstream(tmpl) << own;
+  model::StackSpec spec;
+  spec.blocks = 1;
+  spec.bottom = model::Boundary::wall;
+  spec.plate_mass = 0.01;
+  generator::GenerateOptions o;
+  o.output = root_ / "case";
+  o.deck_template_path = tmpl.string();
+  try {
+    generator::generate({{"case", spec}}, o);
+    ADD_FAILURE() << "a template that dumps the plate's body was taken";
+  } catch (const model::SpecError& e) {
+    EXPECT_NE(std::string(e.what()).find("lacks {{plate}} (after fix nve/sphere: the plate's motion) or {{particles}}"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(root_ / "case"));
+  fs::remove(tmpl);
+  o.deck_template_path.reset();
+  generator::generate({{"case", spec}}, o);
+  EXPECT_TRUE(fs::exists(root_ / "case" / "in.stack"));
+}
+
 TEST_F(CaseWriter, ASweepWritesOneDirectoryPerCaseAndAnIndex) {
   generator::Sweep sweep;
   sweep.axes = {{"blocks", {1, 2}}, {"restitution", {1.0, 0.95}}};
