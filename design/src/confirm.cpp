@@ -136,7 +136,7 @@ std::string write_cases(const Evaluation& e, std::size_t i, const fs::path& dir,
     o.output = dir / name;
     o.force = true;  // replaces only a case granstack made
     const auto spec = model::liggghts_counterpart(runs[k].first);
-    if (auto why = runner::case_refusal(runner::Engine::liggghts, spec); !why.empty()) {  // a plate on a mount
+    if (auto why = runner::case_refusal(runner::Engine::liggghts, spec); !why.empty()) {  // a case LIGGGHTS refuses
       for (const auto& m : mine) fs::remove_all(m.dir);
       return why;
     }

@@ -224,19 +224,31 @@ INSTANTIATE_TEST_SUITE_P(
 
 }  // namespace
 
+// A test's own empty folder under the work directory.
+fs::path fresh_root(const std::string& name) {
+  const auto root = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / name);
+  fs::remove_all(root);
+  return root;
+}
+
+// Two steel blocks of 4 rows over a bottom wall.
+model::StackSpec two_blocks_on_a_wall() {
+  model::StackSpec s;
+  s.blocks = 2;
+  s.rows = 4;
+  s.bottom = model::Boundary::wall;
+  return s;
+}
+
 // The protected plate on LIGGGHTS (a mesh moved with an atom of its mass, model::plate_body) and
 // on refsim: a damped, frictional stack between side walls on a plate 3.7 times its mass, on a
 // spring and dashpot, runs alike to round-off, the plate's columns too (their gaps printed), and
 // the plate moves (more than a micrometre, against the spheres' overlaps of about 0.1 um).
 TEST(ValidatePlate, APlateOnItsMountRunsAlikeOnLiggghtsAndRefsim) {
-  const auto root = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / "validate_plate");
-  fs::remove_all(root);
-  model::StackSpec spec;
-  spec.blocks = 2;
-  spec.rows = 4;
+  const auto root = fresh_root("validate_plate");
+  auto spec = two_blocks_on_a_wall();
   spec.restitution.value = 0.9;
   spec.friction.value = 0.25;
-  spec.bottom = model::Boundary::wall;
   spec.sides = model::Boundary::wall;
   spec.plate_mass = 0.01;
   spec.mount_stiffness = 2e5;
@@ -265,12 +277,8 @@ TEST(ValidatePlate, APlateOnItsMountRunsAlikeOnLiggghtsAndRefsim) {
 // A plate a billion times the stack's mass is the rigid wall on LIGGGHTS too: its mesh, moved by
 // the body's nanometres, gives the primitive wall's answers to 1e-9.
 TEST(ValidatePlate, OnLiggghtsAPlateFarHeavierThanTheStackIsTheRigidWall) {
-  const auto root = test::scratch(fs::path(GRANSTACK_TEST_WORKDIR) / "validate_heavy_plate");
-  fs::remove_all(root);
-  model::StackSpec wall;
-  wall.blocks = 2;
-  wall.rows = 4;
-  wall.bottom = model::Boundary::wall;
+  const auto root = fresh_root("validate_heavy_plate");
+  const auto wall = two_blocks_on_a_wall();
   auto plate = wall;
   plate.plate_mass = 1e9;
   postproc::ReduceOptions quiet;
@@ -346,6 +354,13 @@ model::StackSpec blow_end_spec(int blocks, std::vector<int> rows, std::vector<st
   s.bottom = bottom;
   s.stop = model::StopRule::blow_end;
   s.cap_durations = cap;
+  return s;
+}
+
+// `s` with `change` made to it.
+template <class Change>
+model::StackSpec changed(model::StackSpec s, Change change) {
+  change(s);
   return s;
 }
 
@@ -516,37 +531,31 @@ INSTANTIATE_TEST_SUITE_P(
         BlowEndCase{"sandwich_wall", blow_end_spec(3, {8, 8, 8}, {"steel", "teflon", "steel"}, model::Boundary::wall), true,
                     true},
         // An off-centre blow over a wall: the striker one top-sphere diameter right of the centre.
-        BlowEndCase{"off_centre_wall",
-                    [] {
-                      auto s = blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::wall);
-                      s.top_columns = 4;
-                      s.impact_offset = 1;
-                      return s;
-                    }(),
+        BlowEndCase{"off_centre_wall", changed(blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::wall),
+                                               [](auto& s) {
+                                                 s.top_columns = 4;
+                                                 s.impact_offset = 1;
+                                               }),
                     true},
         // A 3D nest over a wall: the footprint in y as well as x.
         // One steel block at 2 m/s: its rebounding top spheres hit the striker again at 1.8 ms, after
         // the momentum over the footprint had turned (the blow ends for the striker too, #47).
-        BlowEndCase{"striker_hit_again",
-                    [] {
-                      auto s = blow_end_spec(1, {8}, {"steel"}, model::Boundary::wall);
-                      s.bottom_radius = 8e-3;
-                      s.striker_speed = 2.0;
-                      return s;
-                    }(),
+        BlowEndCase{"striker_hit_again", changed(blow_end_spec(1, {8}, {"steel"}, model::Boundary::wall),
+                                                 [](auto& s) {
+                                                   s.bottom_radius = 8e-3;
+                                                   s.striker_speed = 2.0;
+                                                 }),
                     true},
         BlowEndCase{"nest_wall", blow_end_spec(2, {3, 3}, {"steel"}, model::Boundary::wall, model::kBlowEndCapDurations,
                                                model::Geometry::nested3d),
                     true},
         // On a sprung plate (twice the stack's mass, its mount at about 560 Hz): the decks' judge
         // takes the momentum relative to the plate and leaves the plate's body out.
-        BlowEndCase{"sprung_plate",
-                    [] {
-                      auto s = blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::wall);
-                      s.plate_mass = 0.02;
-                      s.mount_stiffness = 1e5;
-                      return s;
-                    }(),
+        BlowEndCase{"sprung_plate", changed(blow_end_spec(2, {4, 4}, {"steel"}, model::Boundary::wall),
+                                            [](auto& s) {
+                                              s.plate_mass = 0.02;
+                                              s.mount_stiffness = 1e5;
+                                            }),
                     true},
         // Steel on Teflon with a free bottom, capped at 2 automatic durations: a sphere is still on
         // course to hit the output sphere at the cap (measured with refsim).
