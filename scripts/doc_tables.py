@@ -54,6 +54,8 @@ RECORDS = {
     "reproduce": "bench/results/reproduce-2026-12-07b.json",
     # GRANSTACK=build/ci/app/granstack CASES=<a reproduce -o folder> OUT=... bash bench/run_overhead.sh 3, 2-core machine
     "run_overhead": "bench/results/run-overhead-2026-12-07.json",
+    # BASE_STUDY=<the build before's reproduction> THIS_STUDY=<this build's> OUT=... bash bench/blow_end_judge.sh 3, 2-core machine
+    "blow_end_judge": "bench/results/blow-end-judge-2026-12-08.json",
     # OUT=... bench/design_front.sh, on the 2-core machine (the example's confined front, #47 item 9)
     "design_front": "bench/results/design-front-2026-11-28.json",
     # OUT=... GENERATIONS=30 CONFIRM=2 bench/design_yield_front.sh, on the 2-core machine (the yielding example, #67 item 1)
@@ -99,7 +101,7 @@ RECORD_PLACES = {"nest_counts": ["docs/how-to/big-nests.md"], "nest_speed": ["do
                  "engines_agreement": ["docs/explanation/lammps.md"], "engines_speed": ["docs/explanation/lammps.md"],
                  "reproduce_cost": ["README.md", "docs/index.md", "docs/tutorials/reproduce.md"],
                  "reproduce_speed": ["docs/explanation/performance.md"],
-                 "run_overhead": ["docs/explanation/performance.md"],
+                 "run_overhead": ["docs/explanation/performance.md"], "blow_end_judge": ["docs/explanation/performance.md"],
                  "design_front": ["docs/how-to/design.md"], "design_sides": ["docs/how-to/design.md"],
                  "design_yield": ["docs/how-to/design.md"], "design_example_cost": ["docs/explanation/performance.md"],
                  "design_yield_front": ["docs/how-to/design.md"], "design_yield_cost": ["docs/explanation/performance.md"],
@@ -1023,6 +1025,19 @@ def run_overhead():
             f"{m(programs):.3f} times bare LIGGGHTS's time.\n")
 
 
+def blow_end_judge():
+    """What the blow-end judge costs LIGGGHTS: the study's decks of two builds, each case's run bare
+    one right after the other (bench/blow_end_judge.sh's record)."""
+    r = json.loads((ROOT / RECORDS["blow_end_judge"]).read_text())
+    rows = ["| round | the build before's decks, CPU | this build's decks, CPU | this / before |", "|---|---|---|---|"]
+    for i, x in enumerate(r["rounds"], 1):
+        rows.append(f"| {i} | {x['base']:.1f} s | {x['this']:.1f} s | {x['this'] / x['base']:.4f} |")
+    ratio = [x["this"] / x["base"] for x in r["rounds"]]
+    return ("\n".join(rows) + f"\n\nThe {r['cases']} cases, {r['repeats']} rounds, two pairs at a time: this build's decks "
+            f"cost bare LIGGGHTS {statistics.median(ratio):.3f} times the CPU time of the build before's "
+            f"({min(ratio):.3f}..{max(ratio):.3f}), every case's dumps and series byte for byte the same.\n")
+
+
 def number(v):
     return "-" if v is None else f"{v:.4g}"
 
@@ -1077,6 +1092,7 @@ def main():
                 large_nest=large_nest(), copies=copies(), design_speedup=design_speedup(), design_cores=design_cores(),
                 design_cores_summary=design_cores_summary(), engines_agreement=engines_agreement(),
                 engines_speed=engines_speed(), reproduce_cost=reproduce_cost(), reproduce_speed=reproduce_speed(), run_overhead=run_overhead(),
+                blow_end_judge=blow_end_judge(),
                 design_front=design_front(), design_sides=design_sides(), design_yield=design_yield(),
                 design_yield_front=design_yield_front(), design_yield_cost=design_yield_cost(),
                 design_example_cost=design_example_cost(), oversubscription=oversubscription(),

@@ -7,6 +7,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <array>
+
 namespace granstack::generator {
 
 // The deck's selection of a series group: by atom type, or by id (a range where consecutive).
@@ -19,26 +21,54 @@ std::string group_command(const model::SeriesGroup& g) {
 }
 
 namespace {
+// What the blow-end judge reads: the spheres' group, and the frame's steps (a dump interval).
+struct Judged {
+  std::string_view group;
+  long every = 1;
+};
+
 // Atom-style variables and a compute `gs_<name>_aim`: whether any other sphere is on course to hit
 // sphere `id` (model::threatened, in its arithmetic: d and u the other's position and velocity
-// less the sphere's), and, when `touch`, `gs_<name>_touch`: whether any touches it.
+// less the sphere's), and, when `touch`, `gs_<name>_touch`: whether any touches it. The programs
+// evaluate an atom-style variable anew wherever another names it; where the dialect can
+// (DeckDialect::frame_cache), d.d, d.u and u.u are written out from the positions and velocities
+// and kept per sphere once a frame by a fix ave/atom of one sample (the same doubles: 0 + v, over
+// 1), which the tests read: the study's cases cost LIGGGHTS 13 % less, their outputs the same
+// (bench/results/blow-end-judge-2026-12-08.md). (fix store/state would keep them too, but LIGGGHTS
+// 3.8's crashes as it is defined in some decks.)
 std::string on_course_lines(std::string_view name, int id, double radius, const DeckDialect& dialect, bool touch,
-                            std::string_view particles) {
-  std::string out = fmt::format(
-      "variable        gs_{0}_dx atom x-x[{1}]\nvariable        gs_{0}_dy atom y-y[{1}]\nvariable        gs_{0}_dz atom z-z[{1}]\n"
-      "variable        gs_{0}_ux atom vx-vx[{1}]\nvariable        gs_{0}_uy atom vy-vy[{1}]\nvariable        gs_{0}_uz atom vz-vz[{1}]\n"
-      "variable        gs_{0}_dd atom v_gs_{0}_dx*v_gs_{0}_dx+v_gs_{0}_dy*v_gs_{0}_dy+v_gs_{0}_dz*v_gs_{0}_dz\n"
-      "variable        gs_{0}_du atom v_gs_{0}_dx*v_gs_{0}_ux+v_gs_{0}_dy*v_gs_{0}_uy+v_gs_{0}_dz*v_gs_{0}_uz\n"
-      "variable        gs_{0}_uu atom v_gs_{0}_ux*v_gs_{0}_ux+v_gs_{0}_uy*v_gs_{0}_uy+v_gs_{0}_uz*v_gs_{0}_uz\n"
+                            const Judged& judged) {
+  const auto d = [&](const char* axis) {
+    return dialect.frame_cache ? fmt::format("({0}-{0}[{1}])", axis, id) : fmt::format("v_gs_{}_{}", name, axis);
+  };
+  const auto dot = [](const std::array<std::string, 3>& a, const std::array<std::string, 3>& b) {
+    return fmt::format("{}*{}+{}*{}+{}*{}", a[0], b[0], a[1], b[1], a[2], b[2]);
+  };
+  const std::array<std::string, 3> dx{d("x"), d("y"), d("z")}, ux{d("vx"), d("vy"), d("vz")};
+  std::string out;
+  if (!dialect.frame_cache) {
+    for (const auto* axis : {"x", "y", "z", "vx", "vy", "vz"}) {
+      out += fmt::format("variable        gs_{0}_{1} atom {1}-{1}[{2}]\n", name, axis, id);
+    }
+  }
+  out += fmt::format("variable        gs_{0}_dd atom {1}\nvariable        gs_{0}_du atom {2}\nvariable        gs_{0}_uu atom {3}\n",
+                     name, dot(dx, dx), dot(dx, ux), dot(ux, ux));
+  std::array<std::string, 3> q{fmt::format("v_gs_{}_dd", name), fmt::format("v_gs_{}_du", name), fmt::format("v_gs_{}_uu", name)};
+  if (dialect.frame_cache) {
+    out += fmt::format("fix             gs_{0}_q {1} ave/atom 1 1 {2} {3} {4} {5}\n", name, judged.group, judged.every, q[0],
+                       q[1], q[2]);
+    for (int k = 0; k < 3; ++k) q[static_cast<std::size_t>(k)] = fmt::format("f_gs_{}_q[{}]", name, k + 1);
+  }
+  out += fmt::format(
       "# (uu==0) keeps the program from dividing by 0 where du = 0 already rules the sphere out.\n"
-      "variable        gs_{0}_aim atom (id!={1})*(v_gs_{0}_du<0)*(v_gs_{0}_dd-v_gs_{0}_du*v_gs_{0}_du/(v_gs_{0}_uu+(v_gs_{0}_uu==0))<({4}+{2})*({4}+{2}))\n"
-      "compute         gs_{0}_aim {5} reduce{3} max v_gs_{0}_aim\n",
-      name, id, radius, dialect.reduce_options, dialect.radius, particles);
+      "variable        gs_{0}_aim atom (id!={1})*({6}<0)*({5}-{6}*{6}/({7}+({7}==0))<({4}+{2})*({4}+{2}))\n"
+      "compute         gs_{0}_aim {8} reduce{3} max v_gs_{0}_aim\n",
+      name, id, radius, dialect.reduce_options, dialect.radius, q[0], q[1], q[2], judged.group);
   if (touch) {
     out += fmt::format(
-        "variable        gs_{0}_touch atom (id!={1})*(v_gs_{0}_dd<({4}+{2})*({4}+{2}))\n"
-        "compute         gs_{0}_touch {5} reduce{3} max v_gs_{0}_touch\n",
-        name, id, radius, dialect.reduce_options, dialect.radius, particles);
+        "variable        gs_{0}_touch atom (id!={1})*({5}<({4}+{2})*({4}+{2}))\n"
+        "compute         gs_{0}_touch {6} reduce{3} max v_gs_{0}_touch\n",
+        name, id, radius, dialect.reduce_options, dialect.radius, q[0], judged.group);
   }
   return out;
 }
@@ -46,13 +76,13 @@ std::string on_course_lines(std::string_view name, int id, double radius, const 
 // Each striker still coming (model::striker_coming): on course to hit a sphere, or, against a
 // wall, moving down over the footprint; `gs_coming` counts them. `computes` gains the computes read.
 std::string striker_lines(const model::Stack& stack, const DeckDialect& dialect, std::vector<std::string>& computes,
-                          std::string_view particles) {
+                          const Judged& judged) {
   std::string out;
   std::string coming = "0";
   const bool wall = stack.spec().bottom == model::Boundary::wall;
   for (int k = 1; k <= stack.strikers(); ++k) {
     const auto name = fmt::format("s{}", k);
-    out += on_course_lines(name, k, stack.spheres()[static_cast<std::size_t>(k - 1)].radius, dialect, false, particles);
+    out += on_course_lines(name, k, stack.spheres()[static_cast<std::size_t>(k - 1)].radius, dialect, false, judged);
     computes.push_back(fmt::format("c_gs_{}_aim", name));
     coming += fmt::format("+c_gs_{}_aim", name);
     if (wall) coming += fmt::format("+(vz[{0}]<0)*(abs(x[{0}])<={1})*(abs(y[{0}])<={2})", k, stack.half_width(), stack.half_depth());
@@ -71,7 +101,8 @@ std::string striker_lines(const model::Stack& stack, const DeckDialect& dialect,
 std::string blow_end_run(const model::Stack& stack, const model::Resolution& res, const DeckDialect& dialect,
                          std::string_view particles) {
   std::vector<std::string> computes;
-  std::string judge = striker_lines(stack, dialect, computes, particles);
+  const Judged judged{particles, res.dump_every};
+  std::string judge = striker_lines(stack, dialect, computes, judged);
   if (stack.spec().bottom == model::Boundary::wall) {
     const auto over = fmt::format("(abs(x)<={})*(abs(y)<={})", stack.half_width(), stack.half_depth());
     // Under an elastic-plastic law, whether the wall carries a force: its force on each sphere, as
@@ -91,7 +122,7 @@ std::string blow_end_run(const model::Stack& stack, const model::Resolution& res
     computes.insert(computes.begin(), {"c_gs_pz", "c_gs_press"});
   } else {
     const int o = stack.output_sphere_id();
-    judge += on_course_lines("o", o, stack.spheres()[static_cast<std::size_t>(o - 1)].radius, dialect, true, particles);
+    judge += on_course_lines("o", o, stack.spheres()[static_cast<std::size_t>(o - 1)].radius, dialect, true, judged);
     judge += "variable        gs_holds equal (v_gs_coming==0)&&(c_gs_o_touch==0)&&(c_gs_o_aim==0)\n";
     computes.insert(computes.begin(), {"c_gs_o_touch", "c_gs_o_aim"});
   }

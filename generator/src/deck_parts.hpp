@@ -15,12 +15,15 @@ struct DeckDialect {
   const char* radius_setup;    // the lines that define it
   const char* reduce_options;  // after `compute ID all reduce`: LIGGGHTS brings it up to date at a run's end
   bool judge_in_thermo;        // the judge's computes printed in thermo (so that they are current)
+  // The judge's per-sphere products kept once a frame by a fix ave/atom (which thermo, printing
+  // the judge at other steps too, cannot read): else each is evaluated where it is named.
+  bool frame_cache;
 };
-inline constexpr DeckDialect kLiggghtsDialect{"r", "", " update_on_run_end yes", false};
+inline constexpr DeckDialect kLiggghtsDialect{"r", "", " update_on_run_end yes", false, true};
 // LAMMPS has no update_on_run_end: its deck prints the judge's computes in thermo, which every
 // run's last step invokes, so the variables read them current between runs.
 // Its atom-style variables have no radius: a property/atom compute gives it.
-inline constexpr DeckDialect kLammpsDialect{"c_gs_r", "compute         gs_r all property/atom radius\n", "", true};
+inline constexpr DeckDialect kLammpsDialect{"c_gs_r", "compute         gs_r all property/atom radius\n", "", true, false};
 
 // The deck's `group` line of a series group.
 std::string group_command(const model::SeriesGroup& g);
