@@ -71,6 +71,10 @@ std::string contact_model_fixes(const model::Stack& stack, const std::vector<std
   return out;
 }
 
+// The plate's travel from its start as the deck reads it: its body's z less the body's start
+// (the mount's spring and the series' plate_z; refsim's Plate::body_start follows it).
+std::string body_travel(const model::PlateBody& b) { return fmt::format("z[{}]+{}", b.id, -b.start[2]); }
+
 // The protected plate's mesh, body and wall (model::plate_body): the mesh written to plate.stl by
 // the deck itself (so that the deck holds all of it), the body created after the data file's
 // spheres, the wall acting on the spheres alone.
@@ -113,10 +117,10 @@ std::string plate_motion(const model::Stack& stack) {
   return fmt::format(
       "variable        gs_plate_still equal 0\n"
       "variable        gs_plate_vz equal vz[{0}]\n"
-      "variable        gs_plate_force equal -c_fwb-{1}*(z[{0}]+{2})-{3}*vz[{0}]\n"
+      "variable        gs_plate_force equal -c_fwb-{1}*({2})-{3}*vz[{0}]\n"
       "fix             plate_motion all move/mesh mesh plate linear/variable v_gs_plate_still v_gs_plate_still v_gs_plate_vz\n"
       "fix             {4} plate_body addforce 0 0 v_gs_plate_force",
-      b.id, spec.mount_stiffness, -b.start[2], spec.mount_damping, kPlateMountFix);
+      b.id, spec.mount_stiffness, body_travel(b), spec.mount_damping, kPlateMountFix);
 }
 
 }  // namespace
@@ -231,7 +235,7 @@ TemplateVars deck_variables(const model::Stack& stack, const model::Resolution& 
   }
   if (spec.has_plate()) {  // model::kPlateColumns: the body's travel, velocity and acceleration
     const auto b = model::plate_body(stack);
-    values += fmt::format(" $(z[{0}]+{1}) $(vz[{0}]) $(fz[{0}]/mass[{0}])", b.id, -b.start[2]);
+    values += fmt::format(" $({1}) $(vz[{0}]) $(fz[{0}]/mass[{0}])", b.id, body_travel(b));
   }
   v["energy_series"] = fmt::format(
       "{}fix             energy all print {} \"$(step){}\" file {} screen no title \"# {}\"", computes,
