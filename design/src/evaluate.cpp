@@ -37,9 +37,9 @@ Outcome run(const model::StackSpec& spec, bool to_blow_end, double cap_durations
   options.cap_durations = cap_durations;
   options.abandon_when_censored = shortcuts;
   std::string settled;
+  Outcome partial;  // the run so far, its series grown at each ask
   if (settle) {
     options.settle = [&](const refsim::InSituResult& so_far) {
-      Outcome partial;
       take_shared(partial, so_far);
       settled = settle(partial);
       return !settled.empty();
@@ -225,11 +225,12 @@ std::vector<std::size_t> scenario_order(const Space& space) {
   std::vector<std::size_t> order(std::max<std::size_t>(1, space.scenarios.size()));
   std::iota(order.begin(), order.end(), std::size_t{0});
   if (!space.search.shortcuts) return order;
-  const auto energy = [&](std::size_t k) {
+  // The striker's energy, then the stiffer contacts (the higher yield pressure).
+  const auto hardness = [&](std::size_t k) {
     const auto& sc = space.scenarios[k];
-    return std::pow(sc.striker_radius_ratio, 3) * sc.striker_speed * sc.striker_speed;
+    return std::pair{std::pow(sc.striker_radius_ratio, 3) * sc.striker_speed * sc.striker_speed, sc.yield_pressure_factor.value_or(0.0)};
   };
-  if (!space.scenarios.empty()) std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return energy(a) > energy(b); });
+  if (!space.scenarios.empty()) std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return hardness(a) > hardness(b); });
   return order;
 }
 

@@ -1,5 +1,7 @@
 #include <granstack/model/shock.hpp>
 
+#include "shock_simd.hpp"
+
 #include <Eigen/Dense>
 #include <unsupported/Eigen/MatrixFunctions>
 #include <fmt/format.h>
@@ -84,10 +86,18 @@ Filtered channel_filter(const std::vector<double>& x, double interval, int cfc) 
   return f;
 }
 
-double shock_response(const std::vector<double>& base, double interval, double f_n, double zeta) {
-  // The relative displacement z of the mass: z'' + 2 zeta w z' + w^2 z = -a(t); its absolute
-  // acceleration is -(2 zeta w z' + w^2 z). With the input's slope s as a state (a' = s, s' = 0),
-  // exp of the augmented matrix over one interval gives the exact step for a linear input.
+namespace {
+// The oscillator of natural frequency f_n and damping ratio zeta, its relative displacement z:
+// z'' + 2 zeta w z' + w^2 z = -a(t); its absolute acceleration is -(2 zeta w z' + w^2 z). With the
+// input's slope s as a state (a' = s, s' = 0), exp of the augmented matrix over one interval h
+// gives the exact step for a linear input: z' = P z + G a + H s, s = (a_after - a_before) / h.
+struct Oscillator {
+  Eigen::Matrix2d free;  // P: the state's own step
+  Eigen::Vector2d before, after;  // G - H / h and H / h: what a_before and a_after add
+  Eigen::RowVector2d out;
+  Eigen::Matrix2d ring;  // the free vibration's step, 1 / (256 f_n)
+};
+Oscillator oscillator(double interval, double f_n, double zeta) {
   const double w = 2.0 * std::numbers::pi * f_n;
   Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
   m(0, 1) = 1.0;
@@ -96,31 +106,52 @@ double shock_response(const std::vector<double>& base, double interval, double f
   m(1, 2) = -1.0;  // the base acceleration a drives z''
   m(2, 3) = 1.0;   // a' = s
   const Eigen::Matrix4d step = (m * interval).exp();
-  const Eigen::RowVector2d out(-w * w, -2.0 * zeta * w);
-  double peak = 0.0;
-  Eigen::Vector4d state = Eigen::Vector4d::Zero();  // z, z', a, s
-  double previous = 0.0;                            // a = 0 at t = 0
-  for (const double a : base) {
-    state(2) = previous;
-    state(3) = (a - previous) / interval;
-    state = step * state;
-    peak = std::max(peak, std::fabs(out * state.head<2>()));
-    previous = a;
+  Oscillator o;
+  o.free = step.topLeftCorner<2, 2>();
+  o.after = step.block<2, 1>(0, 3) / interval;
+  o.before = step.block<2, 1>(0, 2) - o.after;
+  o.out = Eigen::RowVector2d(-w * w, -2.0 * zeta * w);
+  o.ring = (m.topLeftCorner<2, 2>() * (1.0 / (256.0 * f_n))).exp();
+  return o;
+}
+
+// The largest absolute acceleration of each oscillator (natural frequencies `f`, Hz): over the
+// samples, all frequencies in one pass (detail::run_oscillators), then over the input's return to
+// zero in one more interval (as the filter takes the signal) and the free vibration after it (one
+// and a half natural periods, 256 points a period).
+std::vector<double> shock_responses(const std::vector<double>& base, double interval, const std::vector<double>& f, double zeta) {
+  std::vector<Oscillator> each;
+  for (const double f_n : f) each.push_back(oscillator(interval, f_n, zeta));
+  detail::Oscillators all;
+  const std::size_t lanes = detail::kOscillatorLanes;
+  all.count = (each.size() + lanes - 1) / lanes * lanes;
+  for (std::size_t k = 0; k < all.count; ++k) {
+    const auto& o = each[std::min(k, each.size() - 1)];
+    for (auto [to, v] : {std::pair{&all.p00, o.free(0, 0)}, {&all.p01, o.free(0, 1)}, {&all.p10, o.free(1, 0)},
+                         {&all.p11, o.free(1, 1)}, {&all.c0, o.before(0)}, {&all.c1, o.before(1)}, {&all.d0, o.after(0)},
+                         {&all.d1, o.after(1)}, {&all.o0, o.out(0)}, {&all.o1, o.out(1)}}) {
+      to->push_back(v);
+    }
   }
-  // Free vibration after the last sample, the base at rest (the input back to zero over one more
-  // interval first, as the filter takes the signal).
-  state(2) = previous;
-  state(3) = -previous / interval;
-  state = step * state;
-  peak = std::max(peak, std::fabs(out * state.head<2>()));
-  const double h = 1.0 / (256.0 * f_n);
-  const Eigen::Matrix2d free = (m.topLeftCorner<2, 2>() * h).exp();
-  Eigen::Vector2d z = state.head<2>();
-  for (int k = 0; k < 384; ++k) {
-    z = free * z;
-    peak = std::max(peak, std::fabs(out * z));
+  std::vector<double> z0(all.count), z1(all.count), peak(all.count);
+  detail::run_oscillators(all, base.data(), base.size(), z0.data(), z1.data(), peak.data());
+  const double last = base.empty() ? 0.0 : base.back();
+  peak.resize(f.size());
+  for (std::size_t k = 0; k < f.size(); ++k) {
+    const auto& o = each[k];
+    Eigen::Vector2d z = o.free * Eigen::Vector2d(z0[k], z1[k]) + o.before * last;  // the base back to 0
+    peak[k] = std::max(peak[k], std::fabs(o.out * z));
+    for (int j = 0; j < 384; ++j) {
+      z = o.ring * z;
+      peak[k] = std::max(peak[k], std::fabs(o.out * z));
+    }
   }
   return peak;
+}
+}  // namespace
+
+double shock_response(const std::vector<double>& base, double interval, double f_n, double zeta) {
+  return shock_responses(base, interval, {f_n}, zeta).front();
 }
 
 std::vector<double> shock_response_frequencies(double low, double high) {
@@ -133,9 +164,10 @@ std::vector<double> shock_response_frequencies(double low, double high) {
 
 ShockResponsePeak shock_response_peak(const std::vector<double>& base, double interval, double low, double high, double zeta) {
   ShockResponsePeak p;
-  for (const double f : shock_response_frequencies(low, high)) {
-    const double a = shock_response(base, interval, f, zeta);
-    if (a > p.acceleration) p = {a, f};
+  const auto f = shock_response_frequencies(low, high);
+  const auto a = shock_responses(base, interval, f, zeta);
+  for (std::size_t k = 0; k < f.size(); ++k) {
+    if (a[k] > p.acceleration) p = {a[k], f[k]};
   }
   return p;
 }

@@ -4,10 +4,12 @@
 #include <granstack/model/shock.hpp>
 
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <numbers>
 #include <stdexcept>
 #include <vector>
@@ -187,4 +189,34 @@ TEST(ShockResponse, TheBandHasTwelveFrequenciesAnOctave) {
   EXPECT_DOUBLE_EQ(f.front(), 100.0);
   EXPECT_DOUBLE_EQ(f.back(), 400.0);
   EXPECT_NEAR(f[12], 200.0, 1e-9);
+}
+
+// The spectrum's oscillators run side by side, a natural frequency a vector lane (Google Highway,
+// the best instruction set the CPU has, chosen at run time): every instruction set this CPU runs
+// gives the same bits for every frequency of a band, and the band's peak is the largest of the
+// frequencies taken one at a time, bit for bit, whichever lane each fell in.
+TEST(ShockResponse, EveryInstructionSetGivesTheSameBits) {
+  const double tau = 1e-3, interval = tau / 400;
+  auto base = sampled([&](double t) { return half_sine(t, 50.0, tau) * (1.0 + 0.3 * std::sin(9000.0 * t)); }, interval, 400);
+  base.back() += 7.0;
+  const auto spectrum = [&] {
+    std::vector<double> a;
+    for (const double f : model::shock_response_frequencies(100.0, 10000.0)) a.push_back(model::shock_response(base, interval, f, 0.05));
+    a.push_back(model::shock_response_peak(base, interval, 100.0, 10000.0, 0.05).acceleration);
+    return a;
+  };
+  std::vector<double> first;
+  int targets = 0;
+  for (const std::int64_t t : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(t);
+    const auto a = spectrum();
+    hwy::SetSupportedTargetsForTest(0);
+    ++targets;
+    if (first.empty()) first = a;
+    ASSERT_EQ(a.size(), first.size());
+    EXPECT_EQ(std::memcmp(a.data(), first.data(), a.size() * sizeof(double)), 0) << hwy::TargetName(t);
+    EXPECT_EQ(a.back(), *std::max_element(a.begin(), a.end() - 1)) << hwy::TargetName(t);
+  }
+  std::printf("the spectrum compared on %d instruction sets\n", targets);
+  EXPECT_GE(targets, 2);  // x86-64 builds SSE2 (emulated 128-bit) at least beside what the CPU adds
 }

@@ -5,6 +5,7 @@
 // columns, the report and confirm read the table, so a new measure costs one entry here.
 #include <granstack/design/store.hpp>
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -42,7 +43,9 @@ struct Outcome {
   // (why, with when; "" when it ran to its end): its measures are lower bounds of the whole run's.
   std::string settled;
 };
-// The fields refsim's in-situ result and reduce's reduction share by name, into an outcome.
+// The fields refsim's in-situ result and reduce's reduction share by name, into an outcome. The
+// series are extended, not copied: `o`'s must be a beginning of `r`'s (empty, or taken from the same
+// run earlier), so that a run's shortcuts, asked every few samples, copy each sample once.
 template <class Run>
 void take_shared(Outcome& o, const Run& r) {
   o.output_fraction = r.output_fraction;
@@ -51,8 +54,11 @@ void take_shared(Outcome& o, const Run& r) {
   o.output_last_change_time = r.output_last_change_time;
   o.peak_wall_force_time = r.peak_wall_force_time;
   o.final_momentum_ratio = r.final_momentum_ratio;
-  o.wall_force = r.wall_force;
-  o.plate_acceleration = r.plate_acceleration;
+  const auto extend = [](std::vector<double>& to, const std::vector<double>& from) {
+    to.insert(to.end(), from.begin() + static_cast<std::ptrdiff_t>(std::min(to.size(), from.size())), from.end());
+  };
+  extend(o.wall_force, r.wall_force);
+  extend(o.plate_acceleration, r.plate_acceleration);
   o.wall_force_interval = r.wall_force_interval;
   o.crush = r.crush;
   o.penetration = r.penetration;
