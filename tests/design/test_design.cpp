@@ -2692,6 +2692,11 @@ TEST(Shortcuts, ADesignIsSettledOnlyByWhatItsRunsHaveDecided) {
   EXPECT_EQ(on.digest(), off.digest());
   EXPECT_EQ(design::scenario_order(on), (std::vector<std::size_t>{2, 1, 0}));
   EXPECT_EQ(design::scenario_order(off), (std::vector<std::size_t>{0, 1, 2}));
+  // Between blows of one energy, the stiffer contacts first (0.5 m/s at 1.6 Y and 3 Y, then 1 m/s).
+  const auto yielding = design::parse_space(
+      small_space_fixed("normal_model = \"thornton\"", "[scenarios]\nstriker_speed = [0.5, 1.0]\nyield_pressure_factor = [1.6, 3.0]\n"),
+      "yield.toml");
+  EXPECT_EQ(design::scenario_order(yielding), (std::vector<std::size_t>{3, 2, 1, 0}));
   const auto spec = on.decode({2, 0, 1, 0, 2, 3});
   const auto never = [](const std::vector<double>&) -> std::optional<std::string> { return std::nullopt; };
   const auto always = [](const std::vector<double>&) -> std::optional<std::string> { return "the best design"; };

@@ -101,8 +101,9 @@ std::string not_final(const Space& space, const model::StackSpec& ran, const Out
 void record(const Space& space, Evaluation& e, const std::vector<ScenarioOutcome>& runs);
 void record(const Space& space, Evaluation& e, const std::vector<std::optional<ScenarioOutcome>>& runs);
 // The order a design's scenarios run in: with the space's shortcuts, the hardest blow first (the
-// striker's kinetic energy, m v^2 with m ~ R^3; the order of the space between equals), the one
-// most likely to decide the worst case (Hertz: the force grows as v^(6/5)); without, the space's.
+// striker's kinetic energy, m v^2 with m ~ R^3; between equal energies the higher yield pressure,
+// whose stiffer contacts pass on more force; the order of the space between equals), the one most
+// likely to decide the worst case (Hertz: the force grows as v^(6/5)); without, the space's.
 std::vector<std::size_t> scenario_order(const Space& space);
 // A design stored as settled by dominance (Evaluation::shortcut) stands for a run only where that
 // run's front dominates it too; elsewhere it runs again, in full.
