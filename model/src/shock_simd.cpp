@@ -4,13 +4,7 @@
 // fallback's bits (the file is compiled without contraction into fused multiply-adds).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "shock_simd.cpp"
-// Scalable vectors (SVE, RISC-V V) may be longer than kOscillatorLanes; an ARM CPU with SVE runs
-// the NEON code.
-#ifndef HWY_DISABLED_TARGETS
-#define HWY_DISABLED_TARGETS (HWY_SVE | HWY_SVE2 | HWY_SVE_256 | HWY_SVE2_128 | HWY_RVV)
-#endif
-#include <hwy/foreach_target.h>  // IWYU pragma: keep
-#include <hwy/highway.h>
+#include <granstack/model/highway_targets.hpp>  // IWYU pragma: keep
 
 #include "shock_simd.hpp"
 

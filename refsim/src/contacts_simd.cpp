@@ -8,13 +8,7 @@
 // is skipped when no lane of a vector needs it. The kernel tests run every target this CPU runs.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "contacts_simd.cpp"
-// Scalable vectors (SVE, RISC-V V) cannot be held in the arrays and structures below; an ARM CPU
-// with SVE runs the NEON kernels.
-#ifndef HWY_DISABLED_TARGETS
-#define HWY_DISABLED_TARGETS (HWY_SVE | HWY_SVE2 | HWY_SVE_256 | HWY_SVE2_128 | HWY_RVV)
-#endif
-#include <hwy/foreach_target.h>  // IWYU pragma: keep
-#include <hwy/highway.h>
+#include <granstack/model/highway_targets.hpp>  // IWYU pragma: keep
 
 #include "contacts.hpp"
 
