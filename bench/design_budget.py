@@ -48,7 +48,8 @@ if kept:
     about = {"kept": os.path.relpath(kept), "made": made["made"]}
 else:
     _, reference_designs = reference_front(f"{work}/{name}/out/design.sqlite" for name in runs)
-    about = {"runs": len(designs_of), "designs": len(everything)}
+    # "feasible": the count; "designs" names the front's designs in every record (as a kept front's file does).
+    about = {"runs": len(designs_of), "feasible": len(everything)}
 reference = [tuple(d["point"]) for d in reference_designs]
 reference_hv = hypervolume(reference)
 
